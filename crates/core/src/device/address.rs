@@ -1,0 +1,385 @@
+//! Operand syntax: device names, digit specification, bit-of-word, index
+//! modification and constants (004 §10, §2.8; contract §1).
+//!
+//! This is pure syntax: whether `D99999` exists or `K70000` fits is decided by the
+//! compiler, which knows the device points and the operand width.
+
+use super::kind::{DeviceKind, Numbering};
+
+/// A named device as written: `X1F`, `D100`, `T5`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeviceName {
+    pub kind: DeviceKind,
+    pub number: u32,
+    /// Written as plain `T`, `ST` or `C`: the contact in a bit operand, the current
+    /// value in a word operand. `kind` then holds the contact kind.
+    pub generic: bool,
+}
+
+impl DeviceName {
+    /// The kind this name means in a word operand (`T0` → `TN0`).
+    pub fn word_kind(&self) -> DeviceKind {
+        match (self.generic, self.kind) {
+            (true, DeviceKind::TS) => DeviceKind::TN,
+            (true, DeviceKind::STS) => DeviceKind::STN,
+            (true, DeviceKind::CS) => DeviceKind::CN,
+            (_, k) => k,
+        }
+    }
+}
+
+/// A constant operand.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Constant {
+    /// `K123`, `K-50` (decimal) or `H1F` (hex).
+    Int { value: i64, hex: bool },
+    /// `E1.5`, `E1.234+3`.
+    Real(f64),
+    /// `"text"`.
+    Str(String),
+}
+
+/// One operand as written.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Operand {
+    Device {
+        dev: DeviceName,
+        /// Digit specification `Kn` (n = 1..8) on a bit device.
+        digits: Option<u8>,
+        /// Bit of a word device, `D0.F`.
+        bit: Option<u8>,
+        /// Index modification `Zn`.
+        index: Option<u8>,
+    },
+    Const(Constant),
+    /// `P0`-`P4095`.
+    Pointer(u32),
+    /// `I0`-`I255`.
+    Interrupt(u32),
+    /// `N0`-`N14`.
+    Nesting(u32),
+}
+
+/// Why a token is not an operand; `offset` is the character offset in the token.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct OperandError {
+    pub message: String,
+    pub offset: usize,
+}
+
+fn err<T>(offset: usize, message: impl Into<String>) -> Result<T, OperandError> {
+    Err(OperandError {
+        message: message.into(),
+        offset,
+    })
+}
+
+/// Device prefixes, longest first so that `STN` wins over `ST` and `S`.
+const PREFIXES: [(&str, DeviceKind, bool); 32] = {
+    use DeviceKind::*;
+    [
+        ("STN", STN, false),
+        ("STS", STS, false),
+        ("STC", STC, false),
+        ("ST", STS, true),
+        ("SM", SM, false),
+        ("SD", SD, false),
+        ("SB", SB, false),
+        ("SW", SW, false),
+        ("TN", TN, false),
+        ("TS", TS, false),
+        ("TC", TC, false),
+        ("CN", CN, false),
+        ("CS", CS, false),
+        ("CC", CC, false),
+        ("ZR", ZR, false),
+        ("FX", FX, false),
+        ("FY", FY, false),
+        ("FD", FD, false),
+        ("X", X, false),
+        ("Y", Y, false),
+        ("M", M, false),
+        ("L", L, false),
+        ("F", F, false),
+        ("V", V, false),
+        ("B", B, false),
+        ("S", S, false),
+        ("T", TS, true),
+        ("C", CS, true),
+        ("D", D, false),
+        ("W", W, false),
+        ("R", R, false),
+        ("Z", Z, false),
+    ]
+};
+
+/// Parses one operand token. Letters are case-insensitive.
+pub fn parse_operand(token: &str) -> Result<Operand, OperandError> {
+    if token.is_empty() {
+        return err(0, "empty operand");
+    }
+    if let Some(rest) = token.strip_prefix('"') {
+        return match rest.strip_suffix('"') {
+            Some(s) if !s.contains('"') => Ok(Operand::Const(Constant::Str(s.to_string()))),
+            _ => err(0, format!("unterminated string constant `{token}`")),
+        };
+    }
+    let up = token.to_ascii_uppercase();
+    if !up.is_ascii() {
+        return err(0, format!("`{token}` is not an operand"));
+    }
+    let b = up.as_bytes();
+    match b[0] {
+        b'K' => parse_k(&up),
+        b'H' => parse_hex_const(&up),
+        b'E' => parse_real(&up).map(|v| Operand::Const(Constant::Real(v))),
+        b'P' => parse_decimal(&up, 1).map(Operand::Pointer),
+        b'I' => parse_decimal(&up, 1).map(Operand::Interrupt),
+        b'N' => parse_decimal(&up, 1).map(Operand::Nesting),
+        b'J' | b'U' if up.contains('\\') => err(
+            0,
+            format!("`{token}`: link direct (J\\) and module (U\\G) devices are not supported"),
+        ),
+        _ => parse_device(&up, 0),
+    }
+}
+
+fn parse_decimal(s: &str, from: usize) -> Result<u32, OperandError> {
+    let digits = &s[from..];
+    if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) {
+        return err(from, format!("`{s}`: expected a decimal number after `{}`", &s[..from]));
+    }
+    digits
+        .parse::<u32>()
+        .or_else(|_| err(from, format!("`{s}`: number too large")))
+}
+
+fn parse_k(s: &str) -> Result<Operand, OperandError> {
+    let rest = &s[1..];
+    let b = rest.as_bytes();
+    // `K4M0`: one digit, then a device letter.
+    if b.len() >= 2 && b[0].is_ascii_digit() && b[1].is_ascii_alphabetic() {
+        let n = b[0] - b'0';
+        if !(1..=8).contains(&n) {
+            return err(1, format!("`{s}`: digit specification must be K1 to K8"));
+        }
+        let op = parse_device(s, 2)?;
+        if let Operand::Device {
+            dev, bit, digits, ..
+        } = &op
+        {
+            if !dev.kind.is_bit() || bit.is_some() || digits.is_some() {
+                return err(2, format!("`{s}`: digit specification needs a bit device"));
+            }
+        }
+        return Ok(match op {
+            Operand::Device { dev, index, .. } => Operand::Device {
+                dev,
+                digits: Some(n),
+                bit: None,
+                index,
+            },
+            other => other,
+        });
+    }
+    let (neg, digits) = match rest.as_bytes().first() {
+        Some(b'-') => (true, &rest[1..]),
+        Some(b'+') => (false, &rest[1..]),
+        _ => (false, rest),
+    };
+    if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) {
+        return err(1, format!("`{s}`: expected a decimal constant"));
+    }
+    let mag: i64 = match digits.parse::<u64>() {
+        Ok(v) if v <= i64::MAX as u64 => v as i64,
+        _ => return err(1, format!("`{s}`: constant out of range")),
+    };
+    Ok(Operand::Const(Constant::Int {
+        value: if neg { -mag } else { mag },
+        hex: false,
+    }))
+}
+
+fn parse_hex_const(s: &str) -> Result<Operand, OperandError> {
+    let digits = &s[1..];
+    if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_hexdigit()) {
+        return err(1, format!("`{s}`: expected a hexadecimal constant"));
+    }
+    if digits.trim_start_matches('0').len() > 8 {
+        return err(1, format!("`{s}`: constant out of range"));
+    }
+    let v = u64::from_str_radix(digits, 16).unwrap_or(0);
+    Ok(Operand::Const(Constant::Int {
+        value: v as i64,
+        hex: true,
+    }))
+}
+
+/// `E1.5`, `E-0.25`, `E1.234+3` (MELSEC exponent form), `E1.234E-3`.
+fn parse_real(s: &str) -> Result<f64, OperandError> {
+    let body = &s[1..];
+    let b = body.as_bytes();
+    let mut i = 0;
+    if i < b.len() && (b[i] == b'+' || b[i] == b'-') {
+        i += 1;
+    }
+    let mant_start = i;
+    while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
+        i += 1;
+    }
+    let mantissa = &body[..i];
+    if i == mant_start || mantissa[mant_start..].matches('.').count() > 1 {
+        return err(1, format!("`{s}`: expected a real constant such as E1.5 or E1.234+3"));
+    }
+    let mut text = mantissa.to_string();
+    if i < b.len() {
+        let exp = if b[i] == b'E' { &body[i + 1..] } else { &body[i..] };
+        let digits = exp.strip_prefix(['+', '-']).unwrap_or(exp);
+        // The MELSEC form `1.234+3` needs the sign; `1.2E3` may omit it.
+        let signed = digits.len() < exp.len();
+        if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) || !signed && b[i] != b'E' {
+            return err(1 + i, format!("`{s}`: bad exponent in real constant"));
+        }
+        text.push('e');
+        text.push_str(exp);
+    }
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => err(1, format!("`{s}`: real constant out of range")),
+    }
+}
+
+/// Parses a device starting at byte `from` of the upper-case token `s`.
+fn parse_device(s: &str, from: usize) -> Result<Operand, OperandError> {
+    let t = &s[from..];
+    if t.starts_with("DX") || t.starts_with("DY") {
+        return err(
+            from,
+            format!("`{s}`: direct access (DX/DY) is not supported; use X/Y"),
+        );
+    }
+    let Some(&(prefix, kind, generic)) = PREFIXES.iter().find(|(p, k, _)| {
+        t.starts_with(p) && {
+            let next = t.as_bytes().get(p.len()).copied();
+            match k.numbering() {
+                Numbering::Hex => next.is_some_and(|c| c.is_ascii_hexdigit()),
+                Numbering::Dec => next.is_some_and(|c| c.is_ascii_digit()),
+            }
+        }
+    }) else {
+        return err(from, format!("`{s}` is not a device or constant"));
+    };
+    let num_start = from + prefix.len();
+    let b = s.as_bytes();
+    let mut i = num_start;
+    let hex = kind.numbering() == Numbering::Hex;
+    while i < b.len() && (b[i].is_ascii_digit() || hex && (b'A'..=b'F').contains(&b[i])) {
+        i += 1;
+    }
+    let radix = if hex { 16 } else { 10 };
+    let number = match u32::from_str_radix(&s[num_start..i], radix) {
+        Ok(n) => n,
+        Err(_) => return err(num_start, format!("`{s}`: device number too large")),
+    };
+    let mut bit = None;
+    let mut index = None;
+    if i < b.len() && b[i] == b'.' {
+        if kind.is_bit() {
+            return err(i, format!("`{s}`: a bit number `.n` needs a word device"));
+        }
+        let rest = &s[i + 1..];
+        if rest.len() != 1 || !rest.as_bytes()[0].is_ascii_hexdigit() {
+            return err(i + 1, format!("`{s}`: bit number must be one hex digit 0-F"));
+        }
+        bit = Some(u8::from_str_radix(rest, 16).unwrap_or(0));
+        i = b.len();
+    } else if i < b.len() && b[i] == b'Z' {
+        let z = parse_decimal(s, i + 1)?;
+        if z > 15 {
+            return err(i, format!("`{s}`: index register Z{z} does not exist (Z0-Z15)"));
+        }
+        index = Some(z as u8);
+        i = b.len();
+    }
+    if i != b.len() {
+        return err(i, format!("`{s}`: unexpected `{}`", &s[i..]));
+    }
+    Ok(Operand::Device {
+        dev: DeviceName {
+            kind,
+            number,
+            generic,
+        },
+        digits: None,
+        bit,
+        index,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dev(s: &str) -> (DeviceKind, u32, Option<u8>, Option<u8>, Option<u8>) {
+        match parse_operand(s).unwrap() {
+            Operand::Device {
+                dev,
+                digits,
+                bit,
+                index,
+            } => (dev.kind, dev.number, digits, bit, index),
+            o => panic!("{s}: {o:?}"),
+        }
+    }
+
+    #[test]
+    fn devices() {
+        use DeviceKind::*;
+        assert_eq!(dev("X1F"), (X, 0x1F, None, None, None));
+        assert_eq!(dev("y10"), (Y, 0x10, None, None, None));
+        assert_eq!(dev("M100"), (M, 100, None, None, None));
+        assert_eq!(dev("SM400"), (SM, 400, None, None, None));
+        assert_eq!(dev("SB7FF"), (SB, 0x7FF, None, None, None));
+        assert_eq!(dev("SW1A"), (SW, 0x1A, None, None, None));
+        assert_eq!(dev("ZR100000"), (ZR, 100000, None, None, None));
+        assert_eq!(dev("TN5"), (TN, 5, None, None, None));
+        assert_eq!(dev("ST3"), (STS, 3, None, None, None));
+        assert_eq!(dev("STN3"), (STN, 3, None, None, None));
+        assert_eq!(dev("K4M0"), (M, 0, Some(4), None, None));
+        assert_eq!(dev("K2Y10"), (Y, 0x10, Some(2), None, None));
+        assert_eq!(dev("K4M0Z2"), (M, 0, Some(4), None, Some(2)));
+        assert_eq!(dev("D0.F"), (D, 0, None, Some(15), None));
+        assert_eq!(dev("D200Z0"), (D, 200, None, None, Some(0)));
+        assert_eq!(dev("B1FZ3"), (B, 0x1F, None, None, Some(3)));
+        assert_eq!(dev("FD4"), (FD, 4, None, None, None));
+        assert_eq!(dev("FXF"), (FX, 0xF, None, None, None));
+        assert_eq!(dev("Z15"), (Z, 15, None, None, None));
+    }
+
+    #[test]
+    fn constants() {
+        let k = |s| parse_operand(s).unwrap();
+        assert_eq!(k("K123"), Operand::Const(Constant::Int { value: 123, hex: false }));
+        assert_eq!(k("K-50"), Operand::Const(Constant::Int { value: -50, hex: false }));
+        assert_eq!(k("H1F"), Operand::Const(Constant::Int { value: 31, hex: true }));
+        assert_eq!(k("hFFFFFFFF"), Operand::Const(Constant::Int { value: 0xFFFF_FFFF, hex: true }));
+        assert_eq!(k("E1.5"), Operand::Const(Constant::Real(1.5)));
+        assert_eq!(k("E1.234+3"), Operand::Const(Constant::Real(1234.0)));
+        assert_eq!(k("E-2.5-1"), Operand::Const(Constant::Real(-0.25)));
+        assert_eq!(k("E10.2345"), Operand::Const(Constant::Real(10.2345)));
+        assert_eq!(k("\"AB C\""), Operand::Const(Constant::Str("AB C".into())));
+        assert_eq!(k("P12"), Operand::Pointer(12));
+        assert_eq!(k("N3"), Operand::Nesting(3));
+    }
+
+    #[test]
+    fn rejects() {
+        for s in [
+            "Q1", "K9M0", "K4D0", "X1G", "D0.G", "D0Z16", "M0.1", "H123456789", "E1.2.3", "\"ab",
+            "DX0", "J1\\W0", "K", "E", "D", "K12A",
+        ] {
+            assert!(parse_operand(s).is_err(), "{s} should be rejected");
+        }
+    }
+}

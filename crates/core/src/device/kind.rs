@@ -1,0 +1,125 @@
+//! Device kinds and their numbering (004 Table 10.1, L5894-5950).
+
+use std::fmt;
+
+/// Every device kind with its own storage.
+///
+/// Timers, retentive timers and counters are split into contact (`TS`), coil (`TC`)
+/// and current value (`TN`), the way the MC protocol names them. In a program `T0`
+/// means the contact in a bit operand and the current value in a word operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u8)]
+pub enum DeviceKind {
+    // bit devices
+    X,
+    Y,
+    M,
+    L,
+    F,
+    V,
+    B,
+    SB,
+    S,
+    SM,
+    TS,
+    TC,
+    STS,
+    STC,
+    CS,
+    CC,
+    FX,
+    FY,
+    // word devices
+    D,
+    W,
+    SW,
+    SD,
+    Z,
+    TN,
+    STN,
+    CN,
+    FD,
+    R,
+    ZR,
+}
+
+/// Decimal or hexadecimal device numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Numbering {
+    Dec,
+    Hex,
+}
+
+impl DeviceKind {
+    pub const COUNT: usize = 29;
+    pub const ALL: [DeviceKind; Self::COUNT] = {
+        use DeviceKind::*;
+        [
+            X, Y, M, L, F, V, B, SB, S, SM, TS, TC, STS, STC, CS, CC, FX, FY, D, W, SW, SD, Z, TN,
+            STN, CN, FD, R, ZR,
+        ]
+    };
+
+    #[inline]
+    pub fn is_bit(self) -> bool {
+        (self as u8) <= (DeviceKind::FY as u8)
+    }
+
+    pub fn numbering(self) -> Numbering {
+        use DeviceKind::*;
+        match self {
+            X | Y | B | SB | W | SW | FX | FY => Numbering::Hex,
+            _ => Numbering::Dec,
+        }
+    }
+
+    /// The name as written in programs and on the command line.
+    pub fn name(self) -> &'static str {
+        use DeviceKind::*;
+        match self {
+            X => "X",
+            Y => "Y",
+            M => "M",
+            L => "L",
+            F => "F",
+            V => "V",
+            B => "B",
+            SB => "SB",
+            S => "S",
+            SM => "SM",
+            TS => "TS",
+            TC => "TC",
+            STS => "STS",
+            STC => "STC",
+            CS => "CS",
+            CC => "CC",
+            FX => "FX",
+            FY => "FY",
+            D => "D",
+            W => "W",
+            SW => "SW",
+            SD => "SD",
+            Z => "Z",
+            TN => "TN",
+            STN => "STN",
+            CN => "CN",
+            FD => "FD",
+            R => "R",
+            ZR => "ZR",
+        }
+    }
+
+    /// Formats device number `n` in this kind's numbering (`X1F`, `D100`).
+    pub fn format(self, n: u32) -> String {
+        match self.numbering() {
+            Numbering::Hex => format!("{}{:X}", self.name(), n),
+            Numbering::Dec => format!("{}{}", self.name(), n),
+        }
+    }
+}
+
+impl fmt::Display for DeviceKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}

@@ -1,0 +1,258 @@
+//! MELSEC-Q device memory (004 §10, Table 10.1).
+//!
+//! All bit devices live in one flat `bits` array and all word devices in one flat
+//! `words` array. Each device kind owns a contiguous range in its array, so the
+//! compiler turns `M100` or `D0` into a single pre-resolved index and the scan loop
+//! touches memory with one indexed load, never a lookup.
+
+pub mod address;
+mod kind;
+
+pub use address::{parse_operand, Constant, DeviceName, Operand, OperandError};
+pub use kind::{DeviceKind, Numbering};
+
+/// Number of points per device kind: the "device setting" of the PLC parameters.
+///
+/// Defaults are the Q06HCPU defaults of 004 Table 3.1 (L1026-1059).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DeviceConfig {
+    points: [u32; DeviceKind::COUNT],
+}
+
+impl Default for DeviceConfig {
+    fn default() -> Self {
+        Self::q06h()
+    }
+}
+
+impl DeviceConfig {
+    /// Q06HCPU profile, 004 Table 3.1.
+    ///
+    /// Decisions: ST has 0 points by default, as in the manual (assign points to use
+    /// retentive timers). File registers default to a 1 MB SRAM card (ZR0-517119,
+    /// L1040-1041) so that R0-32767 (block 0) and large ZR addresses exist; the
+    /// built-in standard RAM alone would give 32K points.
+    pub fn q06h() -> Self {
+        use DeviceKind::*;
+        let mut c = DeviceConfig {
+            points: [0; DeviceKind::COUNT],
+        };
+        let t = 2048;
+        let st = 0;
+        let cn = 1024;
+        for (k, n) in [
+            (X, 8192),
+            (Y, 8192),
+            (M, 8192),
+            (L, 8192),
+            (F, 2048),
+            (V, 2048),
+            (B, 8192),
+            (SB, 2048),
+            (S, 8192),
+            (SM, 2048),
+            (TS, t),
+            (TC, t),
+            (STS, st),
+            (STC, st),
+            (CS, cn),
+            (CC, cn),
+            (FX, 16),
+            (FY, 16),
+            (D, 12288),
+            (W, 8192),
+            (SW, 2048),
+            (SD, 2048),
+            (Z, 16),
+            (TN, t),
+            (STN, st),
+            (CN, cn),
+            (FD, 5),
+            (R, 32768),
+            (ZR, 517_120),
+        ] {
+            c.points[k as usize] = n;
+        }
+        c
+    }
+
+    pub fn points(&self, kind: DeviceKind) -> u32 {
+        self.points[kind as usize]
+    }
+
+    /// Sets the points of a device. Timers, retentive timers and counters keep their
+    /// contact, coil and current value sizes together.
+    pub fn set_points(&mut self, kind: DeviceKind, n: u32) {
+        use DeviceKind::*;
+        let group: &[DeviceKind] = match kind {
+            TS | TC | TN => &[TS, TC, TN],
+            STS | STC | STN => &[STS, STC, STN],
+            CS | CC | CN => &[CS, CC, CN],
+            _ => &[],
+        };
+        if group.is_empty() {
+            self.points[kind as usize] = n;
+        } else {
+            for k in group {
+                self.points[*k as usize] = n;
+            }
+        }
+        if kind == ZR {
+            self.points[R as usize] = n.min(32768);
+        }
+    }
+}
+
+/// Where each device kind lives in the flat bit or word array.
+#[derive(Clone, Debug)]
+pub struct DeviceMap {
+    base: [u32; DeviceKind::COUNT],
+    points: [u32; DeviceKind::COUNT],
+    bit_len: u32,
+    word_len: u32,
+}
+
+impl DeviceMap {
+    pub fn new(cfg: &DeviceConfig) -> Self {
+        let mut base = [0; DeviceKind::COUNT];
+        let mut points = [0; DeviceKind::COUNT];
+        let (mut nb, mut nw) = (0u32, 0u32);
+        for k in DeviceKind::ALL {
+            let n = cfg.points(k);
+            points[k as usize] = n;
+            if k == DeviceKind::R {
+                continue; // R is a window onto ZR (block 0); placed below.
+            }
+            if k.is_bit() {
+                base[k as usize] = nb;
+                nb += n;
+            } else {
+                base[k as usize] = nw;
+                nw += n;
+            }
+        }
+        // Block switching (RSET) is not implemented yet: R addresses block 0 of ZR.
+        base[DeviceKind::R as usize] = base[DeviceKind::ZR as usize];
+        DeviceMap {
+            base,
+            points,
+            bit_len: nb,
+            word_len: nw,
+        }
+    }
+
+    #[inline]
+    pub fn base(&self, kind: DeviceKind) -> u32 {
+        self.base[kind as usize]
+    }
+
+    #[inline]
+    pub fn points(&self, kind: DeviceKind) -> u32 {
+        self.points[kind as usize]
+    }
+
+    /// Flat index of device `kind` number `n`, or `None` when out of range.
+    #[inline]
+    pub fn index(&self, kind: DeviceKind, n: u32) -> Option<u32> {
+        (n < self.points(kind)).then(|| self.base(kind) + n)
+    }
+
+    pub fn bit_len(&self) -> u32 {
+        self.bit_len
+    }
+
+    pub fn word_len(&self) -> u32 {
+        self.word_len
+    }
+}
+
+/// The CPU's device memory.
+#[derive(Clone, Debug)]
+pub struct DeviceMemory {
+    pub map: DeviceMap,
+    pub bits: Box<[bool]>,
+    pub words: Box<[u16]>,
+}
+
+/// A device access outside the configured points (MELSEC error 4101 at run time).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{kind}{number} is outside the configured range ({points} points)")]
+pub struct OutOfRange {
+    pub kind: DeviceKind,
+    pub number: i64,
+    pub points: u32,
+}
+
+impl DeviceMemory {
+    pub fn new(cfg: &DeviceConfig) -> Self {
+        let map = DeviceMap::new(cfg);
+        DeviceMemory {
+            bits: vec![false; map.bit_len() as usize].into_boxed_slice(),
+            words: vec![0; map.word_len() as usize].into_boxed_slice(),
+            map,
+        }
+    }
+
+    fn locate(&self, kind: DeviceKind, n: i64) -> Result<usize, OutOfRange> {
+        let points = self.map.points(kind);
+        if n < 0 || n >= points as i64 {
+            return Err(OutOfRange {
+                kind,
+                number: n,
+                points,
+            });
+        }
+        Ok((self.map.base(kind) + n as u32) as usize)
+    }
+
+    /// Reads one bit device (`kind` must be a bit kind).
+    pub fn get_bit(&self, kind: DeviceKind, n: i64) -> Result<bool, OutOfRange> {
+        debug_assert!(kind.is_bit());
+        Ok(self.bits[self.locate(kind, n)?])
+    }
+
+    pub fn set_bit(&mut self, kind: DeviceKind, n: i64, v: bool) -> Result<(), OutOfRange> {
+        debug_assert!(kind.is_bit());
+        let i = self.locate(kind, n)?;
+        self.bits[i] = v;
+        Ok(())
+    }
+
+    /// Reads one word device (`kind` must be a word kind).
+    pub fn get_word(&self, kind: DeviceKind, n: i64) -> Result<u16, OutOfRange> {
+        debug_assert!(!kind.is_bit());
+        Ok(self.words[self.locate(kind, n)?])
+    }
+
+    pub fn set_word(&mut self, kind: DeviceKind, n: i64, v: u16) -> Result<(), OutOfRange> {
+        debug_assert!(!kind.is_bit());
+        let i = self.locate(kind, n)?;
+        self.words[i] = v;
+        Ok(())
+    }
+
+    /// Reads `n` consecutive bits starting at flat bit index `start` as an integer,
+    /// least significant first (digit specification `KnM0` uses 4·n bits).
+    #[inline]
+    pub fn pack_bits(&self, start: usize, n: usize) -> u32 {
+        let mut v = 0u32;
+        for (i, b) in self.bits[start..start + n].iter().enumerate() {
+            v |= (*b as u32) << i;
+        }
+        v
+    }
+
+    #[inline]
+    pub fn unpack_bits(&mut self, start: usize, n: usize, v: u32) {
+        for (i, b) in self.bits[start..start + n].iter_mut().enumerate() {
+            *b = (v >> i) & 1 != 0;
+        }
+    }
+
+    /// Clears every device (power-on without latch; latch ranges arrive with the
+    /// CPU-functions issue).
+    pub fn clear(&mut self) {
+        self.bits.fill(false);
+        self.words.fill(0);
+    }
+}

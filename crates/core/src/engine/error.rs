@@ -1,0 +1,78 @@
+//! MELSEC error codes raised by the engine (004 §7.20 self-diagnostics; codes as
+//! listed in the QCPU User's Manual (Hardware Design, Maintenance and Inspection)).
+
+use std::fmt;
+
+/// A self-diagnostic error code as it appears in SD0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ErrorCode(pub u16);
+
+impl ErrorCode {
+    /// OPERATION ERROR: data the instruction cannot process (division by 0,
+    /// invalid real number, out-of-range conversion).
+    pub const OPERATION: ErrorCode = ErrorCode(4100);
+    /// OPERATION ERROR: device range exceeded (index modification, block length).
+    pub const RANGE: ErrorCode = ErrorCode(4101);
+    /// FOR NEXT ERROR: FOR without NEXT reached END.
+    pub const FOR_WITHOUT_NEXT: ErrorCode = ErrorCode(4200);
+    /// FOR NEXT ERROR: NEXT executed without FOR.
+    pub const NEXT_WITHOUT_FOR: ErrorCode = ErrorCode(4201);
+    /// FOR NEXT ERROR: more than 16 nesting levels.
+    pub const FOR_NESTING: ErrorCode = ErrorCode(4202);
+    /// FOR NEXT ERROR: BREAK executed without FOR.
+    pub const BREAK_WITHOUT_FOR: ErrorCode = ErrorCode(4203);
+    /// CAN'T EXECUTE(P): the subroutine did not end with RET.
+    pub const NO_RET: ErrorCode = ErrorCode(4211);
+    /// CAN'T EXECUTE(P): RET executed in the main program.
+    pub const RET_IN_MAIN: ErrorCode = ErrorCode(4212);
+    /// CAN'T EXECUTE(P): more than 16 CALL nesting levels.
+    pub const CALL_NESTING: ErrorCode = ErrorCode(4213);
+    /// WDT ERROR: scan exceeded the watchdog time.
+    pub const WDT: ErrorCode = ErrorCode(5000);
+    /// PRG.TIME OVER: scan exceeded the constant-scan setting.
+    pub const PRG_TIME_OVER: ErrorCode = ErrorCode(5010);
+
+    /// The CPU's error message for this code.
+    pub fn message(self) -> &'static str {
+        match self.0 {
+            4100 => "OPERATION ERROR: the instruction cannot process this data",
+            4101 => "OPERATION ERROR: device range exceeded",
+            4200 => "FOR NEXT ERROR: FOR without NEXT",
+            4201 => "FOR NEXT ERROR: NEXT without FOR",
+            4202 => "FOR NEXT ERROR: more than 16 FOR nesting levels",
+            4203 => "FOR NEXT ERROR: BREAK without FOR",
+            4211 => "CAN'T EXECUTE(P): no RET in the executed subroutine",
+            4212 => "CAN'T EXECUTE(P): RET executed in the main program",
+            4213 => "CAN'T EXECUTE(P): more than 16 CALL nesting levels",
+            5000 => "WDT ERROR: scan time exceeded the watchdog",
+            5010 => "PRG.TIME OVER: scan time exceeded the constant scan",
+            _ => "error",
+        }
+    }
+
+    /// Operation errors follow the "operation error: stop/continue" parameter;
+    /// everything else stops the CPU.
+    pub fn is_operation_error(self) -> bool {
+        (4100..4200).contains(&self.0)
+    }
+}
+
+impl fmt::Display for ErrorCode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {}", self.0, self.message())
+    }
+}
+
+/// A runtime fault raised by an instruction.
+pub type Fault = ErrorCode;
+
+/// The latest self-diagnostic error, with where it happened.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CpuError {
+    pub code: ErrorCode,
+    /// Step number of the failing instruction, if an instruction failed.
+    pub step: Option<u32>,
+    /// Source file and line of that instruction.
+    pub file: Option<String>,
+    pub line: Option<u32>,
+}

@@ -1,0 +1,124 @@
+//! Special relays (SM) and special registers (SD) kept by the system
+//! (004 App. 1 and App. 2; notes qcpu.md §6 and §8).
+
+use super::error::ErrorCode;
+use super::CpuState;
+use crate::device::{DeviceKind, DeviceMemory};
+
+fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
+    let _ = mem.set_bit(DeviceKind::SM, n, v);
+}
+
+fn sd(mem: &mut DeviceMemory, n: i64, v: u16) {
+    let _ = mem.set_word(DeviceKind::SD, n, v);
+}
+
+fn sd_get(mem: &DeviceMemory, n: i64) -> u16 {
+    mem.get_word(DeviceKind::SD, n).unwrap_or(0)
+}
+
+/// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default 30.
+pub(crate) fn power_on(mem: &mut DeviceMemory) {
+    sd(mem, 414, 30);
+    sd(mem, 415, 30);
+    // SD290-SD304: device points X Y M L B F SB V S T ST C D W SW.
+    use DeviceKind::*;
+    for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW].iter().enumerate() {
+        let p = mem.map.points(*k);
+        sd(mem, 290 + i as i64, p.min(u16::MAX as u32) as u16);
+    }
+}
+
+/// Relays set before the program runs: SM400/401 always ON/OFF, SM402/403 the
+/// first-scan pulses, and the clocks SM409-SM415. The clocks start OFF at power-on
+/// and toggle every half period of the time since power-on (L9629-9638).
+pub(crate) fn scan_start(mem: &mut DeviceMemory, since_power_on_us: u64, first_scan: bool) {
+    sm(mem, 400, true);
+    sm(mem, 401, false);
+    sm(mem, 402, first_scan);
+    sm(mem, 403, !first_scan);
+    let t = since_power_on_us;
+    let half = |us: u64| (t / us.max(1)) & 1 == 1;
+    let n414 = (sd_get(mem, 414) as i16).max(1) as u64;
+    let n415 = (sd_get(mem, 415) as i16).max(1) as u64;
+    sm(mem, 409, half(5_000));
+    sm(mem, 410, half(50_000));
+    sm(mem, 411, half(100_000));
+    sm(mem, 412, half(500_000));
+    sm(mem, 413, half(1_000_000));
+    sm(mem, 414, half(n414 * 1_000_000));
+    sm(mem, 415, half(n415 * 1_000));
+}
+
+/// Scan times measured at END.
+pub(crate) struct ScanTimes {
+    pub current_us: u64,
+    pub min_us: u64,
+    pub max_us: u64,
+    pub since_run_us: u64,
+}
+
+/// Splits a time into the ms register and the 100 µs-resolution µs register
+/// (SD520=23, SD521=600 for 23.6 ms, L10445-10447).
+fn ms_us(us: u64) -> (u16, u16) {
+    ((us / 1000).min(u16::MAX as u64) as u16, ((us % 1000) / 100 * 100) as u16)
+}
+
+/// END processing of the scan registers: SD520-SD527 scan times, SD420 scan
+/// counter, SD412 one-second counter (both wrap 32767 → -32768 → 0).
+pub(crate) fn end(mem: &mut DeviceMemory, t: ScanTimes) {
+    for (reg, us) in [(520, t.current_us), (524, t.min_us), (526, t.max_us)] {
+        let (ms, sub) = ms_us(us);
+        sd(mem, reg, ms);
+        sd(mem, reg + 1, sub);
+    }
+    let count = sd_get(mem, 420).wrapping_add(1);
+    sd(mem, 420, count);
+    sd(mem, 412, (t.since_run_us / 1_000_000) as u16);
+}
+
+/// SD203 operating status, b0-b3: 0 RUN, 1 STOP, 2 PAUSE.
+pub(crate) fn set_status(mem: &mut DeviceMemory, state: CpuState) {
+    let v = match state {
+        CpuState::Run => 0,
+        CpuState::Stop => 1,
+        CpuState::Pause => 2,
+    };
+    let old = sd_get(mem, 203);
+    sd(mem, 203, old & !0xF | v);
+}
+
+/// Error information (004 §7.20, App. 2): SM0/SM1 ON, SD0 the code, SM56 for
+/// operation errors, SD4 = common-information category 4 (program error location),
+/// SD5-SD10 the program file name (8 + "." + 3 characters, ASCII, low byte first),
+/// SD14/SD15 the step number (low/high word).
+pub(crate) fn report_error(mem: &mut DeviceMemory, code: ErrorCode, file: &str, step: Option<u32>) {
+    sm(mem, 0, true);
+    sm(mem, 1, true);
+    if code.is_operation_error() {
+        sm(mem, 56, true);
+    }
+    sd(mem, 0, code.0);
+    let Some(step) = step else {
+        sd(mem, 4, 0);
+        return;
+    };
+    sd(mem, 4, 4);
+    let stem = std::path::Path::new(file)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("")
+        .to_ascii_uppercase();
+    let mut name = [b' '; 8];
+    for (d, s) in name.iter_mut().zip(stem.bytes().filter(u8::is_ascii)) {
+        *d = s;
+    }
+    let ext = *b".QPG";
+    for i in 0..4 {
+        sd(mem, 5 + i, u16::from_le_bytes([name[2 * i as usize], name[2 * i as usize + 1]]));
+    }
+    sd(mem, 9, u16::from_le_bytes([ext[0], ext[1]]));
+    sd(mem, 10, u16::from_le_bytes([ext[2], ext[3]]));
+    sd(mem, 14, step as u16);
+    sd(mem, 15, (step >> 16) as u16);
+}
