@@ -1,1 +1,50 @@
-fn main(){}
+//! `softplc`: run and check MELSEC-Q programs (contract §2).
+
+mod run;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// softplc — a MELSEC-Q compatible soft PLC.
+///
+/// Loads a sequence program (text mnemonic list `.il`, or a GX Works2
+/// instruction-list CSV export `.csv`) and executes it scan by scan as a
+/// Q06HCPU does: input refresh, program from step 0 to END, END processing.
+#[derive(Parser, Debug)]
+#[command(name = "softplc", version, about, long_about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Execute a program for a number of scans in virtual time and report devices.
+    ///
+    /// Time is virtual: each scan takes exactly --scan-time, so timers, the
+    /// SM409-SM415 clocks and SD520 scan-time registers are reproducible.
+    /// Devices use MELSEC names: X1F, Y10, B, W, SB, SW in hex; M100, D0, SM400,
+    /// SD520, R0, ZR100000, Z0; K4M0 (digit specification), D0.F (bit of a word),
+    /// D200Z0 (index modification); T0/C0/ST0 the contact, TN0/CN0/STN0 the
+    /// current value.
+    ///
+    /// Example: softplc run examples/blink.il --scans 100 --set X0=1 --show Y0 --show TN0
+    Run(run::RunArgs),
+    /// Load a program and report every diagnostic as file:line:column: message.
+    ///
+    /// Exit status is non-zero when the program has errors.
+    Check {
+        /// Program file (.il or .csv).
+        program: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Run(args) => run::run(args),
+        Command::Check { program } => run::check(&program),
+    }
+}

@@ -1,0 +1,229 @@
+//! `softplc run` and `softplc check` (contract §2).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Args;
+use serde_json::{json, Map, Value as Json};
+use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::device::DeviceConfig;
+use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::program::{self, Program};
+
+#[derive(Args, Debug)]
+pub struct RunArgs {
+    /// Program file (.il text list or GX Works2 .csv export).
+    pub program: PathBuf,
+    /// Number of scans to execute.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub scans: u64,
+    /// Virtual time each scan takes, e.g. 10ms, 500us, 1s.
+    #[arg(long, default_value = "10ms", value_name = "DUR", value_parser = parse_duration)]
+    pub scan_time: Duration,
+    /// Write a device before scan 1, e.g. --set X0=1 --set D10:f32=1.5 (repeatable).
+    #[arg(long = "set", value_name = "DEV=VALUE")]
+    pub set: Vec<String>,
+    /// Write a device before scan N (1-based), e.g. --at 50:X0=0 (repeatable).
+    /// An input keeps its value until written again.
+    #[arg(long = "at", value_name = "N:DEV=VALUE")]
+    pub at: Vec<String>,
+    /// Report a device after the last scan: DEV or DEV:TYPE with TYPE one of
+    /// i16 (default for words), u16, i32, u32, f32, str (repeatable).
+    #[arg(long = "show", value_name = "DEV[:TYPE]")]
+    pub show: Vec<String>,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `10ms`, `500us`, `1.5s`, `250ns`.
+pub fn parse_duration(s: &str) -> Result<Duration, String> {
+    let s = s.trim();
+    let split = s
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .ok_or_else(|| format!("`{s}`: give a unit, e.g. 10ms, 500us, 1s"))?;
+    let (num, unit) = s.split_at(split);
+    let v: f64 = num.parse().map_err(|_| format!("`{s}` is not a duration"))?;
+    let scale = match unit {
+        "ns" => 1e-9,
+        "us" | "µs" => 1e-6,
+        "ms" => 1e-3,
+        "s" => 1.0,
+        _ => return Err(format!("`{s}`: unknown unit `{unit}` (ns, us, ms, s)")),
+    };
+    let d = Duration::from_secs_f64(v * scale);
+    if d < Duration::from_micros(1) {
+        return Err(format!("`{s}`: must be at least 1us"));
+    }
+    Ok(d)
+}
+
+fn load(path: &Path) -> Result<Program, ExitCode> {
+    if path.is_dir() || path.file_name().is_some_and(|n| n == "plc.toml") {
+        eprintln!(
+            "{}:1:1: unsupported: projects (plc.toml) are not implemented yet; give a program file",
+            path.display()
+        );
+        return Err(ExitCode::from(2));
+    }
+    program::load_file(path, &DeviceConfig::default()).map_err(|diags| {
+        for d in &diags.0 {
+            eprintln!("{d}");
+        }
+        let n = diags.0.len();
+        eprintln!("{n} error{} in {}", if n == 1 { "" } else { "s" }, path.display());
+        ExitCode::from(1)
+    })
+}
+
+pub fn check(path: &Path) -> ExitCode {
+    match load(path) {
+        Ok(p) => {
+            println!(
+                "{}: OK, {} steps ({} operations)",
+                path.display(),
+                p.steps,
+                p.ops.len()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(code) => code,
+    }
+}
+
+/// A write scheduled before a scan.
+struct Write {
+    scan: u64,
+    spec: DeviceSpec,
+    value: String,
+}
+
+fn parse_write(arg: &str, scan: u64) -> Result<Write, String> {
+    let (dev, value) = arg
+        .split_once('=')
+        .ok_or_else(|| format!("`{arg}`: expected DEV=VALUE"))?;
+    Ok(Write {
+        scan,
+        spec: DeviceSpec::parse(dev.trim())?,
+        value: value.trim().to_string(),
+    })
+}
+
+fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String> {
+    let mut writes = Vec::new();
+    for s in &args.set {
+        writes.push(parse_write(s, 1)?);
+    }
+    for a in &args.at {
+        let (n, rest) = a
+            .split_once(':')
+            .ok_or_else(|| format!("`{a}`: expected N:DEV=VALUE"))?;
+        let n: u64 = n
+            .trim()
+            .parse()
+            .ok()
+            .filter(|n| *n >= 1)
+            .ok_or_else(|| format!("`{a}`: scan number must be 1 or more"))?;
+        writes.push(parse_write(rest, n)?);
+    }
+    writes.sort_by_key(|w| w.scan);
+    let shows = args
+        .show
+        .iter()
+        .map(|s| DeviceSpec::parse(s))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((writes, shows))
+}
+
+pub fn run(args: RunArgs) -> ExitCode {
+    let program = match load(&args.program) {
+        Ok(p) => p,
+        Err(code) => return code,
+    };
+    let (writes, shows) = match parse_options(&args) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let clock = VirtualClock::new();
+    let mut cpu = Cpu::new(program, CpuConfig::default(), Box::new(clock.clone()));
+    let step_us = args.scan_time.as_micros() as u64;
+    let mut pending = writes.iter().peekable();
+    let mut scans = 0u64;
+    for n in 1..=args.scans {
+        while let Some(w) = pending.next_if(|w| w.scan == n) {
+            if let Err(e) = cpu.write_device(&w.spec, &w.value) {
+                eprintln!("softplc: {e}");
+                return ExitCode::from(2);
+            }
+        }
+        clock.advance_us(step_us);
+        cpu.scan();
+        scans = n;
+        if cpu.state() == CpuState::Stop {
+            break;
+        }
+    }
+    let mut devices = Map::new();
+    let mut text = Vec::new();
+    for spec in &shows {
+        match cpu.read_device(spec) {
+            Ok(v) => {
+                text.push(format!("{} = {v}", spec.text));
+                devices.insert(spec.text.clone(), to_json(&v));
+            }
+            Err(e) => {
+                eprintln!("softplc: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let time_ms = scans as f64 * args.scan_time.as_secs_f64() * 1000.0;
+    let error = cpu.error().map(|e| {
+        json!({
+            "code": e.code.0,
+            "message": e.code.message(),
+            "step": e.step,
+            "file": e.file,
+            "line": e.line,
+        })
+    });
+    if args.json {
+        let out = json!({
+            "scans": scans,
+            "time_ms": time_ms,
+            "state": cpu.state().as_str(),
+            "error": error,
+            "devices": devices,
+        });
+        println!("{out}");
+    } else {
+        println!("scans: {scans}  time: {time_ms} ms  state: {}", cpu.state().as_str());
+        match cpu.error() {
+            None => println!("error: none"),
+            Some(e) => {
+                let place = match (&e.file, e.line, e.step) {
+                    (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
+                    _ => String::new(),
+                };
+                println!("error: {} {}{place}", e.code.0, e.code.message());
+            }
+        }
+        for line in text {
+            println!("{line}");
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn to_json(v: &Value) -> Json {
+    match v {
+        Value::Bool(b) => Json::Bool(*b),
+        Value::Int(i) => json!(i),
+        Value::Float(f) => json!(f),
+        Value::Str(s) => Json::String(s.clone()),
+    }
+}
