@@ -44,7 +44,9 @@ pub fn parse_duration(s: &str) -> Result<Duration, String> {
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
         .ok_or_else(|| format!("`{s}`: give a unit, e.g. 10ms, 500us, 1s"))?;
     let (num, unit) = s.split_at(split);
-    let v: f64 = num.parse().map_err(|_| format!("`{s}` is not a duration"))?;
+    let v: f64 = num
+        .parse()
+        .map_err(|_| format!("`{s}` is not a duration"))?;
     let scale = match unit {
         "ns" => 1e-9,
         "us" | "µs" => 1e-6,
@@ -72,7 +74,11 @@ fn load(path: &Path) -> Result<Program, ExitCode> {
             eprintln!("{d}");
         }
         let n = diags.0.len();
-        eprintln!("{n} error{} in {}", if n == 1 { "" } else { "s" }, path.display());
+        eprintln!(
+            "{n} error{} in {}",
+            if n == 1 { "" } else { "s" },
+            path.display()
+        );
         ExitCode::from(1)
     })
 }
@@ -201,7 +207,10 @@ pub fn run(args: RunArgs) -> ExitCode {
         });
         println!("{out}");
     } else {
-        println!("scans: {scans}  time: {time_ms} ms  state: {}", cpu.state().as_str());
+        println!(
+            "scans: {scans}  time: {time_ms} ms  state: {}",
+            cpu.state().as_str()
+        );
         match cpu.error() {
             None => println!("error: none"),
             Some(e) => {

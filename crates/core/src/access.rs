@@ -95,7 +95,11 @@ impl DeviceSpec {
                 "u32" => ValueType::U32,
                 "f32" => ValueType::F32,
                 "str" if !matches!(target, Target::Digits(..)) => ValueType::Str,
-                _ => return Err(format!("`{s}`: unknown type `{t}` (i16, u16, i32, u32, f32, str)")),
+                _ => {
+                    return Err(format!(
+                        "`{s}`: unknown type `{t}` (i16, u16, i32, u32, f32, str)"
+                    ))
+                }
             },
             (Some(t), true) if t == "bool" || t == "bit" => ValueType::Bit,
             (Some(t), true) => return Err(format!("`{s}`: a bit device takes no type `{t}`")),
@@ -154,7 +158,9 @@ impl DeviceSpec {
                 if self.ty == ValueType::Str {
                     let mut bytes = Vec::new();
                     'words: for i in 0..(MAX_STR / 2) as i64 {
-                        let Ok(w) = mem.get_word(k, first + i) else { break };
+                        let Ok(w) = mem.get_word(k, first + i) else {
+                            break;
+                        };
                         for b in w.to_le_bytes() {
                             if b == 0 {
                                 break 'words;
@@ -189,7 +195,12 @@ impl DeviceSpec {
     /// `:str`, `true`/`false`/`1`/`0` for bits).
     pub fn write(&self, mem: &mut DeviceMemory, value: &str) -> Result<(), String> {
         let e = |e: crate::device::OutOfRange| format!("`{}`: {e}", self.text);
-        let bad = || format!("`{}`: `{value}` is not a valid {:?} value", self.text, self.ty);
+        let bad = || {
+            format!(
+                "`{}`: `{value}` is not a valid {:?} value",
+                self.text, self.ty
+            )
+        };
         match self.target {
             Target::Bit(k, n) => {
                 let v = parse_bool(value).ok_or_else(bad)?;
@@ -226,7 +237,8 @@ impl DeviceSpec {
                 }
                 let v = self.parse_raw(value).ok_or_else(bad)?;
                 for i in 0..self.words() as i64 {
-                    mem.set_word(k, first + i, (v >> (16 * i)) as u16).map_err(e)?;
+                    mem.set_word(k, first + i, (v >> (16 * i)) as u16)
+                        .map_err(e)?;
                 }
                 Ok(())
             }
@@ -261,7 +273,9 @@ impl DeviceSpec {
             _ => 16 * self.words(),
         };
         let (min, max) = (-(1i64 << (bits - 1)), (1i64 << bits) - 1);
-        (min..=max).contains(&v).then(|| (v as u64) & ((1u64 << bits) - 1))
+        (min..=max)
+            .contains(&v)
+            .then(|| (v as u64) & ((1u64 << bits) - 1))
     }
 }
 
@@ -281,7 +295,9 @@ mod tests {
     #[test]
     fn round_trips() {
         let mut mem = DeviceMemory::new(&DeviceConfig::default());
-        let w = |m: &mut DeviceMemory, d: &str, v: &str| DeviceSpec::parse(d).unwrap().write(m, v).unwrap();
+        let w = |m: &mut DeviceMemory, d: &str, v: &str| {
+            DeviceSpec::parse(d).unwrap().write(m, v).unwrap()
+        };
         let r = |m: &DeviceMemory, d: &str| DeviceSpec::parse(d).unwrap().read(m).unwrap();
         w(&mut mem, "D0", "-5");
         assert_eq!(r(&mem, "D0"), Value::Int(-5));
@@ -307,7 +323,10 @@ mod tests {
         w(&mut mem, "D200Z0", "77");
         assert_eq!(mem.get_word(DeviceKind::D, 203).unwrap(), 77);
         assert!(DeviceSpec::parse("D0:f64").is_err());
-        assert!(DeviceSpec::parse("D0").unwrap().write(&mut mem, "70000").is_err());
+        assert!(DeviceSpec::parse("D0")
+            .unwrap()
+            .write(&mut mem, "70000")
+            .is_err());
         assert!(DeviceSpec::parse("D99999").unwrap().read(&mem).is_err());
     }
 }

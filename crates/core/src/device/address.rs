@@ -148,7 +148,10 @@ pub fn parse_operand(token: &str) -> Result<Operand, OperandError> {
 fn parse_decimal(s: &str, from: usize) -> Result<u32, OperandError> {
     let digits = &s[from..];
     if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) {
-        return err(from, format!("`{s}`: expected a decimal number after `{}`", &s[..from]));
+        return err(
+            from,
+            format!("`{s}`: expected a decimal number after `{}`", &s[..from]),
+        );
     }
     digits
         .parse::<u32>()
@@ -230,15 +233,25 @@ fn parse_real(s: &str) -> Result<f64, OperandError> {
     }
     let mantissa = &body[..i];
     if i == mant_start || mantissa[mant_start..].matches('.').count() > 1 {
-        return err(1, format!("`{s}`: expected a real constant such as E1.5 or E1.234+3"));
+        return err(
+            1,
+            format!("`{s}`: expected a real constant such as E1.5 or E1.234+3"),
+        );
     }
     let mut text = mantissa.to_string();
     if i < b.len() {
-        let exp = if b[i] == b'E' { &body[i + 1..] } else { &body[i..] };
+        let exp = if b[i] == b'E' {
+            &body[i + 1..]
+        } else {
+            &body[i..]
+        };
         let digits = exp.strip_prefix(['+', '-']).unwrap_or(exp);
         // The MELSEC form `1.234+3` needs the sign; `1.2E3` may omit it.
         let signed = digits.len() < exp.len();
-        if digits.is_empty() || !digits.bytes().all(|c| c.is_ascii_digit()) || !signed && b[i] != b'E' {
+        if digits.is_empty()
+            || !digits.bytes().all(|c| c.is_ascii_digit())
+            || !signed && b[i] != b'E'
+        {
             return err(1 + i, format!("`{s}`: bad exponent in real constant"));
         }
         text.push('e');
@@ -290,14 +303,20 @@ fn parse_device(s: &str, from: usize) -> Result<Operand, OperandError> {
         }
         let rest = &s[i + 1..];
         if rest.len() != 1 || !rest.as_bytes()[0].is_ascii_hexdigit() {
-            return err(i + 1, format!("`{s}`: bit number must be one hex digit 0-F"));
+            return err(
+                i + 1,
+                format!("`{s}`: bit number must be one hex digit 0-F"),
+            );
         }
         bit = Some(u8::from_str_radix(rest, 16).unwrap_or(0));
         i = b.len();
     } else if i < b.len() && b[i] == b'Z' {
         let z = parse_decimal(s, i + 1)?;
         if z > 15 {
-            return err(i, format!("`{s}`: index register Z{z} does not exist (Z0-Z15)"));
+            return err(
+                i,
+                format!("`{s}`: index register Z{z} does not exist (Z0-Z15)"),
+            );
         }
         index = Some(z as u8);
         i = b.len();
@@ -360,10 +379,34 @@ mod tests {
     #[test]
     fn constants() {
         let k = |s| parse_operand(s).unwrap();
-        assert_eq!(k("K123"), Operand::Const(Constant::Int { value: 123, hex: false }));
-        assert_eq!(k("K-50"), Operand::Const(Constant::Int { value: -50, hex: false }));
-        assert_eq!(k("H1F"), Operand::Const(Constant::Int { value: 31, hex: true }));
-        assert_eq!(k("hFFFFFFFF"), Operand::Const(Constant::Int { value: 0xFFFF_FFFF, hex: true }));
+        assert_eq!(
+            k("K123"),
+            Operand::Const(Constant::Int {
+                value: 123,
+                hex: false
+            })
+        );
+        assert_eq!(
+            k("K-50"),
+            Operand::Const(Constant::Int {
+                value: -50,
+                hex: false
+            })
+        );
+        assert_eq!(
+            k("H1F"),
+            Operand::Const(Constant::Int {
+                value: 31,
+                hex: true
+            })
+        );
+        assert_eq!(
+            k("hFFFFFFFF"),
+            Operand::Const(Constant::Int {
+                value: 0xFFFF_FFFF,
+                hex: true
+            })
+        );
         assert_eq!(k("E1.5"), Operand::Const(Constant::Real(1.5)));
         assert_eq!(k("E1.234+3"), Operand::Const(Constant::Real(1234.0)));
         assert_eq!(k("E-2.5-1"), Operand::Const(Constant::Real(-0.25)));
@@ -376,8 +419,22 @@ mod tests {
     #[test]
     fn rejects() {
         for s in [
-            "Q1", "K9M0", "K4D0", "X1G", "D0.G", "D0Z16", "M0.1", "H123456789", "E1.2.3", "\"ab",
-            "DX0", "J1\\W0", "K", "E", "D", "K12A",
+            "Q1",
+            "K9M0",
+            "K4D0",
+            "X1G",
+            "D0.G",
+            "D0Z16",
+            "M0.1",
+            "H123456789",
+            "E1.2.3",
+            "\"ab",
+            "DX0",
+            "J1\\W0",
+            "K",
+            "E",
+            "D",
+            "K12A",
         ] {
             assert!(parse_operand(s).is_err(), "{s} should be rejected");
         }

@@ -143,7 +143,14 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
             Op::Coil(c) => try_op!(sequence::coil(&mut rt.mem, &mut rt.edges, c, acc & mc_on)),
             Op::Timer(t) => {
                 let base = rt.timer_base_us[t.high_speed as usize];
-                try_op!(sequence::timer(&mut rt.mem, &mut rt.timer_rem, base, rt.scan_us, t, acc & mc_on))
+                try_op!(sequence::timer(
+                    &mut rt.mem,
+                    &mut rt.timer_rem,
+                    base,
+                    rt.scan_us,
+                    t,
+                    acc & mc_on
+                ))
             }
             Op::Counter(c) => try_op!(sequence::counter(&mut rt.mem, c, acc & mc_on)),
             // MC: when the condition is OFF, everything up to MCR runs with its

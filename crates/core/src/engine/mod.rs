@@ -218,7 +218,12 @@ impl Cpu {
 
     /// The external output Y`n`: the Y device while running, OFF in STOP (004 §4.4).
     pub fn output(&self, n: u32) -> bool {
-        self.state != CpuState::Stop && self.rt.mem.get_bit(DeviceKind::Y, n as i64).unwrap_or(false)
+        self.state != CpuState::Stop
+            && self
+                .rt
+                .mem
+                .get_bit(DeviceKind::Y, n as i64)
+                .unwrap_or(false)
     }
 
     /// Executes one scan: input refresh, the program, END processing. In STOP or
@@ -232,11 +237,7 @@ impl Cpu {
         // Input refresh (004 §4.3): the input image into X.
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
-        special::scan_start(
-            &mut self.rt.mem,
-            now - self.power_on_us,
-            self.first_scan,
-        );
+        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
         match exec::run(&self.program, &mut self.rt) {
             Outcome::End => {}
             Outcome::Fault(code, pc) => {
@@ -280,13 +281,20 @@ impl Cpu {
 
 impl Cpu {
     /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
-    pub fn read_device(&self, spec: &crate::access::DeviceSpec) -> Result<crate::access::Value, String> {
+    pub fn read_device(
+        &self,
+        spec: &crate::access::DeviceSpec,
+    ) -> Result<crate::access::Value, String> {
         spec.read(&self.rt.mem)
     }
 
     /// Writes a device by name. Writes to X go to the input image as well, so the
     /// value survives the next input refresh.
-    pub fn write_device(&mut self, spec: &crate::access::DeviceSpec, value: &str) -> Result<(), String> {
+    pub fn write_device(
+        &mut self,
+        spec: &crate::access::DeviceSpec,
+        value: &str,
+    ) -> Result<(), String> {
         spec.write(&mut self.rt.mem, value)?;
         if let Some((DeviceKind::X, first, count)) = spec.bit_span() {
             let xb = self.rt.mem.map.base(DeviceKind::X) as usize;

@@ -82,7 +82,9 @@ impl DeviceMemory {
         match a {
             WordArg::Word(i) => self.words[*i as usize] = v,
             WordArg::Const(_) => {}
-            WordArg::Digits { bit, n } => self.unpack_bits(*bit as usize, 4 * *n as usize, v as u32),
+            WordArg::Digits { bit, n } => {
+                self.unpack_bits(*bit as usize, 4 * *n as usize, v as u32)
+            }
             WordArg::Indexed(ix) => {
                 let i = self.indexed_words(ix, 1)?;
                 match ix.kind {

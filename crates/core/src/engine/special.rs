@@ -23,7 +23,10 @@ pub(crate) fn power_on(mem: &mut DeviceMemory) {
     sd(mem, 415, 30);
     // SD290-SD304: device points X Y M L B F SB V S T ST C D W SW.
     use DeviceKind::*;
-    for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW].iter().enumerate() {
+    for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW]
+        .iter()
+        .enumerate()
+    {
         let p = mem.map.points(*k);
         sd(mem, 290 + i as i64, p.min(u16::MAX as u32) as u16);
     }
@@ -61,7 +64,10 @@ pub(crate) struct ScanTimes {
 /// Splits a time into the ms register and the 100 µs-resolution µs register
 /// (SD520=23, SD521=600 for 23.6 ms, L10445-10447).
 fn ms_us(us: u64) -> (u16, u16) {
-    ((us / 1000).min(u16::MAX as u64) as u16, ((us % 1000) / 100 * 100) as u16)
+    (
+        (us / 1000).min(u16::MAX as u64) as u16,
+        ((us % 1000) / 100 * 100) as u16,
+    )
 }
 
 /// END processing of the scan registers: SD520-SD527 scan times, SD420 scan
@@ -115,7 +121,11 @@ pub(crate) fn report_error(mem: &mut DeviceMemory, code: ErrorCode, file: &str, 
     }
     let ext = *b".QPG";
     for i in 0..4 {
-        sd(mem, 5 + i, u16::from_le_bytes([name[2 * i as usize], name[2 * i as usize + 1]]));
+        sd(
+            mem,
+            5 + i,
+            u16::from_le_bytes([name[2 * i as usize], name[2 * i as usize + 1]]),
+        );
     }
     sd(mem, 9, u16::from_le_bytes([ext[0], ext[1]]));
     sd(mem, 10, u16::from_le_bytes([ext[2], ext[3]]));

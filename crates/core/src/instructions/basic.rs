@@ -44,7 +44,11 @@ pub fn apply(mem: &mut DeviceMemory, timer_rem: &mut [u32], a: &Apply) -> Result
         }
         Apply::Arith { op, num, s1, s2, d } => arith(mem, *op, *num, s1, s2, d),
         // INC/DEC wrap: 32767 + 1 = -32768 (DINC/DDEC likewise at 32 bits).
-        Apply::Step { num: Num::I16, delta, d } => {
+        Apply::Step {
+            num: Num::I16,
+            delta,
+            d,
+        } => {
             let v = (mem.read16(d)? as i16).wrapping_add(*delta as i16);
             mem.write16(d, v as u16)
         }

@@ -104,7 +104,9 @@ impl<'a> Compiler<'a> {
         if text.starts_with('I') {
             self.err(
                 tok,
-                format!("unsupported: interrupt program `{text}` (interrupts are not implemented yet)"),
+                format!(
+                    "unsupported: interrupt program `{text}` (interrupts are not implemented yet)"
+                ),
             );
             return;
         }
@@ -117,7 +119,10 @@ impl<'a> Compiler<'a> {
         }
         if let Some((_, line)) = self.labels.get(&n) {
             let line = *line;
-            self.err(tok, format!("duplicate pointer `P{n}` (first defined at line {line})"));
+            self.err(
+                tok,
+                format!("duplicate pointer `P{n}` (first defined at line {line})"),
+            );
             return;
         }
         self.labels.insert(n, (self.ops.len() as u32, tok.line));
@@ -150,10 +155,16 @@ impl<'a> Compiler<'a> {
             [a, b] => format!("{a} or {b}"),
             _ => format!("{allowed:?}"),
         };
-        let tok = i.operands.get(*allowed.iter().max().unwrap_or(&0)).unwrap_or(&i.mnemonic);
+        let tok = i
+            .operands
+            .get(*allowed.iter().max().unwrap_or(&0))
+            .unwrap_or(&i.mnemonic);
         self.err(
             tok,
-            format!("`{m}` takes {want} operand{}, found {n}", if want == "1" { "" } else { "s" }),
+            format!(
+                "`{m}` takes {want} operand{}, found {n}",
+                if want == "1" { "" } else { "s" }
+            ),
         );
         false
     }
@@ -204,7 +215,10 @@ impl<'a> Compiler<'a> {
                     return;
                 }
                 if self.depth == 0 {
-                    self.err(&i.mnemonic, format!("`{m}` has no block to combine (no LD opened one)"));
+                    self.err(
+                        &i.mnemonic,
+                        format!("`{m}` has no block to combine (no LD opened one)"),
+                    );
                 } else {
                     self.depth -= 1;
                 }
@@ -300,7 +314,9 @@ impl<'a> Compiler<'a> {
                             let open = *open;
                             self.err(
                                 &ops[0],
-                                format!("MC N{level} inside MC N{open}: nesting numbers must ascend"),
+                                format!(
+                                    "MC N{level} inside MC N{open}: nesting numbers must ascend"
+                                ),
                             );
                         }
                     }
@@ -320,7 +336,10 @@ impl<'a> Compiler<'a> {
                 if let Some(level) = self.nesting(&ops[0]) {
                     match self.mc_open.iter().position(|(l, _)| *l == level) {
                         Some(p) => self.mc_open.truncate(p),
-                        None => self.err(&ops[0], format!("MCR N{level} without a matching MC N{level}")),
+                        None => self.err(
+                            &ops[0],
+                            format!("MCR N{level} without a matching MC N{level}"),
+                        ),
                     }
                     self.emit(Op::Mcr(level as u8));
                 }
@@ -371,7 +390,10 @@ impl<'a> Compiler<'a> {
                     return;
                 }
                 if self.has_rung && !self.after_output {
-                    self.err(&i.mnemonic, "JMP is unconditional; use CJ for a conditional jump");
+                    self.err(
+                        &i.mnemonic,
+                        "JMP is unconditional; use CJ for a conditional jump",
+                    );
                     return;
                 }
                 self.standalone(i, m);
@@ -413,7 +435,10 @@ impl<'a> Compiler<'a> {
                     return;
                 }
                 if self.for_open.len() >= MAX_NESTING {
-                    self.err(&i.mnemonic, format!("FOR nested more than {MAX_NESTING} levels"));
+                    self.err(
+                        &i.mnemonic,
+                        format!("FOR nested more than {MAX_NESTING} levels"),
+                    );
                 }
                 self.for_open.push(i.mnemonic.clone());
                 if let Some(n) = self.word_src(&ops[0], Num::I16) {
@@ -471,7 +496,10 @@ impl<'a> Compiler<'a> {
                 if self.after_output || !self.has_rung {
                     self.close_rung(&i.mnemonic);
                 } else if self.depth >= MAX_BLOCKS {
-                    self.err(&i.mnemonic, format!("more than {MAX_BLOCKS} open blocks (LD without ANB/ORB)"));
+                    self.err(
+                        &i.mnemonic,
+                        format!("more than {MAX_BLOCKS} open blocks (LD without ANB/ORB)"),
+                    );
                 } else {
                     self.depth += 1;
                     push = true;
@@ -489,7 +517,13 @@ impl<'a> Compiler<'a> {
     /// Checks that the previous rung left no open block or MPS.
     fn close_rung(&mut self, at: &Token) {
         if self.depth > 0 {
-            self.err(at, format!("{} block(s) opened by LD were not closed with ANB/ORB", self.depth));
+            self.err(
+                at,
+                format!(
+                    "{} block(s) opened by LD were not closed with ANB/ORB",
+                    self.depth
+                ),
+            );
             self.depth = 0;
         }
         if self.mps > 0 {
@@ -512,7 +546,13 @@ impl<'a> Compiler<'a> {
             return false;
         }
         if self.depth > 0 {
-            self.err(&i.mnemonic, format!("`{m}`: {} block(s) opened by LD are not closed with ANB/ORB", self.depth));
+            self.err(
+                &i.mnemonic,
+                format!(
+                    "`{m}`: {} block(s) opened by LD are not closed with ANB/ORB",
+                    self.depth
+                ),
+            );
             self.depth = 0;
         }
         self.after_output = true;
@@ -522,7 +562,10 @@ impl<'a> Compiler<'a> {
     /// Checks an instruction that stands alone on the bus bar (END, FEND, MCR, FOR, NEXT, RET).
     fn standalone(&mut self, i: &SourceInstr, m: &str) -> bool {
         if self.has_rung && !self.after_output {
-            self.err(&i.mnemonic, format!("`{m}` takes no condition, but contacts before it lead to no output"));
+            self.err(
+                &i.mnemonic,
+                format!("`{m}` takes no condition, but contacts before it lead to no output"),
+            );
         }
         self.close_rung(&i.mnemonic);
         self.has_rung = false;
@@ -558,7 +601,10 @@ impl<'a> Compiler<'a> {
         };
         let Some((dev, index)) = tc else {
             if m == "OUTH" {
-                return self.err(&ops[0], format!("OUTH needs a timer (T or ST), found `{}`", ops[0].text));
+                return self.err(
+                    &ops[0],
+                    format!("OUTH needs a timer (T or ST), found `{}`", ops[0].text),
+                );
             }
             if ops.len() != 1 {
                 return self.err(&ops[1], format!("`OUT {}` takes no set value", ops[0].text));
@@ -575,11 +621,24 @@ impl<'a> Compiler<'a> {
             return;
         };
         if index.is_some() {
-            return self.err(&ops[0], "unsupported: index modification of a timer or counter coil");
+            return self.err(
+                &ops[0],
+                "unsupported: index modification of a timer or counter coil",
+            );
         }
-        let name = dev.kind.format(dev.number).replace("TS", "T").replace("CS", "C");
+        let name = dev
+            .kind
+            .format(dev.number)
+            .replace("TS", "T")
+            .replace("CS", "C");
         if ops.len() != 2 {
-            return self.err(&ops[0], format!("`{m} {}` needs a set value, e.g. `{m} {} K10`", ops[0].text, ops[0].text));
+            return self.err(
+                &ops[0],
+                format!(
+                    "`{m} {}` needs a set value, e.g. `{m} {} K10`",
+                    ops[0].text, ops[0].text
+                ),
+            );
         }
         let counter = dev.kind == DeviceKind::CS;
         if counter && m == "OUTH" {
@@ -622,7 +681,10 @@ impl<'a> Compiler<'a> {
     fn set_value(&mut self, tok: &Token) -> Option<WordArg> {
         if let Ok(Operand::Const(Constant::Int { value, .. })) = parse_operand(&tok.text) {
             if !(0..=32767).contains(&value) {
-                self.err(tok, format!("set value `{}` out of range (K0-K32767)", tok.text));
+                self.err(
+                    tok,
+                    format!("set value `{}` out of range (K0-K32767)", tok.text),
+                );
                 return None;
             }
         }
@@ -642,13 +704,22 @@ impl<'a> Compiler<'a> {
         } = &op
         {
             let timer = match dev.kind {
-                DeviceKind::TS | DeviceKind::TC | DeviceKind::TN => Some((DeviceKind::TS, DeviceKind::TN, false)),
-                DeviceKind::STS | DeviceKind::STC | DeviceKind::STN => Some((DeviceKind::STS, DeviceKind::STN, true)),
-                DeviceKind::CS | DeviceKind::CC | DeviceKind::CN => Some((DeviceKind::CS, DeviceKind::CN, false)),
+                DeviceKind::TS | DeviceKind::TC | DeviceKind::TN => {
+                    Some((DeviceKind::TS, DeviceKind::TN, false))
+                }
+                DeviceKind::STS | DeviceKind::STC | DeviceKind::STN => {
+                    Some((DeviceKind::STS, DeviceKind::STN, true))
+                }
+                DeviceKind::CS | DeviceKind::CC | DeviceKind::CN => {
+                    Some((DeviceKind::CS, DeviceKind::CN, false))
+                }
                 _ => None,
             };
             if let Some((ck, vk, retentive)) = timer {
-                if dev.kind == DeviceKind::TN && !dev.generic || dev.kind == DeviceKind::CN || dev.kind == DeviceKind::STN {
+                if dev.kind == DeviceKind::TN && !dev.generic
+                    || dev.kind == DeviceKind::CN
+                    || dev.kind == DeviceKind::STN
+                {
                     // RST TN0: clear the current value word only.
                 } else {
                     let Some(contact) = self.map.index(ck, dev.number) else {
@@ -679,10 +750,20 @@ impl<'a> Compiler<'a> {
                 return;
             }
         }
-        if let Operand::Device { dev, bit: None, digits: None, .. } = &op {
+        if let Operand::Device {
+            dev,
+            bit: None,
+            digits: None,
+            ..
+        } = &op
+        {
             if !dev.kind.is_bit() {
                 if let Some(d) = self.word_dest(tok, Num::I16, 1) {
-                    self.emit(Op::Apply(Box::new(Apply::Mov { words: 1, s: WordArg::Const(0), d })));
+                    self.emit(Op::Apply(Box::new(Apply::Mov {
+                        words: 1,
+                        s: WordArg::Const(0),
+                        d,
+                    })));
                 }
                 return;
             }
@@ -712,14 +793,23 @@ impl<'a> Compiler<'a> {
         self.contact(
             i,
             join,
-            Op::Compare(Box::new(Compare { join, op, num, a, b })),
+            Op::Compare(Box::new(Compare {
+                join,
+                op,
+                num,
+                a,
+                b,
+            })),
         );
     }
 
     fn application(&mut self, i: &SourceInstr, m: &str) {
         let (name, pulse) = match catalog::application(m) {
             Some(_) => (m, false),
-            None => match m.strip_suffix('P').filter(|b| catalog::application(b).is_some()) {
+            None => match m
+                .strip_suffix('P')
+                .filter(|b| catalog::application(b).is_some())
+            {
                 Some(base) => (base, true),
                 None => {
                     let msg = if catalog::is_known(m) {
@@ -731,7 +821,9 @@ impl<'a> Compiler<'a> {
                 }
             },
         };
-        let Some(app) = catalog::application(name) else { return };
+        let Some(app) = catalog::application(name) else {
+            return;
+        };
         use catalog::App;
         let ops = &i.operands;
         let ok_count = match app {
@@ -749,7 +841,13 @@ impl<'a> Compiler<'a> {
                 let (Some(s), Some(d)) = (s, d) else { return };
                 match (&s, &d, num) {
                     (WordArg::Const(k), WordArg::Word(d), Num::I16) => {
-                        return self.pulsed(pulse, Op::MovK { k: *k as u16, d: *d })
+                        return self.pulsed(
+                            pulse,
+                            Op::MovK {
+                                k: *k as u16,
+                                d: *d,
+                            },
+                        )
                     }
                     (WordArg::Word(s), WordArg::Word(d), Num::I16) => {
                         return self.pulsed(pulse, Op::MovW { s: *s, d: *d })
@@ -780,11 +878,15 @@ impl<'a> Compiler<'a> {
                         self.word_dest(&ops[1], num, dest_words),
                     )
                 };
-                let (Some(s1), Some(s2), Some(d)) = (s1, s2, d) else { return };
+                let (Some(s1), Some(s2), Some(d)) = (s1, s2, d) else {
+                    return;
+                };
                 Apply::Arith { op, num, s1, s2, d }
             }
             App::Step(num, delta) => {
-                let Some(d) = self.word_dest(&ops[0], num, num.words()) else { return };
+                let Some(d) = self.word_dest(&ops[0], num, num.words()) else {
+                    return;
+                };
                 Apply::Step { num, delta, d }
             }
             App::Flt(num) => {
@@ -866,7 +968,9 @@ impl<'a> Compiler<'a> {
                 }
                 Some(match index {
                     None => BitArg::Bit(self.map.base(dev.kind) + dev.number),
-                    Some(z) => BitArg::Indexed(self.indexed(IndexedKind::Bit, dev.kind, dev.number, z)),
+                    Some(z) => {
+                        BitArg::Indexed(self.indexed(IndexedKind::Bit, dev.kind, dev.number, z))
+                    }
                 })
             }
             Operand::Device {
@@ -884,10 +988,17 @@ impl<'a> Compiler<'a> {
                         word: self.map.base(dev.kind) + dev.number,
                         bit: b,
                     },
-                    Some(z) => BitArg::Indexed(self.indexed(IndexedKind::WordBit(b), dev.kind, dev.number, z)),
+                    Some(z) => BitArg::Indexed(self.indexed(
+                        IndexedKind::WordBit(b),
+                        dev.kind,
+                        dev.number,
+                        z,
+                    )),
                 })
             }
-            Operand::Device { dev, digits: None, .. } => {
+            Operand::Device {
+                dev, digits: None, ..
+            } => {
                 self.err(
                     tok,
                     format!("`{}` is a word device; a bit operand needs a bit device or a word bit such as `{}.0`", tok.text, tok.text),
@@ -896,15 +1007,33 @@ impl<'a> Compiler<'a> {
                 None
             }
             Operand::Device { .. } => {
-                self.err(tok, format!("`{}` is a digit-specified word; a bit operand is needed here", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "`{}` is a digit-specified word; a bit operand is needed here",
+                        tok.text
+                    ),
+                );
                 None
             }
             Operand::Const(_) => {
-                self.err(tok, format!("constant `{}` cannot be a bit operand; a bit device is needed", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "constant `{}` cannot be a bit operand; a bit device is needed",
+                        tok.text
+                    ),
+                );
                 None
             }
             _ => {
-                self.err(tok, format!("`{}` cannot be a bit operand; a bit device is needed", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "`{}` cannot be a bit operand; a bit device is needed",
+                        tok.text
+                    ),
+                );
                 None
             }
         }
@@ -912,7 +1041,15 @@ impl<'a> Compiler<'a> {
 
     fn bit_dest(&mut self, tok: &Token) -> Option<BitArg> {
         if let Ok(Operand::Device { dev, .. }) = parse_operand(&tok.text) {
-            if matches!(dev.kind, DeviceKind::TS | DeviceKind::TC | DeviceKind::STS | DeviceKind::STC | DeviceKind::CS | DeviceKind::CC) {
+            if matches!(
+                dev.kind,
+                DeviceKind::TS
+                    | DeviceKind::TC
+                    | DeviceKind::STS
+                    | DeviceKind::STC
+                    | DeviceKind::CS
+                    | DeviceKind::CC
+            ) {
                 self.err(tok, format!("`{}`: timer and counter contacts and coils are driven by `OUT {}` with a set value", tok.text, tok.text));
                 return None;
             }
@@ -923,12 +1060,17 @@ impl<'a> Compiler<'a> {
     fn edge_relay(&mut self, tok: &Token) -> Option<u32> {
         match self.bit_operand(tok)? {
             BitArg::Bit(b)
-                if (self.map.base(DeviceKind::V)..self.map.base(DeviceKind::V) + self.map.points(DeviceKind::V)).contains(&b) =>
+                if (self.map.base(DeviceKind::V)
+                    ..self.map.base(DeviceKind::V) + self.map.points(DeviceKind::V))
+                    .contains(&b) =>
             {
                 Some(b)
             }
             _ => {
-                self.err(tok, format!("`{}`: EGP/EGF need an edge relay V without index", tok.text));
+                self.err(
+                    tok,
+                    format!("`{}`: EGP/EGF need an edge relay V without index", tok.text),
+                );
                 None
             }
         }
@@ -947,7 +1089,10 @@ impl<'a> Compiler<'a> {
     fn word_dest(&mut self, tok: &Token, num: Num, words: u32) -> Option<WordArg> {
         let op = self.parse(tok)?;
         if let Operand::Const(_) = op {
-            self.err(tok, format!("constant `{}` cannot be a destination", tok.text));
+            self.err(
+                tok,
+                format!("constant `{}` cannot be a destination", tok.text),
+            );
             return None;
         }
         self.word_device(tok, op, num, words)
@@ -956,18 +1101,39 @@ impl<'a> Compiler<'a> {
     fn constant(&mut self, tok: &Token, c: &Constant, num: Num) -> Option<WordArg> {
         match (c, num) {
             (Constant::Int { value, hex }, Num::I16) => {
-                let ok = if *hex { (0..=0xFFFF).contains(value) } else { (-32768..=32767).contains(value) };
+                let ok = if *hex {
+                    (0..=0xFFFF).contains(value)
+                } else {
+                    (-32768..=32767).contains(value)
+                };
                 if !ok {
-                    let range = if *hex { "H0-HFFFF" } else { "K-32768 to K32767" };
-                    self.err(tok, format!("constant `{}` does not fit a 16-bit operand ({range})", tok.text));
+                    let range = if *hex {
+                        "H0-HFFFF"
+                    } else {
+                        "K-32768 to K32767"
+                    };
+                    self.err(
+                        tok,
+                        format!(
+                            "constant `{}` does not fit a 16-bit operand ({range})",
+                            tok.text
+                        ),
+                    );
                     return None;
                 }
                 Some(WordArg::Const(*value as i32 as u32 & 0xFFFF))
             }
             (Constant::Int { value, hex }, Num::I32) => {
-                let ok = if *hex { (0..=0xFFFF_FFFF).contains(value) } else { (i32::MIN as i64..=i32::MAX as i64).contains(value) };
+                let ok = if *hex {
+                    (0..=0xFFFF_FFFF).contains(value)
+                } else {
+                    (i32::MIN as i64..=i32::MAX as i64).contains(value)
+                };
                 if !ok {
-                    self.err(tok, format!("constant `{}` does not fit a 32-bit operand", tok.text));
+                    self.err(
+                        tok,
+                        format!("constant `{}` does not fit a 32-bit operand", tok.text),
+                    );
                     return None;
                 }
                 Some(WordArg::Const(*value as u32))
@@ -975,43 +1141,85 @@ impl<'a> Compiler<'a> {
             (Constant::Real(v), Num::F32) => {
                 let f = *v as f32;
                 if f.is_infinite() || (*v != 0.0 && f.abs() < f32::MIN_POSITIVE) {
-                    self.err(tok, format!("real constant `{}` is outside the single-precision range", tok.text));
+                    self.err(
+                        tok,
+                        format!(
+                            "real constant `{}` is outside the single-precision range",
+                            tok.text
+                        ),
+                    );
                     return None;
                 }
                 Some(WordArg::Const(f.to_bits()))
             }
             (Constant::Int { .. }, Num::F32) => {
-                self.err(tok, format!("`{}`: a real operand needs an E constant, e.g. E1.5", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: a real operand needs an E constant, e.g. E1.5",
+                        tok.text
+                    ),
+                );
                 None
             }
             (Constant::Real(_), _) => {
-                self.err(tok, format!("real constant `{}` where a BIN value (K or H) is needed", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "real constant `{}` where a BIN value (K or H) is needed",
+                        tok.text
+                    ),
+                );
                 None
             }
             (Constant::Str(_), _) => {
-                self.err(tok, format!("string `{}` where a numeric operand is needed", tok.text));
+                self.err(
+                    tok,
+                    format!("string `{}` where a numeric operand is needed", tok.text),
+                );
                 None
             }
         }
     }
 
     fn word_device(&mut self, tok: &Token, op: Operand, num: Num, words: u32) -> Option<WordArg> {
-        let Operand::Device { dev, digits, bit, index } = op else {
+        let Operand::Device {
+            dev,
+            digits,
+            bit,
+            index,
+        } = op
+        else {
             self.err(tok, format!("`{}` cannot be a word operand", tok.text));
             return None;
         };
         if bit.is_some() {
-            self.err(tok, format!("`{}` is a bit; a word operand is needed here", tok.text));
+            self.err(
+                tok,
+                format!("`{}` is a bit; a word operand is needed here", tok.text),
+            );
             return None;
         }
         if let Some(n) = digits {
             if num == Num::F32 {
-                self.err(tok, format!("`{}`: digit specification cannot hold a real number", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: digit specification cannot hold a real number",
+                        tok.text
+                    ),
+                );
                 return None;
             }
             let max = if num == Num::I16 { 4 } else { 8 };
             if n > max {
-                self.err(tok, format!("`{}`: K{n} needs a 32-bit instruction (K1-K{max} here)", tok.text));
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: K{n} needs a 32-bit instruction (K1-K{max} here)",
+                        tok.text
+                    ),
+                );
                 return None;
             }
             let need = dev.number as u64 + 4 * n as u64;
@@ -1024,7 +1232,9 @@ impl<'a> Compiler<'a> {
                     bit: self.map.base(dev.kind) + dev.number,
                     n,
                 },
-                Some(z) => WordArg::Indexed(self.indexed(IndexedKind::Digits(n), dev.kind, dev.number, z)),
+                Some(z) => {
+                    WordArg::Indexed(self.indexed(IndexedKind::Digits(n), dev.kind, dev.number, z))
+                }
             });
         }
         let kind = dev.word_kind();
@@ -1044,7 +1254,10 @@ impl<'a> Compiler<'a> {
             let last = name_of(&dev, kind, dev.number + words - 1);
             self.err(
                 tok,
-                format!("`{}`: this operand uses {words} words, up to `{last}`, beyond the last device", tok.text),
+                format!(
+                    "`{}`: this operand uses {words} words, up to `{last}`, beyond the last device",
+                    tok.text
+                ),
             );
             return None;
         }
@@ -1058,11 +1271,17 @@ impl<'a> Compiler<'a> {
         match self.parse(tok)? {
             Operand::Pointer(p) if p <= 4095 => Some(p),
             Operand::Pointer(_) => {
-                self.err(tok, format!("pointer `{}` is out of range (P0-P4095)", tok.text));
+                self.err(
+                    tok,
+                    format!("pointer `{}` is out of range (P0-P4095)", tok.text),
+                );
                 None
             }
             _ => {
-                self.err(tok, format!("`{}`: a pointer P0-P4095 is needed here", tok.text));
+                self.err(
+                    tok,
+                    format!("`{}`: a pointer P0-P4095 is needed here", tok.text),
+                );
                 None
             }
         }
@@ -1072,7 +1291,10 @@ impl<'a> Compiler<'a> {
         match self.parse(tok)? {
             Operand::Nesting(n) if n <= 14 => Some(n),
             _ => {
-                self.err(tok, format!("`{}`: a nesting number N0-N14 is needed here", tok.text));
+                self.err(
+                    tok,
+                    format!("`{}`: a nesting number N0-N14 is needed here", tok.text),
+                );
                 None
             }
         }
@@ -1092,7 +1314,10 @@ impl<'a> Compiler<'a> {
                 col: 1,
             });
         if self.end_seen.is_none() {
-            self.err(&last, "missing END instruction (MISSING END INS., error 4010)");
+            self.err(
+                &last,
+                "missing END instruction (MISSING END INS., error 4010)",
+            );
         }
         for (level, tok) in std::mem::take(&mut self.mc_open) {
             self.err(&tok, format!("MC N{level} without a matching MCR N{level}"));
@@ -1103,7 +1328,9 @@ impl<'a> Compiler<'a> {
         for (at, p, tok) in std::mem::take(&mut self.fixups) {
             match self.labels.get(&p) {
                 Some(&(target, _)) => match &mut self.ops[at] {
-                    Op::Cj { target: t, .. } | Op::Scj { target: t, .. } | Op::Call(t) => *t = target,
+                    Op::Cj { target: t, .. } | Op::Scj { target: t, .. } | Op::Call(t) => {
+                        *t = target
+                    }
                     Op::Break(b) => b.1 = target,
                     _ => {}
                 },

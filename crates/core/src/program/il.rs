@@ -12,7 +12,11 @@ pub fn parse_il(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
         let toks = match tokenize(raw, line) {
             Ok(t) => t,
             Err(tok) => {
-                diags.push(Diagnostic::at(file, &tok, format!("unterminated string `{}`", tok.text)));
+                diags.push(Diagnostic::at(
+                    file,
+                    &tok,
+                    format!("unterminated string `{}`", tok.text),
+                ));
                 continue;
             }
         };

@@ -30,7 +30,11 @@ pub fn load_file(path: &Path, devices: &DeviceConfig) -> Result<Program, Diagnos
 }
 
 /// Loads program text already in memory; the format follows the file name.
-pub fn load_bytes(name: &str, bytes: &[u8], devices: &DeviceConfig) -> Result<Program, Diagnostics> {
+pub fn load_bytes(
+    name: &str,
+    bytes: &[u8],
+    devices: &DeviceConfig,
+) -> Result<Program, Diagnostics> {
     let is_csv = Path::new(name)
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
@@ -48,7 +52,10 @@ pub fn load_bytes(name: &str, bytes: &[u8], devices: &DeviceConfig) -> Result<Pr
             Ok(text) => il::parse_il(name, text),
             Err(e) => Err(vec![Diagnostic {
                 file: name.to_string(),
-                line: 1 + bytes[..e.valid_up_to()].iter().filter(|b| **b == b'\n').count() as u32,
+                line: 1 + bytes[..e.valid_up_to()]
+                    .iter()
+                    .filter(|b| **b == b'\n')
+                    .count() as u32,
                 col: 1,
                 message: "the file is not UTF-8 text".into(),
             }]),

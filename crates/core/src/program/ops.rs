@@ -60,7 +60,10 @@ pub enum WordArg {
     /// Constant, raw bits (K/H as two's complement, E as f32 bits).
     Const(u32),
     /// Digit specification: `n` digits (4·n bits) from a flat bit index.
-    Digits { bit: u32, n: u8 },
+    Digits {
+        bit: u32,
+        n: u8,
+    },
     Indexed(Box<Indexed>),
 }
 
@@ -70,7 +73,10 @@ pub enum BitArg {
     /// Bit device at a flat bit index.
     Bit(u32),
     /// Bit `bit` of the word at a flat word index (`D0.F`).
-    WordBit { word: u32, bit: u8 },
+    WordBit {
+        word: u32,
+        bit: u8,
+    },
     Indexed(Box<Indexed>),
 }
 
@@ -235,7 +241,10 @@ pub enum Op {
     Mep(u32),
     Mef(u32),
     /// EGP/EGF: edge of the operation result, remembered in edge relay V.
-    EdgeRelay { rising: bool, v: u32 },
+    EdgeRelay {
+        rising: bool,
+        v: u32,
+    },
     // --- coils ---
     Out(u32),
     Set(u32),
@@ -249,15 +258,27 @@ pub enum Op {
     /// Pulse (P) form gate: runs the next op only on the condition's rising edge.
     Pulse(u32),
     /// `MOV K s D` with the constant pre-truncated to 16 bits.
-    MovK { k: u16, d: u32 },
+    MovK {
+        k: u16,
+        d: u32,
+    },
     /// `MOV S D` between plain word devices.
-    MovW { s: u32, d: u32 },
+    MovW {
+        s: u32,
+        d: u32,
+    },
     Apply(Box<Apply>),
     // --- program control ---
     /// CJ (conditional) and JMP (unconditional) to an op index.
-    Cj { target: u32, always: bool },
+    Cj {
+        target: u32,
+        always: bool,
+    },
     /// SCJ: jumps while the condition was already on at the previous execution.
-    Scj { target: u32, slot: u32 },
+    Scj {
+        target: u32,
+        slot: u32,
+    },
     GoEnd,
     Call(u32),
     Ret,

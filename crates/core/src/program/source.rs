@@ -58,7 +58,11 @@ impl Diagnostic {
 
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}: {}", self.file, self.line, self.col, self.message)
+        write!(
+            f,
+            "{}:{}:{}: {}",
+            self.file, self.line, self.col, self.message
+        )
     }
 }
 
@@ -83,5 +87,7 @@ impl std::error::Error for Diagnostics {}
 /// True for a token that is a pointer label on its own line: `P0`-`P4095`, `I0`-`I255`.
 pub fn is_label(text: &str) -> bool {
     let b = text.as_bytes();
-    b.len() >= 2 && matches!(b[0], b'P' | b'p' | b'I' | b'i') && b[1..].iter().all(u8::is_ascii_digit)
+    b.len() >= 2
+        && matches!(b[0], b'P' | b'p' | b'I' | b'i')
+        && b[1..].iter().all(u8::is_ascii_digit)
 }

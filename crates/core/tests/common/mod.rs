@@ -1,0 +1,107 @@
+//! Test harness: a CPU on virtual time with device access by name.
+#![allow(dead_code)]
+
+use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::engine::{Cpu, CpuConfig, CpuState, ErrorCode, VirtualClock};
+use softplc_core::program::compile_il;
+
+pub struct Plc {
+    pub cpu: Cpu,
+    clock: VirtualClock,
+    scan_us: u64,
+}
+
+impl Plc {
+    /// Compiles `.il` text with the default Q06HCPU configuration; panics with the
+    /// diagnostics if it does not load. Scans take 10 ms of virtual time.
+    pub fn new(src: &str) -> Plc {
+        Plc::with_config(src, CpuConfig::default())
+    }
+
+    pub fn with_config(src: &str, cfg: CpuConfig) -> Plc {
+        let prog = compile_il("test.il", src, &cfg.devices)
+            .unwrap_or_else(|d| panic!("load failed:\n{d}"));
+        let clock = VirtualClock::new();
+        let cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        Plc {
+            cpu,
+            clock,
+            scan_us: 10_000,
+        }
+    }
+
+    /// Sets the virtual duration of each following scan.
+    pub fn scan_time_us(&mut self, us: u64) -> &mut Self {
+        self.scan_us = us;
+        self
+    }
+
+    pub fn scan(&mut self) -> &mut Self {
+        self.clock.advance_us(self.scan_us);
+        self.cpu.scan();
+        self
+    }
+
+    pub fn scans(&mut self, n: u64) -> &mut Self {
+        for _ in 0..n {
+            self.scan();
+        }
+        self
+    }
+
+    /// Writes a device by name (`X0`, `D10:f32`, `K4M0`); values as on the CLI.
+    pub fn set(&mut self, dev: &str, value: &str) -> &mut Self {
+        let spec = DeviceSpec::parse(dev).unwrap();
+        self.cpu.write_device(&spec, value).unwrap();
+        self
+    }
+
+    pub fn get(&self, dev: &str) -> Value {
+        self.cpu
+            .read_device(&DeviceSpec::parse(dev).unwrap())
+            .unwrap()
+    }
+
+    pub fn bit(&self, dev: &str) -> bool {
+        match self.get(dev) {
+            Value::Bool(b) => b,
+            v => panic!("{dev} is not a bit: {v:?}"),
+        }
+    }
+
+    /// A word (default i16) or typed word (`D0:u32`) as an integer.
+    pub fn int(&self, dev: &str) -> i64 {
+        match self.get(dev) {
+            Value::Int(i) => i,
+            v => panic!("{dev} is not an integer: {v:?}"),
+        }
+    }
+
+    pub fn real(&self, dev: &str) -> f64 {
+        match self.get(&format!("{dev}:f32")) {
+            Value::Float(f) => f,
+            v => panic!("{dev} is not a float: {v:?}"),
+        }
+    }
+
+    pub fn state(&self) -> CpuState {
+        self.cpu.state()
+    }
+
+    /// The error code in SD0 / the engine's latest error.
+    pub fn error(&self) -> Option<ErrorCode> {
+        self.cpu.error().map(|e| e.code)
+    }
+}
+
+/// Diagnostics of a program that must fail to load, as `line:col: message`.
+pub fn diagnostics(src: &str) -> Vec<String> {
+    match compile_il("test.il", src, &CpuConfig::default().devices) {
+        Ok(_) => panic!("program loaded but errors were expected:\n{src}"),
+        Err(d) => {
+            d.0.iter()
+                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                .collect()
+        }
+    }
+}
