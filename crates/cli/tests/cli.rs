@@ -1,0 +1,182 @@
+//! The `softplc run` / `softplc check` contract (contract §2), end to end.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn softplc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .args(args)
+        .current_dir(workspace())
+        .output()
+        .expect("softplc runs")
+}
+
+fn workspace() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+#[test]
+fn run_blink_json() {
+    // blink.il: T0 K5 (100 ms base) times out at scan 51 with 10 ms scans, and
+    // Y0 follows T0; C0 counts Y0's rising edges.
+    let out = softplc(&[
+        "run",
+        "examples/blink.il",
+        "--scans",
+        "100",
+        "--set",
+        "X0=1",
+        "--show",
+        "Y0",
+        "--show",
+        "TN0",
+        "--show",
+        "CN0",
+        "--show",
+        "D0",
+        "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["scans"], 100);
+    assert_eq!(v["time_ms"], 1000.0);
+    assert_eq!(v["state"], "RUN");
+    assert_eq!(v["error"], serde_json::Value::Null);
+    assert_eq!(v["devices"]["Y0"], true);
+    assert_eq!(v["devices"]["TN0"], 5);
+    assert_eq!(v["devices"]["CN0"], 1);
+    assert_eq!(v["devices"]["D0"], 0);
+    // Keys in the contract's order.
+    let keys: Vec<_> = v.as_object().unwrap().keys().cloned().collect();
+    assert_eq!(keys, ["scans", "time_ms", "state", "error", "devices"]);
+}
+
+#[test]
+fn csv_export_runs_like_the_list() {
+    let out = softplc(&[
+        "run",
+        "examples/csv/blink.csv",
+        "--scans",
+        "51",
+        "--set",
+        "X0=1",
+        "--show",
+        "Y0",
+        "--json",
+    ]);
+    assert_eq!(json(&out)["devices"]["Y0"], true);
+    let out = softplc(&[
+        "run",
+        "examples/csv/blink.csv",
+        "--scans",
+        "50",
+        "--set",
+        "X0=1",
+        "--show",
+        "Y0",
+        "--json",
+    ]);
+    assert_eq!(json(&out)["devices"]["Y0"], false);
+}
+
+#[test]
+fn at_writes_before_the_given_scan_and_types() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        &dir,
+        "t.il",
+        "LD X0\nINCP D0\nLD SM400\nFLT D0 D10\nDMOV K100000 D20\nEMOV E1.5 D30\nEND\n",
+    );
+    // X0 rises at scans 1 and 3 (off at 2): D0 = 2.
+    let out = softplc(&[
+        "run", &p, "--scans", "4", "--set", "X0=1", "--at", "2:X0=0", "--at", "3:X0=1", "--show",
+        "D0", "--show", "D10:f32", "--show", "D20:i32", "--show", "D20", "--show", "D30:f32",
+        "--show", "D31:u16", "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["devices"]["D0"], 2);
+    assert_eq!(v["devices"]["D10:f32"], 2.0);
+    assert_eq!(v["devices"]["D20:i32"], 100000);
+    // 100000 = 0x186A0: low word 0x86A0 = -31072 as i16.
+    assert_eq!(v["devices"]["D20"], -31072);
+    assert_eq!(v["devices"]["D30:f32"], 1.5);
+    assert_eq!(v["devices"]["D31:u16"], 0x3FC0);
+}
+
+#[test]
+fn stop_error_is_reported_in_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "main.il", "LD SM400\nMOV K1 D0\n/ D0 D1 D2\nEND\n");
+    let out = softplc(&["run", &p, "--scans", "5", "--json", "--show", "D0"]);
+    let v = json(&out);
+    assert_eq!(v["state"], "STOP");
+    assert_eq!(v["scans"], 1);
+    assert_eq!(v["error"]["code"], 4100);
+    assert_eq!(v["error"]["line"], 3);
+    assert_eq!(v["error"]["step"], 4);
+    assert!(v["error"]["file"].as_str().unwrap().ends_with("main.il"));
+    assert_eq!(v["devices"]["D0"], 1);
+}
+
+#[test]
+fn check_reports_every_diagnostic_with_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "bad.il", "LD X0\nOUT Q1\nMOV K70000 D0\nFOO\n");
+    let out = softplc(&["check", &p]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().collect();
+    assert!(
+        lines[0].ends_with("bad.il:2:5: `Q1` is not a device or constant"),
+        "{err}"
+    );
+    assert!(
+        lines[1].contains("bad.il:3:5: constant `K70000` does not fit a 16-bit operand"),
+        "{err}"
+    );
+    assert!(
+        lines[2].contains("bad.il:4:1: unknown instruction `FOO`"),
+        "{err}"
+    );
+    assert!(lines[3].contains("bad.il:4:1: missing END"), "{err}");
+    // run refuses to start on the same file, with the same diagnostics.
+    let out = softplc(&["run", &p]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown instruction `FOO`"));
+}
+
+#[test]
+fn check_ok() {
+    let out = softplc(&["check", "examples/conveyor.il"]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("OK"));
+}
+
+#[test]
+fn bad_options_fail_before_running() {
+    for args in [
+        &["run", "examples/blink.il", "--show", "Q0"][..],
+        &["run", "examples/blink.il", "--set", "D0"],
+        &["run", "examples/blink.il", "--at", "0:X0=1"],
+        &["run", "examples/blink.il", "--scan-time", "10"],
+        &["run", "examples/blink.il", "--set", "D0=70000"],
+    ] {
+        let out = softplc(args);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(!out.stderr.is_empty());
+    }
+}

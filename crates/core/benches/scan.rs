@@ -1,0 +1,79 @@
+//! Scan throughput against the Q06HCPU (004 Table 3.1: LD 34 ns, MOV 102 ns).
+//!
+//! Each benchmark runs one whole scan (program + END processing) of a generated
+//! program; criterion's throughput is instructions per second, and the
+//! `ns/instruction` printed at the end is the scan time divided by the number of
+//! instructions. Run: `cargo bench -p softplc-core --bench scan`.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use softplc_core::device::DeviceConfig;
+use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::program::compile_il;
+
+/// 50,000 contact/coil instructions: rungs of LD, AND, OR, ANI, OUT.
+fn contacts_program() -> (String, u64) {
+    let mut s = String::new();
+    for i in 0..10_000u32 {
+        let x = i % 4096;
+        s += &format!(
+            "LD X{x:X}\nAND M{}\nOR M{}\nANI X{:X}\nOUT M{}\n",
+            (i * 7) % 8000,
+            (i * 13) % 8000,
+            (x + 1) % 4096,
+            i % 8000
+        );
+    }
+    s += "END\n";
+    (s, 50_000)
+}
+
+/// 20,000 MOV instructions (half constant to word, half word to word) on one rung.
+fn mov_program() -> (String, u64) {
+    let mut s = String::from("LD SM400\n");
+    for i in 0..20_000u32 {
+        if i % 2 == 0 {
+            s += &format!("MOV K{} D{}\n", i % 30000, i % 12000);
+        } else {
+            s += &format!("MOV D{} D{}\n", (i * 7) % 12000, i % 12000);
+        }
+    }
+    s += "END\n";
+    (s, 20_001)
+}
+
+fn cpu(src: &str) -> (Cpu, VirtualClock) {
+    let prog = compile_il("bench.il", src, &DeviceConfig::default()).expect("bench program loads");
+    let clock = VirtualClock::new();
+    let cpu = Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()));
+    (cpu, clock)
+}
+
+fn bench(c: &mut Criterion) {
+    let mut g = c.benchmark_group("scan");
+    for (name, (src, n)) in [
+        ("contacts_50k", contacts_program()),
+        ("mov_20k", mov_program()),
+    ] {
+        let (mut cpu, clock) = cpu(&src);
+        g.throughput(Throughput::Elements(n));
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                clock.advance_us(10_000);
+                cpu.scan();
+            })
+        });
+        // A plain timing for the ns/instruction summary line.
+        let t = std::time::Instant::now();
+        let reps = 200;
+        for _ in 0..reps {
+            clock.advance_us(10_000);
+            cpu.scan();
+        }
+        let ns = t.elapsed().as_nanos() as f64 / (reps as f64 * n as f64);
+        eprintln!("{name}: {ns:.2} ns/instruction (Q06HCPU: LD 34 ns, MOV 102 ns)");
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
