@@ -191,6 +191,17 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                     try_op!(basic::apply(&mut rt.mem, &mut rt.timer_rem, a));
                 }
             }
+            Op::Ext(x) => {
+                if acc & mc_on {
+                    let mut cx = crate::instructions::ExecCtx {
+                        mem: &mut rt.mem,
+                        state: &mut rt.state,
+                        now_us: rt.now_us,
+                        scan_us: rt.scan_us,
+                    };
+                    try_op!(prog.ext[*x as usize].exec(&mut cx));
+                }
+            }
             Op::Cj { target, always } => {
                 if *always || acc & mc_on {
                     back_jump!(*target);
@@ -272,7 +283,13 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                     rt.stop_request = true;
                 }
             }
-            Op::Fend | Op::End => return rt.end_checks(prog, pc - 1),
+            Op::Fend | Op::End => {
+                // A scan longer than the watchdog is WDT ERROR even without a loop.
+                if started.elapsed() > watchdog {
+                    return Outcome::Fault(ErrorCode::WDT, pc - 1);
+                }
+                return rt.end_checks(prog, pc - 1);
+            }
             Op::Nop => {}
         }
     }

@@ -75,6 +75,10 @@ pub(crate) struct Runtime {
     pub mem: DeviceMemory,
     /// Hidden edge memories of LDP/PLS/pulse forms/SCJ.
     pub edges: Box<[bool]>,
+    /// Hidden state words of family instructions.
+    pub state: Box<[u32]>,
+    /// Clock reading at the start of this scan, µs.
+    pub now_us: u64,
     /// Sub-unit remainder of each timer, µs (T then ST).
     pub timer_rem: Box<[u32]>,
     /// [low, high] timer bases in µs.
@@ -151,6 +155,8 @@ impl Cpu {
             rt: Runtime {
                 mem,
                 edges: vec![false; program.edge_slots as usize].into_boxed_slice(),
+                state: vec![0; program.state_words as usize].into_boxed_slice(),
+                now_us: now,
                 timer_rem: vec![0; timers as usize].into_boxed_slice(),
                 timer_base_us: [
                     cfg.timer_low.as_micros().max(1) as u32,
@@ -237,6 +243,7 @@ impl Cpu {
         // Input refresh (004 §4.3): the input image into X.
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        self.rt.now_us = now;
         special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
         match exec::run(&self.program, &mut self.rt) {
             Outcome::End => {}

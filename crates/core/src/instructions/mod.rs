@@ -3,7 +3,49 @@
 //! counters, master control) and basic instructions (comparison, arithmetic,
 //! conversion, transfer). Program-control instructions (jumps, CALL, FOR/NEXT)
 //! live in the engine's interpreter loop because they move the program counter.
+//!
+//! Further families plug in through [`FAMILIES`]: a family module offers a
+//! `lookup` that maps a mnemonic (without its `P` suffix) to a compile function,
+//! which reads operands through [`Args`] and returns an [`Instr`] the engine
+//! executes when the rung condition is ON. Pulse forms are handled for them.
 
 pub mod basic;
 pub mod catalog;
 pub mod sequence;
+
+use std::fmt::Debug;
+
+use crate::device::DeviceMemory;
+use crate::engine::Fault;
+pub use crate::program::compile::Args;
+
+/// Everything an application instruction may touch while it executes.
+pub struct ExecCtx<'a> {
+    pub mem: &'a mut DeviceMemory,
+    /// Hidden per-instruction state words, allocated with [`Args::state_words`].
+    pub state: &'a mut [u32],
+    /// PLC clock reading (µs) and the scan time measured at the previous END (µs).
+    pub now_us: u64,
+    pub scan_us: u32,
+}
+
+/// A compiled application instruction of a family module.
+pub trait Instr: Debug + Send + Sync {
+    /// Runs the instruction; called only when its condition is ON (for a pulse
+    /// form, only on the rising edge).
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault>;
+}
+
+/// Compiles one instruction; `None` when a diagnostic was reported through `Args`.
+pub type CompileFn = fn(&mut Args<'_, '_>) -> Option<Box<dyn Instr>>;
+
+/// Finds a family's compile function for a mnemonic (pulse suffix already removed).
+pub type LookupFn = fn(&str) -> Option<CompileFn>;
+
+/// The registered families, tried in order.
+pub const FAMILIES: &[LookupFn] = &[];
+
+/// The compile function of an extension instruction, if any family has it.
+pub fn lookup(m: &str) -> Option<CompileFn> {
+    FAMILIES.iter().find_map(|f| f(m))
+}

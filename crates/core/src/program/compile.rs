@@ -41,6 +41,8 @@ struct Compiler<'a> {
     labels: HashMap<u32, (u32, u32)>,
     fixups: Vec<(usize, u32, Token)>,
     edge_slots: u32,
+    state_words: u32,
+    ext: Vec<Box<dyn crate::instructions::Instr>>,
     step: u32,
     cur_step: u32,
     cur_line: u32,
@@ -69,6 +71,8 @@ impl<'a> Compiler<'a> {
             labels: HashMap::new(),
             fixups: Vec::new(),
             edge_slots: 0,
+            state_words: 0,
+            ext: Vec::new(),
             step: 0,
             cur_step: 0,
             cur_line: 0,
@@ -100,6 +104,10 @@ impl<'a> Compiler<'a> {
 
     fn label(&mut self, tok: &Token) {
         let text = tok.text.to_ascii_uppercase();
+        if self.end_seen.is_some() {
+            self.err(tok, format!("pointer `{text}` after END labels nothing"));
+            return;
+        }
         let n: u32 = text[1..].parse().unwrap_or(u32::MAX);
         if text.starts_with('I') {
             self.err(
@@ -139,9 +147,7 @@ impl<'a> Compiler<'a> {
         self.cur_step = i.step.unwrap_or(self.step);
         self.cur_line = i.mnemonic.line;
         let steps = catalog::steps(&m, &i.operands);
-        let before = self.diags.len();
         self.dispatch(&m, i);
-        let _ = before;
         self.step = self.cur_step + steps;
     }
 
@@ -1347,8 +1353,118 @@ impl<'a> Compiler<'a> {
             op_step: self.op_step,
             op_line: self.op_line,
             edge_slots: self.edge_slots,
+            state_words: self.state_words,
+            ext: self.ext,
             steps: self.step,
         })
+    }
+}
+
+/// A word-device block operand whose length is known only at run time (BMOV,
+/// FMOV, SUM …): the first word and the flat index one past the device's last
+/// point, which a block may not cross (4101).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    pub start: WordArg,
+    /// Flat index one past the last point of the device kind; for an index-modified
+    /// start the range is in its [`Indexed`].
+    pub limit: u32,
+}
+
+/// Operand access for a family module compiling one instruction. Every method
+/// reports its own diagnostic (with the operand's position) and returns `None`
+/// on error.
+pub struct Args<'c, 'a> {
+    c: &'c mut Compiler<'a>,
+    i: &'c SourceInstr,
+    m: &'c str,
+}
+
+impl Args<'_, '_> {
+    /// The mnemonic as written, upper case (with its `P` suffix, if any).
+    pub fn mnemonic(&self) -> &str {
+        self.m
+    }
+
+    pub fn len(&self) -> usize {
+        self.i.operands.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.i.operands.is_empty()
+    }
+
+    /// Checks the operand count; reports and returns false otherwise.
+    pub fn count(&mut self, allowed: &[usize]) -> bool {
+        self.c.count(self.i, self.m, allowed)
+    }
+
+    /// The text of operand `k`.
+    pub fn text(&self, k: usize) -> &str {
+        &self.i.operands[k].text
+    }
+
+    /// Operand `k` as parsed syntax (for constants and special operands).
+    pub fn operand(&mut self, k: usize) -> Option<Operand> {
+        self.c.parse(&self.i.operands[k])
+    }
+
+    pub fn word_src(&mut self, k: usize, num: Num) -> Option<WordArg> {
+        self.c.word_src(&self.i.operands[k], num)
+    }
+
+    /// A destination of `words` words read or written as `num`.
+    pub fn word_dest(&mut self, k: usize, num: Num, words: u32) -> Option<WordArg> {
+        self.c.word_dest(&self.i.operands[k], num, words)
+    }
+
+    pub fn bit_src(&mut self, k: usize) -> Option<BitArg> {
+        self.c.bit_operand(&self.i.operands[k])
+    }
+
+    pub fn bit_dest(&mut self, k: usize) -> Option<BitArg> {
+        self.c.bit_dest(&self.i.operands[k])
+    }
+
+    /// A word device starting a block (no constants, no digit specification).
+    pub fn block(&mut self, k: usize) -> Option<Block> {
+        let tok = &self.i.operands[k];
+        let op = self.c.parse(tok)?;
+        let kind = match &op {
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                ..
+            } if !dev.word_kind().is_bit() => dev.word_kind(),
+            _ => {
+                self.c
+                    .err(tok, format!("`{}`: a word device is needed here", tok.text));
+                return None;
+            }
+        };
+        let start = self.c.word_device(tok, op, Num::I16, 1)?;
+        Some(Block {
+            start,
+            limit: self.c.map.base(kind) + self.c.map.points(kind),
+        })
+    }
+
+    /// Reports a diagnostic at operand `k` (or at the mnemonic when `k` is out of
+    /// range).
+    pub fn error(&mut self, k: usize, msg: impl Into<String>) {
+        let tok = self.i.operands.get(k).unwrap_or(&self.i.mnemonic).clone();
+        self.c.err(&tok, msg);
+    }
+
+    /// Allocates `n` hidden state words for this instruction; returns the first index.
+    pub fn state_words(&mut self, n: u32) -> u32 {
+        self.c.state_words += n;
+        self.c.state_words - n
+    }
+
+    pub fn map(&self) -> &DeviceMap {
+        self.c.map
     }
 }
 

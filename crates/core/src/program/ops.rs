@@ -268,6 +268,8 @@ pub enum Op {
         d: u32,
     },
     Apply(Box<Apply>),
+    /// An instruction of a family module: index into [`Program::ext`].
+    Ext(u32),
     // --- program control ---
     /// CJ (conditional) and JMP (unconditional) to an op index.
     Cj {
@@ -292,7 +294,7 @@ pub enum Op {
 }
 
 /// A compiled program with the source map needed for error reports.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Program {
     /// File name as given.
     pub file: String,
@@ -303,6 +305,10 @@ pub struct Program {
     pub op_line: Vec<u32>,
     /// Hidden edge memories (LDP, PLS, pulse forms …).
     pub edge_slots: u32,
+    /// Hidden state words of family instructions.
+    pub state_words: u32,
+    /// Family instructions referenced by [`Op::Ext`].
+    pub ext: Vec<Box<dyn crate::instructions::Instr>>,
     /// Steps used, END included.
     pub steps: u32,
 }
