@@ -198,6 +198,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                         state: &mut rt.state,
                         now_us: rt.now_us,
                         scan_us: rt.scan_us,
+                        clock: &mut rt.clock,
                     };
                     try_op!(prog.ext[*x as usize].exec(&mut cx));
                 }

@@ -4,6 +4,7 @@
 //! [`Cpu`] owns the device memory and one compiled program. Everything a scan
 //! needs is allocated when the CPU is built; `scan` itself does no allocation.
 
+pub mod calendar;
 mod clock;
 mod error;
 mod exec;
@@ -56,6 +57,9 @@ pub struct CpuConfig {
     /// Low-speed timer base (default 100 ms) and high-speed timer base (10 ms).
     pub timer_low: Duration,
     pub timer_high: Duration,
+    /// Calendar clock at power-on (`run` uses 2000-01-01 00:00:00 so runs are
+    /// reproducible).
+    pub clock_start: calendar::DateTime,
 }
 
 impl Default for CpuConfig {
@@ -66,6 +70,14 @@ impl Default for CpuConfig {
             operation_error: ErrorMode::Stop,
             timer_low: Duration::from_millis(100),
             timer_high: Duration::from_millis(10),
+            clock_start: calendar::DateTime {
+                year: 2000,
+                month: 1,
+                day: 1,
+                hour: 0,
+                minute: 0,
+                second: 0,
+            },
         }
     }
 }
@@ -79,6 +91,8 @@ pub(crate) struct Runtime {
     pub state: Box<[u32]>,
     /// Clock reading at the start of this scan, µs.
     pub now_us: u64,
+    /// The calendar clock (SD210-SD213, DATERD/DATEWR).
+    pub clock: calendar::PlcClock,
     /// Sub-unit remainder of each timer, µs (T then ST).
     pub timer_rem: Box<[u32]>,
     /// [low, high] timer bases in µs.
@@ -139,6 +153,8 @@ pub struct Cpu {
     run_start_us: u64,
     last_end_us: u64,
     first_scan: bool,
+    /// SM210 at the previous END, for its OFF→ON edge.
+    sm210: bool,
     scans: u64,
     min_scan_us: Option<u64>,
     max_scan_us: Option<u64>,
@@ -157,6 +173,7 @@ impl Cpu {
                 edges: vec![false; program.edge_slots as usize].into_boxed_slice(),
                 state: vec![0; program.state_words as usize].into_boxed_slice(),
                 now_us: now,
+                clock: calendar::PlcClock::new(cfg.clock_start, now),
                 timer_rem: vec![0; timers as usize].into_boxed_slice(),
                 timer_base_us: [
                     cfg.timer_low.as_micros().max(1) as u32,
@@ -179,6 +196,7 @@ impl Cpu {
             run_start_us: now,
             last_end_us: now,
             first_scan: true,
+            sm210: false,
             scans: 0,
             min_scan_us: None,
             max_scan_us: None,
@@ -277,6 +295,8 @@ impl Cpu {
                 since_run_us: now - self.run_start_us,
             },
         );
+        self.sm210 =
+            special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
         self.first_scan = false;
         if self.rt.stop_request {
             self.rt.stop_request = false;

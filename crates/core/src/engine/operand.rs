@@ -3,6 +3,7 @@
 
 use super::error::{ErrorCode, Fault};
 use crate::device::DeviceMemory;
+use crate::program::compile::{BitBlock, Block};
 use crate::program::ops::{BitArg, Indexed, IndexedKind, WordArg};
 
 impl DeviceMemory {
@@ -24,6 +25,25 @@ impl DeviceMemory {
             IndexedKind::Bit | IndexedKind::WordBit(_) => 1,
         };
         self.indexed(ix, span)
+    }
+
+    /// Flat word index of the first of `n` words of a block operand; a block that
+    /// would run past the last point of its device is 4101.
+    pub fn block_start(&self, b: &Block, n: u32) -> Result<usize, Fault> {
+        match &b.start {
+            WordArg::Word(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
+            WordArg::Indexed(ix) => self.indexed(ix, n),
+            _ => Err(ErrorCode::RANGE),
+        }
+    }
+
+    /// Flat bit index of the first of `n` bits of a bit block (4101 past the end).
+    pub fn bit_block_start(&self, b: &BitBlock, n: u32) -> Result<usize, Fault> {
+        match &b.start {
+            BitArg::Bit(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
+            BitArg::Indexed(ix) => self.indexed(ix, n),
+            _ => Err(ErrorCode::RANGE),
+        }
     }
 
     /// Reads a 16-bit operand.

@@ -1,6 +1,7 @@
 //! Special relays (SM) and special registers (SD) kept by the system
 //! (004 App. 1 and App. 2; notes qcpu.md §6 and §8).
 
+use super::calendar::{DateTime, PlcClock};
 use super::error::ErrorCode;
 use super::CpuState;
 use crate::device::{DeviceKind, DeviceMemory};
@@ -131,4 +132,68 @@ pub(crate) fn report_error(mem: &mut DeviceMemory, code: ErrorCode, file: &str, 
     sd(mem, 10, u16::from_le_bytes([ext[2], ext[3]]));
     sd(mem, 14, step as u16);
     sd(mem, 15, (step >> 16) as u16);
+}
+
+fn bcd(v: u32) -> u16 {
+    ((v / 10 % 10) << 4 | v % 10) as u16
+}
+
+fn from_bcd(b: u16) -> Option<u32> {
+    let (hi, lo) = ((b >> 4) as u32, (b & 0xF) as u32);
+    (hi < 10 && lo < 10).then_some(hi * 10 + lo)
+}
+
+/// Clock registers at END (qcpu.md §4.4): SM210 OFF→ON writes SD210-SD213 (BCD) to
+/// the clock, SM211 flags invalid data; while SM213 is ON the clock is read into
+/// SD210-SD213. SD210 = year (2 digits) | month, SD211 = day | hour, SD212 =
+/// minute | second, SD213 = year's first 2 digits | day of week. Returns SM210.
+pub(crate) fn clock_registers(
+    mem: &mut DeviceMemory,
+    clock: &mut PlcClock,
+    now_us: u64,
+    sm210_before: bool,
+) -> bool {
+    let sm210 = mem.get_bit(DeviceKind::SM, 210).unwrap_or(false);
+    if sm210 && !sm210_before {
+        let r = |n| sd_get(mem, n);
+        let (a, b, c, d) = (r(210), r(211), r(212), r(213));
+        let f = |w: u16| (from_bcd(w >> 8), from_bcd(w & 0xFF));
+        let ((yy, mo), (dd, hh), (mi, ss), (cc, _)) = (f(a), f(b), f(c), f(d));
+        let t = (|| {
+            let century = match cc? {
+                0 => {
+                    if yy? >= 80 {
+                        19
+                    } else {
+                        20
+                    }
+                }
+                c => c,
+            };
+            Some(DateTime {
+                year: (century * 100 + yy?) as i32,
+                month: mo?,
+                day: dd?,
+                hour: hh?,
+                minute: mi?,
+                second: ss?,
+            })
+        })();
+        match t.filter(DateTime::is_valid) {
+            Some(t) => {
+                clock.set(t, now_us);
+                sm(mem, 211, false);
+            }
+            None => sm(mem, 211, true),
+        }
+    }
+    if mem.get_bit(DeviceKind::SM, 213).unwrap_or(false) {
+        let t = clock.now(now_us);
+        let y = t.year as u32;
+        sd(mem, 210, bcd(y % 100) << 8 | bcd(t.month));
+        sd(mem, 211, bcd(t.day) << 8 | bcd(t.hour));
+        sd(mem, 212, bcd(t.minute) << 8 | bcd(t.second));
+        sd(mem, 213, bcd(y / 100) << 8 | t.weekday() as u16);
+    }
+    sm210
 }

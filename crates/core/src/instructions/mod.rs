@@ -27,6 +27,8 @@ pub struct ExecCtx<'a> {
     /// PLC clock reading (µs) and the scan time measured at the previous END (µs).
     pub now_us: u64,
     pub scan_us: u32,
+    /// The calendar clock (read with `clock.now(now_us)`, set by DATEWR).
+    pub clock: &'a mut crate::engine::calendar::PlcClock,
 }
 
 /// A compiled application instruction of a family module.

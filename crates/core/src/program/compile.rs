@@ -1371,6 +1371,14 @@ pub struct Block {
     pub limit: u32,
 }
 
+/// A bit-device block operand whose length is known only at run time.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BitBlock {
+    pub start: BitArg,
+    /// Flat bit index one past the last point of the device kind.
+    pub limit: u32,
+}
+
 /// Operand access for a family module compiling one instruction. Every method
 /// reports its own diagnostic (with the operand's position) and returns `None`
 /// on error.
@@ -1445,6 +1453,29 @@ impl Args<'_, '_> {
         };
         let start = self.c.word_device(tok, op, Num::I16, 1)?;
         Some(Block {
+            start,
+            limit: self.c.map.base(kind) + self.c.map.points(kind),
+        })
+    }
+
+    /// A bit device starting a block of bits (BKRST, SFT, BSFR …).
+    pub fn bit_block(&mut self, k: usize) -> Option<BitBlock> {
+        let tok = &self.i.operands[k];
+        let kind = match self.c.parse(tok)? {
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                ..
+            } if dev.kind.is_bit() => dev.kind,
+            _ => {
+                self.c
+                    .err(tok, format!("`{}`: a bit device is needed here", tok.text));
+                return None;
+            }
+        };
+        let start = self.c.bit_operand(tok)?;
+        Some(BitBlock {
             start,
             limit: self.c.map.base(kind) + self.c.map.points(kind),
         })
