@@ -135,7 +135,7 @@ pub(crate) fn report_error(mem: &mut DeviceMemory, code: ErrorCode, file: &str, 
 }
 
 fn bcd(v: u32) -> u16 {
-    ((v / 10 % 10) << 4 | v % 10) as u16
+    (((v / 10 % 10) << 4) | (v % 10)) as u16
 }
 
 fn from_bcd(b: u16) -> Option<u32> {
