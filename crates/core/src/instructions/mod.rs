@@ -9,9 +9,22 @@
 //! which reads operands through [`Args`] and returns an [`Instr`] the engine
 //! executes when the rung condition is ON. Pulse forms are handled for them.
 
+pub mod arithmetic;
 pub mod basic;
+pub mod bits;
 pub mod catalog;
+pub mod clock;
+pub mod comparison;
+pub mod conversion;
+pub mod data;
+pub mod float;
+pub mod limits;
+pub mod logic;
+pub mod rotation;
 pub mod sequence;
+pub mod strings;
+pub mod table;
+pub mod transfer;
 
 use std::fmt::Debug;
 
@@ -45,7 +58,21 @@ pub type CompileFn = fn(&mut Args<'_, '_>) -> Option<Box<dyn Instr>>;
 pub type LookupFn = fn(&str) -> Option<CompileFn>;
 
 /// The registered families, tried in order.
-pub const FAMILIES: &[LookupFn] = &[];
+pub const FAMILIES: &[LookupFn] = &[
+    conversion::lookup,
+    arithmetic::lookup,
+    strings::lookup,
+    transfer::lookup,
+    logic::lookup,
+    rotation::lookup,
+    bits::lookup,
+    data::lookup,
+    table::lookup,
+    limits::lookup,
+    comparison::lookup,
+    float::lookup,
+    clock::lookup,
+];
 
 /// The compile function of an extension instruction, if any family has it.
 pub fn lookup(m: &str) -> Option<CompileFn> {

@@ -1,0 +1,12 @@
+//! Programming manual (common instructions): logical operations (WAND, WOR, WXOR, WXNR and their D and block forms).
+//!
+//! Not implemented yet: every mnemonic of this family is rejected at load as an
+//! unsupported instruction.
+
+use super::CompileFn;
+
+/// The compile function for a mnemonic of this family (pulse suffix removed).
+pub fn lookup(m: &str) -> Option<CompileFn> {
+    let _ = m;
+    None
+}
