@@ -216,6 +216,8 @@ impl DeviceSpec {
             Target::Digits(k, n, d) => {
                 let v = self.parse_raw(value).ok_or_else(bad)?;
                 let first = self.number(mem, n);
+                mem.get_bit(k, first).map_err(e)?;
+                mem.get_bit(k, first + 4 * d as i64 - 1).map_err(e)?;
                 for i in 0..4 * d as i64 {
                     mem.set_bit(k, first + i, v >> i & 1 != 0).map_err(e)?;
                 }
@@ -223,6 +225,14 @@ impl DeviceSpec {
             }
             Target::Word(k, n) => {
                 let first = self.number(mem, n);
+                let span = if self.ty == ValueType::Str {
+                    value.len() as i64 / 2 + 1
+                } else {
+                    self.words() as i64
+                };
+                // Check the whole span first: a rejected write changes nothing.
+                mem.get_word(k, first).map_err(e)?;
+                mem.get_word(k, first + span - 1).map_err(e)?;
                 if self.ty == ValueType::Str {
                     let mut bytes = value.as_bytes().to_vec();
                     bytes.push(0);
@@ -253,7 +263,7 @@ impl DeviceSpec {
             let f = v as f32;
             return f.is_finite().then_some(f.to_bits() as u64);
         }
-        let (neg, body) = match s.strip_prefix('-') {
+        let (neg, body) = match s.strip_prefix('-').filter(|b| !b.starts_with('-')) {
             Some(b) => (true, b),
             None => (false, s),
         };
@@ -267,7 +277,7 @@ impl DeviceSpec {
         } else {
             body.parse::<i64>().ok()?
         };
-        let v = if neg { -mag } else { mag };
+        let v = if neg { mag.checked_neg()? } else { mag };
         let bits = match self.target {
             Target::Digits(_, _, d) => 4 * d as u32,
             _ => 16 * self.words(),

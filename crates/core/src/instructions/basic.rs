@@ -5,7 +5,7 @@
 use crate::device::DeviceMemory;
 use crate::engine::{ErrorCode, Fault};
 use crate::instructions::sequence;
-use crate::program::ops::{Apply, ArithOp, CmpOp, Compare, Num};
+use crate::program::ops::{Apply, ArithOp, CmpOp, Compare, Num, WordArg};
 
 /// Evaluates a comparison contact (`LD=`, `ANDD>`, `ORE<=` …); signed compare for
 /// BIN, IEEE compare for real.
@@ -85,14 +85,16 @@ pub fn apply(mem: &mut DeviceMemory, timer_rem: &mut [u32], a: &Apply) -> Result
 
 /// `+ - * /` in BIN 16, BIN 32 and real. BIN add/subtract wrap (no error, as the
 /// CPU); `*` gives a double-width product; `/` gives quotient and remainder, the
-/// remainder taking the sign of the dividend; division by 0 is 4100.
+/// remainder taking the sign of the dividend; division by 0 is 4100. With a
+/// digit-specified destination `*` stores the low 32 bits of the product (K1-K8)
+/// and `/` only the quotient, without the remainder.
 fn arith(
     mem: &mut DeviceMemory,
     op: ArithOp,
     num: Num,
-    s1: &crate::program::ops::WordArg,
-    s2: &crate::program::ops::WordArg,
-    d: &crate::program::ops::WordArg,
+    s1: &WordArg,
+    s2: &WordArg,
+    d: &WordArg,
 ) -> Result<(), Fault> {
     match num {
         Num::I16 => {
@@ -106,7 +108,10 @@ fn arith(
                         return Err(ErrorCode::OPERATION);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
-                    mem.write_words(d, (q as u16 as u64) | (r as u16 as u64) << 16, 2)
+                    if is_digits(d) {
+                        return mem.write32(d, q as i32 as u32);
+                    }
+                    mem.write_words(d, (q as u16 as u64) | ((r as u16 as u64) << 16), 2)
                 }
             }
         }
@@ -121,7 +126,10 @@ fn arith(
                         return Err(ErrorCode::OPERATION);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
-                    mem.write_words(d, (q as u32 as u64) | (r as u32 as u64) << 32, 4)
+                    if is_digits(d) {
+                        return mem.write32(d, q as u32);
+                    }
+                    mem.write_words(d, (q as u32 as u64) | ((r as u32 as u64) << 32), 4)
                 }
             }
         }
@@ -136,5 +144,13 @@ fn arith(
             };
             mem.write_f32(d, v)
         }
+    }
+}
+
+fn is_digits(d: &WordArg) -> bool {
+    match d {
+        WordArg::Digits { .. } => true,
+        WordArg::Indexed(ix) => matches!(ix.kind, crate::program::ops::IndexedKind::Digits(_)),
+        _ => false,
     }
 }

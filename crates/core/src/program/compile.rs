@@ -53,10 +53,12 @@ struct Compiler<'a> {
     /// Open blocks awaiting ANB/ORB.
     depth: u32,
     /// Open MPS levels.
-    mps: u32,
+    /// Open MPS instructions, for MPP pairing and error positions.
+    mps: Vec<Token>,
     mc_open: Vec<(u32, Token)>,
     for_open: Vec<Token>,
     end_seen: Option<Token>,
+    after_end_reported: bool,
 }
 
 impl<'a> Compiler<'a> {
@@ -79,10 +81,11 @@ impl<'a> Compiler<'a> {
             has_rung: false,
             after_output: true,
             depth: 0,
-            mps: 0,
+            mps: Vec::new(),
             mc_open: Vec::new(),
             for_open: Vec::new(),
             end_seen: None,
+            after_end_reported: false,
         }
     }
 
@@ -122,7 +125,7 @@ impl<'a> Compiler<'a> {
             self.err(tok, format!("pointer `{text}` is out of range (P0-P4095)"));
             return;
         }
-        if self.has_rung && !self.after_output || self.depth > 0 || self.mps > 0 {
+        if self.has_rung && !self.after_output || self.depth > 0 || !self.mps.is_empty() {
             self.err(tok, format!("pointer `{text}` inside an unfinished rung"));
         }
         if let Some((_, line)) = self.labels.get(&n) {
@@ -141,14 +144,45 @@ impl<'a> Compiler<'a> {
     fn instr(&mut self, i: &SourceInstr) {
         let m = i.mnemonic.text.to_ascii_uppercase();
         if self.end_seen.is_some() {
-            self.err(&i.mnemonic, format!("`{m}` after END is never executed"));
+            if !self.after_end_reported {
+                self.after_end_reported = true;
+                self.err(&i.mnemonic, format!("`{m}` after END is never executed"));
+            }
             return;
         }
         self.cur_step = i.step.unwrap_or(self.step);
         self.cur_line = i.mnemonic.line;
         let steps = catalog::steps(&m, &i.operands);
+        let errors = self.diags.len();
         self.dispatch(&m, i);
+        if self.diags.len() > errors {
+            self.recover(&m);
+        }
         self.step = self.cur_step + steps;
+    }
+
+    /// After a faulty instruction, puts the rung state where a correct one of the
+    /// same class would have left it, so one mistake gives one diagnostic.
+    fn recover(&mut self, m: &str) {
+        let contact = parse_compare(m).is_some()
+            || ["LD", "AND", "ANI", "OR"].iter().any(|p| m.starts_with(p));
+        let standalone = matches!(
+            m,
+            "END" | "FEND" | "MCR" | "FOR" | "NEXT" | "RET" | "NOP" | "JMP"
+        );
+        if contact {
+            self.has_rung = true;
+            self.after_output = false;
+        } else if standalone {
+            self.has_rung = false;
+            self.after_output = true;
+            self.depth = 0;
+            self.mps.clear();
+        } else {
+            self.has_rung = true;
+            self.after_output = true;
+            self.depth = 0;
+        }
     }
 
     fn count(&mut self, i: &SourceInstr, m: &str, allowed: &[usize]) -> bool {
@@ -236,12 +270,14 @@ impl<'a> Compiler<'a> {
                     return;
                 }
                 match m {
-                    "MPS" if self.mps >= MAX_MPS => {
+                    "MPS" if self.mps.len() >= MAX_MPS as usize => {
                         self.err(&i.mnemonic, format!("more than {MAX_MPS} nested MPS"))
                     }
-                    "MPS" => self.mps += 1,
-                    _ if self.mps == 0 => self.err(&i.mnemonic, format!("`{m}` without MPS")),
-                    "MPP" => self.mps -= 1,
+                    "MPS" => self.mps.push(i.mnemonic.clone()),
+                    _ if self.mps.is_empty() => self.err(&i.mnemonic, format!("`{m}` without MPS")),
+                    "MPP" => {
+                        self.mps.pop();
+                    }
                     _ => {}
                 }
                 self.after_output = false;
@@ -532,9 +568,9 @@ impl<'a> Compiler<'a> {
             );
             self.depth = 0;
         }
-        if self.mps > 0 {
-            self.err(at, format!("{} MPS without MPP before this rung", self.mps));
-            self.mps = 0;
+        let _ = at;
+        for tok in std::mem::take(&mut self.mps) {
+            self.err(&tok, "MPS without MPP");
         }
     }
 
@@ -871,17 +907,23 @@ impl<'a> Compiler<'a> {
                     (ArithOp::Mul | ArithOp::Div, Num::I32) => 4,
                     _ => num.words(),
                 };
+                // A digit-specified `*`/`/` destination takes K1-K8 (the 32-bit
+                // product or the quotient).
+                let dest_num = match (op, num) {
+                    (ArithOp::Mul | ArithOp::Div, Num::I16) => Num::I32,
+                    _ => num,
+                };
                 let (s1, s2, d) = if ops.len() == 3 {
                     (
                         self.word_src(&ops[0], num),
                         self.word_src(&ops[1], num),
-                        self.word_dest(&ops[2], num, dest_words),
+                        self.word_dest(&ops[2], dest_num, dest_words),
                     )
                 } else {
                     (
                         self.word_src(&ops[1], num),
                         self.word_src(&ops[0], num),
-                        self.word_dest(&ops[1], num, dest_words),
+                        self.word_dest(&ops[1], dest_num, dest_words),
                     )
                 };
                 let (Some(s1), Some(s2), Some(d)) = (s1, s2, d) else {
