@@ -20,6 +20,7 @@ pub mod data;
 pub mod float;
 pub mod limits;
 pub mod logic;
+pub mod pid;
 pub mod rotation;
 pub mod sequence;
 pub mod strings;
@@ -72,6 +73,7 @@ pub const FAMILIES: &[LookupFn] = &[
     comparison::lookup,
     float::lookup,
     clock::lookup,
+    pid::lookup,
 ];
 
 /// The compile function of an extension instruction, if any family has it.
