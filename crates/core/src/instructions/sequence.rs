@@ -95,13 +95,15 @@ pub fn timer(
 
 /// `OUT C`: 004 §10.2.11. Counts +1 on the rising edge of the coil; the contact
 /// turns ON when the count reaches the set value, after which counting stops. The
-/// current value is kept when the coil goes OFF.
+/// current value is kept when the coil goes OFF. Set value 0 is processed as 1
+/// (MELSEC behaviour: the contact turns ON at the first count, never before).
 #[inline]
 pub fn counter(mem: &mut DeviceMemory, c: &Counter, cond: bool) -> Result<(), Fault> {
     let set = mem.read16(&c.set)? as i16;
     if set < 0 {
         return Err(crate::engine::ErrorCode::OPERATION);
     }
+    let set = set.max(1);
     let (coil, contact, value) = (c.coil as usize, c.contact as usize, c.value as usize);
     let rising = cond && !mem.bits[coil];
     mem.bits[coil] = cond;
