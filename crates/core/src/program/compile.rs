@@ -846,6 +846,31 @@ impl<'a> Compiler<'a> {
     }
 
     fn application(&mut self, i: &SourceInstr, m: &str) {
+        // Family instructions; pulse forms are a `P` suffix (`BCDP`) or `SP.` for
+        // `S.` instructions (`SP.PIDCONT`).
+        let family = crate::instructions::lookup(m)
+            .map(|f| (f, false))
+            .or_else(|| {
+                m.strip_suffix('P')
+                    .and_then(crate::instructions::lookup)
+                    .map(|f| (f, true))
+            })
+            .or_else(|| {
+                let base = format!("S.{}", m.strip_prefix("SP.")?);
+                crate::instructions::lookup(&base).map(|f| (f, true))
+            });
+        if let Some((compile, pulse)) = family {
+            if !self.output(i, m) {
+                return;
+            }
+            let mut args = Args { c: self, i, m };
+            if let Some(x) = compile(&mut args) {
+                let at = self.ext.len() as u32;
+                self.ext.push(x);
+                self.pulsed(pulse, Op::Ext(at));
+            }
+            return;
+        }
         let (name, pulse) = match catalog::application(m) {
             Some(_) => (m, false),
             None => match m
