@@ -7,9 +7,12 @@
 //! - [`instructions`]: the instruction families, one module per manual chapter.
 //! - [`engine`]: the scan cycle, timers, special relays/registers, error handling.
 //! - [`access`]: reading and writing devices by name, for the CLI and protocols.
+//! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk.
 
 pub mod access;
 pub mod device;
 pub mod engine;
 pub mod instructions;
+pub mod persist;
 pub mod program;
+pub mod project;

@@ -47,9 +47,50 @@ pub enum ErrorMode {
     Continue,
 }
 
-/// CPU parameters the core engine uses. Defaults are the Q06HCPU's.
+/// Output (Y) at STOP→RUN (004 §7.5, PLC RAS parameter).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum StopToRunOutput {
+    /// Restore the Y image saved at RUN→STOP, then run (default).
+    #[default]
+    Previous,
+    /// Start from Y OFF and let the program recalculate the outputs.
+    Recalculate,
+}
+
+/// Execution type of a program file (004 §4.2, qcpu.md §2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ExecType {
+    Initial,
+    #[default]
+    Scan,
+    LowSpeed,
+    Standby,
+    FixedScan,
+}
+
+/// A latch range of one device (PLC parameter "device setting", 004 §7.4):
+/// numbers `start..=end` keep their values across power-on and reset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LatchRange {
+    pub kind: DeviceKind,
+    pub start: u32,
+    pub end: u32,
+    /// Latch (1): cleared by latch clear. Latch (2): not cleared by the L.CLR switch.
+    pub clearable: bool,
+}
+
+/// A device initial value (004 §10.13.2), written at power-on and STOP→RUN.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialValue {
+    pub device: crate::access::DeviceSpec,
+    pub value: String,
+}
+
+/// CPU parameters. Defaults are the Q06HCPU's (004 ch. 9 parameter list).
 #[derive(Clone, Debug)]
 pub struct CpuConfig {
+    /// CPU model answered to "read CPU model" requests.
+    pub model: String,
     pub devices: DeviceConfig,
     /// Watchdog time, measured in wall-clock time (default 200 ms, 004 L4850).
     pub watchdog: Duration,
@@ -60,11 +101,24 @@ pub struct CpuConfig {
     /// Calendar clock at power-on (`run` uses 2000-01-01 00:00:00 so runs are
     /// reproducible).
     pub clock_start: calendar::DateTime,
+    /// Constant scan period (0.5-2000 ms); `None` = off.
+    pub constant_scan: Option<Duration>,
+    /// Low-speed program execution time per scan; `None` = use constant-scan spare time.
+    pub low_speed_time: Option<Duration>,
+    /// Initial-program execution monitor time; `None` = off.
+    pub initial_monitor: Option<Duration>,
+    pub stop_to_run_output: StopToRunOutput,
+    /// Latch ranges; by default L0-L8191 is latch (1).
+    pub latch: Vec<LatchRange>,
+    /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
+    pub interrupt_periods: [Duration; 4],
+    pub initial_values: Vec<InitialValue>,
 }
 
 impl Default for CpuConfig {
     fn default() -> Self {
         CpuConfig {
+            model: "Q06HCPU".to_string(),
             devices: DeviceConfig::default(),
             watchdog: Duration::from_millis(200),
             operation_error: ErrorMode::Stop,
@@ -78,6 +132,23 @@ impl Default for CpuConfig {
                 minute: 0,
                 second: 0,
             },
+            constant_scan: None,
+            low_speed_time: None,
+            initial_monitor: None,
+            stop_to_run_output: StopToRunOutput::Previous,
+            latch: vec![LatchRange {
+                kind: DeviceKind::L,
+                start: 0,
+                end: 8191,
+                clearable: true,
+            }],
+            interrupt_periods: [
+                Duration::from_millis(100),
+                Duration::from_millis(40),
+                Duration::from_millis(20),
+                Duration::from_millis(10),
+            ],
+            initial_values: Vec::new(),
         }
     }
 }
