@@ -50,11 +50,20 @@ fn unknown_instruction_is_case_insensitive_and_names_token() {
 
 #[test]
 fn unsupported_but_known_instruction() {
-    let d = one("BCD D0 D1\nEND\n");
-    assert_diag(&d, "1:1", &["unsupported", "`BCD`"]);
+    // PLOAD (load a program file from a memory card) is a Q instruction softplc
+    // does not implement.
+    let d = one("LD X0\nPLOAD \"A.QPG\"\nEND\n");
+    assert_diag(&d, "2:1", &["unsupported", "`PLOAD`"]);
     // Its pulse form too.
-    let d = one("BCDP D0 D1\nEND\n");
-    assert_diag(&d, "1:1", &["unsupported", "BCDP"]);
+    let d = one("LD X0\nPLOADP \"A.QPG\"\nEND\n");
+    assert_diag(&d, "2:1", &["unsupported", "PLOADP"]);
+    // Instructions for intelligent modules say so.
+    let d = one("LD X0\nFROM H0 K0 D0 K1\nEND\n");
+    assert_diag(
+        &d,
+        "2:1",
+        &["unsupported", "`FROM`", "intelligent function module"],
+    );
 }
 
 // ---------------------------------------------------------------- operand count

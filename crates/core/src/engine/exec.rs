@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use super::error::{ErrorCode, Fault};
-use super::Runtime;
+use super::{ProgState, Runtime};
 use crate::instructions::{basic, sequence};
 use crate::program::compile::MAX_NESTING;
 use crate::program::ops::{Edge, Join, Op, Program};
@@ -32,11 +32,12 @@ fn join(acc: &mut bool, j: Join, v: bool) {
     }
 }
 
-/// Runs the program once from op 0. Faults of the "continue" class are recorded
-/// through `rt.record_fault` and execution goes on after the failing op.
-pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
+/// Runs the program once from op `start` (0, or an interrupt pointer) to END/FEND
+/// (or IRET). Faults of the "continue" class are recorded through
+/// `rt.record_fault` and execution goes on after the failing op.
+pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: usize) -> Outcome {
     let ops = &prog.ops[..];
-    let mut pc = 0usize;
+    let mut pc = start;
     let mut acc = false;
     let mut blocks: u32 = 0;
     let mut mps: u32 = 0;
@@ -87,11 +88,11 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                 let v = match c.edge {
                     Edge::None => v,
                     Edge::Rising => {
-                        let prev = std::mem::replace(&mut rt.edges[c.slot as usize], v);
+                        let prev = std::mem::replace(&mut ps.edges[c.slot as usize], v);
                         v && !prev
                     }
                     Edge::Falling => {
-                        let prev = std::mem::replace(&mut rt.edges[c.slot as usize], v);
+                        let prev = std::mem::replace(&mut ps.edges[c.slot as usize], v);
                         !v && prev
                     }
                 };
@@ -118,11 +119,11 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
             }
             Op::Inv => acc = !acc,
             Op::Mep(s) => {
-                let prev = std::mem::replace(&mut rt.edges[*s as usize], acc);
+                let prev = std::mem::replace(&mut ps.edges[*s as usize], acc);
                 acc = acc && !prev;
             }
             Op::Mef(s) => {
-                let prev = std::mem::replace(&mut rt.edges[*s as usize], acc);
+                let prev = std::mem::replace(&mut ps.edges[*s as usize], acc);
                 acc = !acc && prev;
             }
             Op::EdgeRelay { rising, v } => {
@@ -140,7 +141,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                     rt.mem.bits[*i as usize] = false
                 }
             }
-            Op::Coil(c) => try_op!(sequence::coil(&mut rt.mem, &mut rt.edges, c, acc & mc_on)),
+            Op::Coil(c) => try_op!(sequence::coil(&mut rt.mem, &mut ps.edges, c, acc & mc_on)),
             Op::Timer(t) => {
                 let base = rt.timer_base_us[t.high_speed as usize];
                 try_op!(sequence::timer(
@@ -171,7 +172,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
             }
             Op::Pulse(s) => {
                 let cond = acc & mc_on;
-                let prev = std::mem::replace(&mut rt.edges[*s as usize], cond);
+                let prev = std::mem::replace(&mut ps.edges[*s as usize], cond);
                 if !cond || prev {
                     pc += 1;
                 }
@@ -195,7 +196,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
                 if acc & mc_on {
                     let mut cx = crate::instructions::ExecCtx {
                         mem: &mut rt.mem,
-                        state: &mut rt.state,
+                        state: &mut ps.state,
                         now_us: rt.now_us,
                         scan_us: rt.scan_us,
                         clock: &mut rt.clock,
@@ -212,7 +213,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime) -> Outcome {
             // SCJ: jumps from the scan after the condition turned ON.
             Op::Scj { target, slot } => {
                 let cond = acc & mc_on;
-                let prev = std::mem::replace(&mut rt.edges[*slot as usize], cond);
+                let prev = std::mem::replace(&mut ps.edges[*slot as usize], cond);
                 if cond && prev {
                     back_jump!(*target);
                     pc = *target as usize;

@@ -6,6 +6,7 @@
 
 pub mod calendar;
 mod clock;
+mod cpu;
 mod error;
 mod exec;
 mod operand;
@@ -14,10 +15,10 @@ mod special;
 use std::time::Duration;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};
+pub use cpu::{Cpu, LoadedProgram};
 pub use error::{CpuError, ErrorCode, Fault};
 
 use crate::device::{DeviceConfig, DeviceKind, DeviceMemory};
-use crate::program::compile::MAX_NESTING;
 use crate::program::ops::Program;
 use exec::Outcome;
 
@@ -156,10 +157,6 @@ impl Default for CpuConfig {
 /// State the interpreter works on, split from [`Program`] so both can be borrowed.
 pub(crate) struct Runtime {
     pub mem: DeviceMemory,
-    /// Hidden edge memories of LDP/PLS/pulse forms/SCJ.
-    pub edges: Box<[bool]>,
-    /// Hidden state words of family instructions.
-    pub state: Box<[u32]>,
     /// Clock reading at the start of this scan, µs.
     pub now_us: u64,
     /// The calendar clock (SD210-SD213, DATERD/DATEWR).
@@ -211,197 +208,23 @@ impl Runtime {
     }
 }
 
-/// A MELSEC-Q CPU running one program.
-pub struct Cpu {
-    program: Program,
-    rt: Runtime,
-    clock: Box<dyn Clock>,
-    state: CpuState,
-    /// Input image: what the input modules present; copied to X at input refresh.
-    inputs: Box<[bool]>,
-    /// Clock reading at power-on, at the last RUN and at the last END.
-    power_on_us: u64,
-    run_start_us: u64,
-    last_end_us: u64,
-    first_scan: bool,
-    /// SM210 at the previous END, for its OFF→ON edge.
-    sm210: bool,
-    scans: u64,
-    min_scan_us: Option<u64>,
-    max_scan_us: Option<u64>,
+/// Per-program hidden state: edge memories (LDP, PLS, pulse forms, SCJ) and the
+/// state words of family instructions. Cleared at power-on and STOP→RUN.
+pub(crate) struct ProgState {
+    pub edges: Box<[bool]>,
+    pub state: Box<[u32]>,
 }
 
-impl Cpu {
-    /// Powers on a CPU with `program` and puts it in RUN.
-    pub fn new(program: Program, cfg: CpuConfig, clock: Box<dyn Clock>) -> Cpu {
-        let mem = DeviceMemory::new(&cfg.devices);
-        let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
-        let x = cfg.devices.points(DeviceKind::X) as usize;
-        let now = clock.now_us();
-        let mut cpu = Cpu {
-            rt: Runtime {
-                mem,
-                edges: vec![false; program.edge_slots as usize].into_boxed_slice(),
-                state: vec![0; program.state_words as usize].into_boxed_slice(),
-                now_us: now,
-                clock: calendar::PlcClock::new(cfg.clock_start, now),
-                timer_rem: vec![0; timers as usize].into_boxed_slice(),
-                timer_base_us: [
-                    cfg.timer_low.as_micros().max(1) as u32,
-                    cfg.timer_high.as_micros().max(1) as u32,
-                ],
-                scan_us: 0,
-                mc_off: 0,
-                calls: Vec::with_capacity(MAX_NESTING),
-                fors: Vec::with_capacity(MAX_NESTING),
-                stop_request: false,
-                watchdog: cfg.watchdog,
-                operation_error: cfg.operation_error,
-                error: None,
-            },
-            program,
-            clock,
-            state: CpuState::Run,
-            inputs: vec![false; x].into_boxed_slice(),
-            power_on_us: now,
-            run_start_us: now,
-            last_end_us: now,
-            first_scan: true,
-            sm210: false,
-            scans: 0,
-            min_scan_us: None,
-            max_scan_us: None,
-        };
-        special::power_on(&mut cpu.rt.mem);
-        cpu
-    }
-
-    pub fn program(&self) -> &Program {
-        &self.program
-    }
-
-    pub fn state(&self) -> CpuState {
-        self.state
-    }
-
-    /// The latest self-diagnostic error (what SD0 holds), if any.
-    pub fn error(&self) -> Option<&CpuError> {
-        self.rt.error.as_ref()
-    }
-
-    /// Scans executed in RUN since power-on.
-    pub fn scans(&self) -> u64 {
-        self.scans
-    }
-
-    pub fn memory(&self) -> &DeviceMemory {
-        &self.rt.mem
-    }
-
-    pub fn memory_mut(&mut self) -> &mut DeviceMemory {
-        &mut self.rt.mem
-    }
-
-    /// Sets input X`n` as an input module would: it reaches X at the next input
-    /// refresh and stays until set again.
-    pub fn set_input(&mut self, n: u32, on: bool) {
-        if let Some(b) = self.inputs.get_mut(n as usize) {
-            *b = on;
+impl ProgState {
+    fn new(p: &Program) -> Self {
+        ProgState {
+            edges: vec![false; p.edge_slots as usize].into_boxed_slice(),
+            state: vec![0; p.state_words as usize].into_boxed_slice(),
         }
-        let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
     }
 
-    /// The external output Y`n`: the Y device while running, OFF in STOP (004 §4.4).
-    pub fn output(&self, n: u32) -> bool {
-        self.state != CpuState::Stop
-            && self
-                .rt
-                .mem
-                .get_bit(DeviceKind::Y, n as i64)
-                .unwrap_or(false)
-    }
-
-    /// Executes one scan: input refresh, the program, END processing. In STOP or
-    /// PAUSE only END processing happens.
-    pub fn scan(&mut self) {
-        let now = self.clock.now_us();
-        if self.state != CpuState::Run {
-            self.last_end_us = now;
-            return;
-        }
-        // Input refresh (004 §4.3): the input image into X.
-        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
-        self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
-        self.rt.now_us = now;
-        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
-        match exec::run(&self.program, &mut self.rt) {
-            Outcome::End => {}
-            Outcome::Fault(code, pc) => {
-                self.rt.record_fault(&self.program, code, pc);
-                self.state = CpuState::Stop;
-                self.scans += 1;
-                return;
-            }
-        }
-        self.end_processing(now);
-    }
-
-    /// END processing: scan-time measurement and the scan SM/SD, STOP requests.
-    fn end_processing(&mut self, now: u64) {
-        let scan_us = now - self.last_end_us;
-        self.last_end_us = now;
-        self.rt.scan_us = scan_us.min(u32::MAX as u64) as u32;
-        if !self.first_scan {
-            // The first scan is excluded from the maximum (SD526/527).
-            self.max_scan_us = Some(self.max_scan_us.unwrap_or(0).max(scan_us));
-        }
-        self.min_scan_us = Some(self.min_scan_us.map_or(scan_us, |m| m.min(scan_us)));
-        self.scans += 1;
-        special::end(
-            &mut self.rt.mem,
-            special::ScanTimes {
-                current_us: scan_us,
-                min_us: self.min_scan_us.unwrap_or(0),
-                max_us: self.max_scan_us.unwrap_or(0),
-                since_run_us: now - self.run_start_us,
-            },
-        );
-        self.sm210 =
-            special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
-        self.first_scan = false;
-        if self.rt.stop_request {
-            self.rt.stop_request = false;
-            self.state = CpuState::Stop;
-        }
-        special::set_status(&mut self.rt.mem, self.state);
-    }
-}
-
-impl Cpu {
-    /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
-    pub fn read_device(
-        &self,
-        spec: &crate::access::DeviceSpec,
-    ) -> Result<crate::access::Value, String> {
-        spec.read(&self.rt.mem)
-    }
-
-    /// Writes a device by name. Writes to X go to the input image as well, so the
-    /// value survives the next input refresh.
-    pub fn write_device(
-        &mut self,
-        spec: &crate::access::DeviceSpec,
-        value: &str,
-    ) -> Result<(), String> {
-        spec.write(&mut self.rt.mem, value)?;
-        if let Some((DeviceKind::X, first, count)) = spec.bit_span() {
-            let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
-            for n in first as usize..(first + count) as usize {
-                if let Some(b) = self.inputs.get_mut(n) {
-                    *b = self.rt.mem.bits[xb + n];
-                }
-            }
-        }
-        Ok(())
+    fn clear(&mut self) {
+        self.edges.fill(false);
+        self.state.fill(0);
     }
 }

@@ -64,7 +64,7 @@ pub(crate) struct ScanTimes {
 
 /// Splits a time into the ms register and the 100 µs-resolution µs register
 /// (SD520=23, SD521=600 for 23.6 ms, L10445-10447).
-fn ms_us(us: u64) -> (u16, u16) {
+pub(crate) fn ms_us(us: u64) -> (u16, u16) {
     (
         (us / 1000).min(u16::MAX as u64) as u16,
         ((us % 1000) / 100 * 100) as u16,

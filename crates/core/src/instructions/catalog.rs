@@ -340,6 +340,26 @@ const KNOWN: &[&str] = &[
     "S.AT1",
 ];
 
+/// Instructions that talk to intelligent function modules or networks.
+const NEEDS_MODULE: &[&str] = &[
+    "FROM", "DFRO", "TO", "DTO", "READ", "SREAD", "WRITE", "SWRITE", "SEND", "RECV", "REQ", "ZNFR",
+    "ZNTO", "RFRP", "RTOP", "PR", "PRC", "PRN", "UNIRD", "TYPERD", "RTWRITE", "S.TO", "S.FROM",
+    "PID57",
+];
+
+/// Why a known instruction is rejected, for the "unsupported instruction" message.
+pub fn unsupported_reason(m: &str) -> &'static str {
+    let base = m
+        .strip_suffix('P')
+        .filter(|b| NEEDS_MODULE.contains(b))
+        .unwrap_or(m);
+    if NEEDS_MODULE.contains(&base) {
+        "it needs an intelligent function module or network, which softplc does not simulate"
+    } else {
+        "not implemented yet; see COMPATIBILITY.md"
+    }
+}
+
 /// True when the mnemonic is a MELSEC-Q instruction (implemented or not), with or
 /// without its pulse suffix, or a string/float comparison contact.
 pub fn is_known(m: &str) -> bool {

@@ -880,7 +880,10 @@ impl<'a> Compiler<'a> {
                 Some(base) => (base, true),
                 None => {
                     let msg = if catalog::is_known(m) {
-                        format!("unsupported instruction `{m}` (not implemented yet; see COMPATIBILITY.md)")
+                        format!(
+                            "unsupported instruction `{m}`: {}",
+                            catalog::unsupported_reason(m)
+                        )
                     } else {
                         format!("unknown instruction `{m}`")
                     };

@@ -1,0 +1,534 @@
+//! The CPU: program scheduling by execution type, the scan cycle and the
+//! operating states RUN/STOP/PAUSE with RESET and latch clear (004 ch. 4).
+
+use std::time::Duration;
+
+use super::calendar::PlcClock;
+use super::exec::{self, Outcome};
+use super::special;
+use super::{
+    Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, Runtime, StopToRunOutput,
+};
+use crate::access::{DeviceSpec, Value};
+use crate::device::{DeviceKind, DeviceMemory};
+use crate::program::compile::MAX_NESTING;
+use crate::program::ops::Program;
+
+/// A compiled program with its execution type, as the PLC parameter lists it.
+#[derive(Debug)]
+pub struct LoadedProgram {
+    pub program: Program,
+    pub exec: ExecType,
+    /// Interval of a fixed-scan program.
+    pub interval: Option<Duration>,
+}
+
+/// A program file in the CPU.
+struct Slot {
+    program: Program,
+    exec: ExecType,
+    interval_us: u64,
+    /// Engine time at which a fixed-scan program runs next.
+    next_due_us: u64,
+    local: ProgState,
+}
+
+/// A MELSEC-Q CPU with its programs.
+pub struct Cpu {
+    slots: Vec<Slot>,
+    rt: Runtime,
+    cfg: CpuConfig,
+    clock: Box<dyn Clock>,
+    state: CpuState,
+    /// A stop error holds the CPU in STOP until RESET.
+    stop_error: bool,
+    /// Input image: what the input modules present; copied to X at input refresh.
+    inputs: Box<[bool]>,
+    /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
+    saved_y: Box<[bool]>,
+    /// Clock reading at power-on, at the last STOP→RUN and at the last END.
+    power_on_us: u64,
+    run_start_us: u64,
+    last_end_us: u64,
+    /// The initial programs have yet to run (power-on, RESET, STOP→RUN).
+    initial_pending: bool,
+    /// SM402/SM403: first scan after RUN.
+    first_scan: bool,
+    /// SM210 at the previous END, for its OFF→ON edge.
+    sm210: bool,
+    scans: u64,
+    min_scan_us: Option<u64>,
+    max_scan_us: Option<u64>,
+}
+
+impl Cpu {
+    /// Powers on a CPU with one scan program and puts it in RUN.
+    pub fn new(program: Program, cfg: CpuConfig, clock: Box<dyn Clock>) -> Cpu {
+        let p = LoadedProgram {
+            program,
+            exec: ExecType::Scan,
+            interval: None,
+        };
+        Cpu::with_programs(vec![p], cfg, clock)
+    }
+
+    /// Powers on a CPU with the programs of a project (in parameter order) and puts
+    /// it in RUN.
+    pub fn with_programs(
+        programs: Vec<LoadedProgram>,
+        cfg: CpuConfig,
+        clock: Box<dyn Clock>,
+    ) -> Cpu {
+        let mem = DeviceMemory::new(&cfg.devices);
+        let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
+        let x = cfg.devices.points(DeviceKind::X) as usize;
+        let y = cfg.devices.points(DeviceKind::Y) as usize;
+        let now = clock.now_us();
+        let slots = programs
+            .into_iter()
+            .map(|p| Slot {
+                local: ProgState::new(&p.program),
+                interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
+                next_due_us: now,
+                exec: p.exec,
+                program: p.program,
+            })
+            .collect();
+        let rt = Runtime {
+            mem,
+            now_us: now,
+            clock: PlcClock::new(cfg.clock_start, now),
+            timer_rem: vec![0; timers as usize].into_boxed_slice(),
+            timer_base_us: [
+                cfg.timer_low.as_micros().max(1) as u32,
+                cfg.timer_high.as_micros().max(1) as u32,
+            ],
+            scan_us: 0,
+            mc_off: 0,
+            calls: Vec::with_capacity(MAX_NESTING),
+            fors: Vec::with_capacity(MAX_NESTING),
+            stop_request: false,
+            watchdog: cfg.watchdog,
+            operation_error: cfg.operation_error,
+            error: None,
+        };
+        let mut cpu = Cpu {
+            slots,
+            rt,
+            cfg,
+            clock,
+            state: CpuState::Run,
+            stop_error: false,
+            inputs: vec![false; x].into_boxed_slice(),
+            saved_y: vec![false; y].into_boxed_slice(),
+            power_on_us: now,
+            run_start_us: now,
+            last_end_us: now,
+            initial_pending: true,
+            first_scan: true,
+            sm210: false,
+            scans: 0,
+            min_scan_us: None,
+            max_scan_us: None,
+        };
+        cpu.power_on();
+        cpu
+    }
+
+    /// The first program (the only one of a single-file CPU).
+    pub fn program(&self) -> &Program {
+        &self.slots[0].program
+    }
+
+    pub fn config(&self) -> &CpuConfig {
+        &self.cfg
+    }
+
+    pub fn state(&self) -> CpuState {
+        self.state
+    }
+
+    /// The latest self-diagnostic error (what SD0 holds), if any.
+    pub fn error(&self) -> Option<&CpuError> {
+        self.rt.error.as_ref()
+    }
+
+    /// Scans executed in RUN since power-on.
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    pub fn memory(&self) -> &DeviceMemory {
+        &self.rt.mem
+    }
+
+    pub fn memory_mut(&mut self) -> &mut DeviceMemory {
+        &mut self.rt.mem
+    }
+
+    /// Reads the engine clock (µs).
+    pub fn now_us(&self) -> u64 {
+        self.clock.now_us()
+    }
+
+    /// Sets input X`n` as an input module would: it reaches X at the next input
+    /// refresh and stays until set again.
+    pub fn set_input(&mut self, n: u32, on: bool) {
+        if let Some(b) = self.inputs.get_mut(n as usize) {
+            *b = on;
+        }
+        let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
+    }
+
+    /// The external output Y`n`: the Y device while running or paused, OFF in
+    /// STOP (004 §4.4).
+    pub fn output(&self, n: u32) -> bool {
+        self.state != CpuState::Stop
+            && self
+                .rt
+                .mem
+                .get_bit(DeviceKind::Y, n as i64)
+                .unwrap_or(false)
+    }
+
+    /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
+    pub fn read_device(&self, spec: &DeviceSpec) -> Result<Value, String> {
+        spec.read(&self.rt.mem)
+    }
+
+    /// Writes a device by name. Writes to X go to the input image as well, so the
+    /// value survives the next input refresh.
+    pub fn write_device(&mut self, spec: &DeviceSpec, value: &str) -> Result<(), String> {
+        spec.write(&mut self.rt.mem, value)?;
+        if let Some((DeviceKind::X, first, count)) = spec.bit_span() {
+            let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
+            for n in first as usize..(first + count) as usize {
+                if let Some(b) = self.inputs.get_mut(n) {
+                    *b = self.rt.mem.bits[xb + n];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    // --- operating states (004 §4.4, §7.5, §7.8) ---
+
+    /// RUN (key switch or remote RUN). From STOP this is STOP→RUN: outputs per the
+    /// "STOP→RUN output" parameter, device initial values written, the initial
+    /// programs run again. Refused while a stop error is held (RESET first).
+    pub fn set_run(&mut self) -> Result<(), String> {
+        match self.state {
+            CpuState::Run => Ok(()),
+            CpuState::Pause => {
+                self.state = CpuState::Run;
+                special::set_status(&mut self.rt.mem, self.state);
+                Ok(())
+            }
+            CpuState::Stop if self.stop_error => Err(format!(
+                "the CPU is stopped by error {}; RESET it first",
+                self.rt.error.as_ref().map_or(0, |e| e.code.0)
+            )),
+            CpuState::Stop => {
+                let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
+                let y = &mut self.rt.mem.bits[yb..yb + self.saved_y.len()];
+                match self.cfg.stop_to_run_output {
+                    StopToRunOutput::Previous => y.copy_from_slice(&self.saved_y),
+                    StopToRunOutput::Recalculate => y.fill(false),
+                }
+                self.start_run();
+                Ok(())
+            }
+        }
+    }
+
+    /// STOP (key switch or remote STOP): the Y image is saved and the external
+    /// outputs go OFF; device memory is kept.
+    pub fn set_stop(&mut self) {
+        if self.state != CpuState::Stop {
+            let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
+            let n = self.saved_y.len();
+            self.saved_y.copy_from_slice(&self.rt.mem.bits[yb..yb + n]);
+            self.state = CpuState::Stop;
+            special::set_status(&mut self.rt.mem, self.state);
+        }
+    }
+
+    /// PAUSE (remote PAUSE): the program stops with outputs held.
+    pub fn set_pause(&mut self) -> Result<(), String> {
+        match self.state {
+            CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
+            _ => {
+                self.state = CpuState::Pause;
+                special::set_status(&mut self.rt.mem, self.state);
+                Ok(())
+            }
+        }
+    }
+
+    /// RESET (switch or remote RESET, accepted in STOP): the same processing as
+    /// power-on — devices outside the latch ranges cleared, errors cleared — then
+    /// RUN as the key switch says.
+    pub fn reset(&mut self) -> Result<(), String> {
+        if self.state != CpuState::Stop {
+            return Err("RESET is accepted only in STOP".into());
+        }
+        self.power_on();
+        Ok(())
+    }
+
+    /// Latch clear (accepted in STOP). The L.CLR switch clears the latch (1)
+    /// ranges; a remote latch clear also clears latch (2), every device outside
+    /// the latch ranges and the error (qcpu.md §4.2, [CONFLICT] 11). File
+    /// registers are never cleared by latch clear (004 L7028-7031).
+    pub fn latch_clear(&mut self, remote: bool) -> Result<(), String> {
+        if self.state != CpuState::Stop {
+            return Err("latch clear is accepted only in STOP".into());
+        }
+        let ranges: Vec<_> = self
+            .cfg
+            .latch
+            .iter()
+            .filter(|r| r.clearable || remote)
+            .copied()
+            .collect();
+        for r in &ranges {
+            for (bit, start, len) in latch_spans(&self.rt.mem, r) {
+                if bit {
+                    self.rt.mem.bits[start..start + len].fill(false);
+                } else {
+                    self.rt.mem.words[start..start + len].fill(0);
+                }
+            }
+        }
+        if remote {
+            self.clear_unlatched();
+            self.rt.error = None;
+            self.stop_error = false;
+            special::power_on(&mut self.rt.mem);
+        }
+        Ok(())
+    }
+
+    /// Power-on / RESET processing (004 §4.3 table): devices outside the latch
+    /// ranges and the file registers cleared, system registers set, device initial
+    /// values written, RUN from the initial programs.
+    fn power_on(&mut self) {
+        self.clear_unlatched();
+        self.rt.error = None;
+        self.stop_error = false;
+        self.rt.timer_rem.fill(0);
+        let now = self.clock.now_us();
+        self.power_on_us = now;
+        self.min_scan_us = None;
+        self.max_scan_us = None;
+        special::power_on(&mut self.rt.mem);
+        self.start_run();
+    }
+
+    /// Common part of power-on and STOP→RUN.
+    fn start_run(&mut self) {
+        let now = self.clock.now_us();
+        for s in &mut self.slots {
+            s.local.clear();
+            s.next_due_us = now + s.interval_us;
+        }
+        self.write_initial_values();
+        self.run_start_us = now;
+        self.last_end_us = now;
+        self.initial_pending = true;
+        self.first_scan = true;
+        self.state = CpuState::Run;
+        special::set_status(&mut self.rt.mem, self.state);
+    }
+
+    fn write_initial_values(&mut self) {
+        for iv in &self.cfg.initial_values {
+            // Validated when the project was loaded.
+            let _ = iv.device.write(&mut self.rt.mem, &iv.value);
+        }
+    }
+
+    /// Clears every device except the latch ranges and the file registers.
+    fn clear_unlatched(&mut self) {
+        let mem = &mut self.rt.mem;
+        let keep_words = |mem: &DeviceMemory| {
+            let zr = mem.map.base(DeviceKind::ZR) as usize;
+            zr..zr + mem.map.points(DeviceKind::ZR) as usize
+        };
+        let zr = keep_words(mem);
+        let saved_bits: Vec<(usize, Vec<bool>)>;
+        let mut saved_words: Vec<(usize, Vec<u16>)> =
+            vec![(zr.start, mem.words[zr.clone()].to_vec())];
+        let mut bits = Vec::new();
+        for r in &self.cfg.latch {
+            for (bit, start, len) in latch_spans(mem, r) {
+                if bit {
+                    bits.push((start, mem.bits[start..start + len].to_vec()));
+                } else {
+                    saved_words.push((start, mem.words[start..start + len].to_vec()));
+                }
+            }
+        }
+        saved_bits = bits;
+        mem.clear();
+        for (start, v) in saved_bits {
+            mem.bits[start..start + v.len()].copy_from_slice(&v);
+        }
+        for (start, v) in saved_words {
+            mem.words[start..start + v.len()].copy_from_slice(&v);
+        }
+    }
+
+    // --- the scan ---
+
+    /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
+    /// the scan programs in parameter order, one pass of the low-speed programs,
+    /// END processing. Right after power-on, RESET or STOP→RUN the scan runs the
+    /// initial programs instead, followed by one END (004 §4.2.1). In STOP and
+    /// PAUSE only END processing happens.
+    pub fn scan(&mut self) {
+        let now = self.clock.now_us();
+        if self.state != CpuState::Run {
+            self.last_end_us = now;
+            return;
+        }
+        self.rt.now_us = now;
+        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
+        self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
+        let initial =
+            self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
+        self.initial_pending = false;
+        let ok = if initial {
+            self.run_type(ExecType::Initial)
+        } else {
+            self.run_fixed_scan(now)
+                && self.run_type(ExecType::Scan)
+                && self.run_type(ExecType::LowSpeed)
+        };
+        if !ok {
+            // Stop error: the CPU stops at the point of detection, outputs OFF.
+            self.stop_error = true;
+            self.set_stop();
+            self.scans += 1;
+            return;
+        }
+        self.end_processing(now, initial);
+    }
+
+    /// Runs every program of one execution type in parameter order; false on a
+    /// stop error.
+    fn run_type(&mut self, exec: ExecType) -> bool {
+        for i in 0..self.slots.len() {
+            if self.slots[i].exec == exec && !self.run_slot(i) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Fixed-scan programs whose interval has elapsed, in parameter order. In
+    /// virtual time a scan is instantaneous, so every interval that elapsed since
+    /// the last scan runs the program once, before the scan programs.
+    fn run_fixed_scan(&mut self, now: u64) -> bool {
+        for i in 0..self.slots.len() {
+            if self.slots[i].exec != ExecType::FixedScan {
+                continue;
+            }
+            while self.slots[i].next_due_us <= now {
+                let iv = self.slots[i].interval_us.max(1);
+                self.slots[i].next_due_us += iv;
+                if !self.run_slot(i) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    fn run_slot(&mut self, i: usize) -> bool {
+        let slot = &mut self.slots[i];
+        match exec::run(&slot.program, &mut self.rt, &mut slot.local, 0) {
+            Outcome::End => true,
+            Outcome::Fault(code, pc) => {
+                self.rt.record_fault(&slot.program, code, pc);
+                false
+            }
+        }
+    }
+
+    /// END processing: scan-time measurement and the scan SM/SD, clock registers,
+    /// constant-scan overrun, STOP requests.
+    fn end_processing(&mut self, now: u64, initial: bool) {
+        let scan_us = now - self.last_end_us;
+        self.last_end_us = now;
+        self.rt.scan_us = scan_us.min(u32::MAX as u64) as u32;
+        if initial {
+            // SD522/SD523: initial scan time.
+            let (ms, sub) = special::ms_us(scan_us);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, 522, ms);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, 523, sub);
+        } else {
+            if !self.first_scan {
+                // The first scan is excluded from the maximum (SD526/527).
+                self.max_scan_us = Some(self.max_scan_us.unwrap_or(0).max(scan_us));
+            }
+            self.min_scan_us = Some(self.min_scan_us.map_or(scan_us, |m| m.min(scan_us)));
+            special::end(
+                &mut self.rt.mem,
+                special::ScanTimes {
+                    current_us: scan_us,
+                    min_us: self.min_scan_us.unwrap_or(0),
+                    max_us: self.max_scan_us.unwrap_or(0),
+                    since_run_us: now - self.run_start_us,
+                },
+            );
+            self.first_scan = false;
+        }
+        self.scans += 1;
+        // PRG.TIME OVER (5010): a scan longer than the constant scan; a
+        // continuation error (004 §7.1).
+        if let Some(cs) = self.cfg.constant_scan {
+            if scan_us > cs.as_micros() as u64 && !initial {
+                let code = ErrorCode::PRG_TIME_OVER;
+                special::report_error(&mut self.rt.mem, code, "", None);
+                self.rt.error = Some(CpuError {
+                    code,
+                    step: None,
+                    file: None,
+                    line: None,
+                });
+            }
+        }
+        self.sm210 =
+            special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
+        if std::mem::take(&mut self.rt.stop_request) {
+            self.set_stop();
+        }
+        special::set_status(&mut self.rt.mem, self.state);
+    }
+}
+
+/// Flat spans of a latch range: (is bit array, start, length). Timers and
+/// counters latch contact, coil and current value together.
+fn latch_spans(mem: &DeviceMemory, r: &super::LatchRange) -> Vec<(bool, usize, usize)> {
+    use DeviceKind::*;
+    let kinds: &[DeviceKind] = match r.kind {
+        TS | TC | TN => &[TS, TC, TN],
+        STS | STC | STN => &[STS, STC, STN],
+        CS | CC | CN => &[CS, CC, CN],
+        _ => std::slice::from_ref(&r.kind),
+    };
+    kinds
+        .iter()
+        .filter_map(|k| {
+            let points = mem.map.points(*k);
+            if r.start >= points {
+                return None;
+            }
+            let end = r.end.min(points - 1);
+            let start = (mem.map.base(*k) + r.start) as usize;
+            Some((k.is_bit(), start, (end - r.start + 1) as usize))
+        })
+        .collect()
+}
