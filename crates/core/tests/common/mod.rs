@@ -2,7 +2,11 @@
 #![allow(dead_code)]
 
 use softplc_core::access::{DeviceSpec, Value};
-use softplc_core::engine::{Cpu, CpuConfig, CpuState, ErrorCode, VirtualClock};
+use std::time::Duration;
+
+use softplc_core::engine::{
+    Cpu, CpuConfig, CpuState, ErrorCode, ExecType, LoadedProgram, VirtualClock,
+};
 use softplc_core::program::compile_il;
 
 pub struct Plc {
@@ -23,6 +27,27 @@ impl Plc {
             .unwrap_or_else(|d| panic!("load failed:\n{d}"));
         let clock = VirtualClock::new();
         let cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        Plc {
+            cpu,
+            clock,
+            scan_us: 10_000,
+        }
+    }
+
+    /// A CPU with several programs in parameter order: (source, type, interval).
+    pub fn with_programs(progs: &[(&str, ExecType, Option<Duration>)], cfg: CpuConfig) -> Plc {
+        let loaded = progs
+            .iter()
+            .enumerate()
+            .map(|(i, (src, exec, interval))| LoadedProgram {
+                program: compile_il(&format!("p{i}.il"), src, &cfg.devices)
+                    .unwrap_or_else(|d| panic!("load failed:\n{d}")),
+                exec: *exec,
+                interval: *interval,
+            })
+            .collect();
+        let clock = VirtualClock::new();
+        let cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone()));
         Plc {
             cpu,
             clock,
