@@ -315,9 +315,16 @@ fn retentive_timer_with_no_points() {
 }
 
 #[test]
-fn interrupt_label_is_unsupported() {
+fn interrupt_label_rules() {
+    // An interrupt program must follow FEND.
     let d = one("I28\nLD X0\nOUT Y0\nEND\n");
-    assert_diag(&d, "1:1", &["unsupported", "I28"]);
+    assert_diag(&d, "1:1", &["I28", "must follow FEND"]);
+    // Error interrupts are not implemented; I33 and I40-I49 do not exist as causes.
+    let d = one("FEND\nI32\nIRET\nEND\n");
+    assert_diag(&d, "2:1", &["unsupported", "I32"]);
+    // Each interrupt pointer once.
+    let d = one("FEND\nI29\nIRET\nI29\nIRET\nEND\n");
+    assert_diag(&d, "4:1", &["duplicate interrupt pointer `I29`", "line 2"]);
 }
 
 #[test]

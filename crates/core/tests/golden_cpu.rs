@@ -259,3 +259,155 @@ fn stop_instruction_then_remote_run() {
     p.scan();
     assert_eq!(p.int("D0"), 3);
 }
+
+const INTERRUPTS: &str = "\
+LD SM402
+EI
+LD X0
+DI
+LDI X0
+EI
+LD SM400
+MOV K7 Z0
+FEND
+I31
+LD SM400
+INC D10
+MOV K99 Z0
+IRET
+I28
+LD SM400
+INC D20
+IRET
+END
+";
+
+#[test]
+fn fixed_cycle_interrupts() {
+    // I31 every 10 ms, I28 every 100 ms (defaults, 004 L1056). Power-on at 0:
+    // the first I31 occurs at 10 ms, before EI has run in scan 1, so it is
+    // remembered and runs at the next check together with the 20 ms one.
+    let mut p = Plc::new(INTERRUPTS);
+    p.scan();
+    assert_eq!(p.int("D10"), 0);
+    assert!(p.bit("SM715"));
+    p.scan();
+    assert_eq!(p.int("D10"), 2);
+    p.scans(8);
+    // 100 ms: I31 ran for 10..=100 ms (10 times), I28 once.
+    assert_eq!((p.int("D10"), p.int("D20")), (10, 1));
+    // Z0 is saved and restored around the interrupt program.
+    assert_eq!(p.int("Z0"), 7);
+    // DI: occurrences are remembered once, not counted.
+    p.set("X0", "1").scans(5);
+    assert_eq!(
+        p.int("D10"),
+        11,
+        "the 110 ms occurrence ran before DI took effect"
+    );
+    p.set("X0", "0").scan();
+    // EI in that scan; the remembered cause runs at the next check with the new one.
+    p.scan();
+    assert_eq!(p.int("D10"), 13);
+}
+
+#[test]
+fn imask_disables_one_interrupt() {
+    // IMASK D100: bit 15 of the second word (I31) cleared → only I28 runs.
+    let src = INTERRUPTS.replacen(
+        "LD SM402\nEI\n",
+        "LD SM402\nFMOVX\nMOV H7FFF D101\nIMASK D100\nEI\n",
+        1,
+    );
+    let src = src.replace(
+        "FMOVX\n",
+        &(0..16)
+            .map(|k| format!("MOV HFFFF D{}\n", 100 + k))
+            .collect::<String>(),
+    );
+    let mut p = Plc::new(&src);
+    p.scans(20);
+    assert_eq!((p.int("D10"), p.int("D20")), (0, 2));
+    assert_eq!(p.int("SD716:u16"), 0x7FFF);
+}
+
+#[test]
+fn interrupt_program_without_iret_is_4221() {
+    let mut p = Plc::new("LD SM400\nEI\nFEND\nI31\nLD SM400\nINC D0\nEND\n");
+    p.scans(3);
+    assert_eq!(p.state(), CpuState::Stop);
+    assert_eq!(p.int("SD0"), 4221);
+}
+
+#[test]
+fn annunciators_follow_the_manual_example() {
+    // qcpu.md §9 item 9: SET F50, F25, F99; RST F25; SET F15, F70, F65, F38, F110,
+    // F151, F210; LEDR.
+    let mut src = String::new();
+    for (i, f) in [50, 25, 99].iter().enumerate() {
+        src += &format!("LD M{i}\nSET F{f}\n");
+    }
+    src += "LD M3\nRST F25\n";
+    for (i, f) in [15, 70, 65, 38, 110, 151, 210].iter().enumerate() {
+        src += &format!("LD M{}\nSET F{f}\n", 10 + i);
+    }
+    src += "LD M20\nLEDR\nEND\n";
+    let mut p = Plc::new(&src);
+    for m in ["M0", "M1", "M2", "M3"] {
+        p.set(m, "1").scan().set(m, "0");
+    }
+    // After RST F25: SD62=50, SD63=2, list 50, 99.
+    assert_eq!(
+        (p.int("SD62"), p.int("SD63"), p.int("SD64"), p.int("SD65")),
+        (50, 2, 50, 99)
+    );
+    assert!(p.bit("SM62"));
+    // F**** is a continuation error: SD0 = 9000, the CPU runs on.
+    assert_eq!(p.int("SD0"), 9000);
+    assert_eq!(p.state(), CpuState::Run);
+    for k in 10..17 {
+        p.set(&format!("M{k}"), "1")
+            .scan()
+            .set(&format!("M{k}"), "0");
+    }
+    let list: Vec<i64> = (64..73).map(|n| p.int(&format!("SD{n}"))).collect();
+    assert_eq!(list, [50, 99, 15, 70, 65, 38, 110, 151, 210]);
+    assert_eq!(p.int("SD63"), 9);
+    p.set("M20", "1").scan();
+    let list: Vec<i64> = (64..72).map(|n| p.int(&format!("SD{n}"))).collect();
+    assert_eq!(list, [99, 15, 70, 65, 38, 110, 151, 210]);
+    assert_eq!((p.int("SD62"), p.int("SD63"), p.int("SD72")), (99, 8, 0));
+    assert!(!p.bit("F50"));
+    // Every annunciator ON was logged: 3 + 7 entries of 9000.
+    let h = p.cpu.error_history();
+    assert_eq!(h.len(), 10);
+    assert!(h.iter().all(|e| e.code.0 == 9000));
+    assert_eq!(h[0].detail, Some(50));
+    // SM50 with SD50 = 9000 clears the error registers (lower digits ignored).
+    p.set("SD50", "9012").set("SM50", "1").scan();
+    assert!(!p.bit("SM0"));
+    assert_eq!(p.int("SD0"), 0);
+}
+
+#[test]
+fn error_history_keeps_the_latest_16_with_time() {
+    // Continue mode: every scan's division by zero is logged; 20 scans → 16 kept,
+    // stamped with the clock (2000-01-01 00:00:00 + scan time).
+    let cfg = CpuConfig {
+        operation_error: softplc_core::engine::ErrorMode::Continue,
+        ..CpuConfig::default()
+    };
+    let mut p = Plc::with_config("LD SM400\n/ K1 K0 D0\nEND\n", cfg);
+    p.scan_time_us(1_000_000).scans(20);
+    let h = p.cpu.error_history();
+    assert_eq!(h.len(), 16);
+    assert!(h.iter().all(|e| e.code.0 == 4100 && e.detail == Some(1)));
+    // The last entry is scan 20, 20 s after 2000-01-01 00:00:00.
+    assert_eq!(h[15].time, 946_684_800 + 20);
+    assert_eq!(h[0].time, 946_684_800 + 5);
+    // SD1-SD3: BCD time stamp 00-01 / 01 00h / 00:20.
+    assert_eq!(
+        (p.int("SD1:u16"), p.int("SD2:u16"), p.int("SD3:u16")),
+        (0x0001, 0x0100, 0x0020)
+    );
+}

@@ -59,7 +59,22 @@ pub struct Cpu {
     scans: u64,
     min_scan_us: Option<u64>,
     max_scan_us: Option<u64>,
+    /// Interrupt programs: In → (slot, op index).
+    interrupts: Vec<Option<(usize, u32)>>,
+    /// Next occurrence of I28-I31 and causes remembered while disabled.
+    int_due: [u64; 4],
+    int_pending: [bool; 4],
+    /// SM50 at the previous END, for its OFF→ON edge.
+    sm50: bool,
 }
+
+/// IMASK at power-on: everything enabled except the error interrupts I32-I47,
+/// which need IMASK (004 L10902-10904).
+const DEFAULT_IMASK: [u16; 16] = {
+    let mut m = [0xFFFF; 16];
+    m[2] = 0;
+    m
+};
 
 impl Cpu {
     /// Powers on a CPU with one scan program and puts it in RUN.
@@ -84,7 +99,7 @@ impl Cpu {
         let x = cfg.devices.points(DeviceKind::X) as usize;
         let y = cfg.devices.points(DeviceKind::Y) as usize;
         let now = clock.now_us();
-        let slots = programs
+        let slots: Vec<Slot> = programs
             .into_iter()
             .map(|p| Slot {
                 local: ProgState::new(&p.program),
@@ -111,7 +126,17 @@ impl Cpu {
             watchdog: cfg.watchdog,
             operation_error: cfg.operation_error,
             error: None,
+            history: std::collections::VecDeque::with_capacity(super::HISTORY_LEN),
+            ei: false,
+            imask: DEFAULT_IMASK,
+            in_interrupt: false,
         };
+        let mut interrupts = vec![None; 256];
+        for (i, s) in slots.iter().enumerate() {
+            for &(n, pc) in &s.program.interrupts {
+                interrupts[n as usize].get_or_insert((i, pc));
+            }
+        }
         let mut cpu = Cpu {
             slots,
             rt,
@@ -130,6 +155,10 @@ impl Cpu {
             scans: 0,
             min_scan_us: None,
             max_scan_us: None,
+            interrupts,
+            int_due: [0; 4],
+            int_pending: [false; 4],
+            sm50: false,
         };
         cpu.power_on();
         cpu
@@ -303,6 +332,7 @@ impl Cpu {
         if remote {
             self.clear_unlatched();
             self.rt.error = None;
+            self.rt.history.clear();
             self.stop_error = false;
             special::power_on(&mut self.rt.mem);
         }
@@ -317,6 +347,8 @@ impl Cpu {
         self.rt.error = None;
         self.stop_error = false;
         self.rt.timer_rem.fill(0);
+        self.rt.ei = false;
+        self.rt.imask = DEFAULT_IMASK;
         let now = self.clock.now_us();
         self.power_on_us = now;
         self.min_scan_us = None;
@@ -331,6 +363,9 @@ impl Cpu {
         for s in &mut self.slots {
             s.local.clear();
             s.next_due_us = now + s.interval_us;
+        }
+        for (k, p) in self.cfg.interrupt_periods.iter().enumerate() {
+            self.int_due[k] = now + p.as_micros().max(1) as u64;
         }
         self.write_initial_values();
         self.run_start_us = now;
@@ -356,20 +391,18 @@ impl Cpu {
             zr..zr + mem.map.points(DeviceKind::ZR) as usize
         };
         let zr = keep_words(mem);
-        let saved_bits: Vec<(usize, Vec<bool>)>;
         let mut saved_words: Vec<(usize, Vec<u16>)> =
             vec![(zr.start, mem.words[zr.clone()].to_vec())];
-        let mut bits = Vec::new();
+        let mut saved_bits: Vec<(usize, Vec<bool>)> = Vec::new();
         for r in &self.cfg.latch {
             for (bit, start, len) in latch_spans(mem, r) {
                 if bit {
-                    bits.push((start, mem.bits[start..start + len].to_vec()));
+                    saved_bits.push((start, mem.bits[start..start + len].to_vec()));
                 } else {
                     saved_words.push((start, mem.words[start..start + len].to_vec()));
                 }
             }
         }
-        saved_bits = bits;
         mem.clear();
         for (start, v) in saved_bits {
             mem.bits[start..start + v.len()].copy_from_slice(&v);
@@ -400,9 +433,10 @@ impl Cpu {
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;
         let ok = if initial {
-            self.run_type(ExecType::Initial)
+            self.service_interrupts(now) && self.run_type(ExecType::Initial)
         } else {
-            self.run_fixed_scan(now)
+            self.service_interrupts(now)
+                && self.run_fixed_scan(now)
                 && self.run_type(ExecType::Scan)
                 && self.run_type(ExecType::LowSpeed)
         };
@@ -444,6 +478,81 @@ impl Cpu {
             }
         }
         true
+    }
+
+    /// Fixed-cycle interrupts I28-I31 (004 §4.1.3, App. 3): every occurrence since
+    /// the previous scan, in time order (I31 before I28 at the same instant, by
+    /// priority), runs its interrupt program when EI and IMASK allow it; a cause
+    /// occurring while disabled is remembered once and runs when enabled.
+    fn service_interrupts(&mut self, now: u64) -> bool {
+        const MAX_PER_SCAN: u32 = 100_000;
+        let periods = self
+            .cfg
+            .interrupt_periods
+            .map(|p| p.as_micros().max(1) as u64);
+        let mut runs = 0;
+        loop {
+            // The earliest due cause; ties go to the higher I number.
+            let k = (0..4).rev().min_by_key(|&k| self.int_due[k]).unwrap_or(0);
+            if self.int_due[k] > now {
+                break;
+            }
+            runs += 1;
+            if runs > MAX_PER_SCAN {
+                // Pathological period/scan ratio: skip ahead instead of looping.
+                self.int_due[k] = now + periods[k];
+                continue;
+            }
+            self.int_due[k] += periods[k];
+            let n = 28 + k;
+            if self.interrupts[n].is_some() {
+                if self.rt.interrupt_enabled(n) {
+                    if !self.run_interrupt(n) {
+                        return false;
+                    }
+                } else {
+                    self.int_pending[k] = true;
+                }
+            }
+        }
+        for k in (0..4).rev() {
+            if self.int_pending[k] && self.rt.interrupt_enabled(28 + k) {
+                self.int_pending[k] = false;
+                if !self.run_interrupt(28 + k) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Runs interrupt program `In`, saving and restoring Z0-Z15 around it (the
+    /// default, not "high-speed execution", 004 L1270-1290).
+    fn run_interrupt(&mut self, n: usize) -> bool {
+        let Some((i, pc)) = self.interrupts[n] else {
+            return true;
+        };
+        let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+        let zn = self.rt.mem.map.points(DeviceKind::Z) as usize;
+        let mut z = [0u16; 16];
+        z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
+        self.rt.in_interrupt = true;
+        let slot = &mut self.slots[i];
+        let out = exec::run(&slot.program, &mut self.rt, &mut slot.local, pc as usize);
+        self.rt.in_interrupt = false;
+        self.rt.mem.words[zb..zb + zn.min(16)].copy_from_slice(&z[..zn.min(16)]);
+        match out {
+            Outcome::End => true,
+            Outcome::Fault(code, pc) => {
+                self.rt.record_fault(&slot.program, code, pc);
+                false
+            }
+        }
+    }
+
+    /// The error history, oldest first (latest 16).
+    pub fn error_history(&self) -> Vec<super::HistoryEntry> {
+        self.rt.history.iter().copied().collect()
     }
 
     fn run_slot(&mut self, i: usize) -> bool {
@@ -490,16 +599,22 @@ impl Cpu {
         // continuation error (004 §7.1).
         if let Some(cs) = self.cfg.constant_scan {
             if scan_us > cs.as_micros() as u64 && !initial {
-                let code = ErrorCode::PRG_TIME_OVER;
-                special::report_error(&mut self.rt.mem, code, "", None);
-                self.rt.error = Some(CpuError {
-                    code,
-                    step: None,
-                    file: None,
-                    line: None,
-                });
+                self.rt.record(ErrorCode::PRG_TIME_OVER, None, None, None);
             }
         }
+        // SM50 OFF→ON: clear the continuation error named in SD50 (lower two
+        // digits ignored); stop errors cannot be cleared this way.
+        let sm50 = special::error_reset_requested(&self.rt.mem);
+        if let (Some(code), false) = (sm50, self.sm50) {
+            if let Some(e) = &self.rt.error {
+                let clearable = e.code.is_continuation() || e.code.is_operation_error();
+                if clearable && e.code.0 / 100 == code / 100 {
+                    self.rt.error = None;
+                    special::clear_error(&mut self.rt.mem);
+                }
+            }
+        }
+        self.sm50 = sm50.is_some();
         self.sm210 =
             special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
         if std::mem::take(&mut self.rt.stop_request) {

@@ -27,6 +27,12 @@ impl ErrorCode {
     pub const RET_IN_MAIN: ErrorCode = ErrorCode(4212);
     /// CAN'T EXECUTE(P): more than 16 CALL nesting levels.
     pub const CALL_NESTING: ErrorCode = ErrorCode(4213);
+    /// CAN'T EXECUTE(I): the interrupt program did not end with IRET.
+    pub const NO_IRET: ErrorCode = ErrorCode(4221);
+    /// CAN'T EXECUTE(I): IRET executed outside an interrupt program.
+    pub const IRET_IN_MAIN: ErrorCode = ErrorCode(4223);
+    /// F****: an annunciator turned ON (continuation error).
+    pub const ANNUNCIATOR: ErrorCode = ErrorCode(9000);
     /// WDT ERROR: scan exceeded the watchdog time.
     pub const WDT: ErrorCode = ErrorCode(5000);
     /// PRG.TIME OVER: scan exceeded the constant-scan setting.
@@ -44,7 +50,10 @@ impl ErrorCode {
             4211 => "CAN'T EXECUTE(P): no RET in the executed subroutine",
             4212 => "CAN'T EXECUTE(P): RET executed in the main program",
             4213 => "CAN'T EXECUTE(P): more than 16 CALL nesting levels",
+            4221 => "CAN'T EXECUTE(I): no IRET in the executed interrupt program",
+            4223 => "CAN'T EXECUTE(I): IRET executed outside an interrupt program",
             5000 => "WDT ERROR: scan time exceeded the watchdog",
+            9000 => "F****: annunciator ON",
             5010 => "PRG.TIME OVER: scan time exceeded the constant scan",
             _ => "error",
         }
@@ -54,6 +63,12 @@ impl ErrorCode {
     /// everything else stops the CPU.
     pub fn is_operation_error(self) -> bool {
         (4100..4200).contains(&self.0)
+    }
+
+    /// Errors after which the CPU keeps running: PRG.TIME OVER and annunciators
+    /// (operation errors continue only when the parameter says so).
+    pub fn is_continuation(self) -> bool {
+        matches!(self.0, 5010 | 9000)
     }
 }
 
@@ -75,4 +90,14 @@ pub struct CpuError {
     /// Source file and line of that instruction.
     pub file: Option<String>,
     pub line: Option<u32>,
+}
+
+/// One entry of the error history (004 §7.20.2): the latest 16 are kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HistoryEntry {
+    pub code: ErrorCode,
+    /// Calendar time of detection, seconds since 1970.
+    pub time: i64,
+    /// Step of the failing instruction, or the annunciator number for 9000.
+    pub detail: Option<u32>,
 }

@@ -293,6 +293,36 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
                 return rt.end_checks(prog, pc - 1);
             }
             Op::Nop => {}
+            Op::Ei => {
+                if acc & mc_on {
+                    rt.set_ei(true);
+                }
+            }
+            Op::Di => {
+                if acc & mc_on {
+                    rt.set_ei(false);
+                }
+            }
+            Op::Imask(s) => {
+                if acc & mc_on {
+                    try_op!(rt.imask(s));
+                }
+            }
+            Op::Iret => {
+                if rt.in_interrupt {
+                    return Outcome::End;
+                }
+                try_op!(Err::<(), _>(ErrorCode::IRET_IN_MAIN));
+            }
+            Op::Ann { kind, n } => {
+                let cond = acc & mc_on;
+                rt.annunciator(*kind, *n, cond);
+            }
+            Op::Ledr => {
+                if acc & mc_on {
+                    rt.ledr();
+                }
+            }
         }
     }
 }

@@ -16,7 +16,7 @@ use std::time::Duration;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};
 pub use cpu::{Cpu, LoadedProgram};
-pub use error::{CpuError, ErrorCode, Fault};
+pub use error::{CpuError, ErrorCode, Fault, HistoryEntry};
 
 use crate::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use crate::program::ops::Program;
@@ -176,26 +176,130 @@ pub(crate) struct Runtime {
     pub operation_error: ErrorMode,
     /// The latest error and whether it stopped the CPU.
     pub error: Option<CpuError>,
+    /// Error history, oldest first, at most [`HISTORY_LEN`] entries.
+    pub history: std::collections::VecDeque<HistoryEntry>,
+    /// EI state (SM715) and the IMASK pattern, one enable bit per I0-I255.
+    pub ei: bool,
+    pub imask: [u16; 16],
+    /// An interrupt program is running (IRET ends it).
+    pub in_interrupt: bool,
 }
+
+/// Entries kept in the error history (004 §7.20.2).
+pub const HISTORY_LEN: usize = 16;
 
 impl Runtime {
     /// Records a fault in SM0/SM1/SD0 and the error-location registers; returns
     /// true when the CPU must stop (004 §7.20).
     pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
-        special::report_error(&mut self.mem, code, &prog.file, step);
+        self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
+        !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
+    }
+
+    /// Records a self-diagnostic error: SM0/SM1, SD0-SD26 and the error history.
+    pub(crate) fn record(
+        &mut self,
+        code: ErrorCode,
+        file: Option<&str>,
+        step: Option<u32>,
+        line: Option<u32>,
+    ) {
+        let now = self.clock.now(self.now_us);
+        special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
         self.error = Some(CpuError {
             code,
             step,
-            file: Some(prog.file.clone()),
-            line: prog.op_line.get(pc).copied(),
+            file: file.map(str::to_string),
+            line,
         });
-        !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
+        if self.history.len() == HISTORY_LEN {
+            self.history.pop_front();
+        }
+        self.history.push_back(HistoryEntry {
+            code,
+            time: now.to_unix(),
+            detail: step,
+        });
+    }
+
+    /// EI / DI (SM715 is ON in EI).
+    pub(crate) fn set_ei(&mut self, on: bool) {
+        self.ei = on;
+        let _ = self.mem.set_bit(DeviceKind::SM, 715, on);
+    }
+
+    /// IMASK: 16 words of enable bits for I0-I255, mirrored in SD715-SD717
+    /// (I0-I47) and SD781-SD793 (I48-I255).
+    pub(crate) fn imask(&mut self, s: &crate::program::ops::WordArg) -> Result<(), Fault> {
+        let crate::program::ops::WordArg::Word(first) = s else {
+            return Err(ErrorCode::RANGE);
+        };
+        let first = *first as usize;
+        let words: [u16; 16] = std::array::from_fn(|k| self.mem.words[first + k]);
+        self.imask = words;
+        for (k, w) in words.iter().enumerate() {
+            let sd = if k < 3 { 715 + k } else { 781 + k - 3 };
+            let _ = self.mem.set_word(DeviceKind::SD, sd as i64, *w);
+        }
+        Ok(())
+    }
+
+    /// Interrupt pointer `n` is enabled by EI and its IMASK bit.
+    pub(crate) fn interrupt_enabled(&self, n: usize) -> bool {
+        self.ei && self.imask[n / 16] >> (n % 16) & 1 != 0
+    }
+
+    /// OUT/SET/RST of annunciator F`n` (004 §10.2.4): turning it ON through OUT or
+    /// SET appends it to SD64-SD79 (SD62 first, SD63 count, SM62 ON) and logs error
+    /// 9000; RST removes it; OUT turning it OFF does no list processing.
+    pub(crate) fn annunciator(&mut self, kind: crate::program::ops::AnnKind, n: u16, cond: bool) {
+        use crate::program::ops::AnnKind;
+        let was = self.mem.get_bit(DeviceKind::F, n as i64).unwrap_or(false);
+        match kind {
+            AnnKind::Out => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, cond);
+                if cond && !was {
+                    self.annunciator_on(n);
+                }
+            }
+            AnnKind::Set if cond && !was => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, true);
+                self.annunciator_on(n);
+            }
+            AnnKind::Rst if cond => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, false);
+                special::annunciator_remove(&mut self.mem, n);
+            }
+            _ => {}
+        }
+    }
+
+    fn annunciator_on(&mut self, n: u16) {
+        special::annunciator_add(&mut self.mem, n);
+        self.record(ErrorCode::ANNUNCIATOR, None, None, None);
+        if let Some(h) = self.history.back_mut() {
+            h.detail = Some(n as u32);
+        }
+        // SD4 individual information 6: annunciator number in SD16.
+        let _ = self.mem.set_word(DeviceKind::SD, 4, 0x0600);
+        let _ = self.mem.set_word(DeviceKind::SD, 16, n);
+    }
+
+    /// LEDR: turns OFF the annunciator shown first (SD62) and removes it.
+    pub(crate) fn ledr(&mut self) {
+        let first = self.mem.get_word(DeviceKind::SD, 64).unwrap_or(0);
+        if self.mem.get_word(DeviceKind::SD, 63).unwrap_or(0) > 0 {
+            let _ = self.mem.set_bit(DeviceKind::F, first as i64, false);
+            special::annunciator_remove(&mut self.mem, first);
+        }
     }
 
     /// END/FEND reached: a subroutine without RET or a FOR without NEXT is an error.
     pub(crate) fn end_checks(&mut self, _prog: &Program, pc: usize) -> Outcome {
-        let code = if !self.calls.is_empty() {
+        let code = if self.in_interrupt {
+            ErrorCode::NO_IRET
+        } else if !self.calls.is_empty() {
             ErrorCode::NO_RET
         } else if !self.fors.is_empty() {
             ErrorCode::FOR_WITHOUT_NEXT

@@ -99,9 +99,20 @@ pub(crate) fn set_status(mem: &mut DeviceMemory, state: CpuState) {
 /// operation errors, SD4 = common-information category 4 (program error location),
 /// SD5-SD10 the program file name (8 + "." + 3 characters, ASCII, low byte first),
 /// SD14/SD15 the step number (low/high word).
-pub(crate) fn report_error(mem: &mut DeviceMemory, code: ErrorCode, file: &str, step: Option<u32>) {
+pub(crate) fn report_error(
+    mem: &mut DeviceMemory,
+    code: ErrorCode,
+    file: &str,
+    step: Option<u32>,
+    at: &DateTime,
+) {
     sm(mem, 0, true);
     sm(mem, 1, true);
+    // SD1-SD3: time of detection in BCD (year/month, day/hour, minute/second).
+    let y = at.year as u32 % 100;
+    sd(mem, 1, bcd(y) << 8 | bcd(at.month));
+    sd(mem, 2, bcd(at.day) << 8 | bcd(at.hour));
+    sd(mem, 3, bcd(at.minute) << 8 | bcd(at.second));
     if code.is_operation_error() {
         sm(mem, 56, true);
     }
@@ -196,4 +207,51 @@ pub(crate) fn clock_registers(
         sd(mem, 213, bcd(y / 100) << 8 | t.weekday() as u16);
     }
     sm210
+}
+
+/// Appends annunciator `n` to SD64-SD79 (16 entries), SD62 = first, SD63 = count,
+/// SM62 ON (004 §10.2.4).
+pub(crate) fn annunciator_add(mem: &mut DeviceMemory, n: u16) {
+    let count = sd_get(mem, 63).min(16);
+    if count < 16 {
+        sd(mem, 64 + count as i64, n);
+        sd(mem, 63, count + 1);
+    }
+    sd(mem, 62, sd_get(mem, 64));
+    sm(mem, 62, true);
+}
+
+/// Removes annunciator `n` from SD64-SD79, shifting the later ones up.
+pub(crate) fn annunciator_remove(mem: &mut DeviceMemory, n: u16) {
+    let count = sd_get(mem, 63).min(16) as i64;
+    let Some(pos) = (0..count).find(|k| sd_get(mem, 64 + k) == n) else {
+        return;
+    };
+    for k in pos..count - 1 {
+        let next = sd_get(mem, 65 + k);
+        sd(mem, 64 + k, next);
+    }
+    sd(mem, 64 + count - 1, 0);
+    sd(mem, 63, (count - 1) as u16);
+    sd(mem, 62, if count > 1 { sd_get(mem, 64) } else { 0 });
+    sm(mem, 62, count > 1);
+}
+
+/// SM50 OFF→ON clears the continuation error whose code is in SD50; the lower
+/// two digits are ignored (004 L5028-5055). Returns whether it cleared.
+pub(crate) fn error_reset_requested(mem: &DeviceMemory) -> Option<u16> {
+    mem.get_bit(DeviceKind::SM, 50)
+        .ok()
+        .filter(|on| *on)
+        .map(|_| sd_get(mem, 50))
+}
+
+/// Clears the error registers SM0/SM1/SM56 and SD0-SD26.
+pub(crate) fn clear_error(mem: &mut DeviceMemory) {
+    sm(mem, 0, false);
+    sm(mem, 1, false);
+    sm(mem, 56, false);
+    for n in 0..=26 {
+        sd(mem, n, 0);
+    }
 }

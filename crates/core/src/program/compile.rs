@@ -59,6 +59,9 @@ struct Compiler<'a> {
     for_open: Vec<Token>,
     end_seen: Option<Token>,
     after_end_reported: bool,
+    fend_seen: bool,
+    /// Interrupt pointers: number → (op index, line).
+    interrupts: HashMap<u32, (u32, u32)>,
 }
 
 impl<'a> Compiler<'a> {
@@ -86,6 +89,8 @@ impl<'a> Compiler<'a> {
             for_open: Vec::new(),
             end_seen: None,
             after_end_reported: false,
+            fend_seen: false,
+            interrupts: HashMap::new(),
         }
     }
 
@@ -113,12 +118,7 @@ impl<'a> Compiler<'a> {
         }
         let n: u32 = text[1..].parse().unwrap_or(u32::MAX);
         if text.starts_with('I') {
-            self.err(
-                tok,
-                format!(
-                    "unsupported: interrupt program `{text}` (interrupts are not implemented yet)"
-                ),
-            );
+            self.interrupt_label(tok, &text, n);
             return;
         }
         if n > 4095 {
@@ -137,6 +137,37 @@ impl<'a> Compiler<'a> {
             return;
         }
         self.labels.insert(n, (self.ops.len() as u32, tok.line));
+        self.has_rung = false;
+        self.after_output = true;
+    }
+
+    /// An interrupt pointer `In` (004 §4.1.3): it must follow FEND, each number once.
+    fn interrupt_label(&mut self, tok: &Token, text: &str, n: u32) {
+        if n > 255 {
+            return self.err(
+                tok,
+                format!("interrupt pointer `{text}` is out of range (I0-I255)"),
+            );
+        }
+        if (32..=49).contains(&n) {
+            return self.err(
+                tok,
+                format!("unsupported: `{text}` (error interrupts I32-I39 are not implemented; I33, I37 and I40-I49 are not used)"),
+            );
+        }
+        if !self.fend_seen {
+            return self.err(tok, format!("interrupt program `{text}` must follow FEND"));
+        }
+        if self.has_rung && !self.after_output || self.depth > 0 || !self.mps.is_empty() {
+            self.err(tok, format!("pointer `{text}` inside an unfinished rung"));
+        }
+        if let Some(&(_, line)) = self.interrupts.get(&n) {
+            return self.err(
+                tok,
+                format!("duplicate interrupt pointer `I{n}` (first defined at line {line})"),
+            );
+        }
+        self.interrupts.insert(n, (self.ops.len() as u32, tok.line));
         self.has_rung = false;
         self.after_output = true;
     }
@@ -287,6 +318,28 @@ impl<'a> Compiler<'a> {
                     _ => Op::Mpp,
                 });
             }
+            "EI" | "DI" => {
+                if self.count(i, m, &[0]) && self.output(i, m) {
+                    self.emit(if m == "EI" { Op::Ei } else { Op::Di });
+                }
+            }
+            "IMASK" => {
+                if self.count(i, m, &[1]) && self.output(i, m) {
+                    if let Some(s) = self.word_dest(&ops[0], Num::I16, 16) {
+                        self.emit(Op::Imask(Box::new(s)));
+                    }
+                }
+            }
+            "IRET" => {
+                if self.count(i, m, &[0]) && self.standalone(i, m) {
+                    self.emit(Op::Iret);
+                }
+            }
+            "LEDR" => {
+                if self.count(i, m, &[0]) && self.output(i, m) {
+                    self.emit(Op::Ledr);
+                }
+            }
             "INV" | "MEP" | "MEF" => {
                 if !self.count(i, m, &[0]) || !self.need_rung(i, m) {
                     return;
@@ -314,6 +367,15 @@ impl<'a> Compiler<'a> {
             "OUT" | "OUTH" => self.out(i, m),
             "SET" | "RST" => {
                 if !self.count(i, m, &[1]) || !self.output(i, m) {
+                    return;
+                }
+                if let Some(n) = self.annunciator(&ops[0]) {
+                    let kind = if m == "SET" {
+                        AnnKind::Set
+                    } else {
+                        AnnKind::Rst
+                    };
+                    self.emit(Op::Ann { kind, n });
                     return;
                 }
                 if m == "RST" {
@@ -399,6 +461,7 @@ impl<'a> Compiler<'a> {
                     self.emit(Op::End);
                     self.end_seen = Some(i.mnemonic.clone());
                 } else {
+                    self.fend_seen = true;
                     self.emit(Op::Fend);
                 }
             }
@@ -651,6 +714,13 @@ impl<'a> Compiler<'a> {
             if ops.len() != 1 {
                 return self.err(&ops[1], format!("`OUT {}` takes no set value", ops[0].text));
             }
+            if let Some(n) = self.annunciator(&ops[0]) {
+                self.emit(Op::Ann {
+                    kind: AnnKind::Out,
+                    n,
+                });
+                return;
+            }
             if let Some(dst) = self.bit_dest(&ops[0]) {
                 match dst {
                     BitArg::Bit(b) => self.emit(Op::Out(b)),
@@ -717,6 +787,21 @@ impl<'a> Compiler<'a> {
                 high_speed: m == "OUTH",
                 retentive,
             })));
+        }
+    }
+
+    /// `Fn` written plainly: OUT/SET/RST make it an annunciator (004 §10.2.4).
+    fn annunciator(&mut self, tok: &Token) -> Option<u16> {
+        match parse_operand(&tok.text) {
+            Ok(Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                index: None,
+            }) if dev.kind == DeviceKind::F && dev.number < self.map.points(DeviceKind::F) => {
+                Some(dev.number as u16)
+            }
+            _ => None,
         }
     }
 
@@ -1424,6 +1509,15 @@ impl<'a> Compiler<'a> {
             op_line: self.op_line,
             edge_slots: self.edge_slots,
             state_words: self.state_words,
+            interrupts: {
+                let mut v: Vec<(u8, u32)> = self
+                    .interrupts
+                    .iter()
+                    .map(|(n, (at, _))| (*n as u8, *at))
+                    .collect();
+                v.sort_unstable();
+                v
+            },
             ext: self.ext,
             steps: self.step,
         })

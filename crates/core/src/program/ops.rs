@@ -217,6 +217,14 @@ pub struct MasterControl {
     pub dst: BitArg,
 }
 
+/// Annunciator coil kinds (OUT F, SET F, RST F).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnnKind {
+    Out,
+    Set,
+    Rst,
+}
+
 /// One compiled operation. `Op` is 16 bytes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Op {
@@ -291,6 +299,21 @@ pub enum Op {
     End,
     Stop,
     Nop,
+    // --- interrupts and diagnostics ---
+    /// EI / DI: enable or disable interrupts.
+    Ei,
+    Di,
+    /// IMASK s: 16 words, one enable bit per interrupt pointer I0-I255.
+    Imask(Box<WordArg>),
+    /// End of an interrupt program.
+    Iret,
+    /// OUT/SET/RST of annunciator F`n`.
+    Ann {
+        kind: AnnKind,
+        n: u16,
+    },
+    /// LEDR: resets the first annunciator on the list.
+    Ledr,
 }
 
 /// A compiled program with the source map needed for error reports.
@@ -307,6 +330,8 @@ pub struct Program {
     pub edge_slots: u32,
     /// Hidden state words of family instructions.
     pub state_words: u32,
+    /// Interrupt pointers of this file: (In, op index), ascending.
+    pub interrupts: Vec<(u8, u32)>,
     /// Family instructions referenced by [`Op::Ext`].
     pub ext: Vec<Box<dyn crate::instructions::Instr>>,
     /// Steps used, END included.
