@@ -8,6 +8,7 @@ use clap::Args;
 use serde_json::{json, Map, Value as Json};
 use softplc_core::access::{DeviceSpec, Value};
 use softplc_core::device::DeviceConfig;
+use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
 use softplc_core::program::{self, Program};
 
@@ -35,6 +36,19 @@ pub struct RunArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Sampling trace: devices to sample at END, comma-separated, e.g.
+    /// --trace D0,M0,D10:f32 (at most 50 bit and 50 word devices).
+    #[arg(long, value_name = "DEV,...", value_delimiter = ',')]
+    pub trace: Vec<String>,
+    /// Where to write the trace as CSV (scan, time_ms, one column per device).
+    #[arg(long, value_name = "FILE", requires = "trace")]
+    pub trace_file: Option<PathBuf>,
+    /// Sample every N-th scan.
+    #[arg(long, value_name = "N", default_value_t = 1, requires = "trace")]
+    pub trace_every: u32,
+    /// Samples kept (the latest ones), 1-8192.
+    #[arg(long, value_name = "N", default_value_t = 8192, requires = "trace")]
+    pub trace_size: usize,
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns`.
@@ -116,6 +130,25 @@ fn parse_write(arg: &str, scan: u64) -> Result<Write, String> {
     })
 }
 
+fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
+    if args.trace.is_empty() {
+        return Ok(None);
+    }
+    let devices = args
+        .trace
+        .iter()
+        .map(|d| DeviceSpec::parse(d.trim()))
+        .collect::<Result<Vec<_>, _>>()?;
+    Trace::new(TraceConfig {
+        devices,
+        every_scans: args.trace_every,
+        capacity: args.trace_size,
+        trigger: None,
+        after_trigger: 0,
+    })
+    .map(Some)
+}
+
 fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String> {
     let mut writes = Vec::new();
     for s in &args.set {
@@ -147,15 +180,17 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok(p) => p,
         Err(code) => return code,
     };
-    let (writes, shows) = match parse_options(&args) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("softplc: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    let (writes, shows, trace) =
+        match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("softplc: {e}");
+                return ExitCode::from(2);
+            }
+        };
     let clock = VirtualClock::new();
     let mut cpu = Cpu::new(program, CpuConfig::default(), Box::new(clock.clone()));
+    cpu.set_trace(trace);
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -171,6 +206,19 @@ pub fn run(args: RunArgs) -> ExitCode {
         scans = n;
         if cpu.state() == CpuState::Stop {
             break;
+        }
+    }
+    if let Some(t) = cpu.trace() {
+        let csv = t.to_csv();
+        match &args.trace_file {
+            Some(path) => {
+                if let Err(e) = std::fs::write(path, csv) {
+                    eprintln!("softplc: cannot write {}: {e}", path.display());
+                    return ExitCode::from(2);
+                }
+            }
+            None if !args.json => print!("{csv}"),
+            None => {}
         }
     }
     let mut devices = Map::new();

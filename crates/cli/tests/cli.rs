@@ -180,3 +180,31 @@ fn bad_options_fail_before_running() {
         assert!(!out.stderr.is_empty());
     }
 }
+
+#[test]
+fn trace_to_csv_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_csv = dir.path().join("trace.csv");
+    let out = softplc(&[
+        "run",
+        "examples/blink.il",
+        "--scans",
+        "60",
+        "--set",
+        "X0=1",
+        "--trace",
+        "Y0,TN0",
+        "--trace-every",
+        "25",
+        "--trace-file",
+        out_csv.to_str().unwrap(),
+        "--json",
+    ]);
+    json(&out);
+    // Samples at scans 1, 26, 51: T0 (0.5 s) times out at scan 51, Y0 follows.
+    let csv = std::fs::read_to_string(&out_csv).unwrap();
+    assert_eq!(
+        csv,
+        "scan,time_ms,Y0,TN0\n1,10,0,0\n26,260,0,2\n51,510,1,5\n"
+    );
+}

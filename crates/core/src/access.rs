@@ -138,45 +138,57 @@ impl DeviceSpec {
 
     /// Reads the device.
     pub fn read(&self, mem: &DeviceMemory) -> Result<Value, String> {
+        if let (Target::Word(k, n), ValueType::Str) = (self.target, self.ty) {
+            let first = self.number(mem, n);
+            let mut bytes = Vec::new();
+            'words: for i in 0..(MAX_STR / 2) as i64 {
+                let Ok(w) = mem.get_word(k, first + i) else {
+                    break;
+                };
+                for b in w.to_le_bytes() {
+                    if b == 0 {
+                        break 'words;
+                    }
+                    bytes.push(b);
+                }
+            }
+            return Ok(Value::Str(String::from_utf8_lossy(&bytes).into_owned()));
+        }
+        Ok(self.present_raw(self.read_raw(mem)?))
+    }
+
+    /// Reads the device's raw bits (not for `:str`): bits as 0/1, words and
+    /// digit-specified devices low word first. Allocates only on error.
+    pub fn read_raw(&self, mem: &DeviceMemory) -> Result<u64, String> {
         let e = |e: crate::device::OutOfRange| format!("`{}`: {e}", self.text);
         match self.target {
-            Target::Bit(k, n) => Ok(Value::Bool(mem.get_bit(k, self.number(mem, n)).map_err(e)?)),
+            Target::Bit(k, n) => Ok(mem.get_bit(k, self.number(mem, n)).map_err(e)? as u64),
             Target::WordBit(k, n, b) => {
                 let w = mem.get_word(k, self.number(mem, n)).map_err(e)?;
-                Ok(Value::Bool(w >> b & 1 != 0))
+                Ok((w >> b & 1) as u64)
             }
             Target::Digits(k, n, d) => {
                 let first = self.number(mem, n);
-                let mut v: u32 = 0;
+                let mut v: u64 = 0;
                 for i in 0..4 * d as i64 {
-                    v |= (mem.get_bit(k, first + i).map_err(e)? as u32) << i;
+                    v |= (mem.get_bit(k, first + i).map_err(e)? as u64) << i;
                 }
-                Ok(self.present(v as u64))
+                Ok(v)
             }
             Target::Word(k, n) => {
                 let first = self.number(mem, n);
-                if self.ty == ValueType::Str {
-                    let mut bytes = Vec::new();
-                    'words: for i in 0..(MAX_STR / 2) as i64 {
-                        let Ok(w) = mem.get_word(k, first + i) else {
-                            break;
-                        };
-                        for b in w.to_le_bytes() {
-                            if b == 0 {
-                                break 'words;
-                            }
-                            bytes.push(b);
-                        }
-                    }
-                    return Ok(Value::Str(String::from_utf8_lossy(&bytes).into_owned()));
-                }
                 let mut v: u64 = 0;
                 for i in 0..self.words() as i64 {
                     v |= (mem.get_word(k, first + i).map_err(e)? as u64) << (16 * i);
                 }
-                Ok(self.present(v))
+                Ok(v)
             }
         }
+    }
+
+    /// Presents raw bits from [`Self::read_raw`] in this spec's type.
+    pub fn present_raw(&self, raw: u64) -> Value {
+        self.present(raw)
     }
 
     fn present(&self, raw: u64) -> Value {

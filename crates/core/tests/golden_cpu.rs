@@ -411,3 +411,69 @@ fn error_history_keeps_the_latest_16_with_time() {
         (0x0001, 0x0100, 0x0020)
     );
 }
+
+#[test]
+fn sampling_trace_ring_buffer_and_trigger() {
+    use softplc_core::engine::trace::{Trace, TraceConfig};
+    let spec = |s: &str| DeviceSpec::parse(s).unwrap();
+    let mut p = Plc::new("LD SM400\nINC D0\nLD X0\nOUT M0\nEND\n");
+    let cfg = TraceConfig {
+        devices: vec![spec("D0"), spec("M0")],
+        every_scans: 2,
+        capacity: 3,
+        trigger: Some(spec("X0")),
+        after_trigger: 1,
+    };
+    p.cpu.set_trace(Some(Trace::new(cfg).unwrap()));
+    // Samples at END of scans 1, 3, 5, 7 (every 2nd); the ring keeps the last 3.
+    p.scans(7);
+    let rows: Vec<_> = p
+        .cpu
+        .trace()
+        .unwrap()
+        .samples()
+        .map(|(scan, t, v)| (scan, t, v[0].clone()))
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            (3, 30_000, softplc_core::access::Value::Int(3)),
+            (5, 50_000, softplc_core::access::Value::Int(5)),
+            (7, 70_000, softplc_core::access::Value::Int(7)),
+        ]
+    );
+    assert!(p.bit("SM802") && !p.bit("SM805"));
+    // Trigger in scan 8 (X0, M0 ON): one more sample after the triggering one, then complete.
+    p.set("X0", "1").scans(6);
+    let t = p.cpu.trace().unwrap();
+    assert!(t.is_complete());
+    assert!(p.bit("SM805") && p.bit("SM803"));
+    let last: Vec<u64> = t.samples().map(|(scan, _, _)| scan).collect();
+    assert_eq!(last, [7, 9, 11]);
+    assert_eq!(t.to_csv().lines().next(), Some("scan,time_ms,D0,M0"));
+    assert_eq!(t.to_csv().lines().nth(3), Some("11,110,11,1"));
+}
+
+#[test]
+fn trace_limits() {
+    use softplc_core::engine::trace::{Trace, TraceConfig};
+    let devices = (0..51)
+        .map(|n| DeviceSpec::parse(&format!("M{n}")).unwrap())
+        .collect();
+    let cfg = TraceConfig {
+        devices,
+        every_scans: 1,
+        capacity: 10,
+        trigger: None,
+        after_trigger: 0,
+    };
+    assert!(Trace::new(cfg).unwrap_err().contains("at most 50 bit"));
+    let cfg = TraceConfig {
+        devices: vec![DeviceSpec::parse("D0").unwrap()],
+        every_scans: 1,
+        capacity: 8193,
+        trigger: None,
+        after_trigger: 0,
+    };
+    assert!(Trace::new(cfg).is_err());
+}

@@ -66,6 +66,7 @@ pub struct Cpu {
     int_pending: [bool; 4],
     /// SM50 at the previous END, for its OFF→ON edge.
     sm50: bool,
+    trace: Option<super::trace::Trace>,
 }
 
 /// IMASK at power-on: everything enabled except the error interrupts I32-I47,
@@ -159,6 +160,7 @@ impl Cpu {
             int_due: [0; 4],
             int_pending: [false; 4],
             sm50: false,
+            trace: None,
         };
         cpu.power_on();
         cpu
@@ -550,6 +552,15 @@ impl Cpu {
         }
     }
 
+    /// Starts (or with `None` stops) a sampling trace, sampled at END.
+    pub fn set_trace(&mut self, trace: Option<super::trace::Trace>) {
+        self.trace = trace;
+    }
+
+    pub fn trace(&self) -> Option<&super::trace::Trace> {
+        self.trace.as_ref()
+    }
+
     /// The error history, oldest first (latest 16).
     pub fn error_history(&self) -> Vec<super::HistoryEntry> {
         self.rt.history.iter().copied().collect()
@@ -617,6 +628,9 @@ impl Cpu {
         self.sm50 = sm50.is_some();
         self.sm210 =
             special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
+        if let Some(t) = &mut self.trace {
+            t.sample(&mut self.rt.mem, self.scans, now);
+        }
         if std::mem::take(&mut self.rt.stop_request) {
             self.set_stop();
         }

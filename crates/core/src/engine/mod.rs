@@ -11,6 +11,7 @@ mod error;
 mod exec;
 mod operand;
 mod special;
+pub mod trace;
 
 use std::time::Duration;
 
