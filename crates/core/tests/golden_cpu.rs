@@ -477,3 +477,28 @@ fn trace_limits() {
     };
     assert!(Trace::new(cfg).is_err());
 }
+
+#[test]
+fn low_speed_programs_run_once_per_scan_with_their_registers() {
+    let cfg = CpuConfig {
+        constant_scan: Some(Duration::from_millis(20)),
+        ..CpuConfig::default()
+    };
+    let mut p = Plc::with_programs(
+        &[
+            (MAIN, ExecType::Scan, None),
+            (
+                "LD SM404\nINC D30\nLD SM510\nINC D31\nEND\n",
+                ExecType::LowSpeed,
+                None,
+            ),
+        ],
+        cfg,
+    );
+    p.scan_time_us(20_000).scans(3);
+    // SM404 only in the first low-speed scan; SM510 ON while it runs; SD430 counts.
+    assert_eq!((p.int("D30"), p.int("D31"), p.int("SD430")), (1, 3, 3));
+    assert!(!p.bit("SM510"));
+    // SD528/529: low-speed scan time 20 ms.
+    assert_eq!((p.int("SD528"), p.int("SD529")), (20, 0));
+}

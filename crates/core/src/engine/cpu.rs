@@ -67,6 +67,11 @@ pub struct Cpu {
     /// SM50 at the previous END, for its OFF→ON edge.
     sm50: bool,
     trace: Option<super::trace::Trace>,
+    /// Low-speed scan bookkeeping (SM404/405, SD528-SD535).
+    low_first: bool,
+    low_last_end_us: u64,
+    low_min_us: Option<u64>,
+    low_max_us: u64,
 }
 
 /// IMASK at power-on: everything enabled except the error interrupts I32-I47,
@@ -161,6 +166,10 @@ impl Cpu {
             int_pending: [false; 4],
             sm50: false,
             trace: None,
+            low_first: true,
+            low_last_end_us: 0,
+            low_min_us: None,
+            low_max_us: 0,
         };
         cpu.power_on();
         cpu
@@ -372,6 +381,8 @@ impl Cpu {
         self.write_initial_values();
         self.run_start_us = now;
         self.last_end_us = now;
+        self.low_last_end_us = now;
+        self.low_first = true;
         self.initial_pending = true;
         self.first_scan = true;
         self.state = CpuState::Run;
@@ -435,12 +446,20 @@ impl Cpu {
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;
         let ok = if initial {
-            self.service_interrupts(now) && self.run_type(ExecType::Initial)
+            // The initial execution monitor time, when set, replaces the WDT for
+            // the initial programs (004 L1446-1503).
+            let wdt = self.rt.watchdog;
+            if let Some(t) = self.cfg.initial_monitor {
+                self.rt.watchdog = t;
+            }
+            let ok = self.service_interrupts(now) && self.run_type(ExecType::Initial);
+            self.rt.watchdog = wdt;
+            ok
         } else {
             self.service_interrupts(now)
                 && self.run_fixed_scan(now)
                 && self.run_type(ExecType::Scan)
-                && self.run_type(ExecType::LowSpeed)
+                && self.run_low_speed(now)
         };
         if !ok {
             // Stop error: the CPU stops at the point of detection, outputs OFF.
@@ -460,6 +479,58 @@ impl Cpu {
                 return false;
             }
         }
+        true
+    }
+
+    /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
+    /// virtual time, so a pass always fits the spare time). SM510 is ON and SD510
+    /// holds the program number while one runs; SM404/SM405 are the low-speed
+    /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
+    fn run_low_speed(&mut self, now: u64) -> bool {
+        if !self.slots.iter().any(|s| s.exec == ExecType::LowSpeed) {
+            return true;
+        }
+        let first = self.low_first;
+        let set = |mem: &mut DeviceMemory, n: i64, v: bool| {
+            let _ = mem.set_bit(DeviceKind::SM, n, v);
+        };
+        set(&mut self.rt.mem, 404, first);
+        set(&mut self.rt.mem, 405, !first);
+        for i in 0..self.slots.len() {
+            if self.slots[i].exec != ExecType::LowSpeed {
+                continue;
+            }
+            set(&mut self.rt.mem, 510, true);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
+            if !self.run_slot(i) {
+                return false;
+            }
+        }
+        set(&mut self.rt.mem, 510, false);
+        // Low-speed END processing.
+        let us = now - self.low_last_end_us;
+        self.low_last_end_us = now;
+        if !first {
+            self.low_max_us = self.low_max_us.max(us);
+        }
+        self.low_min_us = Some(self.low_min_us.map_or(us, |m| m.min(us)));
+        for (reg, v) in [
+            (528, us),
+            (532, self.low_min_us.unwrap_or(0)),
+            (534, self.low_max_us),
+        ] {
+            let (ms, sub) = special::ms_us(v);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, reg, ms);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, reg + 1, sub);
+        }
+        let c = self
+            .rt
+            .mem
+            .get_word(DeviceKind::SD, 430)
+            .unwrap_or(0)
+            .wrapping_add(1);
+        let _ = self.rt.mem.set_word(DeviceKind::SD, 430, c);
+        self.low_first = false;
         true
     }
 
