@@ -502,3 +502,36 @@ fn low_speed_programs_run_once_per_scan_with_their_registers() {
     // SD528/529: low-speed scan time 20 ms.
     assert_eq!((p.int("SD528"), p.int("SD529")), (20, 0));
 }
+
+#[test]
+fn execution_type_changes_take_effect_at_end() {
+    // p0 switches p1 (standby, named "P1") to scan with PSCAN, back with PSTOP,
+    // and POFF turns its outputs OFF once before it becomes standby
+    // (qcpu.md §2.2 table; file names are p0.il, p1.il in the harness).
+    let main = "LD X0\nPSCAN \"P1\"\nLD X1\nPSTOP \"P1\"\nLD X2\nPOFF \"P1\"\nEND\n";
+    let sub = "LD SM400\nINC D0\nOUT Y5\nEND\n";
+    let mut p = Plc::with_programs(
+        &[(main, ExecType::Scan, None), (sub, ExecType::Standby, None)],
+        CpuConfig::default(),
+    );
+    p.scans(2);
+    assert_eq!(p.int("D0"), 0);
+    // PSCAN in scan 3 takes effect at its END: p1 runs from scan 4.
+    p.set("X0", "1").scan().set("X0", "0");
+    assert_eq!(p.int("D0"), 0);
+    p.scans(3);
+    assert_eq!(p.int("D0"), 3);
+    assert!(p.bit("Y5"));
+    // PSTOP: p1 stops; its output stays as it was.
+    p.set("X1", "1").scan().set("X1", "0").scans(2);
+    assert_eq!(p.int("D0"), 4);
+    assert!(p.bit("Y5"));
+    // POFF: at the next scan p1 runs once with conditions OFF (Y5 OFF, no INC).
+    p.set("X2", "1").scan().set("X2", "0").scan();
+    assert!(!p.bit("Y5"));
+    assert_eq!(p.int("D0"), 4);
+    // An unknown program name is error 2410 when executed.
+    let mut p = Plc::new("LD X0\nPSCAN \"NONE\"\nEND\n");
+    p.set("X0", "1").scan();
+    assert_eq!((p.state(), p.int("SD0")), (CpuState::Stop, 2410));
+}

@@ -28,6 +28,8 @@ struct Slot {
     program: Program,
     exec: ExecType,
     interval_us: u64,
+    /// POFF: run once with conditions OFF at the next scan.
+    off_pending: bool,
     /// Engine time at which a fixed-scan program runs next.
     next_due_us: u64,
     local: ProgState,
@@ -111,6 +113,7 @@ impl Cpu {
                 local: ProgState::new(&p.program),
                 interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
                 next_due_us: now,
+                off_pending: false,
                 exec: p.exec,
                 program: p.program,
             })
@@ -136,7 +139,34 @@ impl Cpu {
             ei: false,
             imask: DEFAULT_IMASK,
             in_interrupt: false,
+            type_requests: vec![None; slots.len()].into_boxed_slice(),
+            force_off: false,
         };
+        // Resolve PSCAN/PSTOP/POFF/PLOW program names to slots; an unknown name
+        // stays out of range and is error 2410 when executed.
+        let names: Vec<String> = slots
+            .iter()
+            .map(|s| program_name(&s.program.file))
+            .collect();
+        let mut slots = slots;
+        for s in &mut slots {
+            let table: Vec<u32> = s
+                .program
+                .prog_names
+                .iter()
+                .map(|n| {
+                    names
+                        .iter()
+                        .position(|m| m == n)
+                        .map_or(u32::MAX, |i| i as u32)
+                })
+                .collect();
+            for op in &mut s.program.ops {
+                if let crate::program::ops::Op::ProgCtl { name, .. } = op {
+                    *name = table[*name as usize];
+                }
+            }
+        }
         let mut interrupts = vec![None; 256];
         for (i, s) in slots.iter().enumerate() {
             for &(n, pc) in &s.program.interrupts {
@@ -457,6 +487,7 @@ impl Cpu {
             ok
         } else {
             self.service_interrupts(now)
+                && self.run_off_pending()
                 && self.run_fixed_scan(now)
                 && self.run_type(ExecType::Scan)
                 && self.run_low_speed(now)
@@ -477,6 +508,22 @@ impl Cpu {
         for i in 0..self.slots.len() {
             if self.slots[i].exec == exec && !self.run_slot(i) {
                 return false;
+            }
+        }
+        true
+    }
+
+    /// POFF: the program runs once with its conditions forced OFF, which turns
+    /// its coils OFF (qcpu.md §2.2 table), before becoming a standby program.
+    fn run_off_pending(&mut self) -> bool {
+        for i in 0..self.slots.len() {
+            if std::mem::take(&mut self.slots[i].off_pending) {
+                self.rt.force_off = true;
+                let ok = self.run_slot(i);
+                self.rt.force_off = false;
+                if !ok {
+                    return false;
+                }
             }
         }
         true
@@ -699,6 +746,19 @@ impl Cpu {
         self.sm50 = sm50.is_some();
         self.sm210 =
             special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
+        // PSCAN/PSTOP/POFF/PLOW take effect at END; the last request wins.
+        for i in 0..self.slots.len() {
+            if let Some(kind) = self.rt.type_requests[i].take() {
+                let slot = &mut self.slots[i];
+                use crate::program::ops::TypeChange;
+                slot.off_pending = kind == TypeChange::Off;
+                slot.exec = match kind {
+                    TypeChange::Scan => ExecType::Scan,
+                    TypeChange::Standby | TypeChange::Off => ExecType::Standby,
+                    TypeChange::LowSpeed => ExecType::LowSpeed,
+                };
+            }
+        }
         if let Some(t) = &mut self.trace {
             t.sample(&mut self.rt.mem, self.scans, now);
         }
@@ -707,6 +767,16 @@ impl Cpu {
         }
         special::set_status(&mut self.rt.mem, self.state);
     }
+}
+
+/// A program's name for PSCAN and friends: the file name without directory and
+/// extension, upper case (`main.il` → `MAIN`).
+fn program_name(file: &str) -> String {
+    std::path::Path::new(file)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("")
+        .to_ascii_uppercase()
 }
 
 /// Flat spans of a latch range: (is bit array, start, length). Timers and

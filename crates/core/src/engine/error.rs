@@ -8,6 +8,8 @@ use std::fmt;
 pub struct ErrorCode(pub u16);
 
 impl ErrorCode {
+    /// FILE OPE. ERROR: the program named by PSCAN/PSTOP/POFF/PLOW does not exist.
+    pub const NO_PROGRAM: ErrorCode = ErrorCode(2410);
     /// OPERATION ERROR: data the instruction cannot process (division by 0,
     /// invalid real number, out-of-range conversion).
     pub const OPERATION: ErrorCode = ErrorCode(4100);
@@ -41,6 +43,7 @@ impl ErrorCode {
     /// The CPU's error message for this code.
     pub fn message(self) -> &'static str {
         match self.0 {
+            2410 => "FILE OPE. ERROR: the specified program does not exist",
             4100 => "OPERATION ERROR: the instruction cannot process this data",
             4101 => "OPERATION ERROR: device range exceeded",
             4200 => "FOR NEXT ERROR: FOR without NEXT",

@@ -41,7 +41,9 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
     let mut acc = false;
     let mut blocks: u32 = 0;
     let mut mps: u32 = 0;
-    let mut mc_on = true;
+    // POFF: the program runs once with every condition forced OFF.
+    let off = rt.force_off;
+    let mut mc_on = !off;
     rt.mc_off = 0;
     let mut back_jumps = 0u32;
     let started = Instant::now();
@@ -164,11 +166,11 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
                 } else {
                     rt.mc_off |= 1 << m.level;
                 }
-                mc_on = rt.mc_off == 0;
+                mc_on = rt.mc_off == 0 && !off;
             }
             Op::Mcr(l) => {
                 rt.mc_off &= (1u16 << l) - 1;
-                mc_on = rt.mc_off == 0;
+                mc_on = rt.mc_off == 0 && !off;
             }
             Op::Pulse(s) => {
                 let cond = acc & mc_on;
@@ -317,6 +319,14 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
             Op::Ann { kind, n } => {
                 let cond = acc & mc_on;
                 rt.annunciator(*kind, *n, cond);
+            }
+            Op::ProgCtl { kind, name } => {
+                if acc & mc_on {
+                    match rt.type_requests.get_mut(*name as usize) {
+                        Some(r) => *r = Some(*kind),
+                        None => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
+                    }
+                }
             }
             Op::Ledr => {
                 if acc & mc_on {

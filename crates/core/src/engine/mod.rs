@@ -184,6 +184,10 @@ pub(crate) struct Runtime {
     pub imask: [u16; 16],
     /// An interrupt program is running (IRET ends it).
     pub in_interrupt: bool,
+    /// Execution-type change requested for each program slot, applied at END.
+    pub type_requests: Box<[Option<crate::program::ops::TypeChange>]>,
+    /// Running a program for POFF: every condition forced OFF.
+    pub force_off: bool,
 }
 
 /// Entries kept in the error history (004 §7.20.2).

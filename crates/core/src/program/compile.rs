@@ -60,6 +60,8 @@ struct Compiler<'a> {
     end_seen: Option<Token>,
     after_end_reported: bool,
     fend_seen: bool,
+    /// Program names used by PSCAN/PSTOP/POFF/PLOW.
+    prog_names: Vec<String>,
     /// Interrupt pointers: number → (op index, line).
     interrupts: HashMap<u32, (u32, u32)>,
 }
@@ -90,6 +92,7 @@ impl<'a> Compiler<'a> {
             end_seen: None,
             after_end_reported: false,
             fend_seen: false,
+            prog_names: Vec::new(),
             interrupts: HashMap::new(),
         }
     }
@@ -464,6 +467,36 @@ impl<'a> Compiler<'a> {
                     self.fend_seen = true;
                     self.emit(Op::Fend);
                 }
+            }
+            "PSCAN" | "PSTOP" | "POFF" | "PLOW" | "PSCANP" | "PSTOPP" | "POFFP" | "PLOWP" => {
+                if !self.count(i, m, &[1]) || !self.output(i, m) {
+                    return;
+                }
+                let name = match self.parse(&ops[0]) {
+                    Some(Operand::Const(Constant::Str(s))) if !s.is_empty() && s.len() <= 8 => s,
+                    Some(_) => {
+                        return self.err(
+                            &ops[0],
+                            format!(
+                                "`{m}` needs a program name such as \"MAIN\" (up to 8 characters)"
+                            ),
+                        )
+                    }
+                    None => return,
+                };
+                let (base, pulse) = match m {
+                    "PSCANP" | "PSTOPP" | "POFFP" | "PLOWP" => (&m[..m.len() - 1], true),
+                    _ => (m, false),
+                };
+                let kind = match base {
+                    "PSCAN" => TypeChange::Scan,
+                    "PSTOP" => TypeChange::Standby,
+                    "POFF" => TypeChange::Off,
+                    _ => TypeChange::LowSpeed,
+                };
+                let id = self.prog_names.len() as u32;
+                self.prog_names.push(name.to_ascii_uppercase());
+                self.pulsed(pulse, Op::ProgCtl { kind, name: id });
             }
             "STOP" | "GOEND" => {
                 if self.count(i, m, &[0]) && self.output(i, m) {
@@ -1519,6 +1552,7 @@ impl<'a> Compiler<'a> {
                 v
             },
             ext: self.ext,
+            prog_names: self.prog_names,
             steps: self.step,
         })
     }

@@ -225,6 +225,19 @@ pub enum AnnKind {
     Rst,
 }
 
+/// Execution-type changes (004 §4.2.6, qcpu.md §2.2 table).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TypeChange {
+    /// PSCAN: becomes a scan program.
+    Scan,
+    /// PSTOP: becomes a standby program.
+    Standby,
+    /// POFF: its outputs are turned OFF at the next scan, then standby.
+    Off,
+    /// PLOW: becomes a low-speed program.
+    LowSpeed,
+}
+
 /// One compiled operation. `Op` is 16 bytes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Op {
@@ -314,6 +327,12 @@ pub enum Op {
     },
     /// LEDR: resets the first annunciator on the list.
     Ledr,
+    /// PSCAN/PSTOP/POFF/PLOW: change a program's execution type at END; `name`
+    /// indexes [`Program::prog_names`] until the CPU resolves it to a program slot.
+    ProgCtl {
+        kind: TypeChange,
+        name: u32,
+    },
 }
 
 /// A compiled program with the source map needed for error reports.
@@ -330,6 +349,8 @@ pub struct Program {
     pub edge_slots: u32,
     /// Hidden state words of family instructions.
     pub state_words: u32,
+    /// Program names referenced by PSCAN/PSTOP/POFF/PLOW (upper case).
+    pub prog_names: Vec<String>,
     /// Interrupt pointers of this file: (In, op index), ascending.
     pub interrupts: Vec<(u8, u32)>,
     /// Family instructions referenced by [`Op::Ext`].
