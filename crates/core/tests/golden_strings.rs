@@ -776,3 +776,24 @@ fn condition_off_does_nothing() {
     assert_eq!(p.int("D0"), 5);
     assert_eq!(p.int("D10"), 6);
 }
+
+#[test]
+fn string_comparison_contacts() {
+    // Character by character by ASCII code; a string that is the start of the
+    // other is the smaller one (PM §6.1.3).
+    let src = "LD$= D0 \"ABC\"\nOUT M0\nLD$< D0 \"ABD\"\nOUT M1\nLD$> D0 \"AB\"\nOUT M2\n\
+               LD X0\nAND$<> \"ABC\" D0\nOUT M3\nLD X0\nOR$>= D10 D0\nOUT M4\nEND\n";
+    let mut p = Plc::new(src);
+    p.set("D0:str", "ABC").set("D10:str", "B").scan();
+    assert!(p.bit("M0"), "ABC = ABC");
+    assert!(p.bit("M1"), "ABC < ABD: C (43H) < D (44H)");
+    assert!(p.bit("M2"), "ABC > AB: longer");
+    assert!(!p.bit("M3"), "X0 OFF");
+    assert!(p.bit("M4"), "B (42H) > A (41H) at the first character");
+    p.set("X0", "1").scan();
+    assert!(!p.bit("M3"), "equal strings");
+    // A device string with no NUL before the end of D is 4101.
+    let mut p = Plc::new("LD$= D12287 \"A\"\nOUT M0\nEND\n");
+    p.set("D12287", "H4141").scan();
+    assert_eq!(p.int("SD0"), 4101);
+}

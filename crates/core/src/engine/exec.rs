@@ -104,6 +104,10 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
                 Ok(v) => join(&mut acc, c.join, v),
                 Err(code) => try_op!(Err::<(), _>(code)),
             },
+            Op::StrCompare(c) => match c.cmp.ordering(&rt.mem) {
+                Ok(ord) => join(&mut acc, c.join, basic::test(c.op, ord)),
+                Err(code) => try_op!(Err::<(), _>(code)),
+            },
             Op::Push => blocks = blocks << 1 | acc as u32,
             Op::Anb => {
                 acc &= blocks & 1 != 0;

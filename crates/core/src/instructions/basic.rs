@@ -20,14 +20,20 @@ pub fn compare(mem: &DeviceMemory, c: &Compare) -> Result<bool, Fault> {
             a.partial_cmp(&b).unwrap_or(Ordering::Equal)
         }
     };
-    Ok(match c.op {
+    Ok(test(c.op, ord))
+}
+
+/// Whether `ord` satisfies the comparison operator.
+#[inline]
+pub fn test(op: CmpOp, ord: std::cmp::Ordering) -> bool {
+    match op {
         CmpOp::Eq => ord.is_eq(),
         CmpOp::Ne => ord.is_ne(),
         CmpOp::Gt => ord.is_gt(),
         CmpOp::Le => ord.is_le(),
         CmpOp::Lt => ord.is_lt(),
         CmpOp::Ge => ord.is_ge(),
-    })
+    }
 }
 
 /// Executes an application instruction whose condition is ON.

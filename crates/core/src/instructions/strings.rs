@@ -64,6 +64,39 @@ pub fn lookup(m: &str) -> Option<CompileFn> {
     Some(f)
 }
 
+/// A string comparison contact (`LD$=`, `AND$<>`, `OR$>` …, PM §6.1.3): the
+/// strings are compared character by character by ASCII code; the first
+/// difference decides, and when one string is the start of the other the longer
+/// one is greater. A device string without a NUL before the end of its device is
+/// 4101.
+#[derive(Debug)]
+pub struct StrCompare {
+    a: StrSrc,
+    b: StrSrc,
+}
+
+impl StrCompare {
+    /// Compiles the two operands of a string comparison contact.
+    pub fn compile(a: &mut Args<'_, '_>) -> Option<StrCompare> {
+        if !a.count(&[2]) {
+            return None;
+        }
+        let (x, y) = (str_src(a, 0), str_src(a, 1));
+        Some(StrCompare { a: x?, b: y? })
+    }
+
+    pub fn ordering(&self, mem: &DeviceMemory) -> Result<std::cmp::Ordering, Fault> {
+        let (x, y) = (read_str(mem, &self.a)?, read_str(mem, &self.b)?);
+        for i in 0..x.len.min(y.len) {
+            let (c, d) = (x.byte(&mem.words, i), y.byte(&mem.words, i));
+            if c != d {
+                return Ok(c.cmp(&d));
+            }
+        }
+        Ok(x.len.cmp(&y.len))
+    }
+}
+
 /// Longest string constant (004 L7540-7555).
 const MAX_CONST: usize = 32;
 

@@ -608,7 +608,22 @@ impl<'a> Compiler<'a> {
                 }
             }
             _ => {
-                if let Some((join, num, op)) = parse_compare(m) {
+                if let Some((join, op)) = parse_str_compare(m) {
+                    let cmp = {
+                        let mut args = Args { c: self, i, m };
+                        crate::instructions::strings::StrCompare::compile(&mut args)
+                    };
+                    match cmp {
+                        Some(cmp) => self.contact(
+                            i,
+                            join,
+                            Op::StrCompare(Box::new(StrCompareOp { join, op, cmp })),
+                        ),
+                        None => {
+                            self.contact_state(i, join);
+                        }
+                    }
+                } else if let Some((join, num, op)) = parse_compare(m) {
                     self.compare(i, m, join, num, op);
                 } else {
                     self.application(i, m);
@@ -1732,6 +1747,27 @@ fn split_join(m: &str) -> (Join, &str) {
     } else {
         (Join::Or, m.strip_prefix("OR").unwrap_or(m))
     }
+}
+
+/// `LD$=`, `AND$<>`, `OR$>` … → (join, operator).
+fn parse_str_compare(m: &str) -> Option<(Join, CmpOp)> {
+    let (join, rest) = if let Some(r) = m.strip_prefix("LD$") {
+        (Join::Load, r)
+    } else if let Some(r) = m.strip_prefix("AND$") {
+        (Join::And, r)
+    } else {
+        (Join::Or, m.strip_prefix("OR$")?)
+    };
+    let op = match rest {
+        "=" => CmpOp::Eq,
+        "<>" => CmpOp::Ne,
+        ">" => CmpOp::Gt,
+        "<=" => CmpOp::Le,
+        "<" => CmpOp::Lt,
+        ">=" => CmpOp::Ge,
+        _ => return None,
+    };
+    Some((join, op))
 }
 
 /// `LD=`, `ANDD<>`, `ORE>=` … → (join, number type, operator).

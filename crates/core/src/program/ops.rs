@@ -129,6 +129,14 @@ pub struct Compare {
     pub b: WordArg,
 }
 
+/// `LD$= S1 S2` and friends.
+#[derive(Debug)]
+pub struct StrCompareOp {
+    pub join: Join,
+    pub op: CmpOp,
+    pub cmp: crate::instructions::strings::StrCompare,
+}
+
 /// A coil-type instruction on a general bit operand.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CoilKind {
@@ -239,7 +247,7 @@ pub enum TypeChange {
 }
 
 /// One compiled operation. `Op` is 16 bytes.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Debug)]
 pub enum Op {
     // --- contacts on plain bit devices (004 sequence instructions) ---
     Ld(u32),
@@ -250,6 +258,8 @@ pub enum Op {
     Ori(u32),
     Contact(Box<Contact>),
     Compare(Box<Compare>),
+    /// String comparison contact (`LD$=` …).
+    StrCompare(Box<StrCompareOp>),
     /// Opens a new block inside a rung: pushes the accumulator for ANB/ORB.
     Push,
     Anb,

@@ -1,3 +1,198 @@
 //! Projects: a directory with `plc.toml` and its program files (contract §1, §4).
 //!
-//! Not implemented yet.
+//! [`load_project`] reads `plc.toml` into a [`CpuConfig`] and a list of
+//! [`ProgramSpec`]s, checking every setting against the ranges of the Q CPU's
+//! PLC parameters (004 ch. 9). Every error of the file is reported, each as a
+//! [`Diagnostic`] at the offending key or value (`plc.toml:7:17: …`); unknown
+//! keys are errors, so a typo never silently falls back to a default.
+//! `docs/plc-toml.md` documents every key.
+//!
+//! The program files are only checked to exist here; compiling them is the
+//! caller's job (they need [`CpuConfig::devices`]).
+
+mod ctx;
+mod devices;
+mod initial;
+mod latch;
+mod programs;
+mod settings;
+mod tree;
+mod units;
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use crate::engine::{CpuConfig, ExecType};
+use crate::program::{Diagnostic, Diagnostics};
+use ctx::Ctx;
+use tree::{Entry, Value};
+
+/// The manifest file name of a project.
+pub const MANIFEST: &str = "plc.toml";
+
+/// One `[[program]]` of a project, in execution order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramSpec {
+    /// The program file, resolved relative to the project directory.
+    pub file: PathBuf,
+    pub exec: ExecType,
+    /// The interval of a fixed-scan program (required there, `None` otherwise).
+    pub interval: Option<Duration>,
+}
+
+/// A loaded project.
+#[derive(Clone, Debug)]
+pub struct Project {
+    /// The project directory (`.` for a bare `plc.toml` path).
+    pub dir: PathBuf,
+    /// The `plc.toml` path, as shown in diagnostics.
+    pub manifest: PathBuf,
+    /// CPU parameters; every key absent from the file keeps its
+    /// [`CpuConfig::default`] value.
+    pub config: CpuConfig,
+    pub programs: Vec<ProgramSpec>,
+    /// `[state] dir` resolved relative to the project (default `state`).
+    pub state_dir: PathBuf,
+    /// `[cpu] common_pointer`: pointers from this number to P4095 are common,
+    /// callable from every program (004 §10.9.2); `None` (default): all local.
+    pub common_pointer: Option<u32>,
+}
+
+/// True when `path` is a directory containing `plc.toml`, or a file named
+/// `plc.toml` (whether it exists or not, so that loading it reports the problem).
+pub fn is_project(path: &Path) -> bool {
+    if path.is_dir() {
+        path.join(MANIFEST).is_file()
+    } else {
+        path.file_name().is_some_and(|n| n == MANIFEST)
+    }
+}
+
+/// Loads a project; `path` is a project directory or its `plc.toml`.
+///
+/// On failure every diagnostic of the file is returned, in file order.
+pub fn load_project(path: &Path) -> Result<Project, Diagnostics> {
+    let (dir, manifest) = if path.is_dir() {
+        (path.to_path_buf(), path.join(MANIFEST))
+    } else {
+        let dir = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        (dir, path.to_path_buf())
+    };
+    let name = manifest.display().to_string();
+    let fail = |message: String| {
+        Diagnostics(vec![Diagnostic {
+            file: name.clone(),
+            line: 0,
+            col: 0,
+            message,
+        }])
+    };
+    if path.is_dir() && !manifest.is_file() {
+        return Err(fail(format!(
+            "not a project: no {MANIFEST} in {}",
+            path.display()
+        )));
+    }
+    let bytes = std::fs::read(&manifest).map_err(|e| fail(format!("cannot read file: {e}")))?;
+    let src = match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => {
+            let ok = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+            let text = String::from_utf8_lossy(ok);
+            let (line, col) = tree::line_col(&text, text.len());
+            return Err(Diagnostics(vec![Diagnostic {
+                file: name,
+                line,
+                col,
+                message: "the file is not UTF-8 text".into(),
+            }]));
+        }
+    };
+    load_str(&name, &src, &dir).map(|mut p| {
+        p.manifest = manifest;
+        p
+    })
+}
+
+/// Loads `plc.toml` text; `name` is the file name for diagnostics and `dir` the
+/// project directory program files and the state directory are relative to.
+pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostics> {
+    let mut cx = Ctx::new(name, src);
+    let root = match tree::parse(src) {
+        Ok(root) => root,
+        Err(e) => {
+            cx.error(&e.span, format!("TOML syntax error: {}", e.message));
+            return Err(cx.finish());
+        }
+    };
+    let Value::Table(top) = &root.value else {
+        unreachable!("a TOML document is a table")
+    };
+    let mut config = CpuConfig::default();
+    let mut state_dir = dir.join("state");
+
+    const SECTIONS: &[&str] = &[
+        "cpu",
+        "devices",
+        "timers",
+        "ras",
+        "latch",
+        "interrupts",
+        "program",
+        "initial",
+        "clock",
+        "state",
+    ];
+    cx.unknown_keys(top, None, SECTIONS);
+    let section = |name: &str| top.iter().find(|e| e.key == name);
+    let table = |cx: &mut Ctx, name: &str| -> Option<&[Entry]> {
+        section(name).and_then(|e| cx.table(e, &format!("[{name}]")))
+    };
+
+    let mut common_pointer = None;
+    if let Some(t) = table(&mut cx, "cpu") {
+        common_pointer = settings::cpu(&mut cx, t, &mut config);
+    }
+    let devices_at = section("devices").map(|e| e.item.span.clone());
+    if let Some(t) = table(&mut cx, "devices") {
+        devices::devices(&mut cx, t, devices_at.unwrap_or(0..0), &mut config.devices);
+    }
+    if let Some(t) = table(&mut cx, "timers") {
+        settings::timers(&mut cx, t, &mut config);
+    }
+    if let Some(t) = table(&mut cx, "ras") {
+        settings::ras(&mut cx, t, &mut config);
+    }
+    if let Some(t) = table(&mut cx, "interrupts") {
+        settings::interrupts(&mut cx, t, &mut config);
+    }
+    if let Some(t) = table(&mut cx, "clock") {
+        settings::clock(&mut cx, t, &mut config);
+    }
+    if let Some(t) = table(&mut cx, "state") {
+        if let Some(d) = settings::state(&mut cx, t) {
+            state_dir = dir.join(d);
+        }
+    }
+    let latch_table = table(&mut cx, "latch");
+    config.latch = latch::latch(&mut cx, latch_table, &config.devices);
+    if let Some(t) = table(&mut cx, "initial") {
+        config.initial_values = initial::initial(&mut cx, t, &config.devices);
+    }
+    let programs = programs::programs(&mut cx, section("program"), dir, &config);
+
+    if cx.has_errors() {
+        return Err(cx.finish());
+    }
+    Ok(Project {
+        dir: dir.to_path_buf(),
+        manifest: PathBuf::from(name),
+        config,
+        programs,
+        state_dir,
+        common_pointer,
+    })
+}

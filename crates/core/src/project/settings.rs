@@ -1,0 +1,311 @@
+//! `[cpu]`, `[timers]`, `[ras]`, `[interrupts]`, `[clock]` and `[state]`.
+
+use std::time::Duration;
+
+use super::ctx::Ctx;
+use super::tree::{Entry, Value};
+use super::units::{ranges, show};
+use crate::engine::calendar::DateTime;
+use crate::engine::{CpuConfig, ErrorMode, StopToRunOutput};
+
+/// CPU models softplc answers as, with the number of program files each can
+/// execute (program memory files, 004 Table 3.1 L1001; at most 124 execute, L1016).
+pub(crate) const MODELS: &[(&str, usize)] = &[
+    ("Q02CPU", 28),
+    ("Q02HCPU", 28),
+    ("Q06HCPU", 60),
+    ("Q12HCPU", 124),
+    ("Q25HCPU", 124),
+];
+
+/// Program files the model can execute.
+pub(crate) fn max_programs(model: &str) -> usize {
+    MODELS
+        .iter()
+        .find(|(m, _)| *m == model)
+        .map_or(124, |(_, n)| *n)
+}
+
+/// `[cpu] model` and `common_pointer`; returns the first common pointer.
+pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u32> {
+    cx.unknown_keys(t, Some("[cpu]"), &["model", "common_pointer"]);
+    if let Some(e) = t.iter().find(|e| e.key == "model") {
+        model(cx, e, config);
+    }
+    let e = t.iter().find(|e| e.key == "common_pointer")?;
+    let text = cx.string(e, "a pointer such as \"P2048\"")?;
+    let n = text
+        .strip_prefix(['P', 'p'])
+        .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+        .and_then(|d| d.parse::<u32>().ok())
+        .filter(|n| *n <= 4095);
+    if n.is_none() {
+        cx.error(
+            &e.item.span,
+            format!("common_pointer \"{text}\" is not a pointer P0-P4095"),
+        );
+    }
+    n
+}
+
+fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
+    let Some(text) = cx.string(e, "a CPU model name such as \"Q06HCPU\"") else {
+        return;
+    };
+    let up = text.trim().to_ascii_uppercase();
+    if up == "APLC-TCP" {
+        cx.error(
+            &e.item.span,
+            format!("model \"{text}\": the APLC dialect is not implemented yet"),
+        );
+    } else if let Some((m, _)) = MODELS.iter().find(|(m, _)| *m == up) {
+        config.model = m.to_string();
+    } else {
+        let list: Vec<&str> = MODELS.iter().map(|(m, _)| *m).collect();
+        cx.error(
+            &e.item.span,
+            format!(
+                "unknown CPU model \"{text}\" (expected {}, or APLC-TCP)",
+                list.join(", ")
+            ),
+        );
+    }
+}
+
+/// `[timers] low`, `high`: the timer time bases (004 Table 3.1, ch. 9).
+pub(crate) fn timers(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
+    cx.unknown_keys(t, Some("[timers]"), &["low", "high"]);
+    for e in t {
+        match e.key.as_str() {
+            "low" => {
+                if let Some(d) = cx.duration(e, ranges::TIMER_LOW) {
+                    config.timer_low = d;
+                }
+            }
+            "high" => {
+                if let Some(d) = cx.duration(e, ranges::TIMER_HIGH) {
+                    config.timer_high = d;
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// An optional time setting: a duration or `"off"`.
+fn optional(cx: &mut Ctx, e: &Entry, range: super::units::Range) -> Option<Option<Duration>> {
+    if matches!(&e.item.value, Value::Str(s) if s == "off") {
+        return Some(None);
+    }
+    cx.duration(e, range).map(Some)
+}
+
+/// `[ras]`: the PLC RAS parameters.
+pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
+    const KEYS: &[&str] = &[
+        "watchdog",
+        "constant_scan",
+        "operation_error",
+        "stop_to_run_output",
+        "low_speed_time",
+        "initial_monitor",
+    ];
+    cx.unknown_keys(t, Some("[ras]"), KEYS);
+    let mut watchdog_ok = true;
+    let mut constant_scan_at = None;
+    for e in t {
+        match e.key.as_str() {
+            "watchdog" => match cx.duration(e, ranges::WATCHDOG) {
+                Some(d) => config.watchdog = d,
+                None => watchdog_ok = false,
+            },
+            "constant_scan" => {
+                if let Some(d) = optional(cx, e, ranges::CONSTANT_SCAN) {
+                    config.constant_scan = d;
+                    constant_scan_at = Some(e);
+                }
+            }
+            "operation_error" => {
+                let choices = [("stop", ErrorMode::Stop), ("continue", ErrorMode::Continue)];
+                if let Some(m) = cx.choice(e, &choices) {
+                    config.operation_error = m;
+                }
+            }
+            "stop_to_run_output" => {
+                let choices = [
+                    ("previous", StopToRunOutput::Previous),
+                    ("recalculate", StopToRunOutput::Recalculate),
+                ];
+                if let Some(m) = cx.choice(e, &choices) {
+                    config.stop_to_run_output = m;
+                }
+            }
+            "low_speed_time" => {
+                if let Some(d) = optional(cx, e, ranges::LOW_SPEED_TIME) {
+                    config.low_speed_time = d;
+                }
+            }
+            "initial_monitor" => {
+                if let Some(d) = optional(cx, e, ranges::INITIAL_MONITOR) {
+                    config.initial_monitor = d;
+                }
+            }
+            _ => {}
+        }
+    }
+    // WDT > constant scan (004 L3462-3475).
+    if let (Some(e), Some(cs), true) = (constant_scan_at, config.constant_scan, watchdog_ok) {
+        if cs >= config.watchdog {
+            let given = t.iter().any(|e| e.key == "watchdog");
+            cx.error(
+                &e.item.span,
+                format!(
+                    "constant_scan \"{}\" must be shorter than the watchdog ({}{}); the CPU requires watchdog > constant scan",
+                    show(cs),
+                    show(config.watchdog),
+                    if given { "" } else { ", the default" }
+                ),
+            );
+        }
+    }
+}
+
+/// `[interrupts] I28` … `I31`: fixed-cycle interrupt periods (004 App. 3).
+pub(crate) fn interrupts(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
+    const KEYS: &[&str] = &["I28", "I29", "I30", "I31"];
+    for e in t {
+        let up = e.key.to_ascii_uppercase();
+        let Some(i) = KEYS.iter().position(|k| *k == up) else {
+            let is_pointer =
+                up.len() > 1 && up.starts_with('I') && up[1..].bytes().all(|b| b.is_ascii_digit());
+            if is_pointer {
+                cx.error(
+                    &e.key_span,
+                    format!(
+                        "{} has no settable period: only I28-I31 are fixed-cycle interrupts",
+                        e.key
+                    ),
+                );
+            } else {
+                cx.unknown_key(e, Some("[interrupts]"), KEYS);
+            }
+            continue;
+        };
+        if t.iter()
+            .take_while(|o| !std::ptr::eq(*o, e))
+            .any(|o| o.key.eq_ignore_ascii_case(&e.key))
+        {
+            cx.error(&e.key_span, format!("{up} is given twice"));
+            continue;
+        }
+        if let Some(d) = cx.duration(e, ranges::INTERRUPT) {
+            config.interrupt_periods[i] = d;
+        }
+    }
+}
+
+/// `[clock] start`: the calendar clock at power-on.
+pub(crate) fn clock(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
+    cx.unknown_keys(t, Some("[clock]"), &["start"]);
+    let Some(e) = t.iter().find(|e| e.key == "start") else {
+        return;
+    };
+    let text = match &e.item.value {
+        Value::Str(s) | Value::Datetime(s) => s.as_str(),
+        v => {
+            cx.error(
+                &e.item.span,
+                format!(
+                    "start must be a date and time such as \"2000-01-01T00:00:00\", not {}",
+                    v.type_name()
+                ),
+            );
+            return;
+        }
+    };
+    match parse_datetime(text) {
+        Some(dt) if dt.is_valid() => config.clock_start = dt,
+        Some(_) if parse_fields(text).is_some_and(|f| !(1980..=2079).contains(&f[0])) => {
+            cx.error(
+                &e.item.span,
+                format!("start \"{text}\" is outside the clock's years 1980-2079"),
+            );
+        }
+        _ => cx.error(
+            &e.item.span,
+            format!(
+                "start \"{text}\" is not a valid local date and time (write \"YYYY-MM-DDTHH:MM:SS\", e.g. \"2000-01-01T00:00:00\")"
+            ),
+        ),
+    }
+}
+
+fn parse_fields(s: &str) -> Option<[i64; 6]> {
+    let b = s.as_bytes();
+    if b.len() != 19
+        || b[4] != b'-'
+        || b[7] != b'-'
+        || !matches!(b[10], b'T' | b't' | b' ')
+        || b[13] != b':'
+        || b[16] != b':'
+    {
+        return None;
+    }
+    let num = |r: std::ops::Range<usize>| -> Option<i64> {
+        let t = &s[r];
+        t.bytes()
+            .all(|c| c.is_ascii_digit())
+            .then(|| t.parse().ok())
+            .flatten()
+    };
+    Some([
+        num(0..4)?,
+        num(5..7)?,
+        num(8..10)?,
+        num(11..13)?,
+        num(14..16)?,
+        num(17..19)?,
+    ])
+}
+
+/// `YYYY-MM-DDTHH:MM:SS` (or a space instead of `T`).
+fn parse_datetime(s: &str) -> Option<DateTime> {
+    let f = parse_fields(s)?;
+    Some(DateTime {
+        year: f[0] as i32,
+        month: f[1] as u32,
+        day: f[2] as u32,
+        hour: f[3] as u32,
+        minute: f[4] as u32,
+        second: f[5] as u32,
+    })
+}
+
+/// `[state] dir`: the persistence directory, relative to the project.
+pub(crate) fn state<'t>(cx: &mut Ctx, t: &'t [Entry]) -> Option<&'t str> {
+    cx.unknown_keys(t, Some("[state]"), &["dir"]);
+    let e = t.iter().find(|e| e.key == "dir")?;
+    let d = cx.string(e, "a directory path (a string)")?;
+    if d.trim().is_empty() {
+        cx.error(&e.item.span, "dir must not be empty");
+        return None;
+    }
+    Some(d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn datetimes() {
+        let dt = parse_datetime("2024-02-29T23:59:58").unwrap();
+        assert!(dt.is_valid());
+        assert_eq!((dt.year, dt.month, dt.day, dt.second), (2024, 2, 29, 58));
+        assert!(parse_datetime("2024-02-29 23:59:58").is_some());
+        assert!(!parse_datetime("2023-02-29T00:00:00").unwrap().is_valid());
+        assert!(parse_datetime("2023-02-28").is_none());
+        assert!(parse_datetime("2023-02-28T00:00:00Z").is_none());
+        assert!(parse_datetime("2023-+2-28T00:00:00").is_none());
+    }
+}
