@@ -535,3 +535,79 @@ fn execution_type_changes_take_effect_at_end() {
     p.set("X0", "1").scan();
     assert_eq!((p.state(), p.int("SD0")), (CpuState::Stop, 2410));
 }
+
+fn linked(
+    progs: &[(&str, &str, ExecType)],
+    common: u32,
+) -> Result<softplc_core::engine::Cpu, String> {
+    use softplc_core::engine::{LoadedProgram, VirtualClock};
+    use softplc_core::program::{compile::compile_with, il::parse_il};
+    let cfg = CpuConfig::default();
+    let loaded = progs
+        .iter()
+        .map(|(name, src, exec)| {
+            let s = parse_il(name, src).unwrap();
+            let program =
+                compile_with(&s, &cfg.devices, Some(common)).map_err(|d| d.to_string())?;
+            Ok(LoadedProgram {
+                program,
+                exec: *exec,
+                interval: None,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    softplc_core::engine::Cpu::with_programs(loaded, cfg, Box::new(VirtualClock::new()))
+}
+
+#[test]
+fn common_pointer_calls_cross_files() {
+    // P100 and up are common: main.il calls sub.il's P100, which calls back into
+    // its own local P5 and returns; edge memory of the callee is its own.
+    let main = "LD SM400\nCALL P100\nLD X0\nCALLP P100\nEND\n";
+    let sub = "FEND\nP100\nLD SM400\nINC D0\nCALL P5\nRET\nP5\nLD SM400\nINC D1\nRET\nEND\n";
+    let mut cpu = linked(
+        &[
+            ("main.il", main, ExecType::Scan),
+            ("sub.il", sub, ExecType::Standby),
+        ],
+        100,
+    )
+    .unwrap();
+    cpu.scan();
+    cpu.scan();
+    let get = |cpu: &softplc_core::engine::Cpu, d: &str| {
+        cpu.read_device(&DeviceSpec::parse(d).unwrap()).unwrap()
+    };
+    assert_eq!(get(&cpu, "D0"), softplc_core::access::Value::Int(2));
+    assert_eq!(get(&cpu, "D1"), softplc_core::access::Value::Int(2));
+    cpu.set_input(0, true);
+    cpu.scan();
+    cpu.scan();
+    // CALLP adds one call on the rising edge only.
+    assert_eq!(get(&cpu, "D0"), softplc_core::access::Value::Int(5));
+    // Undefined common pointer, duplicate common pointer, jump into another file.
+    let e = linked(&[("main.il", main, ExecType::Scan)], 100)
+        .err()
+        .unwrap();
+    assert!(
+        e.contains("no program defines the common pointer P100"),
+        "{e}"
+    );
+    let e = linked(
+        &[
+            ("a.il", sub, ExecType::Scan),
+            ("b.il", sub, ExecType::Standby),
+        ],
+        100,
+    )
+    .err()
+    .unwrap();
+    assert!(
+        e.contains("P100 is defined in a.il and in b.il (error 4021)"),
+        "{e}"
+    );
+    let e = linked(&[("a.il", "LD X0\nCJ P200\nEND\n", ExecType::Scan)], 100)
+        .err()
+        .unwrap();
+    assert!(e.contains("jumps cannot leave their file"), "{e}");
+}

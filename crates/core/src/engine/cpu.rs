@@ -23,20 +23,21 @@ pub struct LoadedProgram {
     pub interval: Option<Duration>,
 }
 
-/// A program file in the CPU.
+/// Scheduling state of a program file in the CPU.
 struct Slot {
-    program: Program,
     exec: ExecType,
     interval_us: u64,
     /// POFF: run once with conditions OFF at the next scan.
     off_pending: bool,
     /// Engine time at which a fixed-scan program runs next.
     next_due_us: u64,
-    local: ProgState,
 }
 
 /// A MELSEC-Q CPU with its programs.
 pub struct Cpu {
+    /// The program files in parameter order, their hidden state and scheduling.
+    programs: Vec<Program>,
+    locals: Vec<ProgState>,
     slots: Vec<Slot>,
     rt: Runtime,
     cfg: CpuConfig,
@@ -92,32 +93,34 @@ impl Cpu {
             exec: ExecType::Scan,
             interval: None,
         };
-        Cpu::with_programs(vec![p], cfg, clock)
+        Cpu::with_programs(vec![p], cfg, clock).expect("a single program needs no linking")
     }
 
     /// Powers on a CPU with the programs of a project (in parameter order) and puts
-    /// it in RUN.
+    /// it in RUN. Fails when the programs do not link: a CALL to a common pointer
+    /// no program defines, a common or interrupt pointer defined twice.
     pub fn with_programs(
         programs: Vec<LoadedProgram>,
         cfg: CpuConfig,
         clock: Box<dyn Clock>,
-    ) -> Cpu {
+    ) -> Result<Cpu, String> {
         let mem = DeviceMemory::new(&cfg.devices);
         let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
         let x = cfg.devices.points(DeviceKind::X) as usize;
         let y = cfg.devices.points(DeviceKind::Y) as usize;
         let now = clock.now_us();
         let slots: Vec<Slot> = programs
-            .into_iter()
+            .iter()
             .map(|p| Slot {
-                local: ProgState::new(&p.program),
                 interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
                 next_due_us: now,
                 off_pending: false,
                 exec: p.exec,
-                program: p.program,
             })
             .collect();
+        let mut programs: Vec<Program> = programs.into_iter().map(|p| p.program).collect();
+        let interrupts = super::link::link(&mut programs)?;
+        let locals = programs.iter().map(ProgState::new).collect();
         let rt = Runtime {
             mem,
             now_us: now,
@@ -142,38 +145,9 @@ impl Cpu {
             type_requests: vec![None; slots.len()].into_boxed_slice(),
             force_off: false,
         };
-        // Resolve PSCAN/PSTOP/POFF/PLOW program names to slots; an unknown name
-        // stays out of range and is error 2410 when executed.
-        let names: Vec<String> = slots
-            .iter()
-            .map(|s| program_name(&s.program.file))
-            .collect();
-        let mut slots = slots;
-        for s in &mut slots {
-            let table: Vec<u32> = s
-                .program
-                .prog_names
-                .iter()
-                .map(|n| {
-                    names
-                        .iter()
-                        .position(|m| m == n)
-                        .map_or(u32::MAX, |i| i as u32)
-                })
-                .collect();
-            for op in &mut s.program.ops {
-                if let crate::program::ops::Op::ProgCtl { name, .. } = op {
-                    *name = table[*name as usize];
-                }
-            }
-        }
-        let mut interrupts = vec![None; 256];
-        for (i, s) in slots.iter().enumerate() {
-            for &(n, pc) in &s.program.interrupts {
-                interrupts[n as usize].get_or_insert((i, pc));
-            }
-        }
         let mut cpu = Cpu {
+            programs,
+            locals,
             slots,
             rt,
             cfg,
@@ -202,12 +176,12 @@ impl Cpu {
             low_max_us: 0,
         };
         cpu.power_on();
-        cpu
+        Ok(cpu)
     }
 
     /// The first program (the only one of a single-file CPU).
     pub fn program(&self) -> &Program {
-        &self.slots[0].program
+        &self.programs[0]
     }
 
     pub fn config(&self) -> &CpuConfig {
@@ -401,8 +375,10 @@ impl Cpu {
     /// Common part of power-on and STOP→RUN.
     fn start_run(&mut self) {
         let now = self.clock.now_us();
+        for l in &mut self.locals {
+            l.clear();
+        }
         for s in &mut self.slots {
-            s.local.clear();
             s.next_due_us = now + s.interval_us;
         }
         for (k, p) in self.cfg.interrupt_periods.iter().enumerate() {
@@ -657,17 +633,16 @@ impl Cpu {
         let mut z = [0u16; 16];
         z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
         self.rt.in_interrupt = true;
-        let slot = &mut self.slots[i];
-        let out = exec::run(&slot.program, &mut self.rt, &mut slot.local, pc as usize);
+        let out = exec::run(
+            &self.programs,
+            &mut self.locals,
+            &mut self.rt,
+            i,
+            pc as usize,
+        );
         self.rt.in_interrupt = false;
         self.rt.mem.words[zb..zb + zn.min(16)].copy_from_slice(&z[..zn.min(16)]);
-        match out {
-            Outcome::End => true,
-            Outcome::Fault(code, pc) => {
-                self.rt.record_fault(&slot.program, code, pc);
-                false
-            }
-        }
+        self.outcome(out)
     }
 
     /// Starts (or with `None` stops) a sampling trace, sampled at END.
@@ -685,11 +660,16 @@ impl Cpu {
     }
 
     fn run_slot(&mut self, i: usize) -> bool {
-        let slot = &mut self.slots[i];
-        match exec::run(&slot.program, &mut self.rt, &mut slot.local, 0) {
+        let out = exec::run(&self.programs, &mut self.locals, &mut self.rt, i, 0);
+        self.outcome(out)
+    }
+
+    /// Records a stop error of a program run; true when it ended normally.
+    fn outcome(&mut self, out: Outcome) -> bool {
+        match out {
             Outcome::End => true,
-            Outcome::Fault(code, pc) => {
-                self.rt.record_fault(&slot.program, code, pc);
+            Outcome::Fault(code, slot, pc) => {
+                self.rt.record_fault(&self.programs[slot], code, pc);
                 false
             }
         }
@@ -767,16 +747,6 @@ impl Cpu {
         }
         special::set_status(&mut self.rt.mem, self.state);
     }
-}
-
-/// A program's name for PSCAN and friends: the file name without directory and
-/// extension, upper case (`main.il` → `MAIN`).
-fn program_name(file: &str) -> String {
-    std::path::Path::new(file)
-        .file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("")
-        .to_ascii_uppercase()
 }
 
 /// Flat spans of a latch range: (is bit array, start, length). Timers and

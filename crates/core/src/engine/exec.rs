@@ -16,8 +16,8 @@ use crate::program::ops::{Edge, Join, Op, Program};
 pub(crate) enum Outcome {
     /// END or FEND reached (or GOEND).
     End,
-    /// An instruction faulted at op index `pc`; the CPU stops.
-    Fault(Fault, usize),
+    /// An instruction of program `slot` faulted at op index `pc`; the CPU stops.
+    Fault(Fault, usize, usize),
 }
 
 /// Back jumps between two wall-clock watchdog checks.
@@ -35,8 +35,16 @@ fn join(acc: &mut bool, j: Join, v: bool) {
 /// Runs the program once from op `start` (0, or an interrupt pointer) to END/FEND
 /// (or IRET). Faults of the "continue" class are recorded through
 /// `rt.record_fault` and execution goes on after the failing op.
-pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: usize) -> Outcome {
-    let ops = &prog.ops[..];
+pub(crate) fn run(
+    progs: &[Program],
+    locals: &mut [ProgState],
+    rt: &mut Runtime,
+    mut cur: usize,
+    start: usize,
+) -> Outcome {
+    let mut prog = &progs[cur];
+    let mut ops = &prog.ops[..];
+    let mut ps = &mut locals[cur];
     let mut pc = start;
     let mut acc = false;
     let mut blocks: u32 = 0;
@@ -53,7 +61,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
         ($e:expr) => {
             if let Err(code) = $e {
                 if rt.record_fault(prog, code, pc - 1) {
-                    return Outcome::Fault(code, pc - 1);
+                    return Outcome::Fault(code, cur, pc - 1);
                 }
             }
         };
@@ -63,7 +71,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
             if ($target as usize) < pc {
                 back_jumps += 1;
                 if back_jumps % WDT_CHECK_EVERY == 0 && started.elapsed() > watchdog {
-                    return Outcome::Fault(ErrorCode::WDT, pc - 1);
+                    return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
                 }
             }
         };
@@ -227,7 +235,7 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
             }
             Op::GoEnd => {
                 if acc & mc_on {
-                    return rt.end_checks(prog, pc - 1);
+                    return rt.end_checks(cur, pc - 1);
                 }
             }
             Op::Call(target) => {
@@ -236,13 +244,39 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
                         try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
                         continue;
                     }
-                    rt.calls.push(pc as u32);
+                    rt.calls.push((cur as u32, pc as u32));
                     back_jump!(*target);
                     pc = *target as usize;
                 }
             }
+            Op::CallFar { slot, pc: target } => {
+                if acc & mc_on {
+                    if rt.calls.len() >= MAX_NESTING {
+                        try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
+                        continue;
+                    }
+                    rt.calls.push((cur as u32, pc as u32));
+                    // Another file's subroutine: its own edge memories and ops.
+                    back_jumps += 1;
+                    cur = *slot as usize;
+                    prog = &progs[cur];
+                    ops = &prog.ops[..];
+                    ps = &mut locals[cur];
+                    pc = *target as usize;
+                }
+            }
+            // Linking replaces every CallCommon; one left means a bug, not input.
+            Op::CallCommon(_) => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
             Op::Ret => match rt.calls.pop() {
-                Some(ret) => pc = ret as usize,
+                Some((slot, ret)) => {
+                    if slot as usize != cur {
+                        cur = slot as usize;
+                        prog = &progs[cur];
+                        ops = &prog.ops[..];
+                        ps = &mut locals[cur];
+                    }
+                    pc = ret as usize;
+                }
                 None => try_op!(Err::<(), _>(ErrorCode::RET_IN_MAIN)),
             },
             // FOR n: n of 0 or less runs once.
@@ -294,9 +328,9 @@ pub(crate) fn run(prog: &Program, rt: &mut Runtime, ps: &mut ProgState, start: u
             Op::Fend | Op::End => {
                 // A scan longer than the watchdog is WDT ERROR even without a loop.
                 if started.elapsed() > watchdog {
-                    return Outcome::Fault(ErrorCode::WDT, pc - 1);
+                    return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
                 }
-                return rt.end_checks(prog, pc - 1);
+                return rt.end_checks(cur, pc - 1);
             }
             Op::Nop => {}
             Op::Ei => {

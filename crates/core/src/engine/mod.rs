@@ -9,6 +9,7 @@ mod clock;
 mod cpu;
 mod error;
 mod exec;
+mod link;
 mod operand;
 mod special;
 pub mod trace;
@@ -170,7 +171,8 @@ pub(crate) struct Runtime {
     pub scan_us: u32,
     /// Master-control levels that are OFF, one bit per N.
     pub mc_off: u16,
-    pub calls: Vec<u32>,
+    /// CALL return addresses: (program, op index).
+    pub calls: Vec<(u32, u32)>,
     pub fors: Vec<(u32, i16)>,
     pub stop_request: bool,
     pub watchdog: Duration,
@@ -301,7 +303,7 @@ impl Runtime {
     }
 
     /// END/FEND reached: a subroutine without RET or a FOR without NEXT is an error.
-    pub(crate) fn end_checks(&mut self, _prog: &Program, pc: usize) -> Outcome {
+    pub(crate) fn end_checks(&mut self, slot: usize, pc: usize) -> Outcome {
         let code = if self.in_interrupt {
             ErrorCode::NO_IRET
         } else if !self.calls.is_empty() {
@@ -313,7 +315,7 @@ impl Runtime {
         };
         self.calls.clear();
         self.fors.clear();
-        Outcome::Fault(code, pc)
+        Outcome::Fault(code, slot, pc)
     }
 }
 

@@ -20,8 +20,20 @@ pub const MAX_NESTING: usize = 16;
 
 /// Compiles a parsed file for a CPU with the given device points.
 pub fn compile(src: &Source, devices: &DeviceConfig) -> Result<Program, Diagnostics> {
+    compile_with(src, devices, None)
+}
+
+/// Compiles with the "common pointer" parameter: pointers from `common_from` up
+/// to P4095 are common (004 §10.9.2); a CALL of one this file does not define is
+/// linked to the program that does when the CPU is built.
+pub fn compile_with(
+    src: &Source,
+    devices: &DeviceConfig,
+    common_from: Option<u32>,
+) -> Result<Program, Diagnostics> {
     let map = DeviceMap::new(devices);
     let mut c = Compiler::new(&src.file, &map);
+    c.common_from = common_from.unwrap_or(u32::MAX);
     for item in &src.items {
         match item {
             SourceItem::Label(tok) => c.label(tok),
@@ -62,6 +74,8 @@ struct Compiler<'a> {
     fend_seen: bool,
     /// Program names used by PSCAN/PSTOP/POFF/PLOW.
     prog_names: Vec<String>,
+    /// First common pointer number (`u32::MAX`: none).
+    common_from: u32,
     /// Interrupt pointers: number → (op index, line).
     interrupts: HashMap<u32, (u32, u32)>,
 }
@@ -93,6 +107,7 @@ impl<'a> Compiler<'a> {
             after_end_reported: false,
             fend_seen: false,
             prog_names: Vec::new(),
+            common_from: u32::MAX,
             interrupts: HashMap::new(),
         }
     }
@@ -1543,6 +1558,13 @@ impl<'a> Compiler<'a> {
                     Op::Break(b) => b.1 = target,
                     _ => {}
                 },
+                None if p >= self.common_from && matches!(self.ops[at], Op::Call(_)) => {
+                    self.ops[at] = Op::CallCommon(p);
+                }
+                None if p >= self.common_from => self.err(
+                    &tok,
+                    format!("`P{p}` is a common pointer of another program: jumps cannot leave their file (only CALL can)"),
+                ),
                 None => self.err(&tok, format!("undefined pointer `P{p}`")),
             }
         }
@@ -1568,6 +1590,12 @@ impl<'a> Compiler<'a> {
             },
             ext: self.ext,
             prog_names: self.prog_names,
+            common_labels: self
+                .labels
+                .iter()
+                .filter(|(n, _)| **n >= self.common_from)
+                .map(|(n, (at, _))| (*n, *at))
+                .collect(),
             steps: self.step,
         })
     }

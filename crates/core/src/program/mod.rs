@@ -17,6 +17,16 @@ use crate::device::DeviceConfig;
 /// Loads a program file: `.csv` is a GX Works2 export, anything else an `.il` list.
 /// Every diagnostic of the file is returned on failure.
 pub fn load_file(path: &Path, devices: &DeviceConfig) -> Result<Program, Diagnostics> {
+    load_file_with(path, devices, None)
+}
+
+/// [`load_file`] with the "common pointer" parameter of a project
+/// (see [`compile::compile_with`]).
+pub fn load_file_with(
+    path: &Path,
+    devices: &DeviceConfig,
+    common_from: Option<u32>,
+) -> Result<Program, Diagnostics> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
         Diagnostics(vec![Diagnostic {
@@ -26,7 +36,7 @@ pub fn load_file(path: &Path, devices: &DeviceConfig) -> Result<Program, Diagnos
             message: format!("cannot read file: {e}"),
         }])
     })?;
-    load_bytes(&name, &bytes, devices)
+    load_bytes_with(&name, &bytes, devices, common_from)
 }
 
 /// Loads program text already in memory; the format follows the file name.
@@ -34,6 +44,15 @@ pub fn load_bytes(
     name: &str,
     bytes: &[u8],
     devices: &DeviceConfig,
+) -> Result<Program, Diagnostics> {
+    load_bytes_with(name, bytes, devices, None)
+}
+
+fn load_bytes_with(
+    name: &str,
+    bytes: &[u8],
+    devices: &DeviceConfig,
+    common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
     let is_csv = Path::new(name)
         .extension()
@@ -62,7 +81,7 @@ pub fn load_bytes(
         }
     };
     let src = src.map_err(Diagnostics)?;
-    compile(&src, devices)
+    compile::compile_with(&src, devices, common_from)
 }
 
 /// Compiles `.il` text (for tests and tools).

@@ -314,6 +314,13 @@ pub enum Op {
     },
     GoEnd,
     Call(u32),
+    /// CALL of a common pointer defined in another file, before linking.
+    CallCommon(u32),
+    /// CALL into program `slot` at op `pc` (a linked common pointer).
+    CallFar {
+        slot: u16,
+        pc: u32,
+    },
     Ret,
     For(Box<WordArg>),
     Next,
@@ -361,6 +368,8 @@ pub struct Program {
     pub state_words: u32,
     /// Program names referenced by PSCAN/PSTOP/POFF/PLOW (upper case).
     pub prog_names: Vec<String>,
+    /// Common pointers defined in this file: (Pn, op index).
+    pub common_labels: Vec<(u32, u32)>,
     /// Interrupt pointers of this file: (In, op index), ascending.
     pub interrupts: Vec<(u8, u32)>,
     /// Family instructions referenced by [`Op::Ext`].

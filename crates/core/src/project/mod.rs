@@ -196,3 +196,40 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         common_pointer,
     })
 }
+
+impl Project {
+    /// Loads and compiles every program of the project (all diagnostics of all
+    /// files on failure) and builds the CPU, linked and powered on.
+    pub fn build_cpu(
+        &self,
+        clock: Box<dyn crate::engine::Clock>,
+    ) -> Result<crate::engine::Cpu, Diagnostics> {
+        let mut loaded = Vec::new();
+        let mut diags = Vec::new();
+        for spec in &self.programs {
+            match crate::program::load_file_with(
+                &spec.file,
+                &self.config.devices,
+                self.common_pointer,
+            ) {
+                Ok(program) => loaded.push(crate::engine::LoadedProgram {
+                    program,
+                    exec: spec.exec,
+                    interval: spec.interval,
+                }),
+                Err(d) => diags.extend(d.0),
+            }
+        }
+        if !diags.is_empty() {
+            return Err(Diagnostics(diags));
+        }
+        crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(|e| {
+            Diagnostics(vec![crate::program::Diagnostic {
+                file: self.manifest.display().to_string(),
+                line: 1,
+                col: 1,
+                message: e,
+            }])
+        })
+    }
+}

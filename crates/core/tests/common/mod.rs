@@ -47,7 +47,7 @@ impl Plc {
             })
             .collect();
         let clock = VirtualClock::new();
-        let cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone()));
+        let cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
         Plc {
             cpu,
             clock,
