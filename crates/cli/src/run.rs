@@ -8,14 +8,27 @@ use clap::Args;
 use serde_json::{json, Map, Value as Json};
 use softplc_core::access::{DeviceSpec, Value};
 use softplc_core::device::DeviceConfig;
+use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
-use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::program::{self, Program};
+use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::persist::Battery;
+use softplc_core::program::{self, Diagnostics};
+use softplc_core::project;
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// Program file (.il text list or GX Works2 .csv export).
+    /// Program file (.il text list or GX Works2 .csv export), or a project
+    /// directory (or its plc.toml).
     pub program: PathBuf,
+    /// State directory for latched devices, file registers and the error history
+    /// (default for a project: its [state] dir; a single file keeps no state
+    /// unless this is given). Each run is a power-on.
+    #[arg(long, value_name = "DIR")]
+    pub state: Option<PathBuf>,
+    /// Calendar clock at power-on, e.g. 2024-05-01T08:00:00 (default
+    /// 2000-01-01T00:00:00, or the project's [clock] start).
+    #[arg(long, value_name = "DATETIME", value_parser = parse_datetime)]
+    pub clock: Option<DateTime>,
     /// Number of scans to execute.
     #[arg(long, default_value_t = 1, value_name = "N")]
     pub scans: u64,
@@ -75,36 +88,83 @@ pub fn parse_duration(s: &str) -> Result<Duration, String> {
     Ok(d)
 }
 
-fn load(path: &Path) -> Result<Program, ExitCode> {
-    if path.is_dir() || path.file_name().is_some_and(|n| n == "plc.toml") {
-        eprintln!(
-            "{}:1:1: unsupported: projects (plc.toml) are not implemented yet; give a program file",
-            path.display()
-        );
-        return Err(ExitCode::from(2));
+/// Parses `2024-05-01T08:00:00` (or with a space instead of `T`).
+pub fn parse_datetime(s: &str) -> Result<DateTime, String> {
+    let bad = || format!("`{s}`: expected YYYY-MM-DDTHH:MM:SS");
+    let (date, time) = s.split_once(['T', ' ']).ok_or_else(bad)?;
+    let d: Vec<&str> = date.split('-').collect();
+    let t: Vec<&str> = time.split(':').collect();
+    if d.len() != 3 || t.len() != 3 {
+        return Err(bad());
     }
-    program::load_file(path, &DeviceConfig::default()).map_err(|diags| {
-        for d in &diags.0 {
-            eprintln!("{d}");
+    let n = |x: &str| x.parse::<u32>().map_err(|_| bad());
+    let dt = DateTime {
+        year: n(d[0])? as i32,
+        month: n(d[1])?,
+        day: n(d[2])?,
+        hour: n(t[0])?,
+        minute: n(t[1])?,
+        second: n(t[2])?,
+    };
+    if !dt.is_valid() {
+        return Err(format!("`{s}`: not a valid date and time in 1980-2079"));
+    }
+    Ok(dt)
+}
+
+fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
+    for d in &diags.0 {
+        eprintln!("{d}");
+    }
+    let n = diags.0.len();
+    eprintln!(
+        "{n} error{} in {}",
+        if n == 1 { "" } else { "s" },
+        what.display()
+    );
+    ExitCode::from(1)
+}
+
+/// A loaded CPU and where its battery-backed memory lives.
+struct Loaded {
+    cpu: Cpu,
+    state: Option<PathBuf>,
+}
+
+/// Loads a program file or a project into a powered-on CPU.
+fn load(path: &Path, clock: Box<dyn Clock>, start: Option<DateTime>) -> Result<Loaded, ExitCode> {
+    if project::is_project(path) {
+        let mut p = project::load_project(path).map_err(|d| report(&d, path))?;
+        if let Some(t) = start {
+            p.config.clock_start = t;
         }
-        let n = diags.0.len();
-        eprintln!(
-            "{n} error{} in {}",
-            if n == 1 { "" } else { "s" },
-            path.display()
-        );
-        ExitCode::from(1)
+        let cpu = p.build_cpu(clock).map_err(|d| report(&d, path))?;
+        return Ok(Loaded {
+            cpu,
+            state: Some(p.state_dir),
+        });
+    }
+    let program =
+        program::load_file(path, &DeviceConfig::default()).map_err(|d| report(&d, path))?;
+    let mut cfg = CpuConfig::default();
+    if let Some(t) = start {
+        cfg.clock_start = t;
+    }
+    Ok(Loaded {
+        cpu: Cpu::new(program, cfg, clock),
+        state: None,
     })
 }
 
 pub fn check(path: &Path) -> ExitCode {
-    match load(path) {
-        Ok(p) => {
+    match load(path, Box::new(VirtualClock::new()), None) {
+        Ok(l) => {
+            let n = l.cpu.program_count();
+            let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
             println!(
-                "{}: OK, {} steps ({} operations)",
+                "{}: OK, {n} program{}, {steps} steps",
                 path.display(),
-                p.steps,
-                p.ops.len()
+                if n == 1 { "" } else { "s" },
             );
             ExitCode::SUCCESS
         }
@@ -176,8 +236,9 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
 }
 
 pub fn run(args: RunArgs) -> ExitCode {
-    let program = match load(&args.program) {
-        Ok(p) => p,
+    let clock = VirtualClock::new();
+    let Loaded { mut cpu, state } = match load(&args.program, Box::new(clock.clone()), args.clock) {
+        Ok(l) => l,
         Err(code) => return code,
     };
     let (writes, shows, trace) =
@@ -188,9 +249,23 @@ pub fn run(args: RunArgs) -> ExitCode {
                 return ExitCode::from(2);
             }
         };
-    let clock = VirtualClock::new();
-    let mut cpu = Cpu::new(program, CpuConfig::default(), Box::new(clock.clone()));
     cpu.set_trace(trace);
+    // Power-on: latched devices, file registers and the error history come back.
+    let mut battery = match args.state.clone().or(state) {
+        Some(dir) => match Battery::attach(&dir, &mut cpu) {
+            Ok(b) => {
+                for w in b.warnings() {
+                    eprintln!("softplc: {}: {w}", dir.display());
+                }
+                Some(b)
+            }
+            Err(e) => {
+                eprintln!("softplc: state directory {}: {e}", dir.display());
+                return ExitCode::from(2);
+            }
+        },
+        None => None,
+    };
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -204,8 +279,21 @@ pub fn run(args: RunArgs) -> ExitCode {
         clock.advance_us(step_us);
         cpu.scan();
         scans = n;
+        // END processing done: commit latched data (at most every 10 ms of wall time).
+        if let Some(b) = &mut battery {
+            if let Err(e) = b.commit_due(&cpu) {
+                eprintln!("softplc: cannot save state: {e}");
+                return ExitCode::from(2);
+            }
+        }
         if cpu.state() == CpuState::Stop {
             break;
+        }
+    }
+    if let Some(b) = &mut battery {
+        if let Err(e) = b.commit(&cpu) {
+            eprintln!("softplc: cannot save state: {e}");
+            return ExitCode::from(2);
         }
     }
     if let Some(t) = cpu.trace() {

@@ -106,6 +106,8 @@
 //! from what is valid and records [`warnings`](Store::warnings). Only I/O errors
 //! (with the path) and an invalid layout are returned as [`PersistError`].
 
+mod battery;
+pub use battery::Battery;
 mod format;
 
 use std::fs::{self, File, OpenOptions};
