@@ -611,3 +611,19 @@ fn common_pointer_calls_cross_files() {
         .unwrap();
     assert!(e.contains("jumps cannot leave their file"), "{e}");
 }
+
+#[test]
+fn file_register_blocks_with_rset() {
+    // R0-R32767 address block SD648 of ZR: block 1 starts at ZR32768 (004 §10.7).
+    // Default file registers: 517120 points → 16 blocks (SD647 = 505 K words).
+    let src = "LD SM400\nMOV K11 R5\nRSET K1\nMOV K22 R5\nMOV R5 D0\nRSET K0\nMOV R5 D1\n\
+               LD X0\nRSET K16\nEND\n";
+    let mut p = Plc::new(src);
+    p.scan();
+    assert_eq!((p.int("ZR5"), p.int("ZR32773")), (11, 22));
+    assert_eq!((p.int("D0"), p.int("D1")), (22, 11));
+    assert_eq!((p.int("SD647"), p.int("SD648")), (505, 0));
+    // Block 16 does not exist (16 × 32768 ≥ 517120): 4101.
+    p.set("X0", "1").scan();
+    assert_eq!((p.state(), p.int("SD0")), (CpuState::Stop, 4101));
+}

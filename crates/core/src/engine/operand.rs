@@ -6,12 +6,22 @@ use crate::device::DeviceMemory;
 use crate::program::compile::{BitBlock, Block};
 use crate::program::ops::{BitArg, Indexed, IndexedKind, WordArg};
 
+/// Points of one file-register block (R0-R32767).
+const R_BLOCK: i64 = 32768;
+
 impl DeviceMemory {
     /// Flat index of an index-modified operand spanning `span` points.
     #[inline]
     fn indexed(&self, ix: &Indexed, span: u32) -> Result<usize, Fault> {
-        let z = self.words[ix.z as usize] as i16 as i64;
-        let n = ix.number as i64 + z;
+        let z = match ix.z {
+            Indexed::NONE => 0,
+            z => self.words[z as usize] as i16 as i64,
+        };
+        let block = match ix.block {
+            Indexed::NONE => 0,
+            b => self.words[b as usize] as i64 * R_BLOCK,
+        };
+        let n = ix.number as i64 + z + block;
         if n < 0 || n + span as i64 > ix.points as i64 {
             return Err(ErrorCode::RANGE);
         }

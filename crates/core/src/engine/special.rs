@@ -22,6 +22,12 @@ fn sd_get(mem: &DeviceMemory, n: i64) -> u16 {
 pub(crate) fn power_on(mem: &mut DeviceMemory) {
     sd(mem, 414, 30);
     sd(mem, 415, 30);
+    // File registers (004 App. 2): SD640 drive (1 = memory card), SD647
+    // capacity in K words, SD648 block number (0 after power-on).
+    let zr = mem.map.points(DeviceKind::ZR);
+    sd(mem, 640, 1);
+    sd(mem, 647, (zr / 1024).min(u16::MAX as u32) as u16);
+    sd(mem, 648, 0);
     // SD290-SD304: device points X Y M L B F SB V S T ST C D W SW.
     use DeviceKind::*;
     for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW]

@@ -17,6 +17,7 @@ pub mod clock;
 pub mod comparison;
 pub mod conversion;
 pub mod data;
+pub mod file_register;
 pub mod float;
 pub mod limits;
 pub mod logic;
@@ -74,6 +75,7 @@ pub const FAMILIES: &[LookupFn] = &[
     float::lookup,
     clock::lookup,
     pid::lookup,
+    file_register::lookup,
 ];
 
 /// The compile function of an extension instruction, if any family has it.

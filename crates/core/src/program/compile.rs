@@ -1168,12 +1168,36 @@ impl<'a> Compiler<'a> {
     }
 
     fn indexed(&mut self, kind: IndexedKind, dk: DeviceKind, number: u32, z: u8) -> Box<Indexed> {
+        self.computed(kind, dk, number, Some(z))
+    }
+
+    /// An operand resolved at run time: index-modified, or a file register `R`,
+    /// which addresses the block selected by RSET (ZR = block × 32768 + n).
+    fn computed(
+        &self,
+        kind: IndexedKind,
+        dk: DeviceKind,
+        number: u32,
+        z: Option<u8>,
+    ) -> Box<Indexed> {
+        let z = z.map_or(Indexed::NONE, |z| self.map.base(DeviceKind::Z) + z as u32);
+        if dk == DeviceKind::R {
+            return Box::new(Indexed {
+                kind,
+                base: self.map.base(DeviceKind::ZR),
+                number,
+                points: self.map.points(DeviceKind::ZR),
+                z,
+                block: self.map.base(DeviceKind::SD) + 648,
+            });
+        }
         Box::new(Indexed {
             kind,
             base: self.map.base(dk),
             number,
             points: self.map.points(dk),
-            z: self.map.base(DeviceKind::Z) + z as u32,
+            z,
+            block: Indexed::NONE,
         })
     }
 
@@ -1208,6 +1232,12 @@ impl<'a> Compiler<'a> {
                     return None;
                 }
                 Some(match index {
+                    None if dev.kind == DeviceKind::R => BitArg::Indexed(self.computed(
+                        IndexedKind::WordBit(b),
+                        dev.kind,
+                        dev.number,
+                        None,
+                    )),
                     None => BitArg::WordBit {
                         word: self.map.base(dev.kind) + dev.number,
                         bit: b,
@@ -1486,6 +1516,9 @@ impl<'a> Compiler<'a> {
             return None;
         }
         Some(match index {
+            None if kind == DeviceKind::R => {
+                WordArg::Indexed(self.computed(IndexedKind::Word, kind, dev.number, None))
+            }
             None => WordArg::Word(self.map.base(kind) + dev.number),
             Some(z) => WordArg::Indexed(self.indexed(IndexedKind::Word, kind, dev.number, z)),
         })

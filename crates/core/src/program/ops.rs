@@ -38,18 +38,27 @@ pub enum IndexedKind {
     WordBit(u8),
 }
 
-/// An index-modified operand, resolved and range-checked when it executes.
+/// An operand whose device number is computed when it executes: index
+/// modification (`D0Z1`) and file registers `R`, which address the block
+/// selected by RSET (004 §10.7).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Indexed {
     pub kind: IndexedKind,
-    /// Flat index of device number 0 of this kind.
+    /// Flat index of device number 0 of this kind (ZR for `R`).
     pub base: u32,
     /// Device number as written.
     pub number: u32,
     /// Points of this device kind: the effective number must stay below it.
     pub points: u32,
-    /// Flat word index of the index register `Zn`.
+    /// Flat word index of the index register `Zn`, or [`Indexed::NONE`].
     pub z: u32,
+    /// Flat word index of SD648 (the file-register block number) for `R`
+    /// operands, or [`Indexed::NONE`].
+    pub block: u32,
+}
+
+impl Indexed {
+    pub const NONE: u32 = u32::MAX;
 }
 
 /// A resolved word operand; 16-bit instructions use the low word of a constant.
