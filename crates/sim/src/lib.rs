@@ -1,0 +1,6 @@
+//! softplc-sim: plant models bound to PLC devices, evaluated at every scan's
+//! input refresh in virtual time, and scenario tests (issue 7).
+//!
+//! - [`model`]: the plant models (pure numerics, closed-form tested).
+
+pub mod model;
