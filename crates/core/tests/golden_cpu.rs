@@ -499,8 +499,9 @@ fn low_speed_programs_run_once_per_scan_with_their_registers() {
     // SM404 only in the first low-speed scan; SM510 ON while it runs; SD430 counts.
     assert_eq!((p.int("D30"), p.int("D31"), p.int("SD430")), (1, 3, 3));
     assert!(!p.bit("SM510"));
-    // SD528/529: low-speed scan time 20 ms.
-    assert_eq!((p.int("SD528"), p.int("SD529")), (20, 0));
+    // SD528/529: the low-speed scan time is the programs' execution time, which
+    // is 0 without a simulated execution time (sim_time).
+    assert_eq!((p.int("SD528"), p.int("SD529")), (0, 0));
 }
 
 #[test]
@@ -553,6 +554,7 @@ fn linked(
                 program,
                 exec: *exec,
                 interval: None,
+                sim_time: None,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -626,4 +628,134 @@ fn file_register_blocks_with_rset() {
     // Block 16 does not exist (16 × 32768 ≥ 517120): 4101.
     p.set("X0", "1").scan();
     assert_eq!((p.state(), p.int("SD0")), (CpuState::Stop, 4101));
+}
+
+/// The low-speed worked schedules of 004 §4.2.3 (L1630-1680; figures lost, the
+/// expectations below follow the text's rules): scan programs 4 ms, low-speed
+/// A = 1 ms and B = 3 ms, END 0 ms. A counts its runs in D0, B in D1; SD430
+/// counts low-speed END processings.
+fn low_speed_cpu(
+    cfg: CpuConfig,
+    sync: bool,
+) -> (
+    softplc_core::engine::Cpu,
+    softplc_core::engine::VirtualClock,
+) {
+    use softplc_core::engine::{LoadedProgram, VirtualClock};
+    use softplc_core::program::compile_il;
+    let main = if sync {
+        "LD SM400\nOUT SM330\nEND\n"
+    } else {
+        "LD SM400\nOUT M0\nEND\n"
+    };
+    let progs = [
+        ("main.il", main, ExecType::Scan, 4),
+        ("a.il", "LD SM400\nINC D0\nEND\n", ExecType::LowSpeed, 1),
+        ("b.il", "LD SM400\nINC D1\nEND\n", ExecType::LowSpeed, 3),
+    ];
+    let loaded = progs
+        .iter()
+        .map(|(name, src, exec, ms)| LoadedProgram {
+            program: compile_il(name, src, &cfg.devices).unwrap(),
+            exec: *exec,
+            interval: None,
+            sim_time: Some(Duration::from_millis(*ms)),
+        })
+        .collect();
+    let clock = VirtualClock::new();
+    let cpu =
+        softplc_core::engine::Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+    (cpu, clock)
+}
+
+fn counts(cpu: &softplc_core::engine::Cpu) -> (i64, i64, i64) {
+    let get = |d: &str| match cpu.read_device(&DeviceSpec::parse(d).unwrap()).unwrap() {
+        softplc_core::access::Value::Int(v) => v,
+        v => panic!("{v:?}"),
+    };
+    (get("D0"), get("D1"), get("SD430"))
+}
+
+#[test]
+fn low_speed_async_with_constant_scan() {
+    // Constant scan 8 ms: spare 4 ms, usable 3.5 ms (cut 0.5 ms before the next
+    // scan). Scan 1: A (1), B starts (2.5 of 3). Scan 2: B ends (0.5) → low END 1,
+    // A again (1), B starts (2 of 3). Scan 3: B ends (1) → END 2, A (1), B (1.5).
+    let cfg = CpuConfig {
+        constant_scan: Some(Duration::from_millis(8)),
+        ..CpuConfig::default()
+    };
+    let (mut cpu, clock) = low_speed_cpu(cfg, false);
+    let mut got = Vec::new();
+    for _ in 0..4 {
+        clock.advance_us(8_000);
+        cpu.scan();
+        got.push(counts(&cpu));
+    }
+    assert_eq!(got, [(1, 1, 0), (2, 2, 1), (3, 3, 2), (4, 4, 3)]);
+    // Low-speed scan time = execution time of a cycle (§4.2.3 (6)): A + B = 4 ms.
+    let get = |d: &str| cpu.read_device(&DeviceSpec::parse(d).unwrap()).unwrap();
+    assert_eq!(get("SD528"), softplc_core::access::Value::Int(4));
+    assert_eq!(get("SD529"), softplc_core::access::Value::Int(0));
+    assert_eq!(cpu.busy_us(), 8_000 - 500);
+}
+
+#[test]
+fn low_speed_async_with_low_speed_time() {
+    // Low-speed execution time 3 ms per scan, no constant scan (scan = 7 ms).
+    // Scan 1: A (1), B (2 of 3). Scan 2: B ends (1) → END 1, A (1), B (1 of 3).
+    // Scan 3: B ends (2) → END 2, A (1) → 3 ms used, B not started.
+    let cfg = CpuConfig {
+        low_speed_time: Some(Duration::from_millis(3)),
+        ..CpuConfig::default()
+    };
+    let (mut cpu, clock) = low_speed_cpu(cfg, false);
+    let mut got = Vec::new();
+    for _ in 0..4 {
+        clock.advance_us(7_000);
+        cpu.scan();
+        got.push(counts(&cpu));
+    }
+    // Scan 4: B starts (3 of 3) and ends exactly at the budget → END 3.
+    assert_eq!(got, [(1, 1, 0), (2, 2, 1), (3, 2, 2), (3, 3, 3)]);
+    assert_eq!(cpu.busy_us(), 7_000);
+}
+
+#[test]
+fn low_speed_sync_with_constant_scan() {
+    // SM330 ON: after a low-speed END no new cycle starts in the same scan; the
+    // rest of the constant scan is waited out.
+    // Scan 1: A, B (2.5 of 3). Scan 2: B ends → END 1, wait. Scan 3: A, B (2.5).
+    let cfg = CpuConfig {
+        constant_scan: Some(Duration::from_millis(8)),
+        ..CpuConfig::default()
+    };
+    let (mut cpu, clock) = low_speed_cpu(cfg, true);
+    let mut got = Vec::new();
+    for _ in 0..4 {
+        clock.advance_us(8_000);
+        cpu.scan();
+        got.push(counts(&cpu));
+    }
+    assert_eq!(got, [(1, 1, 0), (1, 1, 1), (2, 2, 1), (2, 2, 2)]);
+}
+
+#[test]
+fn low_speed_sync_with_low_speed_time() {
+    // SM330 ON, low-speed time 3 ms: scan 1: A, B (2 of 3); scan 2: B ends (1 ms)
+    // → END 1 and the scan programs start again at once (scan = 4 + 1 ms).
+    let cfg = CpuConfig {
+        low_speed_time: Some(Duration::from_millis(3)),
+        ..CpuConfig::default()
+    };
+    let (mut cpu, clock) = low_speed_cpu(cfg, true);
+    clock.advance_us(7_000);
+    cpu.scan();
+    assert_eq!((counts(&cpu), cpu.busy_us()), ((1, 1, 0), 7_000));
+    clock.advance_us(7_000);
+    cpu.scan();
+    assert_eq!((counts(&cpu), cpu.busy_us()), ((1, 1, 1), 5_000));
+    clock.advance_us(5_000);
+    cpu.scan();
+    assert_eq!((counts(&cpu), cpu.busy_us()), ((2, 2, 1), 7_000));
 }

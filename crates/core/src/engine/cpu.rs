@@ -21,6 +21,11 @@ pub struct LoadedProgram {
     pub exec: ExecType,
     /// Interval of a fixed-scan program.
     pub interval: Option<Duration>,
+    /// Simulated execution time of one run of the program (a softplc parameter
+    /// for virtual time; `None` = instantaneous). It decides how much of the
+    /// constant-scan spare time or low-speed execution time low-speed programs
+    /// use (004 §4.2.3).
+    pub sim_time: Option<Duration>,
 }
 
 /// Scheduling state of a program file in the CPU.
@@ -29,6 +34,8 @@ struct Slot {
     interval_us: u64,
     /// POFF: run once with conditions OFF at the next scan.
     off_pending: bool,
+    /// Simulated execution time of one run, µs.
+    cost_us: u64,
     /// Engine time at which a fixed-scan program runs next.
     next_due_us: u64,
 }
@@ -70,6 +77,14 @@ pub struct Cpu {
     /// SM50 at the previous END, for its OFF→ON edge.
     sm50: bool,
     trace: Option<super::trace::Trace>,
+    /// Simulated time used by the programs of the current scan, µs.
+    busy_us: u64,
+    /// Low-speed programs in progress: position in the cycle, simulated time
+    /// still owed by the running program, start of the cycle (µs).
+    low_pos: usize,
+    low_left_us: u64,
+    /// Simulated low-speed execution time of the current cycle, µs.
+    low_exec_us: u64,
     /// Low-speed scan bookkeeping (SM404/405, SD528-SD535).
     low_first: bool,
     low_last_end_us: u64,
@@ -92,6 +107,7 @@ impl Cpu {
             program,
             exec: ExecType::Scan,
             interval: None,
+            sim_time: None,
         };
         Cpu::with_programs(vec![p], cfg, clock).expect("a single program needs no linking")
     }
@@ -112,6 +128,7 @@ impl Cpu {
         let slots: Vec<Slot> = programs
             .iter()
             .map(|p| Slot {
+                cost_us: p.sim_time.map_or(0, |d| d.as_micros() as u64),
                 interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
                 next_due_us: now,
                 off_pending: false,
@@ -170,6 +187,10 @@ impl Cpu {
             int_pending: [false; 4],
             sm50: false,
             trace: None,
+            busy_us: 0,
+            low_pos: 0,
+            low_left_us: 0,
+            low_exec_us: 0,
             low_first: true,
             low_last_end_us: 0,
             low_min_us: None,
@@ -397,6 +418,9 @@ impl Cpu {
         self.run_start_us = now;
         self.last_end_us = now;
         self.low_last_end_us = now;
+        self.low_exec_us = 0;
+        self.low_pos = 0;
+        self.low_left_us = 0;
         self.low_first = true;
         self.initial_pending = true;
         self.first_scan = true;
@@ -454,6 +478,7 @@ impl Cpu {
             return;
         }
         self.rt.now_us = now;
+        self.busy_us = 0;
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
         special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
@@ -518,31 +543,104 @@ impl Cpu {
     /// virtual time, so a pass always fits the spare time). SM510 is ON and SD510
     /// holds the program number while one runs; SM404/SM405 are the low-speed
     /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
-    fn run_low_speed(&mut self, now: u64) -> bool {
-        if !self.slots.iter().any(|s| s.exec == ExecType::LowSpeed) {
+    fn run_low_speed(&mut self, _now: u64) -> bool {
+        let order: Vec<usize> = (0..self.slots.len())
+            .filter(|&i| self.slots[i].exec == ExecType::LowSpeed)
+            .collect();
+        if order.is_empty() {
             return true;
         }
         let first = self.low_first;
-        let set = |mem: &mut DeviceMemory, n: i64, v: bool| {
-            let _ = mem.set_bit(DeviceKind::SM, n, v);
+        self.sm(404, first);
+        self.sm(405, !first);
+        let sync = self.rt.mem.get_bit(DeviceKind::SM, 330).unwrap_or(false);
+        let timed = order.iter().any(|&i| self.slots[i].cost_us > 0);
+        // The time low-speed programs may use in this scan (004 §4.2.3): the
+        // low-speed execution time, or the constant-scan spare time less 0.5 ms
+        // (none when the spare time is 0.5 ms or less).
+        let budget = match (self.cfg.low_speed_time, self.cfg.constant_scan) {
+            (Some(l), _) => l.as_micros() as u64,
+            (None, Some(c)) => (c.as_micros() as u64)
+                .saturating_sub(self.busy_us)
+                .saturating_sub(500),
+            (None, None) => 0,
         };
-        set(&mut self.rt.mem, 404, first);
-        set(&mut self.rt.mem, 405, !first);
-        for i in 0..self.slots.len() {
-            if self.slots[i].exec != ExecType::LowSpeed {
+        if !timed {
+            // Without simulated execution times a cycle takes no time: one
+            // complete cycle per scan.
+            self.low_pos = 0;
+            self.low_left_us = 0;
+            for &i in &order {
+                if !self.run_low(i) {
+                    return false;
+                }
+            }
+            self.low_speed_end();
+            return true;
+        }
+        let mut used = 0u64;
+        loop {
+            if self.low_pos >= order.len() {
+                self.low_pos = 0;
+            }
+            if self.low_left_us > 0 {
+                // The suspended program continues (004 §4.2.3 (3)(b)).
+                let d = self.low_left_us.min(budget - used);
+                self.low_left_us -= d;
+                self.low_exec_us += d;
+                used += d;
+                if self.low_left_us > 0 {
+                    break;
+                }
+            } else {
+                if used >= budget {
+                    break;
+                }
+                let i = order[self.low_pos];
+                if !self.run_low(i) {
+                    return false;
+                }
+                self.low_left_us = self.slots[i].cost_us;
                 continue;
             }
-            set(&mut self.rt.mem, 510, true);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
-            if !self.run_slot(i) {
-                return false;
+            // The running program completed.
+            self.low_pos += 1;
+            if self.low_pos == order.len() {
+                self.low_pos = 0;
+                self.low_speed_end();
+                if sync {
+                    // Synchronous (SM330 ON): no second cycle in the same scan.
+                    break;
+                }
             }
         }
-        set(&mut self.rt.mem, 510, false);
-        // Low-speed END processing.
-        let us = now - self.low_last_end_us;
-        self.low_last_end_us = now;
-        if !first {
+        self.busy_us += used;
+        self.sm(510, false);
+        true
+    }
+
+    fn sm(&mut self, n: i64, v: bool) {
+        let _ = self.rt.mem.set_bit(DeviceKind::SM, n, v);
+    }
+
+    /// Runs low-speed program `i` with SM510 ON and SD510 = its number (the
+    /// simulated time is accounted by the caller).
+    fn run_low(&mut self, i: usize) -> bool {
+        self.sm(510, true);
+        let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
+        let cost = self.slots[i].cost_us;
+        let ok = self.run_slot(i);
+        self.busy_us -= cost;
+        self.sm(510, false);
+        ok
+    }
+
+    /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
+    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — into
+    /// SD528-SD535; SD430 counts.
+    fn low_speed_end(&mut self) {
+        let us = std::mem::take(&mut self.low_exec_us);
+        if !self.low_first {
             self.low_max_us = self.low_max_us.max(us);
         }
         self.low_min_us = Some(self.low_min_us.map_or(us, |m| m.min(us)));
@@ -563,7 +661,13 @@ impl Cpu {
             .wrapping_add(1);
         let _ = self.rt.mem.set_word(DeviceKind::SD, 430, c);
         self.low_first = false;
-        true
+    }
+
+    /// Simulated execution time of the last scan (programs run, low-speed time
+    /// used), µs. With constant scan the scan takes the longer of this and the
+    /// constant-scan period; a virtual-time driver may advance its clock by it.
+    pub fn busy_us(&self) -> u64 {
+        self.busy_us
     }
 
     /// Fixed-scan programs whose interval has elapsed, in parameter order. In
@@ -669,6 +773,7 @@ impl Cpu {
     }
 
     fn run_slot(&mut self, i: usize) -> bool {
+        self.busy_us += self.slots[i].cost_us;
         let out = exec::run(&self.programs, &mut self.locals, &mut self.rt, i, 0);
         self.outcome(out)
     }

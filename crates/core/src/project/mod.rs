@@ -38,6 +38,8 @@ pub struct ProgramSpec {
     pub exec: ExecType,
     /// The interval of a fixed-scan program (required there, `None` otherwise).
     pub interval: Option<Duration>,
+    /// Simulated execution time of one run (`sim_time`, virtual time only).
+    pub sim_time: Option<Duration>,
 }
 
 /// A loaded project.
@@ -216,6 +218,7 @@ impl Project {
                     program,
                     exec: spec.exec,
                     interval: spec.interval,
+                    sim_time: spec.sim_time,
                 }),
                 Err(d) => diags.extend(d.0),
             }

@@ -2,6 +2,7 @@
 //! "program setting", 004 §4.2, qcpu.md §2.2), in execution order.
 
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 use super::ctx::Ctx;
 use super::settings::max_programs;
@@ -67,7 +68,11 @@ pub(crate) fn programs(
     let mut files: Vec<(PathBuf, &str)> = Vec::new();
     let mut first_low_speed: Option<&Item> = None;
     for (item, t) in &tables {
-        cx.unknown_keys(t, Some("[[program]]"), &["file", "type", "interval"]);
+        cx.unknown_keys(
+            t,
+            Some("[[program]]"),
+            &["file", "type", "interval", "sim_time"],
+        );
         let get = |k: &str| t.iter().find(|e| e.key == k);
         // file
         let mut file = None;
@@ -151,11 +156,29 @@ pub(crate) fn programs(
             }
             _ => {}
         }
+        // sim_time: simulated execution time of one run (softplc extension for
+        // virtual time, 0-2000 ms).
+        let mut sim_time = None;
+        if let Some(e) = get("sim_time") {
+            if let Some(text) = cx.string(e, "a duration string such as \"1ms\"") {
+                if let Some(d) = cx.parse_duration(e, text) {
+                    if d <= Duration::from_secs(2) {
+                        sim_time = Some(d);
+                    } else {
+                        cx.error(
+                            &e.item.span,
+                            format!("sim_time \"{text}\" is out of range (0-2000ms)"),
+                        );
+                    }
+                }
+            }
+        }
         if let (Some(file), Some(exec)) = (file, exec) {
             out.push(ProgramSpec {
                 file,
                 exec,
                 interval,
+                sim_time,
             });
         }
     }

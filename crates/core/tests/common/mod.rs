@@ -44,6 +44,7 @@ impl Plc {
                     .unwrap_or_else(|d| panic!("load failed:\n{d}")),
                 exec: *exec,
                 interval: *interval,
+                sim_time: None,
             })
             .collect();
         let clock = VirtualClock::new();

@@ -5,20 +5,20 @@
 //! Table 5.2 data 9/10), manual mode with PV→SV tracking (001 §4.3.1, §4.3.4)
 //! and the limited ranges (001 §4.3.5, §5.2 Table 5.4).
 //!
-//! Arithmetic, rounding and evaluation order are softplc's [DECISION]s of
+//! Arithmetic, rounding and evaluation order are softplc's \[DECISION\]s of
 //! pid-instructions.md §2.6, implemented exactly as written there:
 //!
 //! 1. Inputs are range-clamped when the loop is "limited" (SD794/SD795,
 //!    SD774/SD775 bit = 0): SV 0..2000; PV, MV_MAN, MVLL, MVHL −50..2050;
 //!    ΔMVL, ΔPVL 0..2000. Clamped values are used internally and never written
-//!    back ([DECISION] §2.6 step 1).
+//!    back (\[DECISION\] §2.6 step 1).
 //! 2. PV alarm: not on the first processing; `|PVn − PVn−1| > ΔPVL` sets ALARM
 //!    b0 (latched; PV itself is not limited). PV is the clamped raw PV.
 //! 3. Filter (001 §3.1.2/§3.2.2 要点(1)): `PVfn = PVn + α·(PVfn−1 − PVn)`, with
 //!    α = a/100, evaluated in f64 and then quantised to the Q16.16 state grid
-//!    ([`super::work`]); every later use of PVfn is the quantised value. The
+//!    (`super::work`); every later use of PVfn is the quantised value. The
 //!    PVf word is its [`round_word`].
-//! 4. Manual mode: with SM794/SM774 OFF the SV word ← PVn ([DECISION] §1.4: at
+//! 4. Manual mode: with SM794/SM774 OFF the SV word ← PVn (\[DECISION\] §1.4: at
 //!    each sampling instant, raw clamped PV). History shifts (PVfn−2 ← PVfn−1 ←
 //!    PVfn, SVn−1 ← the SV as it will be read, Dn−1 ← 0); no ΔMV, no MV alarm,
 //!    the auto MV word and the MV state are held.
@@ -28,7 +28,7 @@
 //!    * complete: `Dn = (td/ts)·dd`, 0 when td = 0;
 //!    * incomplete: with `den = ts·kd + 100·td`,
 //!      `Dn = (td·kd/den)·dd + (100·td/den)·Dn−1`; `Dn = (td/ts)·dd` when
-//!      kd > 30000 (KD = ∞); `Dn = 0` when td = 0 or kd = 0 ([DECISION] §2.5);
+//!      kd > 30000 (KD = ∞); `Dn = 0` when td = 0 or kd = 0 (\[DECISION\] §2.5);
 //!    * integral `I = (ts/(10·ti))·EVn`, 0 when ti > 30000 (TI = ∞);
 //!    * `ΔMV = (kp/100)·((EVn − EVn−1) + I + Dn)`;
 //!
@@ -36,7 +36,7 @@
 //! 6. MV alarm: `|ΔMV| > ΔMVL` sets ALARM b1 (ΔMV before limiting; ΔMV is
 //!    not limited).
 //! 7. `MVn = min(max(MVn−1 + ΔMV, MVLL), MVHL)`, quantised to Q16.36 and stored
-//!    as the next MVn−1 ([DECISION] §1.5: clamped before stored, which is the
+//!    as the next MVn−1 (\[DECISION\] §1.5: clamped before stored, which is the
 //!    anti-reset-windup of 001 Appendix 2). The MV word is its [`round_word`].
 //!    (MVLL ≤ MVHL are int16, so MVn is always within the int16 range.)
 //! 8. History shift: PVfn−2 ← PVfn−1 ← PVfn, SVn−1 ← SV, Dn−1 ← Dn, PVn−1 ← PVn.
@@ -59,7 +59,7 @@ pub(crate) const ALARM_PV: u16 = 1;
 pub(crate) const ALARM_MV: u16 = 2;
 
 /// The word shown to the user for an internal value: round half away from zero,
-/// saturated to int16 ([DECISION] pid-instructions.md §2.6 "one named function").
+/// saturated to int16 (\[DECISION\] pid-instructions.md §2.6 "one named function").
 #[inline]
 pub fn round_word(x: f64) -> i16 {
     // `as` saturates; f64::round rounds half away from zero.
@@ -124,7 +124,7 @@ fn derivative(fam: Family, p: &LoopParams, ts: u16, dd: f64, d1: f64) -> f64 {
         Family::Complete => td / ts * dd,
         Family::Incomplete => {
             if p.kd == 0 {
-                // [DECISION] §2.5: KD = 0 forces Dn = 0.
+                // \[DECISION\] §2.5: KD = 0 forces Dn = 0.
                 0.0
             } else if p.kd > 30000 {
                 // KD = ∞: exactly the complete derivative.
@@ -138,7 +138,8 @@ fn derivative(fam: Family, p: &LoopParams, ts: u16, dd: f64, d1: f64) -> f64 {
     }
 }
 
-/// One sampling instant of one loop. `io` is the loop's I/O block (SV … work
+/// One sampling instant of one loop (001 §3.1.2/§3.2.2 formulas, §4.3.1–§4.3.5;
+/// steps 1–8 of the module doc = \[DECISION\] pid-instructions.md §2.6). `io` is the loop's I/O block (SV … work
 /// words), `ts` the sampling time used (10 ms units), `first` the first
 /// processing (history already seeded by the caller, EVn−1 = 0, no PV alarm),
 /// `track` true when SM794/SM774 is OFF (PV → SV in manual mode), `auto` the

@@ -14,31 +14,31 @@
 //!    sub-millisecond rest is carried in common work word +1 (001 §5.1.2(1)
 //!    "每次执行 … 将一次扫描的测定时间累加"). A pulse form (SP.PIDCONT,
 //!    PIDCONTP) therefore only counts the scans in which it executes
-//!    ([DECISION] pid-instructions.md §4: allowed, not useful).
+//!    (\[DECISION\] pid-instructions.md §4: allowed, not useful).
 //! 3. Each loop 1..n, in order:
 //!    * registered data out of range → 4100 for that loop, skipped;
 //!    * stopped by PIDSTOP → skipped, its accumulator held at 0, so the first
 //!      sample after PIDRUN comes Ts later with the held history
-//!      ([DECISION] pid-instructions.md §4 PIDSTOP/PIDRUN);
+//!      (\[DECISION\] pid-instructions.md §4 PIDSTOP/PIDRUN);
 //!    * MAN/AUTO ∉ {0,1} → 4100 for that loop, skipped (state untouched);
 //!    * first processing not done: with flag word +0 = 0 it runs now, whatever
 //!      the loops per scan; otherwise the loop is due and competes for the k
 //!      slots below ("0 以外 … 每次扫描中处理环路的数量是所设置的一次扫描执行的环路数量");
 //!    * otherwise: a change of MAN/AUTO since the previous execution copies
 //!      MV_MAN → MV (manual→auto, also into the MV state) or MV → MV_MAN
-//!      (auto→manual) now ([DECISION] §1.3: at that execution); the loop is
+//!      (auto→manual) now (\[DECISION\] §1.3: at that execution); the loop is
 //!      due when its accumulator ≥ Ts.
 //! 4. At most k due loops are computed (001 §5.1.1(3)): first those deferred
 //!    in the previous scan, then the others, each group in loop-number order
 //!    (001 §5.1.1 要点). The rest are marked deferred and keep accumulating
-//!    ([DECISION] §1.8), so their Ts used is longer.
+//!    (\[DECISION\] §1.8), so their Ts used is longer.
 //! 5. A computed loop uses `ts = ⌊acc / 10 ms⌋` in the formulas and keeps the
-//!    rest: `acc −= 10·ts` (001 §5.1.2(2); [DECISION] §1.7 carry). The first
-//!    processing uses the configured Ts ([DECISION] §1.7) and restarts the
+//!    rest: `acc −= 10·ts` (001 §5.1.2(2); \[DECISION\] §1.7 carry). The first
+//!    processing uses the configured Ts (\[DECISION\] §1.7) and restarts the
 //!    accumulator at 0; its history is seeded by [`first_processing`].
 //!
 //! The first error found is returned after every loop has been processed
-//! ([DECISION] pid-instructions.md §6: the other loops run).
+//! (\[DECISION\] pid-instructions.md §6: the other loops run).
 
 use super::algo::{self, Range, MODE, MV, MVMAN};
 use super::params::LoopParams;
@@ -48,7 +48,8 @@ use super::Family;
 use crate::device::DeviceMemory;
 use crate::engine::{ErrorCode, Fault};
 
-/// Everything one PIDCONT execution needs besides the registry.
+/// Everything one PIDCONT execution needs besides the registry (001 §5.1.2
+/// measured scan time, §4.3.4 SM794/SM774, §4.3.5 SD794/SD795, SD774/SD775).
 pub(crate) struct Env {
     /// Scan time measured at the previous END, µs.
     pub scan_us: u32,
@@ -58,7 +59,7 @@ pub(crate) struct Env {
     pub unlimited: u32,
 }
 
-/// Seeds a loop's history for its first processing ([DECISION]
+/// Seeds a loop's history for its first processing (\[DECISION\]
 /// pid-instructions.md §2.6 "First processing"): PVfn−1 = PVfn−2 = PVn (so PVfn
 /// = PVn and no derivative kick), Dn−1 = 0, EVn−1 = 0 (passed as `first` to
 /// [`algo::sample`]), MVn−1 = the auto-MV word, PVn−1 = PVn (no PV alarm), the
@@ -77,7 +78,8 @@ fn first_processing(io: &[u16], range: Range, auto: bool) -> LoopState {
     }
 }
 
-/// Runs one PIDCONT execution on the I/O area starting at flat word `start`
+/// Runs one PIDCONT execution (001 §8.1.2/§9.1.2; steps 2–5 of the module doc)
+/// on the I/O area starting at flat word `start`
 /// (already bounds-checked for `10 + per·n` words).
 pub(crate) fn run(
     fam: Family,
@@ -182,15 +184,16 @@ pub(crate) fn run(
                 limited: env.unlimited & (1 << i) == 0,
             };
             let st = LoopState::load(fam, w);
-            let ts = st.has(F_INIT).then(|| st.acc_ms / 10);
+            let ts = st.has(F_INIT).then_some(st.acc_ms / 10);
             compute(fam, reg, i, range, env, head, w, ts);
         }
     }
     error.map_or(Ok(()), Err)
 }
 
-/// Computes loop `i` now: a regular sample using `ts` (10 ms units), or the
-/// first processing (`ts` = None) with the configured Ts.
+/// Computes loop `i` now: a regular sample using `ts` (10 ms units, 001
+/// §5.1.2(2)), or the first processing (`ts` = None) with the configured Ts
+/// (001 §5.2(4) 3) "视为已到达所设置的采样周期"; \[DECISION\] notes §1.7).
 #[allow(clippy::too_many_arguments)]
 fn compute(
     fam: Family,

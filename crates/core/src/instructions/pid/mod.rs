@@ -1,7 +1,7 @@
 //! PID control instructions, seed 001 (MELSEC-Q/L/QnA Programming Manual, PID
 //! Control Instructions, SH-080040 / Chinese SH(NA)-080240C; "001 §x" below).
 //! Behaviour the manual leaves open follows the project's notes
-//! `shared/spec/pid-instructions.md` ("[DECISION] …" citations).
+//! `shared/spec/pid-instructions.md` ("\[DECISION\] …" citations).
 //!
 //! Two independent families (001 §1, notes §1.1), each with its own
 //! registration, SM/SD control bits and errors:
@@ -14,14 +14,22 @@
 //! | change a loop's data | `S.PIDPRMW`, `SP.PIDPRMW` (§8.1.4) | `PIDPRMW`, `PIDPRMWP` (§9.1.5) |
 //! | AD57 monitor | — | `PID57`, `PID57P` (§9.1.3): rejected at load |
 //!
-//! Modules: [`params`] (control data, 001 §5.1), [`registry`] (the registered
-//! data inside the CPU), [`work`] (the I/O work-area encoding, 001 §5.2),
-//! [`algo`] (the operation, 001 §3.1.2/§3.2.2), [`cont`] (PIDCONT scheduling,
+//! Modules: `params` (control data, 001 §5.1), `registry` (the registered
+//! data inside the CPU), `work` (the I/O work-area encoding, 001 §5.2),
+//! `algo` (the operation, 001 §3.1.2/§3.2.2), `cont` (PIDCONT scheduling,
 //! 001 §5.1.1/§5.1.2).
 //!
 //! CPU profile: the High-performance/Universal QCPU one (Q06HCPU): 1..32
-//! loops, range-limit switches SD774/SD775 and SD794/SD795. No instruction
-//! allocates when it executes.
+//! loops, range-limit switches SD774/SD775 and SD794/SD795 (the Basic QCPU's
+//! 8 loops and the QnACPU's always-limited ranges are not modelled). No
+//! instruction allocates when it executes.
+//!
+//! Scope of the registration: it lives in the hidden state words of the
+//! program file that holds the PIDINIT (see `registry`), so PIDINIT and the
+//! PIDCONT/PIDSTOP/PIDRUN/PIDPRMW that use it must be in the same program
+//! file; and like every hidden state it is cleared at STOP→RUN and power-on,
+//! after which PIDINIT must run again (a loop's running state is in the I/O
+//! data and survives if those devices do).
 
 pub mod algo;
 mod cont;
@@ -94,7 +102,7 @@ impl Family {
         }
     }
 
-    /// Signature of the family's registry root ([`registry`]).
+    /// Signature of the family's registry root (`registry`).
     const fn magic(self) -> u32 {
         match self {
             Family::Incomplete => 0x5350_4944, // "SPID"
@@ -111,7 +119,8 @@ impl Family {
     }
 }
 
-/// The compile function for a mnemonic of this family (pulse suffix removed;
+/// The compile function for a mnemonic of this family (001 §3.1.3/§3.2.3
+/// instruction lists; pulse suffix removed;
 /// the framework maps `SP.X` to `S.X` and `XP` to `X` with pulse execution).
 pub fn lookup(m: &str) -> Option<CompileFn> {
     Some(match m {
@@ -152,7 +161,8 @@ fn pid57(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     None
 }
 
-/// Checks the operand count and the pulse spelling.
+/// Checks the operand count (S.PIDPRMW/PIDPRMW 2, the others 1; 001 §8.1,
+/// §9.1 "设置数据") and the pulse spelling.
 fn prologue(a: &mut Args<'_, '_>, base: &str, operands: usize) -> Option<Family> {
     let fam = family_of(a, base)?;
     a.count(&[operands]).then_some(fam)
@@ -173,7 +183,7 @@ fn loop_index(cx: &ExecCtx<'_>, n: &WordArg, loops: usize) -> Result<usize, Faul
 /// S.PIDINIT/SP.PIDINIT (S) (001 §8.1.1) and PIDINIT/PIDINITP (S) (001 §9.1.1):
 /// registers the PID control data starting at (S) (001 §5.1(3)).
 ///
-/// * (S) any word device, no constant ([DECISION] notes §4 S.PIDINIT).
+/// * (S) any word device, no constant (\[DECISION\] notes §4 S.PIDINIT).
 /// * n ∉ 1..32, k ∉ 1..32 or n < k → 4100; nothing runs until a good PIDINIT
 ///   (001 §5.1 Table 5.2 "不执行所有环路").
 /// * `2 + 14n` / `2 + 10n` words past the device's end → 4101, nothing is
@@ -230,7 +240,7 @@ impl Instr for PidInit {
 
 /// S.PIDCONT/SP.PIDCONT (S) (001 §8.1.2) and PIDCONT/PIDCONTP (S) (001 §9.1.2):
 /// the PID operation on the I/O data starting at (S) (001 §5.2(4)); see
-/// [`cont`] for one execution and [`algo`] for the formulas.
+/// `cont` for one execution and `algo` for the formulas.
 #[derive(Debug)]
 struct PidCont {
     fam: Family,
@@ -249,10 +259,7 @@ impl PidCont {
         let map = a.map();
         let track_flag = map.index(DeviceKind::SM, fam.track_flag());
         let [lo, hi] = fam.range_registers();
-        let range_regs = [
-            map.index(DeviceKind::SD, lo),
-            map.index(DeviceKind::SD, hi),
-        ];
+        let range_regs = [map.index(DeviceKind::SD, lo), map.index(DeviceKind::SD, hi)];
         Some(Box::new(PidCont {
             fam,
             io,
@@ -297,7 +304,7 @@ impl Instr for PidCont {
 /// * n ∉ 1..32 or n > loops registered → 4100.
 /// * STOP keeps the loop's data; PIDINIT does not restart it. RUN on a running
 ///   loop is ignored. While stopped the accumulator stays 0, so after RUN the
-///   loop resumes with its held history one Ts later ([DECISION] notes §4).
+///   loop resumes with its held history one Ts later (\[DECISION\] notes §4).
 #[derive(Debug)]
 struct PidStopRun {
     fam: Family,
@@ -311,12 +318,7 @@ impl PidStopRun {
         let fam = prologue(a, if run { "PIDRUN" } else { "PIDSTOP" }, 1)?;
         let n = a.word_src(0, Num::I16)?;
         let state = a.state_words(registry::LINK_WORDS) as usize;
-        Some(Box::new(PidStopRun {
-            fam,
-            run,
-            n,
-            state,
-        }))
+        Some(Box::new(PidStopRun { fam, run, n, state }))
     }
 }
 
@@ -342,7 +344,7 @@ impl Instr for PidStopRun {
 /// (001 §9.1.5): replaces loop n's registered data with the 14 / 10 words at
 /// (S) (same layout as one loop of 001 §5.1(3)); no PIDINIT needed afterwards.
 ///
-/// * PIDINIT not executed → 4103 for both families ([DECISION] notes §4: the
+/// * PIDINIT not executed → 4103 for both families (\[DECISION\] notes §4: the
 ///   S.PIDPRMW page prints 4100, the PIDPRMW page 4103).
 /// * n ∉ 1..32 or n > loops registered → 4100.
 /// * (S) block past the device's end → 4101.

@@ -3,7 +3,7 @@
 
 use super::Family;
 
-/// Words of one loop's PID control data (S. family: 14, plain family: 10).
+/// Words of one loop's PID control data (001 §5.1(3): S. family 14, plain family 10).
 pub(crate) const MAX_LOOP_WORDS: usize = 14;
 
 /// One loop's registered PID control data, 001 §5.1 Table 5.2 (words m+0 …
@@ -11,7 +11,7 @@ pub(crate) const MAX_LOOP_WORDS: usize = 14;
 ///
 /// Values are the raw words as registered. The "limited" conversions of
 /// MVLL/MVHL/ΔMVL/ΔPVL are applied at operation time, never written back
-/// ([DECISION] pid-instructions.md §3.1 notes).
+/// (\[DECISION\] pid-instructions.md §3.1 notes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct LoopParams {
     /// Operation select: false = forward (0), true = reverse (1) (001 §4.2.2).
@@ -77,7 +77,7 @@ impl LoopParams {
     }
 }
 
-/// `v` as u16 when `lo <= v <= hi`.
+/// `v` as u16 when `lo <= v <= hi` (the "用户指定范围" column of 001 §5.1 Table 5.2).
 fn range(v: i16, lo: i16, hi: i16) -> Option<u16> {
     (lo..=hi).contains(&v).then_some(v as u16)
 }

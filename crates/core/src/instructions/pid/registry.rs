@@ -53,11 +53,13 @@ const REGISTERED: u32 = 1;
 const COMMON_ERROR: u32 = 2;
 const CONT_SEEN: u32 = 4;
 
+/// The family's root signature is at block `b` ([`registry`](self) module doc;
+/// the storage of 001 §8.1.1/§9.1.1 "登录到 CPU 模块").
 fn is_root(state: &[u32], b: usize, fam: Family) -> bool {
     state.get(b + MAGIC) == Some(&fam.magic()) && state.get(b + SELF) == Some(&(b as u32 ^ MIX))
 }
 
-/// Finds the family's root for the instruction whose state block starts at
+/// Finds the family's registration (001 §8.1.1/§9.1.1) for the instruction whose state block starts at
 /// `own` (cached after the first success). `None`: no PIDINIT of the family
 /// has executed yet.
 pub(crate) fn find(state: &mut [u32], own: usize, fam: Family) -> Option<usize> {
@@ -71,7 +73,7 @@ pub(crate) fn find(state: &mut [u32], own: usize, fam: Family) -> Option<usize> 
     Some(root)
 }
 
-/// The root for a PIDINIT at `own`: the existing one, or `own` itself when it
+/// The root for a PIDINIT (001 §8.1.1/§9.1.1) at `own`: the existing one, or `own` itself when it
 /// is the first PIDINIT of the family to execute.
 pub(crate) fn find_or_become(state: &mut [u32], own: usize, fam: Family) -> usize {
     if let Some(r) = find(state, own, fam) {
@@ -83,7 +85,8 @@ pub(crate) fn find_or_become(state: &mut [u32], own: usize, fam: Family) -> usiz
     own
 }
 
-/// A view of the registry in the root's state words.
+/// A view of the registry in the root's state words: n and k (001 §5.1.1), the
+/// loops' control data (001 §5.1(3)), the PIDSTOP bits (001 §8.1.3/§9.1.4).
 pub(crate) struct Registry<'a>(&'a mut [u32]);
 
 impl<'a> Registry<'a> {

@@ -1,6 +1,6 @@
 //! softplc's private encoding of the I/O data work areas (001 §5.2(4): words
 //! +1..+9 "用于PID控制的工作区" and each loop's m+7.. work words, "读取/写入
-//! 禁止"). [DECISION] pid-instructions.md §3.4: a loop's running state lives in
+//! 禁止"). \[DECISION\] pid-instructions.md §3.4: a loop's running state lives in
 //! these device words, so clearing the area restarts the loop (001 §5.2(4)(b)
 //! 4) "当要从初始状态开始控制时，必须通过顺控程序进行数据清除"), latching it
 //! keeps the loop across power cycles, and nothing else is hidden.
@@ -28,7 +28,7 @@
 //! (see [`super::algo`]).
 //!
 //! MV keeps 36 fraction bits (resolution 1.5·10⁻¹¹) so integral action never
-//! stalls ([DECISION] pid-instructions.md §2.6 "keep MV … in full precision");
+//! stalls (\[DECISION\] pid-instructions.md §2.6 "keep MV … in full precision");
 //! PVf keeps 16 (1.5·10⁻⁵), well below one count. An all-zero area reads as
 //! "first processing not done".
 //!
@@ -54,21 +54,24 @@ pub(crate) const PVF_FRAC: i32 = 16;
 /// Offset of the loop work words inside a loop's I/O block (001 §5.2(4)).
 pub(crate) const WORK: usize = 7;
 
-/// Quantises MV to the stored Q16.36 grid (round half away from zero).
+/// Quantises MV to the stored Q16.36 grid (round half away from zero; the MV
+/// state of \[DECISION\] pid-instructions.md §2.6, §3.4).
 #[inline]
 pub(crate) fn quantize_mv(x: f64) -> f64 {
     let s = (2.0f64).powi(MV_FRAC);
     (x * s).round() / s
 }
 
-/// Quantises PVf to the stored Q16.16 grid (round half away from zero).
+/// Quantises PVf to the stored Q16.16 grid (round half away from zero; the PVf
+/// of 001 §3.1.2/§3.2.2 要点(1), state per \[DECISION\] §2.6, §3.4).
 #[inline]
 pub(crate) fn quantize_pvf(x: f64) -> f64 {
     let s = (2.0f64).powi(PVF_FRAC);
     (x * s).round() / s
 }
 
-/// One loop's decoded work words.
+/// One loop's decoded work words (001 §5.2(4) m+7.., encoding in the module doc;
+/// \[DECISION\] pid-instructions.md §3.4).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct LoopState {
     pub flags: u16,
@@ -84,19 +87,23 @@ pub(crate) struct LoopState {
     pub d1: f64,
 }
 
+/// Little-endian word pairs (low word first, as MELSEC 32-bit data; 004 §2.8).
 fn get32(w: &[u16], i: usize) -> u32 {
     w[i] as u32 | (w[i + 1] as u32) << 16
 }
 
+/// See [`get32`].
 fn put32(w: &mut [u16], i: usize, v: u32) {
     w[i] = v as u16;
     w[i + 1] = (v >> 16) as u16;
 }
 
+/// See [`get32`].
 fn get64(w: &[u16], i: usize) -> u64 {
     get32(w, i) as u64 | (get32(w, i + 2) as u64) << 32
 }
 
+/// See [`get32`].
 fn put64(w: &mut [u16], i: usize, v: u64) {
     put32(w, i, v as u32);
     put32(w, i + 2, (v >> 32) as u32);
@@ -138,7 +145,11 @@ impl LoopState {
     /// on their grids and within the int16 range (the algorithm guarantees it).
     pub(crate) fn store(&self, fam: Family, w: &mut [u16]) {
         let fixed = (self.mv * (2.0f64).powi(MV_FRAC)) as i64;
-        put64(w, 0, (fixed << FLAG_BITS) as u64 | self.flags as u64 & FLAG_MASK);
+        put64(
+            w,
+            0,
+            (fixed << FLAG_BITS) as u64 | self.flags as u64 & FLAG_MASK,
+        );
         put32(w, 4, (self.pvf1 * (2.0f64).powi(PVF_FRAC)) as i32 as u32);
         put32(w, 6, (self.pvf2 * (2.0f64).powi(PVF_FRAC)) as i32 as u32);
         w[8] = self.sv1 as u16;
@@ -165,7 +176,11 @@ mod tests {
                 sv1: -7,
                 pv1: 2050,
                 acc_ms: 65535,
-                d1: if fam == Family::Incomplete { -88.88 } else { 0.0 },
+                d1: if fam == Family::Incomplete {
+                    -88.88
+                } else {
+                    0.0
+                },
             };
             let mut w = [0u16; 16];
             st.store(fam, &mut w);
