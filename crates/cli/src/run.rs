@@ -59,6 +59,9 @@ pub struct RunArgs {
     /// Sample every N-th scan.
     #[arg(long, value_name = "N", default_value_t = 1, requires = "trace")]
     pub trace_every: u32,
+    /// Sample every DUR of virtual time instead (the "fixed time" trace point).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration, requires = "trace")]
+    pub trace_interval: Option<Duration>,
     /// Samples kept (the latest ones), 1-8192.
     #[arg(long, value_name = "N", default_value_t = 8192, requires = "trace")]
     pub trace_size: usize,
@@ -202,6 +205,7 @@ fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
     Trace::new(TraceConfig {
         devices,
         every_scans: args.trace_every,
+        interval_us: args.trace_interval.map(|d| d.as_micros() as u64),
         capacity: args.trace_size,
         trigger: None,
         after_trigger: 0,

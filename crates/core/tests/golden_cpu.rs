@@ -420,6 +420,7 @@ fn sampling_trace_ring_buffer_and_trigger() {
     let cfg = TraceConfig {
         devices: vec![spec("D0"), spec("M0")],
         every_scans: 2,
+        interval_us: None,
         capacity: 3,
         trigger: Some(spec("X0")),
         after_trigger: 1,
@@ -443,15 +444,15 @@ fn sampling_trace_ring_buffer_and_trigger() {
         ]
     );
     assert!(p.bit("SM802") && !p.bit("SM805"));
-    // Trigger in scan 8 (X0, M0 ON): one more sample after the triggering one, then complete.
+    // Trigger in scan 8 (X0, M0 ON): one more sample (scan 9), then complete.
     p.set("X0", "1").scans(6);
     let t = p.cpu.trace().unwrap();
     assert!(t.is_complete());
     assert!(p.bit("SM805") && p.bit("SM803"));
     let last: Vec<u64> = t.samples().map(|(scan, _, _)| scan).collect();
-    assert_eq!(last, [7, 9, 11]);
+    assert_eq!(last, [5, 7, 9]);
     assert_eq!(t.to_csv().lines().next(), Some("scan,time_ms,D0,M0"));
-    assert_eq!(t.to_csv().lines().nth(3), Some("11,110,11,1"));
+    assert_eq!(t.to_csv().lines().nth(3), Some("9,90,9,1"));
 }
 
 #[test]
@@ -463,6 +464,7 @@ fn trace_limits() {
     let cfg = TraceConfig {
         devices,
         every_scans: 1,
+        interval_us: None,
         capacity: 10,
         trigger: None,
         after_trigger: 0,
@@ -471,6 +473,7 @@ fn trace_limits() {
     let cfg = TraceConfig {
         devices: vec![DeviceSpec::parse("D0").unwrap()],
         every_scans: 1,
+        interval_us: None,
         capacity: 8193,
         trigger: None,
         after_trigger: 0,
@@ -758,4 +761,60 @@ fn low_speed_sync_with_low_speed_time() {
     clock.advance_us(5_000);
     cpu.scan();
     assert_eq!((counts(&cpu), cpu.busy_us()), ((2, 2, 1), 7_000));
+}
+
+#[test]
+fn trace_fixed_time_and_sm803_trigger() {
+    use softplc_core::engine::trace::{Trace, TraceConfig};
+    let mut p = Plc::new("LD SM400\nINC D0\nEND\n");
+    let cfg = TraceConfig {
+        devices: vec![DeviceSpec::parse("D0").unwrap()],
+        every_scans: 1,
+        interval_us: Some(25_000),
+        capacity: 100,
+        trigger: None,
+        after_trigger: 2,
+    };
+    p.cpu.set_trace(Some(Trace::new(cfg).unwrap()));
+    // 10 ms scans, a sample at the first END 25 ms after the previous one:
+    // ENDs at 10, 40, 70 ms (scans 1, 4, 7).
+    p.scans(7);
+    let scans: Vec<u64> = p
+        .cpu
+        .trace()
+        .unwrap()
+        .samples()
+        .map(|(s, _, _)| s)
+        .collect();
+    assert_eq!(scans, [1, 4, 7]);
+    // SM803 ON (user trigger) in scan 8: two more samples (10, 13), then complete.
+    p.set("SM803", "1").scans(10);
+    let t = p.cpu.trace().unwrap();
+    assert!(t.is_complete());
+    let scans: Vec<u64> = t.samples().map(|(s, _, _)| s).collect();
+    assert_eq!(scans, [1, 4, 7, 10, 13]);
+}
+
+#[test]
+fn program_and_interrupt_monitor_lists() {
+    // 004 §7.11: execution counts per program and per interrupt pointer.
+    let mut p = Plc::with_programs(
+        &[
+            (INTERRUPTS, ExecType::Scan, None),
+            (
+                "LD SM400\nINC D40\nEND\n",
+                ExecType::FixedScan,
+                Some(Duration::from_millis(50)),
+            ),
+        ],
+        CpuConfig::default(),
+    );
+    p.scans(10);
+    let m = p.cpu.program_monitor();
+    assert_eq!((m[0].count, m[0].exec), (10, ExecType::Scan));
+    assert_eq!((m[1].count, m[1].exec), (2, ExecType::FixedScan));
+    assert!(m[0].max >= m[0].last);
+    // I31 every 10 ms from 10 ms (the first one after EI in scan 2), I28 at 100 ms.
+    let i = p.cpu.interrupt_counts();
+    assert_eq!((i[31], i[28], i[29]), (10, 1, 0));
 }

@@ -28,6 +28,18 @@ pub struct LoadedProgram {
     pub sim_time: Option<Duration>,
 }
 
+/// One row of the program monitor list (004 §7.11, qcpu.md §4.9): execution
+/// count (wraps at 65536) and host execution time of a program file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramMonitor {
+    pub file: String,
+    pub exec: ExecType,
+    pub count: u16,
+    /// Wall-clock time of its last run and the longest run.
+    pub last: Duration,
+    pub max: Duration,
+}
+
 /// Scheduling state of a program file in the CPU.
 struct Slot {
     exec: ExecType,
@@ -36,6 +48,10 @@ struct Slot {
     off_pending: bool,
     /// Simulated execution time of one run, µs.
     cost_us: u64,
+    /// Program monitor: runs (wrapping) and host time of the last and longest run.
+    count: u16,
+    last_ns: u64,
+    max_ns: u64,
     /// Engine time at which a fixed-scan program runs next.
     next_due_us: u64,
 }
@@ -71,6 +87,8 @@ pub struct Cpu {
     max_scan_us: Option<u64>,
     /// Interrupt programs: In → (slot, op index).
     interrupts: Vec<Option<(usize, u32)>>,
+    /// Interrupt program executions per In (monitor list, wrapping).
+    int_counts: Vec<u16>,
     /// Next occurrence of I28-I31 and causes remembered while disabled.
     int_due: [u64; 4],
     int_pending: [bool; 4],
@@ -129,6 +147,9 @@ impl Cpu {
             .iter()
             .map(|p| Slot {
                 cost_us: p.sim_time.map_or(0, |d| d.as_micros() as u64),
+                count: 0,
+                last_ns: 0,
+                max_ns: 0,
                 interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
                 next_due_us: now,
                 off_pending: false,
@@ -183,6 +204,7 @@ impl Cpu {
             min_scan_us: None,
             max_scan_us: None,
             interrupts,
+            int_counts: vec![0; 256],
             int_due: [0; 4],
             int_pending: [false; 4],
             sm50: false,
@@ -746,6 +768,7 @@ impl Cpu {
         let mut z = [0u16; 16];
         z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
         self.rt.in_interrupt = true;
+        self.int_counts[n] = self.int_counts[n].wrapping_add(1);
         let out = exec::run(
             &self.programs,
             &mut self.locals,
@@ -774,8 +797,34 @@ impl Cpu {
 
     fn run_slot(&mut self, i: usize) -> bool {
         self.busy_us += self.slots[i].cost_us;
+        let t = std::time::Instant::now();
         let out = exec::run(&self.programs, &mut self.locals, &mut self.rt, i, 0);
+        let ns = t.elapsed().as_nanos() as u64;
+        let s = &mut self.slots[i];
+        s.count = s.count.wrapping_add(1);
+        s.last_ns = ns;
+        s.max_ns = s.max_ns.max(ns);
         self.outcome(out)
+    }
+
+    /// The program monitor list: every program file in parameter order.
+    pub fn program_monitor(&self) -> Vec<ProgramMonitor> {
+        self.programs
+            .iter()
+            .zip(&self.slots)
+            .map(|(p, s)| ProgramMonitor {
+                file: p.file.clone(),
+                exec: s.exec,
+                count: s.count,
+                last: Duration::from_nanos(s.last_ns),
+                max: Duration::from_nanos(s.max_ns),
+            })
+            .collect()
+    }
+
+    /// The interrupt program monitor list: executions of I0-I255 (wrapping).
+    pub fn interrupt_counts(&self) -> &[u16] {
+        &self.int_counts
     }
 
     /// Records a stop error of a program run; true when it ended normally.

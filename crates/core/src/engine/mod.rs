@@ -17,7 +17,7 @@ pub mod trace;
 use std::time::Duration;
 
 pub use clock::{Clock, MonotonicClock, VirtualClock};
-pub use cpu::{Cpu, LoadedProgram};
+pub use cpu::{Cpu, LoadedProgram, ProgramMonitor};
 pub use error::{CpuError, ErrorCode, Fault, HistoryEntry};
 
 use crate::device::{DeviceConfig, DeviceKind, DeviceMemory};

@@ -19,10 +19,15 @@ pub struct TraceConfig {
     pub devices: Vec<DeviceSpec>,
     /// Sample at every n-th END (1 = every scan).
     pub every_scans: u32,
+    /// Or sample at the first END after each interval of engine time (µs), the
+    /// "fixed time" trace point; overrides `every_scans` when set.
+    pub interval_us: Option<u64>,
     /// Ring-buffer size in samples (1..=8192).
     pub capacity: usize,
-    /// Trigger: when this bit device turns ON, `after_trigger` more samples are
-    /// taken and the trace completes. `None`: trace continuously.
+    /// Trigger: when this bit device turns ON (a rising edge: a condition already
+    /// true at the start is not recognised, L4762), or SM803 turns ON, or TRACE
+    /// executes, `after_trigger` more samples are taken and the trace completes.
+    /// `None`: only SM803/TRACE trigger it.
     pub trigger: Option<DeviceSpec>,
     pub after_trigger: usize,
 }
@@ -66,6 +71,11 @@ pub struct Trace {
     next: usize,
     len: usize,
     countdown: u32,
+    /// Engine time of the last sample (interval trace point).
+    last_sample_us: Option<u64>,
+    /// Trigger device and SM803 at the previous END (edges).
+    trigger_before: bool,
+    sm803_before: bool,
     /// Samples still to take after the trigger; `None` before the trigger.
     remaining: Option<usize>,
     complete: bool,
@@ -81,6 +91,9 @@ impl Trace {
             next: 0,
             len: 0,
             countdown: 0,
+            last_sample_us: None,
+            trigger_before: true,
+            sm803_before: true,
             remaining: None,
             complete: false,
             cfg,
@@ -97,20 +110,42 @@ impl Trace {
             return;
         }
         sm(mem, 802, true);
-        if self.remaining.is_none() {
-            if let Some(t) = &self.cfg.trigger {
-                if matches!(t.read(mem), Ok(Value::Bool(true))) {
-                    self.remaining = Some(self.cfg.after_trigger);
-                    sm(mem, 803, true);
-                    sm(mem, 804, true);
-                }
-            }
+        // Trigger on a rising edge of the trigger device or of SM803.
+        let dev = self
+            .cfg
+            .trigger
+            .as_ref()
+            .is_some_and(|t| matches!(t.read(mem), Ok(Value::Bool(true))));
+        let sm803 = mem.get_bit(DeviceKind::SM, 803).unwrap_or(false);
+        let fired = dev && !self.trigger_before || sm803 && !self.sm803_before;
+        (self.trigger_before, self.sm803_before) = (dev, sm803);
+        if fired {
+            self.trigger();
+            sm(mem, 803, true);
         }
-        if self.countdown > 0 {
-            self.countdown -= 1;
+        if self.remaining.is_some() {
+            sm(mem, 804, true);
+        }
+        let due = match self.cfg.interval_us {
+            Some(iv) => {
+                let due = self.last_sample_us.is_none_or(|t| now_us >= t + iv);
+                if due {
+                    self.last_sample_us = Some(now_us);
+                }
+                due
+            }
+            None if self.countdown > 0 => {
+                self.countdown -= 1;
+                false
+            }
+            None => {
+                self.countdown = self.cfg.every_scans - 1;
+                true
+            }
+        };
+        if !due {
             return;
         }
-        self.countdown = self.cfg.every_scans - 1;
         let n = self.cfg.devices.len();
         let row = &mut self.values[self.next * n..(self.next + 1) * n];
         for (v, d) in row.iter_mut().zip(&self.cfg.devices) {
@@ -120,13 +155,20 @@ impl Trace {
         self.next = (self.next + 1) % self.cfg.capacity;
         self.len = (self.len + 1).min(self.cfg.capacity);
         if let Some(r) = &mut self.remaining {
-            if *r == 0 {
-                self.complete = true;
-                sm(mem, 802, false);
-                sm(mem, 805, true);
-            } else {
-                *r -= 1;
-            }
+            *r = r.saturating_sub(1);
+        }
+        if self.remaining == Some(0) {
+            self.complete = true;
+            sm(mem, 802, false);
+            sm(mem, 805, true);
+        }
+    }
+
+    /// The TRACE instruction or a trigger operation: starts the after-trigger count.
+    pub fn trigger(&mut self) {
+        if self.remaining.is_none() && !self.complete {
+            self.remaining = Some(self.cfg.after_trigger);
+            self.complete = self.cfg.after_trigger == 0;
         }
     }
 
