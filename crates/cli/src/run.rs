@@ -256,7 +256,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     cpu.set_trace(trace);
     // Power-on: latched devices, file registers and the error history come back.
     let mut battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach(&dir, &mut cpu) {
+        Some(dir) => match Battery::attach(&dir, &mut cpu, false) {
             Ok(b) => {
                 for w in b.warnings() {
                     eprintln!("softplc: {}: {w}", dir.display());

@@ -807,6 +807,18 @@ impl Cpu {
         self.outcome(out)
     }
 
+    /// The calendar clock now, µs since 1970.
+    pub fn calendar_unix_us(&self) -> i64 {
+        self.rt.clock.unix_us(self.clock.now_us())
+    }
+
+    /// Sets the calendar clock (µs since 1970), e.g. from the state directory.
+    pub fn set_calendar_unix_us(&mut self, us: i64) {
+        let now = self.clock.now_us();
+        let t = super::calendar::DateTime::from_unix(us.div_euclid(1_000_000));
+        self.rt.clock.set(t, now);
+    }
+
     /// The program monitor list: every program file in parameter order.
     pub fn program_monitor(&self) -> Vec<ProgramMonitor> {
         self.programs

@@ -1,5 +1,6 @@
 //! The CPU's battery: binds a [`Store`] to a [`Cpu`]'s retained memory (latch
-//! ranges, file registers, error history). Opening restores it — each process
+//! ranges, file registers, error history) and the calendar clock, kept as its
+//! offset from the host clock (the battery keeps the clock running while off). Opening restores it — each process
 //! start is a power-on — and `commit` is called right after a scan, i.e. at END
 //! processing, so what is on disk is always the state of some END.
 
@@ -22,14 +23,25 @@ impl Battery {
     /// Opens (or creates) the state directory and restores the CPU's retained
     /// memory from it. Warnings (discarded regions, a torn journal tail) are in
     /// [`Battery::warnings`].
-    pub fn attach(dir: &Path, cpu: &mut Cpu) -> Result<Battery, PersistError> {
-        let layout: Vec<Region> = cpu
+    ///
+    /// With `restore_clock` the calendar clock continues from the saved offset
+    /// to the host clock (real time, `serve`); `run` keeps its reproducible
+    /// `--clock` start instead.
+    pub fn attach(dir: &Path, cpu: &mut Cpu, restore_clock: bool) -> Result<Battery, PersistError> {
+        let mut layout: Vec<Region> = cpu
             .retained_layout()
             .into_iter()
             .map(|(name, len)| Region::new(name, len))
             .collect();
+        layout.push(Region::new("clock-offset", CLOCK_LEN));
         let (store, data) = Store::open(dir, &layout)?;
-        cpu.restore_retained(&data);
+        cpu.restore_retained(&data[..data.len() - 1]);
+        if let (true, Some(Some(c))) = (restore_clock, data.last()) {
+            if c[0] == 1 {
+                let offset = i64::from_le_bytes(c[1..9].try_into().unwrap_or([0; 8]));
+                cpu.set_calendar_unix_us(host_unix_us() + offset);
+            }
+        }
         let bufs = layout.iter().map(|r| vec![0; r.len]).collect();
         Ok(Battery {
             store,
@@ -46,7 +58,16 @@ impl Battery {
     /// Commits the CPU's retained memory now (atomically; only changed chunks
     /// are written).
     pub fn commit(&mut self, cpu: &Cpu) -> Result<CommitStats, PersistError> {
-        cpu.save_retained(&mut self.bufs);
+        let n = self.bufs.len();
+        cpu.save_retained(&mut self.bufs[..n - 1]);
+        // The clock offset changes by a few µs per commit as host and engine
+        // clocks drift; it is kept rounded to whole seconds so an unchanged clock
+        // writes nothing.
+        let offset =
+            (cpu.calendar_unix_us() - host_unix_us() + 500_000).div_euclid(1_000_000) * 1_000_000;
+        let c = &mut self.bufs[n - 1];
+        c[0] = 1;
+        c[1..9].copy_from_slice(&offset.to_le_bytes());
         let regions: Vec<&[u8]> = self.bufs.iter().map(|b| b.as_slice()).collect();
         self.last = Instant::now();
         self.store.commit(&regions)
@@ -60,4 +81,14 @@ impl Battery {
             Ok(None)
         }
     }
+}
+
+/// The saved clock: a flag byte and the offset (µs, i64 LE) of the PLC calendar
+/// from the host's clock.
+const CLOCK_LEN: usize = 9;
+
+fn host_unix_us() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_micros() as i64)
 }
