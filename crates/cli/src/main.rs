@@ -31,7 +31,7 @@ enum Command {
     /// current value.
     ///
     /// Example: softplc run examples/blink.il --scans 100 --set X0=1 --show Y0 --show TN0
-    Run(run::RunArgs),
+    Run(Box<run::RunArgs>),
     /// Load a program and report every diagnostic as file:line:column: message.
     ///
     /// Exit status is non-zero when the program has errors.
@@ -44,7 +44,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run(args) => run::run(args),
+        Command::Run(args) => run::run(*args),
         Command::Check { program } => run::check(&program),
     }
 }

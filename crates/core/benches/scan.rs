@@ -49,16 +49,29 @@ fn mixed_program() -> (String, u64) {
     for i in 0..1000u32 {
         let (d, m) = (10 * (i % 1000), i % 4000);
         let rung = match i % 10 {
-            0 => format!("LD X{:X}\nOR M{m}\nANI X{:X}\nOUT M{m}\n", i % 256, (i + 1) % 256),
+            0 => format!(
+                "LD X{:X}\nOR M{m}\nANI X{:X}\nOUT M{m}\n",
+                i % 256,
+                (i + 1) % 256
+            ),
             1 => format!("LD M{m}\nOUT T{} K50\n", i % 2000),
             2 => format!("LD X{:X}\nOUT C{} K100\n", i % 256, i % 1000),
             3 => format!("LD> D{d} K100\nAND M{m}\nMOV D{d} D{}\n", d + 1),
             4 => format!("LD SM400\n+ D{d} K1 D{}\n* D{d} K3 D{}\n", d + 2, d + 4),
             5 => format!("LD SM400\nBCD D{d} D{}\nBIN D{} D{}\n", d + 6, d + 6, d + 7),
             6 => format!("LD M{m}\nDMOV K100000 D{}\nINC D{d}\n", d + 8),
-            7 => format!("LD SM400\nE+ E1.5 E2.5 D{}\nINT D{} D{}\n", d + 2, d + 2, d + 4),
+            7 => format!(
+                "LD SM400\nE+ E1.5 E2.5 D{}\nINT D{} D{}\n",
+                d + 2,
+                d + 2,
+                d + 4
+            ),
             8 => format!("LDP X{:X}\nMOV K{} D{d}\n", i % 256, i),
-            _ => format!("LD SM400\nMPS\nAND M{m}\nOUT Y{:X}\nMPP\nANI M{m}\nOUT Y{:X}\n", i % 512, 512 + i % 512),
+            _ => format!(
+                "LD SM400\nMPS\nAND M{m}\nOUT Y{:X}\nMPP\nANI M{m}\nOUT Y{:X}\n",
+                i % 512,
+                512 + i % 512
+            ),
         };
         n += rung.lines().count() as u64;
         s += &rung;
@@ -79,6 +92,7 @@ fn bench(c: &mut Criterion) {
     for (name, (src, n)) in [
         ("contacts_50k", contacts_program()),
         ("mov_20k", mov_program()),
+        ("mixed_1000_rungs", mixed_program()),
     ] {
         let (mut cpu, clock) = cpu(&src);
         g.throughput(Throughput::Elements(n));

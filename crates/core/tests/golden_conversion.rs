@@ -408,9 +408,9 @@ fn rad_and_deg() {
     p.set("D8:f32", "5").scan();
     assert_running(&p);
     // 180 × π/180 = π = 3.14159265…; single precision is within 1e-6.
-    assert!((p.real("D0") - 3.141_592_65).abs() < 1e-6);
+    assert!((p.real("D0") - std::f64::consts::PI).abs() < 1e-6);
     // −90° = −π/2 = −1.57079633….
-    assert!((p.real("D2") + 1.570_796_33).abs() < 1e-6);
+    assert!((p.real("D2") + std::f64::consts::FRAC_PI_2).abs() < 1e-6);
     // 1 rad = 180/π = 57.2957795…°.
     assert!((p.real("D4") - 57.295_779_5).abs() < 1e-5);
     // π (as stored) back to degrees: 180 within single precision.

@@ -818,3 +818,18 @@ fn program_and_interrupt_monitor_lists() {
     let i = p.cpu.interrupt_counts();
     assert_eq!((i[31], i[28], i[29]), (10, 1, 0));
 }
+
+#[test]
+fn ans_sets_the_annunciator_after_its_time_and_anr_resets_it() {
+    // ANS T0 K5 F10: F10 when X0 has been ON for 0.5 s (T0, 100 ms base, counting
+    // from the execution after the coil turned ON: scan 51 with 10 ms scans).
+    let mut p = Plc::new("LD X0\nANS T0 K5 F10\nLD X1\nANRP\nEND\n");
+    p.set("X0", "1").scans(50);
+    assert!(!p.bit("F10"));
+    p.scan();
+    assert!(p.bit("F10"));
+    assert_eq!((p.int("SD62"), p.int("SD63")), (10, 1));
+    p.set("X0", "0").set("X1", "1").scan();
+    assert!(!p.bit("F10"));
+    assert_eq!((p.int("SD62"), p.int("SD63")), (0, 0));
+}

@@ -958,6 +958,7 @@ fn error_4100_common_data() {
 /// "continue"); PIDCONT reports 4100 again on every execution.
 #[test]
 fn error_4100_one_loop_skipped() {
+    #[allow(clippy::type_complexity)]
     let bad_loops: [(Fam, Loop, Option<(u32, i16)>); 9] = [
         (Fam::C, Loop { ts: 0, ..BASE }, None),
         (Fam::C, Loop { kp: 10001, ..BASE }, None),

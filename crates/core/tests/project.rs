@@ -118,22 +118,26 @@ fn example_project_loads() {
             ProgramSpec {
                 file: dir.join("init.il"),
                 exec: ExecType::Initial,
-                interval: None
+                interval: None,
+                sim_time: None,
             },
             ProgramSpec {
                 file: dir.join("main.il"),
                 exec: ExecType::Scan,
-                interval: None
+                interval: None,
+                sim_time: None,
             },
             ProgramSpec {
                 file: dir.join("fast.il"),
                 exec: ExecType::FixedScan,
-                interval: Some(ms(50))
+                interval: Some(ms(50)),
+                sim_time: None,
             },
             ProgramSpec {
                 file: dir.join("stats.il"),
                 exec: ExecType::Standby,
-                interval: None
+                interval: None,
+                sim_time: None,
             },
         ]
     );

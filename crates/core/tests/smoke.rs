@@ -30,7 +30,10 @@ fn clock_registers_read_and_set() {
     assert_eq!(p.int("SD212:u16"), 0x0002);
     assert_eq!(p.int("SD213:u16"), 0x2006);
     // Set 2024-02-29 23:59:58 through SM210 (OFF→ON); SM213 keeps reading.
-    p.set("SD210", "H2402").set("SD211", "H2923").set("SD212", "H5958").set("SD213", "H2000");
+    p.set("SD210", "H2402")
+        .set("SD211", "H2923")
+        .set("SD212", "H5958")
+        .set("SD213", "H2000");
     p.set("SM210", "1").scan();
     assert!(!p.bit("SM211"));
     p.scans(2);

@@ -353,11 +353,14 @@ impl<'a> Compiler<'a> {
                     self.emit(Op::Iret);
                 }
             }
-            "LEDR" => {
+            "LEDR" | "ANR" | "ANRP" => {
+                // ANR resets the annunciator shown first (SD62), as LEDR does for
+                // annunciators; ANRP on the rising edge.
                 if self.count(i, m, &[0]) && self.output(i, m) {
-                    self.emit(Op::Ledr);
+                    self.pulsed(m == "ANRP", Op::Ledr);
                 }
             }
+            "ANS" => self.ans(i),
             "INV" | "MEP" | "MEF" => {
                 if !self.count(i, m, &[0]) || !self.need_rung(i, m) {
                     return;
@@ -851,6 +854,54 @@ impl<'a> Compiler<'a> {
                 retentive,
             })));
         }
+    }
+
+    /// `ANS T n F`: annunciator F is set when the condition has been ON for
+    /// n × 100 ms, timed by timer T (004 §10.2.4; PM ANS). Compiled as `OUT T n`
+    /// followed by `SET F` driven by the timer's contact, leaving the rung's
+    /// operation result unchanged (MPS … MPP).
+    fn ans(&mut self, i: &SourceInstr) {
+        let ops = &i.operands;
+        if !self.count(i, "ANS", &[3]) || !self.output(i, "ANS") {
+            return;
+        }
+        let timer = match parse_operand(&ops[0].text) {
+            Ok(Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                index: None,
+            }) if dev.generic && dev.kind == DeviceKind::TS => dev,
+            _ => return self.err(&ops[0], format!("`{}`: ANS needs a timer T", ops[0].text)),
+        };
+        let Some(n) = self.annunciator(&ops[2]) else {
+            return self.err(
+                &ops[2],
+                format!("`{}`: ANS needs an annunciator F", ops[2].text),
+            );
+        };
+        let Some(contact) = self.map.index(DeviceKind::TS, timer.number) else {
+            return self.range_err(&ops[0], DeviceKind::TS, timer.number, &ops[0].text);
+        };
+        let Some(set) = self.set_value(&ops[1]) else {
+            return;
+        };
+        self.emit(Op::Timer(Box::new(Timer {
+            coil: self.map.base(DeviceKind::TC) + timer.number,
+            contact,
+            value: self.map.base(DeviceKind::TN) + timer.number,
+            slot: timer_slot(self.map, false, timer.number),
+            set,
+            high_speed: false,
+            retentive: false,
+        })));
+        self.emit(Op::Mps);
+        self.emit(Op::Ld(contact));
+        self.emit(Op::Ann {
+            kind: AnnKind::Set,
+            n,
+        });
+        self.emit(Op::Mpp);
     }
 
     /// `Fn` written plainly: OUT/SET/RST make it an annunciator (004 §10.2.4).
