@@ -1320,3 +1320,60 @@ fn exec_does_not_allocate() {
         assert_eq!(alloc_count::COUNT.with(|n| n.get()), 0, "{fam:?}");
     }
 }
+
+/// PIDINIT in an initial program registers the loops that PIDCONT uses in a
+/// scan program of another file: the registration is CPU-wide (001 §8.1.1
+/// "registered in the CPU module").
+#[test]
+fn pidinit_and_pidcont_in_different_program_files() {
+    use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
+    use softplc_core::program::compile_il;
+    let cfg = CpuConfig::default();
+    let init = "LD SM400\nS.PIDINIT D100\nEND\n";
+    let main = "LD SM400\nS.PIDCONT D300\nEND\n";
+    let progs = [
+        ("init.il", init, ExecType::Initial),
+        ("main.il", main, ExecType::Scan),
+    ]
+    .iter()
+    .map(|(n, s, e)| LoadedProgram {
+        program: compile_il(n, s, &cfg.devices).unwrap(),
+        exec: *e,
+        interval: None,
+        sim_time: None,
+    })
+    .collect();
+    let clock = VirtualClock::new();
+    let mut cpu = Cpu::with_programs(progs, cfg, Box::new(clock.clone())).unwrap();
+    // Control data: 1 loop, 1 per scan, reverse action (heating: EV = SV − PV), Ts 1 (10 ms), KP 100 (1.00),
+    // TI 10 (1 s), TD 0, α 0, MVLL 0, MVHL 2000, ΔMV/ΔPV alarm limits 0 (off).
+    let spec = |d: &str| softplc_core::access::DeviceSpec::parse(d).unwrap();
+    for (d, v) in [
+        ("D100", 1),
+        ("D101", 1),
+        ("D102", 1),
+        ("D103", 1),
+        ("D104", 100),
+        ("D105", 10),
+        ("D108", 0),
+        ("D109", 2000),
+    ] {
+        cpu.write_device(&spec(d), &v.to_string()).unwrap();
+    }
+    // I/O data: SV 1000, PV 0, auto.
+    for (d, v) in [("D310", 1000), ("D311", 0), ("D315", 1)] {
+        cpu.write_device(&spec(d), &v.to_string()).unwrap();
+    }
+    for _ in 0..20 {
+        clock.advance_us(10_000);
+        cpu.scan();
+    }
+    // Without the registration PIDCONT would stop the CPU with 4103.
+    assert!(cpu.error().is_none(), "{:?}", cpu.error());
+    assert_eq!(cpu.state(), softplc_core::engine::CpuState::Run);
+    // The loop runs: MV (m+2) has moved up from 0 towards SV − PV.
+    match cpu.read_device(&spec("D312")).unwrap() {
+        softplc_core::access::Value::Int(mv) => assert!(mv > 0, "MV {mv}"),
+        v => panic!("{v:?}"),
+    }
+}

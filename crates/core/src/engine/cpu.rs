@@ -163,6 +163,7 @@ impl Cpu {
             mem,
             now_us: now,
             clock: PlcClock::new(cfg.clock_start, now),
+            shared: vec![0; crate::instructions::SHARED_WORDS].into_boxed_slice(),
             timer_rem: vec![0; timers as usize].into_boxed_slice(),
             timer_base_us: [
                 cfg.timer_low.as_micros().max(1) as u32,
@@ -430,6 +431,7 @@ impl Cpu {
         for l in &mut self.locals {
             l.clear();
         }
+        self.rt.shared.fill(0);
         for s in &mut self.slots {
             s.next_due_us = now + s.interval_us;
         }

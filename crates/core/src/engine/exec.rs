@@ -214,6 +214,7 @@ pub(crate) fn run(
                         now_us: rt.now_us,
                         scan_us: rt.scan_us,
                         clock: &mut rt.clock,
+                        shared: &mut rt.shared,
                     };
                     try_op!(prog.ext[*x as usize].exec(&mut cx));
                 }

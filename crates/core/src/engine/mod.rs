@@ -163,6 +163,8 @@ pub(crate) struct Runtime {
     pub now_us: u64,
     /// The calendar clock (SD210-SD213, DATERD/DATEWR).
     pub clock: calendar::PlcClock,
+    /// CPU-wide state of family instructions (see `ExecCtx::shared`).
+    pub shared: Box<[u32]>,
     /// Sub-unit remainder of each timer, µs (T then ST).
     pub timer_rem: Box<[u32]>,
     /// [low, high] timer bases in µs.

@@ -42,6 +42,10 @@ pub struct ExecCtx<'a> {
     /// PLC clock reading (µs) and the scan time measured at the previous END (µs).
     pub now_us: u64,
     pub scan_us: u32,
+    /// CPU-wide state shared by instructions of every program file (what the
+    /// CPU keeps outside device memory, e.g. the PID registration), cleared at
+    /// power-on and STOP→RUN; see [`SHARED_WORDS`].
+    pub shared: &'a mut [u32],
     /// The calendar clock (read with `clock.now(now_us)`, set by DATEWR).
     pub clock: &'a mut crate::engine::calendar::PlcClock,
 }
@@ -58,6 +62,9 @@ pub type CompileFn = fn(&mut Args<'_, '_>) -> Option<Box<dyn Instr>>;
 
 /// Finds a family's compile function for a mnemonic (pulse suffix already removed).
 pub type LookupFn = fn(&str) -> Option<CompileFn>;
+
+/// Size of [`ExecCtx::shared`]: the PID registrations of both families.
+pub const SHARED_WORDS: usize = 2 * pid::registry::REGISTRY_WORDS;
 
 /// The registered families, tried in order.
 pub const FAMILIES: &[LookupFn] = &[

@@ -34,7 +34,7 @@
 pub mod algo;
 mod cont;
 mod params;
-mod registry;
+pub(crate) mod registry;
 mod work;
 
 use super::{Args, CompileFn, ExecCtx, Instr};
@@ -102,11 +102,12 @@ impl Family {
         }
     }
 
-    /// Signature of the family's registry root (`registry`).
-    const fn magic(self) -> u32 {
+    /// Offset of the family's registration in the CPU-wide shared state
+    /// ([`crate::instructions::ExecCtx::shared`]).
+    const fn shared(self) -> usize {
         match self {
-            Family::Incomplete => 0x5350_4944, // "SPID"
-            Family::Complete => 0x5049_4443,   // "PIDC"
+            Family::Incomplete => 0,
+            Family::Complete => registry::REGISTRY_WORDS,
         }
     }
 
@@ -195,23 +196,20 @@ fn loop_index(cx: &ExecCtx<'_>, n: &WordArg, loops: usize) -> Result<usize, Faul
 struct PidInit {
     fam: Family,
     data: Block,
-    state: usize,
 }
 
 impl PidInit {
     fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         let fam = prologue(a, "PIDINIT", 1)?;
         let data = a.block(0)?;
-        let state = a.state_words(registry::ROOT_WORDS) as usize;
-        Some(Box::new(PidInit { fam, data, state }))
+        Some(Box::new(PidInit { fam, data }))
     }
 }
 
 impl Instr for PidInit {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let root = registry::find_or_become(cx.state, self.state, fam);
-        let mut reg = Registry::at(cx.state, root);
+        let mut reg = Registry::at(cx.shared, fam.shared());
         let s = cx.mem.block_start(&self.data, 2)?;
         let (n, k) = (cx.mem.words[s] as i16, cx.mem.words[s + 1] as i16);
         let max = MAX_LOOPS as i16;
@@ -245,7 +243,6 @@ impl Instr for PidInit {
 struct PidCont {
     fam: Family,
     io: Block,
-    state: usize,
     /// Flat bit index of SM794/SM774, flat word indices of SD794/SD795 (SD774/SD775).
     track_flag: Option<u32>,
     range_regs: [Option<u32>; 2],
@@ -255,7 +252,6 @@ impl PidCont {
     fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         let fam = prologue(a, "PIDCONT", 1)?;
         let io = a.block(0)?;
-        let state = a.state_words(registry::LINK_WORDS) as usize;
         let map = a.map();
         let track_flag = map.index(DeviceKind::SM, fam.track_flag());
         let [lo, hi] = fam.range_registers();
@@ -263,7 +259,6 @@ impl PidCont {
         Some(Box::new(PidCont {
             fam,
             io,
-            state,
             track_flag,
             range_regs,
         }))
@@ -273,8 +268,7 @@ impl PidCont {
 impl Instr for PidCont {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let root = registry::find(cx.state, self.state, fam).ok_or(ORDER)?;
-        let mut reg = Registry::at(cx.state, root);
+        let mut reg = Registry::at(cx.shared, fam.shared());
         if !reg.registered() {
             return Err(ORDER);
         }
@@ -310,30 +304,28 @@ struct PidStopRun {
     fam: Family,
     run: bool,
     n: WordArg,
-    state: usize,
 }
 
 impl PidStopRun {
     fn compile(a: &mut Args<'_, '_>, run: bool) -> Option<Box<dyn Instr>> {
         let fam = prologue(a, if run { "PIDRUN" } else { "PIDSTOP" }, 1)?;
         let n = a.word_src(0, Num::I16)?;
-        let state = a.state_words(registry::LINK_WORDS) as usize;
-        Some(Box::new(PidStopRun { fam, run, n, state }))
+        Some(Box::new(PidStopRun { fam, run, n }))
     }
 }
 
 impl Instr for PidStopRun {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let root = registry::find(cx.state, self.state, self.fam).ok_or(ORDER)?;
+        let root = self.fam.shared();
         let (loops, ready) = {
-            let reg = Registry::at(cx.state, root);
+            let reg = Registry::at(cx.shared, root);
             (reg.loops(), reg.registered() && reg.cont_seen())
         };
         if !ready {
             return Err(ORDER);
         }
         let i = loop_index(cx, &self.n, loops)?;
-        Registry::at(cx.state, root).set_stopped(i, !self.run);
+        Registry::at(cx.shared, root).set_stopped(i, !self.run);
         Ok(())
     }
 }
@@ -355,7 +347,6 @@ struct PidPrmw {
     fam: Family,
     n: WordArg,
     data: Block,
-    state: usize,
 }
 
 impl PidPrmw {
@@ -363,12 +354,10 @@ impl PidPrmw {
         let fam = prologue(a, "PIDPRMW", 2)?;
         let n = a.word_src(0, Num::I16);
         let data = a.block(1);
-        let state = a.state_words(registry::LINK_WORDS) as usize;
         Some(Box::new(PidPrmw {
             fam,
             n: n?,
             data: data?,
-            state,
         }))
     }
 }
@@ -376,9 +365,9 @@ impl PidPrmw {
 impl Instr for PidPrmw {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let root = registry::find(cx.state, self.state, fam).ok_or(ORDER)?;
+        let root = fam.shared();
         let (loops, registered) = {
-            let reg = Registry::at(cx.state, root);
+            let reg = Registry::at(cx.shared, root);
             (reg.loops(), reg.registered())
         };
         if !registered {
@@ -389,7 +378,7 @@ impl Instr for PidPrmw {
         let s = cx.mem.block_start(&self.data, per as u32)?;
         let w = &cx.mem.words[s..s + per];
         LoopParams::decode(fam, w).ok_or(ErrorCode::OPERATION)?;
-        Registry::at(cx.state, root).set_loop(i, w, true);
+        Registry::at(cx.shared, root).set_loop(i, w, true);
         Ok(())
     }
 }

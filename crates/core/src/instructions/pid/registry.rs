@@ -6,92 +6,41 @@
 //!
 //! # Where it lives
 //!
-//! The framework gives each family instruction its own hidden state words
-//! ([`ExecCtx::state`](crate::instructions::ExecCtx), allocated at load) but no
-//! storage shared between instructions. The family's registry therefore lives
-//! in the state words of one S.PIDINIT/PIDINIT instruction, the **root**:
-//!
-//! * every PIDINIT reserves [`ROOT_WORDS`]; every other PID instruction one word
-//!   (its cached root index + 1, 0 = not found yet);
-//! * the first PIDINIT of a family to execute marks its block as the root
-//!   (a family magic word followed by its own index xor [`MIX`]);
-//! * any PID instruction finds the root by scanning the state words for that
-//!   signature once, then caches the index. No root yet means PIDINIT has never
-//!   run: error 4103.
-//!
-//! Every later PIDINIT of the family writes into the root, so "the last
-//! PIDINIT executed before PIDCONT is valid" (001 §8.1.1 功能(2)) holds across
-//! several PIDINIT instructions. The state words are zeroed when the CPU is
-//! built, so a signature can only come from a PIDINIT of this program.
+//! In the CPU-wide shared state of the instruction framework
+//! ([`ExecCtx::shared`](crate::instructions::ExecCtx)), one block per family, so
+//! a PIDINIT in one program file (an initial program, say) registers the loops
+//! that PIDCONT in another file runs, as on the CPU. The shared state is
+//! cleared at power-on and STOP→RUN: PIDINIT must run again (SM402), as the
+//! manual's examples do.
 
 use super::params::MAX_LOOP_WORDS;
-use super::{Family, MAX_LOOPS};
+use super::MAX_LOOPS;
 
-/// Mixed with the root's own index in its second signature word.
-pub(crate) const MIX: u32 = 0x9E37_79B9;
-
-// Offsets inside a PIDINIT's state block.
-const CACHE: usize = 0;
-const MAGIC: usize = 1;
-const SELF: usize = 2;
-const STATUS: usize = 3;
-const LOOPS: usize = 4;
-const PER_SCAN: usize = 5;
-const STOPPED: usize = 6;
-const BAD: usize = 7;
-const PARAMS: usize = 8;
+// Offsets inside a family's registry block.
+const STATUS: usize = 0;
+const LOOPS: usize = 1;
+const PER_SCAN: usize = 2;
+const STOPPED: usize = 3;
+const BAD: usize = 4;
+const PARAMS: usize = 5;
 /// u32 words per loop's parameters (14 raw words, two per u32).
 const PARAM_U32: usize = MAX_LOOP_WORDS / 2;
 
-/// State words of a PIDINIT instruction (root candidate).
-pub(crate) const ROOT_WORDS: u32 = (PARAMS + MAX_LOOPS * PARAM_U32) as u32;
-/// State words of every other PID instruction (the cached root index).
-pub(crate) const LINK_WORDS: u32 = 1;
+/// Words of one family's registry.
+pub(crate) const REGISTRY_WORDS: usize = PARAMS + MAX_LOOPS * PARAM_U32;
 
 /// Status bits.
 const REGISTERED: u32 = 1;
 const COMMON_ERROR: u32 = 2;
 const CONT_SEEN: u32 = 4;
 
-/// The family's root signature is at block `b` ([`registry`](self) module doc;
-/// the storage of 001 §8.1.1/§9.1.1 "登录到 CPU 模块").
-fn is_root(state: &[u32], b: usize, fam: Family) -> bool {
-    state.get(b + MAGIC) == Some(&fam.magic()) && state.get(b + SELF) == Some(&(b as u32 ^ MIX))
-}
-
-/// Finds the family's registration (001 §8.1.1/§9.1.1) for the instruction whose state block starts at
-/// `own` (cached after the first success). `None`: no PIDINIT of the family
-/// has executed yet.
-pub(crate) fn find(state: &mut [u32], own: usize, fam: Family) -> Option<usize> {
-    let cached = state[own + CACHE] as usize;
-    if cached != 0 && is_root(state, cached - 1, fam) {
-        return Some(cached - 1);
-    }
-    let last = state.len().checked_sub(ROOT_WORDS as usize)?;
-    let root = (0..=last).find(|&b| is_root(state, b, fam))?;
-    state[own + CACHE] = root as u32 + 1;
-    Some(root)
-}
-
-/// The root for a PIDINIT (001 §8.1.1/§9.1.1) at `own`: the existing one, or `own` itself when it
-/// is the first PIDINIT of the family to execute.
-pub(crate) fn find_or_become(state: &mut [u32], own: usize, fam: Family) -> usize {
-    if let Some(r) = find(state, own, fam) {
-        return r;
-    }
-    state[own + MAGIC] = fam.magic();
-    state[own + SELF] = own as u32 ^ MIX;
-    state[own + CACHE] = own as u32 + 1;
-    own
-}
-
 /// A view of the registry in the root's state words: n and k (001 §5.1.1), the
 /// loops' control data (001 §5.1(3)), the PIDSTOP bits (001 §8.1.3/§9.1.4).
 pub(crate) struct Registry<'a>(&'a mut [u32]);
 
 impl<'a> Registry<'a> {
-    pub(crate) fn at(state: &'a mut [u32], root: usize) -> Registry<'a> {
-        Registry(&mut state[root..root + ROOT_WORDS as usize])
+    pub(crate) fn at(shared: &'a mut [u32], at: usize) -> Registry<'a> {
+        Registry(&mut shared[at..at + REGISTRY_WORDS])
     }
 
     /// S.PIDINIT/PIDINIT has executed (successfully or with a data error).
