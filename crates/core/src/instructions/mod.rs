@@ -21,6 +21,7 @@ pub mod file_register;
 pub mod float;
 pub mod limits;
 pub mod logic;
+pub mod misc;
 pub mod pid;
 pub mod rotation;
 pub mod sequence;
@@ -63,8 +64,9 @@ pub type CompileFn = fn(&mut Args<'_, '_>) -> Option<Box<dyn Instr>>;
 /// Finds a family's compile function for a mnemonic (pulse suffix already removed).
 pub type LookupFn = fn(&str) -> Option<CompileFn>;
 
-/// Size of [`ExecCtx::shared`]: the PID registrations of both families.
-pub const SHARED_WORDS: usize = 2 * pid::registry::REGISTRY_WORDS;
+/// Size of [`ExecCtx::shared`]: the PID registrations of both families, then the
+/// RND random series (`misc`).
+pub const SHARED_WORDS: usize = misc::SHARED_AT + misc::SHARED_WORDS;
 
 /// The registered families, tried in order.
 pub const FAMILIES: &[LookupFn] = &[
@@ -83,6 +85,7 @@ pub const FAMILIES: &[LookupFn] = &[
     clock::lookup,
     pid::lookup,
     file_register::lookup,
+    misc::lookup,
 ];
 
 /// The compile function of an extension instruction, if any family has it.
