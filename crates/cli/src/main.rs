@@ -1,6 +1,7 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
 mod run;
+mod serve;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -39,6 +40,14 @@ enum Command {
         /// Program file (.il or .csv).
         program: PathBuf,
     },
+    /// Run a program in real time at its constant scan period and serve it over
+    /// the MC protocol (and, soon, Modbus) until Ctrl-C or SIGTERM.
+    ///
+    /// Requests are served at END processing, so a client never sees a
+    /// half-written scan. Servers bind loopback unless an address says otherwise.
+    ///
+    /// Example: softplc serve examples/blink.il --mc 127.0.0.1:5010
+    Serve(Box<serve::ServeArgs>),
 }
 
 fn main() -> ExitCode {
@@ -46,5 +55,6 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Run(args) => run::run(*args),
         Command::Check { program } => run::check(&program),
+        Command::Serve(args) => serve::serve(*args),
     }
 }

@@ -129,13 +129,17 @@ fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
 }
 
 /// A loaded CPU and where its battery-backed memory lives.
-struct Loaded {
-    cpu: Cpu,
-    state: Option<PathBuf>,
+pub(crate) struct Loaded {
+    pub cpu: Cpu,
+    pub state: Option<PathBuf>,
 }
 
 /// Loads a program file or a project into a powered-on CPU.
-fn load(path: &Path, clock: Box<dyn Clock>, start: Option<DateTime>) -> Result<Loaded, ExitCode> {
+pub(crate) fn load(
+    path: &Path,
+    clock: Box<dyn Clock>,
+    start: Option<DateTime>,
+) -> Result<Loaded, ExitCode> {
     if project::is_project(path) {
         let mut p = project::load_project(path).map_err(|d| report(&d, path))?;
         if let Some(t) = start {

@@ -1,0 +1,144 @@
+//! `softplc serve` (contract §3): real-time scans at the constant-scan period with
+//! protocol servers served at END processing.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::Duration;
+
+use clap::Args;
+use softplc_core::engine::calendar::DateTime;
+use softplc_core::engine::MonotonicClock;
+use softplc_core::persist::Battery;
+use softplc_serve::{mc::Mc, EngineConfig, Listener, ServeState};
+
+use crate::run::{load, parse_datetime, parse_duration, Loaded};
+
+#[derive(Args, Debug)]
+pub struct ServeArgs {
+    /// Program file (.il or .csv) or project directory (or its plc.toml).
+    pub program: PathBuf,
+    /// Constant scan period (default: the project's constant_scan, else 10ms).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub scan_time: Option<Duration>,
+    /// MC protocol server (3E/4E, binary and ASCII), e.g. 127.0.0.1:5010 or 5010
+    /// (a bare port binds loopback).
+    #[arg(long, value_name = "ADDR")]
+    pub mc: Option<String>,
+    /// Modbus TCP server, e.g. 127.0.0.1:5020.
+    #[arg(long, value_name = "ADDR")]
+    pub modbus: Option<String>,
+    /// Modbus RTU slave on a serial device or pty.
+    #[arg(long, value_name = "PATH")]
+    pub modbus_rtu: Option<PathBuf>,
+    /// Web monitor and JSON API.
+    #[arg(long, value_name = "ADDR")]
+    pub http: Option<String>,
+    /// Remote password for the MC protocol (4 characters): writes and remote
+    /// operations are refused until a connection unlocks.
+    #[arg(long, value_name = "PW")]
+    pub password: Option<String>,
+    /// State directory (default for a project: its [state] dir).
+    #[arg(long, value_name = "DIR")]
+    pub state: Option<PathBuf>,
+    /// Calendar clock at power-on (default: the host clock, UTC, or the one kept
+    /// in the state directory).
+    #[arg(long, value_name = "DATETIME", value_parser = parse_datetime)]
+    pub clock: Option<DateTime>,
+    /// Connections per server; the one idle longest is dropped for a new one.
+    #[arg(long, value_name = "N", default_value_t = 16)]
+    pub max_connections: usize,
+    /// Print scan statistics (scan time, overruns, jitter) this often.
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub stats_every: Option<Duration>,
+}
+
+fn host_clock() -> DateTime {
+    let s = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs() as i64);
+    DateTime::from_unix(s)
+}
+
+pub fn serve(args: ServeArgs) -> ExitCode {
+    let fail = |msg: String| {
+        eprintln!("softplc: {msg}");
+        ExitCode::from(2)
+    };
+    if args.http.is_some() {
+        return fail("--http: the web monitor is not implemented yet".into());
+    }
+    if args.modbus.is_some() || args.modbus_rtu.is_some() {
+        return fail("--modbus/--modbus-rtu: the Modbus slave is not implemented yet".into());
+    }
+    let restore_clock = args.clock.is_none();
+    let start = args.clock.unwrap_or_else(host_clock);
+    let Loaded { mut cpu, state } =
+        match load(&args.program, Box::new(MonotonicClock::default()), Some(start)) {
+            Ok(l) => l,
+            Err(code) => return code,
+        };
+    let period = args
+        .scan_time
+        .or(cpu.config().constant_scan)
+        .unwrap_or(Duration::from_millis(10));
+    let battery = match args.state.clone().or(state) {
+        Some(dir) => match Battery::attach(&dir, &mut cpu, restore_clock) {
+            Ok(b) => {
+                for w in b.warnings() {
+                    eprintln!("softplc: {}: {w}", dir.display());
+                }
+                Some(b)
+            }
+            Err(e) => return fail(format!("state directory {}: {e}", dir.display())),
+        },
+        None => None,
+    };
+    let mut listeners = Vec::new();
+    let mut names = Vec::new();
+    if let Some(a) = &args.mc {
+        match softplc_serve::parse_addr(a) {
+            Ok(addr) => {
+                let mc = Mc {
+                    password: args.password.clone(),
+                };
+                listeners.push(Listener::tcp(addr, mc, args.max_connections));
+                names.push("MC protocol");
+            }
+            Err(e) => return fail(format!("--mc {e}")),
+        }
+    }
+    let cfg = EngineConfig {
+        period,
+        end_budget: (period / 4).max(Duration::from_micros(200)),
+        queue: 1024,
+        battery,
+        log_every: args.stats_every,
+    };
+    let program = args.program.display().to_string();
+    let stop = Arc::new(AtomicBool::new(false));
+    let result = softplc_serve::run(ServeState::new(cpu), cfg, listeners, stop, |bound| {
+        let servers: Vec<String> = names
+            .iter()
+            .zip(bound)
+            .map(|(n, a)| format!("{n} on {a}"))
+            .collect();
+        eprintln!(
+            "softplc: serving {program}, constant scan {period:?}{}{}",
+            if servers.is_empty() { "" } else { "; " },
+            servers.join(", ")
+        );
+    });
+    match result {
+        Ok(s) => {
+            let st = &s.stats;
+            eprintln!(
+                "softplc: stopped after {} scans; max scan {} us, {} overruns, {} requests",
+                st.scans, st.max_us, st.overruns, st.requests
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => fail(format!("cannot serve: {e}")),
+    }
+}

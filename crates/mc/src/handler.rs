@@ -1,0 +1,439 @@
+//! Executes decoded requests against a [`Cpu`].
+//!
+//! - Bit devices read or written in word units pack 16 points a word, the lowest
+//!   device number in bit 0, from any head number (the manuals suggest multiples
+//!   of 16; softplc does not insist). Double words (random read/write) are two words, low
+//!   word first (32 points of a bit device).
+//! - Writes to X (and DX) go through [`Cpu::set_input`], so they survive the next
+//!   input refresh, as an input module's signal would.
+//! - R addresses the file-register block SD648 selects (R0-32767 of block n is
+//!   ZR(32768·n)-ZR(32768·n+32767)).
+//! - A range check covers the whole request before anything is written: a random
+//!   write with one point out of range writes nothing.
+//! - Remote RUN with a clear mode clears device memory only when the CPU was in
+//!   STOP: every device but X (refreshed from the input image), SM/SD (system) and
+//!   the file registers R/ZR; clear mode 01 keeps the latch ranges. Device initial
+//!   values are then written again.
+//! - Remote password: with a password configured, a [`Session`] starts locked and
+//!   refuses everything but unlock (1630) and loopback (0619) with `C201`. Unlock
+//!   with the right password unlocks the session, a wrong one answers `C200`;
+//!   lock (1631, with the right password) locks it again. Without a configured
+//!   password, unlock and lock complete normally and change nothing.
+
+use softplc_core::device::{DeviceKind, DeviceMemory};
+use softplc_core::engine::{Cpu, CpuState};
+
+use crate::command::{ClearMode, Command, Unit};
+use crate::device::{Device, DeviceRef};
+use crate::end_code::EndCode;
+use crate::frame::{decode_request, encode_response, FrameError, Request, Response, ResponseData};
+
+/// Per-connection state.
+#[derive(Clone, Debug, Default)]
+pub struct Session {
+    unlocked: bool,
+}
+
+impl Session {
+    /// A new connection: locked if the CPU has a remote password.
+    pub fn new() -> Session {
+        Session::default()
+    }
+
+    /// Whether the remote password has been unlocked on this connection.
+    pub fn is_unlocked(&self) -> bool {
+        self.unlocked
+    }
+}
+
+/// Model codes answered to "read CPU model" (0101), from the MC protocol / SLMP
+/// reference tables. Models with built-in Ethernet (`...E...CPU`) answer the code
+/// of the same model without it. Unknown models answer code 0000.
+pub const MODEL_CODES: &[(&str, u16)] = &[
+    ("Q00JCPU", 0x0250),
+    ("Q00CPU", 0x0251),
+    ("Q01CPU", 0x0252),
+    ("Q02CPU", 0x0041),
+    ("Q02HCPU", 0x0041),
+    ("Q06HCPU", 0x0042),
+    ("Q12HCPU", 0x0043),
+    ("Q25HCPU", 0x0044),
+    ("Q12PRHCPU", 0x004B),
+    ("Q25PRHCPU", 0x004C),
+    ("Q00UJCPU", 0x0260),
+    ("Q00UCPU", 0x0261),
+    ("Q01UCPU", 0x0262),
+    ("Q02UCPU", 0x0263),
+    ("Q03UDCPU", 0x0268),
+    ("Q03UDECPU", 0x0268),
+    ("Q04UDHCPU", 0x0269),
+    ("Q04UDEHCPU", 0x0269),
+    ("Q06UDHCPU", 0x026A),
+    ("Q06UDEHCPU", 0x026A),
+    ("Q10UDHCPU", 0x0266),
+    ("Q10UDEHCPU", 0x0266),
+    ("Q13UDHCPU", 0x026B),
+    ("Q13UDEHCPU", 0x026B),
+    ("Q20UDHCPU", 0x0267),
+    ("Q20UDEHCPU", 0x0267),
+    ("Q26UDHCPU", 0x026C),
+    ("Q26UDEHCPU", 0x026C),
+    ("Q50UDEHCPU", 0x026D),
+    ("Q100UDEHCPU", 0x026E),
+    ("Q03UDVCPU", 0x0366),
+    ("Q04UDVCPU", 0x0367),
+    ("Q06UDVCPU", 0x0368),
+    ("Q13UDVCPU", 0x036A),
+    ("Q26UDVCPU", 0x036C),
+    ("L02SCPU", 0x0543),
+    ("L02CPU", 0x0541),
+    ("L06CPU", 0x0544),
+    ("L26CPU", 0x0545),
+    ("L26CPU-BT", 0x0542),
+];
+
+/// The model code of a CPU model name (case-insensitive).
+pub fn model_code(model: &str) -> Option<u16> {
+    MODEL_CODES
+        .iter()
+        .find(|(m, _)| m.eq_ignore_ascii_case(model.trim()))
+        .map(|(_, c)| *c)
+}
+
+/// Executes `req` on `cpu`. `password` is the CPU's remote password, if any.
+pub fn handle(
+    req: &Request,
+    cpu: &mut Cpu,
+    session: &mut Session,
+    password: Option<&str>,
+) -> Response {
+    let (command, subcommand) = req.command.codes();
+    match execute(&req.command, cpu, session, password) {
+        Ok(data) => Response::Ok(data),
+        Err(end_code) => Response::Error {
+            end_code,
+            command,
+            subcommand,
+        },
+    }
+}
+
+/// What the server does with the bytes it has buffered.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Served {
+    /// No complete frame yet: read more.
+    Incomplete,
+    /// Send `response` and drop the first `used` bytes.
+    Reply { response: Vec<u8>, used: usize },
+    /// The stream cannot be understood: close the connection.
+    Close { offset: usize, what: &'static str },
+}
+
+/// Decodes the frame at the start of `buf`, executes it and encodes the answer:
+/// the whole per-frame work of an MC protocol server.
+pub fn serve(buf: &[u8], cpu: &mut Cpu, session: &mut Session, password: Option<&str>) -> Served {
+    match decode_request(buf) {
+        Ok((req, used)) => {
+            let resp = handle(&req, cpu, session, password);
+            Served::Reply {
+                response: encode_response(&req.header, &resp),
+                used,
+            }
+        }
+        Err(FrameError::Incomplete) => Served::Incomplete,
+        Err(FrameError::Malformed { offset, what }) => Served::Close { offset, what },
+        Err(FrameError::Rejected(r)) => Served::Reply {
+            response: r.response(),
+            used: r.used,
+        },
+    }
+}
+
+type Result<T> = std::result::Result<T, EndCode>;
+
+fn execute(
+    cmd: &Command,
+    cpu: &mut Cpu,
+    session: &mut Session,
+    password: Option<&str>,
+) -> Result<ResponseData> {
+    if password.is_some()
+        && !session.unlocked
+        && !matches!(cmd, Command::Unlock { .. } | Command::Loopback { .. })
+    {
+        return Err(EndCode::PASSWORD_LOCKED);
+    }
+    use Command::*;
+    Ok(match cmd {
+        BatchRead { unit, head, points } => {
+            let n = *points as usize;
+            match unit {
+                Unit::Word => ResponseData::Words(read_words(cpu.memory(), *head, n)?),
+                Unit::Bit => ResponseData::Bits(read_bits(cpu.memory(), *head, n)?),
+            }
+        }
+        BatchWriteWords { head, values } => {
+            let w = prepare_words(cpu.memory(), *head, values.len())?;
+            apply_words(cpu, w, values);
+            ResponseData::None
+        }
+        BatchWriteBits { head, values } => {
+            let w = prepare_bits(cpu.memory(), *head, values.len())?;
+            apply_bits(cpu, w, values);
+            ResponseData::None
+        }
+        RandomRead { words, dwords } => {
+            let mem = cpu.memory();
+            let words = words
+                .iter()
+                .map(|d| Ok(read_words(mem, *d, 1)?[0]))
+                .collect::<Result<_>>()?;
+            let dwords = dwords
+                .iter()
+                .map(|d| {
+                    let w = read_words(mem, *d, 2)?;
+                    Ok(w[0] as u32 | (w[1] as u32) << 16)
+                })
+                .collect::<Result<_>>()?;
+            ResponseData::Random { words, dwords }
+        }
+        RandomWriteWords { words, dwords } => {
+            let mem = cpu.memory();
+            let ws = words
+                .iter()
+                .map(|(d, _)| prepare_words(mem, *d, 1))
+                .collect::<Result<Vec<_>>>()?;
+            let ds = dwords
+                .iter()
+                .map(|(d, _)| prepare_words(mem, *d, 2))
+                .collect::<Result<Vec<_>>>()?;
+            for (w, (_, v)) in ws.into_iter().zip(words) {
+                apply_words(cpu, w, &[*v]);
+            }
+            for (w, (_, v)) in ds.into_iter().zip(dwords) {
+                apply_words(cpu, w, &[*v as u16, (*v >> 16) as u16]);
+            }
+            ResponseData::None
+        }
+        RandomWriteBits { points } => {
+            let mem = cpu.memory();
+            let ps = points
+                .iter()
+                .map(|(d, _)| prepare_bits(mem, *d, 1))
+                .collect::<Result<Vec<_>>>()?;
+            for (w, (_, v)) in ps.into_iter().zip(points) {
+                apply_bits(cpu, w, &[*v]);
+            }
+            ResponseData::None
+        }
+        RemoteRun { clear, .. } => {
+            let was_stopped = cpu.state() == CpuState::Stop;
+            cpu.set_run().map_err(|_| EndCode::NOT_EXECUTABLE)?;
+            if was_stopped && *clear != ClearMode::None {
+                clear_devices(cpu, *clear == ClearMode::All);
+            }
+            ResponseData::None
+        }
+        RemoteStop => {
+            cpu.set_stop();
+            ResponseData::None
+        }
+        RemotePause { .. } => {
+            cpu.set_pause().map_err(|_| EndCode::NOT_EXECUTABLE)?;
+            ResponseData::None
+        }
+        RemoteLatchClear => {
+            cpu.latch_clear(true).map_err(|_| EndCode::CPU_RUNNING)?;
+            ResponseData::None
+        }
+        RemoteReset => {
+            cpu.reset().map_err(|_| EndCode::CPU_RUNNING)?;
+            ResponseData::None
+        }
+        ReadCpuModel => {
+            let model = &cpu.config().model;
+            let mut name = [b' '; 16];
+            for (d, s) in name.iter_mut().zip(model.bytes()) {
+                *d = if s.is_ascii_graphic() { s } else { b' ' };
+            }
+            ResponseData::CpuModel {
+                name,
+                code: model_code(model).unwrap_or(0),
+            }
+        }
+        Unlock { password: given } => {
+            if let Some(p) = password {
+                if p.as_bytes() != given.as_slice() {
+                    return Err(EndCode::PASSWORD_MISMATCH);
+                }
+                session.unlocked = true;
+            }
+            ResponseData::None
+        }
+        Lock { password: given } => {
+            if let Some(p) = password {
+                if p.as_bytes() != given.as_slice() {
+                    return Err(EndCode::PASSWORD_MISMATCH);
+                }
+                session.unlocked = false;
+            }
+            ResponseData::None
+        }
+        Loopback { data } => ResponseData::Loopback(data.clone()),
+    })
+}
+
+// --- device access ---
+
+/// A checked span of device memory: flat start index in the bit or word array,
+/// and for X the device number (writes go through the input image).
+#[derive(Clone, Copy)]
+struct Span {
+    bit: bool,
+    start: usize,
+    input: Option<u32>,
+}
+
+/// Points of one file-register block.
+const R_BLOCK: u64 = 32768;
+
+/// Locates `points` consecutive points of `d` (bits for a bit device, words for
+/// a word device); `C056` past the end.
+fn locate(mem: &DeviceMemory, d: DeviceRef, points: usize) -> Result<Span> {
+    let kind = d.device.kind();
+    let end = d.number as u64 + points as u64;
+    if end > mem.map.points(kind) as u64 {
+        return Err(EndCode::ADDRESS_RANGE);
+    }
+    let start = if d.device == Device::R {
+        let block = mem.get_word(DeviceKind::SD, 648).unwrap_or(0) as u64;
+        let n = block * R_BLOCK + d.number as u64;
+        if n + points as u64 > mem.map.points(DeviceKind::ZR) as u64 {
+            return Err(EndCode::ADDRESS_RANGE);
+        }
+        mem.map.base(DeviceKind::ZR) as u64 + n
+    } else {
+        mem.map.base(kind) as u64 + d.number as u64
+    };
+    Ok(Span {
+        bit: kind.is_bit(),
+        start: start as usize,
+        input: (kind == DeviceKind::X).then_some(d.number),
+    })
+}
+
+fn read_words(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Vec<u16>> {
+    if d.device.is_bit() {
+        let s = locate(mem, d, 16 * n)?;
+        Ok((0..n)
+            .map(|i| mem.pack_bits(s.start + 16 * i, 16) as u16)
+            .collect())
+    } else {
+        let s = locate(mem, d, n)?;
+        Ok(mem.words[s.start..s.start + n].to_vec())
+    }
+}
+
+fn read_bits(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Vec<bool>> {
+    if !d.device.is_bit() {
+        return Err(EndCode::REQUEST_CONTENTS);
+    }
+    let s = locate(mem, d, n)?;
+    Ok(mem.bits[s.start..s.start + n].to_vec())
+}
+
+/// Checks a write of `n` words at `d`.
+fn prepare_words(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Span> {
+    locate(mem, d, if d.device.is_bit() { 16 * n } else { n })
+}
+
+/// Checks a write of `n` bits at `d`.
+fn prepare_bits(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Span> {
+    if !d.device.is_bit() {
+        return Err(EndCode::REQUEST_CONTENTS);
+    }
+    locate(mem, d, n)
+}
+
+fn apply_words(cpu: &mut Cpu, s: Span, values: &[u16]) {
+    if s.bit {
+        let bits: Vec<bool> = values
+            .iter()
+            .flat_map(|w| (0..16).map(move |i| w >> i & 1 != 0))
+            .collect();
+        apply_bits(cpu, s, &bits);
+    } else {
+        cpu.memory_mut().words[s.start..s.start + values.len()].copy_from_slice(values);
+    }
+}
+
+fn apply_bits(cpu: &mut Cpu, s: Span, values: &[bool]) {
+    match s.input {
+        Some(first) => {
+            for (i, v) in values.iter().enumerate() {
+                cpu.set_input(first + i as u32, *v);
+            }
+        }
+        None => cpu.memory_mut().bits[s.start..s.start + values.len()].copy_from_slice(values),
+    }
+}
+
+/// Device memory clear of remote RUN: everything but X, SM, SD, R and ZR; the
+/// latch ranges too when `all`. Device initial values are written again.
+fn clear_devices(cpu: &mut Cpu, all: bool) {
+    let latch = if all {
+        Vec::new()
+    } else {
+        cpu.config().latch.clone()
+    };
+    let initial = cpu.config().initial_values.clone();
+    let mem = cpu.memory_mut();
+    // Save the latch ranges (timers and counters latch contact, coil and value).
+    let mut saved_bits = Vec::new();
+    let mut saved_words = Vec::new();
+    for r in &latch {
+        use DeviceKind::*;
+        let kinds: &[DeviceKind] = match r.kind {
+            TS | TC | TN => &[TS, TC, TN],
+            STS | STC | STN => &[STS, STC, STN],
+            CS | CC | CN => &[CS, CC, CN],
+            _ => std::slice::from_ref(&r.kind),
+        };
+        for k in kinds {
+            let points = mem.map.points(*k);
+            if r.start >= points || r.start > r.end {
+                continue;
+            }
+            let start = (mem.map.base(*k) + r.start) as usize;
+            let len = (r.end.min(points - 1) - r.start + 1) as usize;
+            if k.is_bit() {
+                saved_bits.push((start, mem.bits[start..start + len].to_vec()));
+            } else {
+                saved_words.push((start, mem.words[start..start + len].to_vec()));
+            }
+        }
+    }
+    for k in DeviceKind::ALL {
+        use DeviceKind::*;
+        if matches!(k, X | SM | SD | R | ZR) {
+            continue;
+        }
+        let start = mem.map.base(k) as usize;
+        let len = mem.map.points(k) as usize;
+        if k.is_bit() {
+            mem.bits[start..start + len].fill(false);
+        } else {
+            mem.words[start..start + len].fill(0);
+        }
+    }
+    for (start, v) in saved_bits {
+        mem.bits[start..start + v.len()].copy_from_slice(&v);
+    }
+    for (start, v) in saved_words {
+        mem.words[start..start + v.len()].copy_from_slice(&v);
+    }
+    for iv in &initial {
+        // Validated when the project was loaded.
+        let _ = iv.device.write(mem, &iv.value);
+    }
+}

@@ -1,0 +1,206 @@
+//! The real-time engine thread: one scan per constant-scan period on the
+//! monotonic clock, and END processing that serves the protocol requests queued
+//! since the previous END (004 §4.3: communication is processed at END), so a
+//! reply never shows a half-written scan.
+//!
+//! Requests arrive on a bounded queue; at most [`EngineConfig::end_budget`] of
+//! each END is spent serving them, so a flood of clients delays replies, never
+//! the scan.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{sync_channel, Receiver, SyncSender, TrySendError};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use softplc_core::engine::Cpu;
+use softplc_core::persist::Battery;
+
+/// Scan statistics of the real-time loop (what the CPU's SD520-SD527 show, plus
+/// the period's jitter).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ScanStats {
+    pub scans: u64,
+    /// Execution time of the last scan (program + END processing), µs.
+    pub current_us: u64,
+    pub min_us: u64,
+    pub max_us: u64,
+    /// Scans that did not finish within the period.
+    pub overruns: u64,
+    /// Largest and mean deviation of a scan's start from its due time, µs.
+    pub jitter_max_us: u64,
+    pub jitter_mean_us: f64,
+    /// Requests served at END processing.
+    pub requests: u64,
+}
+
+/// Everything a request may touch, owned by the engine thread.
+pub struct ServeState {
+    pub cpu: Cpu,
+    pub stats: ScanStats,
+    /// Protocol state shared by all connections of one protocol (e.g. Modbus
+    /// diagnostic counters), set up by the server that needs it.
+    pub ext: Vec<Box<dyn std::any::Any + Send>>,
+}
+
+impl ServeState {
+    pub fn new(cpu: Cpu) -> Self {
+        ServeState {
+            cpu,
+            stats: ScanStats::default(),
+            ext: Vec::new(),
+        }
+    }
+
+    /// The shared protocol state of type `T`, created with `T::default()` on first use.
+    pub fn ext<T: Default + Send + 'static>(&mut self) -> &mut T {
+        let i = match self.ext.iter().position(|e| e.is::<T>()) {
+            Some(i) => i,
+            None => {
+                self.ext.push(Box::new(T::default()));
+                self.ext.len() - 1
+            }
+        };
+        self.ext[i].downcast_mut().expect("checked by position")
+    }
+}
+
+type Job = Box<dyn FnOnce(&mut ServeState) + Send>;
+
+/// The queue is full: the engine is not keeping up (reply "busy").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("the PLC is busy: request queue full or engine stopped")]
+pub struct Busy;
+
+/// Sends work to the engine thread; cheap to clone.
+#[derive(Clone)]
+pub struct EngineHandle {
+    tx: SyncSender<Job>,
+}
+
+impl EngineHandle {
+    /// Runs `f` at the next END processing and returns its result.
+    pub async fn at_end<R, F>(&self, f: F) -> Result<R, Busy>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut ServeState) -> R + Send + 'static,
+    {
+        let (otx, orx) = tokio::sync::oneshot::channel();
+        let job: Job = Box::new(move |s| {
+            let _ = otx.send(f(s));
+        });
+        match self.tx.try_send(job) {
+            Ok(()) => orx.await.map_err(|_| Busy),
+            Err(TrySendError::Full(_)) | Err(TrySendError::Disconnected(_)) => Err(Busy),
+        }
+    }
+}
+
+/// Real-time loop parameters.
+pub struct EngineConfig {
+    /// Constant-scan period.
+    pub period: Duration,
+    /// Time per END processing for serving requests.
+    pub end_budget: Duration,
+    /// Requests that may wait in the queue.
+    pub queue: usize,
+    /// Battery-backed memory, committed after END processing.
+    pub battery: Option<Battery>,
+    /// Print the scan statistics to stderr this often.
+    pub log_every: Option<Duration>,
+}
+
+/// Starts the engine thread. It runs until `stop` is set, then commits the
+/// latched data one last time and returns the state.
+pub fn spawn(
+    state: ServeState,
+    cfg: EngineConfig,
+    stop: Arc<AtomicBool>,
+) -> (EngineHandle, JoinHandle<ServeState>) {
+    let (tx, rx) = sync_channel::<Job>(cfg.queue.max(1));
+    let join = std::thread::Builder::new()
+        .name("softplc-engine".into())
+        .spawn(move || run(state, cfg, rx, stop))
+        .expect("spawn the engine thread");
+    (EngineHandle { tx }, join)
+}
+
+fn run(
+    mut s: ServeState,
+    mut cfg: EngineConfig,
+    rx: Receiver<Job>,
+    stop: Arc<AtomicBool>,
+) -> ServeState {
+    let period = cfg.period;
+    let mut due = Instant::now();
+    let mut jitter_sum = 0f64;
+    let mut logged = Instant::now();
+    while !stop.load(Ordering::Relaxed) {
+        let start = Instant::now();
+        let jitter = start.saturating_duration_since(due).as_micros() as u64;
+        s.cpu.scan();
+        // END processing: communication requests, within the budget.
+        let end = Instant::now();
+        while end.elapsed() < cfg.end_budget {
+            match rx.try_recv() {
+                Ok(job) => {
+                    job(&mut s);
+                    s.stats.requests += 1;
+                }
+                Err(_) => break,
+            }
+        }
+        if let Some(b) = &mut cfg.battery {
+            if let Err(e) = b.commit_due(&s.cpu) {
+                eprintln!("softplc: cannot save state: {e}");
+            }
+        }
+        let busy = start.elapsed();
+        let st = &mut s.stats;
+        st.scans += 1;
+        st.current_us = busy.as_micros() as u64;
+        st.min_us = if st.scans == 1 {
+            st.current_us
+        } else {
+            st.min_us.min(st.current_us)
+        };
+        st.max_us = st.max_us.max(st.current_us);
+        st.jitter_max_us = st.jitter_max_us.max(jitter);
+        jitter_sum += jitter as f64;
+        st.jitter_mean_us = jitter_sum / st.scans as f64;
+        if cfg.log_every.is_some_and(|d| logged.elapsed() >= d) {
+            logged = Instant::now();
+            eprintln!(
+                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests",
+                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests
+            );
+        }
+        due += period;
+        let now = Instant::now();
+        if now > due {
+            // Overrun: the next scan starts at once and the schedule restarts.
+            st.overruns += 1;
+            due = now;
+            continue;
+        }
+        wait_until(due);
+    }
+    if let Some(b) = &mut cfg.battery {
+        if let Err(e) = b.commit(&s.cpu) {
+            eprintln!("softplc: cannot save state: {e}");
+        }
+    }
+    s
+}
+
+/// Sleeps until `t`, spinning for the last 200 µs for a steady period.
+fn wait_until(t: Instant) {
+    const SPIN: Duration = Duration::from_micros(200);
+    let now = Instant::now();
+    if t > now + SPIN {
+        std::thread::sleep(t - now - SPIN);
+    }
+    while Instant::now() < t {
+        std::hint::spin_loop();
+    }
+}

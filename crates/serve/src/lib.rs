@@ -1,0 +1,110 @@
+//! softplc-serve: `softplc serve` — the CPU scans in real time at its constant
+//! scan period while protocol servers (MC protocol, Modbus) talk to it. Every
+//! request is served by the engine thread at END processing (see [`engine`]),
+//! the way the CPU processes communication, so replies are consistent with a
+//! completed scan and clients can never stall a scan.
+
+pub mod engine;
+pub mod mc;
+pub mod tcp;
+
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+pub use engine::{Busy, EngineConfig, EngineHandle, ScanStats, ServeState};
+pub use tcp::{FrameLen, Protocol};
+
+/// A protocol server to start.
+pub struct Listener {
+    pub addr: SocketAddr,
+    pub start: Box<
+        dyn FnOnce(tokio::net::TcpListener, EngineHandle) -> tokio::task::JoinHandle<()> + Send,
+    >,
+}
+
+impl Listener {
+    /// A TCP server of protocol `P` on `addr` with at most `max_conns` connections.
+    pub fn tcp<P: Protocol>(addr: SocketAddr, proto: P, max_conns: usize) -> Listener {
+        let proto = Arc::new(proto);
+        Listener {
+            addr,
+            start: Box::new(move |l, e| tokio::spawn(tcp::serve(l, proto, e, max_conns))),
+        }
+    }
+}
+
+/// Parses a server address: `HOST:PORT`, or a bare port on loopback (servers bind
+/// loopback unless an address says otherwise, contract §3).
+pub fn parse_addr(s: &str) -> Result<SocketAddr, String> {
+    if let Ok(port) = s.parse::<u16>() {
+        return Ok(SocketAddr::from(([127, 0, 0, 1], port)));
+    }
+    s.parse()
+        .map_err(|_| format!("`{s}`: expected HOST:PORT (e.g. 127.0.0.1:5020) or a port"))
+}
+
+/// Runs the engine and the servers until Ctrl-C/SIGTERM or `stop` is set; then
+/// stops the servers, lets the engine commit latched data, and returns the
+/// final state. `ready` is called with the bound addresses once serving.
+pub fn run(
+    state: ServeState,
+    cfg: EngineConfig,
+    listeners: Vec<Listener>,
+    stop: Arc<AtomicBool>,
+    ready: impl FnOnce(&[SocketAddr]),
+) -> std::io::Result<ServeState> {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()?;
+    let (handle, join) = engine::spawn(state, cfg, stop.clone());
+    let bound = rt.block_on(async {
+        let mut bound = Vec::new();
+        for l in listeners {
+            let tcp = tokio::net::TcpListener::bind(l.addr).await?;
+            bound.push(tcp.local_addr()?);
+            (l.start)(tcp, handle.clone());
+        }
+        Ok::<_, std::io::Error>(bound)
+    });
+    let bound = match bound {
+        Ok(b) => b,
+        Err(e) => {
+            stop.store(true, Ordering::Relaxed);
+            let _ = join.join();
+            return Err(e);
+        }
+    };
+    ready(&bound);
+    rt.block_on(async {
+        let term = async {
+            #[cfg(unix)]
+            {
+                use tokio::signal::unix::{signal, SignalKind};
+                match signal(SignalKind::terminate()) {
+                    Ok(mut s) => {
+                        s.recv().await;
+                    }
+                    Err(_) => std::future::pending::<()>().await,
+                }
+            }
+            #[cfg(not(unix))]
+            std::future::pending::<()>().await
+        };
+        let flag = async {
+            while !stop.load(Ordering::Relaxed) {
+                tokio::time::sleep(std::time::Duration::from_millis(20)).await;
+            }
+        };
+        tokio::select! {
+            _ = tokio::signal::ctrl_c() => {}
+            _ = term => {}
+            _ = flag => {}
+        }
+    });
+    stop.store(true, Ordering::Relaxed);
+    rt.shutdown_background();
+    join.join()
+        .map_err(|_| std::io::Error::other("the engine thread panicked"))
+}

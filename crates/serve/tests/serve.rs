@@ -1,0 +1,124 @@
+//! The real-time engine and the TCP plumbing with a tiny line protocol:
+//! "D0\n" → the device's value at END, "STATS\n" → scans, anything else closes.
+
+use std::io::{BufRead, BufReader, Write};
+use std::net::TcpStream;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Duration;
+
+use softplc_core::access::DeviceSpec;
+use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::program::compile_il;
+use softplc_serve::{EngineConfig, FrameLen, Listener, Protocol, ServeState};
+
+struct Lines;
+
+impl Protocol for Lines {
+    type Session = u32;
+    fn session(&self) -> u32 {
+        0
+    }
+    fn frame_len(&self, buf: &[u8]) -> FrameLen {
+        match buf.iter().position(|b| *b == b'\n') {
+            Some(i)
+                if buf[..i]
+                    .iter()
+                    .all(|b| b.is_ascii_alphanumeric() || *b == b':') =>
+            {
+                FrameLen::Frame(i + 1)
+            }
+            Some(_) => FrameLen::Garbage(Some(b"ERR\n".to_vec())),
+            None => FrameLen::More,
+        }
+    }
+    fn serve(&self, frame: &[u8], n: &mut u32, s: &mut ServeState) -> Option<Vec<u8>> {
+        *n += 1;
+        let text = std::str::from_utf8(&frame[..frame.len() - 1]).ok()?;
+        let reply = if text == "STATS" {
+            format!("{} {}\n", s.stats.scans, n)
+        } else {
+            let spec = DeviceSpec::parse(text).ok()?;
+            format!("{}\n", s.cpu.read_device(&spec).ok()?)
+        };
+        Some(reply.into_bytes())
+    }
+    fn busy(&self, _: &[u8]) -> Option<Vec<u8>> {
+        Some(b"BUSY\n".to_vec())
+    }
+}
+
+fn ask(c: &mut BufReader<TcpStream>, q: &str) -> String {
+    c.get_mut().write_all(q.as_bytes()).unwrap();
+    let mut line = String::new();
+    c.read_line(&mut line).unwrap();
+    line.trim().to_string()
+}
+
+#[test]
+fn requests_are_served_at_end_while_scanning() {
+    let prog = compile_il(
+        "t.il",
+        "LD SM400\nINC D0\nMOV D0 D1\nEND\n",
+        &Default::default(),
+    )
+    .unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let stop = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = std::sync::mpsc::channel();
+    let stop2 = stop.clone();
+    let server = std::thread::spawn(move || {
+        let cfg = EngineConfig {
+            period: Duration::from_millis(2),
+            end_budget: Duration::from_millis(1),
+            queue: 64,
+            battery: None,
+            log_every: None,
+        };
+        let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
+        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], stop2, |a| {
+            tx.send(a[0]).unwrap()
+        })
+        .unwrap()
+    });
+    let addr = rx.recv().unwrap();
+    let mut c = BufReader::new(TcpStream::connect(addr).unwrap());
+    // D0 and D1 are equal at every END: a reply never shows half a scan.
+    for _ in 0..20 {
+        let d0: i64 = ask(&mut c, "D0\n").parse().unwrap();
+        let d1: i64 = ask(&mut c, "D1\n").parse().unwrap();
+        assert!(d1 >= d0, "D1 {d1} read after D0 {d0}");
+    }
+    let first: i64 = ask(&mut c, "D0\n").parse().unwrap();
+    std::thread::sleep(Duration::from_millis(50));
+    let later: i64 = ask(&mut c, "D0\n").parse().unwrap();
+    assert!(
+        later > first + 5,
+        "the engine scans on its own: {first} → {later}"
+    );
+    // A malformed frame closes only its connection.
+    let mut bad = BufReader::new(TcpStream::connect(addr).unwrap());
+    assert_eq!(ask(&mut bad, "D0 ?\n"), "ERR");
+    assert!(
+        ask(&mut c, "STATS\n")
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse::<u64>()
+            .unwrap()
+            > 10
+    );
+    // The connection limit (2) evicts the connection idle the longest.
+    let mut d = BufReader::new(TcpStream::connect(addr).unwrap());
+    let mut e = BufReader::new(TcpStream::connect(addr).unwrap());
+    assert!(!ask(&mut e, "D0\n").is_empty());
+    assert!(!ask(&mut d, "D0\n").is_empty());
+    stop.store(true, Ordering::Relaxed);
+    let state = server.join().unwrap();
+    assert!(state.stats.scans > 20);
+    assert!(state.stats.requests >= 40);
+}
