@@ -2,6 +2,7 @@
 
 mod run;
 mod serve;
+mod test_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -40,6 +41,15 @@ enum Command {
         /// Program file (.il or .csv).
         program: PathBuf,
     },
+    /// Run scenario tests: a program against plant models in virtual time,
+    /// with a timeline of inputs and assertions (docs/scenarios.md).
+    ///
+    /// Prints a PASS/FAIL line per assertion (a failure shows its first failing
+    /// scan and the device history around it) and ends with `N passed, M
+    /// failed`; the exit status is non-zero when any assertion fails.
+    ///
+    /// Example: softplc test examples/sim/*.toml --plot tank.svg
+    Test(Box<test_cmd::TestArgs>),
     /// Run a program in real time at its constant scan period and serve it over
     /// the MC protocol (and, soon, Modbus) until Ctrl-C or SIGTERM.
     ///
@@ -55,6 +65,7 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Run(args) => run::run(*args),
         Command::Check { program } => run::check(&program),
+        Command::Test(args) => test_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
     }
 }

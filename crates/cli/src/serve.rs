@@ -74,11 +74,14 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let Loaded { mut cpu, state } =
-        match load(&args.program, Box::new(MonotonicClock::default()), Some(start)) {
-            Ok(l) => l,
-            Err(code) => return code,
-        };
+    let Loaded { mut cpu, state } = match load(
+        &args.program,
+        Box::new(MonotonicClock::default()),
+        Some(start),
+    ) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
     let period = args
         .scan_time
         .or(cpu.config().constant_scan)

@@ -4,3 +4,5 @@
 //! - [`model`]: the plant models (pure numerics, closed-form tested).
 
 pub mod model;
+pub mod plot;
+pub mod scenario;

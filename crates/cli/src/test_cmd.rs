@@ -1,0 +1,244 @@
+//! `softplc test`: scenario tests (issue 7). Runs scenario files in parallel,
+//! prints a PASS/FAIL line per assertion (with the history around the first
+//! failing scan) and ends with `N passed, M failed`.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use softplc_sim::plot;
+use softplc_sim::scenario::{Outcome, PlotSpec, Scenario};
+
+use crate::run::parse_duration;
+
+#[derive(Args, Debug)]
+pub struct TestArgs {
+    /// Scenario files (TOML), see docs/scenarios.md.
+    #[arg(required = true, value_name = "SCENARIO")]
+    pub scenarios: Vec<PathBuf>,
+    /// Record these devices (comma-separated, e.g. D610,D611,D612 or
+    /// D10:f32,Y0) to CSV, instead of the scenario's [trace] devices.
+    #[arg(long, value_name = "DEV,...", value_delimiter = ',')]
+    pub trace: Vec<String>,
+    /// CSV file for the trace (default: the scenario's [trace] file, else
+    /// SCENARIO-STEM.trace.csv in the current directory). With several
+    /// scenarios, each file name gets -STEM before its extension.
+    #[arg(long, value_name = "FILE")]
+    pub trace_file: Option<PathBuf>,
+    /// Trace sample period, e.g. 1s (default: every scan, or fewer for long
+    /// runs so that at most 10000 samples are kept).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub trace_interval: Option<Duration>,
+    /// Draw the traced devices over time to this SVG file (the --trace
+    /// devices, else the scenario's [plot]/[trace] devices, else the devices
+    /// the assertions check). With several scenarios, each file name gets
+    /// -STEM before its extension.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Scenarios run at the same time (default: the number of CPUs).
+    #[arg(long, short = 'j', value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Print only failing assertions (and the summary).
+    #[arg(long, short = 'q')]
+    pub quiet: bool,
+    /// No progress bar (it is shown only when stdout is a terminal anyway).
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// `dir/name.ext` → `dir/name-STEM.ext` when several scenarios share a file.
+fn per_scenario(path: &Path, scenario: &Path, many: bool) -> PathBuf {
+    if !many {
+        return path.to_path_buf();
+    }
+    let stem = scenario
+        .file_stem()
+        .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
+    let name = match (path.file_stem(), path.extension()) {
+        (Some(s), Some(e)) => format!("{}-{stem}.{}", s.to_string_lossy(), e.to_string_lossy()),
+        (Some(s), None) => format!("{}-{stem}", s.to_string_lossy()),
+        _ => stem,
+    };
+    path.with_file_name(name)
+}
+
+/// The result of one scenario file: its report text and counts.
+struct Done {
+    text: String,
+    passed: usize,
+    failed: usize,
+}
+
+/// Applies the command-line trace and plot options to a scenario.
+fn configure(sc: &mut Scenario, args: &TestArgs, many: bool) {
+    if !args.trace.is_empty() {
+        sc.trace.devices = args.trace.iter().map(|d| d.trim().to_string()).collect();
+        if sc.trace.file.is_none() && args.trace_file.is_none() {
+            let stem = sc
+                .file
+                .file_stem()
+                .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
+            sc.trace.file = Some(PathBuf::from(format!("{stem}.trace.csv")));
+        }
+    }
+    if let Some(f) = &args.trace_file {
+        sc.trace.file = Some(per_scenario(f, &sc.file, many));
+    }
+    if let Some(i) = args.trace_interval {
+        sc.trace.interval_us = Some(i.as_micros() as u64);
+    }
+    if let Some(p) = &args.plot {
+        let file = per_scenario(p, &sc.file, many);
+        let devices = if !args.trace.is_empty() {
+            sc.trace.devices.clone()
+        } else {
+            sc.plot
+                .as_ref()
+                .map(|p| p.devices.clone())
+                .unwrap_or_default()
+        };
+        let title = sc.plot.as_ref().and_then(|p| p.title.clone());
+        sc.plot = Some(PlotSpec {
+            file,
+            devices,
+            title,
+        });
+    }
+}
+
+/// Writes the trace CSV and the plot; returns lines for the report.
+fn artifacts(sc: &Scenario, outcome: &Outcome) -> Result<String, String> {
+    let mut notes = String::new();
+    let Some(trace) = &outcome.trace else {
+        return Ok(notes);
+    };
+    if let Some(f) = &sc.trace.file {
+        std::fs::write(f, trace.to_csv())
+            .map_err(|e| format!("cannot write {}: {e}", f.display()))?;
+        notes += &format!("  trace: {} ({} samples)\n", f.display(), trace.len());
+    }
+    if let Some(p) = &sc.plot {
+        let devices = if !p.devices.is_empty() {
+            p.devices.clone()
+        } else if !sc.trace.devices.is_empty() {
+            sc.trace.devices.clone()
+        } else {
+            sc.expect_devices()
+        };
+        let title = p.title.clone().unwrap_or_else(|| sc.name.clone());
+        plot::write_svg(&p.file, trace, &devices, &title)?;
+        notes += &format!("  plot: {}\n", p.file.display());
+    }
+    Ok(notes)
+}
+
+fn style() -> ProgressStyle {
+    ProgressStyle::with_template("{prefix:24!} [{bar:30}] {percent:>3}% {msg}")
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("=> ")
+}
+
+/// Loads, runs and reports one scenario file.
+fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done {
+    let fail = |msg: String| Done {
+        text: format!("{}\n  FAIL {msg}\n", path.display()),
+        passed: 0,
+        failed: 1,
+    };
+    let mut sc = match Scenario::load(path) {
+        Ok(s) => s,
+        Err(e) => return fail(e),
+    };
+    configure(&mut sc, args, many);
+    let run = match sc.build() {
+        Ok(r) => r,
+        Err(e) => return fail(e),
+    };
+    let total = run.total_scans();
+    let bar = mp.add(ProgressBar::new(total));
+    bar.set_style(style());
+    bar.set_prefix(
+        path.file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+    );
+    let sim_s = sc.scan_us as f64 / 1e6;
+    let start = Instant::now();
+    let outcome = run.run(&mut |n| {
+        bar.set_position(n);
+        let wall = start.elapsed().as_secs_f64().max(1e-9);
+        bar.set_message(format!(
+            "{:.0} s simulated, {:.0}× real time",
+            n as f64 * sim_s,
+            n as f64 * sim_s / wall
+        ));
+    });
+    bar.finish_and_clear();
+    mp.remove(&bar);
+    let mut text = outcome.report(args.quiet);
+    let mut failed = outcome.failed();
+    match artifacts(&sc, &outcome) {
+        Ok(notes) => text += &notes,
+        Err(e) => {
+            text += &format!("  FAIL {e}\n");
+            failed += 1;
+        }
+    }
+    Done {
+        text,
+        passed: outcome.passed(),
+        failed,
+    }
+}
+
+pub fn run(args: TestArgs) -> ExitCode {
+    let files = &args.scenarios;
+    let many = files.len() > 1;
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .clamp(1, files.len().max(1));
+    let mp = MultiProgress::new();
+    if args.no_progress || !std::io::stdout().is_terminal() {
+        mp.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    // Reports are printed in file order as soon as they and all earlier ones
+    // are done.
+    let slots: Mutex<(usize, Vec<Option<Done>>)> =
+        Mutex::new((0, (0..files.len()).map(|_| None).collect()));
+    let totals = Mutex::new((0usize, 0usize));
+    let next = AtomicUsize::new(0);
+    std::thread::scope(|s| {
+        for _ in 0..jobs {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= files.len() {
+                    break;
+                }
+                let done = run_one(&files[i], &args, many, &mp);
+                let mut g = slots.lock().unwrap_or_else(|e| e.into_inner());
+                g.1[i] = Some(done);
+                while g.0 < files.len() {
+                    let k = g.0;
+                    let Some(d) = g.1[k].take() else { break };
+                    mp.suspend(|| print!("{}", d.text));
+                    let mut t = totals.lock().unwrap_or_else(|e| e.into_inner());
+                    t.0 += d.passed;
+                    t.1 += d.failed;
+                    g.0 += 1;
+                }
+            });
+        }
+    });
+    let (passed, failed) = *totals.lock().unwrap_or_else(|e| e.into_inner());
+    println!("{passed} passed, {failed} failed");
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}

@@ -1,0 +1,239 @@
+//! `softplc test` end to end (issue 7): the shipped scenarios pass, a wrong
+//! expectation fails with a useful message and a non-zero exit status, and
+//! --trace/--plot write their files.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn softplc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .args(args)
+        .current_dir(workspace())
+        .output()
+        .expect("softplc runs")
+}
+
+fn workspace() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+const PROGRAM: &str = "\
+; X0 starts the motor, X4 is its running feedback, C0 counts parts on X2.
+LD X0
+OR Y0
+OUT Y0
+LD X4
+AND X2
+OUT C0 K3
+LD C0
+OUT Y1
+END
+";
+
+/// A conveyor scenario; `expect` is appended.
+fn scenario(dir: &tempfile::TempDir, name: &str, expect: &str) -> String {
+    std::fs::write(dir.path().join("conv.il"), PROGRAM).unwrap();
+    let text = format!(
+        r#"program = "conv.il"
+scan_time = "10ms"
+duration = "5s"
+
+[[model]]
+type = "motor"
+params = {{ accel_time = "1s", threshold = 90 }}
+inputs.run = "Y0"
+outputs.running = "X4"
+outputs.speed = "D20"
+
+[[timeline]]
+at = "0.5s"
+set = {{ X0 = 1 }}
+
+[[timeline]]
+at = "2s"
+every = "500ms"
+count = 3
+set = {{ X2 = 1 }}
+
+[[timeline]]
+at = "2.1s"
+every = "500ms"
+count = 3
+set = {{ X2 = 0 }}
+
+{expect}
+"#
+    );
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+const GOOD: &str = r#"
+[[expect]]
+device = "X4"
+equals = true
+within = "1.5s"
+after = "0.5s"
+
+[[expect]]
+device = "Y1"
+equals = true
+within = "100ms"
+after = "3s"
+"#;
+
+/// Y1 comes on at 3 s (third part), not within 0.5 s of the first part.
+const WRONG: &str = r#"
+[[expect]]
+device = "X4"
+equals = true
+within = "1.5s"
+after = "0.5s"
+
+[[expect]]
+device = "Y1"
+equals = true
+within = "500ms"
+after = "2s"
+show = ["X2", "CN0"]
+"#;
+
+#[test]
+fn passing_scenario_reports_and_exits_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scenario(&dir, "good.toml", GOOD);
+    let out = softplc(&["test", &sc]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("PASS X4 becomes true within 1.5 s after 500 ms: at 1.4 s (scan 140)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("PASS Y1 becomes true within 100 ms after 3 s: at 3 s (scan 300)"),
+        "{text}"
+    );
+    assert_eq!(text.lines().last(), Some("2 passed, 0 failed"), "{text}");
+}
+
+#[test]
+fn wrong_expectation_fails_with_first_failing_scan_and_history() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scenario(&dir, "wrong.toml", WRONG);
+    let out = softplc(&["test", &sc]);
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("PASS X4 becomes true"), "{text}");
+    assert!(
+        text.contains(
+            "FAIL Y1 becomes true within 500 ms after 2 s: still false at 2.5 s (scan 250)"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("first failing scan 250 (t = 2.500 s)"),
+        "{text}"
+    );
+    // The history table: a header with the devices, 5 samples up to the
+    // failing scan (marked) and 3 after.
+    let lines: Vec<&str> = text.lines().collect();
+    let h = lines
+        .iter()
+        .position(|l| {
+            l.contains("scan") && l.contains("Y1") && l.contains("X2") && l.contains("CN0")
+        })
+        .unwrap_or_else(|| panic!("no history header in\n{text}"));
+    let rows = &lines[h + 1..h + 9];
+    assert!(rows[0].trim_start().starts_with("246"), "{text}");
+    assert!(rows[4].trim_start().starts_with("> 250"), "{text}");
+    assert!(
+        rows[4].contains("false") && rows[4].ends_with('2'),
+        "{text}"
+    );
+    assert!(rows[7].trim_start().starts_with("253"), "{text}");
+    assert_eq!(lines.last(), Some(&"1 passed, 1 failed"), "{text}");
+}
+
+#[test]
+fn several_files_run_in_parallel_and_sum_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = scenario(&dir, "a.toml", GOOD);
+    let b = scenario(&dir, "b.toml", WRONG);
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "program = \"conv.il\"\nscan_time = \"10ms\"\n").unwrap();
+    let bad = bad.display().to_string();
+    let out = softplc(&["test", "-q", &a, &b, &bad, "--jobs", "3"]);
+    let text = stdout(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    // Reports in argument order; -q leaves out passing lines.
+    let ia = text.find("a.toml").unwrap();
+    let ib = text.find("b.toml").unwrap();
+    let ibad = text.find("bad.toml").unwrap();
+    assert!(ia < ib && ib < ibad, "{text}");
+    assert!(!text.contains("PASS"), "{text}");
+    assert!(text.contains("FAIL") && text.contains("duration"), "{text}");
+    assert_eq!(text.lines().last(), Some("3 passed, 2 failed"), "{text}");
+}
+
+#[test]
+fn trace_and_plot_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let sc = scenario(&dir, "good.toml", GOOD);
+    let csv = dir.path().join("trend.csv").display().to_string();
+    let svg = dir.path().join("trend.svg").display().to_string();
+    let out = softplc(&[
+        "test",
+        &sc,
+        "--trace",
+        "D20,Y0,X4",
+        "--trace-file",
+        &csv,
+        "--trace-interval",
+        "100ms",
+        "--plot",
+        &svg,
+    ]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("trace: ") && text.contains("plot: "),
+        "{text}"
+    );
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = data.lines().collect();
+    assert_eq!(lines[0], "scan,time_s,D20,Y0,X4");
+    assert_eq!(lines[1], "1,0.010,0,0,0");
+    assert_eq!(lines.len(), 1 + 51, "scan 1 and every 10th scan");
+    assert_eq!(lines[50], "490,4.900,100,1,1");
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(plot.starts_with("<svg") && plot.contains("D20") && plot.contains("X4"));
+}
+
+#[test]
+fn shipped_examples_pass() {
+    // Plots go to a scratch directory, not over the committed SVGs.
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("plot.svg").display().to_string();
+    let out = softplc(&[
+        "test",
+        "examples/sim/conveyor.toml",
+        "examples/sim/fill_drain.toml",
+        "examples/sim/heated_tank.toml",
+        "--plot",
+        &svg,
+    ]);
+    let text = stdout(&out);
+    // With several scenarios each plot file gets the scenario's name.
+    assert!(dir.path().join("plot-conveyor.svg").is_file(), "{text}");
+    assert!(out.status.success(), "{text}");
+    assert!(!text.contains("FAIL"), "{text}");
+    assert!(
+        text.lines().last().unwrap().ends_with(" passed, 0 failed"),
+        "{text}"
+    );
+}

@@ -1,0 +1,387 @@
+//! Building a scenario against its program and running it scan by scan.
+
+use std::time::{Duration, Instant};
+
+use softplc_core::device::DeviceConfig;
+use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::{program, project};
+
+use super::bind::{Probe, Sink, Source};
+use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
+use super::fmt::{fmt_time, Kind};
+use super::spec::{ExpectKind, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
+use super::trace::{Recorder, TraceData};
+use crate::model::{self, Model};
+
+/// A model with its bindings and pre-sized port buffers.
+struct Bound {
+    model: Box<dyn Model>,
+    inputs: Vec<Source>,
+    outputs: Vec<(usize, Sink)>,
+    in_buf: Vec<f64>,
+    out_buf: Vec<f64>,
+}
+
+impl Bound {
+    fn write_outputs(&mut self, cpu: &mut Cpu) {
+        for (i, sink) in &mut self.outputs {
+            sink.write(cpu, self.out_buf[*i]);
+        }
+    }
+}
+
+/// A resolved timeline write.
+struct Write {
+    scan: u64,
+    spec: softplc_core::access::DeviceSpec,
+    value: String,
+}
+
+/// A scenario ready to run: CPU powered on, every device resolved.
+pub struct Run {
+    name: String,
+    file: std::path::PathBuf,
+    cpu: Cpu,
+    clock: VirtualClock,
+    scan_us: u64,
+    total: u64,
+    models: Vec<Bound>,
+    writes: Vec<Write>,
+    probes: Vec<Probe>,
+    names: Vec<(String, Kind)>,
+    values: Vec<f64>,
+    ring: Ring,
+    checks: Vec<Check>,
+    recorder: Option<Recorder>,
+}
+
+/// The result of one assertion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckResult {
+    pub text: String,
+    pub passed: bool,
+    /// Evidence: the value seen, when it happened, why it failed.
+    pub detail: String,
+    /// The first failing scan and the device history around it.
+    pub failure: Option<Failure>,
+}
+
+/// The result of a scenario run.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub name: String,
+    pub file: std::path::PathBuf,
+    /// Scans executed (fewer than planned when the CPU stopped).
+    pub scans: u64,
+    pub scan_us: u64,
+    /// Wall-clock time of the scan loop.
+    pub wall: Duration,
+    /// One per expectation, in file order; a CPU stop error adds one more,
+    /// failed.
+    pub results: Vec<CheckResult>,
+    pub trace: Option<TraceData>,
+}
+
+impl Outcome {
+    pub fn passed(&self) -> usize {
+        self.results.iter().filter(|r| r.passed).count()
+    }
+
+    pub fn failed(&self) -> usize {
+        self.results.len() - self.passed()
+    }
+
+    /// Simulated time / wall-clock time.
+    pub fn speed(&self) -> f64 {
+        self.scans as f64 * self.scan_us as f64 / 1e6 / self.wall.as_secs_f64().max(1e-9)
+    }
+}
+
+/// How often (in scans) the progress callback is called.
+pub const PROGRESS_EVERY: u64 = 1 << 14;
+
+impl Scenario {
+    /// Loads the program or project, powers on the CPU (in virtual time, no
+    /// retained state) and resolves every device of the scenario.
+    pub fn build(&self) -> Result<Run, String> {
+        let clock = VirtualClock::new();
+        let cpu = match &self.source {
+            super::Source::Program(p) => {
+                let prog =
+                    program::load_file(p, &DeviceConfig::default()).map_err(|d| format!("{d}"))?;
+                Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()))
+            }
+            super::Source::Project(p) => {
+                let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
+                proj.build_cpu(Box::new(clock.clone()))
+                    .map_err(|d| format!("{d}"))?
+            }
+        };
+        let ctx = |e: String| format!("{}: {e}", self.file.display());
+        self.build_with(cpu, clock).map_err(ctx)
+    }
+
+    /// [`Scenario::build`] with a CPU built by the caller (it must use `clock`).
+    pub fn build_with(&self, mut cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
+        // Models.
+        let mut models = Vec::new();
+        for m in &self.models {
+            let what = |e: String| format!("model `{}`: {e}", m.name);
+            let model = model::build(&m.kind, &m.params).map_err(what)?;
+            let mut inputs = vec![Source::Const(0.0); model.inputs().len()];
+            for (i, b) in &m.inputs {
+                inputs[*i] = match b {
+                    super::InputBinding::Const(v) => Source::Const(*v),
+                    super::InputBinding::Device { device, scale } => Source::Device {
+                        probe: Probe::new(device, cpu.memory()).map_err(what)?,
+                        scale: *scale,
+                    },
+                };
+            }
+            let mut outputs = Vec::new();
+            for (i, b) in &m.outputs {
+                outputs.push((
+                    *i,
+                    Sink::new(&b.device, b.scale, cpu.memory()).map_err(what)?,
+                ));
+            }
+            let mut bound = Bound {
+                in_buf: vec![0.0; model.inputs().len()],
+                out_buf: vec![0.0; model.outputs().len()],
+                model,
+                inputs,
+                outputs,
+            };
+            // The sensors read their initial state at power-on.
+            bound.model.outputs_now(&mut bound.out_buf);
+            bound.write_outputs(&mut cpu);
+            models.push(bound);
+        }
+
+        // Timeline: check every value on a scratch copy of the memory.
+        let mut scratch = cpu.memory().clone();
+        let mut writes = Vec::new();
+        for e in &self.timeline {
+            for (dev, value) in &e.set {
+                let spec = softplc_core::access::DeviceSpec::parse(dev.trim())?;
+                spec.write(&mut scratch, value)
+                    .map_err(|err| format!("timeline at scan {}: {err}", e.scan))?;
+                writes.push(Write {
+                    scan: e.scan,
+                    spec,
+                    value: value.clone(),
+                });
+            }
+        }
+        drop(scratch);
+
+        // Watched devices and checks.
+        let mut probes: Vec<Probe> = Vec::new();
+        let mut watch = |text: &str, cpu: &Cpu| -> Result<usize, String> {
+            let p = Probe::new(text, cpu.memory())?;
+            if let Some(i) = probes.iter().position(|q| q.spec == p.spec) {
+                return Ok(i);
+            }
+            probes.push(p);
+            Ok(probes.len() - 1)
+        };
+        let mut checks = Vec::new();
+        for e in &self.expects {
+            let probe = watch(&e.device, &cpu)?;
+            let (mut sv_probe, mut sv_value) = (None, 0.0);
+            if let ExpectKind::Settle { setpoint, .. } = &e.kind {
+                match setpoint {
+                    Setpoint::Device(d) => sv_probe = Some(watch(d, &cpu)?),
+                    Setpoint::Value(v) => sv_value = *v,
+                }
+            }
+            let mut columns = vec![probe];
+            columns.extend(sv_probe);
+            for s in &e.show {
+                let i = watch(s, &cpu)?;
+                if !columns.contains(&i) {
+                    columns.push(i);
+                }
+            }
+            checks.push((e, probe, sv_probe, sv_value, columns));
+        }
+        let names: Vec<(String, Kind)> = probes
+            .iter()
+            .map(|p| (p.name().to_string(), p.kind()))
+            .collect();
+        let checks = checks
+            .into_iter()
+            .map(|(e, probe, sv_probe, sv_value, columns)| {
+                Check::new(
+                    e.text.clone(),
+                    probe,
+                    sv_probe,
+                    sv_value,
+                    columns,
+                    e.kind.clone(),
+                    names[probe].1,
+                )
+            })
+            .collect();
+
+        // Trace: the trace devices, plus the plot's.
+        let mut trace_devs: Vec<String> = self.trace.devices.clone();
+        if let Some(p) = &self.plot {
+            let plot_devs = if p.devices.is_empty() && self.trace.devices.is_empty() {
+                self.expect_devices()
+            } else {
+                p.devices.clone()
+            };
+            for d in plot_devs {
+                if !trace_devs.iter().any(|t| t.eq_ignore_ascii_case(&d)) {
+                    trace_devs.push(d);
+                }
+            }
+        }
+        let recorder = if trace_devs.is_empty() {
+            None
+        } else {
+            let tp = trace_devs
+                .iter()
+                .map(|d| Probe::new(d, cpu.memory()).map_err(|e| format!("trace: {e}")))
+                .collect::<Result<Vec<_>, _>>()?;
+            let every = match self.trace.interval_us {
+                Some(us) => (us / self.scan_us).max(1),
+                None => self.scans.div_ceil(DEFAULT_MAX_SAMPLES).max(1),
+            };
+            Some(Recorder::new(tp, every, self.scans))
+        };
+
+        let width = probes.len();
+        Ok(Run {
+            name: self.name.clone(),
+            file: self.file.clone(),
+            cpu,
+            clock,
+            scan_us: self.scan_us,
+            total: self.scans,
+            models,
+            writes,
+            values: vec![0.0; width],
+            ring: Ring::new(width, HISTORY_BEFORE + 1),
+            probes,
+            names,
+            checks,
+            recorder,
+        })
+    }
+}
+
+impl Run {
+    /// Scans the run will execute.
+    pub fn total_scans(&self) -> u64 {
+        self.total
+    }
+
+    /// The CPU (e.g. to inspect devices before or after [`Run::run`]).
+    pub fn cpu(&self) -> &Cpu {
+        &self.cpu
+    }
+
+    /// Runs every scan: before each, the due timeline writes and one step of
+    /// every model (inputs read from the devices the last scan left, outputs
+    /// written to the input image / word devices); then the scan in virtual
+    /// time; then the expectations and the trace sample. `progress` is called
+    /// with the scans done every [`PROGRESS_EVERY`] scans and at the end.
+    pub fn run(mut self, progress: &mut dyn FnMut(u64)) -> Outcome {
+        let dt = self.scan_us as f64 / 1e6;
+        let start = Instant::now();
+        let mut next_write = 0;
+        let mut done = 0;
+        let mut stopped = None;
+        for n in 1..=self.total {
+            // Input refresh: the plant advances over the scan and the sensors
+            // are sampled.
+            for m in &mut self.models {
+                let mem = self.cpu.memory();
+                for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
+                    *buf = src.read(mem);
+                }
+                m.model.step(dt, &m.in_buf, &mut m.out_buf);
+                m.write_outputs(&mut self.cpu);
+            }
+            while let Some(w) = self.writes.get(next_write).filter(|w| w.scan == n) {
+                // Checked on a scratch memory at build: cannot fail.
+                let _ = self.cpu.write_device(&w.spec, &w.value);
+                next_write += 1;
+            }
+            self.clock.advance_us(self.scan_us);
+            self.cpu.scan();
+            done = n;
+            let time_us = n * self.scan_us;
+            let mem = self.cpu.memory();
+            for (v, p) in self.values.iter_mut().zip(&self.probes) {
+                *v = p.read(mem);
+            }
+            self.ring.push(n, &self.values);
+            for c in &mut self.checks {
+                c.update(n, self.scan_us, &self.values, &self.ring, &self.names);
+            }
+            if let Some(r) = &mut self.recorder {
+                r.sample(n, time_us, mem);
+            }
+            if self.cpu.state() == CpuState::Stop {
+                stopped = Some(n);
+                if let Some(r) = &mut self.recorder {
+                    r.take(n, time_us, self.cpu.memory());
+                }
+                break;
+            }
+            if n % PROGRESS_EVERY == 0 {
+                progress(n);
+            }
+        }
+        progress(done);
+        let wall = start.elapsed();
+
+        let mut results = Vec::new();
+        let why = match stopped {
+            Some(_) => "the CPU stopped",
+            None => "the run ended",
+        };
+        for c in &mut self.checks {
+            c.unfinished(done, self.scan_us, why);
+            results.push(CheckResult {
+                text: c.text.clone(),
+                passed: c.verdict == Verdict::Pass,
+                detail: std::mem::take(&mut c.detail),
+                failure: c.failure.take(),
+            });
+        }
+        if let Some(n) = stopped {
+            let detail = match self.cpu.error() {
+                Some(e) => {
+                    let place = match (&e.file, e.line, e.step) {
+                        (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
+                        _ => String::new(),
+                    };
+                    format!("error {} {}{place}", e.code.0, e.code.message())
+                }
+                None => "no error recorded".into(),
+            };
+            results.push(CheckResult {
+                text: format!(
+                    "the CPU keeps running (stopped at {}, scan {n})",
+                    fmt_time(n * self.scan_us)
+                ),
+                passed: false,
+                detail,
+                failure: None,
+            });
+        }
+        Outcome {
+            name: self.name,
+            file: self.file,
+            scans: done,
+            scan_us: self.scan_us,
+            wall,
+            results,
+            trace: self.recorder.map(|r| r.data),
+        }
+    }
+}
