@@ -132,6 +132,8 @@ fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
 pub(crate) struct Loaded {
     pub cpu: Cpu,
     pub state: Option<PathBuf>,
+    /// A project's `[modbus]` table.
+    pub modbus: Option<toml::Table>,
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -149,6 +151,7 @@ pub(crate) fn load(
         return Ok(Loaded {
             cpu,
             state: Some(p.state_dir),
+            modbus: p.modbus,
         });
     }
     let program =
@@ -160,6 +163,7 @@ pub(crate) fn load(
     Ok(Loaded {
         cpu: Cpu::new(program, cfg, clock),
         state: None,
+        modbus: None,
     })
 }
 
@@ -245,10 +249,11 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
 
 pub fn run(args: RunArgs) -> ExitCode {
     let clock = VirtualClock::new();
-    let Loaded { mut cpu, state } = match load(&args.program, Box::new(clock.clone()), args.clock) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
+    let Loaded { mut cpu, state, .. } =
+        match load(&args.program, Box::new(clock.clone()), args.clock) {
+            Ok(l) => l,
+            Err(code) => return code,
+        };
     let (writes, shows, trace) =
         match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
             Ok(x) => x,

@@ -11,7 +11,8 @@ use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
 use softplc_core::persist::Battery;
-use softplc_serve::{mc::Mc, EngineConfig, Listener, ServeState};
+use softplc_modbus::{Map, Slave};
+use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, ServeState};
 
 use crate::run::{load, parse_datetime, parse_duration, Loaded};
 
@@ -69,12 +70,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if args.http.is_some() {
         return fail("--http: the web monitor is not implemented yet".into());
     }
-    if args.modbus.is_some() || args.modbus_rtu.is_some() {
-        return fail("--modbus/--modbus-rtu: the Modbus slave is not implemented yet".into());
+    if args.modbus_rtu.is_some() {
+        return fail(
+            "--modbus-rtu: the Modbus RTU slave is not implemented yet (use --modbus)".into(),
+        );
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let Loaded { mut cpu, state } = match load(
+    let Loaded {
+        mut cpu,
+        state,
+        modbus,
+    } = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
         Some(start),
@@ -111,6 +118,30 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             }
             Err(e) => return fail(format!("--mc {e}")),
         }
+    }
+    if let Some(a) = &args.modbus {
+        let addr = match softplc_serve::parse_addr(a) {
+            Ok(a) => a,
+            Err(e) => return fail(format!("--modbus {e}")),
+        };
+        let table = modbus.unwrap_or_default();
+        let map = match Map::from_toml(&table) {
+            Ok(m) => m,
+            Err(e) => return fail(format!("[modbus]: {e}")),
+        };
+        for w in map.check_devices(&cpu.config().devices) {
+            eprintln!("softplc: [modbus]: {w}");
+        }
+        let slave = match Slave::from_toml(&table) {
+            Ok(s) => s,
+            Err(e) => return fail(format!("[modbus]: {e}")),
+        };
+        listeners.push(Listener::tcp(
+            addr,
+            ModbusTcp::new(map, slave),
+            args.max_connections,
+        ));
+        names.push("Modbus TCP");
     }
     let cfg = EngineConfig {
         period,

@@ -6,6 +6,7 @@
 
 pub mod engine;
 pub mod mc;
+pub mod modbus;
 pub mod tcp;
 
 use std::net::SocketAddr;

@@ -58,6 +58,9 @@ pub struct Project {
     /// `[cpu] common_pointer`: pointers from this number to P4095 are common,
     /// callable from every program (004 §10.9.2); `None` (default): all local.
     pub common_pointer: Option<u32>,
+    /// The `[modbus]` table as written (map and slave settings, interpreted by
+    /// the Modbus server; see docs/plc-toml.md).
+    pub modbus: Option<toml::Table>,
 }
 
 /// True when `path` is a directory containing `plc.toml`, or a file named
@@ -147,6 +150,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         "initial",
         "clock",
         "state",
+        // The Modbus slave's map and settings, read by `softplc serve`.
+        "modbus",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -189,6 +194,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if cx.has_errors() {
         return Err(cx.finish());
     }
+    let modbus = toml::from_str::<toml::Table>(src)
+        .ok()
+        .and_then(|t| t.get("modbus").and_then(|m| m.as_table()).cloned());
     Ok(Project {
         dir: dir.to_path_buf(),
         manifest: PathBuf::from(name),
@@ -196,6 +204,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         programs,
         state_dir,
         common_pointer,
+        modbus,
     })
 }
 

@@ -1,0 +1,56 @@
+//! The Modbus TCP server (contract §3): frames are decoded by `softplc-modbus`
+//! and served at END processing against the CPU, with one slave state (unit id,
+//! FC 08 diagnostic counters, listen-only) shared by all connections.
+
+use std::sync::Mutex;
+
+use softplc_modbus::{decode, Map, Proto, Slave};
+
+use crate::engine::ServeState;
+use crate::tcp::{FrameLen, Protocol};
+
+/// A Modbus TCP server with its address map.
+pub struct ModbusTcp {
+    pub map: Map,
+    /// The slave state, shared by all connections (kept in the engine thread).
+    pub slave: Mutex<Slave>,
+}
+
+impl ModbusTcp {
+    pub fn new(map: Map, slave: Slave) -> Self {
+        ModbusTcp {
+            map,
+            slave: Mutex::new(slave),
+        }
+    }
+}
+
+impl Protocol for ModbusTcp {
+    type Session = ();
+
+    fn session(&self) {}
+
+    fn frame_len(&self, buf: &[u8]) -> FrameLen {
+        match decode(Proto::Tcp, buf) {
+            Ok(Some((_, used))) => FrameLen::Frame(used),
+            Ok(None) => FrameLen::More,
+            // An MBAP header that is not Modbus: close the connection.
+            Err(_) => FrameLen::Garbage(None),
+        }
+    }
+
+    fn serve(&self, frame: &[u8], _: &mut (), s: &mut ServeState) -> Option<Vec<u8>> {
+        let (frame, _) = decode(Proto::Tcp, frame).ok().flatten()?;
+        // The lock is only ever taken on the engine thread: never contended.
+        let mut slave = self.slave.lock().ok()?;
+        softplc_modbus::serve(&mut slave, &self.map, &frame, &mut s.cpu)
+    }
+
+    /// Exception 06 (slave device busy) when the request queue is full.
+    fn busy(&self, frame: &[u8]) -> Option<Vec<u8>> {
+        let (mut f, _) = decode(Proto::Tcp, frame).ok().flatten()?;
+        let fc = *f.pdu.first()?;
+        f.pdu = vec![fc | 0x80, 0x06];
+        Some(f.encode())
+    }
+}
