@@ -11,8 +11,9 @@ use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
 use softplc_core::persist::Battery;
-use softplc_modbus::{Map, Slave};
-use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, ServeState};
+use softplc_modbus::{Map, Proto, Slave};
+use softplc_serve::serial::{self, LineSettings, Parity};
+use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
 use crate::run::{load, parse_datetime, parse_duration, Loaded};
 
@@ -33,6 +34,21 @@ pub struct ServeArgs {
     /// Modbus RTU slave on a serial device or pty.
     #[arg(long, value_name = "PATH")]
     pub modbus_rtu: Option<PathBuf>,
+    /// Modbus ASCII slave on a serial device or pty.
+    #[arg(long, value_name = "PATH")]
+    pub modbus_ascii: Option<PathBuf>,
+    /// Serial line speed for --modbus-rtu/--modbus-ascii.
+    #[arg(long, value_name = "BAUD", default_value_t = 9600)]
+    pub baud: u32,
+    /// Serial parity: none, even or odd.
+    #[arg(long, value_name = "PARITY", default_value = "none")]
+    pub parity: String,
+    /// Serial stop bits: 1 or 2.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub stop_bits: u8,
+    /// Refuse Modbus writes (exception 01).
+    #[arg(long)]
+    pub modbus_read_only: bool,
     /// Web monitor and JSON API.
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
@@ -69,11 +85,6 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     if args.http.is_some() {
         return fail("--http: the web monitor is not implemented yet".into());
-    }
-    if args.modbus_rtu.is_some() {
-        return fail(
-            "--modbus-rtu: the Modbus RTU slave is not implemented yet (use --modbus)".into(),
-        );
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
@@ -114,34 +125,74 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                     password: args.password.clone(),
                 };
                 listeners.push(Listener::tcp(addr, mc, args.max_connections));
-                names.push("MC protocol");
+                names.push("MC protocol".to_string());
             }
             Err(e) => return fail(format!("--mc {e}")),
         }
     }
+    let table = modbus.unwrap_or_default();
+    let modbus_setup = || -> Result<(Map, Slave), String> {
+        let map = Map::from_toml(&table).map_err(|e| format!("[modbus]: {e}"))?;
+        let mut slave = Slave::from_toml(&table).map_err(|e| format!("[modbus]: {e}"))?;
+        slave.read_only |= args.modbus_read_only;
+        Ok((map, slave))
+    };
     if let Some(a) = &args.modbus {
         let addr = match softplc_serve::parse_addr(a) {
             Ok(a) => a,
             Err(e) => return fail(format!("--modbus {e}")),
         };
-        let table = modbus.unwrap_or_default();
-        let map = match Map::from_toml(&table) {
-            Ok(m) => m,
-            Err(e) => return fail(format!("[modbus]: {e}")),
+        let (map, slave) = match modbus_setup() {
+            Ok(x) => x,
+            Err(e) => return fail(e),
         };
         for w in map.check_devices(&cpu.config().devices) {
             eprintln!("softplc: [modbus]: {w}");
         }
-        let slave = match Slave::from_toml(&table) {
-            Ok(s) => s,
-            Err(e) => return fail(format!("[modbus]: {e}")),
-        };
         listeners.push(Listener::tcp(
             addr,
             ModbusTcp::new(map, slave),
             args.max_connections,
         ));
-        names.push("Modbus TCP");
+        names.push("Modbus TCP".to_string());
+    }
+    let parity = match args.parity.to_ascii_lowercase().as_str() {
+        "none" | "n" => Parity::None,
+        "even" | "e" => Parity::Even,
+        "odd" | "o" => Parity::Odd,
+        p => return fail(format!("--parity {p}: expected none, even or odd")),
+    };
+    let line = LineSettings {
+        baud: args.baud,
+        parity,
+        stop_bits: args.stop_bits,
+    };
+    let mut serial_slaves = Vec::new();
+    for (path, proto, name) in [
+        (&args.modbus_rtu, Proto::Rtu, "Modbus RTU"),
+        (&args.modbus_ascii, Proto::Ascii, "Modbus ASCII"),
+    ] {
+        let Some(path) = path else { continue };
+        let (map, slave) = match modbus_setup() {
+            Ok(x) => x,
+            Err(e) => return fail(e),
+        };
+        let file = match serial::open(path, line) {
+            Ok(f) => f,
+            Err(e) => {
+                return fail(format!(
+                    "--{}: {e}",
+                    name.to_ascii_lowercase().replace(' ', "-")
+                ))
+            }
+        };
+        serial_slaves.push(SerialSlave {
+            line: file,
+            proto,
+            map,
+            slave,
+        });
+        names.push(format!("{name} on {}", path.display()));
     }
     let cfg = EngineConfig {
         period,
@@ -152,18 +203,26 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));
-    let result = softplc_serve::run(ServeState::new(cpu), cfg, listeners, stop, |bound| {
-        let servers: Vec<String> = names
-            .iter()
-            .zip(bound)
-            .map(|(n, a)| format!("{n} on {a}"))
-            .collect();
-        eprintln!(
-            "softplc: serving {program}, constant scan {period:?}{}{}",
-            if servers.is_empty() { "" } else { "; " },
-            servers.join(", ")
-        );
-    });
+    let result = softplc_serve::run(
+        ServeState::new(cpu),
+        cfg,
+        listeners,
+        serial_slaves,
+        stop,
+        |bound| {
+            let mut servers: Vec<String> = names
+                .iter()
+                .zip(bound)
+                .map(|(n, a)| format!("{n} on {a}"))
+                .collect();
+            servers.extend(names.iter().skip(bound.len()).cloned());
+            eprintln!(
+                "softplc: serving {program}, constant scan {period:?}{}{}",
+                if servers.is_empty() { "" } else { "; " },
+                servers.join(", ")
+            );
+        },
+    );
     match result {
         Ok(s) => {
             let st = &s.stats;

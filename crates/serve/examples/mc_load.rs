@@ -54,7 +54,7 @@ fn main() {
             Mc { password: None },
             clients + 4,
         );
-        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], stop2, |a| {
+        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], vec![], stop2, |a| {
             tx.send(a[0]).unwrap()
         })
         .expect("serve")

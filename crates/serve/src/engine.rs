@@ -96,6 +96,22 @@ impl EngineHandle {
     }
 }
 
+impl EngineHandle {
+    /// Runs `f` at the next END processing, blocking this (non-async) thread.
+    pub fn call<R, F>(&self, f: F) -> Result<R, Busy>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut ServeState) -> R + Send + 'static,
+    {
+        let (otx, orx) = std::sync::mpsc::sync_channel(1);
+        let job: Job = Box::new(move |s| {
+            let _ = otx.send(f(s));
+        });
+        self.tx.send(job).map_err(|_| Busy)?;
+        orx.recv().map_err(|_| Busy)
+    }
+}
+
 /// Real-time loop parameters.
 pub struct EngineConfig {
     /// Constant-scan period.

@@ -7,6 +7,7 @@
 pub mod engine;
 pub mod mc;
 pub mod modbus;
+pub mod serial;
 pub mod tcp;
 
 use std::net::SocketAddr;
@@ -35,6 +36,14 @@ impl Listener {
     }
 }
 
+/// A Modbus RTU or ASCII slave on an opened serial line ([`serial::open`]).
+pub struct SerialSlave {
+    pub line: std::fs::File,
+    pub proto: softplc_modbus::Proto,
+    pub map: softplc_modbus::Map,
+    pub slave: softplc_modbus::Slave,
+}
+
 /// Parses a server address: `HOST:PORT`, or a bare port on loopback (servers bind
 /// loopback unless an address says otherwise, contract §3).
 pub fn parse_addr(s: &str) -> Result<SocketAddr, String> {
@@ -52,6 +61,7 @@ pub fn run(
     state: ServeState,
     cfg: EngineConfig,
     listeners: Vec<Listener>,
+    serial: Vec<SerialSlave>,
     stop: Arc<AtomicBool>,
     ready: impl FnOnce(&[SocketAddr]),
 ) -> std::io::Result<ServeState> {
@@ -60,6 +70,19 @@ pub fn run(
         .enable_all()
         .build()?;
     let (handle, join) = engine::spawn(state, cfg, stop.clone());
+    let lines: Vec<_> = serial
+        .into_iter()
+        .map(|s| {
+            serial::spawn(
+                s.line,
+                s.proto,
+                s.map,
+                s.slave,
+                handle.clone(),
+                stop.clone(),
+            )
+        })
+        .collect();
     let bound = rt.block_on(async {
         let mut bound = Vec::new();
         for l in listeners {
@@ -106,6 +129,9 @@ pub fn run(
     });
     stop.store(true, Ordering::Relaxed);
     rt.shutdown_background();
+    for l in lines {
+        let _ = l.join();
+    }
     join.join()
         .map_err(|_| std::io::Error::other("the engine thread panicked"))
 }

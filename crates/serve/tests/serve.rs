@@ -80,7 +80,7 @@ fn requests_are_served_at_end_while_scanning() {
             log_every: None,
         };
         let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
-        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], stop2, |a| {
+        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], vec![], stop2, |a| {
             tx.send(a[0]).unwrap()
         })
         .unwrap()
