@@ -28,6 +28,9 @@ pub struct ServeArgs {
     /// (a bare port binds loopback).
     #[arg(long, value_name = "ADDR")]
     pub mc: Option<String>,
+    /// MC protocol over UDP, e.g. 127.0.0.1:5011.
+    #[arg(long, value_name = "ADDR")]
+    pub mc_udp: Option<String>,
     /// Modbus TCP server, e.g. 127.0.0.1:5020.
     #[arg(long, value_name = "ADDR")]
     pub modbus: Option<String>,
@@ -128,6 +131,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 names.push("MC protocol".to_string());
             }
             Err(e) => return fail(format!("--mc {e}")),
+        }
+    }
+    if let Some(a) = &args.mc_udp {
+        match softplc_serve::parse_addr(a) {
+            Ok(addr) => {
+                let mc = Mc {
+                    password: args.password.clone(),
+                };
+                listeners.push(Listener::mc_udp(addr, mc));
+                names.push("MC protocol (UDP)".to_string());
+            }
+            Err(e) => return fail(format!("--mc-udp {e}")),
         }
     }
     let table = modbus.unwrap_or_default();

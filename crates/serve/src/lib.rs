@@ -9,6 +9,7 @@ pub mod mc;
 pub mod modbus;
 pub mod serial;
 pub mod tcp;
+pub mod udp;
 
 use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -20,18 +21,40 @@ pub use tcp::{FrameLen, Protocol};
 /// A protocol server to start.
 pub struct Listener {
     pub addr: SocketAddr,
-    pub start: Box<
-        dyn FnOnce(tokio::net::TcpListener, EngineHandle) -> tokio::task::JoinHandle<()> + Send,
-    >,
+    udp: bool,
+    start: Box<dyn FnOnce(Bound, EngineHandle) -> tokio::task::JoinHandle<()> + Send>,
+}
+
+/// A bound socket handed to a server.
+pub enum Bound {
+    Tcp(tokio::net::TcpListener),
+    Udp(tokio::net::UdpSocket),
 }
 
 impl Listener {
+    /// The MC protocol over UDP on `addr`.
+    pub fn mc_udp(addr: SocketAddr, mc: mc::Mc) -> Listener {
+        let mc = Arc::new(mc);
+        Listener {
+            addr,
+            udp: true,
+            start: Box::new(move |l, e| match l {
+                Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
+                Bound::Tcp(_) => unreachable!("a UDP listener is bound to a UDP socket"),
+            }),
+        }
+    }
+
     /// A TCP server of protocol `P` on `addr` with at most `max_conns` connections.
     pub fn tcp<P: Protocol>(addr: SocketAddr, proto: P, max_conns: usize) -> Listener {
         let proto = Arc::new(proto);
         Listener {
             addr,
-            start: Box::new(move |l, e| tokio::spawn(tcp::serve(l, proto, e, max_conns))),
+            udp: false,
+            start: Box::new(move |l, e| match l {
+                Bound::Tcp(l) => tokio::spawn(tcp::serve(l, proto, e, max_conns)),
+                Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
+            }),
         }
     }
 }
@@ -86,9 +109,16 @@ pub fn run(
     let bound = rt.block_on(async {
         let mut bound = Vec::new();
         for l in listeners {
-            let tcp = tokio::net::TcpListener::bind(l.addr).await?;
-            bound.push(tcp.local_addr()?);
-            (l.start)(tcp, handle.clone());
+            let socket = if l.udp {
+                let s = tokio::net::UdpSocket::bind(l.addr).await?;
+                bound.push(s.local_addr()?);
+                Bound::Udp(s)
+            } else {
+                let s = tokio::net::TcpListener::bind(l.addr).await?;
+                bound.push(s.local_addr()?);
+                Bound::Tcp(s)
+            };
+            (l.start)(socket, handle.clone());
         }
         Ok::<_, std::io::Error>(bound)
     });

@@ -122,3 +122,61 @@ fn requests_are_served_at_end_while_scanning() {
     assert!(state.stats.scans > 20);
     assert!(state.stats.requests >= 40);
 }
+
+#[test]
+fn mc_protocol_over_tcp_and_udp() {
+    use softplc_serve::mc::Mc;
+    use std::io::Read;
+    use std::net::UdpSocket;
+    // 3E binary batch read of D100 × 3 words (pymcprotocol's bytes).
+    const READ_D100: [u8; 21] = [
+        0x50, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x0C, 0x00, 0x04, 0x00, 0x01, 0x04, 0x00, 0x00,
+        0x64, 0x00, 0x00, 0xA8, 0x03, 0x00,
+    ];
+    let prog = compile_il("t.il", "LD SM400\nMOV K7 D101\nEND\n", &Default::default()).unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let stop = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = std::sync::mpsc::channel();
+    let stop2 = stop.clone();
+    let server = std::thread::spawn(move || {
+        let cfg = EngineConfig {
+            period: Duration::from_millis(2),
+            end_budget: Duration::from_millis(1),
+            queue: 64,
+            battery: None,
+            log_every: None,
+        };
+        let any = "127.0.0.1:0".parse().unwrap();
+        let l = vec![
+            Listener::tcp(any, Mc { password: None }, 4),
+            Listener::mc_udp(any, Mc { password: None }),
+        ];
+        softplc_serve::run(ServeState::new(cpu), cfg, l, vec![], stop2, |a| {
+            tx.send(a.to_vec()).unwrap()
+        })
+        .unwrap()
+    });
+    let addrs = rx.recv().unwrap();
+    // Reply: D0 00 00 FF FF 03 00, length 8, end code 0, then D100-D102 = 0, 7, 0.
+    let want = [
+        0xD0, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x08, 0x00, 0x00, 0x00, 0, 0, 7, 0, 0, 0,
+    ];
+    std::thread::sleep(Duration::from_millis(20));
+    let mut t = TcpStream::connect(addrs[0]).unwrap();
+    t.write_all(&READ_D100).unwrap();
+    let mut reply = [0u8; 17];
+    t.read_exact(&mut reply).unwrap();
+    assert_eq!(reply, want);
+    let u = UdpSocket::bind("127.0.0.1:0").unwrap();
+    u.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
+    u.send_to(&READ_D100, addrs[1]).unwrap();
+    let mut buf = [0u8; 64];
+    let (n, _) = u.recv_from(&mut buf).unwrap();
+    assert_eq!(&buf[..n], &want);
+    stop.store(true, Ordering::Relaxed);
+    server.join().unwrap();
+}
