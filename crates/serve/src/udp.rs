@@ -25,7 +25,7 @@ pub async fn serve(socket: UdpSocket, mc: Arc<Mc>, engine: EngineHandle) {
             continue;
         };
         let frame = buf[..n].to_vec();
-        let session = sessions.remove(&peer).unwrap_or_else(Session::new);
+        let session = sessions.remove(&peer).unwrap_or_default();
         let m = mc.clone();
         let Ok((served, session)) = engine
             .at_end(move |s| {
