@@ -833,3 +833,49 @@ fn ans_sets_the_annunciator_after_its_time_and_anr_resets_it() {
     assert!(!p.bit("F10"));
     assert_eq!((p.int("SD62"), p.int("SD63")), (0, 0));
 }
+
+#[test]
+fn duty_user_timing_clock() {
+    // DUTY K2 K3 SM420: ON for 2 scans, OFF for 3, counted at END from the END of
+    // the scan that executed DUTY. M0 copies SM420 as the program sees it.
+    let mut p = Plc::new("LD SM400\nDUTY K2 K3 SM420\nLD SM420\nOUT M0\nEND\n");
+    let mut seen = Vec::new();
+    for _ in 0..11 {
+        p.scan();
+        seen.push(p.bit("M0") as u8);
+    }
+    // Scan 1 sees the power-on OFF; END 1 counts 0 (ON), END 2 count 1 (ON),
+    // ENDs 3-5 OFF, ENDs 6-7 ON …; scan k sees END k-1.
+    assert_eq!(seen, [0, 1, 1, 0, 0, 0, 1, 1, 0, 0, 0]);
+    // DUTY into anything but SM420-424/SM430-434 is a load error.
+    let d = common::diagnostics("LD SM400\nDUTY K1 K1 M0\nEND\n");
+    assert!(d[0].contains("user timing clock"), "{d:?}");
+}
+
+#[test]
+fn trace_and_tracer_instructions() {
+    use softplc_core::engine::trace::{Trace, TraceConfig};
+    let mut p = Plc::new("LD X0\nTRACE\nLD X1\nTRACER\nLD SM400\nINC D0\nEND\n");
+    let cfg = TraceConfig {
+        devices: vec![DeviceSpec::parse("D0").unwrap()],
+        every_scans: 1,
+        interval_us: None,
+        capacity: 100,
+        trigger: None,
+        after_trigger: 1,
+    };
+    p.cpu.set_trace(Some(Trace::new(cfg).unwrap()));
+    p.scans(2).set("X0", "1").scan().set("X0", "0").scans(3);
+    // TRACE in scan 3: one more sample (scan 3's own END counts), then complete.
+    let t = p.cpu.trace().unwrap();
+    assert!(t.is_complete());
+    assert_eq!(
+        t.samples().map(|(s, _, _)| s).collect::<Vec<_>>(),
+        [1, 2, 3]
+    );
+    // TRACER: the trace starts again from nothing.
+    p.set("X1", "1").scan().set("X1", "0").scan();
+    let t = p.cpu.trace().unwrap();
+    assert!(!t.is_complete());
+    assert_eq!(t.samples().map(|(s, _, _)| s).collect::<Vec<_>>(), [7, 8]);
+}

@@ -183,6 +183,9 @@ impl Cpu {
             in_interrupt: false,
             type_requests: vec![None; slots.len()].into_boxed_slice(),
             force_off: false,
+            duty: [None; 10],
+            trace_trigger: false,
+            trace_reset: false,
         };
         let mut cpu = Cpu {
             programs,
@@ -417,6 +420,7 @@ impl Cpu {
         self.rt.timer_rem.fill(0);
         self.rt.ei = false;
         self.rt.imask = DEFAULT_IMASK;
+        self.rt.duty = [None; 10];
         let now = self.clock.now_us();
         self.power_on_us = now;
         self.min_scan_us = None;
@@ -916,7 +920,14 @@ impl Cpu {
                 };
             }
         }
+        special::user_clocks(&mut self.rt.mem, &mut self.rt.duty);
         if let Some(t) = &mut self.trace {
+            if std::mem::take(&mut self.rt.trace_reset) {
+                t.reset(&mut self.rt.mem);
+            }
+            if std::mem::take(&mut self.rt.trace_trigger) {
+                t.trigger();
+            }
             t.sample(&mut self.rt.mem, self.scans, now);
         }
         if std::mem::take(&mut self.rt.stop_request) {

@@ -54,7 +54,7 @@ pub(crate) fn run(
     let mut mc_on = !off;
     rt.mc_off = 0;
     let mut back_jumps = 0u32;
-    let started = Instant::now();
+    let mut started = Instant::now();
     let watchdog = rt.watchdog;
 
     macro_rules! try_op {
@@ -364,6 +364,35 @@ pub(crate) fn run(
                     match rt.type_requests.get_mut(*name as usize) {
                         Some(r) => *r = Some(*kind),
                         None => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
+                    }
+                }
+            }
+            Op::Wdt => {
+                if acc & mc_on {
+                    started = Instant::now();
+                }
+            }
+            Op::Duty(d) => {
+                if acc & mc_on {
+                    let n1 = rt.mem.read16(&d.0).map(|v| v as i16);
+                    let n2 = rt.mem.read16(&d.1).map(|v| v as i16);
+                    match (n1, n2) {
+                        (Ok(n1), Ok(n2)) if n1 >= 0 && n2 >= 0 => {
+                            let k = d.2 as usize;
+                            let count = rt.duty[k].map_or(0, |c| c.2);
+                            rt.duty[k] = Some((n1 as u16, n2 as u16, count));
+                        }
+                        (Err(code), _) | (_, Err(code)) => try_op!(Err::<(), _>(code)),
+                        _ => try_op!(Err::<(), _>(ErrorCode::OPERATION)),
+                    }
+                }
+            }
+            Op::Trace { reset } => {
+                if acc & mc_on {
+                    if *reset {
+                        rt.trace_reset = true;
+                    } else {
+                        rt.trace_trigger = true;
                     }
                 }
             }

@@ -192,6 +192,12 @@ pub(crate) struct Runtime {
     pub type_requests: Box<[Option<crate::program::ops::TypeChange>]>,
     /// Running a program for POFF: every condition forced OFF.
     pub force_off: bool,
+    /// User timing clocks set by DUTY: (ON scans, OFF scans, scans counted),
+    /// SM420-SM424 then SM430-SM434; `None` until DUTY runs.
+    pub duty: [Option<(u16, u16, u32)>; 10],
+    /// TRACE / TRACER executed this scan (applied at END).
+    pub trace_trigger: bool,
+    pub trace_reset: bool,
 }
 
 /// Entries kept in the error history (004 §7.20.2).

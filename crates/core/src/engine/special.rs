@@ -261,3 +261,18 @@ pub(crate) fn clear_error(mem: &mut DeviceMemory) {
         sd(mem, n, 0);
     }
 }
+
+/// User timing clocks (DUTY, SM420-SM424 and SM430-SM434): counted in scans at
+/// END; ON for n1 scans then OFF for n2 scans. n1 = 0 keeps the clock OFF, n2 = 0
+/// keeps it ON (PM DUTY).
+pub(crate) fn user_clocks(mem: &mut DeviceMemory, duty: &mut [Option<(u16, u16, u32)>; 10]) {
+    for (k, d) in duty.iter_mut().enumerate() {
+        let Some((on, off, count)) = d else { continue };
+        let period = (*on as u32 + *off as u32).max(1);
+        let phase = *count % period;
+        let v = *on > 0 && (*off == 0 || phase < *on as u32);
+        let n = if k < 5 { 420 + k } else { 425 + k };
+        sm(mem, n as i64, v);
+        *count = count.wrapping_add(1);
+    }
+}

@@ -164,6 +164,19 @@ impl Trace {
         }
     }
 
+    /// TRACER: clears the samples and the trigger; the trace starts again.
+    pub fn reset(&mut self, mem: &mut DeviceMemory) {
+        self.next = 0;
+        self.len = 0;
+        self.countdown = 0;
+        self.last_sample_us = None;
+        self.remaining = None;
+        self.complete = false;
+        for n in [803, 804, 805] {
+            let _ = mem.set_bit(DeviceKind::SM, n, false);
+        }
+    }
+
     /// The TRACE instruction or a trigger operation: starts the after-trigger count.
     pub fn trigger(&mut self) {
         if self.remaining.is_none() && !self.complete {

@@ -516,6 +516,52 @@ impl<'a> Compiler<'a> {
                 self.prog_names.push(name.to_ascii_uppercase());
                 self.pulsed(pulse, Op::ProgCtl { kind, name: id });
             }
+            "WDT" | "WDTP" | "TRACE" | "TRACER" => {
+                if self.count(i, m, &[0]) && self.output(i, m) {
+                    let op = match m {
+                        "TRACE" => Op::Trace { reset: false },
+                        "TRACER" => Op::Trace { reset: true },
+                        _ => Op::Wdt,
+                    };
+                    self.pulsed(m == "WDTP", op);
+                }
+            }
+            "DUTY" => {
+                if !self.count(i, m, &[3]) || !self.output(i, m) {
+                    return;
+                }
+                let n1 = self.word_src(&ops[0], Num::I16);
+                let n2 = self.word_src(&ops[1], Num::I16);
+                let clock = match parse_operand(&ops[2].text) {
+                    Ok(Operand::Device {
+                        dev,
+                        digits: None,
+                        bit: None,
+                        index: None,
+                    }) if dev.kind == DeviceKind::SM
+                        && matches!(dev.number, 420..=424 | 430..=434) =>
+                    {
+                        Some(if dev.number < 430 {
+                            dev.number - 420
+                        } else {
+                            dev.number - 425
+                        } as u8)
+                    }
+                    _ => {
+                        self.err(
+                            &ops[2],
+                            format!(
+                                "`{}`: DUTY drives a user timing clock SM420-SM424 or SM430-SM434",
+                                ops[2].text
+                            ),
+                        );
+                        None
+                    }
+                };
+                if let (Some(n1), Some(n2), Some(c)) = (n1, n2, clock) {
+                    self.emit(Op::Duty(Box::new((n1, n2, c))));
+                }
+            }
             "STOP" | "GOEND" => {
                 if self.count(i, m, &[0]) && self.output(i, m) {
                     self.emit(if m == "STOP" { Op::Stop } else { Op::GoEnd });

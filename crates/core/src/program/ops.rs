@@ -359,6 +359,15 @@ pub enum Op {
         kind: TypeChange,
         name: u32,
     },
+    /// WDT: resets the watchdog timer (not the scan-time measurement).
+    Wdt,
+    /// DUTY n1 n2 SM42x: user timing clock `clock` (0-4 = SM420-SM424, 5-9 =
+    /// SM430-SM434) ON for n1 scans, OFF for n2 scans.
+    Duty(Box<(WordArg, WordArg, u8)>),
+    /// TRACE (trigger the sampling trace) / TRACER (reset it).
+    Trace {
+        reset: bool,
+    },
 }
 
 /// A compiled program with the source map needed for error reports.
