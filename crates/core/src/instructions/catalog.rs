@@ -59,7 +59,6 @@ const KNOWN: &[&str] = &[
     "ECALL",
     "EFCALL",
     "XCALL",
-    "CHG",
     "COM",
     "PSCAN",
     "PSTOP",
@@ -67,16 +66,13 @@ const KNOWN: &[&str] = &[
     "PLOW",
     "SFT",
     "SFTP",
-    "MRST",
     "ZPUSH",
     "ZPOP",
-    "SIX",
     "CHK",
     "CHKEND",
     "CHKST",
     "CHKCIR",
     "CHKEND",
-    "PAGE",
     "QDRSET",
     "RSET",
     "PLOAD",
@@ -342,14 +338,37 @@ const NEEDS_MODULE: &[&str] = &[
 
 /// Why a known instruction is rejected, for the "unsupported instruction" message.
 pub fn unsupported_reason(m: &str) -> &'static str {
-    let base = m
-        .strip_suffix('P')
-        .filter(|b| NEEDS_MODULE.contains(b))
-        .unwrap_or(m);
+    let base = m.strip_suffix('P').filter(|b| KNOWN.contains(b)).unwrap_or(m);
     if NEEDS_MODULE.contains(&base) {
-        "it needs an intelligent function module or network, which softplc does not simulate"
-    } else {
-        "not implemented yet; see COMPATIBILITY.md"
+        return "it needs an intelligent function module or network, which softplc does not simulate";
+    }
+    match base {
+        "CMP" | "DCMP" | "ECMP" | "ZCP" | "DZCP" => {
+            "not a MELSEC-Q instruction (FX series); use the comparison contacts or BKCMP"
+        }
+        "MEAN" | "DMEAN" | "DFMOV" | "POW" | "LOG10" | "STRINS" | "STRDEL" | "EMOD" | "EREXP"
+        | "ESQR" | "DSECOND" | "DHOUR" => {
+            "not in the QnH instruction set (Universal model QnU or later)"
+        }
+        "FCALL" | "ECALL" | "EFCALL" | "XCALL" => {
+            "subroutine calls with arguments or into another file's local pointers are not implemented; use CALL with a common pointer"
+        }
+        "COM" => "refresh during the scan (COM) is not implemented",
+        "QDRSET" => "softplc has a single file-register file; select blocks with RSET",
+        "PLOAD" | "PUNLOAD" | "PSWAP" | "FWRITE" | "FREAD" => {
+            "program and data files on memory cards are not modelled"
+        }
+        "SPD" | "PLSY" | "PWM" | "MTR" | "UDCNT1" | "UDCNT2" | "TTMR" => {
+            "it needs input/output hardware timing (pulse output, high-speed counting, matrix input)"
+        }
+        "LED" | "LEDC" | "PKEY" | "KEY" | "MSG" => {
+            "it needs the CPU's display or a peripheral keyboard, which softplc does not model"
+        }
+        "COMRD" => "device comments are not loaded",
+        "S.IN" | "S.OUT1" | "S.OUT2" | "S.PID" | "S.2PID" | "S.AT1" => {
+            "process-control instructions (QnPH) are not implemented yet"
+        }
+        _ => "not implemented yet; see COMPATIBILITY.md",
     }
 }
 
