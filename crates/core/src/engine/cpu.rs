@@ -572,17 +572,24 @@ impl Cpu {
     /// holds the program number while one runs; SM404/SM405 are the low-speed
     /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
     fn run_low_speed(&mut self, _now: u64) -> bool {
-        let order: Vec<usize> = (0..self.slots.len())
-            .filter(|&i| self.slots[i].exec == ExecType::LowSpeed)
-            .collect();
-        if order.is_empty() {
+        // The low-speed programs in parameter order, without allocating.
+        let n_low = self
+            .slots
+            .iter()
+            .filter(|s| s.exec == ExecType::LowSpeed)
+            .count();
+        if n_low == 0 {
             return true;
         }
+
         let first = self.low_first;
         self.sm(404, first);
         self.sm(405, !first);
         let sync = self.rt.mem.get_bit(DeviceKind::SM, 330).unwrap_or(false);
-        let timed = order.iter().any(|&i| self.slots[i].cost_us > 0);
+        let timed = self
+            .slots
+            .iter()
+            .any(|s| s.exec == ExecType::LowSpeed && s.cost_us > 0);
         // The time low-speed programs may use in this scan (004 §4.2.3): the
         // low-speed execution time, or the constant-scan spare time less 0.5 ms
         // (none when the spare time is 0.5 ms or less).
@@ -598,8 +605,8 @@ impl Cpu {
             // complete cycle per scan.
             self.low_pos = 0;
             self.low_left_us = 0;
-            for &i in &order {
-                if !self.run_low(i) {
+            for k in 0..n_low {
+                if !self.run_low(self.low_slot(k)) {
                     return false;
                 }
             }
@@ -608,7 +615,7 @@ impl Cpu {
         }
         let mut used = 0u64;
         loop {
-            if self.low_pos >= order.len() {
+            if self.low_pos >= n_low {
                 self.low_pos = 0;
             }
             if self.low_left_us > 0 {
@@ -624,7 +631,7 @@ impl Cpu {
                 if used >= budget {
                     break;
                 }
-                let i = order[self.low_pos];
+                let i = self.low_slot(self.low_pos);
                 if !self.run_low(i) {
                     return false;
                 }
@@ -633,7 +640,7 @@ impl Cpu {
             }
             // The running program completed.
             self.low_pos += 1;
-            if self.low_pos == order.len() {
+            if self.low_pos == n_low {
                 self.low_pos = 0;
                 self.low_speed_end();
                 if sync {
@@ -645,6 +652,14 @@ impl Cpu {
         self.busy_us += used;
         self.sm(510, false);
         true
+    }
+
+    /// The slot of the `k`-th low-speed program in parameter order.
+    fn low_slot(&self, k: usize) -> usize {
+        (0..self.slots.len())
+            .filter(|&i| self.slots[i].exec == ExecType::LowSpeed)
+            .nth(k)
+            .unwrap_or(0)
     }
 
     fn sm(&mut self, n: i64, v: bool) {
@@ -848,7 +863,9 @@ impl Cpu {
     /// Records a stop error of a program run; true when it ended normally.
     fn outcome(&mut self, out: Outcome) -> bool {
         match out {
-            Outcome::End => true,
+            // A RET with no caller in this pass cannot happen at top level:
+            // `Ret` on an empty stack is 4212.
+            Outcome::End | Outcome::Return => true,
             Outcome::Fault(code, slot, pc) => {
                 self.rt.record_fault(&self.programs[slot], code, pc);
                 false

@@ -18,6 +18,8 @@ pub(crate) enum Outcome {
     End,
     /// An instruction of program `slot` faulted at op index `pc`; the CPU stops.
     Fault(Fault, usize, usize),
+    /// RET of a subroutine called from another file (a nested pass ends).
+    Return,
 }
 
 /// Back jumps between two wall-clock watchdog checks.
@@ -39,12 +41,11 @@ pub(crate) fn run(
     progs: &[Program],
     locals: &mut [ProgState],
     rt: &mut Runtime,
-    mut cur: usize,
+    cur: usize,
     start: usize,
 ) -> Outcome {
-    let mut prog = &progs[cur];
-    let mut ops = &prog.ops[..];
-    let mut ps = &mut locals[cur];
+    let prog = &progs[cur];
+    let ops = &prog.ops[..];
     let mut pc = start;
     let mut acc = false;
     let mut blocks: u32 = 0;
@@ -98,11 +99,11 @@ pub(crate) fn run(
                 let v = match c.edge {
                     Edge::None => v,
                     Edge::Rising => {
-                        let prev = std::mem::replace(&mut ps.edges[c.slot as usize], v);
+                        let prev = std::mem::replace(&mut locals[cur].edges[c.slot as usize], v);
                         v && !prev
                     }
                     Edge::Falling => {
-                        let prev = std::mem::replace(&mut ps.edges[c.slot as usize], v);
+                        let prev = std::mem::replace(&mut locals[cur].edges[c.slot as usize], v);
                         !v && prev
                     }
                 };
@@ -133,11 +134,11 @@ pub(crate) fn run(
             }
             Op::Inv => acc = !acc,
             Op::Mep(s) => {
-                let prev = std::mem::replace(&mut ps.edges[*s as usize], acc);
+                let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], acc);
                 acc = acc && !prev;
             }
             Op::Mef(s) => {
-                let prev = std::mem::replace(&mut ps.edges[*s as usize], acc);
+                let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], acc);
                 acc = !acc && prev;
             }
             Op::EdgeRelay { rising, v } => {
@@ -155,7 +156,12 @@ pub(crate) fn run(
                     rt.mem.bits[*i as usize] = false
                 }
             }
-            Op::Coil(c) => try_op!(sequence::coil(&mut rt.mem, &mut ps.edges, c, acc & mc_on)),
+            Op::Coil(c) => try_op!(sequence::coil(
+                &mut rt.mem,
+                &mut locals[cur].edges,
+                c,
+                acc & mc_on
+            )),
             Op::Timer(t) => {
                 let base = rt.timer_base_us[t.high_speed as usize];
                 try_op!(sequence::timer(
@@ -186,7 +192,7 @@ pub(crate) fn run(
             }
             Op::Pulse(s) => {
                 let cond = acc & mc_on;
-                let prev = std::mem::replace(&mut ps.edges[*s as usize], cond);
+                let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], cond);
                 if !cond || prev {
                     pc += 1;
                 }
@@ -210,7 +216,7 @@ pub(crate) fn run(
                 if acc & mc_on {
                     let mut cx = crate::instructions::ExecCtx {
                         mem: &mut rt.mem,
-                        state: &mut ps.state,
+                        state: &mut locals[cur].state,
                         now_us: rt.now_us,
                         scan_us: rt.scan_us,
                         clock: &mut rt.clock,
@@ -228,7 +234,7 @@ pub(crate) fn run(
             // SCJ: jumps from the scan after the condition turned ON.
             Op::Scj { target, slot } => {
                 let cond = acc & mc_on;
-                let prev = std::mem::replace(&mut ps.edges[*slot as usize], cond);
+                let prev = std::mem::replace(&mut locals[cur].edges[*slot as usize], cond);
                 if cond && prev {
                     back_jump!(*target);
                     pc = *target as usize;
@@ -250,6 +256,8 @@ pub(crate) fn run(
                     pc = *target as usize;
                 }
             }
+            // CALL of another file's subroutine (a common pointer): it runs as a
+            // nested pass over that file's ops until its RET returns here.
             Op::CallFar { slot, pc: target } => {
                 if acc & mc_on {
                     if rt.calls.len() >= MAX_NESTING {
@@ -257,27 +265,21 @@ pub(crate) fn run(
                         continue;
                     }
                     rt.calls.push((cur as u32, pc as u32));
-                    // Another file's subroutine: its own edge memories and ops.
-                    back_jumps += 1;
-                    cur = *slot as usize;
-                    prog = &progs[cur];
-                    ops = &prog.ops[..];
-                    ps = &mut locals[cur];
-                    pc = *target as usize;
+                    let mc_off = rt.mc_off;
+                    let out = run(progs, locals, rt, *slot as usize, *target as usize);
+                    rt.mc_off = mc_off;
+                    match out {
+                        Outcome::Return => {}
+                        other => return other,
+                    }
                 }
             }
             // Linking replaces every CallCommon; one left means a bug, not input.
             Op::CallCommon(_) => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
             Op::Ret => match rt.calls.pop() {
-                Some((slot, ret)) => {
-                    if slot as usize != cur {
-                        cur = slot as usize;
-                        prog = &progs[cur];
-                        ops = &prog.ops[..];
-                        ps = &mut locals[cur];
-                    }
-                    pc = ret as usize;
-                }
+                // RET to another file: back to the nested pass that called it.
+                Some((slot, _)) if slot as usize != cur => return Outcome::Return,
+                Some((_, ret)) => pc = ret as usize,
                 None => try_op!(Err::<(), _>(ErrorCode::RET_IN_MAIN)),
             },
             // FOR n: n of 0 or less runs once.

@@ -338,7 +338,10 @@ const NEEDS_MODULE: &[&str] = &[
 
 /// Why a known instruction is rejected, for the "unsupported instruction" message.
 pub fn unsupported_reason(m: &str) -> &'static str {
-    let base = m.strip_suffix('P').filter(|b| KNOWN.contains(b)).unwrap_or(m);
+    let base = m
+        .strip_suffix('P')
+        .filter(|b| KNOWN.contains(b))
+        .unwrap_or(m);
     if NEEDS_MODULE.contains(&base) {
         return "it needs an intelligent function module or network, which softplc does not simulate";
     }

@@ -1,0 +1,129 @@
+//! The scan loop allocates nothing (DEVELOPERS.md: "the scan loop does no
+//! parsing, allocation or string work"): a counting global allocator checks a
+//! CPU with several program types, interrupts and many instruction families.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
+use softplc_core::program::compile_il;
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+const MAIN: &str = "\
+LD SM402
+EI
+LD X0
+OR M0
+ANI X1
+OUT M0
+LD M0
+OUT T0 K10
+OUT C0 K5
+LDP X2
+INCP D0
+LD SM400
+MOV D0 D1
++ D1 K3 D2
+* D2 K2 D4
+E+ E1.5 E2.5 D10
+BCD D0 D20
+BIN D20 D21
+BMOV D0 D30 K4
+$MOV \"ABC\" D40
+LD$= D40 \"ABC\"
+OUT M1
+LD> D2 K1
+SET M2
+FOR K3
+LD SM400
+INC D50
+NEXT
+LD SM400
+CALL P1
+DUTY K1 K1 SM420
+FEND
+P1
+LD SM400
+INC D51
+RET
+I31
+LD SM400
+INC D60
+IRET
+END
+";
+
+#[test]
+fn scans_do_not_allocate() {
+    let cfg = CpuConfig {
+        low_speed_time: Some(Duration::from_millis(1)),
+        ..CpuConfig::default()
+    };
+    let progs = [
+        ("main.il", MAIN, ExecType::Scan, None),
+        (
+            "init.il",
+            "LD SM400\nMOV K1 D100\nEND\n",
+            ExecType::Initial,
+            None,
+        ),
+        (
+            "fast.il",
+            "LD SM400\nINC D101\nEND\n",
+            ExecType::FixedScan,
+            Some(Duration::from_millis(20)),
+        ),
+        (
+            "slow.il",
+            "LD SM400\nINC D102\nEND\n",
+            ExecType::LowSpeed,
+            None,
+        ),
+    ];
+    let loaded = progs
+        .iter()
+        .map(|(n, s, e, i)| LoadedProgram {
+            program: compile_il(n, s, &cfg.devices).unwrap(),
+            exec: *e,
+            interval: *i,
+            sim_time: None,
+        })
+        .collect();
+    let clock = VirtualClock::new();
+    let mut cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+    // Warm-up: first scans may size internal buffers.
+    for _ in 0..3 {
+        clock.advance_us(10_000);
+        cpu.scan();
+    }
+    cpu.set_input(0, true);
+    let before = ALLOCS.load(Ordering::Relaxed);
+    for k in 0..200 {
+        cpu.set_input(2, k % 2 == 0);
+        clock.advance_us(10_000);
+        cpu.scan();
+    }
+    let allocs = ALLOCS.load(Ordering::Relaxed) - before;
+    assert!(cpu.error().is_none(), "{:?}", cpu.error());
+    assert_eq!(allocs, 0, "allocations during 200 scans");
+}
