@@ -5,21 +5,8 @@
 //! nibble) so that the digits can be read off directly.
 
 mod common;
-use common::{diagnostics, Plc};
-use softplc_core::engine::{CpuConfig, CpuState, ErrorCode, ErrorMode};
-
-/// Asserts that the CPU stopped with OPERATION ERROR `code`.
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, diagnostics, Plc};
+use softplc_core::engine::{CpuConfig, CpuState, ErrorMode};
 
 // ---------------------------------------------------------------- B+ / B-
 

@@ -4,22 +4,8 @@
 //! programming manual ch. 6).
 
 mod common;
-use common::Plc;
-use softplc_core::engine::{CpuState, ErrorCode};
-
-/// Asserts that the CPU stopped with OPERATION ERROR `code`.
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    // SD0 holds the latest error code, SM0 is the error flag.
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, Plc};
+use softplc_core::engine::CpuState;
 
 // ---------------------------------------------------------------- transfer
 

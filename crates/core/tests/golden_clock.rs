@@ -9,20 +9,8 @@
 //! the default 10 ms scans the first 100 scans all read 00:00:00.
 
 mod common;
-use common::Plc;
-use softplc_core::engine::{CpuConfig, CpuState, ErrorCode, ErrorMode};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, Plc};
+use softplc_core::engine::{CpuConfig, CpuState, ErrorMode};
 
 /// The 7 words DATERD wrote at `D<n>`.
 fn clock_at(p: &Plc, n: u32) -> [i64; 7] {

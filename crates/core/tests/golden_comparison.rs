@@ -3,20 +3,7 @@
 //! to it.
 
 mod common;
-use common::Plc;
-use softplc_core::engine::{CpuState, ErrorCode};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, Plc};
 
 fn bits(p: &Plc, first: u32, n: u32) -> Vec<bool> {
     (first..first + n)

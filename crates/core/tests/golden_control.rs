@@ -8,17 +8,8 @@
 mod common;
 use std::time::Duration;
 
-use common::Plc;
+use common::{assert_stopped, Plc};
 use softplc_core::engine::{CpuConfig, CpuState, ErrorCode, ErrorMode};
-
-/// Asserts the CPU stopped with `code`: state STOP, SD0 = code, SM0 and SM1 ON.
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"), "SM0");
-    assert!(p.bit("SM1"), "SM1");
-}
 
 /// The step and source line of the latest error.
 fn error_at(p: &Plc) -> (Option<u32>, Option<u32>) {

@@ -4,20 +4,7 @@
 //! the comment next to it.
 
 mod common;
-use common::Plc;
-use softplc_core::engine::{CpuState, ErrorCode};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, Plc};
 
 /// Sets `D{first}`, `D{first+1}` … to `values` (16-bit).
 fn set_words(p: &mut Plc, first: u32, values: &[i64]) {

@@ -12,26 +12,13 @@
 //!   = 1.4142136574 is 9.5·10⁻⁸ away).
 
 mod common;
-use common::{diagnostics, Plc};
-use softplc_core::engine::{CpuState, ErrorCode};
+use common::{assert_running, assert_stopped, diagnostics, Plc};
 
 const HALF_PI: i64 = 0x3FC9_0FDB;
 const PI: i64 = 0x4049_0FDB;
 const QUARTER_PI: i64 = 0x3F49_0FDB;
 const E: i64 = 0x402D_F854;
 const SQRT2: i64 = 0x3FB5_04F3;
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
 
 /// One unit in the last place of an f32 near `v` (v a normal number).
 fn ulp(v: f64) -> f64 {

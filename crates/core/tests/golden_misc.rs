@@ -5,19 +5,8 @@
 //! M0-M8191, Z0-Z15; scans take 10 ms of virtual time unless set otherwise.
 
 mod common;
-use common::{diagnostics, Plc};
-use softplc_core::engine::{CpuConfig, CpuState, ErrorCode, ExecType};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, diagnostics, Plc};
+use softplc_core::engine::{CpuConfig, ExecType};
 
 /// The single diagnostic of a program that must not load.
 fn only_diagnostic(src: &str) -> String {

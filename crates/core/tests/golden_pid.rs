@@ -9,7 +9,7 @@
 //! first scan is the first processing (it uses the configured Ts).
 
 mod common;
-use common::Plc;
+use common::{assert_running, assert_stopped, Plc};
 use softplc_core::device::DeviceKind;
 use softplc_core::engine::{CpuConfig, CpuState, ErrorCode, ErrorMode};
 
@@ -155,18 +155,6 @@ fn run_pv(p: &mut Plc, fam: Fam, pvs: &[i64]) -> Vec<i64> {
             get(p, fam, 0, MV)
         })
         .collect()
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run, "error: {:?}", p.error());
-    assert_eq!(p.error(), None);
-}
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
 }
 
 fn continue_on_error() -> CpuConfig {

@@ -5,19 +5,7 @@
 //! M101 … after each instruction so that each value can be checked.
 
 mod common;
-use common::{diagnostics, Plc};
-use softplc_core::engine::{CpuState, ErrorCode};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
+use common::{assert_running, assert_stopped, diagnostics, Plc};
 
 /// `LD SM400` + each instruction followed by `LD SM700 / OUT M10k`.
 fn with_carries(instrs: &[&str]) -> String {

@@ -7,21 +7,8 @@
 //! space = 20H, '-' = 2DH, '.' = 2EH.
 
 mod common;
-use common::{diagnostics, Plc};
+use common::{assert_running, assert_stopped, diagnostics, Plc};
 use softplc_core::access::Value;
-use softplc_core::engine::{CpuState, ErrorCode};
-
-fn assert_stopped(p: &Plc, code: u16) {
-    assert_eq!(p.state(), CpuState::Stop);
-    assert_eq!(p.error(), Some(ErrorCode(code)));
-    assert_eq!(p.int("SD0"), code as i64);
-    assert!(p.bit("SM0"));
-}
-
-fn assert_running(p: &Plc) {
-    assert_eq!(p.state(), CpuState::Run);
-    assert_eq!(p.error(), None);
-}
 
 /// The string at `dev` (read up to its NUL).
 fn text(p: &Plc, dev: &str) -> String {

@@ -131,3 +131,18 @@ pub fn diagnostics(src: &str) -> Vec<String> {
         }
     }
 }
+
+/// Asserts that the CPU stopped with error `code`: STOP, the engine's error,
+/// SD0 and SM0.
+pub fn assert_stopped(p: &Plc, code: u16) {
+    assert_eq!(p.state(), CpuState::Stop);
+    assert_eq!(p.error(), Some(ErrorCode(code)));
+    assert_eq!(p.int("SD0"), code as i64);
+    assert!(p.bit("SM0"));
+}
+
+/// Asserts that the CPU runs without error.
+pub fn assert_running(p: &Plc) {
+    assert_eq!(p.state(), CpuState::Run);
+    assert_eq!(p.error(), None);
+}
