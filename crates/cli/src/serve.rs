@@ -215,6 +215,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         queue: 1024,
         battery,
         log_every: args.stats_every,
+        realtime: true,
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));

@@ -48,6 +48,7 @@ fn main() {
             queue: 1024,
             battery: None,
             log_every: None,
+            realtime: true,
         };
         let l = Listener::tcp(
             "127.0.0.1:0".parse().unwrap(),
@@ -88,7 +89,10 @@ fn main() {
     lat.sort();
     let pct = |p: f64| lat[((lat.len() as f64 * p) as usize).min(lat.len() - 1)];
     let st = &state.stats;
-    println!("clients: {clients}, duration: {seconds} s, constant scan 10 ms");
+    println!(
+        "clients: {clients}, duration: {seconds} s, constant scan 10 ms, real-time priority: {}",
+        state.stats.realtime
+    );
     println!(
         "requests: {} ({:.0}/s), latency p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
         lat.len(),

@@ -32,6 +32,8 @@ pub struct ScanStats {
     pub jitter_mean_us: f64,
     /// Requests served at END processing.
     pub requests: u64,
+    /// The engine thread got real-time scheduling.
+    pub realtime: bool,
 }
 
 /// Everything a request may touch, owned by the engine thread.
@@ -124,6 +126,8 @@ pub struct EngineConfig {
     pub battery: Option<Battery>,
     /// Print the scan statistics to stderr this often.
     pub log_every: Option<Duration>,
+    /// Try to run the engine thread with real-time priority (SCHED_FIFO).
+    pub realtime: bool,
 }
 
 /// Starts the engine thread. It runs until `stop` is set, then commits the

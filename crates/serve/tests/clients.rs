@@ -33,6 +33,7 @@ fn start() -> (
             queue: 64,
             battery: None,
             log_every: None,
+            realtime: false,
         };
         let any = "127.0.0.1:0".parse().unwrap();
         let l = vec![

@@ -78,6 +78,7 @@ fn requests_are_served_at_end_while_scanning() {
             queue: 64,
             battery: None,
             log_every: None,
+            realtime: false,
         };
         let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
         softplc_serve::run(ServeState::new(cpu), cfg, vec![l], vec![], stop2, |a| {
@@ -149,6 +150,7 @@ fn mc_protocol_over_tcp_and_udp() {
             queue: 64,
             battery: None,
             log_every: None,
+            realtime: false,
         };
         let any = "127.0.0.1:0".parse().unwrap();
         let l = vec![
