@@ -206,6 +206,8 @@ pub const HISTORY_LEN: usize = 16;
 impl Runtime {
     /// Records a fault in SM0/SM1/SD0 and the error-location registers; returns
     /// true when the CPU must stop (004 §7.20).
+    #[cold]
+    #[inline(never)]
     pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
