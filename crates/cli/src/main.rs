@@ -51,7 +51,7 @@ enum Command {
     /// Example: softplc test examples/sim/*.toml --plot tank.svg
     Test(Box<test_cmd::TestArgs>),
     /// Run a program in real time at its constant scan period and serve it over
-    /// the MC protocol and Modbus TCP until Ctrl-C or SIGTERM.
+    /// the MC protocol (TCP, UDP) and Modbus (TCP, RTU, ASCII) until Ctrl-C or SIGTERM.
     ///
     /// Requests are served at END processing, so a client never sees a
     /// half-written scan. Servers bind loopback unless an address says otherwise.
