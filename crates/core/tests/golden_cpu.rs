@@ -879,3 +879,28 @@ fn trace_and_tracer_instructions() {
     assert!(!t.is_complete());
     assert_eq!(t.samples().map(|(s, _, _)| s).collect::<Vec<_>>(), [7, 8]);
 }
+
+#[test]
+fn programs_must_match_the_cpus_device_points() {
+    use softplc_core::engine::{Cpu, LoadedProgram, VirtualClock};
+    use softplc_core::program::compile_il;
+    // Compiled for the default points; the CPU has 16 retentive timers more.
+    let prog = compile_il(
+        "a.il",
+        "LD X0\nOUT Y0\nEND\n",
+        &CpuConfig::default().devices,
+    )
+    .unwrap();
+    let mut cfg = CpuConfig::default();
+    cfg.devices.set_points(DeviceKind::STS, 16);
+    let loaded = vec![LoadedProgram {
+        program: prog,
+        exec: ExecType::Scan,
+        interval: None,
+        sim_time: None,
+    }];
+    let e = Cpu::with_programs(loaded, cfg, Box::new(VirtualClock::new()))
+        .err()
+        .unwrap();
+    assert!(e.contains("other device points"), "{e}");
+}

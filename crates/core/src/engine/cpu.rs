@@ -120,6 +120,9 @@ const DEFAULT_IMASK: [u16; 16] = {
 
 impl Cpu {
     /// Powers on a CPU with one scan program and puts it in RUN.
+    ///
+    /// Panics when `program` was compiled for other device points than
+    /// `cfg.devices` (use [`Cpu::with_programs`] to get an error instead).
     pub fn new(program: Program, cfg: CpuConfig, clock: Box<dyn Clock>) -> Cpu {
         let p = LoadedProgram {
             program,
@@ -127,7 +130,8 @@ impl Cpu {
             interval: None,
             sim_time: None,
         };
-        Cpu::with_programs(vec![p], cfg, clock).expect("a single program needs no linking")
+        Cpu::with_programs(vec![p], cfg, clock)
+            .expect("the program was compiled for the CPU's device points")
     }
 
     /// Powers on a CPU with the programs of a project (in parameter order) and puts
@@ -157,6 +161,17 @@ impl Cpu {
             })
             .collect();
         let mut programs: Vec<Program> = programs.into_iter().map(|p| p.program).collect();
+        // Compiled indices are only valid for the device layout they were compiled
+        // for (004 §10: device points are a parameter).
+        if let Some(p) = programs
+            .iter()
+            .find(|p| p.bit_len != mem.map.bit_len() || p.word_len != mem.map.word_len())
+        {
+            return Err(format!(
+                "{} was compiled for other device points than this CPU's parameters",
+                p.file
+            ));
+        }
         let interrupts = super::link::link(&mut programs)?;
         let locals = programs.iter().map(ProgState::new).collect();
         let rt = Runtime {

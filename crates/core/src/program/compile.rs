@@ -1708,6 +1708,8 @@ impl<'a> Compiler<'a> {
             op_step: self.op_step,
             op_line: self.op_line,
             edge_slots: self.edge_slots,
+            bit_len: self.map.bit_len(),
+            word_len: self.map.word_len(),
             state_words: self.state_words,
             interrupts: {
                 let mut v: Vec<(u8, u32)> = self

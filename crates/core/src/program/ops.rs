@@ -394,6 +394,10 @@ pub struct Program {
     pub ext: Vec<Box<dyn crate::instructions::Instr>>,
     /// Steps used, END included.
     pub steps: u32,
+    /// Sizes of the flat bit and word memories the program was compiled for;
+    /// every resolved index is below them (checked when a CPU is built).
+    pub bit_len: u32,
+    pub word_len: u32,
 }
 
 #[cfg(test)]
