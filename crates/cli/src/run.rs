@@ -67,24 +67,14 @@ pub struct RunArgs {
     pub trace_size: usize,
 }
 
-/// Parses `10ms`, `500us`, `1.5s`, `250ns`.
+/// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
 pub fn parse_duration(s: &str) -> Result<Duration, String> {
     let s = s.trim();
-    let split = s
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .ok_or_else(|| format!("`{s}`: give a unit, e.g. 10ms, 500us, 1s"))?;
-    let (num, unit) = s.split_at(split);
-    let v: f64 = num
-        .parse()
-        .map_err(|_| format!("`{s}` is not a duration"))?;
-    let scale = match unit {
-        "ns" => 1e-9,
-        "us" | "µs" => 1e-6,
-        "ms" => 1e-3,
-        "s" => 1.0,
-        _ => return Err(format!("`{s}`: unknown unit `{unit}` (ns, us, ms, s)")),
-    };
-    let d = Duration::from_secs_f64(v * scale);
+    if !s.contains(|c: char| c.is_ascii_alphabetic() || c == 'µ') {
+        return Err(format!("`{s}`: give a unit, e.g. 10ms, 500us, 1s"));
+    }
+    let d = project::parse_duration(s)
+        .ok_or_else(|| format!("`{s}` is not a duration (a number and ns, us, ms or s)"))?;
     if d < Duration::from_micros(1) {
         return Err(format!("`{s}`: must be at least 1us"));
     }
@@ -93,22 +83,7 @@ pub fn parse_duration(s: &str) -> Result<Duration, String> {
 
 /// Parses `2024-05-01T08:00:00` (or with a space instead of `T`).
 pub fn parse_datetime(s: &str) -> Result<DateTime, String> {
-    let bad = || format!("`{s}`: expected YYYY-MM-DDTHH:MM:SS");
-    let (date, time) = s.split_once(['T', ' ']).ok_or_else(bad)?;
-    let d: Vec<&str> = date.split('-').collect();
-    let t: Vec<&str> = time.split(':').collect();
-    if d.len() != 3 || t.len() != 3 {
-        return Err(bad());
-    }
-    let n = |x: &str| x.parse::<u32>().map_err(|_| bad());
-    let dt = DateTime {
-        year: n(d[0])? as i32,
-        month: n(d[1])?,
-        day: n(d[2])?,
-        hour: n(t[0])?,
-        minute: n(t[1])?,
-        second: n(t[2])?,
-    };
+    let dt = DateTime::parse(s).ok_or_else(|| format!("`{s}`: expected YYYY-MM-DDTHH:MM:SS"))?;
     if !dt.is_valid() {
         return Err(format!("`{s}`: not a valid date and time in 1980-2079"));
     }

@@ -6,13 +6,11 @@
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
 use softplc_core::program::compile_il;
-use softplc_serve::{mc::Mc, EngineConfig, Listener, ServeState};
+use softplc_serve::{mc::Mc, Background, EngineConfig, Listener, ServeState};
 
 /// 3E binary batch read of D100 × 3 words (what pymcprotocol sends).
 const READ_D100: [u8; 21] = [
@@ -38,29 +36,21 @@ fn main() {
         CpuConfig::default(),
         Box::new(MonotonicClock::default()),
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    let (tx, rx) = std::sync::mpsc::channel();
-    let stop2 = stop.clone();
-    let server = std::thread::spawn(move || {
-        let cfg = EngineConfig {
-            period: Duration::from_millis(10),
-            end_budget: Duration::from_micros(2500),
-            queue: 1024,
-            battery: None,
-            log_every: None,
-            realtime: true,
-        };
-        let l = Listener::tcp(
-            "127.0.0.1:0".parse().unwrap(),
-            Mc { password: None },
-            clients + 4,
-        );
-        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], vec![], stop2, |a| {
-            tx.send(a[0]).unwrap()
-        })
-        .expect("serve")
-    });
-    let addr = rx.recv().unwrap();
+    let cfg = EngineConfig {
+        period: Duration::from_millis(10),
+        end_budget: Duration::from_micros(2500),
+        queue: 1024,
+        battery: None,
+        log_every: None,
+        realtime: true,
+    };
+    let l = Listener::tcp(
+        "127.0.0.1:0".parse().unwrap(),
+        Mc { password: None },
+        clients + 4,
+    );
+    let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).expect("serve");
+    let addr = bg.addrs[0];
     let deadline = Instant::now() + Duration::from_secs(seconds);
     let workers: Vec<_> = (0..clients)
         .map(|_| {
@@ -84,8 +74,7 @@ fn main() {
         .into_iter()
         .flat_map(|w| w.join().unwrap())
         .collect();
-    stop.store(true, Ordering::Relaxed);
-    let state = server.join().unwrap();
+    let state = bg.stop().expect("serve");
     lat.sort();
     let pct = |p: f64| lat[((lat.len() as f64 * p) as usize).min(lat.len() - 1)];
     let st = &state.stats;

@@ -165,3 +165,47 @@ pub fn run(
     join.join()
         .map_err(|_| std::io::Error::other("the engine thread panicked"))
 }
+
+/// A server running on its own thread (tests, benchmarks, embedding).
+pub struct Background {
+    /// The bound addresses, in the order of the listeners.
+    pub addrs: Vec<SocketAddr>,
+    stop: Arc<AtomicBool>,
+    join: std::thread::JoinHandle<std::io::Result<ServeState>>,
+}
+
+impl Background {
+    /// Starts [`run`] on a thread and waits until the servers are bound.
+    pub fn start(
+        state: ServeState,
+        cfg: EngineConfig,
+        listeners: Vec<Listener>,
+        serial: Vec<SerialSlave>,
+    ) -> std::io::Result<Background> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let stop2 = stop.clone();
+        let join = std::thread::spawn(move || {
+            run(state, cfg, listeners, serial, stop2, |a| {
+                let _ = tx.send(a.to_vec());
+            })
+        });
+        match rx.recv() {
+            Ok(addrs) => Ok(Background { addrs, stop, join }),
+            // `run` failed before binding: report its error.
+            Err(_) => Err(join
+                .join()
+                .map_err(|_| std::io::Error::other("the server thread panicked"))?
+                .err()
+                .unwrap_or_else(|| std::io::Error::other("the server stopped"))),
+        }
+    }
+
+    /// Stops the servers and the engine; returns the final state.
+    pub fn stop(self) -> std::io::Result<ServeState> {
+        self.stop.store(true, Ordering::Relaxed);
+        self.join
+            .join()
+            .map_err(|_| std::io::Error::other("the server thread panicked"))?
+    }
+}

@@ -1,21 +1,15 @@
 //! Real client libraries against the in-process server: the Rust SLMP client
 //! `plc-comm-slmp` (MC protocol) and `tokio-modbus` (Modbus TCP).
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Duration;
 
 use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_modbus::{Map, Slave};
-use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, ServeState};
+use softplc_serve::{mc::Mc, modbus::ModbusTcp, Background, EngineConfig, Listener, ServeState};
 
 /// Starts a server with MC and Modbus TCP; returns their addresses and a stopper.
-fn start() -> (
-    Vec<std::net::SocketAddr>,
-    Arc<AtomicBool>,
-    std::thread::JoinHandle<ServeState>,
-) {
+fn start() -> Background {
     let src = "LD X0\nOUT Y0\nLD SM400\nINC D0\nMOV D100 D101\nEND\n";
     let prog = compile_il("t.il", src, &Default::default()).unwrap();
     let cpu = Cpu::new(
@@ -23,29 +17,20 @@ fn start() -> (
         CpuConfig::default(),
         Box::new(MonotonicClock::default()),
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    let (tx, rx) = std::sync::mpsc::channel();
-    let stop2 = stop.clone();
-    let server = std::thread::spawn(move || {
-        let cfg = EngineConfig {
-            period: Duration::from_millis(2),
-            end_budget: Duration::from_millis(1),
-            queue: 64,
-            battery: None,
-            log_every: None,
-            realtime: false,
-        };
-        let any = "127.0.0.1:0".parse().unwrap();
-        let l = vec![
-            Listener::tcp(any, Mc { password: None }, 4),
-            Listener::tcp(any, ModbusTcp::new(Map::q_default(), Slave::new(1)), 4),
-        ];
-        softplc_serve::run(ServeState::new(cpu), cfg, l, vec![], stop2, |a| {
-            tx.send(a.to_vec()).unwrap()
-        })
-        .unwrap()
-    });
-    (rx.recv().unwrap(), stop, server)
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 64,
+        battery: None,
+        log_every: None,
+        realtime: false,
+    };
+    let any = "127.0.0.1:0".parse().unwrap();
+    let l = vec![
+        Listener::tcp(any, Mc { password: None }, 4),
+        Listener::tcp(any, ModbusTcp::new(Map::q_default(), Slave::new(1)), 4),
+    ];
+    Background::start(ServeState::new(cpu), cfg, l, vec![]).unwrap()
 }
 
 #[test]
@@ -54,7 +39,8 @@ fn plc_comm_slmp_reads_and_writes() {
         SlmpAddress, SlmpClient, SlmpConnectionOptions, SlmpPlcProfile, SlmpTargetAddress,
         SlmpTransportMode,
     };
-    let (addrs, stop, server) = start();
+    let bg = start();
+    let addrs = bg.addrs.clone();
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -85,14 +71,14 @@ fn plc_comm_slmp_reads_and_writes() {
         assert!(c.read_words(at("D0"), 1).await.unwrap()[0] > a);
         c.close().await.unwrap();
     });
-    stop.store(true, Ordering::Relaxed);
-    server.join().unwrap();
+    bg.stop().unwrap();
 }
 
 #[test]
 fn tokio_modbus_reads_and_writes() {
     use tokio_modbus::prelude::*;
-    let (addrs, stop, server) = start();
+    let bg = start();
+    let addrs = bg.addrs.clone();
     let mut ctx = tokio_modbus::client::sync::tcp::connect_slave(addrs[1], Slave(1)).unwrap();
     ctx.write_single_register(100, 777).unwrap().unwrap();
     std::thread::sleep(Duration::from_millis(20));
@@ -112,6 +98,5 @@ fn tokio_modbus_reads_and_writes() {
         .unwrap()
         .unwrap();
     assert_eq!(r, vec![5, 6, 0]);
-    stop.store(true, Ordering::Relaxed);
-    server.join().unwrap();
+    bg.stop().unwrap();
 }

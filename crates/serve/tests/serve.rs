@@ -3,14 +3,12 @@
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::Duration;
 
 use softplc_core::access::DeviceSpec;
 use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
 use softplc_core::program::compile_il;
-use softplc_serve::{EngineConfig, FrameLen, Listener, Protocol, ServeState};
+use softplc_serve::{Background, EngineConfig, FrameLen, Listener, Protocol, ServeState};
 
 struct Lines;
 
@@ -68,25 +66,17 @@ fn requests_are_served_at_end_while_scanning() {
         CpuConfig::default(),
         Box::new(MonotonicClock::default()),
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    let (tx, rx) = std::sync::mpsc::channel();
-    let stop2 = stop.clone();
-    let server = std::thread::spawn(move || {
-        let cfg = EngineConfig {
-            period: Duration::from_millis(2),
-            end_budget: Duration::from_millis(1),
-            queue: 64,
-            battery: None,
-            log_every: None,
-            realtime: false,
-        };
-        let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
-        softplc_serve::run(ServeState::new(cpu), cfg, vec![l], vec![], stop2, |a| {
-            tx.send(a[0]).unwrap()
-        })
-        .unwrap()
-    });
-    let addr = rx.recv().unwrap();
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 64,
+        battery: None,
+        log_every: None,
+        realtime: false,
+    };
+    let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
+    let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).unwrap();
+    let addr = bg.addrs[0];
     let mut c = BufReader::new(TcpStream::connect(addr).unwrap());
     // D0 and D1 are equal at every END: a reply never shows half a scan.
     for _ in 0..20 {
@@ -118,8 +108,7 @@ fn requests_are_served_at_end_while_scanning() {
     let mut e = BufReader::new(TcpStream::connect(addr).unwrap());
     assert!(!ask(&mut e, "D0\n").is_empty());
     assert!(!ask(&mut d, "D0\n").is_empty());
-    stop.store(true, Ordering::Relaxed);
-    let state = server.join().unwrap();
+    let state = bg.stop().unwrap();
     assert!(state.stats.scans > 20);
     assert!(state.stats.requests >= 40);
 }
@@ -140,29 +129,21 @@ fn mc_protocol_over_tcp_and_udp() {
         CpuConfig::default(),
         Box::new(MonotonicClock::default()),
     );
-    let stop = Arc::new(AtomicBool::new(false));
-    let (tx, rx) = std::sync::mpsc::channel();
-    let stop2 = stop.clone();
-    let server = std::thread::spawn(move || {
-        let cfg = EngineConfig {
-            period: Duration::from_millis(2),
-            end_budget: Duration::from_millis(1),
-            queue: 64,
-            battery: None,
-            log_every: None,
-            realtime: false,
-        };
-        let any = "127.0.0.1:0".parse().unwrap();
-        let l = vec![
-            Listener::tcp(any, Mc { password: None }, 4),
-            Listener::mc_udp(any, Mc { password: None }),
-        ];
-        softplc_serve::run(ServeState::new(cpu), cfg, l, vec![], stop2, |a| {
-            tx.send(a.to_vec()).unwrap()
-        })
-        .unwrap()
-    });
-    let addrs = rx.recv().unwrap();
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 64,
+        battery: None,
+        log_every: None,
+        realtime: false,
+    };
+    let any = "127.0.0.1:0".parse().unwrap();
+    let l = vec![
+        Listener::tcp(any, Mc { password: None }, 4),
+        Listener::mc_udp(any, Mc { password: None }),
+    ];
+    let bg = Background::start(ServeState::new(cpu), cfg, l, vec![]).unwrap();
+    let addrs = bg.addrs.clone();
     // Reply: D0 00 00 FF FF 03 00, length 8, end code 0, then D100-D102 = 0, 7, 0.
     let want = [
         0xD0, 0x00, 0x00, 0xFF, 0xFF, 0x03, 0x00, 0x08, 0x00, 0x00, 0x00, 0, 0, 7, 0, 0, 0,
@@ -179,6 +160,5 @@ fn mc_protocol_over_tcp_and_udp() {
     let mut buf = [0u8; 64];
     let (n, _) = u.recv_from(&mut buf).unwrap();
     assert_eq!(&buf[..n], &want);
-    stop.store(true, Ordering::Relaxed);
-    server.join().unwrap();
+    bg.stop().unwrap();
 }

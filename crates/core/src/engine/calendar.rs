@@ -49,6 +49,36 @@ pub fn days_in_month(y: i32, m: u32) -> u32 {
 }
 
 impl DateTime {
+    /// Parses `YYYY-MM-DDTHH:MM:SS` (or a space instead of `T`), fixed width; the
+    /// fields are not range-checked (see [`DateTime::is_valid`]).
+    pub fn parse(s: &str) -> Option<DateTime> {
+        let b = s.as_bytes();
+        if b.len() != 19
+            || b[4] != b'-'
+            || b[7] != b'-'
+            || !matches!(b[10], b'T' | b't' | b' ')
+            || b[13] != b':'
+            || b[16] != b':'
+        {
+            return None;
+        }
+        let num = |r: std::ops::Range<usize>| -> Option<u32> {
+            let t = &s[r];
+            t.bytes()
+                .all(|c| c.is_ascii_digit())
+                .then(|| t.parse().ok())
+                .flatten()
+        };
+        Some(DateTime {
+            year: num(0..4)? as i32,
+            month: num(5..7)?,
+            day: num(8..10)?,
+            hour: num(11..13)?,
+            minute: num(14..16)?,
+            second: num(17..19)?,
+        })
+    }
+
     /// Seconds since 1970-01-01 00:00:00.
     pub fn to_unix(&self) -> i64 {
         days_from_civil(self.year, self.month, self.day) * 86_400

@@ -190,6 +190,7 @@ impl Cpu {
             fors: Vec::with_capacity(MAX_NESTING),
             stop_request: false,
             watchdog: cfg.watchdog,
+            wdt_start: std::time::Instant::now(),
             operation_error: cfg.operation_error,
             error: None,
             history: std::collections::VecDeque::with_capacity(super::HISTORY_LEN),
@@ -522,6 +523,8 @@ impl Cpu {
         }
         self.rt.now_us = now;
         self.busy_us = 0;
+        // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
+        self.rt.wdt_start = std::time::Instant::now();
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
         special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
@@ -752,6 +755,9 @@ impl Cpu {
     /// priority), runs its interrupt program when EI and IMASK allow it; a cause
     /// occurring while disabled is remembered once and runs when enabled.
     fn service_interrupts(&mut self, now: u64) -> bool {
+        if self.interrupts[28..32].iter().all(Option::is_none) {
+            return true;
+        }
         const MAX_PER_SCAN: u32 = 100_000;
         let periods = self
             .cfg

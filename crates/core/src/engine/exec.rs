@@ -55,7 +55,6 @@ pub(crate) fn run(
     let mut mc_on = !off;
     rt.mc_off = 0;
     let mut back_jumps = 0u32;
-    let mut started = Instant::now();
     let watchdog = rt.watchdog;
 
     macro_rules! try_op {
@@ -71,7 +70,7 @@ pub(crate) fn run(
         ($target:expr) => {
             if ($target as usize) < pc {
                 back_jumps += 1;
-                if back_jumps % WDT_CHECK_EVERY == 0 && started.elapsed() > watchdog {
+                if back_jumps % WDT_CHECK_EVERY == 0 && rt.wdt_start.elapsed() > watchdog {
                     return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
                 }
             }
@@ -330,7 +329,7 @@ pub(crate) fn run(
             }
             Op::Fend | Op::End => {
                 // A scan longer than the watchdog is WDT ERROR even without a loop.
-                if started.elapsed() > watchdog {
+                if rt.wdt_start.elapsed() > watchdog {
                     return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
                 }
                 return rt.end_checks(cur, pc - 1);
@@ -371,7 +370,7 @@ pub(crate) fn run(
             }
             Op::Wdt => {
                 if acc & mc_on {
-                    started = Instant::now();
+                    rt.wdt_start = Instant::now();
                 }
             }
             Op::Duty(d) => {

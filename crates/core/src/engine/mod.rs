@@ -178,6 +178,8 @@ pub(crate) struct Runtime {
     pub fors: Vec<(u32, i16)>,
     pub stop_request: bool,
     pub watchdog: Duration,
+    /// Wall-clock start of the watchdog: the scan's start, or the last WDT.
+    pub wdt_start: std::time::Instant,
     pub operation_error: ErrorMode,
     /// The latest error and whether it stopped the CPU.
     pub error: Option<CpuError>,

@@ -19,6 +19,8 @@ mod settings;
 mod tree;
 mod units;
 
+pub use units::parse_duration;
+
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 

@@ -225,7 +225,7 @@ pub(crate) fn clock(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
     };
     match parse_datetime(text) {
         Some(dt) if dt.is_valid() => config.clock_start = dt,
-        Some(_) if parse_fields(text).is_some_and(|f| !(1980..=2079).contains(&f[0])) => {
+        Some(dt) if !(1980..=2079).contains(&dt.year) => {
             cx.error(
                 &e.item.span,
                 format!("start \"{text}\" is outside the clock's years 1980-2079"),
@@ -240,45 +240,9 @@ pub(crate) fn clock(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
     }
 }
 
-fn parse_fields(s: &str) -> Option<[i64; 6]> {
-    let b = s.as_bytes();
-    if b.len() != 19
-        || b[4] != b'-'
-        || b[7] != b'-'
-        || !matches!(b[10], b'T' | b't' | b' ')
-        || b[13] != b':'
-        || b[16] != b':'
-    {
-        return None;
-    }
-    let num = |r: std::ops::Range<usize>| -> Option<i64> {
-        let t = &s[r];
-        t.bytes()
-            .all(|c| c.is_ascii_digit())
-            .then(|| t.parse().ok())
-            .flatten()
-    };
-    Some([
-        num(0..4)?,
-        num(5..7)?,
-        num(8..10)?,
-        num(11..13)?,
-        num(14..16)?,
-        num(17..19)?,
-    ])
-}
-
 /// `YYYY-MM-DDTHH:MM:SS` (or a space instead of `T`).
 fn parse_datetime(s: &str) -> Option<DateTime> {
-    let f = parse_fields(s)?;
-    Some(DateTime {
-        year: f[0] as i32,
-        month: f[1] as u32,
-        day: f[2] as u32,
-        hour: f[3] as u32,
-        minute: f[4] as u32,
-        second: f[5] as u32,
-    })
+    DateTime::parse(s)
 }
 
 /// `[state] dir`: the persistence directory, relative to the project.

@@ -10,7 +10,7 @@ const NS_PER_S: u64 = 1_000_000_000;
 /// Parses a duration: a decimal number and a unit `ns`, `us` (or `µs`), `ms` or
 /// `s`, optionally separated by spaces. The value must be a whole number of
 /// nanoseconds; no rounding happens, so `"0.05ms"` is exactly 50 µs.
-pub(crate) fn parse_duration(s: &str) -> Option<Duration> {
+pub fn parse_duration(s: &str) -> Option<Duration> {
     let s = s.trim();
     let split = s.find(|c: char| !(c.is_ascii_digit() || c == '.'))?;
     let (num, unit) = s.split_at(split);
