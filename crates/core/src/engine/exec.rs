@@ -224,6 +224,22 @@ pub(crate) fn run(
                     try_op!(prog.ext[*x as usize].exec(&mut cx));
                 }
             }
+            Op::ExtAlways(x) => {
+                let mut cx = crate::instructions::ExecCtx {
+                    mem: &mut rt.mem,
+                    state: &mut locals[cur].state,
+                    now_us: rt.now_us,
+                    scan_us: rt.scan_us,
+                    clock: &mut rt.clock,
+                    shared: &mut rt.shared,
+                };
+                let instr = &prog.ext[*x as usize];
+                try_op!(if acc & mc_on {
+                    instr.exec(&mut cx)
+                } else {
+                    instr.off(&mut cx)
+                });
+            }
             Op::Cj { target, always } => {
                 if *always || acc & mc_on {
                     back_jump!(*target);

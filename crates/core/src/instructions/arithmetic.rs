@@ -12,28 +12,50 @@
 //! when an instruction fails.
 
 use super::conversion::{read_bcd, to_bcd};
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::Operand;
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{IndexedKind, Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "B+" => |a| BcdAddSub::compile(a, false, false),
-        "B-" => |a| BcdAddSub::compile(a, false, true),
-        "DB+" => |a| BcdAddSub::compile(a, true, false),
-        "DB-" => |a| BcdAddSub::compile(a, true, true),
-        "B*" => |a| BcdMul::compile(a, false),
-        "DB*" => |a| BcdMul::compile(a, true),
-        "B/" => |a| BcdDiv::compile(a, false),
-        "DB/" => |a| BcdDiv::compile(a, true),
-        "BK+" => |a| BlockAddSub::compile(a, false),
-        "BK-" => |a| BlockAddSub::compile(a, true),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("B+", &BCD_ARITHMETIC, |a| {
+        BcdAddSub::compile(a, false, false)
+    }),
+    Def::app("B-", &BCD_ARITHMETIC, |a| {
+        BcdAddSub::compile(a, false, true)
+    }),
+    Def::app("DB+", &BCD_ARITHMETIC, |a| {
+        BcdAddSub::compile(a, true, false)
+    }),
+    Def::app("DB-", &BCD_ARITHMETIC, |a| {
+        BcdAddSub::compile(a, true, true)
+    }),
+    Def::app("B*", &BCD_ARITHMETIC_2, |a| BcdMul::compile(a, false)),
+    Def::app("DB*", &BCD_ARITHMETIC_2, |a| BcdMul::compile(a, true)),
+    Def::app("B/", &BCD_ARITHMETIC_2, |a| BcdDiv::compile(a, false)),
+    Def::app("DB/", &BCD_ARITHMETIC_2, |a| BcdDiv::compile(a, true)),
+    Def::app("BK+", &BLOCK_ARITHMETIC, |a| BlockAddSub::compile(a, false)),
+    Def::app("BK-", &BLOCK_ARITHMETIC, |a| BlockAddSub::compile(a, true)),
+];
+
+static BCD_ARITHMETIC: Doc = Doc {
+    family: "BCD arithmetic",
+    cite: "PM §6.2.5-6",
+    notes: "mod 10⁴/10⁸, ten's complement; invalid BCD → 4100",
+};
+static BCD_ARITHMETIC_2: Doc = Doc {
+    family: "BCD arithmetic",
+    cite: "PM §6.2.7-8",
+    notes: "3 operands; ÷0 → 4100",
+};
+static BLOCK_ARITHMETIC: Doc = Doc {
+    family: "block arithmetic",
+    cite: "PM §6.2.11",
+    notes: "S2 block or constant; wraps; past device end → 4101",
+};
 
 /// BCD numbers of 4 digits (16-bit operands) or 8 digits (32-bit operands).
 fn num(wide: bool) -> Num {

@@ -7,24 +7,27 @@
 //! equivalent is BKRST): it is rejected at load with a diagnostic that says so.
 
 use super::transfer::count;
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{DeviceKind, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::{BitBlock, Block};
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{BitArg, Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "BSET" => (|a: &mut Args<'_, '_>| bit_op(a, true)) as CompileFn,
-        "BRST" => |a| bit_op(a, false),
-        "TEST" => |a| test(a, Num::I16),
-        "DTEST" => |a| test(a, Num::I32),
-        "BKRST" => bkrst,
-        "ZRST" => zrst,
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("BSET", &BIT_PROCESSING, |a| bit_op(a, true)),
+    Def::app("BRST", &BIT_PROCESSING, |a| bit_op(a, false)),
+    Def::app("TEST", &BIT_PROCESSING, |a| test(a, Num::I16)),
+    Def::app("DTEST", &BIT_PROCESSING, |a| test(a, Num::I32)),
+    Def::app("BKRST", &BIT_PROCESSING, bkrst),
+];
+
+static BIT_PROCESSING: Doc = Doc {
+    family: "bit processing",
+    cite: "PM §7.4",
+    notes: "BKRST of T/ST/C clears value and contact",
+};
 
 // ------------------------------------------------------------- BSET / BRST
 
@@ -244,15 +247,4 @@ impl Instr for Bkrst {
         }
         Ok(())
     }
-}
-
-// ------------------------------------------------------------------- ZRST
-
-/// ZRST is not in the QnH (nor any MELSEC-Q) instruction set: load error.
-fn zrst(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    a.error(
-        usize::MAX,
-        "`ZRST` is not a MELSEC-Q (QnH) instruction (it is an FX instruction); use BKRST",
-    );
-    None
 }

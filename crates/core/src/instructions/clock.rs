@@ -10,25 +10,28 @@
 //! The QnH set has no DSECOND/DHOUR: SECOND already writes 32 bits and HOUR reads
 //! 32 bits.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::engine::calendar::DateTime;
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    let f: CompileFn = match m {
-        "DATERD" => compile_daterd,
-        "DATEWR" => compile_datewr,
-        "DATE+" => |a| compile_date_arith(a, false),
-        "DATE-" => |a| compile_date_arith(a, true),
-        "SECOND" => compile_second,
-        "HOUR" => compile_hour,
-        _ => return None,
-    };
-    Some(f)
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("DATERD", &CLOCK, compile_daterd),
+    Def::app("DATEWR", &CLOCK, compile_datewr),
+    Def::app("DATE+", &CLOCK, |a| compile_date_arith(a, false)),
+    Def::app("DATE-", &CLOCK, |a| compile_date_arith(a, true)),
+    Def::app("SECOND", &CLOCK, compile_second),
+    Def::app("HOUR", &CLOCK, compile_hour),
+];
+
+static CLOCK: Doc = Doc {
+    family: "clock",
+    cite: "PM §7.15; 004 §7.6",
+    notes: "DATEWR invalid → 4100, clock unchanged",
+};
 
 const DAY: i32 = 86_400;
 

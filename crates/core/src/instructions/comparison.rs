@@ -10,34 +10,34 @@
 //! no equivalent; programs use the comparison contacts instead.
 
 use super::data::{elem, read_i16, set_flag, sm_index, Bits};
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{Constant, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{CmpOp, Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    let (wide, op) = match m.strip_prefix("DBKCMP") {
-        Some(op) => (true, op),
-        None => (false, m.strip_prefix("BKCMP")?),
-    };
-    Some(match (wide, op) {
-        (false, "=") => (|a: &mut Args<'_, '_>| bkcmp(a, false, CmpOp::Eq)) as CompileFn,
-        (false, "<>") => |a| bkcmp(a, false, CmpOp::Ne),
-        (false, ">") => |a| bkcmp(a, false, CmpOp::Gt),
-        (false, "<=") => |a| bkcmp(a, false, CmpOp::Le),
-        (false, "<") => |a| bkcmp(a, false, CmpOp::Lt),
-        (false, ">=") => |a| bkcmp(a, false, CmpOp::Ge),
-        (true, "=") => |a| bkcmp(a, true, CmpOp::Eq),
-        (true, "<>") => |a| bkcmp(a, true, CmpOp::Ne),
-        (true, ">") => |a| bkcmp(a, true, CmpOp::Gt),
-        (true, "<=") => |a| bkcmp(a, true, CmpOp::Le),
-        (true, "<") => |a| bkcmp(a, true, CmpOp::Lt),
-        (true, ">=") => |a| bkcmp(a, true, CmpOp::Ge),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("BKCMP=", &BKCMP, |a| bkcmp(a, false, CmpOp::Eq)),
+    Def::app("BKCMP<>", &BKCMP, |a| bkcmp(a, false, CmpOp::Ne)),
+    Def::app("BKCMP>", &BKCMP, |a| bkcmp(a, false, CmpOp::Gt)),
+    Def::app("BKCMP<=", &BKCMP, |a| bkcmp(a, false, CmpOp::Le)),
+    Def::app("BKCMP<", &BKCMP, |a| bkcmp(a, false, CmpOp::Lt)),
+    Def::app("BKCMP>=", &BKCMP, |a| bkcmp(a, false, CmpOp::Ge)),
+    Def::app("DBKCMP=", &BKCMP, |a| bkcmp(a, true, CmpOp::Eq)),
+    Def::app("DBKCMP<>", &BKCMP, |a| bkcmp(a, true, CmpOp::Ne)),
+    Def::app("DBKCMP>", &BKCMP, |a| bkcmp(a, true, CmpOp::Gt)),
+    Def::app("DBKCMP<=", &BKCMP, |a| bkcmp(a, true, CmpOp::Le)),
+    Def::app("DBKCMP<", &BKCMP, |a| bkcmp(a, true, CmpOp::Lt)),
+    Def::app("DBKCMP>=", &BKCMP, |a| bkcmp(a, true, CmpOp::Ge)),
+];
+
+static BKCMP: Doc = Doc {
+    family: "block comparison",
+    cite: "PM §6.1",
+    notes: "S1 may be a constant; one result bit per element; SM704 all true; n < 0 → 4100",
+};
 
 /// The first operand of a block comparison: a constant compared with every
 /// element of S2, or a block compared element by element.

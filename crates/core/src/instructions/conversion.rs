@@ -8,35 +8,54 @@
 //! data) or 4101 (a block running past the end of its device); the destination
 //! is left unchanged when an instruction fails.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::DeviceMemory;
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "BCD" => Bcd::compile,
-        "DBCD" => DBcd::compile,
-        "BIN" => Bin::compile,
-        "DBIN" => DBin::compile,
-        "GRY" => Gry::compile,
-        "DGRY" => DGry::compile,
-        "GBIN" => GBin::compile,
-        "DGBIN" => DGBin::compile,
-        "DBL" => Dbl::compile,
-        "WORD" => Word::compile,
-        "RAD" => Rad::compile,
-        "DEG" => Deg::compile,
-        "NEG" => Neg::compile,
-        "DNEG" => DNeg::compile,
-        "ENEG" => ENeg::compile,
-        "BKBCD" => BkBcd::compile,
-        "BKBIN" => BkBin::compile,
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("BCD", &BCD_CONVERSION, Bcd::compile),
+    Def::app("DBCD", &BCD_CONVERSION, DBcd::compile),
+    Def::app("BIN", &BCD_CONVERSION, Bin::compile),
+    Def::app("DBIN", &BCD_CONVERSION, DBin::compile),
+    Def::app("GRY", &CONVERSION, Gry::compile),
+    Def::app("DGRY", &CONVERSION, DGry::compile),
+    Def::app("GBIN", &CONVERSION, GBin::compile),
+    Def::app("DGBIN", &CONVERSION, DGBin::compile),
+    Def::app("DBL", &CONVERSION, Dbl::compile),
+    Def::app("WORD", &CONVERSION, Word::compile),
+    Def::app("RAD", &REAL_FUNCTIONS, Rad::compile),
+    Def::app("DEG", &REAL_FUNCTIONS, Deg::compile),
+    Def::app("NEG", &CONVERSION, Neg::compile),
+    Def::app("DNEG", &CONVERSION, DNeg::compile),
+    Def::app("ENEG", &CONVERSION, ENeg::compile),
+    Def::app("BKBCD", &BLOCK_CONVERSION, BkBcd::compile),
+    Def::app("BKBIN", &BLOCK_CONVERSION, BkBin::compile),
+];
+
+static BCD_CONVERSION: Doc = Doc {
+    family: "BCD conversion",
+    cite: "PM §6.3.1-2",
+    notes: "out of range / invalid digit → 4100",
+};
+static CONVERSION: Doc = Doc {
+    family: "conversion",
+    cite: "PM §6.3.5-10",
+    notes: "WORD out of range → 4100; negative Gray input → 4100",
+};
+static REAL_FUNCTIONS: Doc = Doc {
+    family: "real functions",
+    cite: "PM §7.12",
+    notes: "f64 internally, stored as f32; domain errors → 4100",
+};
+static BLOCK_CONVERSION: Doc = Doc {
+    family: "block conversion",
+    cite: "PM §6.3.11-12",
+    notes: "n=0 no-op; past end → 4101; invalid word → 4100, D unchanged",
+};
 
 // ------------------------------------------------------------------ BCD helpers
 

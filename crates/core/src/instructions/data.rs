@@ -17,39 +17,53 @@
 //! This module also holds the block helpers the table and comparison modules
 //! share (`fixed_block`, `Bits`, `sm_index`, `elem`).
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{DeviceKind, DeviceMemory, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::{BitBlock, Block};
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{BitArg, Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "SER" => (|a: &mut Args<'_, '_>| ser(a, false)) as CompileFn,
-        "DSER" => |a| ser(a, true),
-        "SUM" => |a| sum(a, false),
-        "DSUM" => |a| sum(a, true),
-        "DECO" => deco,
-        "ENCO" => enco,
-        "SEG" => seg,
-        "DIS" => dis,
-        "UNI" => uni,
-        "NDIS" => |a| ndis(a, false),
-        "NUNI" => |a| ndis(a, true),
-        "WTOB" => |a| wtob(a, false),
-        "BTOW" => |a| wtob(a, true),
-        "MAX" => |a| maxmin(a, false, true),
-        "MIN" => |a| maxmin(a, false, false),
-        "DMAX" => |a| maxmin(a, true, true),
-        "DMIN" => |a| maxmin(a, true, false),
-        "SORT" => |a| sort(a, false),
-        "DSORT" => |a| sort(a, true),
-        "WSUM" => |a| wsum(a, false),
-        "DWSUM" => |a| wsum(a, true),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("SER", &DATA_PROCESSING, |a| ser(a, false)),
+    Def::app("DSER", &DATA_PROCESSING, |a| ser(a, true)),
+    Def::app("SUM", &DATA_PROCESSING, |a| sum(a, false)),
+    Def::app("DSUM", &DATA_PROCESSING, |a| sum(a, true)),
+    Def::app("DECO", &DATA_PROCESSING, deco),
+    Def::app("ENCO", &DATA_PROCESSING, enco),
+    Def::app("SEG", &DATA_PROCESSING, seg),
+    Def::app("DIS", &DATA_PROCESSING, dis),
+    Def::app("UNI", &DATA_PROCESSING, uni),
+    Def::app("NDIS", &DATA_PROCESSING, |a| ndis(a, false)),
+    Def::app("NUNI", &DATA_PROCESSING, |a| ndis(a, true)),
+    Def::app("WTOB", &DATA_PROCESSING, |a| wtob(a, false)),
+    Def::app("BTOW", &DATA_PROCESSING, |a| wtob(a, true)),
+    Def::app("MAX", &MAX_MIN_WSUM, |a| maxmin(a, false, true)),
+    Def::app("MIN", &MAX_MIN_WSUM, |a| maxmin(a, false, false)),
+    Def::app("DMAX", &MAX_MIN_WSUM, |a| maxmin(a, true, true)),
+    Def::app("DMIN", &MAX_MIN_WSUM, |a| maxmin(a, true, false)),
+    Def::app("SORT", &SORT, |a| sort(a, false)).no_pulse(),
+    Def::app("DSORT", &SORT, |a| sort(a, true)).no_pulse(),
+    Def::app("WSUM", &MAX_MIN_WSUM, |a| wsum(a, false)),
+    Def::app("DWSUM", &MAX_MIN_WSUM, |a| wsum(a, true)),
+];
+
+static DATA_PROCESSING: Doc = Doc {
+    family: "data processing",
+    cite: "PM §7.5",
+    notes: "see golden_data.rs",
+};
+static MAX_MIN_WSUM: Doc = Doc {
+    family: "data processing",
+    cite: "PM §7.5",
+    notes: "n ≤ 0 does nothing",
+};
+static SORT: Doc = Doc {
+    family: "data processing",
+    cite: "PM §7.5.12",
+    notes: "S2 comparisons per scan, D1 completion, SM703 order; no pulse form",
+};
 
 // ------------------------------------------------------------ shared helpers
 
@@ -834,15 +848,6 @@ struct Sort {
 }
 
 fn sort(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
-    if a.mnemonic().ends_with('P') {
-        let m = a.mnemonic().to_string();
-        let at = a.len();
-        a.error(
-            at,
-            format!("`{m}`: SORT/DSORT have no pulse form (they run over several scans)"),
-        );
-        return None;
-    }
     if !a.count(&[5]) {
         return None;
     }

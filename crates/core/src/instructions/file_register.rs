@@ -2,17 +2,20 @@
 //! address (block k covers ZR k×32768 … k×32768+32767). The block number is in
 //! SD648, which `R` operands read when they execute.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::DeviceKind;
 use crate::engine::{ErrorCode, Fault};
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    match m {
-        "RSET" => Some(compile_rset),
-        _ => None,
-    }
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[Def::app("RSET", &FILE_REGISTER_SWITCHING, compile_rset)];
+
+static FILE_REGISTER_SWITCHING: Doc = Doc {
+    family: "file register switching",
+    cite: "PM §7.14; 004 §10.7",
+    notes: "block in SD648; a block beyond the file register size → 4101",
+};
 
 /// `RSET S`: S = block number.
 ///

@@ -15,35 +15,43 @@
 //! the single-precision range. A result below the smallest normal number is 0,
 //! as for the other real-number instructions; a zero result is stored as +0.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    let f: CompileFn = match m {
-        "SIN" => |a| compile(a, Func::Sin),
-        "COS" => |a| compile(a, Func::Cos),
-        "TAN" => |a| compile(a, Func::Tan),
-        "ASIN" => |a| compile(a, Func::Asin),
-        "ACOS" => |a| compile(a, Func::Acos),
-        "ATAN" => |a| compile(a, Func::Atan),
-        "SQR" => |a| compile(a, Func::Sqr),
-        "EXP" => |a| compile(a, Func::Exp),
-        "LOG" => |a| compile(a, Func::Log),
-        "BSQR" => |a| compile_bsqr(a, false),
-        "BDSQR" => |a| compile_bsqr(a, true),
-        "BSIN" => |a| compile_btrig(a, Trig::Sin),
-        "BCOS" => |a| compile_btrig(a, Trig::Cos),
-        "BTAN" => |a| compile_btrig(a, Trig::Tan),
-        "BASIN" => |a| compile_binv(a, Inv::Asin),
-        "BACOS" => |a| compile_binv(a, Inv::Acos),
-        "BATAN" => |a| compile_binv(a, Inv::Atan),
-        _ => return None,
-    };
-    Some(f)
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("SIN", &REAL_FUNCTIONS, |a| compile(a, Func::Sin)),
+    Def::app("COS", &REAL_FUNCTIONS, |a| compile(a, Func::Cos)),
+    Def::app("TAN", &REAL_FUNCTIONS, |a| compile(a, Func::Tan)),
+    Def::app("ASIN", &REAL_FUNCTIONS, |a| compile(a, Func::Asin)),
+    Def::app("ACOS", &REAL_FUNCTIONS, |a| compile(a, Func::Acos)),
+    Def::app("ATAN", &REAL_FUNCTIONS, |a| compile(a, Func::Atan)),
+    Def::app("SQR", &REAL_FUNCTIONS, |a| compile(a, Func::Sqr)),
+    Def::app("EXP", &REAL_FUNCTIONS, |a| compile(a, Func::Exp)),
+    Def::app("LOG", &REAL_FUNCTIONS, |a| compile(a, Func::Log)),
+    Def::app("BSQR", &BCD_FUNCTIONS, |a| compile_bsqr(a, false)),
+    Def::app("BDSQR", &BCD_FUNCTIONS, |a| compile_bsqr(a, true)),
+    Def::app("BSIN", &BCD_FUNCTIONS, |a| compile_btrig(a, Trig::Sin)),
+    Def::app("BCOS", &BCD_FUNCTIONS, |a| compile_btrig(a, Trig::Cos)),
+    Def::app("BTAN", &BCD_FUNCTIONS, |a| compile_btrig(a, Trig::Tan)),
+    Def::app("BASIN", &BCD_FUNCTIONS, |a| compile_binv(a, Inv::Asin)),
+    Def::app("BACOS", &BCD_FUNCTIONS, |a| compile_binv(a, Inv::Acos)),
+    Def::app("BATAN", &BCD_FUNCTIONS, |a| compile_binv(a, Inv::Atan)),
+];
+
+static REAL_FUNCTIONS: Doc = Doc {
+    family: "real functions",
+    cite: "PM §7.12",
+    notes: "f64 internally, stored as f32; domain errors → 4100",
+};
+static BCD_FUNCTIONS: Doc = Doc {
+    family: "BCD functions",
+    cite: "PM §7.12",
+    notes: "4 decimals rounded at the 5th",
+};
 
 /// The function a [`RealFunction`] computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,22 +7,30 @@
 //! that leave the signed range wrap around (e.g. BAND −32768 − 10 = 32758): the
 //! CPU computes them in 16 (32) bits and the manual lists no overflow error.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::engine::{ErrorCode, Fault};
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "LIMIT" => (|a: &mut Args<'_, '_>| compile(a, Kind::Limit, Num::I16)) as CompileFn,
-        "DLIMIT" => |a| compile(a, Kind::Limit, Num::I32),
-        "BAND" => |a| compile(a, Kind::Band, Num::I16),
-        "DBAND" => |a| compile(a, Kind::Band, Num::I32),
-        "ZONE" => |a| compile(a, Kind::Zone, Num::I16),
-        "DZONE" => |a| compile(a, Kind::Zone, Num::I32),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("LIMIT", &DATA_CONTROL, |a| {
+        compile(a, Kind::Limit, Num::I16)
+    }),
+    Def::app("DLIMIT", &DATA_CONTROL, |a| {
+        compile(a, Kind::Limit, Num::I32)
+    }),
+    Def::app("BAND", &DATA_CONTROL, |a| compile(a, Kind::Band, Num::I16)),
+    Def::app("DBAND", &DATA_CONTROL, |a| compile(a, Kind::Band, Num::I32)),
+    Def::app("ZONE", &DATA_CONTROL, |a| compile(a, Kind::Zone, Num::I16)),
+    Def::app("DZONE", &DATA_CONTROL, |a| compile(a, Kind::Zone, Num::I32)),
+];
+
+static DATA_CONTROL: Doc = Doc {
+    family: "data control",
+    cite: "PM §7.13",
+    notes: "lower > upper → 4100 (LIMIT, BAND)",
+};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {

@@ -9,30 +9,38 @@
 //! the low 4·k bits of the result.
 
 use super::transfer::{count, Loc, WordBlock};
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::Operand;
 use crate::engine::Fault;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    use LogicOp::*;
-    Some(match m {
-        "WAND" => (|a: &mut Args<'_, '_>| word(a, And, Num::I16)) as CompileFn,
-        "WOR" => |a| word(a, Or, Num::I16),
-        "WXOR" => |a| word(a, Xor, Num::I16),
-        "WXNR" => |a| word(a, Xnr, Num::I16),
-        "DAND" => |a| word(a, And, Num::I32),
-        "DOR" => |a| word(a, Or, Num::I32),
-        "DXOR" => |a| word(a, Xor, Num::I32),
-        "DXNR" => |a| word(a, Xnr, Num::I32),
-        "BKAND" => |a| block(a, And),
-        "BKOR" => |a| block(a, Or),
-        "BKXOR" => |a| block(a, Xor),
-        "BKXNR" => |a| block(a, Xnr),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("WAND", &LOGIC, |a| word(a, LogicOp::And, Num::I16)),
+    Def::app("WOR", &LOGIC, |a| word(a, LogicOp::Or, Num::I16)),
+    Def::app("WXOR", &LOGIC, |a| word(a, LogicOp::Xor, Num::I16)),
+    Def::app("WXNR", &LOGIC, |a| word(a, LogicOp::Xnr, Num::I16)),
+    Def::app("DAND", &LOGIC, |a| word(a, LogicOp::And, Num::I32)),
+    Def::app("DOR", &LOGIC, |a| word(a, LogicOp::Or, Num::I32)),
+    Def::app("DXOR", &LOGIC, |a| word(a, LogicOp::Xor, Num::I32)),
+    Def::app("DXNR", &LOGIC, |a| word(a, LogicOp::Xnr, Num::I32)),
+    Def::app("BKAND", &BLOCK_LOGIC, |a| block(a, LogicOp::And)),
+    Def::app("BKOR", &BLOCK_LOGIC, |a| block(a, LogicOp::Or)),
+    Def::app("BKXOR", &BLOCK_LOGIC, |a| block(a, LogicOp::Xor)),
+    Def::app("BKXNR", &BLOCK_LOGIC, |a| block(a, LogicOp::Xnr)),
+];
+
+static LOGIC: Doc = Doc {
+    family: "logic",
+    cite: "PM §7.1",
+    notes: "2 and 3 operands",
+};
+static BLOCK_LOGIC: Doc = Doc {
+    family: "block logic",
+    cite: "PM §7.1",
+    notes: "past end or n<0 → 4101",
+};
 
 /// The bitwise operation of a logical instruction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -17,34 +17,47 @@
 //! implemented.
 
 use super::transfer::{carry_flag, count, set_carry, Loc, WordBlock};
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{DeviceKind, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::BitBlock;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{BitArg, Indexed, IndexedKind, Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    use Dir::*;
-    Some(match m {
-        "ROR" => (|a: &mut Args<'_, '_>| rotate(a, Ror, Num::I16)) as CompileFn,
-        "ROL" => |a| rotate(a, Rol, Num::I16),
-        "RCR" => |a| rotate(a, Rcr, Num::I16),
-        "RCL" => |a| rotate(a, Rcl, Num::I16),
-        "DROR" => |a| rotate(a, Ror, Num::I32),
-        "DROL" => |a| rotate(a, Rol, Num::I32),
-        "DRCR" => |a| rotate(a, Rcr, Num::I32),
-        "DRCL" => |a| rotate(a, Rcl, Num::I32),
-        "SFR" => |a| rotate(a, Sfr, Num::I16),
-        "SFL" => |a| rotate(a, Sfl, Num::I16),
-        "BSFR" => |a| bit_shift(a, false),
-        "BSFL" => |a| bit_shift(a, true),
-        "DSFR" => |a| word_shift(a, false),
-        "DSFL" => |a| word_shift(a, true),
-        "SFT" => sft,
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("ROR", &ROTATION, |a| rotate(a, Dir::Ror, Num::I16)),
+    Def::app("ROL", &ROTATION, |a| rotate(a, Dir::Rol, Num::I16)),
+    Def::app("RCR", &ROTATION, |a| rotate(a, Dir::Rcr, Num::I16)),
+    Def::app("RCL", &ROTATION, |a| rotate(a, Dir::Rcl, Num::I16)),
+    Def::app("DROR", &ROTATION, |a| rotate(a, Dir::Ror, Num::I32)),
+    Def::app("DROL", &ROTATION, |a| rotate(a, Dir::Rol, Num::I32)),
+    Def::app("DRCR", &ROTATION, |a| rotate(a, Dir::Rcr, Num::I32)),
+    Def::app("DRCL", &ROTATION, |a| rotate(a, Dir::Rcl, Num::I32)),
+    Def::app("SFR", &SHIFT, |a| rotate(a, Dir::Sfr, Num::I16)),
+    Def::app("SFL", &SHIFT, |a| rotate(a, Dir::Sfl, Num::I16)),
+    Def::app("BSFR", &SHIFT, |a| bit_shift(a, false)),
+    Def::app("BSFL", &SHIFT, |a| bit_shift(a, true)),
+    Def::app("DSFR", &SHIFT, |a| word_shift(a, false)),
+    Def::app("DSFL", &SHIFT, |a| word_shift(a, true)),
+    Def::app("SFT", &SHIFT_2, sft),
+];
+
+static ROTATION: Doc = Doc {
+    family: "rotation",
+    cite: "PM §7.2",
+    notes: "SM700 carry; n mod width",
+};
+static SHIFT: Doc = Doc {
+    family: "shift",
+    cite: "PM §7.3",
+    notes: "SM700 = last bit out",
+};
+static SHIFT_2: Doc = Doc {
+    family: "shift",
+    cite: "PM §5.4",
+    notes: "D ← D-1, D-1 OFF",
+};
 
 // ------------------------------------------------------ rotation, n-bit shift
 

@@ -22,47 +22,84 @@
 //! Character strings are moved with `memmove` semantics, so source and
 //! destination may overlap; nothing in `exec` allocates.
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{Constant, DeviceKind, DeviceMemory, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    let f: CompileFn = match m {
-        "$MOV" => compile_smov,
-        "$+" => compile_sadd,
-        "BINDA" => |a| compile_to_ascii(a, ToAscii::Dec16),
-        "DBINDA" => |a| compile_to_ascii(a, ToAscii::Dec32),
-        "BINHA" => |a| compile_to_ascii(a, ToAscii::Hex16),
-        "DBINHA" => |a| compile_to_ascii(a, ToAscii::Hex32),
-        "BCDDA" => |a| compile_to_ascii(a, ToAscii::Bcd16),
-        "DBCDDA" => |a| compile_to_ascii(a, ToAscii::Bcd32),
-        "DABIN" => |a| compile_from_ascii(a, FromAscii::Dec16),
-        "DDABIN" => |a| compile_from_ascii(a, FromAscii::Dec32),
-        "HABIN" => |a| compile_from_ascii(a, FromAscii::Hex16),
-        "DHABIN" => |a| compile_from_ascii(a, FromAscii::Hex32),
-        "DABCD" => |a| compile_from_ascii(a, FromAscii::Bcd16),
-        "DDABCD" => |a| compile_from_ascii(a, FromAscii::Bcd32),
-        "LEN" => compile_len,
-        "STR" => |a| compile_str(a, false),
-        "DSTR" => |a| compile_str(a, true),
-        "VAL" => |a| compile_val(a, false),
-        "DVAL" => |a| compile_val(a, true),
-        "ESTR" => compile_estr,
-        "EVAL" => compile_eval,
-        "ASC" => compile_asc,
-        "HEX" => compile_hex,
-        "RIGHT" => |a| compile_side(a, true),
-        "LEFT" => |a| compile_side(a, false),
-        "MIDR" => |a| compile_mid(a, false),
-        "MIDW" => |a| compile_mid(a, true),
-        "INSTR" => compile_instr,
-        _ => return None,
-    };
-    Some(f)
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("$MOV", &STRING_TRANSFER, compile_smov),
+    Def::app("$+", &STRING_CONCATENATION, compile_sadd),
+    Def::app("BINDA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Dec16)
+    }),
+    Def::app("DBINDA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Dec32)
+    }),
+    Def::app("BINHA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Hex16)
+    }),
+    Def::app("DBINHA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Hex32)
+    }),
+    Def::app("BCDDA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Bcd16)
+    }),
+    Def::app("DBCDDA", &CHARACTER_STRINGS, |a| {
+        compile_to_ascii(a, ToAscii::Bcd32)
+    }),
+    Def::app("DABIN", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Dec16)
+    }),
+    Def::app("DDABIN", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Dec32)
+    }),
+    Def::app("HABIN", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Hex16)
+    }),
+    Def::app("DHABIN", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Hex32)
+    }),
+    Def::app("DABCD", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Bcd16)
+    }),
+    Def::app("DDABCD", &CHARACTER_STRINGS, |a| {
+        compile_from_ascii(a, FromAscii::Bcd32)
+    }),
+    Def::app("LEN", &CHARACTER_STRINGS, compile_len),
+    Def::app("STR", &CHARACTER_STRINGS, |a| compile_str(a, false)),
+    Def::app("DSTR", &CHARACTER_STRINGS, |a| compile_str(a, true)),
+    Def::app("VAL", &CHARACTER_STRINGS, |a| compile_val(a, false)),
+    Def::app("DVAL", &CHARACTER_STRINGS, |a| compile_val(a, true)),
+    Def::app("ESTR", &CHARACTER_STRINGS, compile_estr),
+    Def::app("EVAL", &CHARACTER_STRINGS, compile_eval),
+    Def::app("ASC", &CHARACTER_STRINGS, compile_asc),
+    Def::app("HEX", &CHARACTER_STRINGS, compile_hex),
+    Def::app("RIGHT", &CHARACTER_STRINGS, |a| compile_side(a, true)),
+    Def::app("LEFT", &CHARACTER_STRINGS, |a| compile_side(a, false)),
+    Def::app("MIDR", &CHARACTER_STRINGS, |a| compile_mid(a, false)),
+    Def::app("MIDW", &CHARACTER_STRINGS, |a| compile_mid(a, true)),
+    Def::app("INSTR", &CHARACTER_STRINGS, compile_instr),
+];
+
+static STRING_TRANSFER: Doc = Doc {
+    family: "string transfer",
+    cite: "PM §6.5",
+    notes: "constants ≤ 32 characters (load check)",
+};
+static STRING_CONCATENATION: Doc = Doc {
+    family: "string concatenation",
+    cite: "PM §6.2",
+    notes: "2 and 3 operands; result past device end → 4101",
+};
+static CHARACTER_STRINGS: Doc = Doc {
+    family: "character strings",
+    cite: "PM §7.11",
+    notes: "SM701 for the closing 00H; see golden_strings.rs",
+};
 
 /// A string comparison contact (`LD$=`, `AND$<>`, `OR$>` …, PM §6.1.3): the
 /// strings are compared character by character by ASCII code; the first

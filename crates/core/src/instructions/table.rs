@@ -25,23 +25,27 @@
 //! Nothing is written when an error is raised.
 
 use super::data::read_i16;
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::DeviceMemory;
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "FIFW" => fifw as CompileFn,
-        "FIFR" => |a| read(a, ReadKind::Oldest),
-        "FPOP" => |a| read(a, ReadKind::Newest),
-        "FINS" => fins,
-        "FDEL" => |a| read(a, ReadKind::Nth),
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("FIFW", &TABLE_OPERATION, fifw),
+    Def::app("FIFR", &TABLE_OPERATION, |a| read(a, ReadKind::Oldest)),
+    Def::app("FPOP", &TABLE_OPERATION, |a| read(a, ReadKind::Newest)),
+    Def::app("FINS", &TABLE_OPERATION, fins),
+    Def::app("FDEL", &TABLE_OPERATION, |a| read(a, ReadKind::Nth)),
+];
+
+static TABLE_OPERATION: Doc = Doc {
+    family: "table operation",
+    cite: "PM §7.7",
+    notes: "`FIFW S D`, `FIFR D S`, `FPOP D S`, `FINS S D n`, `FDEL D S n` (order unconfirmed)",
+};
 
 /// The table's flat word index and its pointer (number of data).
 fn table(mem: &DeviceMemory, t: &Block) -> Result<(usize, i32), Fault> {

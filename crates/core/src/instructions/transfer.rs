@@ -10,26 +10,30 @@
 //! This module also holds the block-operand helpers the logic, rotation and bit
 //! families share ([`WordBlock`], [`count`], [`carry_flag`]).
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::{DeviceKind, DeviceMemory, Operand};
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc};
 use crate::program::ops::{Num, WordArg};
 
-/// The compile function for a mnemonic of this family (pulse suffix removed).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "CML" => (|a: &mut Args<'_, '_>| cml(a, Num::I16)) as CompileFn,
-        "DCML" => |a| cml(a, Num::I32),
-        "BMOV" => bmov,
-        "FMOV" => fmov,
-        "XCH" => |a| xch(a, Num::I16),
-        "DXCH" => |a| xch(a, Num::I32),
-        "BXCH" => bxch,
-        "SWAP" => swap,
-        _ => return None,
-    })
-}
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("CML", &TRANSFER, |a| cml(a, Num::I16)),
+    Def::app("DCML", &TRANSFER, |a| cml(a, Num::I32)),
+    Def::app("BMOV", &TRANSFER, bmov),
+    Def::app("FMOV", &TRANSFER, fmov),
+    Def::app("XCH", &TRANSFER, |a| xch(a, Num::I16)),
+    Def::app("DXCH", &TRANSFER, |a| xch(a, Num::I32)),
+    Def::app("BXCH", &TRANSFER, bxch),
+    Def::app("SWAP", &TRANSFER, swap),
+];
+
+static TRANSFER: Doc = Doc {
+    family: "transfer",
+    cite: "PM §6.5",
+    notes: "BMOV overlap-safe; n=0 no-op; past end or n<0 → 4101",
+};
 
 // ------------------------------------------------------------ shared helpers
 

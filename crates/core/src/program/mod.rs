@@ -1,9 +1,13 @@
 //! Program loading: file formats → [`Source`] → compiled [`Program`].
 
+mod args;
 pub mod compile;
 pub mod csv;
 pub mod il;
+pub mod isa;
 pub mod ops;
+pub(crate) mod resolve;
+mod rung;
 mod source;
 
 use std::path::Path;

@@ -308,8 +308,12 @@ pub enum Op {
         d: u32,
     },
     Apply(Box<Apply>),
-    /// An instruction of a family module: index into [`Program::ext`].
+    /// An instruction of a family module: index into [`Program::ext`]; runs
+    /// while the condition is ON.
     Ext(u32),
+    /// A family instruction of [`crate::program::isa::Drive::Always`]: `exec`
+    /// while the condition is ON, `off` while it is OFF.
+    ExtAlways(u32),
     // --- program control ---
     /// CJ (conditional) and JMP (unconditional) to an op index.
     Cj {

@@ -37,10 +37,11 @@ mod params;
 pub(crate) mod registry;
 mod work;
 
-use super::{Args, CompileFn, ExecCtx, Instr};
+use super::{Args, ExecCtx, Instr};
 use crate::device::DeviceKind;
 use crate::engine::{ErrorCode, Fault};
 use crate::program::compile::Block;
+use crate::program::isa::{Def, Doc, Pulse};
 use crate::program::ops::{Num, WordArg};
 use params::LoopParams;
 use registry::Registry;
@@ -120,52 +121,41 @@ impl Family {
     }
 }
 
-/// The compile function for a mnemonic of this family (001 §3.1.3/§3.2.3
-/// instruction lists; pulse suffix removed;
-/// the framework maps `SP.X` to `S.X` and `XP` to `X` with pulse execution).
-pub fn lookup(m: &str) -> Option<CompileFn> {
-    Some(match m {
-        "S.PIDINIT" | "PIDINIT" => PidInit::compile,
-        "S.PIDCONT" | "PIDCONT" => PidCont::compile,
-        "S.PIDSTOP" | "PIDSTOP" => |a| PidStopRun::compile(a, false),
-        "S.PIDRUN" | "PIDRUN" => |a| PidStopRun::compile(a, true),
-        "S.PIDPRMW" | "PIDPRMW" => PidPrmw::compile,
-        "PID57" => pid57,
-        _ => return None,
-    })
-}
+/// This family's instructions (001 §3.1.3/§3.2.3 instruction lists). The `S.`
+/// family's pulse form is `SP.xxx` (001 §8.1); the other's a `P` suffix.
+pub static DEFS: &[Def] = &[
+    Def::app("S.PIDINIT", &INCOMPLETE, PidInit::compile).pulse(Pulse::SPrefix),
+    Def::app("S.PIDCONT", &INCOMPLETE, PidCont::compile).pulse(Pulse::SPrefix),
+    Def::app("S.PIDSTOP", &INCOMPLETE, |a| PidStopRun::compile(a, false)).pulse(Pulse::SPrefix),
+    Def::app("S.PIDRUN", &INCOMPLETE, |a| PidStopRun::compile(a, true)).pulse(Pulse::SPrefix),
+    Def::app("S.PIDPRMW", &INCOMPLETE, PidPrmw::compile).pulse(Pulse::SPrefix),
+    Def::app("PIDINIT", &COMPLETE, PidInit::compile),
+    Def::app("PIDCONT", &COMPLETE, PidCont::compile),
+    Def::app("PIDSTOP", &COMPLETE, |a| PidStopRun::compile(a, false)),
+    Def::app("PIDRUN", &COMPLETE, |a| PidStopRun::compile(a, true)),
+    Def::app("PIDPRMW", &COMPLETE, PidPrmw::compile),
+    Def::rejected(
+        "PID57",
+        "PID57 needs an AD57(S1) CRT controller module (QnACPU only, 001 §9.1.3), which \
+         softplc does not emulate; read SV/PV/MV from the PIDCONT I/O data instead",
+    ),
+];
 
-/// Checks the spelling of the pulse form: the `S.` family's pulse form is
-/// `SP.xxx`; `S.xxxP` is rejected (001 §8.1: only `S.`/`SP.` exist).
-fn family_of(a: &mut Args<'_, '_>, base: &str) -> Option<Family> {
-    let m = a.mnemonic();
-    if m.starts_with("S.") && m.strip_prefix("S.") != Some(base) {
-        let msg = format!("unknown instruction `{m}`: the pulse form of `S.{base}` is `SP.{base}`");
-        a.error(usize::MAX, msg);
-        return None;
-    }
-    Some(Family::of(m))
-}
-
-/// PID57/PID57P (001 §9.1.3, QnACPU only): drives an AD57(S1) CRT controller
-/// module, which softplc does not emulate; rejected at load (notes §4 PID57).
-fn pid57(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    let m = a.mnemonic().to_string();
-    a.error(
-        usize::MAX,
-        format!(
-            "unsupported instruction `{m}`: PID57 needs an AD57(S1) CRT controller module \
-             (QnACPU only, 001 §9.1.3), which softplc does not emulate; \
-             read SV/PV/MV from the PIDCONT I/O data instead"
-        ),
-    );
-    None
-}
+static INCOMPLETE: Doc = Doc {
+    family: "PID (incomplete derivative)",
+    cite: "001 §8",
+    notes: "value-exact per pid-instructions.md; state in the I/O work words",
+};
+static COMPLETE: Doc = Doc {
+    family: "PID (complete derivative)",
+    cite: "001 §9",
+    notes: "as above",
+};
 
 /// Checks the operand count (S.PIDPRMW/PIDPRMW 2, the others 1; 001 §8.1,
-/// §9.1 "设置数据") and the pulse spelling.
-fn prologue(a: &mut Args<'_, '_>, base: &str, operands: usize) -> Option<Family> {
-    let fam = family_of(a, base)?;
+/// §9.1 "设置数据"); the family follows the spelling (`S.`/`SP.` or plain).
+fn prologue(a: &mut Args<'_, '_>, operands: usize) -> Option<Family> {
+    let fam = Family::of(a.mnemonic());
     a.count(&[operands]).then_some(fam)
 }
 
@@ -200,7 +190,7 @@ struct PidInit {
 
 impl PidInit {
     fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, "PIDINIT", 1)?;
+        let fam = prologue(a, 1)?;
         let data = a.block(0)?;
         Some(Box::new(PidInit { fam, data }))
     }
@@ -250,7 +240,7 @@ struct PidCont {
 
 impl PidCont {
     fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, "PIDCONT", 1)?;
+        let fam = prologue(a, 1)?;
         let io = a.block(0)?;
         let map = a.map();
         let track_flag = map.index(DeviceKind::SM, fam.track_flag());
@@ -308,7 +298,7 @@ struct PidStopRun {
 
 impl PidStopRun {
     fn compile(a: &mut Args<'_, '_>, run: bool) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, if run { "PIDRUN" } else { "PIDSTOP" }, 1)?;
+        let fam = prologue(a, 1)?;
         let n = a.word_src(0, Num::I16)?;
         Some(Box::new(PidStopRun { fam, run, n }))
     }
@@ -351,7 +341,7 @@ struct PidPrmw {
 
 impl PidPrmw {
     fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, "PIDPRMW", 2)?;
+        let fam = prologue(a, 2)?;
         let n = a.word_src(0, Num::I16);
         let data = a.block(1);
         Some(Box::new(PidPrmw {
