@@ -9,6 +9,8 @@ use softplc_core::engine::{
 };
 use softplc_core::program::compile_il;
 
+pub mod pid;
+
 pub struct Plc {
     pub cpu: Cpu,
     clock: VirtualClock,
