@@ -148,3 +148,17 @@ pub fn assert_running(p: &Plc) {
     assert_eq!(p.state(), CpuState::Run);
     assert_eq!(p.error(), None);
 }
+
+/// Sets X0, X1, … from a string of '0'/'1', X0 first.
+pub fn inputs(p: &mut Plc, bits: &str) {
+    for (i, c) in bits.chars().enumerate() {
+        p.set(&format!("X{i}"), if c == '1' { "1" } else { "0" });
+    }
+}
+
+/// Reads Y0, Y1, … Y(n-1) as a '0'/'1' string, Y0 first.
+pub fn outputs(p: &Plc, n: usize) -> String {
+    (0..n)
+        .map(|i| if p.bit(&format!("Y{i}")) { '1' } else { '0' })
+        .collect()
+}
