@@ -10,6 +10,7 @@ use softplc_core::engine::{
 use softplc_core::program::compile_il;
 
 pub mod pid;
+pub mod project;
 
 pub struct Plc {
     pub cpu: Cpu,
