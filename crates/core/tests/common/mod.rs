@@ -9,6 +9,9 @@ use softplc_core::engine::{
 };
 use softplc_core::program::compile_il;
 
+pub mod pid;
+pub mod project;
+
 pub struct Plc {
     pub cpu: Cpu,
     clock: VirtualClock,
@@ -145,4 +148,18 @@ pub fn assert_stopped(p: &Plc, code: u16) {
 pub fn assert_running(p: &Plc) {
     assert_eq!(p.state(), CpuState::Run);
     assert_eq!(p.error(), None);
+}
+
+/// Sets X0, X1, … from a string of '0'/'1', X0 first.
+pub fn inputs(p: &mut Plc, bits: &str) {
+    for (i, c) in bits.chars().enumerate() {
+        p.set(&format!("X{i}"), if c == '1' { "1" } else { "0" });
+    }
+}
+
+/// Reads Y0, Y1, … Y(n-1) as a '0'/'1' string, Y0 first.
+pub fn outputs(p: &Plc, n: usize) -> String {
+    (0..n)
+        .map(|i| if p.bit(&format!("Y{i}")) { '1' } else { '0' })
+        .collect()
 }

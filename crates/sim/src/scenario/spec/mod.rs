@@ -1,0 +1,177 @@
+//! Scenario files: TOML parsing and validation. Everything that does not need
+//! the CPU is checked here (syntax of device names, times inside the run,
+//! model types and parameters); device ranges are checked when the scenario is
+//! built against the loaded program.
+
+use std::path::PathBuf;
+
+mod expect;
+mod parse;
+mod values;
+
+/// What the scenario runs: a program file or a project.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// A program file (`.il` or GX Works2 `.csv`).
+    Program(PathBuf),
+    /// A project directory or its `plc.toml`.
+    Project(PathBuf),
+}
+
+/// Scaling of a model port bound to a device.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// Values pass unchanged (bits are 0/1; word values are rounded and clamped
+    /// to the device type; `:f32` devices hold the value as is).
+    None,
+    /// A/D (model output → device) or D/A (device → model input) conversion
+    /// between the engineering range and the raw digital range.
+    Analog { raw: (i32, i32), eng: (f64, f64) },
+    /// A bit device read as a model input: `off` when OFF, `on` when ON.
+    Bit { off: f64, on: f64 },
+}
+
+/// Where a model input comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputBinding {
+    /// A constant value.
+    Const(f64),
+    /// A device read before every step.
+    Device { device: String, scale: Scale },
+}
+
+/// Where a model output goes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputBinding {
+    pub device: String,
+    pub scale: Scale,
+}
+
+/// A plant model bound to devices.
+#[derive(Clone, Debug)]
+pub struct ModelSpec {
+    pub name: String,
+    pub kind: String,
+    pub params: toml::Table,
+    /// (port index, binding), in port order.
+    pub inputs: Vec<(usize, InputBinding)>,
+    pub outputs: Vec<(usize, OutputBinding)>,
+}
+
+/// A write before a scan (timeline entries with `every` are expanded).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventSpec {
+    /// 1-based scan before which the writes happen.
+    pub scan: u64,
+    /// (device, value as text for `Cpu::write_device`).
+    pub set: Vec<(String, String)>,
+}
+
+/// A condition on one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cond {
+    /// `|v − value| ≤ tol` (for `:f32` devices with `tol = 0`, `value` is
+    /// compared after rounding to f32).
+    Eq {
+        value: f64,
+        tol: f64,
+    },
+    Gt(f64),
+    Lt(f64),
+    Ge(f64),
+    Le(f64),
+}
+
+/// The setpoint of a settle/overshoot check.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Setpoint {
+    Value(f64),
+    Device(String),
+}
+
+/// The settling band.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Band {
+    /// Percent of the setpoint step (SV − PV at the start of the window); of
+    /// |SV| when there is no step.
+    Percent(f64),
+    /// Absolute, in device units.
+    Abs(f64),
+}
+
+/// When an expectation is checked, resolved to scans.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExpectKind {
+    /// The condition holds at this scan.
+    At { scan: u64, cond: Cond },
+    /// The condition holds at some scan in `first..=last`.
+    Within { first: u64, last: u64, cond: Cond },
+    /// The condition holds at every scan in `first..=last`.
+    Always { first: u64, last: u64, cond: Cond },
+    /// The condition holds at no scan in `first..=last`.
+    Never { first: u64, last: u64, cond: Cond },
+    /// Loop performance over `first..=last`: settled (inside the band from
+    /// `deadline` on) and overshoot at most `max_overshoot` % of the step.
+    Settle {
+        first: u64,
+        last: u64,
+        setpoint: Setpoint,
+        band: Band,
+        deadline: Option<u64>,
+        max_overshoot: Option<f64>,
+    },
+}
+
+/// One `[[expect]]` entry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExpectSpec {
+    /// The pass/fail line's text.
+    pub text: String,
+    pub device: String,
+    /// More devices shown in the history of a failure.
+    pub show: Vec<String>,
+    pub kind: ExpectKind,
+}
+
+/// `[trace]`: devices recorded for CSV and plots.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TraceSpec {
+    pub devices: Vec<String>,
+    /// CSV file to write (relative paths are relative to the scenario file).
+    pub file: Option<PathBuf>,
+    /// Sample period; default: every scan, or fewer so that a run keeps at
+    /// most [`DEFAULT_MAX_SAMPLES`] samples.
+    pub interval_us: Option<u64>,
+}
+
+/// `[plot]`: an SVG of traced devices over time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlotSpec {
+    pub file: PathBuf,
+    /// Devices to draw (default: the trace devices, else the expectation
+    /// devices).
+    pub devices: Vec<String>,
+    pub title: Option<String>,
+}
+
+/// Samples a trace keeps by default (the sample period grows for long runs).
+pub const DEFAULT_MAX_SAMPLES: u64 = 10_000;
+
+/// A parsed scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// The scenario file (for reports).
+    pub file: PathBuf,
+    pub name: String,
+    pub source: Source,
+    /// Virtual time per scan, µs.
+    pub scan_us: u64,
+    /// Scans to run (the duration rounded up to whole scans).
+    pub scans: u64,
+    pub models: Vec<ModelSpec>,
+    /// Sorted by scan (file order within a scan).
+    pub timeline: Vec<EventSpec>,
+    pub expects: Vec<ExpectSpec>,
+    pub trace: TraceSpec,
+    pub plot: Option<PlotSpec>,
+}

@@ -1,0 +1,327 @@
+//! The scenario file as TOML deserializes it, and its translation into a
+//! [`Scenario`]: source, times, models and the timeline.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use super::expect::{expect_label, expect_spec};
+use super::values::{binding, device, scan_at, time_us, write_text};
+use super::{
+    EventSpec, ExpectKind, InputBinding, ModelSpec, OutputBinding, PlotSpec, Scenario, Setpoint,
+    Source, TraceSpec,
+};
+use crate::model;
+use crate::scenario::fmt::fmt_time;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Doc {
+    name: Option<String>,
+    #[allow(dead_code)]
+    description: Option<String>,
+    program: Option<String>,
+    project: Option<String>,
+    scan_time: toml::Value,
+    duration: toml::Value,
+    #[serde(default)]
+    model: Vec<ModelDoc>,
+    #[serde(default)]
+    timeline: Vec<EventDoc>,
+    #[serde(default)]
+    expect: Vec<toml::Table>,
+    trace: Option<TraceDoc>,
+    plot: Option<PlotDoc>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ModelDoc {
+    name: Option<String>,
+    #[serde(rename = "type")]
+    kind: String,
+    #[serde(default)]
+    params: toml::Table,
+    #[serde(default)]
+    inputs: toml::Table,
+    #[serde(default)]
+    outputs: toml::Table,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EventDoc {
+    at: Option<toml::Value>,
+    scan: Option<u64>,
+    every: Option<toml::Value>,
+    count: Option<u64>,
+    set: toml::Table,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TraceDoc {
+    #[serde(default)]
+    devices: Vec<String>,
+    file: Option<String>,
+    interval: Option<toml::Value>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlotDoc {
+    file: String,
+    #[serde(default)]
+    devices: Vec<String>,
+    title: Option<String>,
+}
+
+/// Events a timeline may expand to (`every` × `count`).
+const MAX_EVENTS: u64 = 1_000_000;
+
+impl Scenario {
+    /// Reads and parses a scenario file.
+    pub fn load(path: &Path) -> Result<Scenario, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Scenario::parse(&text, path)
+    }
+
+    /// Parses scenario text; relative paths in it are relative to `path`'s
+    /// directory. Errors start with the file name.
+    pub fn parse(text: &str, path: &Path) -> Result<Scenario, String> {
+        Scenario::parse_inner(text, path).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    fn parse_inner(text: &str, path: &Path) -> Result<Scenario, String> {
+        let doc: Doc = toml::from_str(text).map_err(|e| e.to_string().trim_end().to_string())?;
+        let base = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        let source = match (&doc.program, &doc.project) {
+            (Some(p), None) => Source::Program(base.join(p)),
+            (None, Some(p)) => Source::Project(base.join(p)),
+            _ => {
+                return Err(
+                    "give exactly one of `program` (a file) or `project` (a directory)".into(),
+                )
+            }
+        };
+        let scan_us = time_us(&doc.scan_time, "scan_time")?;
+        if scan_us == 0 {
+            return Err("scan_time: must be at least 1us".into());
+        }
+        let duration_us = time_us(&doc.duration, "duration")?;
+        let scans = duration_us.div_ceil(scan_us);
+        if scans == 0 {
+            return Err("duration: must be at least one scan".into());
+        }
+        let name = doc.name.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned())
+        });
+
+        let mut models = Vec::new();
+        for (i, m) in doc.model.into_iter().enumerate() {
+            models.push(model_spec(m, i)?);
+        }
+        let mut names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
+        names.sort_unstable();
+        if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+            return Err(format!(
+                "two models are named `{}` (give each a `name`)",
+                w[0]
+            ));
+        }
+
+        let mut timeline = Vec::new();
+        for (i, e) in doc.timeline.into_iter().enumerate() {
+            timeline_entry(e, i, scan_us, scans, &mut timeline)?;
+        }
+        if timeline.len() as u64 > MAX_EVENTS {
+            return Err(format!("timeline: more than {MAX_EVENTS} writes"));
+        }
+        timeline.sort_by_key(|e: &EventSpec| e.scan);
+
+        let mut expects = Vec::new();
+        for (i, t) in doc.expect.iter().enumerate() {
+            expects.push(
+                expect_spec(t, scan_us, scans)
+                    .map_err(|e| format!("expect #{} ({}): {e}", i + 1, expect_label(t)))?,
+            );
+        }
+
+        let mut trace = TraceSpec::default();
+        if let Some(t) = doc.trace {
+            for d in &t.devices {
+                device(d, "trace")?;
+            }
+            trace.devices = t.devices;
+            trace.file = t.file.map(|f| base.join(f));
+            trace.interval_us = t
+                .interval
+                .map(|v| time_us(&v, "trace: interval"))
+                .transpose()?;
+        }
+        let plot = match doc.plot {
+            Some(p) => {
+                for d in &p.devices {
+                    device(d, "plot")?;
+                }
+                Some(PlotSpec {
+                    file: base.join(p.file),
+                    devices: p.devices,
+                    title: p.title,
+                })
+            }
+            None => None,
+        };
+        Ok(Scenario {
+            file: path.to_path_buf(),
+            name,
+            source,
+            scan_us,
+            scans,
+            models,
+            timeline,
+            expects,
+            trace,
+            plot,
+        })
+    }
+
+    /// Virtual time of the whole run, µs.
+    pub fn duration_us(&self) -> u64 {
+        self.scans * self.scan_us
+    }
+
+    /// The devices the expectations check (each once, in order): the default
+    /// for plots.
+    pub fn expect_devices(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for e in &self.expects {
+            let mut add = |d: &str| {
+                if !out.iter().any(|o| o == d) {
+                    out.push(d.to_string());
+                }
+            };
+            add(&e.device);
+            if let ExpectKind::Settle {
+                setpoint: Setpoint::Device(d),
+                ..
+            } = &e.kind
+            {
+                add(d);
+            }
+        }
+        out
+    }
+}
+
+fn model_spec(m: ModelDoc, i: usize) -> Result<ModelSpec, String> {
+    let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
+    let what = format!("model #{} `{name}`", i + 1);
+    let built = model::build(&m.kind, &m.params).map_err(|e| format!("{what}: {e}"))?;
+    let port = |ports: &[&'static str], p: &str, dir: &str| {
+        ports.iter().position(|q| *q == p).ok_or_else(|| {
+            format!(
+                "{what}: `{}` has no {dir} `{p}` ({dir}s: {})",
+                m.kind,
+                if ports.is_empty() {
+                    "none".to_string()
+                } else {
+                    ports.join(", ")
+                }
+            )
+        })
+    };
+    let mut inputs = Vec::new();
+    for (p, v) in &m.inputs {
+        let idx = port(built.inputs(), p, "input")?;
+        inputs.push((idx, binding(v, &format!("{what}: input `{p}`"), true)?));
+    }
+    let mut outputs = Vec::new();
+    for (p, v) in &m.outputs {
+        let idx = port(built.outputs(), p, "output")?;
+        match binding(v, &format!("{what}: output `{p}`"), false)? {
+            InputBinding::Device { device, scale } => {
+                outputs.push((idx, OutputBinding { device, scale }))
+            }
+            InputBinding::Const(_) => unreachable!("outputs take no constants"),
+        }
+    }
+    inputs.sort_by_key(|(i, _)| *i);
+    outputs.sort_by_key(|(i, _)| *i);
+    Ok(ModelSpec {
+        name,
+        kind: m.kind,
+        params: m.params,
+        inputs,
+        outputs,
+    })
+}
+
+fn timeline_entry(
+    e: EventDoc,
+    i: usize,
+    scan_us: u64,
+    scans: u64,
+    out: &mut Vec<EventSpec>,
+) -> Result<(), String> {
+    let what = format!("timeline #{}", i + 1);
+    let first = match (&e.at, e.scan) {
+        (Some(t), None) => scan_at(time_us(t, &format!("{what}: at"))?, scan_us),
+        (None, Some(n)) if n >= 1 => n,
+        (None, Some(_)) => return Err(format!("{what}: scan numbers start at 1")),
+        _ => {
+            return Err(format!(
+                "{what}: give exactly one of `at` (a time) or `scan`"
+            ))
+        }
+    };
+    if e.set.is_empty() {
+        return Err(format!("{what}: `set` is empty"));
+    }
+    if first > scans {
+        return Err(format!(
+            "{what}: scan {first} is after the end of the run ({scans} scans)"
+        ));
+    }
+    let mut set = Vec::new();
+    for (dev, v) in &e.set {
+        device(dev, &what)?;
+        set.push((dev.clone(), write_text(v, &format!("{what}: `{dev}`"))?));
+    }
+    let (every, count) = match (&e.every, e.count) {
+        (None, None) => (0, 1),
+        (Some(ev), c) => {
+            let us = time_us(ev, &format!("{what}: every"))?;
+            let n = us.div_ceil(scan_us);
+            if us == 0 || us % scan_us != 0 {
+                return Err(format!(
+                    "{what}: every must be a whole number of scans ({} per scan)",
+                    fmt_time(scan_us)
+                ));
+            }
+            // Without a count, repeat to the end of the run.
+            let c = c.unwrap_or_else(|| scans.saturating_sub(first) / n + 1);
+            (n, c)
+        }
+        (None, Some(_)) => return Err(format!("{what}: `count` needs `every`")),
+    };
+    if count > MAX_EVENTS {
+        return Err(format!("{what}: more than {MAX_EVENTS} repetitions"));
+    }
+    for k in 0..count {
+        let scan = first + k * every;
+        if scan > scans {
+            break;
+        }
+        out.push(EventSpec {
+            scan,
+            set: set.clone(),
+        });
+    }
+    Ok(())
+}

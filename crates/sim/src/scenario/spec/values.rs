@@ -1,0 +1,152 @@
+//! TOML values of a scenario file: times, numbers, device names, model port
+//! bindings, device writes and their conversion to scans.
+
+use softplc_core::access::{DeviceSpec, ValueType};
+
+use super::{InputBinding, Scale};
+use crate::model;
+
+/// A time: seconds as a number, or a string with units ("1.5s", "2min").
+pub(super) fn time_us(v: &toml::Value, what: &str) -> Result<u64, String> {
+    let secs = match v {
+        toml::Value::Integer(i) if *i >= 0 => *i as f64,
+        toml::Value::Float(f) if *f >= 0.0 && f.is_finite() => *f,
+        toml::Value::String(s) => model::parse_duration(s).map_err(|e| format!("{what}: {e}"))?,
+        _ => {
+            return Err(format!(
+                "{what}: expected a time (seconds, or a string like \"1.5s\", \"500ms\", \"2min\")"
+            ))
+        }
+    };
+    let us = (secs * 1e6).round();
+    if us > 1e15 {
+        return Err(format!("{what}: too long"));
+    }
+    Ok(us as u64)
+}
+
+pub(super) fn number(v: &toml::Value, what: &str) -> Result<f64, String> {
+    match v {
+        toml::Value::Integer(i) => Ok(*i as f64),
+        toml::Value::Float(f) if !f.is_nan() => Ok(*f),
+        toml::Value::Boolean(b) => Ok(f64::from(u8::from(*b))),
+        _ => Err(format!("{what}: expected a number")),
+    }
+}
+
+fn pair_f64(v: &toml::Value, what: &str) -> Result<(f64, f64), String> {
+    match v.as_array().map(|a| a.as_slice()) {
+        Some([a, b]) => Ok((number(a, what)?, number(b, what)?)),
+        _ => Err(format!("{what}: expected [low, high]")),
+    }
+}
+
+fn pair_i32(v: &toml::Value, what: &str) -> Result<(i32, i32), String> {
+    let bad = || format!("{what}: expected [low, high] raw integers");
+    match v.as_array().map(|a| a.as_slice()) {
+        Some([toml::Value::Integer(a), toml::Value::Integer(b)]) => Ok((
+            i32::try_from(*a).map_err(|_| bad())?,
+            i32::try_from(*b).map_err(|_| bad())?,
+        )),
+        _ => Err(bad()),
+    }
+}
+
+pub(super) fn device(text: &str, what: &str) -> Result<DeviceSpec, String> {
+    let spec = DeviceSpec::parse(text.trim()).map_err(|e| format!("{what}: {e}"))?;
+    if spec.ty == ValueType::Str {
+        return Err(format!(
+            "{what}: `{text}`: strings cannot be bound or checked"
+        ));
+    }
+    Ok(spec)
+}
+
+/// `PORT = "DEV"`, `PORT = { device = "DEV", raw = [..], eng = [..] }` (and
+/// for inputs a constant number).
+pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputBinding, String> {
+    let (dev, scale) = match v {
+        toml::Value::String(s) => (s.clone(), Scale::None),
+        toml::Value::Integer(_) | toml::Value::Float(_) if input => {
+            return Ok(InputBinding::Const(number(v, what)?))
+        }
+        toml::Value::Table(t) => {
+            for k in t.keys() {
+                if !["device", "raw", "eng"].contains(&k.as_str()) {
+                    return Err(format!(
+                        "{what}: unknown key `{k}` (keys: device, raw, eng)"
+                    ));
+                }
+            }
+            let dev = t
+                .get("device")
+                .and_then(|d| d.as_str())
+                .ok_or_else(|| format!("{what}: `device` (a string) is required"))?
+                .to_string();
+            let spec = device(&dev, what)?;
+            let eng = t
+                .get("eng")
+                .map(|e| pair_f64(e, &format!("{what}: eng")))
+                .transpose()?;
+            let raw = t
+                .get("raw")
+                .map(|r| pair_i32(r, &format!("{what}: raw")))
+                .transpose()?;
+            let scale = match (raw, eng, spec.ty == ValueType::Bit) {
+                (None, None, _) => Scale::None,
+                (None, Some((off, on)), true) if input => Scale::Bit { off, on },
+                (Some(raw), Some(eng), false) => {
+                    if raw.0 == raw.1 || eng.0 == eng.1 {
+                        return Err(format!("{what}: raw and eng ranges must not be empty"));
+                    }
+                    Scale::Analog { raw, eng }
+                }
+                (_, _, true) => {
+                    return Err(format!(
+                        "{what}: a bit device takes no `raw` range{}",
+                        if input {
+                            " (give eng = [off, on] to map OFF/ON to values)"
+                        } else {
+                            ""
+                        }
+                    ))
+                }
+                _ => {
+                    return Err(format!(
+                        "{what}: give both `raw` and `eng` ranges, or neither"
+                    ))
+                }
+            };
+            (dev, scale)
+        }
+        _ => {
+            return Err(format!(
+                "{what}: expected a device name, {{ device = .., raw = [..], eng = [..] }}{}",
+                if input { ", or a constant number" } else { "" }
+            ))
+        }
+    };
+    device(&dev, what)?;
+    Ok(InputBinding::Device { device: dev, scale })
+}
+
+/// A value for `Cpu::write_device`.
+pub(super) fn write_text(v: &toml::Value, what: &str) -> Result<String, String> {
+    Ok(match v {
+        toml::Value::Boolean(b) => if *b { "1" } else { "0" }.to_string(),
+        toml::Value::Integer(i) => i.to_string(),
+        toml::Value::Float(f) => format!("{f:?}"),
+        toml::Value::String(s) => s.clone(),
+        _ => return Err(format!("{what}: expected a number, true/false or a string")),
+    })
+}
+
+/// The first scan at or after time `us` (scan n runs at n·scan_us), at least 1.
+pub(super) fn scan_at(us: u64, scan_us: u64) -> u64 {
+    us.div_ceil(scan_us).max(1)
+}
+
+/// The last scan at or before time `us`.
+pub(super) fn scan_before(us: u64, scan_us: u64) -> u64 {
+    us / scan_us
+}
