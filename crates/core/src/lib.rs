@@ -1,18 +1,17 @@
-//! softplc core: a MELSEC-Q compatible soft PLC.
-//!
-//! Layers, bottom up (see ARCHITECTURE.md):
-//! - [`device`]: device memory and operand syntax (004 §10).
-//! - [`program`]: parsers for `.il` and GX Works2 `.csv`, diagnostics, and the
-//!   compiler to the pre-resolved [`program::Program`] form.
-//! - [`instructions`]: the instruction families, one module per manual chapter.
-//! - [`engine`]: the scan cycle, timers, special relays/registers, error handling.
-//! - [`access`]: reading and writing devices by name, for the CLI and protocols.
+//! softplc core: the MELSEC-Q soft PLC, assembled from its crates (see
+//! ARCHITECTURE.md), with a stable public surface for the CLI, protocols and
+//! simulation:
+//! - [`device`], [`access`]: device memory and the typed door to it (softplc-ir);
+//! - [`program`]: loading `.il`/`.csv` against the MELSEC-Q instruction set
+//!   (softplc-lang + softplc-melsec);
+//! - [`instructions`]: the MELSEC-Q instruction set (softplc-melsec);
+//! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
 //! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk.
 
-pub mod access;
-pub mod device;
-pub mod engine;
-pub mod instructions;
+pub use softplc_engine as engine;
+pub use softplc_ir::{access, device};
+pub use softplc_melsec as instructions;
+
 pub mod persist;
 pub mod program;
 pub mod project;

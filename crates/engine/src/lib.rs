@@ -1,0 +1,350 @@
+//! softplc-engine: the scan engine: input refresh → program → END processing (004 §4.3), in the
+//! time of a [`Clock`] it is given.
+//!
+//! [`Cpu`] owns the device memory and one compiled program. Everything a scan
+//! needs is allocated when the CPU is built; `scan` itself does no allocation.
+
+mod cpu;
+mod exec;
+mod link;
+mod special;
+pub mod trace;
+
+use std::time::Duration;
+
+pub use cpu::{Cpu, LoadedProgram, ProgramMonitor};
+pub use softplc_ir::calendar;
+pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
+pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
+
+use exec::Outcome;
+use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
+use softplc_ir::ops::Program;
+
+/// Operating state of the CPU (004 §4.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CpuState {
+    Run,
+    Stop,
+    Pause,
+}
+
+impl CpuState {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CpuState::Run => "RUN",
+            CpuState::Stop => "STOP",
+            CpuState::Pause => "PAUSE",
+        }
+    }
+}
+
+/// What to do on an operation error (PLC RAS parameter, 004 L4911-4922).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ErrorMode {
+    #[default]
+    Stop,
+    Continue,
+}
+
+/// Output (Y) at STOP→RUN (004 §7.5, PLC RAS parameter).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum StopToRunOutput {
+    /// Restore the Y image saved at RUN→STOP, then run (default).
+    #[default]
+    Previous,
+    /// Start from Y OFF and let the program recalculate the outputs.
+    Recalculate,
+}
+
+/// Execution type of a program file (004 §4.2, qcpu.md §2.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ExecType {
+    Initial,
+    #[default]
+    Scan,
+    LowSpeed,
+    Standby,
+    FixedScan,
+}
+
+/// A latch range of one device (PLC parameter "device setting", 004 §7.4):
+/// numbers `start..=end` keep their values across power-on and reset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LatchRange {
+    pub kind: DeviceKind,
+    pub start: u32,
+    pub end: u32,
+    /// Latch (1): cleared by latch clear. Latch (2): not cleared by the L.CLR switch.
+    pub clearable: bool,
+}
+
+/// A device initial value (004 §10.13.2), written at power-on and STOP→RUN.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialValue {
+    pub device: softplc_ir::access::DeviceSpec,
+    pub value: String,
+}
+
+/// CPU parameters. Defaults are the Q06HCPU's (004 ch. 9 parameter list).
+#[derive(Clone, Debug)]
+pub struct CpuConfig {
+    /// CPU model answered to "read CPU model" requests.
+    pub model: String,
+    pub devices: DeviceConfig,
+    /// Watchdog time, measured in wall-clock time (default 200 ms, 004 L4850).
+    pub watchdog: Duration,
+    pub operation_error: ErrorMode,
+    /// Low-speed timer base (default 100 ms) and high-speed timer base (10 ms).
+    pub timer_low: Duration,
+    pub timer_high: Duration,
+    /// Calendar clock at power-on (`run` uses 2000-01-01 00:00:00 so runs are
+    /// reproducible).
+    pub clock_start: calendar::DateTime,
+    /// Constant scan period (0.5-2000 ms); `None` = off.
+    pub constant_scan: Option<Duration>,
+    /// Low-speed program execution time per scan; `None` = use constant-scan spare time.
+    pub low_speed_time: Option<Duration>,
+    /// Initial-program execution monitor time; `None` = off.
+    pub initial_monitor: Option<Duration>,
+    pub stop_to_run_output: StopToRunOutput,
+    /// Latch ranges; by default L0-L8191 is latch (1).
+    pub latch: Vec<LatchRange>,
+    /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
+    pub interrupt_periods: [Duration; 4],
+    pub initial_values: Vec<InitialValue>,
+}
+
+impl Default for CpuConfig {
+    fn default() -> Self {
+        CpuConfig {
+            model: "Q06HCPU".to_string(),
+            devices: DeviceConfig::default(),
+            watchdog: Duration::from_millis(200),
+            operation_error: ErrorMode::Stop,
+            timer_low: Duration::from_millis(100),
+            timer_high: Duration::from_millis(10),
+            clock_start: calendar::DateTime {
+                year: 2000,
+                month: 1,
+                day: 1,
+                hour: 0,
+                minute: 0,
+                second: 0,
+            },
+            constant_scan: None,
+            low_speed_time: None,
+            initial_monitor: None,
+            stop_to_run_output: StopToRunOutput::Previous,
+            latch: vec![LatchRange {
+                kind: DeviceKind::L,
+                start: 0,
+                end: 8191,
+                clearable: true,
+            }],
+            interrupt_periods: [
+                Duration::from_millis(100),
+                Duration::from_millis(40),
+                Duration::from_millis(20),
+                Duration::from_millis(10),
+            ],
+            initial_values: Vec::new(),
+        }
+    }
+}
+
+/// State the interpreter works on, split from [`Program`] so both can be borrowed.
+pub(crate) struct Runtime {
+    pub mem: DeviceMemory,
+    /// Clock reading at the start of this scan, µs.
+    pub now_us: u64,
+    /// The calendar clock (SD210-SD213, DATERD/DATEWR).
+    pub clock: calendar::PlcClock,
+    /// CPU-wide state of family instructions (see `ExecCtx::shared`).
+    pub shared: Box<[u32]>,
+    /// Sub-unit remainder of each timer, µs (T then ST).
+    pub timer_rem: Box<[u32]>,
+    /// [low, high] timer bases in µs.
+    pub timer_base_us: [u32; 2],
+    /// Scan time measured at the previous END, µs; added by OUT T.
+    pub scan_us: u32,
+    /// Master-control levels that are OFF, one bit per N.
+    pub mc_off: u16,
+    /// CALL return addresses: (program, op index).
+    pub calls: Vec<(u32, u32)>,
+    pub fors: Vec<(u32, i16)>,
+    pub stop_request: bool,
+    pub watchdog: Duration,
+    /// Wall-clock start of the watchdog: the scan's start, or the last WDT.
+    pub wdt_start: std::time::Instant,
+    pub operation_error: ErrorMode,
+    /// The latest error and whether it stopped the CPU.
+    pub error: Option<CpuError>,
+    /// Error history, oldest first, at most [`HISTORY_LEN`] entries.
+    pub history: std::collections::VecDeque<HistoryEntry>,
+    /// EI state (SM715) and the IMASK pattern, one enable bit per I0-I255.
+    pub ei: bool,
+    pub imask: [u16; 16],
+    /// An interrupt program is running (IRET ends it).
+    pub in_interrupt: bool,
+    /// Execution-type change requested for each program slot, applied at END.
+    pub type_requests: Box<[Option<softplc_ir::ops::TypeChange>]>,
+    /// Running a program for POFF: every condition forced OFF.
+    pub force_off: bool,
+    /// User timing clocks set by DUTY: (ON scans, OFF scans, scans counted),
+    /// SM420-SM424 then SM430-SM434; `None` until DUTY runs.
+    pub duty: [Option<(u16, u16, u32)>; 10],
+    /// TRACE / TRACER executed this scan (applied at END).
+    pub trace_trigger: bool,
+    pub trace_reset: bool,
+}
+
+/// Entries kept in the error history (004 §7.20.2).
+pub const HISTORY_LEN: usize = 16;
+
+impl Runtime {
+    /// Records a fault in SM0/SM1/SD0 and the error-location registers; returns
+    /// true when the CPU must stop (004 §7.20).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
+        let step = prog.op_step.get(pc).copied();
+        self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
+        !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
+    }
+
+    /// Records a self-diagnostic error: SM0/SM1, SD0-SD26 and the error history.
+    pub(crate) fn record(
+        &mut self,
+        code: ErrorCode,
+        file: Option<&str>,
+        step: Option<u32>,
+        line: Option<u32>,
+    ) {
+        let now = self.clock.now(self.now_us);
+        special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
+        self.error = Some(CpuError {
+            code,
+            step,
+            file: file.map(str::to_string),
+            line,
+        });
+        if self.history.len() == HISTORY_LEN {
+            self.history.pop_front();
+        }
+        self.history.push_back(HistoryEntry {
+            code,
+            time: now.to_unix(),
+            detail: step,
+        });
+    }
+
+    /// EI / DI (SM715 is ON in EI).
+    pub(crate) fn set_ei(&mut self, on: bool) {
+        self.ei = on;
+        let _ = self.mem.set_bit(DeviceKind::SM, 715, on);
+    }
+
+    /// IMASK: 16 words of enable bits for I0-I255, mirrored in SD715-SD717
+    /// (I0-I47) and SD781-SD793 (I48-I255).
+    pub(crate) fn imask(&mut self, s: &softplc_ir::ops::WordArg) -> Result<(), Fault> {
+        let softplc_ir::ops::WordArg::Word(first) = s else {
+            return Err(ErrorCode::RANGE);
+        };
+        let first = *first as usize;
+        let words: [u16; 16] = std::array::from_fn(|k| self.mem.words[first + k]);
+        self.imask = words;
+        for (k, w) in words.iter().enumerate() {
+            let sd = if k < 3 { 715 + k } else { 781 + k - 3 };
+            let _ = self.mem.set_word(DeviceKind::SD, sd as i64, *w);
+        }
+        Ok(())
+    }
+
+    /// Interrupt pointer `n` is enabled by EI and its IMASK bit.
+    pub(crate) fn interrupt_enabled(&self, n: usize) -> bool {
+        self.ei && self.imask[n / 16] >> (n % 16) & 1 != 0
+    }
+
+    /// OUT/SET/RST of annunciator F`n` (004 §10.2.4): turning it ON through OUT or
+    /// SET appends it to SD64-SD79 (SD62 first, SD63 count, SM62 ON) and logs error
+    /// 9000; RST removes it; OUT turning it OFF does no list processing.
+    pub(crate) fn annunciator(&mut self, kind: softplc_ir::ops::AnnKind, n: u16, cond: bool) {
+        use softplc_ir::ops::AnnKind;
+        let was = self.mem.get_bit(DeviceKind::F, n as i64).unwrap_or(false);
+        match kind {
+            AnnKind::Out => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, cond);
+                if cond && !was {
+                    self.annunciator_on(n);
+                }
+            }
+            AnnKind::Set if cond && !was => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, true);
+                self.annunciator_on(n);
+            }
+            AnnKind::Rst if cond => {
+                let _ = self.mem.set_bit(DeviceKind::F, n as i64, false);
+                special::annunciator_remove(&mut self.mem, n);
+            }
+            _ => {}
+        }
+    }
+
+    fn annunciator_on(&mut self, n: u16) {
+        special::annunciator_add(&mut self.mem, n);
+        self.record(ErrorCode::ANNUNCIATOR, None, None, None);
+        if let Some(h) = self.history.back_mut() {
+            h.detail = Some(n as u32);
+        }
+        // SD4 individual information 6: annunciator number in SD16.
+        let _ = self.mem.set_word(DeviceKind::SD, 4, 0x0600);
+        let _ = self.mem.set_word(DeviceKind::SD, 16, n);
+    }
+
+    /// LEDR: turns OFF the annunciator shown first (SD62) and removes it.
+    pub(crate) fn ledr(&mut self) {
+        let first = self.mem.get_word(DeviceKind::SD, 64).unwrap_or(0);
+        if self.mem.get_word(DeviceKind::SD, 63).unwrap_or(0) > 0 {
+            let _ = self.mem.set_bit(DeviceKind::F, first as i64, false);
+            special::annunciator_remove(&mut self.mem, first);
+        }
+    }
+
+    /// END/FEND reached: a subroutine without RET or a FOR without NEXT is an error.
+    pub(crate) fn end_checks(&mut self, slot: usize, pc: usize) -> Outcome {
+        let code = if self.in_interrupt {
+            ErrorCode::NO_IRET
+        } else if !self.calls.is_empty() {
+            ErrorCode::NO_RET
+        } else if !self.fors.is_empty() {
+            ErrorCode::FOR_WITHOUT_NEXT
+        } else {
+            return Outcome::End;
+        };
+        self.calls.clear();
+        self.fors.clear();
+        Outcome::Fault(code, slot, pc)
+    }
+}
+
+/// Per-program hidden state: edge memories (LDP, PLS, pulse forms, SCJ) and the
+/// state words of family instructions. Cleared at power-on and STOP→RUN.
+pub(crate) struct ProgState {
+    pub edges: Box<[bool]>,
+    pub state: Box<[u32]>,
+}
+
+impl ProgState {
+    fn new(p: &Program) -> Self {
+        ProgState {
+            edges: vec![false; p.edge_slots as usize].into_boxed_slice(),
+            state: vec![0; p.state_words as usize].into_boxed_slice(),
+        }
+    }
+
+    fn clear(&mut self) {
+        self.edges.fill(false);
+        self.state.fill(0);
+    }
+}

@@ -1,0 +1,75 @@
+//! Linking the program files of a CPU: what one file refers to in another is
+//! resolved when the CPU is built, never while scanning.
+//!
+//! - PSCAN/PSTOP/POFF/PLOW name a program file (its name without extension).
+//! - CALL of a common pointer (from the "common pointer" parameter up to P4095,
+//!   004 §10.9.2) reaches a subroutine in any file, typically a standby program.
+//! - Each interrupt pointer and each common pointer may be defined once across
+//!   all programs (004 L1201-1226; error 4021 for common pointers).
+
+use softplc_ir::ops::{Op, Program};
+
+/// A program's name: the file name without directory and extension, upper case
+/// (`main.il` → `MAIN`).
+pub(crate) fn program_name(file: &str) -> String {
+    std::path::Path::new(file)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("")
+        .to_ascii_uppercase()
+}
+
+/// Resolves cross-file references in place; returns the interrupt table
+/// (In → (program, op index)).
+pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>, String> {
+    let names: Vec<String> = programs.iter().map(|p| program_name(&p.file)).collect();
+    let mut interrupts: Vec<Option<(usize, u32)>> = vec![None; 256];
+    let mut common: std::collections::HashMap<u32, (usize, u32)> = Default::default();
+    for (i, p) in programs.iter().enumerate() {
+        for &(n, pc) in &p.interrupts {
+            if let Some((j, _)) = interrupts[n as usize] {
+                return Err(format!(
+                    "interrupt pointer I{n} is defined in {} and in {} (CAN'T SET(I)): each may be used once",
+                    programs[j].file, p.file
+                ));
+            }
+            interrupts[n as usize] = Some((i, pc));
+        }
+        for &(n, pc) in &p.common_labels {
+            if let Some((j, _)) = common.insert(n, (i, pc)) {
+                return Err(format!(
+                    "common pointer P{n} is defined in {} and in {} (error 4021)",
+                    programs[j].file, p.file
+                ));
+            }
+        }
+    }
+    for p in programs.iter_mut() {
+        let file = p.file.clone();
+        for op in &mut p.ops {
+            match op {
+                Op::ProgCtl { name, .. } => {
+                    let wanted = &p.prog_names[*name as usize];
+                    // An unknown name stays out of range: error 2410 when executed.
+                    *name = names
+                        .iter()
+                        .position(|m| m == wanted)
+                        .map_or(u32::MAX, |i| i as u32);
+                }
+                Op::CallCommon(n) => {
+                    let Some(&(slot, pc)) = common.get(n) else {
+                        return Err(format!(
+                            "{file}: CALL P{n}: no program defines the common pointer P{n}"
+                        ));
+                    };
+                    *op = Op::CallFar {
+                        slot: slot as u16,
+                        pc,
+                    };
+                }
+                _ => {}
+            }
+        }
+    }
+    Ok(interrupts)
+}

@@ -1,0 +1,234 @@
+//! Sampling trace (004 §7.12, qcpu.md §4.10): device values stored at END every
+//! scan (or every n-th scan), up to 50 bit and 50 word devices and 8192 samples,
+//! with an optional trigger after which a set number of samples completes the
+//! trace. Samples go into a ring buffer allocated once, so tracing does not
+//! allocate while scanning. SM800 (ready), SM802 (executing), SM803 (trigger),
+//! SM804 (after trigger) and SM805 (complete) show its state.
+
+use softplc_ir::access::{DeviceSpec, Value, ValueType};
+use softplc_ir::device::{DeviceKind, DeviceMemory};
+
+/// Limits of the Q CPU's sampling trace.
+pub const MAX_BIT_DEVICES: usize = 50;
+pub const MAX_WORD_DEVICES: usize = 50;
+pub const MAX_SAMPLES: usize = 8192;
+
+/// What to trace.
+#[derive(Clone, Debug)]
+pub struct TraceConfig {
+    pub devices: Vec<DeviceSpec>,
+    /// Sample at every n-th END (1 = every scan).
+    pub every_scans: u32,
+    /// Or sample at the first END after each interval of engine time (µs), the
+    /// "fixed time" trace point; overrides `every_scans` when set.
+    pub interval_us: Option<u64>,
+    /// Ring-buffer size in samples (1..=8192).
+    pub capacity: usize,
+    /// Trigger: when this bit device turns ON (a rising edge: a condition already
+    /// true at the start is not recognised, L4762), or SM803 turns ON, or TRACE
+    /// executes, `after_trigger` more samples are taken and the trace completes.
+    /// `None`: only SM803/TRACE trigger it.
+    pub trigger: Option<DeviceSpec>,
+    pub after_trigger: usize,
+}
+
+impl TraceConfig {
+    /// Checks the manual's limits; strings cannot be traced.
+    pub fn validate(&self) -> Result<(), String> {
+        let bits = self
+            .devices
+            .iter()
+            .filter(|d| d.ty == ValueType::Bit)
+            .count();
+        let words = self.devices.len() - bits;
+        if bits > MAX_BIT_DEVICES || words > MAX_WORD_DEVICES {
+            return Err(format!(
+                "a sampling trace takes at most {MAX_BIT_DEVICES} bit and {MAX_WORD_DEVICES} word devices ({bits} bit, {words} word given)"
+            ));
+        }
+        if let Some(d) = self.devices.iter().find(|d| d.ty == ValueType::Str) {
+            return Err(format!("`{}`: strings cannot be traced", d.text));
+        }
+        if !(1..=MAX_SAMPLES).contains(&self.capacity) {
+            return Err(format!("trace size must be 1 to {MAX_SAMPLES} samples"));
+        }
+        if self.every_scans == 0 {
+            return Err("trace interval must be at least 1 scan".into());
+        }
+        Ok(())
+    }
+}
+
+/// A running sampling trace.
+#[derive(Clone, Debug)]
+pub struct Trace {
+    cfg: TraceConfig,
+    /// `capacity × devices` raw values, sample-major.
+    values: Vec<u64>,
+    /// Per sample: (scan number, engine time µs).
+    stamps: Vec<(u64, u64)>,
+    /// Next slot to write and samples held.
+    next: usize,
+    len: usize,
+    countdown: u32,
+    /// Engine time of the last sample (interval trace point).
+    last_sample_us: Option<u64>,
+    /// Trigger device and SM803 at the previous END (edges).
+    trigger_before: bool,
+    sm803_before: bool,
+    /// Samples still to take after the trigger; `None` before the trigger.
+    remaining: Option<usize>,
+    complete: bool,
+}
+
+impl Trace {
+    pub fn new(cfg: TraceConfig) -> Result<Trace, String> {
+        cfg.validate()?;
+        let n = cfg.devices.len();
+        Ok(Trace {
+            values: vec![0; cfg.capacity * n],
+            stamps: vec![(0, 0); cfg.capacity],
+            next: 0,
+            len: 0,
+            countdown: 0,
+            last_sample_us: None,
+            trigger_before: true,
+            sm803_before: true,
+            remaining: None,
+            complete: false,
+            cfg,
+        })
+    }
+
+    /// END processing: takes a sample when due.
+    pub(crate) fn sample(&mut self, mem: &mut DeviceMemory, scan: u64, now_us: u64) {
+        let sm = |mem: &mut DeviceMemory, n: i64, v: bool| {
+            let _ = mem.set_bit(DeviceKind::SM, n, v);
+        };
+        sm(mem, 800, true);
+        if self.complete {
+            return;
+        }
+        sm(mem, 802, true);
+        // Trigger on a rising edge of the trigger device or of SM803.
+        let dev = self
+            .cfg
+            .trigger
+            .as_ref()
+            .is_some_and(|t| matches!(t.read(mem), Ok(Value::Bool(true))));
+        let sm803 = mem.get_bit(DeviceKind::SM, 803).unwrap_or(false);
+        let fired = dev && !self.trigger_before || sm803 && !self.sm803_before;
+        (self.trigger_before, self.sm803_before) = (dev, sm803);
+        if fired {
+            self.trigger();
+            sm(mem, 803, true);
+        }
+        if self.remaining.is_some() {
+            sm(mem, 804, true);
+        }
+        let due = match self.cfg.interval_us {
+            Some(iv) => {
+                let due = self.last_sample_us.is_none_or(|t| now_us >= t + iv);
+                if due {
+                    self.last_sample_us = Some(now_us);
+                }
+                due
+            }
+            None if self.countdown > 0 => {
+                self.countdown -= 1;
+                false
+            }
+            None => {
+                self.countdown = self.cfg.every_scans - 1;
+                true
+            }
+        };
+        if !due {
+            return;
+        }
+        let n = self.cfg.devices.len();
+        let row = &mut self.values[self.next * n..(self.next + 1) * n];
+        for (v, d) in row.iter_mut().zip(&self.cfg.devices) {
+            *v = d.read_raw(mem).unwrap_or(0);
+        }
+        self.stamps[self.next] = (scan, now_us);
+        self.next = (self.next + 1) % self.cfg.capacity;
+        self.len = (self.len + 1).min(self.cfg.capacity);
+        if let Some(r) = &mut self.remaining {
+            *r = r.saturating_sub(1);
+        }
+        if self.remaining == Some(0) {
+            self.complete = true;
+            sm(mem, 802, false);
+            sm(mem, 805, true);
+        }
+    }
+
+    /// TRACER: clears the samples and the trigger; the trace starts again.
+    pub fn reset(&mut self, mem: &mut DeviceMemory) {
+        self.next = 0;
+        self.len = 0;
+        self.countdown = 0;
+        self.last_sample_us = None;
+        self.remaining = None;
+        self.complete = false;
+        for n in [803, 804, 805] {
+            let _ = mem.set_bit(DeviceKind::SM, n, false);
+        }
+    }
+
+    /// The TRACE instruction or a trigger operation: starts the after-trigger count.
+    pub fn trigger(&mut self) {
+        if self.remaining.is_none() && !self.complete {
+            self.remaining = Some(self.cfg.after_trigger);
+            self.complete = self.cfg.after_trigger == 0;
+        }
+    }
+
+    pub fn devices(&self) -> &[DeviceSpec] {
+        &self.cfg.devices
+    }
+
+    pub fn is_complete(&self) -> bool {
+        self.complete
+    }
+
+    /// The samples held, oldest first: (scan, time µs, values).
+    pub fn samples(&self) -> impl Iterator<Item = (u64, u64, Vec<Value>)> + '_ {
+        let n = self.cfg.devices.len();
+        let cap = self.cfg.capacity;
+        let first = (self.next + cap - self.len) % cap;
+        (0..self.len).map(move |k| {
+            let i = (first + k) % cap;
+            let (scan, t) = self.stamps[i];
+            let vals = self.values[i * n..(i + 1) * n]
+                .iter()
+                .zip(&self.cfg.devices)
+                .map(|(raw, d)| d.present_raw(*raw))
+                .collect();
+            (scan, t, vals)
+        })
+    }
+
+    /// The trace as CSV: `scan,time_ms,DEV,…` then one row per sample.
+    pub fn to_csv(&self) -> String {
+        let mut out = String::from("scan,time_ms");
+        for d in &self.cfg.devices {
+            out.push(',');
+            out.push_str(&d.text);
+        }
+        out.push('\n');
+        for (scan, t, vals) in self.samples() {
+            out.push_str(&format!("{scan},{}", t as f64 / 1000.0));
+            for v in vals {
+                out.push(',');
+                out.push_str(&match v {
+                    Value::Bool(b) => (b as u8).to_string(),
+                    v => v.to_string(),
+                });
+            }
+            out.push('\n');
+        }
+        out
+    }
+}

@@ -1,0 +1,131 @@
+//! The instruction trait the interpreter calls ([`Instr`]), what an instruction
+//! sees while it runs ([`ExecCtx`]), and its typed per-instruction state
+//! ([`LocalState`], declared with [`local_state!`](crate::local_state)).
+
+use std::fmt::Debug;
+
+use crate::calendar::PlcClock;
+use crate::device::DeviceMemory;
+use crate::fault::Fault;
+
+/// Everything an application instruction may touch while it executes.
+pub struct ExecCtx<'a> {
+    pub mem: &'a mut DeviceMemory,
+    /// Hidden per-instruction state words, allocated by the compiler (`Args::local`).
+    pub state: &'a mut [u32],
+    /// PLC clock reading (µs) and the scan time measured at the previous END (µs).
+    pub now_us: u64,
+    pub scan_us: u32,
+    /// CPU-wide state shared by instructions of every program file (what the
+    /// CPU keeps outside device memory, e.g. the PID registration), cleared at
+    /// power-on and STOP→RUN; sized by [`crate::ops::Program::shared_words`].
+    pub shared: &'a mut [u32],
+    /// The calendar clock (read with `clock.now(now_us)`, set by DATEWR).
+    pub clock: &'a mut PlcClock,
+}
+
+/// A compiled application instruction of a family module.
+pub trait Instr: Debug + Send + Sync {
+    /// Runs the instruction while its condition is ON (for a pulse form, only
+    /// on the rising edge).
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault>;
+
+    /// Runs the instruction while its condition is OFF; called only for
+    /// instructions defined to run on every execution (`Drive::Always`).
+    fn off(&self, _cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        Ok(())
+    }
+}
+
+/// The state an instruction keeps between executions (the CPU's per-instruction
+/// memory: "was the condition ON last time", a sub-unit time remainder), held in
+/// the program's hidden state words, which are cleared at power-on and STOP→RUN.
+/// Declare it with [`local_state!`](crate::local_state); the compiler allocates it
+/// (`Args::local`).
+pub trait LocalState: Copy + Default {
+    /// State words it occupies.
+    const WORDS: u32;
+    fn load(words: &[u32]) -> Self;
+    fn store(self, words: &mut [u32]);
+}
+
+/// Where an instruction's [`LocalState`] lives (typed: no word offsets by hand).
+#[derive(Debug)]
+pub struct LocalSlot<T> {
+    at: u32,
+    _state: std::marker::PhantomData<fn() -> T>,
+}
+
+impl<T> LocalSlot<T> {
+    pub fn new(at: u32) -> Self {
+        LocalSlot {
+            at,
+            _state: std::marker::PhantomData,
+        }
+    }
+}
+
+impl ExecCtx<'_> {
+    /// The instruction's state as last stored.
+    #[inline]
+    pub fn local<T: LocalState>(&self, slot: &LocalSlot<T>) -> T {
+        let at = slot.at as usize;
+        T::load(&self.state[at..at + T::WORDS as usize])
+    }
+
+    #[inline]
+    pub fn set_local<T: LocalState>(&mut self, slot: &LocalSlot<T>, v: T) {
+        let at = slot.at as usize;
+        v.store(&mut self.state[at..at + T::WORDS as usize]);
+    }
+}
+
+/// A field type of a [`local_state!`] struct: one state word.
+pub trait StateWord: Copy + Default {
+    fn to_word(self) -> u32;
+    fn from_word(w: u32) -> Self;
+}
+
+impl StateWord for bool {
+    fn to_word(self) -> u32 {
+        self as u32
+    }
+    fn from_word(w: u32) -> Self {
+        w != 0
+    }
+}
+
+impl StateWord for u32 {
+    fn to_word(self) -> u32 {
+        self
+    }
+    fn from_word(w: u32) -> Self {
+        w
+    }
+}
+
+/// Declares a per-instruction state struct whose fields are one state word
+/// each (`bool`, `u32`), and implements [`LocalState`] for it.
+#[macro_export]
+macro_rules! local_state {
+    ($(#[$m:meta])* $vis:vis struct $name:ident { $($(#[$fm:meta])* $field:ident: $ty:ty),* $(,)? }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+        $vis struct $name { $($(#[$fm])* $field: $ty),* }
+
+        impl $crate::instr::LocalState for $name {
+            const WORDS: u32 = [$(stringify!($field)),*].len() as u32;
+            fn load(words: &[u32]) -> Self {
+                let mut k = 0;
+                $(let $field = <$ty as $crate::instr::StateWord>::from_word(words[k]); k += 1;)*
+                let _ = k;
+                $name { $($field),* }
+            }
+            fn store(self, words: &mut [u32]) {
+                let mut k = 0;
+                $(words[k] = $crate::instr::StateWord::to_word(self.$field); k += 1;)*
+                let _ = k;
+            }
+        }
+    };
+}

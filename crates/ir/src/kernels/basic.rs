@@ -1,0 +1,162 @@
+//! Basic instructions: comparison contacts, BIN and real arithmetic, conversion
+//! and transfer (programming manual ch. 6). Real numbers follow 004 §2.8: the CPU
+//! has no ±∞/NaN, so such inputs or results are OPERATION ERROR 4100.
+
+use super::sequence;
+use crate::device::DeviceMemory;
+use crate::fault::{ErrorCode, Fault};
+use crate::ops::{Apply, ArithOp, CmpOp, Compare, Num, WordArg};
+
+/// Evaluates a comparison contact (`LD=`, `ANDD>`, `ORE<=` …); signed compare for
+/// BIN, IEEE compare for real.
+#[inline]
+pub fn compare(mem: &DeviceMemory, c: &Compare) -> Result<bool, Fault> {
+    use std::cmp::Ordering;
+    let ord = match c.num {
+        Num::I16 => (mem.read16(&c.a)? as i16).cmp(&(mem.read16(&c.b)? as i16)),
+        Num::I32 => (mem.read32(&c.a)? as i32).cmp(&(mem.read32(&c.b)? as i32)),
+        Num::F32 => {
+            let (a, b) = (mem.read_f32(&c.a)?, mem.read_f32(&c.b)?);
+            a.partial_cmp(&b).unwrap_or(Ordering::Equal)
+        }
+    };
+    Ok(test(c.op, ord))
+}
+
+/// Whether `ord` satisfies the comparison operator.
+#[inline]
+pub fn test(op: CmpOp, ord: std::cmp::Ordering) -> bool {
+    match op {
+        CmpOp::Eq => ord.is_eq(),
+        CmpOp::Ne => ord.is_ne(),
+        CmpOp::Gt => ord.is_gt(),
+        CmpOp::Le => ord.is_le(),
+        CmpOp::Lt => ord.is_lt(),
+        CmpOp::Ge => ord.is_ge(),
+    }
+}
+
+/// Executes an application instruction whose condition is ON.
+pub fn apply(mem: &mut DeviceMemory, timer_rem: &mut [u32], a: &Apply) -> Result<(), Fault> {
+    match a {
+        // MOV / DMOV / EMOV: EMOV copies the two words unchanged.
+        Apply::Mov { words: 1, s, d } => {
+            let v = mem.read16(s)?;
+            mem.write16(d, v)
+        }
+        Apply::Mov { s, d, .. } => {
+            let v = mem.read32(s)?;
+            mem.write32(d, v)
+        }
+        Apply::Arith { op, num, s1, s2, d } => arith(mem, *op, *num, s1, s2, d),
+        // INC/DEC wrap: 32767 + 1 = -32768 (DINC/DDEC likewise at 32 bits).
+        Apply::Step {
+            num: Num::I16,
+            delta,
+            d,
+        } => {
+            let v = (mem.read16(d)? as i16).wrapping_add(*delta as i16);
+            mem.write16(d, v as u16)
+        }
+        Apply::Step { delta, d, .. } => {
+            let v = (mem.read32(d)? as i32).wrapping_add(*delta);
+            mem.write32(d, v as u32)
+        }
+        // FLT / DFLT: BIN to real.
+        Apply::Flt { num, s, d } => {
+            let v = match num {
+                Num::I16 => mem.read16(s)? as i16 as f32,
+                _ => mem.read32(s)? as i32 as f32,
+            };
+            mem.write_f32(d, v)
+        }
+        // INT / DINT: real to BIN, rounded half away from zero (the CPU rounds the
+        // first decimal place); outside the BIN range is 4100.
+        Apply::Int { num, s, d } => {
+            let v = (mem.read_f32(s)? as f64).round();
+            match num {
+                Num::I16 if (-32768.0..=32767.0).contains(&v) => mem.write16(d, v as i16 as u16),
+                Num::I32 if (i32::MIN as f64..=i32::MAX as f64).contains(&v) => {
+                    mem.write32(d, v as i32 as u32)
+                }
+                _ => Err(ErrorCode::OPERATION),
+            }
+        }
+        Apply::ResetTc(r) => {
+            sequence::reset_tc(mem, timer_rem, r);
+            Ok(())
+        }
+    }
+}
+
+/// `+ - * /` in BIN 16, BIN 32 and real. BIN add/subtract wrap (no error, as the
+/// CPU); `*` gives a double-width product; `/` gives quotient and remainder, the
+/// remainder taking the sign of the dividend; division by 0 is 4100. With a
+/// digit-specified destination `*` stores the low 32 bits of the product (K1-K8)
+/// and `/` only the quotient, without the remainder.
+fn arith(
+    mem: &mut DeviceMemory,
+    op: ArithOp,
+    num: Num,
+    s1: &WordArg,
+    s2: &WordArg,
+    d: &WordArg,
+) -> Result<(), Fault> {
+    match num {
+        Num::I16 => {
+            let (a, b) = (mem.read16(s1)? as i16, mem.read16(s2)? as i16);
+            match op {
+                ArithOp::Add => mem.write16(d, a.wrapping_add(b) as u16),
+                ArithOp::Sub => mem.write16(d, a.wrapping_sub(b) as u16),
+                ArithOp::Mul => mem.write_words(d, (a as i32 * b as i32) as u32 as u64, 2),
+                ArithOp::Div => {
+                    if b == 0 {
+                        return Err(ErrorCode::OPERATION);
+                    }
+                    let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
+                    if is_digits(d) {
+                        return mem.write32(d, q as i32 as u32);
+                    }
+                    mem.write_words(d, (q as u16 as u64) | ((r as u16 as u64) << 16), 2)
+                }
+            }
+        }
+        Num::I32 => {
+            let (a, b) = (mem.read32(s1)? as i32, mem.read32(s2)? as i32);
+            match op {
+                ArithOp::Add => mem.write32(d, a.wrapping_add(b) as u32),
+                ArithOp::Sub => mem.write32(d, a.wrapping_sub(b) as u32),
+                ArithOp::Mul => mem.write_words(d, (a as i64 * b as i64) as u64, 4),
+                ArithOp::Div => {
+                    if b == 0 {
+                        return Err(ErrorCode::OPERATION);
+                    }
+                    let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
+                    if is_digits(d) {
+                        return mem.write32(d, q as u32);
+                    }
+                    mem.write_words(d, (q as u32 as u64) | ((r as u32 as u64) << 32), 4)
+                }
+            }
+        }
+        Num::F32 => {
+            let (a, b) = (mem.read_f32(s1)?, mem.read_f32(s2)?);
+            let v = match op {
+                ArithOp::Add => a + b,
+                ArithOp::Sub => a - b,
+                ArithOp::Mul => a * b,
+                ArithOp::Div if b == 0.0 => return Err(ErrorCode::OPERATION),
+                ArithOp::Div => a / b,
+            };
+            mem.write_f32(d, v)
+        }
+    }
+}
+
+fn is_digits(d: &WordArg) -> bool {
+    match d {
+        WordArg::Digits { .. } => true,
+        WordArg::Indexed(ix) => matches!(ix.kind, crate::ops::IndexedKind::Digits(_)),
+        _ => false,
+    }
+}

@@ -1,0 +1,16 @@
+//! softplc-ir: the leaf of softplc. Device memory and its typed door
+//! ([`access`]), resolved operands and the compiled ladder machine ([`ops`]),
+//! faults, the instruction trait ([`instr`]), the shared kernels and time.
+//! It depends on no other softplc crate; the language front end (softplc-lang),
+//! the instruction set (softplc-melsec) and the engine (softplc-engine) all
+//! build on it.
+
+pub mod access;
+pub mod calendar;
+pub mod clock;
+pub mod device;
+pub mod fault;
+pub mod instr;
+pub mod kernels;
+mod operand;
+pub mod ops;

@@ -1,0 +1,442 @@
+//! The compiled program: a flat array of pre-resolved operations.
+//!
+//! Every device operand is resolved at load time to an index into the flat bit or
+//! word array of [`crate::device::DeviceMemory`]. The common cases (plain contacts
+//! and coils, word-to-word MOV) are small inline variants; everything else sits
+//! behind a `Box` so that `Op` stays 16 bytes and the program stays cache-dense.
+
+/// Width and type of the numbers an instruction works on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Num {
+    /// 16-bit signed BIN.
+    I16,
+    /// 32-bit signed BIN, low word first (`D` instructions).
+    I32,
+    /// IEEE-754 single precision in two words (`E` instructions).
+    F32,
+}
+
+impl Num {
+    pub fn words(self) -> u32 {
+        match self {
+            Num::I16 => 1,
+            Num::I32 | Num::F32 => 2,
+        }
+    }
+}
+
+/// How an index-modified operand is addressed (`D0Z1`, `K4M0Z2`, `X0Z1`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IndexedKind {
+    /// Word device.
+    Word,
+    /// Bit device read as `n` 4-bit digits.
+    Digits(u8),
+    /// Single bit device.
+    Bit,
+    /// Bit `b` of a word device.
+    WordBit(u8),
+}
+
+/// An operand whose device number is computed when it executes: index
+/// modification (`D0Z1`) and file registers `R`, which address the block
+/// selected by RSET (004 §10.7).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Indexed {
+    pub kind: IndexedKind,
+    /// Flat index of device number 0 of this kind (ZR for `R`).
+    pub base: u32,
+    /// Device number as written.
+    pub number: u32,
+    /// Points of this device kind: the effective number must stay below it.
+    pub points: u32,
+    /// Flat word index of the index register `Zn`, or [`Indexed::NONE`].
+    pub z: u32,
+    /// Flat word index of SD648 (the file-register block number) for `R`
+    /// operands, or [`Indexed::NONE`].
+    pub block: u32,
+}
+
+impl Indexed {
+    pub const NONE: u32 = u32::MAX;
+}
+
+/// A resolved word operand; 16-bit instructions use the low word of a constant.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WordArg {
+    /// Word device at a flat word index.
+    Word(u32),
+    /// Constant, raw bits (K/H as two's complement, E as f32 bits).
+    Const(u32),
+    /// Digit specification: `n` digits (4·n bits) from a flat bit index.
+    Digits {
+        bit: u32,
+        n: u8,
+    },
+    Indexed(Box<Indexed>),
+}
+
+/// A resolved bit operand.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum BitArg {
+    /// Bit device at a flat bit index.
+    Bit(u32),
+    /// Bit `bit` of the word at a flat word index (`D0.F`).
+    WordBit {
+        word: u32,
+        bit: u8,
+    },
+    Indexed(Box<Indexed>),
+}
+
+/// Where a contact puts its result.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Join {
+    /// Start of a rung or block (LD): the result replaces the accumulator.
+    Load,
+    And,
+    Or,
+}
+
+/// Edge detection of a contact (LDP/LDF, ANDP …).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    None,
+    Rising,
+    Falling,
+}
+
+/// A contact on a general bit operand, or an edge contact.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Contact {
+    pub join: Join,
+    pub negate: bool,
+    pub edge: Edge,
+    /// Hidden edge memory slot (edge contacts only).
+    pub slot: u32,
+    pub src: BitArg,
+}
+
+/// Comparison operators of the comparison contacts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CmpOp {
+    Eq,
+    Ne,
+    Gt,
+    Le,
+    Lt,
+    Ge,
+}
+
+/// `LD= S1 S2` and friends, 16/32-bit and real.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Compare {
+    pub join: Join,
+    pub op: CmpOp,
+    pub num: Num,
+    pub a: WordArg,
+    pub b: WordArg,
+}
+
+/// A contact whose value an instruction computes (`LD$= S1 S2` and friends).
+pub trait Condition: std::fmt::Debug + Send + Sync {
+    fn eval(&self, mem: &crate::device::DeviceMemory) -> Result<bool, crate::fault::Fault>;
+}
+
+/// A [`Condition`] contact with its join.
+#[derive(Debug)]
+pub struct CondOp {
+    pub join: Join,
+    pub cond: Box<dyn Condition>,
+}
+
+/// A coil-type instruction on a general bit operand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoilKind {
+    Out,
+    Set,
+    Rst,
+    /// PLS/PLF/FF with their hidden edge slot.
+    Pls(u32),
+    Plf(u32),
+    Ff(u32),
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Coil {
+    pub kind: CoilKind,
+    pub dst: BitArg,
+}
+
+/// `OUT T`, `OUTH T`, `OUT ST`, `OUTH ST` (004 §10.2.10).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Timer {
+    pub coil: u32,
+    pub contact: u32,
+    /// Current value word.
+    pub value: u32,
+    /// Index into the engine's per-timer sub-count remainders.
+    pub slot: u32,
+    pub set: WordArg,
+    pub high_speed: bool,
+    pub retentive: bool,
+}
+
+/// `OUT C` (004 §10.2.11).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Counter {
+    pub coil: u32,
+    pub contact: u32,
+    pub value: u32,
+    pub set: WordArg,
+}
+
+/// Timer or counter cleared by `RST`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResetTc {
+    pub contact: u32,
+    pub value: u32,
+    /// Timer remainder slot, `u32::MAX` for counters.
+    pub slot: u32,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArithOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+}
+
+/// Application instructions that run when their condition is on.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Apply {
+    /// MOV / DMOV / EMOV: copy 1 or 2 words.
+    Mov { words: u8, s: WordArg, d: WordArg },
+    /// `+ - * /` and their D and E forms.
+    Arith {
+        op: ArithOp,
+        num: Num,
+        s1: WordArg,
+        s2: WordArg,
+        d: WordArg,
+    },
+    /// INC/DEC/DINC/DDEC.
+    Step { num: Num, delta: i32, d: WordArg },
+    /// FLT / DFLT: BIN to real.
+    Flt { num: Num, s: WordArg, d: WordArg },
+    /// INT / DINT: real to BIN, rounded.
+    Int { num: Num, s: WordArg, d: WordArg },
+    /// RST timer/counter.
+    ResetTc(ResetTc),
+}
+
+/// `MC n dev` (master control).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MasterControl {
+    pub level: u8,
+    pub dst: BitArg,
+}
+
+/// Annunciator coil kinds (OUT F, SET F, RST F).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnnKind {
+    Out,
+    Set,
+    Rst,
+}
+
+/// Execution-type changes (004 §4.2.6, qcpu.md §2.2 table).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TypeChange {
+    /// PSCAN: becomes a scan program.
+    Scan,
+    /// PSTOP: becomes a standby program.
+    Standby,
+    /// POFF: its outputs are turned OFF at the next scan, then standby.
+    Off,
+    /// PLOW: becomes a low-speed program.
+    LowSpeed,
+}
+
+/// One compiled operation. `Op` is 16 bytes.
+#[derive(Debug)]
+pub enum Op {
+    // --- contacts on plain bit devices (004 sequence instructions) ---
+    Ld(u32),
+    Ldi(u32),
+    And(u32),
+    Ani(u32),
+    Or(u32),
+    Ori(u32),
+    Contact(Box<Contact>),
+    Compare(Box<Compare>),
+    /// A contact computed by an instruction (string comparison `LD$=` …).
+    Cond(Box<CondOp>),
+    /// Opens a new block inside a rung: pushes the accumulator for ANB/ORB.
+    Push,
+    Anb,
+    Orb,
+    Mps,
+    Mrd,
+    Mpp,
+    Inv,
+    /// MEP/MEF with their hidden edge slot.
+    Mep(u32),
+    Mef(u32),
+    /// EGP/EGF: edge of the operation result, remembered in edge relay V.
+    EdgeRelay {
+        rising: bool,
+        v: u32,
+    },
+    // --- coils ---
+    Out(u32),
+    Set(u32),
+    Rst(u32),
+    Coil(Box<Coil>),
+    Timer(Box<Timer>),
+    Counter(Box<Counter>),
+    Mc(Box<MasterControl>),
+    Mcr(u8),
+    // --- application instructions ---
+    /// Pulse (P) form gate: runs the next op only on the condition's rising edge.
+    Pulse(u32),
+    /// `MOV K s D` with the constant pre-truncated to 16 bits.
+    MovK {
+        k: u16,
+        d: u32,
+    },
+    /// `MOV S D` between plain word devices.
+    MovW {
+        s: u32,
+        d: u32,
+    },
+    Apply(Box<Apply>),
+    /// An instruction of a family module: index into [`Program::ext`]; runs
+    /// while the condition is ON.
+    Ext(u32),
+    /// A family instruction of `Drive::Always`: `exec`
+    /// while the condition is ON, `off` while it is OFF.
+    ExtAlways(u32),
+    // --- program control ---
+    /// CJ (conditional) and JMP (unconditional) to an op index.
+    Cj {
+        target: u32,
+        always: bool,
+    },
+    /// SCJ: jumps while the condition was already on at the previous execution.
+    Scj {
+        target: u32,
+        slot: u32,
+    },
+    GoEnd,
+    Call(u32),
+    /// CALL of a common pointer defined in another file, before linking.
+    CallCommon(u32),
+    /// CALL into program `slot` at op `pc` (a linked common pointer).
+    CallFar {
+        slot: u16,
+        pc: u32,
+    },
+    Ret,
+    For(Box<WordArg>),
+    Next,
+    Break(Box<(WordArg, u32)>),
+    Fend,
+    End,
+    Stop,
+    Nop,
+    // --- interrupts and diagnostics ---
+    /// EI / DI: enable or disable interrupts.
+    Ei,
+    Di,
+    /// IMASK s: 16 words, one enable bit per interrupt pointer I0-I255.
+    Imask(Box<WordArg>),
+    /// End of an interrupt program.
+    Iret,
+    /// OUT/SET/RST of annunciator F`n`.
+    Ann {
+        kind: AnnKind,
+        n: u16,
+    },
+    /// LEDR: resets the first annunciator on the list.
+    Ledr,
+    /// PSCAN/PSTOP/POFF/PLOW: change a program's execution type at END; `name`
+    /// indexes [`Program::prog_names`] until the CPU resolves it to a program slot.
+    ProgCtl {
+        kind: TypeChange,
+        name: u32,
+    },
+    /// WDT: resets the watchdog timer (not the scan-time measurement).
+    Wdt,
+    /// DUTY n1 n2 SM42x: user timing clock `clock` (0-4 = SM420-SM424, 5-9 =
+    /// SM430-SM434) ON for n1 scans, OFF for n2 scans.
+    Duty(Box<(WordArg, WordArg, u8)>),
+    /// TRACE (trigger the sampling trace) / TRACER (reset it).
+    Trace {
+        reset: bool,
+    },
+}
+
+/// FOR/NEXT and CALL nesting (programming manual: 16 levels).
+pub const MAX_NESTING: usize = 16;
+
+/// A word-device block operand whose length is known only at run time (BMOV,
+/// FMOV, SUM …): the first word and the flat index one past the device's last
+/// point, which a block may not cross (4101).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Block {
+    pub start: WordArg,
+    /// Flat index one past the last point of the device kind; for an index-modified
+    /// start the range is in its [`Indexed`].
+    pub limit: u32,
+}
+
+/// A bit-device block operand whose length is known only at run time.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BitBlock {
+    pub start: BitArg,
+    /// Flat bit index one past the last point of the device kind.
+    pub limit: u32,
+}
+
+/// A compiled program with the source map needed for error reports.
+#[derive(Debug)]
+pub struct Program {
+    /// File name as given.
+    pub file: String,
+    pub ops: Vec<Op>,
+    /// For each op, the step number of its instruction.
+    pub op_step: Vec<u32>,
+    /// For each op, the source line of its instruction.
+    pub op_line: Vec<u32>,
+    /// Hidden edge memories (LDP, PLS, pulse forms …).
+    pub edge_slots: u32,
+    /// Hidden state words of family instructions.
+    pub state_words: u32,
+    /// CPU-wide state words ([`crate::instr::ExecCtx::shared`]) its instructions
+    /// use; the CPU allocates the largest need of its programs.
+    pub shared_words: u32,
+    /// Program names referenced by PSCAN/PSTOP/POFF/PLOW (upper case).
+    pub prog_names: Vec<String>,
+    /// Common pointers defined in this file: (Pn, op index).
+    pub common_labels: Vec<(u32, u32)>,
+    /// Interrupt pointers of this file: (In, op index), ascending.
+    pub interrupts: Vec<(u8, u32)>,
+    /// Family instructions referenced by [`Op::Ext`].
+    pub ext: Vec<Box<dyn crate::instr::Instr>>,
+    /// Steps used, END included.
+    pub steps: u32,
+    /// Sizes of the flat bit and word memories the program was compiled for;
+    /// every resolved index is below them (checked when a CPU is built).
+    pub bit_len: u32,
+    pub word_len: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn op_is_16_bytes() {
+        assert_eq!(std::mem::size_of::<super::Op>(), 16);
+    }
+}

@@ -1,0 +1,142 @@
+//! [`Args`]: operand access for a family instruction while it compiles.
+
+use super::compile::Compiler;
+use super::source::SourceInstr;
+use softplc_ir::device::{DeviceMap, Operand};
+use softplc_ir::instr::{LocalSlot, LocalState};
+use softplc_ir::ops::{BitArg, BitBlock, Block, Num, WordArg};
+
+/// Operand access for a family module compiling one instruction. Every method
+/// reports its own diagnostic (with the operand's position) and returns `None`
+/// on error.
+pub struct Args<'c, 'a> {
+    c: &'c mut Compiler<'a>,
+    i: &'c SourceInstr,
+    m: &'c str,
+}
+
+impl<'c, 'a> Args<'c, 'a> {
+    pub fn new(c: &'c mut Compiler<'a>, i: &'c SourceInstr, m: &'c str) -> Self {
+        Args { c, i, m }
+    }
+
+    /// The mnemonic as written, upper case (with its `P` suffix, if any).
+    pub fn mnemonic(&self) -> &str {
+        self.m
+    }
+
+    pub fn len(&self) -> usize {
+        self.i.operands.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.i.operands.is_empty()
+    }
+
+    /// Checks the operand count; reports and returns false otherwise.
+    pub fn count(&mut self, allowed: &[usize]) -> bool {
+        self.c.count(self.i, self.m, allowed)
+    }
+
+    /// The text of operand `k`.
+    pub fn text(&self, k: usize) -> &str {
+        &self.i.operands[k].text
+    }
+
+    /// Operand `k` as parsed syntax (for constants and special operands).
+    pub fn operand(&mut self, k: usize) -> Option<Operand> {
+        self.c.parse(&self.i.operands[k])
+    }
+
+    pub fn word_src(&mut self, k: usize, num: Num) -> Option<WordArg> {
+        self.c.word_src(&self.i.operands[k], num)
+    }
+
+    /// A destination of `words` words read or written as `num`.
+    pub fn word_dest(&mut self, k: usize, num: Num, words: u32) -> Option<WordArg> {
+        self.c.word_dest(&self.i.operands[k], num, words)
+    }
+
+    pub fn bit_src(&mut self, k: usize) -> Option<BitArg> {
+        self.c.bit_operand(&self.i.operands[k])
+    }
+
+    pub fn bit_dest(&mut self, k: usize) -> Option<BitArg> {
+        self.c.bit_dest(&self.i.operands[k])
+    }
+
+    /// A word device starting a block (no constants, no digit specification).
+    pub fn block(&mut self, k: usize) -> Option<Block> {
+        let tok = &self.i.operands[k];
+        let op = self.c.parse(tok)?;
+        let kind = match &op {
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                ..
+            } if !dev.word_kind().is_bit() => dev.word_kind(),
+            _ => {
+                self.c
+                    .err(tok, format!("`{}`: a word device is needed here", tok.text));
+                return None;
+            }
+        };
+        let start = self.c.word_device(tok, op, Num::I16, 1)?;
+        Some(Block {
+            start,
+            limit: self.c.map.base(kind) + self.c.map.points(kind),
+        })
+    }
+
+    /// A bit device starting a block of bits (BKRST, SFT, BSFR …).
+    pub fn bit_block(&mut self, k: usize) -> Option<BitBlock> {
+        let tok = &self.i.operands[k];
+        let kind = match self.c.parse(tok)? {
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                ..
+            } if dev.kind.is_bit() => dev.kind,
+            _ => {
+                self.c
+                    .err(tok, format!("`{}`: a bit device is needed here", tok.text));
+                return None;
+            }
+        };
+        let start = self.c.bit_operand(tok)?;
+        Some(BitBlock {
+            start,
+            limit: self.c.map.base(kind) + self.c.map.points(kind),
+        })
+    }
+
+    /// Reports a diagnostic at operand `k` (or at the mnemonic when `k` is out of
+    /// range).
+    pub fn error(&mut self, k: usize, msg: impl Into<String>) {
+        let tok = self.i.operands.get(k).unwrap_or(&self.i.mnemonic).clone();
+        self.c.err(&tok, msg);
+    }
+
+    /// Allocates `n` hidden state words for this instruction; returns the first index.
+    pub fn state_words(&mut self, n: u32) -> u32 {
+        self.c.state_words += n;
+        self.c.state_words - n
+    }
+
+    /// Declares that the instruction uses the first `words` CPU-wide state
+    /// words (`ExecCtx::shared`).
+    pub fn need_shared(&mut self, words: u32) {
+        self.c.shared_words = self.c.shared_words.max(words);
+    }
+
+    /// Allocates this instruction's typed state (see [`LocalState`]).
+    pub fn local<T: LocalState>(&mut self) -> LocalSlot<T> {
+        LocalSlot::new(self.state_words(T::WORDS))
+    }
+
+    pub fn map(&self) -> &DeviceMap {
+        self.c.map
+    }
+}

@@ -1,0 +1,336 @@
+//! The instruction set as data: one [`Def`] per mnemonic, declared in the
+//! instruction's chapter file next to its behaviour and registered in
+//! a dialect's registry ([`Isa`]).
+//!
+//! A definition carries everything the rest of softplc asks about an
+//! instruction: its name and pulse form, its rung class (what it does to the
+//! ladder structure), its drive (runs while the condition is ON, or on every
+//! execution with the condition as input), its step rule, its manual citation
+//! and how it compiles — or why it is rejected. The compiler, the step counter,
+//! the error recovery and COMPATIBILITY.md (see [`compat_markdown`]) all read
+//! these definitions; nothing else lists mnemonics.
+
+use std::collections::HashMap;
+
+use super::compile::{Args, Compiler};
+use super::source::{SourceInstr, Token};
+use softplc_ir::instr::Instr;
+
+/// How an instruction's pulse (rising-edge) form is spelled.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pulse {
+    /// No pulse form.
+    None,
+    /// A trailing `P`: `MOVP`, `BMOVP`.
+    Suffix,
+    /// `SP.` for `S.` instructions: `SP.PIDCONT` (001 §8.1).
+    SPrefix,
+}
+
+/// What an instruction does to the ladder structure (PM §3: contacts, connection
+/// instructions, outputs and instructions written on the bus bar alone).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Class {
+    /// Reads a condition: LD starts a rung or block, AND/OR join it.
+    Contact,
+    /// Works on the operation result or the stacks (ANB, MPS, INV, MEP …).
+    Connection,
+    /// Driven by the rung's condition (coils, application instructions).
+    Output,
+    /// Takes no condition (END, FEND, MCR, FOR, NEXT, RET, IRET, JMP).
+    Standalone,
+}
+
+/// When an instruction's code runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Drive {
+    /// Only while the condition is ON (for a pulse form, on its rising edge).
+    WhenOn,
+    /// At every execution: [`Instr::exec`] while the condition is ON,
+    /// [`Instr::off`] while it is OFF (STMR, ROTC, tracking instructions).
+    Always,
+}
+
+/// How many steps an instruction occupies, for error reports of `.il` files
+/// (a GX Works2 CSV export carries the CPU's own step numbers).
+///
+/// Decision: a list file carries no step numbers, so they are counted with the
+/// QnH rule of thumb (COMPATIBILITY.md "Step numbers").
+#[derive(Clone, Copy, Debug)]
+pub enum Steps {
+    /// 1 + the number of operands (application instructions).
+    Operands,
+    /// 1, plus 1 for each index-modified, digit-specified or word-bit operand
+    /// (contacts, coils, connection instructions).
+    Basic,
+    /// A fixed count.
+    Fixed(u32),
+    /// A rule of its own (OUT T/C, RST of words and timers).
+    Rule(fn(&[Token]) -> u32),
+}
+
+impl Steps {
+    pub fn count(self, operands: &[Token]) -> u32 {
+        match self {
+            Steps::Operands => 1 + operands.len() as u32,
+            Steps::Basic => basic_steps(operands),
+            Steps::Fixed(n) => n,
+            Steps::Rule(f) => f(operands),
+        }
+    }
+}
+
+/// The [`Steps::Basic`] rule.
+pub fn basic_steps(operands: &[Token]) -> u32 {
+    let extended = |t: &Token| {
+        let u = t.text.to_ascii_uppercase();
+        u.contains('.') && !u.starts_with('E')
+            || u.starts_with('K') && u.len() > 2 && u.as_bytes()[2].is_ascii_alphabetic()
+            || u.chars().skip(1).any(|c| c == 'Z') && !u.starts_with("ZR")
+    };
+    1 + operands.iter().filter(|t| extended(t)).count() as u32
+}
+
+/// Compiles a family instruction to an [`Instr`]; `None` when a diagnostic was
+/// reported through [`Args`].
+pub type CompileFn = fn(&mut Args<'_, '_>) -> Option<Box<dyn Instr>>;
+
+/// Lowers an instruction the compiler expands itself (contacts, coils, jumps,
+/// master control …) into ladder ops; it checks its own operands and rung class.
+pub type LowerFn = fn(&mut Compiler<'_>, &Use<'_>);
+
+/// One use of an instruction in a program, as the compiler hands it to a
+/// [`LowerFn`].
+pub struct Use<'a> {
+    pub def: &'static Def,
+    pub instr: &'a SourceInstr,
+    /// The mnemonic as written, upper case.
+    pub m: &'a str,
+    /// The pulse form was written.
+    pub pulse: bool,
+}
+
+/// How an instruction compiles.
+#[derive(Clone, Copy)]
+pub enum Kind {
+    /// A family instruction: compiled by its function into an [`Instr`], run
+    /// through `Op::Ext` (or `Op::ExtAlways` for [`Drive::Always`]).
+    Instr(CompileFn),
+    /// Expanded into ladder ops by the compiler.
+    Lower(LowerFn),
+    /// Known but not implemented: rejected at load with this reason.
+    Rejected(&'static str),
+}
+
+/// A row of COMPATIBILITY.md: the family, the manual reference and notes shared
+/// by the definitions that point to it.
+#[derive(Debug)]
+pub struct Doc {
+    pub family: &'static str,
+    pub cite: &'static str,
+    pub notes: &'static str,
+}
+
+/// The definition of one instruction.
+#[derive(Clone, Copy)]
+pub struct Def {
+    pub name: &'static str,
+    pub pulse: Pulse,
+    pub class: Class,
+    pub drive: Drive,
+    pub steps: Steps,
+    pub kind: Kind,
+    /// Family, manual section and notes (`None` for rejected instructions).
+    pub doc: Option<&'static Doc>,
+}
+
+impl std::fmt::Debug for Def {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Def")
+            .field("name", &self.name)
+            .field("pulse", &self.pulse)
+            .field("class", &self.class)
+            .field("drive", &self.drive)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Def {
+    /// An application instruction of a family: an output with a `P` form,
+    /// 1 + operands steps.
+    pub const fn app(name: &'static str, doc: &'static Doc, compile: CompileFn) -> Def {
+        Def {
+            name,
+            pulse: Pulse::Suffix,
+            class: Class::Output,
+            drive: Drive::WhenOn,
+            steps: Steps::Operands,
+            kind: Kind::Instr(compile),
+            doc: Some(doc),
+        }
+    }
+
+    /// An instruction the compiler lowers itself.
+    pub const fn lower(name: &'static str, class: Class, doc: &'static Doc, f: LowerFn) -> Def {
+        Def {
+            name,
+            pulse: Pulse::None,
+            class,
+            drive: Drive::WhenOn,
+            steps: Steps::Operands,
+            kind: Kind::Lower(f),
+            doc: Some(doc),
+        }
+    }
+
+    /// A known instruction softplc rejects, with the reason (its `P` form too).
+    pub const fn rejected(name: &'static str, reason: &'static str) -> Def {
+        Def {
+            name,
+            pulse: Pulse::Suffix,
+            class: Class::Output,
+            drive: Drive::WhenOn,
+            steps: Steps::Operands,
+            kind: Kind::Rejected(reason),
+            doc: None,
+        }
+    }
+
+    pub const fn pulse(mut self, p: Pulse) -> Def {
+        self.pulse = p;
+        self
+    }
+
+    pub const fn no_pulse(self) -> Def {
+        self.pulse(Pulse::None)
+    }
+
+    pub const fn steps(mut self, s: Steps) -> Def {
+        self.steps = s;
+        self
+    }
+
+    pub const fn class(mut self, c: Class) -> Def {
+        self.class = c;
+        self
+    }
+
+    /// Runs at every execution (see [`Drive::Always`]); no pulse form.
+    pub const fn always(mut self) -> Def {
+        self.drive = Drive::Always;
+        self.pulse = Pulse::None;
+        self
+    }
+
+    pub fn is_implemented(&self) -> bool {
+        !matches!(self.kind, Kind::Rejected(_))
+    }
+}
+
+/// An instruction set: a dialect's definitions, indexed by name.
+pub struct Isa {
+    defs: &'static [&'static [Def]],
+    index: HashMap<&'static str, &'static Def>,
+}
+
+impl Isa {
+    /// Indexes the definitions (a dialect's families, in registry order). A name
+    /// defined twice is a programming error of the dialect.
+    pub fn new(defs: &'static [&'static [Def]]) -> Isa {
+        let mut index = HashMap::new();
+        for d in defs.iter().flat_map(|f| f.iter()) {
+            let prev = index.insert(d.name, d);
+            assert!(prev.is_none(), "instruction {} defined twice", d.name);
+        }
+        Isa { defs, index }
+    }
+
+    /// All definitions, in registry order.
+    pub fn all(&self) -> impl Iterator<Item = &'static Def> {
+        self.defs.iter().flat_map(|f| f.iter())
+    }
+
+    fn get(&self, name: &str) -> Option<&'static Def> {
+        self.index.get(name).copied()
+    }
+
+    /// Looks up a mnemonic as written: the plain name, the `P` suffix form or
+    /// the `SP.` prefix form.
+    pub fn lookup(&self, m: &str) -> Found {
+        if let Some(d) = self.get(m) {
+            return Found::Def(d, false);
+        }
+        if let Some(d) = m.strip_suffix('P').and_then(|b| self.get(b)) {
+            return match d.pulse {
+                Pulse::Suffix => Found::Def(d, true),
+                Pulse::SPrefix => Found::WrongPulse(d),
+                Pulse::None => Found::NoPulse(d),
+            };
+        }
+        if let Some(rest) = m.strip_prefix("SP.") {
+            if let Some(d) = self.get(&format!("S.{rest}")) {
+                if d.pulse == Pulse::SPrefix {
+                    return Found::Def(d, true);
+                }
+            }
+        }
+        Found::Unknown
+    }
+}
+
+/// What a written mnemonic (upper case) names.
+pub enum Found {
+    /// The definition, and whether its pulse form was written.
+    Def(&'static Def, bool),
+    /// `S.xxxP`: the pulse form of `S.xxx` is `SP.xxx`.
+    WrongPulse(&'static Def),
+    /// A `P` form of an instruction that has none.
+    NoPulse(&'static Def),
+    Unknown,
+}
+
+/// The generated part of COMPATIBILITY.md: the "Implemented" and "Rejected at
+/// load" tables, from the definitions (`tests/compat.rs` keeps the file current).
+pub fn compat_markdown(isa: &Isa) -> String {
+    let mut out =
+        String::from("| instructions | family | reference | notes |\n|---|---|---|---|\n");
+    let mut rows: Vec<(&'static Doc, Vec<String>)> = Vec::new();
+    for d in isa.all() {
+        let Some(doc) = d.doc else { continue };
+        let name = match d.pulse {
+            Pulse::Suffix => format!("{}(P)", d.name),
+            Pulse::SPrefix => format!("{}/SP.{}", d.name, &d.name[2..]),
+            Pulse::None => d.name.to_string(),
+        };
+        let name = name.replace('|', "\\|");
+        match rows.iter_mut().find(|(r, _)| std::ptr::eq(*r, doc)) {
+            Some((_, names)) => names.push(name),
+            None => rows.push((doc, vec![name])),
+        }
+    }
+    for (doc, names) in &rows {
+        out += &format!(
+            "| {} | {} | {} | {} |\n",
+            names.join(", "),
+            doc.family,
+            doc.cite,
+            doc.notes
+        );
+    }
+    out += "\n## Rejected at load\n\nEach of these gives `unsupported instruction`, with the reason shown here, at\nthe mnemonic's line and column.\n\n| instructions | reason |\n|---|---|\n";
+    let mut rejected: Vec<(&'static str, Vec<String>)> = Vec::new();
+    for d in isa.all() {
+        let Kind::Rejected(reason) = d.kind else {
+            continue;
+        };
+        let name = format!("`{}`", d.name);
+        match rejected.iter_mut().find(|(r, _)| *r == reason) {
+            Some((_, names)) => names.push(name),
+            None => rejected.push((reason, vec![name])),
+        }
+    }
+    for (reason, names) in &rejected {
+        out += &format!("| {} | {} |\n", names.join(", "), reason);
+    }
+    out
+}

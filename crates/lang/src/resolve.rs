@@ -1,0 +1,468 @@
+//! Operand resolution: device names, constants, digit specification, word
+//! bits, index modification and pointers, checked against the configured device
+//! points and turned into pre-resolved [`WordArg`]/[`BitArg`] (004 §10).
+
+use super::compile::Compiler;
+use super::source::Token;
+use softplc_ir::device::{parse_operand, Constant, DeviceKind, DeviceMap, DeviceName, Operand};
+use softplc_ir::ops::*;
+
+impl Compiler<'_> {
+    // --- operands ---
+
+    pub fn parse(&mut self, tok: &Token) -> Option<Operand> {
+        match parse_operand(&tok.text) {
+            Ok(o) => Some(o),
+            Err(e) => {
+                let t = Token {
+                    col: tok.col + e.offset as u32,
+                    ..tok.clone()
+                };
+                self.err(&t, e.message);
+                None
+            }
+        }
+    }
+
+    pub fn range_err(&mut self, tok: &Token, kind: DeviceKind, number: u32, text: &str) {
+        let points = self.map.points(kind);
+        let _ = number;
+        let name = display_kind(kind);
+        let msg = if points == 0 {
+            format!("`{text}`: device {name} has 0 points in this CPU configuration")
+        } else {
+            let last = kind.format(points - 1);
+            let last = last.trim_start_matches(kind.name());
+            format!("`{text}` is out of range ({name}0-{name}{last})")
+        };
+        self.err(tok, msg);
+    }
+
+    pub fn indexed(
+        &mut self,
+        kind: IndexedKind,
+        dk: DeviceKind,
+        number: u32,
+        z: u8,
+    ) -> Box<Indexed> {
+        self.computed(kind, dk, number, Some(z))
+    }
+
+    /// An operand resolved at run time: index-modified, or a file register `R`,
+    /// which addresses the block selected by RSET (ZR = block × 32768 + n).
+    pub fn computed(
+        &self,
+        kind: IndexedKind,
+        dk: DeviceKind,
+        number: u32,
+        z: Option<u8>,
+    ) -> Box<Indexed> {
+        let z = z.map_or(Indexed::NONE, |z| self.map.base(DeviceKind::Z) + z as u32);
+        if dk == DeviceKind::R {
+            return Box::new(Indexed {
+                kind,
+                base: self.map.base(DeviceKind::ZR),
+                number,
+                points: self.map.points(DeviceKind::ZR),
+                z,
+                block: self.map.base(DeviceKind::SD) + 648,
+            });
+        }
+        Box::new(Indexed {
+            kind,
+            base: self.map.base(dk),
+            number,
+            points: self.map.points(dk),
+            z,
+            block: Indexed::NONE,
+        })
+    }
+
+    pub fn bit_operand(&mut self, tok: &Token) -> Option<BitArg> {
+        let op = self.parse(tok)?;
+        match op {
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: None,
+                index,
+            } if dev.kind.is_bit() => {
+                if dev.number >= self.map.points(dev.kind) {
+                    self.range_err(tok, dev.kind, dev.number, &tok.text);
+                    return None;
+                }
+                Some(match index {
+                    None => BitArg::Bit(self.map.base(dev.kind) + dev.number),
+                    Some(z) => {
+                        BitArg::Indexed(self.indexed(IndexedKind::Bit, dev.kind, dev.number, z))
+                    }
+                })
+            }
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: Some(b),
+                index,
+            } => {
+                if dev.number >= self.map.points(dev.kind) {
+                    self.range_err(tok, dev.kind, dev.number, &tok.text);
+                    return None;
+                }
+                Some(match index {
+                    None if dev.kind == DeviceKind::R => BitArg::Indexed(self.computed(
+                        IndexedKind::WordBit(b),
+                        dev.kind,
+                        dev.number,
+                        None,
+                    )),
+                    None => BitArg::WordBit {
+                        word: self.map.base(dev.kind) + dev.number,
+                        bit: b,
+                    },
+                    Some(z) => BitArg::Indexed(self.indexed(
+                        IndexedKind::WordBit(b),
+                        dev.kind,
+                        dev.number,
+                        z,
+                    )),
+                })
+            }
+            Operand::Device {
+                dev, digits: None, ..
+            } => {
+                self.err(
+                    tok,
+                    format!("`{}` is a word device; a bit operand needs a bit device or a word bit such as `{}.0`", tok.text, tok.text),
+                );
+                let _ = dev;
+                None
+            }
+            Operand::Device { .. } => {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}` is a digit-specified word; a bit operand is needed here",
+                        tok.text
+                    ),
+                );
+                None
+            }
+            Operand::Const(_) => {
+                self.err(
+                    tok,
+                    format!(
+                        "constant `{}` cannot be a bit operand; a bit device is needed",
+                        tok.text
+                    ),
+                );
+                None
+            }
+            _ => {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}` cannot be a bit operand; a bit device is needed",
+                        tok.text
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    pub fn bit_dest(&mut self, tok: &Token) -> Option<BitArg> {
+        if let Ok(Operand::Device { dev, .. }) = parse_operand(&tok.text) {
+            if matches!(
+                dev.kind,
+                DeviceKind::TS
+                    | DeviceKind::TC
+                    | DeviceKind::STS
+                    | DeviceKind::STC
+                    | DeviceKind::CS
+                    | DeviceKind::CC
+            ) {
+                self.err(tok, format!("`{}`: timer and counter contacts and coils are driven by `OUT {}` with a set value", tok.text, tok.text));
+                return None;
+            }
+        }
+        self.bit_operand(tok)
+    }
+
+    pub fn edge_relay(&mut self, tok: &Token) -> Option<u32> {
+        match self.bit_operand(tok)? {
+            BitArg::Bit(b)
+                if (self.map.base(DeviceKind::V)
+                    ..self.map.base(DeviceKind::V) + self.map.points(DeviceKind::V))
+                    .contains(&b) =>
+            {
+                Some(b)
+            }
+            _ => {
+                self.err(
+                    tok,
+                    format!("`{}`: EGP/EGF need an edge relay V without index", tok.text),
+                );
+                None
+            }
+        }
+    }
+
+    /// A word operand read as `num`.
+    pub fn word_src(&mut self, tok: &Token, num: Num) -> Option<WordArg> {
+        let op = self.parse(tok)?;
+        if let Operand::Const(c) = &op {
+            return self.constant(tok, c, num);
+        }
+        self.word_device(tok, op, num, num.words())
+    }
+
+    /// A word operand written as `num`, occupying `words` words.
+    pub fn word_dest(&mut self, tok: &Token, num: Num, words: u32) -> Option<WordArg> {
+        let op = self.parse(tok)?;
+        if let Operand::Const(_) = op {
+            self.err(
+                tok,
+                format!("constant `{}` cannot be a destination", tok.text),
+            );
+            return None;
+        }
+        self.word_device(tok, op, num, words)
+    }
+
+    pub fn constant(&mut self, tok: &Token, c: &Constant, num: Num) -> Option<WordArg> {
+        match (c, num) {
+            (Constant::Int { value, hex }, Num::I16) => {
+                let ok = if *hex {
+                    (0..=0xFFFF).contains(value)
+                } else {
+                    (-32768..=32767).contains(value)
+                };
+                if !ok {
+                    let range = if *hex {
+                        "H0-HFFFF"
+                    } else {
+                        "K-32768 to K32767"
+                    };
+                    self.err(
+                        tok,
+                        format!(
+                            "constant `{}` does not fit a 16-bit operand ({range})",
+                            tok.text
+                        ),
+                    );
+                    return None;
+                }
+                Some(WordArg::Const(*value as i32 as u32 & 0xFFFF))
+            }
+            (Constant::Int { value, hex }, Num::I32) => {
+                let ok = if *hex {
+                    (0..=0xFFFF_FFFF).contains(value)
+                } else {
+                    (i32::MIN as i64..=i32::MAX as i64).contains(value)
+                };
+                if !ok {
+                    self.err(
+                        tok,
+                        format!("constant `{}` does not fit a 32-bit operand", tok.text),
+                    );
+                    return None;
+                }
+                Some(WordArg::Const(*value as u32))
+            }
+            (Constant::Real(v), Num::F32) => {
+                let f = *v as f32;
+                if f.is_infinite() || (*v != 0.0 && f.abs() < f32::MIN_POSITIVE) {
+                    self.err(
+                        tok,
+                        format!(
+                            "real constant `{}` is outside the single-precision range",
+                            tok.text
+                        ),
+                    );
+                    return None;
+                }
+                Some(WordArg::Const(f.to_bits()))
+            }
+            (Constant::Int { .. }, Num::F32) => {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: a real operand needs an E constant, e.g. E1.5",
+                        tok.text
+                    ),
+                );
+                None
+            }
+            (Constant::Real(_), _) => {
+                self.err(
+                    tok,
+                    format!(
+                        "real constant `{}` where a BIN value (K or H) is needed",
+                        tok.text
+                    ),
+                );
+                None
+            }
+            (Constant::Str(_), _) => {
+                self.err(
+                    tok,
+                    format!("string `{}` where a numeric operand is needed", tok.text),
+                );
+                None
+            }
+        }
+    }
+
+    pub fn word_device(
+        &mut self,
+        tok: &Token,
+        op: Operand,
+        num: Num,
+        words: u32,
+    ) -> Option<WordArg> {
+        let Operand::Device {
+            dev,
+            digits,
+            bit,
+            index,
+        } = op
+        else {
+            self.err(tok, format!("`{}` cannot be a word operand", tok.text));
+            return None;
+        };
+        if bit.is_some() {
+            self.err(
+                tok,
+                format!("`{}` is a bit; a word operand is needed here", tok.text),
+            );
+            return None;
+        }
+        if let Some(n) = digits {
+            if num == Num::F32 {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: digit specification cannot hold a real number",
+                        tok.text
+                    ),
+                );
+                return None;
+            }
+            let max = if num == Num::I16 { 4 } else { 8 };
+            if n > max {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: K{n} needs a 32-bit instruction (K1-K{max} here)",
+                        tok.text
+                    ),
+                );
+                return None;
+            }
+            let need = dev.number as u64 + 4 * n as u64;
+            if dev.number >= self.map.points(dev.kind) || need > self.map.points(dev.kind) as u64 {
+                self.range_err(tok, dev.kind, dev.number, &tok.text);
+                return None;
+            }
+            return Some(match index {
+                None => WordArg::Digits {
+                    bit: self.map.base(dev.kind) + dev.number,
+                    n,
+                },
+                Some(z) => {
+                    WordArg::Indexed(self.indexed(IndexedKind::Digits(n), dev.kind, dev.number, z))
+                }
+            });
+        }
+        let kind = dev.word_kind();
+        if kind.is_bit() {
+            self.err(
+                tok,
+                format!("`{}` is a bit device; a word operand needs a digit specification such as `K4{}`", tok.text, tok.text),
+            );
+            return None;
+        }
+        let points = self.map.points(kind);
+        if dev.number >= points {
+            self.range_err(tok, kind, dev.number, &tok.text);
+            return None;
+        }
+        if index.is_none() && dev.number as u64 + words as u64 > points as u64 {
+            let last = name_of(&dev, kind, dev.number + words - 1);
+            self.err(
+                tok,
+                format!(
+                    "`{}`: this operand uses {words} words, up to `{last}`, beyond the last device",
+                    tok.text
+                ),
+            );
+            return None;
+        }
+        Some(match index {
+            None if kind == DeviceKind::R => {
+                WordArg::Indexed(self.computed(IndexedKind::Word, kind, dev.number, None))
+            }
+            None => WordArg::Word(self.map.base(kind) + dev.number),
+            Some(z) => WordArg::Indexed(self.indexed(IndexedKind::Word, kind, dev.number, z)),
+        })
+    }
+
+    pub fn pointer(&mut self, tok: &Token) -> Option<u32> {
+        match self.parse(tok)? {
+            Operand::Pointer(p) if p <= 4095 => Some(p),
+            Operand::Pointer(_) => {
+                self.err(
+                    tok,
+                    format!("pointer `{}` is out of range (P0-P4095)", tok.text),
+                );
+                None
+            }
+            _ => {
+                self.err(
+                    tok,
+                    format!("`{}`: a pointer P0-P4095 is needed here", tok.text),
+                );
+                None
+            }
+        }
+    }
+
+    pub fn nesting(&mut self, tok: &Token) -> Option<u32> {
+        match self.parse(tok)? {
+            Operand::Nesting(n) if n <= 14 => Some(n),
+            _ => {
+                self.err(
+                    tok,
+                    format!("`{}`: a nesting number N0-N14 is needed here", tok.text),
+                );
+                None
+            }
+        }
+    }
+}
+
+/// Remainder slot of timer `n`: T first, then ST.
+pub fn timer_slot(map: &DeviceMap, retentive: bool, n: u32) -> u32 {
+    if retentive {
+        map.points(DeviceKind::TS) + n
+    } else {
+        n
+    }
+}
+
+fn display_kind(k: DeviceKind) -> &'static str {
+    match k {
+        DeviceKind::TS | DeviceKind::TN => "T",
+        DeviceKind::STS | DeviceKind::STN => "ST",
+        DeviceKind::CS | DeviceKind::CN => "C",
+        k => k.name(),
+    }
+}
+
+fn name_of(dev: &DeviceName, kind: DeviceKind, n: u32) -> String {
+    if dev.generic {
+        format!("{}{}", display_kind(kind), n)
+    } else {
+        kind.format(n)
+    }
+}

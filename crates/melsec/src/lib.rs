@@ -1,0 +1,70 @@
+//! softplc-melsec: the MELSEC-Q instruction set. Instruction families, one module per chapter of the MELSEC-Q/QnA programming
+//! manual (common instructions): sequence instructions (contacts, coils, timers,
+//! counters, master control) and basic instructions (comparison, arithmetic,
+//! conversion, transfer). Program-control instructions (jumps, CALL, FOR/NEXT)
+//! live in the engine's interpreter loop because they move the program counter.
+//!
+//! Further families plug in through [`FAMILIES`]: a family module offers a
+//! `lookup` that maps a mnemonic (without its `P` suffix) to a compile function,
+//! which reads operands through [`Args`] and returns an [`Instr`] the engine
+//! executes when the rung condition is ON. Pulse forms are handled for them.
+
+pub mod arithmetic;
+pub mod basic;
+pub mod bits;
+pub mod clock;
+pub mod comparison;
+pub mod control;
+pub mod conversion;
+pub mod data;
+pub mod file_register;
+pub mod float;
+pub mod ladder;
+pub mod limits;
+pub mod logic;
+pub mod misc;
+pub mod pid;
+pub mod rejected;
+pub mod rotation;
+pub mod strings;
+pub mod table;
+pub mod timing;
+pub mod transfer;
+
+pub use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
+pub use softplc_lang::compile::Args;
+use softplc_lang::isa::{Def, Isa};
+
+pub use softplc_lang::isa::CompileFn;
+
+/// The MELSEC-Q instruction set: every family's definitions, then the rejected
+/// instructions (see [`softplc_lang::isa`]). A new family is one line here.
+pub static DEFS: &[&[Def]] = &[
+    ladder::DEFS,
+    basic::DEFS,
+    control::DEFS,
+    conversion::DEFS,
+    arithmetic::DEFS,
+    strings::DEFS,
+    transfer::DEFS,
+    logic::DEFS,
+    rotation::DEFS,
+    bits::DEFS,
+    data::DEFS,
+    table::DEFS,
+    limits::DEFS,
+    comparison::DEFS,
+    float::DEFS,
+    clock::DEFS,
+    pid::DEFS,
+    file_register::DEFS,
+    timing::DEFS,
+    misc::DEFS,
+    rejected::DEFS,
+];
+
+/// The MELSEC-Q instruction set, indexed by name.
+pub fn isa() -> &'static Isa {
+    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| Isa::new(DEFS));
+    &ISA
+}

@@ -1,0 +1,132 @@
+//! MELSEC-Q instructions softplc knows of but rejects at load, each with the
+//! reason the "unsupported instruction" diagnostic gives (COMPATIBILITY.md
+//! "Rejected at load" is generated from this list). A mnemonic in no list is
+//! an "unknown instruction".
+
+use softplc_lang::isa::{Def, Pulse};
+
+const MODULE: &str =
+    "it needs an intelligent function module or network, which softplc does not simulate";
+const HARDWARE: &str =
+    "it needs input/output hardware timing (pulse output, high-speed counting, matrix input)";
+const DISPLAY: &str =
+    "it needs the CPU's display or a peripheral keyboard, which softplc does not model";
+const CARD: &str = "program and data files on memory cards are not modelled";
+const CALLS: &str = "subroutine calls with arguments or into another file's local pointers are \
+                     not implemented; use CALL with a common pointer";
+const CHK: &str = "CHKST/CHK/CHKCIR/CHKEND special-format failure checks work on the ladder \
+                   pattern programmed around them (program structure)";
+const IX: &str = "IX/IXEND index-modification blocks (the devices of the enclosed ladder would \
+                  be modified by the offset table) are not implemented";
+const IXDEV: &str = "IXDEV/IXSET build the IX/IXEND offset table from the devices of the ladder \
+                     between them (program structure); IX/IXEND index-modification blocks are \
+                     not supported";
+const FX: &str = "not a MELSEC-Q instruction (FX series); use the comparison contacts or BKCMP";
+const QNU: &str = "not in the QnH instruction set (Universal model QnU or later)";
+const PROCESS: &str = "process-control instructions (QnPH) are not implemented yet";
+
+/// The rejected instructions.
+pub static DEFS: &[Def] = &[
+    Def::rejected("FROM", MODULE),
+    Def::rejected("DFRO", MODULE),
+    Def::rejected("TO", MODULE),
+    Def::rejected("DTO", MODULE),
+    Def::rejected("READ", MODULE),
+    Def::rejected("SREAD", MODULE),
+    Def::rejected("WRITE", MODULE),
+    Def::rejected("SWRITE", MODULE),
+    Def::rejected("SEND", MODULE),
+    Def::rejected("RECV", MODULE),
+    Def::rejected("REQ", MODULE),
+    Def::rejected("ZNFR", MODULE),
+    Def::rejected("ZNTO", MODULE),
+    Def::rejected("RFRP", MODULE),
+    Def::rejected("RTOP", MODULE),
+    Def::rejected("PR", MODULE),
+    Def::rejected("PRC", MODULE),
+    Def::rejected("PRN", MODULE),
+    Def::rejected("UNIRD", MODULE),
+    Def::rejected("TYPERD", MODULE),
+    Def::rejected("RTWRITE", MODULE),
+    Def::rejected("S.TO", MODULE).pulse(Pulse::SPrefix),
+    Def::rejected("S.FROM", MODULE).pulse(Pulse::SPrefix),
+    Def::rejected("SPD", HARDWARE),
+    Def::rejected("PLSY", HARDWARE),
+    Def::rejected("PWM", HARDWARE),
+    Def::rejected("MTR", HARDWARE),
+    Def::rejected("UDCNT1", HARDWARE),
+    Def::rejected("UDCNT2", HARDWARE),
+    Def::rejected("TTMR", HARDWARE),
+    Def::rejected("LED", DISPLAY),
+    Def::rejected("LEDC", DISPLAY),
+    Def::rejected("PKEY", DISPLAY),
+    Def::rejected("KEY", DISPLAY),
+    Def::rejected("MSG", DISPLAY),
+    Def::rejected("COMRD", "device comments are not loaded"),
+    Def::rejected("PLOAD", CARD),
+    Def::rejected("PUNLOAD", CARD),
+    Def::rejected("PSWAP", CARD),
+    Def::rejected("FWRITE", CARD),
+    Def::rejected("FREAD", CARD),
+    Def::rejected(
+        "QDRSET",
+        "softplc has a single file-register file; select blocks with RSET",
+    ),
+    Def::rejected("FCALL", CALLS),
+    Def::rejected("ECALL", CALLS),
+    Def::rejected("EFCALL", CALLS),
+    Def::rejected("XCALL", CALLS),
+    Def::rejected(
+        "ROTC",
+        "rotary table shortest-direction control is not implemented: its counting and drive \
+         rules are not in the manuals softplc follows, so it could not be reproduced faithfully",
+    ),
+    Def::rejected("COM", "refresh during the scan (COM) is not implemented"),
+    Def::rejected("CHKST", CHK),
+    Def::rejected("CHK", CHK),
+    Def::rejected("CHKCIR", CHK),
+    Def::rejected("CHKEND", CHK),
+    Def::rejected("IX", IX),
+    Def::rejected("IXEND", IX),
+    Def::rejected("IXDEV", IXDEV),
+    Def::rejected("IXSET", IXDEV),
+    Def::rejected(
+        "ZRRDB",
+        "byte access to file registers (ZRRDB/ZRWRB) is not implemented yet",
+    ),
+    Def::rejected(
+        "ZRWRB",
+        "byte access to file registers (ZRRDB/ZRWRB) is not implemented yet",
+    ),
+    Def::rejected(
+        "ADRSET",
+        "indirect addresses (ADRSET) are not modelled: devices have no memory addresses",
+    ),
+    Def::rejected("S.IN", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("S.OUT1", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("S.OUT2", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("S.PID", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("S.2PID", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("S.AT1", PROCESS).pulse(Pulse::SPrefix),
+    Def::rejected("CMP", FX),
+    Def::rejected("DCMP", FX),
+    Def::rejected("ECMP", FX),
+    Def::rejected("ZCP", FX),
+    Def::rejected("DZCP", FX),
+    Def::rejected(
+        "ZRST",
+        "`ZRST` is not a MELSEC-Q (QnH) instruction (it is an FX instruction); use BKRST",
+    ),
+    Def::rejected("MEAN", QNU),
+    Def::rejected("DMEAN", QNU),
+    Def::rejected("DFMOV", QNU),
+    Def::rejected("POW", QNU),
+    Def::rejected("LOG10", QNU),
+    Def::rejected("STRINS", QNU),
+    Def::rejected("STRDEL", QNU),
+    Def::rejected("EMOD", QNU),
+    Def::rejected("EREXP", QNU),
+    Def::rejected("ESQR", QNU),
+    Def::rejected("DSECOND", QNU),
+    Def::rejected("DHOUR", QNU),
+];
