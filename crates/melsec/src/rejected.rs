@@ -91,14 +91,6 @@ pub static DEFS: &[Def] = &[
     Def::rejected("IXDEV", IXDEV),
     Def::rejected("IXSET", IXDEV),
     Def::rejected(
-        "ZRRDB",
-        "byte access to file registers (ZRRDB/ZRWRB) is not implemented yet",
-    ),
-    Def::rejected(
-        "ZRWRB",
-        "byte access to file registers (ZRRDB/ZRWRB) is not implemented yet",
-    ),
-    Def::rejected(
         "ADRSET",
         "indirect addresses (ADRSET) are not modelled: devices have no memory addresses",
     ),
