@@ -12,5 +12,6 @@ pub mod device;
 pub mod fault;
 pub mod instr;
 pub mod kernels;
+pub mod layout;
 mod operand;
 pub mod ops;

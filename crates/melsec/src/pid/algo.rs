@@ -45,14 +45,26 @@ use super::params::LoopParams;
 use super::work::{quantize_mv, quantize_pvf, LoopState, F_REVERSE};
 use super::Family;
 
-/// Offsets of a loop's I/O words (001 §5.2(4)).
-pub(crate) const SV: usize = 0;
-pub(crate) const PV: usize = 1;
-pub(crate) const MV: usize = 2;
-pub(crate) const PVF: usize = 3;
-pub(crate) const MVMAN: usize = 4;
-pub(crate) const MODE: usize = 5;
-pub(crate) const ALARM: usize = 6;
+softplc_ir::layout! {
+    /// A loop's I/O data words m+0 … m+6 (001 §5.2(4) Table 5.4); its work
+    /// words follow from m+7 ([`super::work::LoopWork`]).
+    pub struct LoopIo[7] {
+        /// SV: set value (engineering range of the loop).
+        sv: i16 @ 0,
+        /// PV: process value as input.
+        pv: i16 @ 1,
+        /// MV: manipulated value output by the instruction.
+        mv: i16 @ 2,
+        /// PVf: filtered process value.
+        pvf: i16 @ 3,
+        /// MVMAN: manual manipulated value.
+        mvman: i16 @ 4,
+        /// MAN/AUTO: 0 manual, 1 automatic.
+        mode: u16 @ 5,
+        /// ALARM: b0 PV change over ΔPVL, b1 MV change over ΔMVL.
+        alarm: u16 @ 6,
+    }
+}
 
 /// ALARM bits (001 §5.2 Table 5.4): b0 PV change over ΔPVL, b1 MV change over ΔMVL.
 pub(crate) const ALARM_PV: u16 = 1;
@@ -157,9 +169,9 @@ pub(crate) fn sample(
     first: bool,
 ) {
     // 1. Inputs, clamped in limited mode.
-    let sv = range.sv(io[SV] as i16);
-    let pv = range.mv(io[PV] as i16);
-    let mut alarm = io[ALARM];
+    let sv = range.sv(LoopIo::sv.get(io));
+    let pv = range.mv(LoopIo::pv.get(io));
+    let mut alarm = LoopIo::alarm.get(io);
     // 2. PV change-rate alarm.
     let dpvl = range.rate(p.dpvl) as i32;
     if !first && (pv as i32 - st.pv1 as i32).abs() > dpvl {
@@ -168,7 +180,7 @@ pub(crate) fn sample(
     // 3. Input filter.
     let alpha = p.alpha as f64 / 100.0;
     let pvf = quantize_pvf(pv as f64 + alpha * (st.pvf1 - pv as f64));
-    io[PVF] = round_word(pvf) as u16;
+    LoopIo::pvf.set(io, round_word(pvf));
     let ev1 = if first {
         0.0
     } else {
@@ -177,7 +189,7 @@ pub(crate) fn sample(
     if !auto {
         // 4. Manual mode.
         let sv_used = if track {
-            io[SV] = pv as u16;
+            LoopIo::sv.set(io, pv);
             range.sv(pv)
         } else {
             sv
@@ -188,7 +200,7 @@ pub(crate) fn sample(
         st.set(F_REVERSE, p.reverse);
         st.d1 = 0.0;
         st.pv1 = pv;
-        io[ALARM] = alarm;
+        LoopIo::alarm.set(io, alarm);
         return;
     }
     // 5. Auto mode: ΔMV.
@@ -216,8 +228,8 @@ pub(crate) fn sample(
         mv = ll;
     }
     st.mv = quantize_mv(mv);
-    io[MV] = round_word(st.mv) as u16;
-    io[ALARM] = alarm;
+    LoopIo::mv.set(io, round_word(st.mv));
+    LoopIo::alarm.set(io, alarm);
     // 8. History.
     st.pvf2 = st.pvf1;
     st.pvf1 = pvf;

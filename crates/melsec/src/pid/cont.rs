@@ -40,7 +40,7 @@
 //! The first error found is returned after every loop has been processed
 //! (\[DECISION\] pid-instructions.md §6: the other loops run).
 
-use super::algo::{self, Range, MODE, MV, MVMAN};
+use super::algo::{self, LoopIo, Range};
 use super::params::LoopParams;
 use super::registry::Registry;
 use super::work::{LoopState, F_AUTO, F_DEFERRED, F_INIT, WORK};
@@ -65,10 +65,10 @@ pub(crate) struct Env {
 /// [`algo::sample`]), MVn−1 = the auto-MV word, PVn−1 = PVn (no PV alarm), the
 /// current MAN/AUTO as the previous mode, accumulator 0.
 fn first_processing(io: &[u16], range: Range, auto: bool) -> LoopState {
-    let pv = range.mv(io[algo::PV] as i16) as f64;
+    let pv = range.mv(LoopIo::pv.get(io)) as f64;
     LoopState {
         flags: F_INIT | if auto { F_AUTO } else { 0 },
-        mv: io[MV] as i16 as f64,
+        mv: LoopIo::mv.get(io) as f64,
         pvf1: pv,
         pvf2: pv,
         sv1: 0,
@@ -119,7 +119,7 @@ pub(crate) fn run(
             st.store(fam, w);
             continue;
         }
-        let auto = match head[MODE] {
+        let auto = match LoopIo::mode.get(head) {
             0 => false,
             1 => true,
             _ => {
@@ -142,11 +142,11 @@ pub(crate) fn run(
         // Bumpless transfer (001 §4.3.1(2)).
         if auto != st.has(F_AUTO) {
             if auto {
-                let man = range.mv(head[MVMAN] as i16);
-                head[MV] = man as u16;
+                let man = range.mv(LoopIo::mvman.get(head));
+                LoopIo::mv.set(head, man);
                 st.mv = man as f64;
             } else {
-                head[MVMAN] = head[MV];
+                LoopIo::mvman.set(head, LoopIo::mv.get(head));
             }
             st.set(F_AUTO, auto);
         }
@@ -209,7 +209,7 @@ fn compute(
     let Some(p) = LoopParams::decode(fam, &reg.loop_words(i)[..fam.param_words()]) else {
         return;
     };
-    let auto = head[MODE] == 1;
+    let auto = LoopIo::mode.get(head) == 1;
     let (mut st, ts, first) = match ts {
         Some(ts) => {
             let mut st = LoopState::load(fam, w);

@@ -52,7 +52,7 @@ pub(crate) const MV_FRAC: i32 = 36;
 pub(crate) const PVF_FRAC: i32 = 16;
 
 /// Offset of the loop work words inside a loop's I/O block (001 §5.2(4)).
-pub(crate) const WORK: usize = 7;
+pub(crate) const WORK: usize = super::algo::LoopIo::WORDS;
 
 /// Quantises MV to the stored Q16.36 grid (round half away from zero; the MV
 /// state of \[DECISION\] pid-instructions.md §2.6, §3.4).
@@ -87,26 +87,25 @@ pub(crate) struct LoopState {
     pub d1: f64,
 }
 
-/// Little-endian word pairs (low word first, as MELSEC 32-bit data; 004 §2.8).
-fn get32(w: &[u16], i: usize) -> u32 {
-    w[i] as u32 | (w[i + 1] as u32) << 16
-}
-
-/// See [`get32`].
-fn put32(w: &mut [u16], i: usize, v: u32) {
-    w[i] = v as u16;
-    w[i + 1] = (v >> 16) as u16;
-}
-
-/// See [`get32`].
-fn get64(w: &[u16], i: usize) -> u64 {
-    get32(w, i) as u64 | (get32(w, i + 2) as u64) << 32
-}
-
-/// See [`get32`].
-fn put64(w: &mut [u16], i: usize, v: u64) {
-    put32(w, i, v as u32);
-    put32(w, i + 2, (v >> 32) as u32);
+softplc_ir::layout! {
+    /// A loop's work words from m+7 (encoding in the module documentation):
+    /// 16 for S.PIDCONT; PIDCONT uses the first 11.
+    pub struct LoopWork[16] {
+        /// Bits 63..11: MVn−1 as Q16.36 fixed point; bits 10..0: flags.
+        head: u64 @ 0,
+        /// PVfn−1 as Q16.16.
+        pvf1: i32 @ 4,
+        /// PVfn−2 as Q16.16.
+        pvf2: i32 @ 6,
+        /// SV used at the previous sample.
+        sv1: i16 @ 8,
+        /// PVn−1, the previous sample's range-clamped PV.
+        pv1: i16 @ 9,
+        /// Time accumulated since the last sample, ms (saturating).
+        acc_ms: u16 @ 10,
+        /// Dn−1 (S. family only).
+        d1: f64 @ 11,
+    }
 }
 
 impl LoopState {
@@ -124,18 +123,18 @@ impl LoopState {
 
     /// Decodes the work words `w` (the family's 16 or 11 words).
     pub(crate) fn load(fam: Family, w: &[u16]) -> LoopState {
-        let head = get64(w, 0);
+        let head = LoopWork::head.get(w);
         let fixed = (head as i64) >> FLAG_BITS;
         LoopState {
             flags: (head & FLAG_MASK) as u16,
             mv: fixed as f64 / (2.0f64).powi(MV_FRAC),
-            pvf1: get32(w, 4) as i32 as f64 / (2.0f64).powi(PVF_FRAC),
-            pvf2: get32(w, 6) as i32 as f64 / (2.0f64).powi(PVF_FRAC),
-            sv1: w[8] as i16,
-            pv1: w[9] as i16,
-            acc_ms: w[10],
+            pvf1: LoopWork::pvf1.get(w) as f64 / (2.0f64).powi(PVF_FRAC),
+            pvf2: LoopWork::pvf2.get(w) as f64 / (2.0f64).powi(PVF_FRAC),
+            sv1: LoopWork::sv1.get(w),
+            pv1: LoopWork::pv1.get(w),
+            acc_ms: LoopWork::acc_ms.get(w),
             d1: match fam {
-                Family::Incomplete => f64::from_bits(get64(w, 11)),
+                Family::Incomplete => LoopWork::d1.get(w),
                 Family::Complete => 0.0,
             },
         }
@@ -145,18 +144,15 @@ impl LoopState {
     /// on their grids and within the int16 range (the algorithm guarantees it).
     pub(crate) fn store(&self, fam: Family, w: &mut [u16]) {
         let fixed = (self.mv * (2.0f64).powi(MV_FRAC)) as i64;
-        put64(
-            w,
-            0,
-            (fixed << FLAG_BITS) as u64 | self.flags as u64 & FLAG_MASK,
-        );
-        put32(w, 4, (self.pvf1 * (2.0f64).powi(PVF_FRAC)) as i32 as u32);
-        put32(w, 6, (self.pvf2 * (2.0f64).powi(PVF_FRAC)) as i32 as u32);
-        w[8] = self.sv1 as u16;
-        w[9] = self.pv1 as u16;
-        w[10] = self.acc_ms;
+        let head = (fixed << FLAG_BITS) as u64 | self.flags as u64 & FLAG_MASK;
+        LoopWork::head.set(w, head);
+        LoopWork::pvf1.set(w, (self.pvf1 * (2.0f64).powi(PVF_FRAC)) as i32);
+        LoopWork::pvf2.set(w, (self.pvf2 * (2.0f64).powi(PVF_FRAC)) as i32);
+        LoopWork::sv1.set(w, self.sv1);
+        LoopWork::pv1.set(w, self.pv1);
+        LoopWork::acc_ms.set(w, self.acc_ms);
         if fam == Family::Incomplete {
-            put64(w, 11, self.d1.to_bits());
+            LoopWork::d1.set(w, self.d1);
         }
     }
 }
