@@ -24,7 +24,7 @@ pub mod compile {
         devices: &DeviceConfig,
         common_from: Option<u32>,
     ) -> Result<Program, Diagnostics> {
-        softplc_lang::compile::compile(src, devices, softplc_melsec::isa(), common_from)
+        softplc_lang::compile::compile(src, devices, softplc_melsec::dialect(), common_from)
     }
 }
 
@@ -45,7 +45,7 @@ pub fn load_file_with(
     devices: &DeviceConfig,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
-    softplc_lang::load_file(path, devices, softplc_melsec::isa(), common_from)
+    softplc_lang::load_file(path, devices, softplc_melsec::dialect(), common_from)
 }
 
 /// Loads program text already in memory; the format follows the file name.
@@ -54,7 +54,7 @@ pub fn load_bytes(
     bytes: &[u8],
     devices: &DeviceConfig,
 ) -> Result<Program, Diagnostics> {
-    softplc_lang::load_bytes(name, bytes, devices, softplc_melsec::isa(), None)
+    softplc_lang::load_bytes(name, bytes, devices, softplc_melsec::dialect(), None)
 }
 
 /// Compiles `.il` text (for tests and tools).

@@ -1,6 +1,7 @@
 //! [`Args`]: operand access for a family instruction while it compiles.
 
 use super::compile::Compiler;
+use super::dialect::Flag;
 use super::source::SourceInstr;
 use softplc_ir::device::{DeviceMap, Operand};
 use softplc_ir::instr::{LocalSlot, LocalState};
@@ -129,6 +130,13 @@ impl<'c, 'a> Args<'c, 'a> {
     /// words (`ExecCtx::shared`).
     pub fn need_shared(&mut self, words: u32) {
         self.c.shared_words = self.c.shared_words.max(words);
+    }
+
+    /// The flat bit index of system flag `f` in this dialect, `None` when the
+    /// dialect or the configured points lack it.
+    pub fn flag(&self, f: Flag) -> Option<u32> {
+        let (kind, n) = self.c.dialect.flag(f)?;
+        self.c.map.index(kind, n)
     }
 
     /// Allocates this instruction's typed state (see [`LocalState`]).

@@ -5,7 +5,8 @@
 
 use std::collections::HashMap;
 
-use super::isa::{self, Found, Isa, Kind, Use};
+use super::dialect::Dialect;
+use super::isa::{self, Found, Kind, Use};
 use super::source::{Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, Token};
 use softplc_ir::device::{DeviceConfig, DeviceMap};
 use softplc_ir::ops::*;
@@ -17,18 +18,18 @@ pub use softplc_ir::ops::{BitBlock, Block, MAX_NESTING};
 pub const MAX_MPS: u32 = 16;
 pub const MAX_BLOCKS: u32 = 16;
 
-/// Compiles a parsed file for a CPU with the given device points, with the
-/// instructions of `isa`, and the "common pointer" parameter: pointers from
+/// Compiles a parsed file for a CPU with the given device points, in
+/// `dialect`, with the "common pointer" parameter: pointers from
 /// `common_from` up to P4095 are common (004 §10.9.2); a CALL of one this file
 /// does not define is linked to the program that does when the CPU is built.
 pub fn compile(
     src: &Source,
     devices: &DeviceConfig,
-    isa: &Isa,
+    dialect: &Dialect,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
     let map = DeviceMap::new(devices);
-    let mut c = Compiler::new(&src.file, &map, isa);
+    let mut c = Compiler::new(&src.file, &map, dialect);
     c.common_from = common_from.unwrap_or(u32::MAX);
     for item in &src.items {
         match item {
@@ -44,8 +45,8 @@ pub fn compile(
 pub struct Compiler<'a> {
     pub file: &'a str,
     pub map: &'a DeviceMap,
-    /// The instruction set being compiled against.
-    pub isa: &'a Isa,
+    /// The dialect being compiled (instruction set, devices, flags).
+    pub dialect: &'a Dialect,
     /// CPU-wide state words the instructions need (see `Program::shared_words`).
     pub shared_words: u32,
     pub ops: Vec<Op>,
@@ -83,11 +84,11 @@ pub struct Compiler<'a> {
 }
 
 impl<'a> Compiler<'a> {
-    pub fn new(file: &'a str, map: &'a DeviceMap, isa: &'a Isa) -> Self {
+    pub fn new(file: &'a str, map: &'a DeviceMap, dialect: &'a Dialect) -> Self {
         Compiler {
             file,
             map,
-            isa,
+            dialect,
             shared_words: 0,
             ops: Vec::new(),
             op_step: Vec::new(),
@@ -206,7 +207,7 @@ impl<'a> Compiler<'a> {
         self.cur_step = i.step.unwrap_or(self.step);
         self.cur_line = i.mnemonic.line;
         let errors = self.diags.len();
-        let (steps, class) = match self.isa.lookup(&m) {
+        let (steps, class) = match self.dialect.isa.lookup(&m) {
             Found::Def(def, pulse) => {
                 self.compile_def(&Use {
                     def,

@@ -1,12 +1,13 @@
 //! softplc-lang: the language front end. File formats ([`il`], [`csv`]) →
 //! [`Source`] (tokens with file:line:column) → the compiler ([`compile`]:
-//! instruction lookup in a dialect's [`isa::Isa`], operand resolution, rung
+//! instruction lookup in a [`dialect::Dialect`]'s instruction set, operand resolution, rung
 //! checks, every diagnostic of a file) → a [`Program`] of pre-resolved ops.
-//! It knows no instruction set: a dialect crate passes its `Isa`.
+//! It knows no instruction set: a dialect crate passes its `Dialect`.
 
 mod args;
 pub mod compile;
 pub mod csv;
+pub mod dialect;
 pub mod il;
 pub mod isa;
 pub mod resolve;
@@ -19,17 +20,17 @@ pub use compile::compile;
 pub use softplc_ir::ops::Program;
 pub use source::{is_label, Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, Token};
 
-use isa::Isa;
+use dialect::Dialect;
 use softplc_ir::device::DeviceConfig;
 
 /// Loads a program file: `.csv` is a GX Works2 export, anything else an `.il`
-/// list, compiled against `isa` with the "common pointer" parameter of a
+/// list, compiled for `dialect` with the "common pointer" parameter of a
 /// project (see [`compile::compile`]). Every diagnostic of the file is returned
 /// on failure.
 pub fn load_file(
     path: &Path,
     devices: &DeviceConfig,
-    isa: &Isa,
+    dialect: &Dialect,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
     let name = path.display().to_string();
@@ -41,7 +42,7 @@ pub fn load_file(
             message: format!("cannot read file: {e}"),
         }])
     })?;
-    load_bytes(&name, &bytes, devices, isa, common_from)
+    load_bytes(&name, &bytes, devices, dialect, common_from)
 }
 
 /// Loads program text already in memory; the format follows the file name.
@@ -49,7 +50,7 @@ pub fn load_bytes(
     name: &str,
     bytes: &[u8],
     devices: &DeviceConfig,
-    isa: &Isa,
+    dialect: &Dialect,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
     let is_csv = Path::new(name)
@@ -79,5 +80,5 @@ pub fn load_bytes(
         }
     };
     let src = src.map_err(Diagnostics)?;
-    compile::compile(&src, devices, isa, common_from)
+    compile::compile(&src, devices, dialect, common_from)
 }

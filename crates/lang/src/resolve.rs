@@ -4,14 +4,14 @@
 
 use super::compile::Compiler;
 use super::source::Token;
-use softplc_ir::device::{parse_operand, Constant, DeviceKind, DeviceMap, DeviceName, Operand};
+use softplc_ir::device::{parse_operand_in, Constant, DeviceKind, DeviceMap, DeviceName, Operand};
 use softplc_ir::ops::*;
 
 impl Compiler<'_> {
     // --- operands ---
 
     pub fn parse(&mut self, tok: &Token) -> Option<Operand> {
-        match parse_operand(&tok.text) {
+        match parse_operand_in(self.dialect.devices, &tok.text) {
             Ok(o) => Some(o),
             Err(e) => {
                 let t = Token {
@@ -171,7 +171,7 @@ impl Compiler<'_> {
     }
 
     pub fn bit_dest(&mut self, tok: &Token) -> Option<BitArg> {
-        if let Ok(Operand::Device { dev, .. }) = parse_operand(&tok.text) {
+        if let Ok(Operand::Device { dev, .. }) = parse_operand_in(self.dialect.devices, &tok.text) {
             if matches!(
                 dev.kind,
                 DeviceKind::TS

@@ -9,7 +9,7 @@
 //! A-series compare-to-three-bits and zone compare). The QnH instruction set has
 //! no equivalent; programs use the comparison contacts instead.
 
-use super::data::{elem, read_i16, set_flag, sm_index, Bits};
+use super::data::{elem, read_i16, set_flag, Bits};
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::{Constant, Operand};
 use softplc_ir::fault::{ErrorCode, Fault};
@@ -97,7 +97,7 @@ fn bkcmp(a: &mut Args<'_, '_>, wide: bool, op: CmpOp) -> Option<Box<dyn Instr>> 
         n: n?,
         op,
         wide,
-        sm704: sm_index(a, 704),
+        sm704: a.flag(softplc_lang::dialect::Flag::AllTrue),
     }))
 }
 

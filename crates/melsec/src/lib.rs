@@ -31,8 +31,10 @@ pub mod table;
 pub mod timing;
 pub mod transfer;
 
+use softplc_ir::device::{DeviceKind, MELSEC_Q};
 pub use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 pub use softplc_lang::compile::Args;
+use softplc_lang::dialect::{Dialect, Flag, WordOrder};
 use softplc_lang::isa::{Def, Isa};
 
 pub use softplc_lang::isa::CompileFn;
@@ -67,4 +69,23 @@ pub static DEFS: &[&[Def]] = &[
 pub fn isa() -> &'static Isa {
     static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| Isa::new(DEFS));
     &ISA
+}
+
+/// The MELSEC-Q dialect: its instruction set, devices (hex X/Y/B/W), low word
+/// first, and the SM70x flags of the instructions.
+pub fn dialect() -> &'static Dialect {
+    static DIALECT: std::sync::LazyLock<Dialect> = std::sync::LazyLock::new(|| Dialect {
+        name: "MELSEC-Q",
+        isa: isa(),
+        devices: &MELSEC_Q,
+        word_order: WordOrder::LowFirst,
+        flags: &[
+            (Flag::Carry, DeviceKind::SM, 700),
+            (Flag::NoNul, DeviceKind::SM, 701),
+            (Flag::BinarySearch, DeviceKind::SM, 702),
+            (Flag::SortDescending, DeviceKind::SM, 703),
+            (Flag::AllTrue, DeviceKind::SM, 704),
+        ],
+    });
+    &DIALECT
 }

@@ -11,10 +11,11 @@
 //! families share ([`WordBlock`], [`count`], [`carry_flag`]).
 
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::device::{DeviceKind, DeviceMemory, Operand};
+use softplc_ir::device::{DeviceMemory, Operand};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
+use softplc_lang::dialect::Flag;
 use softplc_lang::isa::{Def, Doc};
 
 /// This family's instructions.
@@ -53,7 +54,7 @@ pub(crate) fn count(mem: &DeviceMemory, n: &WordArg) -> Result<Option<u32>, Faul
 /// Flat bit index of the carry flag SM700, `None` when the configuration has
 /// fewer SM points (the flag is then not written).
 pub(crate) fn carry_flag(a: &Args<'_, '_>) -> Option<u32> {
-    a.map().index(DeviceKind::SM, 700)
+    a.flag(Flag::Carry)
 }
 
 #[inline]

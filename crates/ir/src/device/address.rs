@@ -4,7 +4,8 @@
 //! This is pure syntax: whether `D99999` exists or `K70000` fits is decided by the
 //! compiler, which knows the device points and the operand width.
 
-use super::kind::{DeviceKind, Numbering};
+use super::kind::DeviceKind;
+use super::table::{DeviceTable, MELSEC_Q};
 
 /// A named device as written: `X1F`, `D100`, `T5`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,47 +76,15 @@ fn err<T>(offset: usize, message: impl Into<String>) -> Result<T, OperandError> 
     })
 }
 
-/// Device prefixes, longest first so that `STN` wins over `ST` and `S`.
-const PREFIXES: [(&str, DeviceKind, bool); 32] = {
-    use DeviceKind::*;
-    [
-        ("STN", STN, false),
-        ("STS", STS, false),
-        ("STC", STC, false),
-        ("ST", STS, true),
-        ("SM", SM, false),
-        ("SD", SD, false),
-        ("SB", SB, false),
-        ("SW", SW, false),
-        ("TN", TN, false),
-        ("TS", TS, false),
-        ("TC", TC, false),
-        ("CN", CN, false),
-        ("CS", CS, false),
-        ("CC", CC, false),
-        ("ZR", ZR, false),
-        ("FX", FX, false),
-        ("FY", FY, false),
-        ("FD", FD, false),
-        ("X", X, false),
-        ("Y", Y, false),
-        ("M", M, false),
-        ("L", L, false),
-        ("F", F, false),
-        ("V", V, false),
-        ("B", B, false),
-        ("S", S, false),
-        ("T", TS, true),
-        ("C", CS, true),
-        ("D", D, false),
-        ("W", W, false),
-        ("R", R, false),
-        ("Z", Z, false),
-    ]
-};
-
-/// Parses one operand token. Letters are case-insensitive.
+/// Parses one operand token with the MELSEC-Q devices. Letters are
+/// case-insensitive.
 pub fn parse_operand(token: &str) -> Result<Operand, OperandError> {
+    parse_operand_in(&MELSEC_Q, token)
+}
+
+/// Parses one operand token in MELSEC syntax (K/H/E constants, `K4M0`, `D0.F`,
+/// `D0Z1`) with the device names of `table`.
+pub fn parse_operand_in(table: &DeviceTable, token: &str) -> Result<Operand, OperandError> {
     if token.is_empty() {
         return err(0, "empty operand");
     }
@@ -131,7 +100,7 @@ pub fn parse_operand(token: &str) -> Result<Operand, OperandError> {
     }
     let b = up.as_bytes();
     match b[0] {
-        b'K' => parse_k(&up),
+        b'K' => parse_k(table, &up),
         b'H' => parse_hex_const(&up),
         b'E' => parse_real(&up).map(|v| Operand::Const(Constant::Real(v))),
         b'P' => parse_decimal(&up, 1).map(Operand::Pointer),
@@ -141,7 +110,7 @@ pub fn parse_operand(token: &str) -> Result<Operand, OperandError> {
             0,
             format!("`{token}`: link direct (J\\) and module (U\\G) devices are not supported"),
         ),
-        _ => parse_device(&up, 0),
+        _ => parse_device(table, &up, 0),
     }
 }
 
@@ -158,7 +127,7 @@ fn parse_decimal(s: &str, from: usize) -> Result<u32, OperandError> {
         .or_else(|_| err(from, format!("`{s}`: number too large")))
 }
 
-fn parse_k(s: &str) -> Result<Operand, OperandError> {
+fn parse_k(table: &DeviceTable, s: &str) -> Result<Operand, OperandError> {
     let rest = &s[1..];
     let b = rest.as_bytes();
     // `K4M0`: one digit, then a device letter.
@@ -167,7 +136,7 @@ fn parse_k(s: &str) -> Result<Operand, OperandError> {
         if !(1..=8).contains(&n) {
             return err(1, format!("`{s}`: digit specification must be K1 to K8"));
         }
-        let op = parse_device(s, 2)?;
+        let op = parse_device(table, s, 2)?;
         if let Operand::Device {
             dev, bit, digits, ..
         } = &op
@@ -264,7 +233,7 @@ fn parse_real(s: &str) -> Result<f64, OperandError> {
 }
 
 /// Parses a device starting at byte `from` of the upper-case token `s`.
-fn parse_device(s: &str, from: usize) -> Result<Operand, OperandError> {
+fn parse_device(table: &DeviceTable, s: &str, from: usize) -> Result<Operand, OperandError> {
     let t = &s[from..];
     if t.starts_with("DX") || t.starts_with("DY") {
         return err(
@@ -272,26 +241,17 @@ fn parse_device(s: &str, from: usize) -> Result<Operand, OperandError> {
             format!("`{s}`: direct access (DX/DY) is not supported; use X/Y"),
         );
     }
-    let Some(&(prefix, kind, generic)) = PREFIXES.iter().find(|(p, k, _)| {
-        t.starts_with(p) && {
-            let next = t.as_bytes().get(p.len()).copied();
-            match k.numbering() {
-                Numbering::Hex => next.is_some_and(|c| c.is_ascii_hexdigit()),
-                Numbering::Dec => next.is_some_and(|c| c.is_ascii_digit()),
-            }
-        }
-    }) else {
+    let Some(d) = table.find(t) else {
         return err(from, format!("`{s}` is not a device or constant"));
     };
-    let num_start = from + prefix.len();
+    let (kind, generic) = (d.kind, d.generic);
+    let num_start = from + d.name.len();
     let b = s.as_bytes();
     let mut i = num_start;
-    let hex = kind.numbering() == Numbering::Hex;
-    while i < b.len() && (b[i].is_ascii_digit() || hex && (b'A'..=b'F').contains(&b[i])) {
+    while i < b.len() && d.numbering.is_digit(b[i]) {
         i += 1;
     }
-    let radix = if hex { 16 } else { 10 };
-    let number = match u32::from_str_radix(&s[num_start..i], radix) {
+    let number = match u32::from_str_radix(&s[num_start..i], d.numbering.radix()) {
         Ok(n) => n,
         Err(_) => return err(num_start, format!("`{s}`: device number too large")),
     };

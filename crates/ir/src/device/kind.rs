@@ -43,11 +43,28 @@ pub enum DeviceKind {
     ZR,
 }
 
-/// Decimal or hexadecimal device numbers.
+/// How a dialect writes a device's numbers: decimal, hexadecimal (MELSEC
+/// X/Y/B/W) or octal (APLC X/Y).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Numbering {
     Dec,
     Hex,
+    Oct,
+}
+
+impl Numbering {
+    pub const fn radix(self) -> u32 {
+        match self {
+            Numbering::Dec => 10,
+            Numbering::Hex => 16,
+            Numbering::Oct => 8,
+        }
+    }
+
+    /// True when `c` (upper case) is a digit of this numbering.
+    pub fn is_digit(self, c: u8) -> bool {
+        (c as char).is_digit(self.radix())
+    }
 }
 
 impl DeviceKind {
@@ -65,7 +82,13 @@ impl DeviceKind {
         (self as u8) <= (DeviceKind::FY as u8)
     }
 
+    /// The MELSEC-Q numbering of this kind (the numbering a dialect writes is
+    /// in its [`super::DeviceTable`]).
     pub fn numbering(self) -> Numbering {
+        self.melsec_numbering()
+    }
+
+    pub(crate) const fn melsec_numbering(self) -> Numbering {
         use DeviceKind::*;
         match self {
             X | Y | B | SB | W | SW | FX | FY => Numbering::Hex,
@@ -114,6 +137,7 @@ impl DeviceKind {
         match self.numbering() {
             Numbering::Hex => format!("{}{:X}", self.name(), n),
             Numbering::Dec => format!("{}{}", self.name(), n),
+            Numbering::Oct => format!("{}{:o}", self.name(), n),
         }
     }
 }

@@ -7,9 +7,11 @@
 
 pub mod address;
 mod kind;
+mod table;
 
-pub use address::{parse_operand, Constant, DeviceName, Operand, OperandError};
+pub use address::{parse_operand, parse_operand_in, Constant, DeviceName, Operand, OperandError};
 pub use kind::{DeviceKind, Numbering};
+pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 
 /// Number of points per device kind: the "device setting" of the PLC parameters.
 ///

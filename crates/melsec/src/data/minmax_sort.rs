@@ -1,7 +1,7 @@
 //! Maximum, minimum and sorting of tables (PM §7.5.10-12): MAX, MIN, DMAX, DMIN,
 //! SORT, DSORT.
 
-use super::{elem, fixed_block, get_flag, read_i16, set_elem, sm_index, width};
+use super::{elem, fixed_block, get_flag, read_i16, set_elem, width};
 use crate::{Args, ExecCtx, Instr};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::ops::Block;
@@ -119,7 +119,7 @@ pub(super) fn sort(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
         work: work?,
         state,
         wide,
-        sm703: sm_index(a, 703),
+        sm703: a.flag(softplc_lang::dialect::Flag::SortDescending),
     }))
 }
 

@@ -18,7 +18,7 @@
 //! share (`fixed_block`, `Bits`, `sm_index`, `elem`).
 
 use super::Args;
-use softplc_ir::device::{DeviceKind, DeviceMemory, Operand};
+use softplc_ir::device::{DeviceMemory, Operand};
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::{BitBlock, Block};
 use softplc_ir::ops::{Num, WordArg};
@@ -94,11 +94,6 @@ pub(super) fn fixed_block(a: &mut Args<'_, '_>, k: usize, n: u32) -> Option<Bloc
         }
     }
     Some(b)
-}
-
-/// Flat bit index of special relay SM`n`, if the configuration has it.
-pub(super) fn sm_index(a: &Args<'_, '_>, n: u32) -> Option<u32> {
-    a.map().index(DeviceKind::SM, n)
 }
 
 #[inline]

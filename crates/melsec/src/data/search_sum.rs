@@ -1,6 +1,6 @@
 //! Searching and bit counting (PM §7.5.1-2): SER, DSER, SUM, DSUM.
 
-use super::{elem, fixed_block, get_flag, num, read_i16, sm_index, width};
+use super::{elem, fixed_block, get_flag, num, read_i16, width};
 use crate::{Args, ExecCtx, Instr};
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
@@ -38,7 +38,7 @@ pub(super) fn ser(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
         d: d?,
         n: n?,
         wide,
-        sm702: sm_index(a, 702),
+        sm702: a.flag(softplc_lang::dialect::Flag::BinarySearch),
     }))
 }
 

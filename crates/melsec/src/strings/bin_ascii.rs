@@ -40,7 +40,7 @@ struct ToAsciiInstr {
     kind: ToAscii,
     s: WordArg,
     d: Block,
-    sm701: usize,
+    sm701: Option<u32>,
 }
 
 pub(super) fn compile_to_ascii(a: &mut Args<'_, '_>, kind: ToAscii) -> Option<Box<dyn Instr>> {
@@ -113,7 +113,7 @@ impl Instr for ToAsciiInstr {
                 8
             }
         };
-        let nul = !cx.mem.bits[self.sm701];
+        let nul = !self.sm701.is_some_and(|i| cx.mem.bits[i as usize]);
         store_bytes(cx.mem, &self.d, &buf[..n], nul)
     }
 }

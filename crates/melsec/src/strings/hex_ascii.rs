@@ -17,7 +17,7 @@ struct Asc {
     s: Block,
     d: Block,
     n: WordArg,
-    sm701: usize,
+    sm701: Option<u32>,
 }
 
 pub(super) fn compile_asc(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
@@ -45,7 +45,7 @@ impl Instr for Asc {
             return Ok(());
         }
         let n = n as usize;
-        let nul = !cx.mem.bits[self.sm701];
+        let nul = !self.sm701.is_some_and(|i| cx.mem.bits[i as usize]);
         let nw = n.div_ceil(4);
         let si = cx.mem.block_start(&self.s, nw as u32)?;
         let at = dest(cx.mem, &self.d, n, nul)?;

@@ -23,7 +23,7 @@
 //! destination may overlap; nothing in `exec` allocates.
 
 use super::Args;
-use softplc_ir::device::{Constant, DeviceKind, DeviceMemory, Operand};
+use softplc_ir::device::{Constant, DeviceMemory, Operand};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::ops::Block;
 use softplc_ir::ops::WordArg;
@@ -200,8 +200,8 @@ fn str_src(a: &mut Args<'_, '_>, k: usize) -> Option<StrSrc> {
 }
 
 /// The flat index of SM701 (number of output characters selection).
-fn sm701(a: &Args<'_, '_>) -> usize {
-    (a.map().base(DeviceKind::SM) + 701) as usize
+fn sm701(a: &Args<'_, '_>) -> Option<u32> {
+    a.flag(softplc_lang::dialect::Flag::NoNul)
 }
 
 // ------------------------------------------------------------------ memory
