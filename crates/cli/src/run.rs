@@ -11,7 +11,7 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::persist::Battery;
+use softplc_core::persist::{Battery, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
@@ -248,7 +248,7 @@ pub fn run(args: RunArgs) -> ExitCode {
                 Some(b)
             }
             Err(e) => {
-                eprintln!("softplc: state directory {}: {e}", dir.display());
+                eprintln!("softplc: {}", state_error(&dir, &e));
                 return ExitCode::from(2);
             }
         },
@@ -350,6 +350,14 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// A state-directory error, naming the directory once.
+pub(crate) fn state_error(dir: &Path, e: &PersistError) -> String {
+    match e {
+        PersistError::Locked { .. } => e.to_string(),
+        _ => format!("state directory {}: {e}", dir.display()),
+    }
 }
 
 fn to_json(v: &Value) -> Json {

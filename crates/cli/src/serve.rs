@@ -15,7 +15,7 @@ use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
-use crate::run::{load, parse_datetime, parse_duration, Loaded};
+use crate::run::{load, parse_datetime, parse_duration, state_error, Loaded};
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
@@ -115,7 +115,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 }
                 Some(b)
             }
-            Err(e) => return fail(format!("state directory {}: {e}", dir.display())),
+            Err(e) => return fail(state_error(&dir, &e)),
         },
         None => None,
     };

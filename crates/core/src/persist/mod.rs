@@ -17,6 +17,7 @@
 //! | `journal.log` | write-ahead log: one frame per commit after *G*, append-only |
 //! | `image.bin.tmp` | a checkpoint in progress; deleted on open |
 //! | `*.corrupt` | a damaged image or orphaned journal moved aside on open |
+//! | `lock` | the owner's `flock` and PID (see *Single writer*) |
 //!
 //! **Base image** (`image.bin`): magic `SPLCIMG\x01`, the generation *G* of the
 //! last commit it contains, the region table (name, length, committed flag), the
@@ -93,12 +94,13 @@
 //!
 //! # Single writer
 //!
-//! One process owns a state directory at a time. There is no lock (a pid/lock
-//! file would be left behind by every kill -9 and need stale-lock heuristics).
-//! Two processes committing to the same directory would both append generation
-//! *n + 1*; recovery would stop at the second one as out of sequence and lose
-//! everything after it — the caller (the CLI) must not start two PLCs on one
-//! state directory.
+//! One process owns a state directory at a time: [`Store::open`] takes an OS
+//! advisory lock (`flock`) on the file `lock` and holds it while the store
+//! lives ([`lock`] module). The kernel drops it when the process dies, kill -9
+//! included, so it never goes stale; a second opener gets
+//! [`PersistError::Locked`] naming the directory and the owner's PID. (Two
+//! writers would both append generation *n + 1* and recovery would stop at the
+//! second as out of sequence.)
 //!
 //! # Errors
 //!
@@ -109,6 +111,7 @@
 mod battery;
 pub use battery::Battery;
 mod format;
+pub mod lock;
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
@@ -191,6 +194,14 @@ pub enum PersistError {
     /// warnings; the variant is what those warnings are made of.
     #[error("{}: corrupt: {what}", path.display())]
     Corrupt { path: PathBuf, what: String },
+    /// Another process owns the state directory (holds its lock).
+    #[error(
+        "state directory {} is in use by another softplc process{}; stop it first or use \
+         another state directory",
+        dir.display(),
+        pid.map(|p| format!(" (PID {p})")).unwrap_or_default()
+    )]
+    Locked { dir: PathBuf, pid: Option<u32> },
     /// The layout passed to `open`, or the regions passed to `commit`, are invalid.
     #[error("persist layout: {0}")]
     Layout(String),
@@ -237,6 +248,8 @@ pub struct Store {
     warnings: Vec<String>,
     frame: Vec<u8>,
     runs: Vec<(usize, usize, usize)>,
+    /// Held while the store lives: one owner per directory.
+    _lock: lock::DirLock,
 }
 
 impl std::fmt::Debug for Store {
@@ -293,6 +306,7 @@ impl Store {
     ) -> Result<(Store, Vec<Option<Vec<u8>>>), PersistError> {
         check_layout(layout)?;
         fs::create_dir_all(dir).map_err(io_err("create directory", dir))?;
+        let dir_lock = lock::lock(dir)?;
         let image_path = dir.join(IMAGE_FILE);
         let tmp_path = dir.join(IMAGE_TMP);
         let journal_path = dir.join(JOURNAL_FILE);
@@ -385,6 +399,7 @@ impl Store {
             warnings,
             frame: Vec::new(),
             runs: Vec::new(),
+            _lock: dir_lock,
         };
         if !same_table {
             // New store, changed layout, or a damaged image: the journal must
