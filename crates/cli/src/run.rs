@@ -11,7 +11,7 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::persist::{Battery, PersistError};
+use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
@@ -109,6 +109,8 @@ pub(crate) struct Loaded {
     pub state: Option<PathBuf>,
     /// A project's `[modbus]` table.
     pub modbus: Option<toml::Table>,
+    /// A project's `[state] on_damage`.
+    pub on_damage: OnDamage,
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -127,6 +129,7 @@ pub(crate) fn load(
             cpu,
             state: Some(p.state_dir),
             modbus: p.modbus,
+            on_damage: p.state_on_damage,
         });
     }
     let program =
@@ -139,6 +142,7 @@ pub(crate) fn load(
         cpu: Cpu::new(program, cfg, clock),
         state: None,
         modbus: None,
+        on_damage: OnDamage::default(),
     })
 }
 
@@ -224,11 +228,15 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
 
 pub fn run(args: RunArgs) -> ExitCode {
     let clock = VirtualClock::new();
-    let Loaded { mut cpu, state, .. } =
-        match load(&args.program, Box::new(clock.clone()), args.clock) {
-            Ok(l) => l,
-            Err(code) => return code,
-        };
+    let Loaded {
+        mut cpu,
+        state,
+        on_damage,
+        ..
+    } = match load(&args.program, Box::new(clock.clone()), args.clock) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
     let (writes, shows, trace) =
         match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
             Ok(x) => x,
@@ -240,11 +248,16 @@ pub fn run(args: RunArgs) -> ExitCode {
     cpu.set_trace(trace);
     // Power-on: latched devices, file registers and the error history come back.
     let mut battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach(&dir, &mut cpu, false) {
+        Some(dir) => match Battery::attach_with(
+            &dir,
+            &mut cpu,
+            Attach {
+                restore_clock: false,
+                on_damage,
+            },
+        ) {
             Ok(b) => {
-                for w in b.warnings() {
-                    eprintln!("softplc: {}: {w}", dir.display());
-                }
+                report_attach(&dir, &b);
                 Some(b)
             }
             Err(e) => {
@@ -350,6 +363,20 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     }
     ExitCode::SUCCESS
+}
+
+/// Prints the warnings of a power-on from a state directory.
+pub(crate) fn report_attach(dir: &Path, b: &Battery) {
+    for w in b.warnings() {
+        eprintln!("softplc: {}: {w}", dir.display());
+    }
+    if !b.lost().is_empty() {
+        eprintln!(
+            "softplc: {}: retained data lost ({}); BATTERY ERROR 1600 recorded in SD0",
+            dir.display(),
+            b.lost().join("; ")
+        );
+    }
 }
 
 /// A state-directory error, naming the directory once.

@@ -10,12 +10,12 @@ use std::time::Duration;
 use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
-use softplc_core::persist::Battery;
+use softplc_core::persist::{Attach, Battery};
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
-use crate::run::{load, parse_datetime, parse_duration, state_error, Loaded};
+use crate::run::{load, parse_datetime, parse_duration, report_attach, state_error, Loaded};
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
@@ -95,6 +95,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         mut cpu,
         state,
         modbus,
+        on_damage,
     } = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
@@ -108,11 +109,16 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         .or(cpu.config().constant_scan)
         .unwrap_or(Duration::from_millis(10));
     let battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach(&dir, &mut cpu, restore_clock) {
+        Some(dir) => match Battery::attach_with(
+            &dir,
+            &mut cpu,
+            Attach {
+                restore_clock,
+                on_damage,
+            },
+        ) {
             Ok(b) => {
-                for w in b.warnings() {
-                    eprintln!("softplc: {}: {w}", dir.display());
-                }
+                report_attach(&dir, &b);
                 Some(b)
             }
             Err(e) => return fail(state_error(&dir, &e)),

@@ -30,7 +30,14 @@ fn second_owner_is_refused_and_lock_dies_with_the_owner() {
         assert!(err.read_line(&mut line).unwrap() > 0, "serve exited early");
     }
     let out = softplc()
-        .args(["run", prog.to_str().unwrap(), "--state", state_s, "--scans", "5"])
+        .args([
+            "run",
+            prog.to_str().unwrap(),
+            "--state",
+            state_s,
+            "--scans",
+            "5",
+        ])
         .output()
         .unwrap();
     let msg = String::from_utf8_lossy(&out.stderr);
@@ -51,7 +58,14 @@ fn second_owner_is_refused_and_lock_dies_with_the_owner() {
     server.kill().unwrap(); // SIGKILL: no cleanup runs
     server.wait().unwrap();
     let out = softplc()
-        .args(["run", prog.to_str().unwrap(), "--state", state_s, "--scans", "5"])
+        .args([
+            "run",
+            prog.to_str().unwrap(),
+            "--state",
+            state_s,
+            "--scans",
+            "5",
+        ])
         .args(["--json", "--show", "R0"])
         .output()
         .unwrap();

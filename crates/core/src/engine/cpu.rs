@@ -1057,6 +1057,17 @@ impl Cpu {
         self.write_initial_values();
     }
 
+    /// Reports battery-backed data lost at power-on: BATTERY ERROR (1600) in
+    /// SD0 and the error history; with `stop` the CPU holds it as a stop error
+    /// (RESET clears it).
+    pub fn report_battery_error(&mut self, stop: bool) {
+        self.rt.record(ErrorCode::BATTERY, None, None, None);
+        if stop {
+            self.stop_error = true;
+            self.set_stop();
+        }
+    }
+
     /// (region name, is bit array, flat start, points) of every retained span.
     fn retained_spans(&self) -> Vec<(String, bool, usize, usize)> {
         let mem = &self.rt.mem;

@@ -109,15 +109,17 @@
 //! (with the path) and an invalid layout are returned as [`PersistError`].
 
 mod battery;
-pub use battery::Battery;
+pub use battery::{Attach, Battery, OnDamage};
 mod format;
 pub mod lock;
+mod recover;
+mod remap;
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use format::{begin_frame, decode_frame, decode_image, finish_frame, image_header, push_record};
+use format::{begin_frame, finish_frame, image_header, push_record};
 
 /// Granularity of dirty detection: a changed byte writes its whole chunk.
 ///
@@ -250,6 +252,8 @@ pub struct Store {
     runs: Vec<(usize, usize, usize)>,
     /// Held while the store lives: one owner per directory.
     _lock: lock::DirLock,
+    /// Committed data found damaged at open (see [`Store::lost`]).
+    lost: Vec<String>,
 }
 
 impl std::fmt::Debug for Store {
@@ -272,16 +276,6 @@ impl std::fmt::Debug for Store {
             .field("threshold", &self.threshold)
             .finish_non_exhaustive()
     }
-}
-
-/// The state recovered from the image and the journal, in the image's region table.
-struct Recovered {
-    generation: u64,
-    regions: Vec<format::ImageRegion>,
-    /// The image exists, is valid, and the journal was replayed against it.
-    have_image: bool,
-    /// Frames applied from the journal.
-    replayed: usize,
 }
 
 impl Store {
@@ -319,55 +313,25 @@ impl Store {
             Err(e) => return Err(io_err("remove", &tmp_path)(e)),
         }
 
-        let rec = recover(&image_path, &journal_path, &mut warnings)?;
+        let rec = recover::recover(&image_path, &journal_path, &mut warnings)?;
 
-        // Map the recovered regions onto the requested layout, by name.
-        let mut recovered: Vec<Option<format::ImageRegion>> =
-            rec.regions.into_iter().map(Some).collect();
+        // Map the recovered regions onto the requested layout, by name and
+        // device numbers (remap.rs).
         let same_table = rec.have_image
-            && recovered.len() == layout.len()
-            && recovered.iter().zip(layout).all(|(r, l)| {
-                r.as_ref()
-                    .is_some_and(|r| r.name == l.name && r.data.len() == l.len)
-            });
-        let mut shadow = Vec::with_capacity(layout.len());
-        let mut committed = Vec::with_capacity(layout.len());
-        let mut out = Vec::with_capacity(layout.len());
-        for l in layout {
-            let found = recovered
-                .iter_mut()
-                .find(|r| r.as_ref().is_some_and(|r| r.name == l.name))
-                .and_then(Option::take);
-            match found {
-                Some(r) if r.data.len() == l.len => {
-                    out.push(r.committed.then(|| r.data.clone()));
-                    committed.push(r.committed);
-                    shadow.push(r.data);
-                }
-                other => {
-                    if let Some(r) = other.filter(|r| r.committed) {
-                        warnings.push(format!(
-                            "region {:?}: size changed from {} to {} bytes; its saved contents \
-                             were discarded and it starts zeroed",
-                            l.name,
-                            r.data.len(),
-                            l.len
-                        ));
-                    }
-                    out.push(None);
-                    committed.push(false);
-                    shadow.push(vec![0; l.len]);
-                }
-            }
-        }
-        for r in recovered.into_iter().flatten().filter(|r| r.committed) {
-            warnings.push(format!(
-                "region {:?} ({} bytes) is no longer in the layout; its saved contents were \
-                 discarded",
-                r.name,
-                r.data.len()
-            ));
-        }
+            && !rec.image_damaged
+            && rec.regions.len() == layout.len()
+            && rec
+                .regions
+                .iter()
+                .zip(layout)
+                .all(|(r, l)| r.name == l.name && r.data.len() == l.len);
+        let remap::Mapped {
+            out,
+            shadow,
+            committed,
+            ..
+        } = remap::map(layout, rec.regions, &mut warnings);
+        let lost = rec.lost;
 
         let journal = OpenOptions::new()
             .append(true)
@@ -400,6 +364,7 @@ impl Store {
             frame: Vec::new(),
             runs: Vec::new(),
             _lock: dir_lock,
+            lost,
         };
         if !same_table {
             // New store, changed layout, or a damaged image: the journal must
@@ -533,17 +498,12 @@ impl Store {
                 .iter()
                 .zip(&self.shadow)
                 .zip(&self.committed)
-                .map(|((n, d), &c)| (n.as_str(), d.len(), c)),
+                .map(|((n, d), &c)| (n.as_str(), d.len(), c, crc32fast::hash(d))),
         );
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(&header);
         w.write_all(&header).map_err(io_err("write", path))?;
         for data in &self.shadow {
-            crc.update(data);
             w.write_all(data).map_err(io_err("write", path))?;
         }
-        w.write_all(&crc.finalize().to_le_bytes())
-            .map_err(io_err("write", path))?;
         let file = w
             .into_inner()
             .map_err(|e| io_err("write", path)(e.into_error()))?;
@@ -566,6 +526,14 @@ impl Store {
     /// Warnings from open (discarded regions, torn journal tail, damaged files …).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// Committed data that open found damaged and could not recover (a region
+    /// whose checksum failed, an unreadable image, journal commits after a bad
+    /// frame), one description each; empty when everything committed came back.
+    /// A torn last journal frame (a kill inside `commit`) is not a loss.
+    pub fn lost(&self) -> &[String] {
+        &self.lost
     }
 
     /// Whether each commit is followed by `fdatasync` (power-loss safety at the cost
@@ -663,138 +631,6 @@ fn dirty_runs(
         runs.push((index, start, len));
     }
     chunks
-}
-
-/// Moves a damaged file aside as `<name>.corrupt` (replacing an older one).
-fn move_aside(path: &Path) -> Result<PathBuf, PersistError> {
-    let mut to = path.as_os_str().to_owned();
-    to.push(".corrupt");
-    let to = PathBuf::from(to);
-    fs::rename(path, &to).map_err(io_err("rename", path))?;
-    Ok(to)
-}
-
-fn warn(warnings: &mut Vec<String>, e: PersistError) {
-    warnings.push(e.to_string());
-}
-
-/// Loads the image, replays the journal, truncates a bad journal tail.
-fn recover(
-    image_path: &Path,
-    journal_path: &Path,
-    warnings: &mut Vec<String>,
-) -> Result<Recovered, PersistError> {
-    let image = match fs::read(image_path) {
-        Ok(bytes) => match decode_image(&bytes) {
-            Ok(image) => Some(image),
-            Err(what) => {
-                warn(
-                    warnings,
-                    PersistError::Corrupt {
-                        path: image_path.to_path_buf(),
-                        what: format!("{what}; starting from empty memory"),
-                    },
-                );
-                let to = move_aside(image_path)?;
-                warnings.push(format!("damaged image kept as {}", to.display()));
-                None
-            }
-        },
-        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-        Err(e) => return Err(io_err("read", image_path)(e)),
-    };
-    let journal = match fs::read(journal_path) {
-        Ok(bytes) => bytes,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => Vec::new(),
-        Err(e) => return Err(io_err("read", journal_path)(e)),
-    };
-    let Some(image) = image else {
-        if !journal.is_empty() {
-            let to = move_aside(journal_path)?;
-            warnings.push(format!(
-                "{}: journal without a valid image ({} bytes) cannot be replayed; kept as {}",
-                journal_path.display(),
-                journal.len(),
-                to.display()
-            ));
-        }
-        return Ok(Recovered {
-            generation: 0,
-            regions: Vec::new(),
-            have_image: false,
-            replayed: 0,
-        });
-    };
-
-    let base = image.generation;
-    let mut generation = base;
-    let mut regions = image.regions;
-    let mut replayed = 0;
-    let mut pos = 0;
-    let problem = loop {
-        let frame = match decode_frame(&journal, pos) {
-            Ok(None) => break None,
-            Ok(Some(frame)) => frame,
-            Err(what) => break Some(what),
-        };
-        if replayed == 0 && frame.generation <= base {
-            // Already folded into the image by a checkpoint that did not get to
-            // truncate the journal (possibly written for an older layout).
-        } else if frame.generation == generation + 1 {
-            if let Some(bad) = frame.records.iter().find(|r| {
-                r.region >= regions.len()
-                    || match r.offset.checked_add(r.data.len()) {
-                        Some(end) => end > regions[r.region].data.len(),
-                        None => true,
-                    }
-            }) {
-                break Some(format!(
-                    "generation {}: record for region #{} at {}+{} is outside the layout",
-                    frame.generation,
-                    bad.region,
-                    bad.offset,
-                    bad.data.len()
-                ));
-            }
-            for r in &frame.records {
-                regions[r.region].data[r.offset..r.offset + r.data.len()]
-                    .copy_from_slice(&journal[r.data.clone()]);
-            }
-            regions.iter_mut().for_each(|r| r.committed = true);
-            generation += 1;
-            replayed += 1;
-        } else {
-            break Some(format!(
-                "generation {} follows generation {generation}",
-                frame.generation
-            ));
-        }
-        pos = frame.end;
-    };
-    if let Some(what) = problem {
-        warn(
-            warnings,
-            PersistError::Corrupt {
-                path: journal_path.to_path_buf(),
-                what: format!(
-                    "{what}; discarded {} bytes from offset {pos} (state is generation {generation})",
-                    journal.len() - pos
-                ),
-            },
-        );
-        let file = OpenOptions::new()
-            .write(true)
-            .open(journal_path)
-            .map_err(io_err("open", journal_path))?;
-        file.set_len(pos as u64)
-            .map_err(io_err("truncate", journal_path))?;
-    }
-    Ok(Recovered {
-        generation,
-        regions,
-        have_image: true,
-        replayed,
-    })
 }
 
 #[cfg(unix)]
