@@ -43,6 +43,12 @@ pub struct ServeState {
     /// Protocol state shared by all connections of one protocol (e.g. Modbus
     /// diagnostic counters), set up by the server that needs it.
     pub ext: Vec<Box<dyn std::any::Any + Send>>,
+    /// Set by a request that may have changed device memory (a write, a
+    /// remote operation): this END is committed to the state directory before
+    /// any reply goes out (acknowledged writes are never lost).
+    pub wrote: bool,
+    /// Replies of this END, sent after its commit.
+    replies: Vec<Box<dyn FnOnce() + Send>>,
 }
 
 impl ServeState {
@@ -51,6 +57,8 @@ impl ServeState {
             cpu,
             stats: ScanStats::default(),
             ext: Vec::new(),
+            wrote: false,
+            replies: Vec::new(),
         }
     }
 
@@ -89,7 +97,10 @@ impl EngineHandle {
     {
         let (otx, orx) = tokio::sync::oneshot::channel();
         let job: Job = Box::new(move |s| {
-            let _ = otx.send(f(s));
+            let r = f(s);
+            s.replies.push(Box::new(move || {
+                let _ = otx.send(r);
+            }));
         });
         match self.tx.try_send(job) {
             Ok(()) => orx.await.map_err(|_| Busy),
@@ -107,7 +118,10 @@ impl EngineHandle {
     {
         let (otx, orx) = std::sync::mpsc::sync_channel(1);
         let job: Job = Box::new(move |s| {
-            let _ = otx.send(f(s));
+            let r = f(s);
+            s.replies.push(Box::new(move || {
+                let _ = otx.send(r);
+            }));
         });
         self.tx.send(job).map_err(|_| Busy)?;
         orx.recv().map_err(|_| Busy)
@@ -128,6 +142,9 @@ pub struct EngineConfig {
     pub log_every: Option<Duration>,
     /// Try to run the engine thread with real-time priority (SCHED_FIFO).
     pub realtime: bool,
+    /// Replies to requests that wrote go out only after the END's commit (on
+    /// by default; off only to measure what it costs).
+    pub ack_after_commit: bool,
 }
 
 /// Starts the engine thread. It runs until `stop` is set, then commits the
@@ -170,9 +187,24 @@ fn run(
                 Err(_) => break,
             }
         }
-        if let Some(b) = &mut cfg.battery {
-            if let Err(e) = b.commit_due(&s.cpu) {
+        // Group commit: an END at which a request wrote is committed before any
+        // reply of this END goes out, so an acknowledged write survives kill -9.
+        let wrote = std::mem::take(&mut s.wrote) && cfg.ack_after_commit;
+        let committed = match &mut cfg.battery {
+            Some(b) if wrote => b.commit(&s.cpu).map(|_| ()),
+            Some(b) => b.commit_due(&s.cpu).map(|_| ()),
+            None => Ok(()),
+        };
+        match committed {
+            Ok(()) => s.replies.drain(..).for_each(|reply| reply()),
+            Err(e) => {
                 eprintln!("softplc: cannot save state: {e}");
+                // Not durable: no acknowledgement (the clients see "busy").
+                if wrote {
+                    s.replies.clear();
+                } else {
+                    s.replies.drain(..).for_each(|reply| reply());
+                }
             }
         }
         let busy = start.elapsed();
@@ -210,6 +242,7 @@ fn run(
             eprintln!("softplc: cannot save state: {e}");
         }
     }
+    s.replies.drain(..).for_each(|reply| reply());
     s
 }
 
