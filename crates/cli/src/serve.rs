@@ -130,9 +130,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if let Some(a) = &args.mc {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
-                let mc = Mc {
-                    password: args.password.clone(),
-                };
+                let mc = Mc::new(args.password.clone());
                 listeners.push(Listener::tcp(addr, mc, args.max_connections));
                 names.push("MC protocol".to_string());
             }
@@ -142,9 +140,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if let Some(a) = &args.mc_udp {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
-                let mc = Mc {
-                    password: args.password.clone(),
-                };
+                let mc = Mc::new(args.password.clone());
                 listeners.push(Listener::mc_udp(addr, mc));
                 names.push("MC protocol (UDP)".to_string());
             }
@@ -222,6 +218,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         battery,
         log_every: args.stats_every,
         realtime: true,
+        ack_after_commit: true,
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));

@@ -14,7 +14,7 @@ struct Lines;
 
 impl Protocol for Lines {
     type Session = u32;
-    fn session(&self) -> u32 {
+    fn session(&self, _peer: Option<std::net::SocketAddr>) -> u32 {
         0
     }
     fn frame_len(&self, buf: &[u8]) -> FrameLen {
@@ -73,6 +73,7 @@ fn requests_are_served_at_end_while_scanning() {
         battery: None,
         log_every: None,
         realtime: false,
+        ack_after_commit: true,
     };
     let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
     let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).unwrap();
@@ -103,11 +104,18 @@ fn requests_are_served_at_end_while_scanning() {
             .unwrap()
             > 10
     );
-    // The connection limit (2) evicts the connection idle the longest.
+    // The connection limit (2) evicts a connection that never completed a
+    // request, not the active client.
     let mut d = BufReader::new(TcpStream::connect(addr).unwrap());
     let mut e = BufReader::new(TcpStream::connect(addr).unwrap());
     assert!(!ask(&mut e, "D0\n").is_empty());
-    assert!(!ask(&mut d, "D0\n").is_empty());
+    assert!(!ask(&mut c, "D0\n").is_empty());
+    let _ = d.get_mut().write_all(b"D0\n");
+    let mut line = String::new();
+    assert!(
+        matches!(d.read_line(&mut line), Ok(0) | Err(_)),
+        "the silent connection was evicted: {line:?}"
+    );
     let state = bg.stop().unwrap();
     assert!(state.stats.scans > 20);
     assert!(state.stats.requests >= 40);
@@ -136,11 +144,12 @@ fn mc_protocol_over_tcp_and_udp() {
         battery: None,
         log_every: None,
         realtime: false,
+        ack_after_commit: true,
     };
     let any = "127.0.0.1:0".parse().unwrap();
     let l = vec![
-        Listener::tcp(any, Mc { password: None }, 4),
-        Listener::mc_udp(any, Mc { password: None }),
+        Listener::tcp(any, Mc::new(None), 4),
+        Listener::mc_udp(any, Mc::new(None)),
     ];
     let bg = Background::start(ServeState::new(cpu), cfg, l, vec![]).unwrap();
     let addrs = bg.addrs.clone();
