@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use clap::Args;
@@ -65,6 +67,12 @@ pub struct RunArgs {
     /// Samples kept (the latest ones), 1-8192.
     #[arg(long, value_name = "N", default_value_t = 8192, requires = "trace")]
     pub trace_size: usize,
+    /// Wall-clock limit, e.g. 10s: the CPU is stopped when it is reached, even
+    /// inside a scan that never ends (an endless loop with WDT), latched data is
+    /// committed and the report shows "state": "STOP" and "stopped": "timeout".
+    /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub timeout: Option<Duration>,
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -267,6 +275,18 @@ pub fn run(args: RunArgs) -> ExitCode {
         },
         None => None,
     };
+    // Ctrl-C/SIGTERM and --timeout stop the CPU, even mid-scan.
+    let abort = cpu.abort_handle();
+    crate::signal::stop_on_signals(abort.clone());
+    let timed_out = Arc::new(AtomicBool::new(false));
+    if let Some(limit) = args.timeout {
+        let (abort, flag) = (abort.clone(), timed_out.clone());
+        std::thread::spawn(move || {
+            std::thread::sleep(limit);
+            flag.store(true, Ordering::SeqCst);
+            abort.store(true, Ordering::SeqCst);
+        });
+    }
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -287,10 +307,24 @@ pub fn run(args: RunArgs) -> ExitCode {
                 return ExitCode::from(2);
             }
         }
-        if cpu.state() == CpuState::Stop {
+        if cpu.state() == CpuState::Stop || cpu.aborted() {
             break;
         }
     }
+    let signal = crate::signal::received();
+    let stopped = if signal.is_some() {
+        cpu.set_stop();
+        Some("signal")
+    } else if timed_out.load(Ordering::SeqCst) {
+        cpu.set_stop();
+        eprintln!(
+            "softplc: --timeout {:?} reached after {scans} scans; the CPU was stopped",
+            args.timeout.unwrap_or_default()
+        );
+        Some("timeout")
+    } else {
+        None
+    };
     if let Some(b) = &mut battery {
         if let Err(e) = b.commit(&cpu) {
             eprintln!("softplc: cannot save state: {e}");
@@ -335,13 +369,16 @@ pub fn run(args: RunArgs) -> ExitCode {
         })
     });
     if args.json {
-        let out = json!({
+        let mut out = json!({
             "scans": scans,
             "time_ms": time_ms,
             "state": cpu.state().as_str(),
             "error": error,
             "devices": devices,
         });
+        if let Some(why) = stopped {
+            out["stopped"] = json!(why);
+        }
         println!("{out}");
     } else {
         println!(
@@ -362,7 +399,11 @@ pub fn run(args: RunArgs) -> ExitCode {
             println!("{line}");
         }
     }
-    ExitCode::SUCCESS
+    match signal {
+        // As a shell reports a process ended by the signal, after the commit.
+        Some(s) => ExitCode::from((128 + s).clamp(0, 255) as u8),
+        None => ExitCode::SUCCESS,
+    }
 }
 
 /// Prints the warnings of a power-on from a state directory.

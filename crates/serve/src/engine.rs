@@ -155,11 +155,57 @@ pub fn spawn(
     stop: Arc<AtomicBool>,
 ) -> (EngineHandle, JoinHandle<ServeState>) {
     let (tx, rx) = sync_channel::<Job>(cfg.queue.max(1));
+    let beat = Arc::new(Heartbeat::default());
+    let (b, st) = (beat.clone(), stop.clone());
+    let stall_after = (cfg.period * 10).max(Duration::from_secs(1));
+    let _ = std::thread::Builder::new()
+        .name("softplc-stall-watch".into())
+        .spawn(move || watch_stalls(&b, &st, stall_after));
     let join = std::thread::Builder::new()
         .name("softplc-engine".into())
-        .spawn(move || run(state, cfg, rx, stop))
+        .spawn(move || run(state, cfg, rx, stop, &beat))
         .expect("spawn the engine thread");
     (EngineHandle { tx }, join)
+}
+
+/// What the engine thread is doing, for the stall watch.
+#[derive(Default)]
+struct Heartbeat {
+    /// Scans started.
+    started: std::sync::atomic::AtomicU64,
+    /// Scans finished (END processing done).
+    finished: std::sync::atomic::AtomicU64,
+}
+
+/// Reports a scan that does not end (an endless loop that resets the watchdog
+/// with WDT never faults): once after `after`, then every 10 s while it lasts.
+/// Ctrl-C/SIGTERM still stop it (the abort flag is checked on backward jumps).
+fn watch_stalls(beat: &Heartbeat, stop: &AtomicBool, after: Duration) {
+    let tick = Duration::from_millis(100);
+    // (scan, since when it runs, when it was last reported)
+    let mut current: Option<(u64, Instant, Option<Instant>)> = None;
+    while !stop.load(Ordering::Relaxed) {
+        std::thread::sleep(tick);
+        let s = beat.started.load(Ordering::Relaxed);
+        if s == beat.finished.load(Ordering::Relaxed) {
+            current = None;
+            continue;
+        }
+        let (scan, since, told) = match current {
+            Some(c) if c.0 == s => c,
+            _ => (s, Instant::now(), None),
+        };
+        let long = since.elapsed();
+        let due = long >= after && told.is_none_or(|t| t.elapsed() >= Duration::from_secs(10));
+        if due {
+            eprintln!(
+                "softplc: scan {scan} has not reached END for {:.1} s (an endless loop? WDT \
+                 resets the watchdog); requests wait; Ctrl-C/SIGTERM stops the CPU",
+                long.as_secs_f64()
+            );
+        }
+        current = Some((scan, since, if due { Some(Instant::now()) } else { told }));
+    }
 }
 
 fn run(
@@ -167,6 +213,7 @@ fn run(
     mut cfg: EngineConfig,
     rx: Receiver<Job>,
     stop: Arc<AtomicBool>,
+    beat: &Heartbeat,
 ) -> ServeState {
     let period = cfg.period;
     let mut due = Instant::now();
@@ -175,7 +222,9 @@ fn run(
     while !stop.load(Ordering::Relaxed) {
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
+        beat.started.fetch_add(1, Ordering::Relaxed);
         s.cpu.scan();
+        beat.finished.fetch_add(1, Ordering::Relaxed);
         // END processing: communication requests, within the budget.
         let end = Instant::now();
         while end.elapsed() < cfg.end_budget {
