@@ -55,8 +55,11 @@ pub struct ServeArgs {
     /// Web monitor and JSON API.
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
-    /// Remote password for the MC protocol (4 characters): writes and remote
-    /// operations are refused until a connection unlocks.
+    /// Remote password for the MC protocol: exactly 4 ASCII letters or digits,
+    /// as on the QCPU. Until a connection (or UDP sender) unlocks, every MC
+    /// request but unlock and loopback is refused (C201), reads included. Wrong
+    /// guesses are logged and throttled per address (1 s, doubling to 60 s).
+    /// It does not cover Modbus: use --modbus-read-only to refuse Modbus writes.
     #[arg(long, value_name = "PW")]
     pub password: Option<String>,
     /// State directory (default for a project: its [state] dir).
@@ -88,6 +91,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     if args.http.is_some() {
         return fail("--http: the web monitor is not implemented yet".into());
+    }
+    if let Some(p) = &args.password {
+        if let Err(e) = softplc_serve::mc::check_password(p) {
+            return fail(format!("--password: {e}"));
+        }
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);

@@ -77,3 +77,20 @@ fn second_owner_is_refused_and_lock_dies_with_the_owner() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(v["devices"]["R0"].as_i64().unwrap() >= 5);
 }
+
+#[test]
+fn bad_remote_passwords_are_rejected_at_start() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = dir.path().join("p.il");
+    std::fs::write(&prog, "LD X0\nOUT Y0\nEND\n").unwrap();
+    for pw in ["", "abc", "abcde", "ab 1", "ab\u{e9}1"] {
+        let out = softplc()
+            .args(["serve", prog.to_str().unwrap(), "--mc", "127.0.0.1:0"])
+            .args(["--password", pw])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{pw:?}: {err}");
+        assert!(err.contains("--password"), "{err}");
+    }
+}
