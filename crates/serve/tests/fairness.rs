@@ -38,8 +38,10 @@ fn start(listener: Listener, period_ms: u64) -> Background {
 }
 
 fn modbus(read_only: bool, max_conns: usize) -> Background {
-    let mut slave = Slave::default();
-    slave.read_only = read_only;
+    let slave = Slave {
+        read_only,
+        ..Slave::default()
+    };
     let l = Listener::tcp(
         "127.0.0.1:0".parse().unwrap(),
         ModbusTcp::new(Map::default(), slave),
