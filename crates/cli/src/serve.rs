@@ -72,7 +72,12 @@ pub struct ServeArgs {
     /// Connections per server; the one idle longest is dropped for a new one.
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub max_connections: usize,
-    /// Print scan statistics (scan time, overruns, jitter) this often.
+    /// Do not ask for real-time priority. By default the engine thread asks for
+    /// SCHED_FIFO (granted to root or with CAP_SYS_NICE / RLIMIT_RTPRIO, else
+    /// it runs at normal priority); --stats-every says which it got.
+    #[arg(long)]
+    pub no_realtime: bool,
+    /// Print scan statistics (scan time, overruns, jitter, real-time) this often.
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub stats_every: Option<Duration>,
 }
@@ -225,7 +230,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         queue: 1024,
         battery,
         log_every: args.stats_every,
-        realtime: true,
+        realtime: !args.no_realtime,
         ack_after_commit: true,
     };
     let program = args.program.display().to_string();

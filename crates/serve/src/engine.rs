@@ -32,8 +32,11 @@ pub struct ScanStats {
     pub jitter_mean_us: f64,
     /// Requests served at END processing.
     pub requests: u64,
-    /// The engine thread got real-time scheduling.
+    /// The engine thread got real-time scheduling (SCHED_FIFO).
     pub realtime: bool,
+    /// How the real-time request went, for the log ("SCHED_FIFO priority 50",
+    /// "not granted: Operation not permitted …", "not requested").
+    pub realtime_note: String,
 }
 
 /// Everything a request may touch, owned by the engine thread.
@@ -215,6 +218,19 @@ fn run(
     stop: Arc<AtomicBool>,
     beat: &Heartbeat,
 ) -> ServeState {
+    let (granted, note) = if cfg.realtime {
+        set_realtime()
+    } else {
+        (false, "not requested".to_string())
+    };
+    s.stats.realtime = granted;
+    s.stats.realtime_note = note;
+    if cfg.log_every.is_some() {
+        eprintln!(
+            "softplc: engine thread real-time: {}",
+            s.stats.realtime_note
+        );
+    }
     let period = cfg.period;
     let mut due = Instant::now();
     let mut jitter_sum = 0f64;
@@ -272,8 +288,9 @@ fn run(
         if cfg.log_every.is_some_and(|d| logged.elapsed() >= d) {
             logged = Instant::now();
             eprintln!(
-                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests",
-                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests
+                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests; real-time: {}",
+                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests,
+                if st.realtime { "SCHED_FIFO" } else { "no" }
             );
         }
         due += period;
@@ -293,6 +310,42 @@ fn run(
     }
     s.replies.drain(..).for_each(|reply| reply());
     s
+}
+
+/// Real-time priority for the calling (engine) thread: SCHED_FIFO at the middle
+/// of the range, so the kernel's own real-time threads stay above it. Needs
+/// CAP_SYS_NICE (or an RLIMIT_RTPRIO); without it the thread keeps the normal
+/// policy and the reason is reported.
+#[cfg(target_os = "linux")]
+fn set_realtime() -> (bool, String) {
+    // SAFETY: plain libc calls on the current thread with a fully initialised
+    // `sched_param`; no pointers are kept.
+    unsafe {
+        let min = libc::sched_get_priority_min(libc::SCHED_FIFO);
+        let max = libc::sched_get_priority_max(libc::SCHED_FIFO);
+        if min < 0 || max < min {
+            return (false, "not granted: SCHED_FIFO unavailable".into());
+        }
+        let prio = (min + max) / 2;
+        let param = libc::sched_param {
+            sched_priority: prio,
+        };
+        match libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) {
+            0 => (true, format!("SCHED_FIFO priority {prio}")),
+            e => (
+                false,
+                format!(
+                    "not granted ({}); normal priority (needs CAP_SYS_NICE or RLIMIT_RTPRIO)",
+                    std::io::Error::from_raw_os_error(e)
+                ),
+            ),
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn set_realtime() -> (bool, String) {
+    (false, "not available on this system".into())
 }
 
 /// Sleeps until `t`, spinning for the last 200 µs for a steady period.

@@ -171,3 +171,82 @@ fn mc_protocol_over_tcp_and_udp() {
     assert_eq!(&buf[..n], &want);
     bg.stop().unwrap();
 }
+
+#[test]
+#[cfg(target_os = "linux")]
+fn the_engine_thread_asks_for_sched_fifo_and_says_what_it_got() {
+    let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 8,
+        battery: None,
+        log_every: None,
+        realtime: true,
+        ack_after_commit: true,
+    };
+    let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
+    let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).unwrap();
+    let mut c = BufReader::new(TcpStream::connect(bg.addrs[0]).unwrap());
+    assert!(!ask(&mut c, "STATS\n").is_empty());
+    let state = bg.stop().unwrap();
+    let st = &state.stats;
+    if st.realtime {
+        assert!(
+            st.realtime_note.starts_with("SCHED_FIFO priority"),
+            "{}",
+            st.realtime_note
+        );
+    } else {
+        // Without the privilege: the normal policy, and the reason.
+        assert!(
+            st.realtime_note.starts_with("not granted"),
+            "{}",
+            st.realtime_note
+        );
+    }
+    // As root (CI, this machine) it is granted for real: the policy of the
+    // thread that served the request is SCHED_FIFO.
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        assert!(st.realtime, "{}", st.realtime_note);
+    }
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn requests_run_on_the_sched_fifo_thread() {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        return; // needs the privilege
+    }
+    let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 8,
+        battery: None,
+        log_every: None,
+        realtime: true,
+        ack_after_commit: true,
+    };
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let (handle, join) = softplc_serve::engine::spawn(ServeState::new(cpu), cfg, stop.clone());
+    // SAFETY: sched_getscheduler(0) queries the calling thread (the engine's).
+    let policy = handle
+        .call(|_| unsafe { libc::sched_getscheduler(0) })
+        .unwrap();
+    assert_eq!(policy, libc::SCHED_FIFO);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert!(join.join().unwrap().stats.realtime);
+}
