@@ -98,9 +98,41 @@ pub fn parse_datetime(s: &str) -> Result<DateTime, String> {
     Ok(dt)
 }
 
+/// Longest echoed token in a diagnostic (characters between backquotes).
+const MAX_TOKEN: usize = 64;
+
+/// A diagnostic made safe for a terminal: control characters escaped (`\u{1b}`),
+/// quoted tokens longer than [`MAX_TOKEN`] characters cut with their length.
+pub(crate) fn sanitize(line: &str) -> String {
+    let mut out = String::with_capacity(line.len().min(1024));
+    let mut parts = line.split('`');
+    let mut quoted = false;
+    while let Some(part) = parts.next() {
+        let n = part.chars().count();
+        let shown: String = if quoted && n > MAX_TOKEN {
+            let head: String = part.chars().take(MAX_TOKEN).collect();
+            format!("{head}…({n} characters)")
+        } else {
+            part.to_string()
+        };
+        for c in shown.chars() {
+            if c.is_control() && c != '\t' {
+                out.push_str(&c.escape_unicode().to_string());
+            } else {
+                out.push(c);
+            }
+        }
+        if parts.clone().next().is_some() {
+            out.push('`');
+        }
+        quoted = !quoted;
+    }
+    out
+}
+
 fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
     for d in &diags.0 {
-        eprintln!("{d}");
+        eprintln!("{}", sanitize(&d.to_string()));
     }
     let n = diags.0.len();
     eprintln!(
@@ -434,5 +466,23 @@ fn to_json(v: &Value) -> Json {
         Value::Int(i) => json!(i),
         Value::Float(f) => json!(f),
         Value::Str(s) => Json::String(s.clone()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sanitize;
+
+    #[test]
+    fn diagnostics_escape_control_characters_and_cut_long_tokens() {
+        assert_eq!(
+            sanitize("a.il:1:1: `LD\x1b[2J` bad"),
+            "a.il:1:1: `LD\\u{1b}[2J` bad"
+        );
+        let long = "X".repeat(100_000);
+        let s = sanitize(&format!("a.il:1:1: unknown instruction `{long}`"));
+        assert!(s.len() < 200, "{s}");
+        assert!(s.ends_with("…(100000 characters)`"), "{s}");
+        assert_eq!(sanitize("plain `LD` text"), "plain `LD` text");
     }
 }

@@ -68,6 +68,9 @@ pub struct Project {
     pub modbus: Option<toml::Table>,
 }
 
+/// Largest `plc.toml` read.
+pub const MAX_MANIFEST_BYTES: u64 = 4 << 20;
+
 /// True when `path` is a directory containing `plc.toml`, or a file named
 /// `plc.toml` (whether it exists or not, so that loading it reports the problem).
 pub fn is_project(path: &Path) -> bool {
@@ -106,7 +109,8 @@ pub fn load_project(path: &Path) -> Result<Project, Diagnostics> {
             path.display()
         )));
     }
-    let bytes = std::fs::read(&manifest).map_err(|e| fail(format!("cannot read file: {e}")))?;
+    let bytes =
+        crate::program::read_limited(&manifest, MAX_MANIFEST_BYTES, "plc.toml").map_err(fail)?;
     let src = match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => {
