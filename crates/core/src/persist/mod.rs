@@ -19,10 +19,13 @@
 //! | `*.corrupt` | a damaged image or orphaned journal moved aside on open |
 //! | `lock` | the owner's `flock` and PID (see *Single writer*) |
 //!
-//! **Base image** (`image.bin`): magic `SPLCIMG\x01`, the generation *G* of the
-//! last commit it contains, the region table (name, length, committed flag), the
-//! region bytes, and a CRC32 over all of it. It is only ever replaced whole (by
-//! rename), and verified whole on open.
+//! **Base image** (`image.bin`): magic `SPLCIMG\x02`, the generation *G* of the
+//! last commit it contains, the region table (name, length, committed flag, CRC32
+//! of the region's bytes), a CRC32 of the header, then the region bytes. It is
+//! only ever replaced whole (by rename). On open each region is verified by its
+//! own checksum, so one damaged byte loses only its region (version 1 images,
+//! with one CRC over the whole file, are still read). Damaged committed data is
+//! listed by [`Store::lost`] (see `recover.rs`).
 //!
 //! **Journal** (`journal.log`): a sequence of frames, one per commit:
 //! `magic "SPJ1" | body length u32 | generation u64 | record count u32 |
@@ -76,8 +79,11 @@
 //! The image is also rewritten on open when the layout differs from the image's
 //! region table (regions added, removed, resized or reordered), so journal frames
 //! always refer to the region table of the image they follow. Regions are matched
-//! by name; a region whose size changed starts zeroed, is returned as `None`, and
-//! a warning says so.
+//! by name, and regions whose names carry device numbers (`latch:D1000-1999`,
+//! `file-register`) also point by point across a changed range or size
+//! (`remap.rs`): devices retained before and after keep their values, and a
+//! warning names what was dropped. Any other region whose size changed starts
+//! zeroed, is returned as `None`, and a warning says so.
 //!
 //! # Durability: `set_sync`
 //!
