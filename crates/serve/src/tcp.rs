@@ -4,8 +4,8 @@
 //! connection.
 //!
 //! At the connection limit a new connection takes the place of one that has
-//! never completed a request (the oldest such), else of one idle (no request
-//! completed) for at least [`IDLE_EVICT`]; when every connection is an active
+//! never sent a request (the oldest such), else of one idle (no request) for
+//! at least [`IDLE_EVICT`]; when every connection is an active
 //! client the new one is refused. So churn and idle sockets cannot push out an
 //! HMI that polls. When accepting fails (e.g. EMFILE, out of descriptors) the
 //! loop backs off instead of spinning.
@@ -61,13 +61,13 @@ struct Conn {
     id: u64,
     /// When it connected.
     opened: Instant,
-    /// When it last completed a request (`None`: never).
+    /// When it last sent a frame or got a reply (`None`: never talked).
     served: Option<Instant>,
     abort: AbortHandle,
 }
 
 /// Which connection a new one replaces at the limit: the oldest that never
-/// completed a request, else the one idle longest if idle ≥ [`IDLE_EVICT`];
+/// sent a request, else the one idle longest if idle ≥ [`IDLE_EVICT`];
 /// `None`: all are active clients, refuse the new one.
 fn victim(conns: &[Conn], now: Instant) -> Option<usize> {
     let never = conns
@@ -159,6 +159,18 @@ pub async fn serve<P: Protocol>(
     }
 }
 
+/// Records that connection `id` talked (sent a frame, got its reply) now.
+fn touch(conns: &Mutex<Vec<Conn>>, id: u64) {
+    if let Some(c) = conns
+        .lock()
+        .expect("connection table")
+        .iter_mut()
+        .find(|c| c.id == id)
+    {
+        c.served = Some(Instant::now());
+    }
+}
+
 async fn connection<P: Protocol>(
     mut stream: TcpStream,
     proto: Arc<P>,
@@ -187,6 +199,9 @@ async fn connection<P: Protocol>(
                     break 'read;
                 }
                 FrameLen::Frame(len) => {
+                    // A connection that sent a whole frame is talking: not a
+                    // never-talker the limit may evict while its reply waits.
+                    touch(&conns, id);
                     let frame: Vec<u8> = buf.drain(..len.min(buf.len())).collect();
                     let p = proto.clone();
                     let mut sess = session.take().expect("session present");
@@ -209,14 +224,7 @@ async fn connection<P: Protocol>(
                         }
                     }
                     if served {
-                        if let Some(c) = conns
-                            .lock()
-                            .expect("connection table")
-                            .iter_mut()
-                            .find(|c| c.id == id)
-                        {
-                            c.served = Some(Instant::now());
-                        }
+                        touch(&conns, id);
                     }
                 }
             }

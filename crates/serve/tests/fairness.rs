@@ -17,6 +17,13 @@ use softplc_serve::mc::Mc;
 use softplc_serve::modbus::ModbusTcp;
 use softplc_serve::{Background, EngineConfig, Listener, ServeState};
 
+/// The tests of this file load the machine (floods, churn): one at a time.
+static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 fn start(listener: Listener, period_ms: u64) -> Background {
     let prog = compile_il("t.il", "LD SM400\nINC D0\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
@@ -72,6 +79,7 @@ const READ_D0: [u8; 5] = [3, 0, 0, 0, 1];
 
 #[test]
 fn listen_only_silences_only_its_own_connection() {
+    let _serial = one_at_a_time();
     let bg = modbus(false, 8);
     let mut a = connect(bg.addrs[0]);
     let mut b = connect(bg.addrs[0]);
@@ -97,6 +105,7 @@ fn listen_only_silences_only_its_own_connection() {
 
 #[test]
 fn connection_churn_does_not_cost_a_polling_client_its_polls() {
+    let _serial = one_at_a_time();
     let bg = modbus(false, 4);
     let addr = bg.addrs[0];
     let stop = Arc::new(AtomicBool::new(false));
@@ -159,6 +168,7 @@ fn mc_udp() -> Background {
 
 #[test]
 fn udp_serves_every_queued_datagram_at_one_end() {
+    let _serial = one_at_a_time();
     let bg = mc_udp();
     let s = UdpSocket::bind("127.0.0.1:0").unwrap();
     s.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
@@ -183,6 +193,7 @@ fn udp_serves_every_queued_datagram_at_one_end() {
 
 #[test]
 fn a_udp_flood_does_not_starve_another_sender() {
+    let _serial = one_at_a_time();
     let bg = mc_udp();
     let addr = bg.addrs[0];
     let stop = Arc::new(AtomicBool::new(false));
@@ -190,9 +201,14 @@ fn a_udp_flood_does_not_starve_another_sender() {
     let flood = std::thread::spawn(move || {
         let s = UdpSocket::bind("127.0.0.1:0").unwrap();
         let mut sent = 0u64;
+        // ~20,000 datagrams/s: 200 times what one reply per END could serve,
+        // yet leaving the machine (2 cores) able to drain its socket.
         while !st.load(Ordering::Relaxed) {
-            let _ = s.send_to(&MC_READ_D0, addr);
-            sent += 1;
+            for _ in 0..20 {
+                let _ = s.send_to(&MC_READ_D0, addr);
+                sent += 1;
+            }
+            std::thread::sleep(Duration::from_millis(1));
         }
         sent
     });
@@ -210,6 +226,6 @@ fn a_udp_flood_does_not_starve_another_sender() {
     stop.store(true, Ordering::Relaxed);
     let sent = flood.join().unwrap();
     eprintln!("flood of {sent} datagrams: the other sender got {answered} of 50 replies");
-    assert!(answered >= 45, "starved: {answered} of 50");
+    assert!(answered >= 48, "starved: {answered} of 50");
     bg.stop().unwrap();
 }
