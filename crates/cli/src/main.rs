@@ -2,6 +2,7 @@
 
 mod run;
 mod serve;
+mod signal;
 mod test_cmd;
 
 use std::path::PathBuf;

@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use clap::Args;
@@ -11,7 +13,7 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::persist::Battery;
+use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
@@ -65,6 +67,12 @@ pub struct RunArgs {
     /// Samples kept (the latest ones), 1-8192.
     #[arg(long, value_name = "N", default_value_t = 8192, requires = "trace")]
     pub trace_size: usize,
+    /// Wall-clock limit, e.g. 10s: the CPU is stopped when it is reached, even
+    /// inside a scan that never ends (an endless loop with WDT), latched data is
+    /// committed and the report shows "state": "STOP" and "stopped": "timeout".
+    /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub timeout: Option<Duration>,
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -90,9 +98,41 @@ pub fn parse_datetime(s: &str) -> Result<DateTime, String> {
     Ok(dt)
 }
 
+/// Longest echoed token in a diagnostic (characters between backquotes).
+const MAX_TOKEN: usize = 64;
+
+/// A diagnostic made safe for a terminal: control characters escaped (`\u{1b}`),
+/// quoted tokens longer than [`MAX_TOKEN`] characters cut with their length.
+pub(crate) fn sanitize(line: &str) -> String {
+    let mut out = String::with_capacity(line.len().min(1024));
+    let mut parts = line.split('`');
+    let mut quoted = false;
+    while let Some(part) = parts.next() {
+        let n = part.chars().count();
+        let shown: String = if quoted && n > MAX_TOKEN {
+            let head: String = part.chars().take(MAX_TOKEN).collect();
+            format!("{head}…({n} characters)")
+        } else {
+            part.to_string()
+        };
+        for c in shown.chars() {
+            if c.is_control() && c != '\t' {
+                out.push_str(&c.escape_unicode().to_string());
+            } else {
+                out.push(c);
+            }
+        }
+        if parts.clone().next().is_some() {
+            out.push('`');
+        }
+        quoted = !quoted;
+    }
+    out
+}
+
 fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
     for d in &diags.0 {
-        eprintln!("{d}");
+        eprintln!("{}", sanitize(&d.to_string()));
     }
     let n = diags.0.len();
     eprintln!(
@@ -109,6 +149,8 @@ pub(crate) struct Loaded {
     pub state: Option<PathBuf>,
     /// A project's `[modbus]` table.
     pub modbus: Option<toml::Table>,
+    /// A project's `[state] on_damage`.
+    pub on_damage: OnDamage,
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -127,6 +169,7 @@ pub(crate) fn load(
             cpu,
             state: Some(p.state_dir),
             modbus: p.modbus,
+            on_damage: p.state_on_damage,
         });
     }
     let program =
@@ -139,6 +182,7 @@ pub(crate) fn load(
         cpu: Cpu::new(program, cfg, clock),
         state: None,
         modbus: None,
+        on_damage: OnDamage::default(),
     })
 }
 
@@ -224,11 +268,15 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
 
 pub fn run(args: RunArgs) -> ExitCode {
     let clock = VirtualClock::new();
-    let Loaded { mut cpu, state, .. } =
-        match load(&args.program, Box::new(clock.clone()), args.clock) {
-            Ok(l) => l,
-            Err(code) => return code,
-        };
+    let Loaded {
+        mut cpu,
+        state,
+        on_damage,
+        ..
+    } = match load(&args.program, Box::new(clock.clone()), args.clock) {
+        Ok(l) => l,
+        Err(code) => return code,
+    };
     let (writes, shows, trace) =
         match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
             Ok(x) => x,
@@ -240,20 +288,37 @@ pub fn run(args: RunArgs) -> ExitCode {
     cpu.set_trace(trace);
     // Power-on: latched devices, file registers and the error history come back.
     let mut battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach(&dir, &mut cpu, false) {
+        Some(dir) => match Battery::attach_with(
+            &dir,
+            &mut cpu,
+            Attach {
+                restore_clock: false,
+                on_damage,
+            },
+        ) {
             Ok(b) => {
-                for w in b.warnings() {
-                    eprintln!("softplc: {}: {w}", dir.display());
-                }
+                report_attach(&dir, &b);
                 Some(b)
             }
             Err(e) => {
-                eprintln!("softplc: state directory {}: {e}", dir.display());
+                eprintln!("softplc: {}", state_error(&dir, &e));
                 return ExitCode::from(2);
             }
         },
         None => None,
     };
+    // Ctrl-C/SIGTERM and --timeout stop the CPU, even mid-scan.
+    let abort = cpu.abort_handle();
+    crate::signal::stop_on_signals(abort.clone());
+    let timed_out = Arc::new(AtomicBool::new(false));
+    if let Some(limit) = args.timeout {
+        let (abort, flag) = (abort.clone(), timed_out.clone());
+        std::thread::spawn(move || {
+            std::thread::sleep(limit);
+            flag.store(true, Ordering::SeqCst);
+            abort.store(true, Ordering::SeqCst);
+        });
+    }
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -274,10 +339,24 @@ pub fn run(args: RunArgs) -> ExitCode {
                 return ExitCode::from(2);
             }
         }
-        if cpu.state() == CpuState::Stop {
+        if cpu.state() == CpuState::Stop || cpu.aborted() {
             break;
         }
     }
+    let signal = crate::signal::received();
+    let stopped = if signal.is_some() {
+        cpu.set_stop();
+        Some("signal")
+    } else if timed_out.load(Ordering::SeqCst) {
+        cpu.set_stop();
+        eprintln!(
+            "softplc: --timeout {:?} reached after {scans} scans; the CPU was stopped",
+            args.timeout.unwrap_or_default()
+        );
+        Some("timeout")
+    } else {
+        None
+    };
     if let Some(b) = &mut battery {
         if let Err(e) = b.commit(&cpu) {
             eprintln!("softplc: cannot save state: {e}");
@@ -322,13 +401,16 @@ pub fn run(args: RunArgs) -> ExitCode {
         })
     });
     if args.json {
-        let out = json!({
+        let mut out = json!({
             "scans": scans,
             "time_ms": time_ms,
             "state": cpu.state().as_str(),
             "error": error,
             "devices": devices,
         });
+        if let Some(why) = stopped {
+            out["stopped"] = json!(why);
+        }
         println!("{out}");
     } else {
         println!(
@@ -349,7 +431,33 @@ pub fn run(args: RunArgs) -> ExitCode {
             println!("{line}");
         }
     }
-    ExitCode::SUCCESS
+    match signal {
+        // As a shell reports a process ended by the signal, after the commit.
+        Some(s) => ExitCode::from((128 + s).clamp(0, 255) as u8),
+        None => ExitCode::SUCCESS,
+    }
+}
+
+/// Prints the warnings of a power-on from a state directory.
+pub(crate) fn report_attach(dir: &Path, b: &Battery) {
+    for w in b.warnings() {
+        eprintln!("softplc: {}: {w}", dir.display());
+    }
+    if !b.lost().is_empty() {
+        eprintln!(
+            "softplc: {}: retained data lost ({}); BATTERY ERROR 1600 recorded in SD0",
+            dir.display(),
+            b.lost().join("; ")
+        );
+    }
+}
+
+/// A state-directory error, naming the directory once.
+pub(crate) fn state_error(dir: &Path, e: &PersistError) -> String {
+    match e {
+        PersistError::Locked { .. } => e.to_string(),
+        _ => format!("state directory {}: {e}", dir.display()),
+    }
 }
 
 fn to_json(v: &Value) -> Json {
@@ -358,5 +466,23 @@ fn to_json(v: &Value) -> Json {
         Value::Int(i) => json!(i),
         Value::Float(f) => json!(f),
         Value::Str(s) => Json::String(s.clone()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::sanitize;
+
+    #[test]
+    fn diagnostics_escape_control_characters_and_cut_long_tokens() {
+        assert_eq!(
+            sanitize("a.il:1:1: `LD\x1b[2J` bad"),
+            "a.il:1:1: `LD\\u{1b}[2J` bad"
+        );
+        let long = "X".repeat(100_000);
+        let s = sanitize(&format!("a.il:1:1: unknown instruction `{long}`"));
+        assert!(s.len() < 200, "{s}");
+        assert!(s.ends_with("…(100000 characters)`"), "{s}");
+        assert_eq!(sanitize("plain `LD` text"), "plain `LD` text");
     }
 }

@@ -10,12 +10,12 @@ use std::time::Duration;
 use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
-use softplc_core::persist::Battery;
+use softplc_core::persist::{Attach, Battery};
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
-use crate::run::{load, parse_datetime, parse_duration, Loaded};
+use crate::run::{load, parse_datetime, parse_duration, report_attach, state_error, Loaded};
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
@@ -55,8 +55,11 @@ pub struct ServeArgs {
     /// Web monitor and JSON API.
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
-    /// Remote password for the MC protocol (4 characters): writes and remote
-    /// operations are refused until a connection unlocks.
+    /// Remote password for the MC protocol: exactly 4 ASCII letters or digits,
+    /// as on the QCPU. Until a connection (or UDP sender) unlocks, every MC
+    /// request but unlock and loopback is refused (C201), reads included. Wrong
+    /// guesses are logged and throttled per address (1 s, doubling to 60 s).
+    /// It does not cover Modbus: use --modbus-read-only to refuse Modbus writes.
     #[arg(long, value_name = "PW")]
     pub password: Option<String>,
     /// State directory (default for a project: its [state] dir).
@@ -69,7 +72,12 @@ pub struct ServeArgs {
     /// Connections per server; the one idle longest is dropped for a new one.
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub max_connections: usize,
-    /// Print scan statistics (scan time, overruns, jitter) this often.
+    /// Do not ask for real-time priority. By default the engine thread asks for
+    /// SCHED_FIFO (granted to root or with CAP_SYS_NICE / RLIMIT_RTPRIO, else
+    /// it runs at normal priority); --stats-every says which it got.
+    #[arg(long)]
+    pub no_realtime: bool,
+    /// Print scan statistics (scan time, overruns, jitter, real-time) this often.
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub stats_every: Option<Duration>,
 }
@@ -89,12 +97,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if args.http.is_some() {
         return fail("--http: the web monitor is not implemented yet".into());
     }
+    if let Some(p) = &args.password {
+        if let Err(e) = softplc_serve::mc::check_password(p) {
+            return fail(format!("--password: {e}"));
+        }
+    }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
     let Loaded {
         mut cpu,
         state,
         modbus,
+        on_damage,
     } = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
@@ -108,14 +122,19 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         .or(cpu.config().constant_scan)
         .unwrap_or(Duration::from_millis(10));
     let battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach(&dir, &mut cpu, restore_clock) {
+        Some(dir) => match Battery::attach_with(
+            &dir,
+            &mut cpu,
+            Attach {
+                restore_clock,
+                on_damage,
+            },
+        ) {
             Ok(b) => {
-                for w in b.warnings() {
-                    eprintln!("softplc: {}: {w}", dir.display());
-                }
+                report_attach(&dir, &b);
                 Some(b)
             }
-            Err(e) => return fail(format!("state directory {}: {e}", dir.display())),
+            Err(e) => return fail(state_error(&dir, &e)),
         },
         None => None,
     };
@@ -124,9 +143,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if let Some(a) = &args.mc {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
-                let mc = Mc {
-                    password: args.password.clone(),
-                };
+                let mc = Mc::new(args.password.clone());
                 listeners.push(Listener::tcp(addr, mc, args.max_connections));
                 names.push("MC protocol".to_string());
             }
@@ -136,9 +153,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     if let Some(a) = &args.mc_udp {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
-                let mc = Mc {
-                    password: args.password.clone(),
-                };
+                let mc = Mc::new(args.password.clone());
                 listeners.push(Listener::mc_udp(addr, mc));
                 names.push("MC protocol (UDP)".to_string());
             }
@@ -215,7 +230,8 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         queue: 1024,
         battery,
         log_every: args.stats_every,
-        realtime: true,
+        realtime: !args.no_realtime,
+        ack_after_commit: true,
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));

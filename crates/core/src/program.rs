@@ -6,7 +6,8 @@ use std::path::Path;
 pub use softplc_ir::ops;
 pub use softplc_ir::ops::Program;
 pub use softplc_lang::{
-    csv, il, is_label, isa, Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, Token,
+    csv, il, is_label, isa, read_limited, Diagnostic, Diagnostics, Source, SourceInstr, SourceItem,
+    Token, MAX_CSV_BYTES, MAX_IL_BYTES,
 };
 
 use crate::device::DeviceConfig;

@@ -37,7 +37,7 @@ fn latched_devices_file_registers_history_and_clock_survive() {
     // Power-on: L (latch 1 by default) and R come back, M and D are cleared, the
     // error history is kept, the clock continues from 2024-01-01.
     let (mut b, _) = cpu();
-    let _bat = Battery::attach(dir.path(), &mut b, true).unwrap();
+    let bat_b = Battery::attach(dir.path(), &mut b, true).unwrap();
     assert_eq!(get(&b, "L7"), Value::Bool(true));
     assert_eq!(get(&b, "M7"), Value::Bool(false));
     assert_eq!(get(&b, "R100"), Value::Int(1234));
@@ -47,7 +47,9 @@ fn latched_devices_file_registers_history_and_clock_survive() {
     let t = b.calendar_unix_us() / 1_000_000;
     // The offset is kept rounded to whole seconds (±0.5 s).
     assert!((1_704_067_199..1_704_067_206).contains(&t), "clock {t}");
-    // Without restore_clock (softplc run) the configured start is kept.
+    // Without restore_clock (softplc run) the configured start is kept. (One
+    // owner per state directory: the previous one is released first.)
+    drop(bat_b);
     let (mut c, _) = cpu();
     let _bat = Battery::attach(dir.path(), &mut c, false).unwrap();
     assert_eq!(c.calendar_unix_us() / 1_000_000, 946_684_800);

@@ -281,7 +281,7 @@ fn unknown_keys_are_errors() {
     );
     assert_eq!(
         error(&with_main("[state]\ndirectory = \"s\"\n")),
-        "2:1: unknown key \"directory\" in [state] (expected dir)"
+        "2:1: unknown key \"directory\" in [state] (expected dir, on_damage)"
     );
     assert_eq!(
         error(&with_main("[latch]\nlatch3 = []\n")),

@@ -192,6 +192,7 @@ impl Cpu {
             stop_request: false,
             watchdog: cfg.watchdog,
             wdt_start: std::time::Instant::now(),
+            abort: Default::default(),
             operation_error: cfg.operation_error,
             error: None,
             history: std::collections::VecDeque::with_capacity(super::HISTORY_LEN),
@@ -549,6 +550,12 @@ impl Cpu {
                 && self.run_type(ExecType::Scan)
                 && self.run_low_speed(now)
         };
+        if !ok && self.aborted() {
+            // Stopped by the host mid-scan: STOP, no error.
+            self.set_stop();
+            self.scans += 1;
+            return;
+        }
         if !ok {
             // Stop error: the CPU stops at the point of detection, outputs OFF.
             self.stop_error = true;
@@ -888,6 +895,7 @@ impl Cpu {
             // A RET with no caller in this pass cannot happen at top level:
             // `Ret` on an empty stack is 4212.
             Outcome::End | Outcome::Return => true,
+            Outcome::Abort => false,
             Outcome::Fault(code, slot, pc) => {
                 self.rt.record_fault(&self.programs[slot], code, pc);
                 false
@@ -1056,6 +1064,30 @@ impl Cpu {
             }
         }
         self.write_initial_values();
+    }
+
+    /// A flag that stops the CPU when set, even in the middle of a scan stuck
+    /// in an endless loop (checked where the watchdog is, on backward jumps):
+    /// the scan ends, the CPU goes to STOP without an error. For Ctrl-C,
+    /// SIGTERM and wall-clock limits.
+    pub fn abort_handle(&self) -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+        self.rt.abort.clone()
+    }
+
+    /// Whether the abort flag is set.
+    pub fn aborted(&self) -> bool {
+        self.rt.abort.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Reports battery-backed data lost at power-on: BATTERY ERROR (1600) in
+    /// SD0 and the error history; with `stop` the CPU holds it as a stop error
+    /// (RESET clears it).
+    pub fn report_battery_error(&mut self, stop: bool) {
+        self.rt.record(ErrorCode::BATTERY, None, None, None);
+        if stop {
+            self.stop_error = true;
+            self.set_stop();
+        }
     }
 
     /// (region name, is bit array, flat start, points) of every retained span.

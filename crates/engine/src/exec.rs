@@ -20,6 +20,8 @@ pub(crate) enum Outcome {
     Fault(Fault, usize, usize),
     /// RET of a subroutine called from another file (a nested pass ends).
     Return,
+    /// The host asked the CPU to stop (`Cpu::abort_handle`), mid-scan.
+    Abort,
 }
 
 /// Back jumps between two wall-clock watchdog checks.
@@ -70,8 +72,14 @@ pub(crate) fn run(
         ($target:expr) => {
             if ($target as usize) < pc {
                 back_jumps += 1;
-                if back_jumps % WDT_CHECK_EVERY == 0 && rt.wdt_start.elapsed() > watchdog {
-                    return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
+                if back_jumps % WDT_CHECK_EVERY == 0 {
+                    // A loop that resets the watchdog (WDT) still stops on request.
+                    if rt.abort.load(std::sync::atomic::Ordering::Relaxed) {
+                        return Outcome::Abort;
+                    }
+                    if rt.wdt_start.elapsed() > watchdog {
+                        return Outcome::Fault(ErrorCode::WDT, cur, pc - 1);
+                    }
                 }
             }
         };

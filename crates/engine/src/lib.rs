@@ -177,6 +177,9 @@ pub(crate) struct Runtime {
     pub watchdog: Duration,
     /// Wall-clock start of the watchdog: the scan's start, or the last WDT.
     pub wdt_start: std::time::Instant,
+    /// Set by the host to stop the CPU even inside an endless loop; checked
+    /// with the watchdog on backward jumps (`Cpu::abort_handle`).
+    pub abort: std::sync::Arc<std::sync::atomic::AtomicBool>,
     pub operation_error: ErrorMode,
     /// The latest error and whether it stopped the CPU.
     pub error: Option<CpuError>,

@@ -33,6 +33,9 @@ impl ErrorCode {
     pub const NO_IRET: ErrorCode = ErrorCode(4221);
     /// CAN'T EXECUTE(I): IRET executed outside an interrupt program.
     pub const IRET_IN_MAIN: ErrorCode = ErrorCode(4223);
+    /// BATTERY ERROR: battery-backed data was lost (softplc: the state directory
+    /// was found damaged at power-on; COMPATIBILITY.md "Decisions").
+    pub const BATTERY: ErrorCode = ErrorCode(1600);
     /// F****: an annunciator turned ON (continuation error).
     pub const ANNUNCIATOR: ErrorCode = ErrorCode(9000);
     /// WDT ERROR: scan exceeded the watchdog time.
@@ -43,6 +46,7 @@ impl ErrorCode {
     /// The CPU's error message for this code.
     pub fn message(self) -> &'static str {
         match self.0 {
+            1600 => "BATTERY ERROR: battery-backed data lost (damaged state file)",
             2410 => "FILE OPE. ERROR: the specified program does not exist",
             4100 => "OPERATION ERROR: the instruction cannot process this data",
             4101 => "OPERATION ERROR: device range exceeded",
@@ -68,10 +72,10 @@ impl ErrorCode {
         (4100..4200).contains(&self.0)
     }
 
-    /// Errors after which the CPU keeps running: PRG.TIME OVER and annunciators
+    /// Errors after which the CPU keeps running: BATTERY ERROR, PRG.TIME OVER and annunciators
     /// (operation errors continue only when the parameter says so).
     pub fn is_continuation(self) -> bool {
-        matches!(self.0, 5010 | 9000)
+        matches!(self.0, 1600 | 5010 | 9000)
     }
 }
 

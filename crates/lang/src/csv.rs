@@ -6,10 +6,16 @@
 //! `Instruction`, `I/O(Device)`, `Blank`, `PI Statement`, `Note`. Operands are
 //! either all in the instruction's `I/O(Device)` cell separated by spaces, or one
 //! per row on the following rows whose `Instruction` cell is empty.
+//!
+//! The Japanese and Chinese editions of GX Works2 write the header row in their
+//! language: `ステップ番号`, `命令`, `I/O(デバイス)` and `步号`, `指令`,
+//! `I/O(软元件)` (full-width parentheses accepted). Without a BOM a file that is
+//! not UTF-8 is read as Shift-JIS, or as GBK when only that finds the header
+//! (the Chinese edition saves in GBK).
 
 use std::borrow::Cow;
 
-use encoding_rs::{SHIFT_JIS, UTF_16BE, UTF_16LE, UTF_8};
+use encoding_rs::{Encoding, GBK, SHIFT_JIS, UTF_16BE, UTF_16LE, UTF_8};
 
 use super::source::{is_label, Diagnostic, Source, SourceInstr, SourceItem, Token};
 
@@ -18,7 +24,8 @@ pub fn parse_csv(file: &str, bytes: &[u8]) -> Result<Source, Vec<Diagnostic>> {
     parse_text(file, &decode(bytes))
 }
 
-/// Picks the encoding by BOM, then by UTF-8 validity; malformed sequences become U+FFFD.
+/// Picks the encoding by BOM, then by UTF-8 validity, then Shift-JIS or GBK
+/// (whichever finds the header row); malformed sequences become U+FFFD.
 fn decode(bytes: &[u8]) -> Cow<'_, str> {
     if let Some(rest) = bytes.strip_prefix(&[0xFF, 0xFE]) {
         UTF_16LE.decode_without_bom_handling(rest).0
@@ -29,8 +36,37 @@ fn decode(bytes: &[u8]) -> Cow<'_, str> {
     } else if let Ok(text) = std::str::from_utf8(bytes) {
         Cow::Borrowed(text)
     } else {
-        SHIFT_JIS.decode_without_bom_handling(bytes).0
+        let try_in = |enc: &'static Encoding| {
+            let (text, errors) = enc.decode_without_bom_handling(bytes);
+            let found = text.split('\n').take(64).any(|l| header(l).is_some());
+            (text, found, errors)
+        };
+        let sjis = try_in(SHIFT_JIS);
+        if sjis.1 && !sjis.2 {
+            return sjis.0;
+        }
+        let gbk = try_in(GBK);
+        match (sjis.1, gbk.1) {
+            (false, true) => gbk.0,
+            (true, true) if !gbk.2 => gbk.0,
+            _ => sjis.0,
+        }
     }
+}
+
+/// Header names of the English, Japanese and Chinese editions, lower-cased and
+/// with full-width parentheses folded.
+const STEP_NAMES: [&str; 5] = ["step no.", "ステップ番号", "ステップno.", "步号", "步號"];
+const INSTRUCTION_NAMES: [&str; 3] = ["instruction", "命令", "指令"];
+const IO_NAMES: [&str; 4] = ["i/o(device)", "i/o(デバイス)", "i/o(软元件)", "i/o(軟元件)"];
+
+fn header_name(cell: &str) -> String {
+    cell.to_lowercase()
+        .replace('（', "(")
+        .replace('）', ")")
+        .replace('／', "/")
+        .replace(['ｉ', 'Ｉ'], "i")
+        .replace(['ｏ', 'Ｏ'], "o")
 }
 
 /// A cell's unquoted text, each character with its 1-based column in the line.
@@ -100,7 +136,8 @@ fn parse_text(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
             file: file.to_string(),
             line: 1,
             col: 1,
-            message: "not a GX Works2 instruction-list CSV: header row with `Step No.` and `Instruction` not found"
+            message: "not a GX Works2 instruction-list CSV: header row with `Step No.` and \
+                      `Instruction` (ステップ番号 and 命令, or 步号 and 指令) not found"
                 .to_string(),
         });
     }
@@ -119,14 +156,14 @@ fn header(raw: &str) -> Option<Columns> {
     ['\t', ','].into_iter().find_map(|sep| {
         let names: Vec<String> = split_cells(raw, sep)
             .iter()
-            .map(|c| string_of(trim(c)).to_lowercase())
+            .map(|c| header_name(&string_of(trim(c))))
             .collect();
-        let find = |name: &str| names.iter().position(|n| n == name);
+        let find = |any: &[&str]| names.iter().position(|n| any.contains(&n.as_str()));
         Some(Columns {
             sep,
-            step: find("step no.")?,
-            instr: find("instruction")?,
-            io: find("i/o(device)"),
+            step: find(&STEP_NAMES)?,
+            instr: find(&INSTRUCTION_NAMES)?,
+            io: find(&IO_NAMES),
         })
     })
 }
@@ -264,6 +301,51 @@ mod tests {
                 (i.mnemonic.text.clone(), texts(&i.operands), i.step)
             })
             .collect()
+    }
+
+    /// An export of the Japanese or Chinese edition: its header row and rows.
+    fn localized(header: &str) -> String {
+        export(&[
+            &["0", "", "LD", "X0", "", "", ""],
+            &["1", "", "OUT", "Y0", "", "", ""],
+        ])
+        .replace(HEADER, header)
+    }
+
+    const JA: &str = "\"ステップ番号\"\t\"行間ステートメント\"\t\"命令\"\t\"I/O(デバイス)\"\t\"ブランク\"\t\"PIステートメント\"\t\"ノート\"";
+    const ZH: &str =
+        "\"步号\"\t\"行间声明\"\t\"指令\"\t\"I/O(软元件)\"\t\"空\"\t\"PI声明\"\t\"注解\"";
+
+    fn check_two_rows(bytes: &[u8]) {
+        let s = parse_csv("m.csv", bytes).unwrap_or_else(|d| panic!("{d:?}"));
+        assert_eq!(
+            summary(&s),
+            [
+                ("LD".to_string(), vec!["X0"], Some(0)),
+                ("OUT".to_string(), vec!["Y0"], Some(1))
+            ]
+        );
+    }
+
+    #[test]
+    fn japanese_header_in_utf16_and_shift_jis() {
+        let text = localized(JA);
+        check_two_rows(&utf16le(&text));
+        let (sjis, _, errors) = SHIFT_JIS.encode(&text);
+        assert!(!errors);
+        check_two_rows(&sjis);
+        // Full-width parentheses, as some editions write them.
+        check_two_rows(&utf16le(&text.replace("I/O(デバイス)", "I/O（デバイス）")));
+    }
+
+    #[test]
+    fn chinese_header_in_utf16_and_gbk() {
+        let text = localized(ZH);
+        check_two_rows(&utf16le(&text));
+        check_two_rows(text.as_bytes());
+        let (gbk, _, errors) = GBK.encode(&text);
+        assert!(!errors);
+        check_two_rows(&gbk);
     }
 
     #[test]
@@ -437,7 +519,8 @@ mod tests {
                 file: "p.csv".to_string(),
                 line: 1,
                 col: 1,
-                message: "not a GX Works2 instruction-list CSV: header row with `Step No.` and `Instruction` not found"
+                message: "not a GX Works2 instruction-list CSV: header row with `Step No.` and \
+                          `Instruction` (ステップ番号 and 命令, or 步号 and 指令) not found"
                     .to_string(),
             }]
         );

@@ -23,6 +23,31 @@ pub use source::{is_label, Diagnostic, Diagnostics, Source, SourceInstr, SourceI
 use dialect::Dialect;
 use softplc_ir::device::DeviceConfig;
 
+/// Largest `.il` file read (a Q06HCPU holds 60k steps; a generous ~250
+/// bytes a step).
+pub const MAX_IL_BYTES: u64 = 16 << 20;
+/// Largest `.csv` export read (UTF-16, several cells a row).
+pub const MAX_CSV_BYTES: u64 = 64 << 20;
+
+/// Reads a whole file, refusing one larger than `limit` bytes without reading
+/// more than `limit + 1` (so `/dev/zero` or a huge file fails fast instead of
+/// filling memory). The error says what the limit is for.
+pub fn read_limited(path: &Path, limit: u64, what: &str) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read file: {e}"))?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read file: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "file is larger than {} MiB, the limit for {what}",
+            limit >> 20
+        ));
+    }
+    Ok(bytes)
+}
+
 /// Loads a program file: `.csv` is a GX Works2 export, anything else an `.il`
 /// list, compiled for `dialect` with the "common pointer" parameter of a
 /// project (see [`compile::compile`]). Every diagnostic of the file is returned
@@ -34,12 +59,20 @@ pub fn load_file(
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
+    let is_csv = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let (limit, what) = if is_csv {
+        (MAX_CSV_BYTES, "a CSV export")
+    } else {
+        (MAX_IL_BYTES, "a program file")
+    };
+    let bytes = read_limited(path, limit, what).map_err(|message| {
         Diagnostics(vec![Diagnostic {
             file: name.clone(),
             line: 0,
             col: 0,
-            message: format!("cannot read file: {e}"),
+            message,
         }])
     })?;
     load_bytes(&name, &bytes, devices, dialect, common_from)

@@ -150,6 +150,22 @@ pub enum Command {
 }
 
 impl Command {
+    /// Whether executing the command may change device memory or the CPU's
+    /// state (writes and remote operations): a server commits the END at which
+    /// it ran before acknowledging it.
+    pub fn changes_memory(&self) -> bool {
+        use Command::*;
+        !matches!(
+            self,
+            BatchRead { .. }
+                | RandomRead { .. }
+                | ReadCpuModel
+                | Unlock { .. }
+                | Lock { .. }
+                | Loopback { .. }
+        )
+    }
+
     /// The command and subcommand codes.
     pub fn codes(&self) -> (u16, u16) {
         use Command::*;

@@ -36,7 +36,8 @@ fn bump(c: &mut u16) {
 pub struct Slave {
     /// Serial station address (1..=247) and the TCP unit id when `tcp_any_unit` is off.
     pub unit_id: u8,
-    /// Writes (FC 5, 6, 15, 16, 22, 23) get exception 01.
+    /// Writes (FC 5, 6, 15, 16, 22, 23) and FC 08 sub-function 04 (force
+    /// listen-only) get exception 01.
     pub read_only: bool,
     /// TCP: answer every unit id (default). Off: answer only `unit_id`, 0 and 255;
     /// other unit ids get no response.
@@ -238,6 +239,9 @@ fn diagnostics(slave: &mut Slave, pdu: &[u8], sub: u16, data: &[u8]) -> Outcome 
             return Outcome::Reply(pdu.to_vec());
         }
         0x04 | 0x0A if !zero => return Outcome::Exception(Exception::IllegalDataValue),
+        // Listen-only silences the slave: a read-only slave refuses it, as a
+        // write (no client may change what a read-only slave does for others).
+        0x04 if slave.read_only => return Outcome::Exception(Exception::IllegalFunction),
         0x04 => {
             slave.listen_only = true;
             return Outcome::Silent;

@@ -43,12 +43,9 @@ fn main() {
         battery: None,
         log_every: None,
         realtime: true,
+        ack_after_commit: true,
     };
-    let l = Listener::tcp(
-        "127.0.0.1:0".parse().unwrap(),
-        Mc { password: None },
-        clients + 4,
-    );
+    let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Mc::new(None), clients + 4);
     let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).expect("serve");
     let addr = bg.addrs[0];
     let deadline = Instant::now() + Duration::from_secs(seconds);

@@ -32,8 +32,11 @@ pub struct ScanStats {
     pub jitter_mean_us: f64,
     /// Requests served at END processing.
     pub requests: u64,
-    /// The engine thread got real-time scheduling.
+    /// The engine thread got real-time scheduling (SCHED_FIFO).
     pub realtime: bool,
+    /// How the real-time request went, for the log ("SCHED_FIFO priority 50",
+    /// "not granted: Operation not permitted …", "not requested").
+    pub realtime_note: String,
 }
 
 /// Everything a request may touch, owned by the engine thread.
@@ -43,6 +46,12 @@ pub struct ServeState {
     /// Protocol state shared by all connections of one protocol (e.g. Modbus
     /// diagnostic counters), set up by the server that needs it.
     pub ext: Vec<Box<dyn std::any::Any + Send>>,
+    /// Set by a request that may have changed device memory (a write, a
+    /// remote operation): this END is committed to the state directory before
+    /// any reply goes out (acknowledged writes are never lost).
+    pub wrote: bool,
+    /// Replies of this END, sent after its commit.
+    replies: Vec<Box<dyn FnOnce() + Send>>,
 }
 
 impl ServeState {
@@ -51,6 +60,8 @@ impl ServeState {
             cpu,
             stats: ScanStats::default(),
             ext: Vec::new(),
+            wrote: false,
+            replies: Vec::new(),
         }
     }
 
@@ -89,7 +100,10 @@ impl EngineHandle {
     {
         let (otx, orx) = tokio::sync::oneshot::channel();
         let job: Job = Box::new(move |s| {
-            let _ = otx.send(f(s));
+            let r = f(s);
+            s.replies.push(Box::new(move || {
+                let _ = otx.send(r);
+            }));
         });
         match self.tx.try_send(job) {
             Ok(()) => orx.await.map_err(|_| Busy),
@@ -107,7 +121,10 @@ impl EngineHandle {
     {
         let (otx, orx) = std::sync::mpsc::sync_channel(1);
         let job: Job = Box::new(move |s| {
-            let _ = otx.send(f(s));
+            let r = f(s);
+            s.replies.push(Box::new(move || {
+                let _ = otx.send(r);
+            }));
         });
         self.tx.send(job).map_err(|_| Busy)?;
         orx.recv().map_err(|_| Busy)
@@ -128,6 +145,9 @@ pub struct EngineConfig {
     pub log_every: Option<Duration>,
     /// Try to run the engine thread with real-time priority (SCHED_FIFO).
     pub realtime: bool,
+    /// Replies to requests that wrote go out only after the END's commit (on
+    /// by default; off only to measure what it costs).
+    pub ack_after_commit: bool,
 }
 
 /// Starts the engine thread. It runs until `stop` is set, then commits the
@@ -138,11 +158,57 @@ pub fn spawn(
     stop: Arc<AtomicBool>,
 ) -> (EngineHandle, JoinHandle<ServeState>) {
     let (tx, rx) = sync_channel::<Job>(cfg.queue.max(1));
+    let beat = Arc::new(Heartbeat::default());
+    let (b, st) = (beat.clone(), stop.clone());
+    let stall_after = (cfg.period * 10).max(Duration::from_secs(1));
+    let _ = std::thread::Builder::new()
+        .name("softplc-stall-watch".into())
+        .spawn(move || watch_stalls(&b, &st, stall_after));
     let join = std::thread::Builder::new()
         .name("softplc-engine".into())
-        .spawn(move || run(state, cfg, rx, stop))
+        .spawn(move || run(state, cfg, rx, stop, &beat))
         .expect("spawn the engine thread");
     (EngineHandle { tx }, join)
+}
+
+/// What the engine thread is doing, for the stall watch.
+#[derive(Default)]
+struct Heartbeat {
+    /// Scans started.
+    started: std::sync::atomic::AtomicU64,
+    /// Scans finished (END processing done).
+    finished: std::sync::atomic::AtomicU64,
+}
+
+/// Reports a scan that does not end (an endless loop that resets the watchdog
+/// with WDT never faults): once after `after`, then every 10 s while it lasts.
+/// Ctrl-C/SIGTERM still stop it (the abort flag is checked on backward jumps).
+fn watch_stalls(beat: &Heartbeat, stop: &AtomicBool, after: Duration) {
+    let tick = Duration::from_millis(100);
+    // (scan, since when it runs, when it was last reported)
+    let mut current: Option<(u64, Instant, Option<Instant>)> = None;
+    while !stop.load(Ordering::Relaxed) {
+        std::thread::sleep(tick);
+        let s = beat.started.load(Ordering::Relaxed);
+        if s == beat.finished.load(Ordering::Relaxed) {
+            current = None;
+            continue;
+        }
+        let (scan, since, told) = match current {
+            Some(c) if c.0 == s => c,
+            _ => (s, Instant::now(), None),
+        };
+        let long = since.elapsed();
+        let due = long >= after && told.is_none_or(|t| t.elapsed() >= Duration::from_secs(10));
+        if due {
+            eprintln!(
+                "softplc: scan {scan} has not reached END for {:.1} s (an endless loop? WDT \
+                 resets the watchdog); requests wait; Ctrl-C/SIGTERM stops the CPU",
+                long.as_secs_f64()
+            );
+        }
+        current = Some((scan, since, if due { Some(Instant::now()) } else { told }));
+    }
 }
 
 fn run(
@@ -150,7 +216,21 @@ fn run(
     mut cfg: EngineConfig,
     rx: Receiver<Job>,
     stop: Arc<AtomicBool>,
+    beat: &Heartbeat,
 ) -> ServeState {
+    let (granted, note) = if cfg.realtime {
+        set_realtime()
+    } else {
+        (false, "not requested".to_string())
+    };
+    s.stats.realtime = granted;
+    s.stats.realtime_note = note;
+    if cfg.log_every.is_some() {
+        eprintln!(
+            "softplc: engine thread real-time: {}",
+            s.stats.realtime_note
+        );
+    }
     let period = cfg.period;
     let mut due = Instant::now();
     let mut jitter_sum = 0f64;
@@ -158,7 +238,9 @@ fn run(
     while !stop.load(Ordering::Relaxed) {
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
+        beat.started.fetch_add(1, Ordering::Relaxed);
         s.cpu.scan();
+        beat.finished.fetch_add(1, Ordering::Relaxed);
         // END processing: communication requests, within the budget.
         let end = Instant::now();
         while end.elapsed() < cfg.end_budget {
@@ -170,9 +252,24 @@ fn run(
                 Err(_) => break,
             }
         }
-        if let Some(b) = &mut cfg.battery {
-            if let Err(e) = b.commit_due(&s.cpu) {
+        // Group commit: an END at which a request wrote is committed before any
+        // reply of this END goes out, so an acknowledged write survives kill -9.
+        let wrote = std::mem::take(&mut s.wrote) && cfg.ack_after_commit;
+        let committed = match &mut cfg.battery {
+            Some(b) if wrote => b.commit(&s.cpu).map(|_| ()),
+            Some(b) => b.commit_due(&s.cpu).map(|_| ()),
+            None => Ok(()),
+        };
+        match committed {
+            Ok(()) => s.replies.drain(..).for_each(|reply| reply()),
+            Err(e) => {
                 eprintln!("softplc: cannot save state: {e}");
+                // Not durable: no acknowledgement (the clients see "busy").
+                if wrote {
+                    s.replies.clear();
+                } else {
+                    s.replies.drain(..).for_each(|reply| reply());
+                }
             }
         }
         let busy = start.elapsed();
@@ -191,8 +288,9 @@ fn run(
         if cfg.log_every.is_some_and(|d| logged.elapsed() >= d) {
             logged = Instant::now();
             eprintln!(
-                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests",
-                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests
+                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests; real-time: {}",
+                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests,
+                if st.realtime { "SCHED_FIFO" } else { "no" }
             );
         }
         due += period;
@@ -210,7 +308,44 @@ fn run(
             eprintln!("softplc: cannot save state: {e}");
         }
     }
+    s.replies.drain(..).for_each(|reply| reply());
     s
+}
+
+/// Real-time priority for the calling (engine) thread: SCHED_FIFO at the middle
+/// of the range, so the kernel's own real-time threads stay above it. Needs
+/// CAP_SYS_NICE (or an RLIMIT_RTPRIO); without it the thread keeps the normal
+/// policy and the reason is reported.
+#[cfg(target_os = "linux")]
+fn set_realtime() -> (bool, String) {
+    // SAFETY: plain libc calls on the current thread with a fully initialised
+    // `sched_param`; no pointers are kept.
+    unsafe {
+        let min = libc::sched_get_priority_min(libc::SCHED_FIFO);
+        let max = libc::sched_get_priority_max(libc::SCHED_FIFO);
+        if min < 0 || max < min {
+            return (false, "not granted: SCHED_FIFO unavailable".into());
+        }
+        let prio = (min + max) / 2;
+        let param = libc::sched_param {
+            sched_priority: prio,
+        };
+        match libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) {
+            0 => (true, format!("SCHED_FIFO priority {prio}")),
+            e => (
+                false,
+                format!(
+                    "not granted ({}); normal priority (needs CAP_SYS_NICE or RLIMIT_RTPRIO)",
+                    std::io::Error::from_raw_os_error(e)
+                ),
+            ),
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn set_realtime() -> (bool, String) {
+    (false, "not available on this system".into())
 }
 
 /// Sleeps until `t`, spinning for the last 200 µs for a steady period.

@@ -92,6 +92,8 @@ pub fn run(
         .worker_threads(2)
         .enable_all()
         .build()?;
+    // Stops the CPU even inside a scan that never ends.
+    let abort = state.cpu.abort_handle();
     let (handle, join) = engine::spawn(state, cfg, stop.clone());
     let lines: Vec<_> = serial
         .into_iter()
@@ -126,6 +128,7 @@ pub fn run(
         Ok(b) => b,
         Err(e) => {
             stop.store(true, Ordering::Relaxed);
+            abort.store(true, Ordering::Relaxed);
             let _ = join.join();
             return Err(e);
         }
@@ -158,6 +161,7 @@ pub fn run(
         }
     });
     stop.store(true, Ordering::Relaxed);
+    abort.store(true, Ordering::Relaxed);
     rt.shutdown_background();
     for l in lines {
         let _ = l.join();

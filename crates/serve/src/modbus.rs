@@ -1,10 +1,12 @@
 //! The Modbus TCP server (contract §3): frames are decoded by `softplc-modbus`
 //! and served at END processing against the CPU, with one slave state (unit id,
-//! FC 08 diagnostic counters, listen-only) shared by all connections.
+//! FC 08 diagnostic counters) shared by all connections. Listen-only mode
+//! (FC 08 sub-function 04) is per connection on TCP: it silences only the
+//! connection that asked for it (until its 08/01 restart), never the others.
 
 use std::sync::Mutex;
 
-use softplc_modbus::{decode, Map, Proto, Slave};
+use softplc_modbus::{decode, is_write_function, Map, Proto, Slave};
 
 use crate::engine::ServeState;
 use crate::tcp::{FrameLen, Protocol};
@@ -25,10 +27,18 @@ impl ModbusTcp {
     }
 }
 
-impl Protocol for ModbusTcp {
-    type Session = ();
+/// Per-connection state: this connection's listen-only mode.
+#[derive(Debug, Default)]
+pub struct ModbusSession {
+    listen_only: bool,
+}
 
-    fn session(&self) {}
+impl Protocol for ModbusTcp {
+    type Session = ModbusSession;
+
+    fn session(&self, _peer: Option<std::net::SocketAddr>) -> ModbusSession {
+        ModbusSession::default()
+    }
 
     fn frame_len(&self, buf: &[u8]) -> FrameLen {
         match decode(Proto::Tcp, buf) {
@@ -39,11 +49,23 @@ impl Protocol for ModbusTcp {
         }
     }
 
-    fn serve(&self, frame: &[u8], _: &mut (), s: &mut ServeState) -> Option<Vec<u8>> {
+    fn serve(
+        &self,
+        frame: &[u8],
+        session: &mut ModbusSession,
+        s: &mut ServeState,
+    ) -> Option<Vec<u8>> {
         let (frame, _) = decode(Proto::Tcp, frame).ok().flatten()?;
+        if is_write_function(frame.function()) {
+            s.wrote = true;
+        }
         // The lock is only ever taken on the engine thread: never contended.
         let mut slave = self.slave.lock().ok()?;
-        softplc_modbus::serve(&mut slave, &self.map, &frame, &mut s.cpu)
+        // The slave's listen-only flag is this connection's for this request.
+        slave.listen_only = session.listen_only;
+        let reply = softplc_modbus::serve(&mut slave, &self.map, &frame, &mut s.cpu);
+        session.listen_only = std::mem::take(&mut slave.listen_only);
+        reply
     }
 
     /// Exception 06 (slave device busy) when the request queue is full.

@@ -130,6 +130,9 @@ pub fn spawn(
                         let Some(mut s) = slave.take() else { return };
                         let m = map.clone();
                         let Ok((reply, s)) = engine.call(move |st| {
+                            if softplc_modbus::is_write_function(frame.function()) {
+                                st.wrote = true;
+                            }
                             let r = softplc_modbus::serve(&mut s, &m, &frame, &mut st.cpu);
                             (r, s)
                         }) else {

@@ -24,10 +24,11 @@ fn start() -> Background {
         battery: None,
         log_every: None,
         realtime: false,
+        ack_after_commit: true,
     };
     let any = "127.0.0.1:0".parse().unwrap();
     let l = vec![
-        Listener::tcp(any, Mc { password: None }, 4),
+        Listener::tcp(any, Mc::new(None), 4),
         Listener::tcp(any, ModbusTcp::new(Map::q_default(), Slave::new(1)), 4),
     ];
     Background::start(ServeState::new(cpu), cfg, l, vec![]).unwrap()

@@ -14,7 +14,7 @@ struct Lines;
 
 impl Protocol for Lines {
     type Session = u32;
-    fn session(&self) -> u32 {
+    fn session(&self, _peer: Option<std::net::SocketAddr>) -> u32 {
         0
     }
     fn frame_len(&self, buf: &[u8]) -> FrameLen {
@@ -73,6 +73,7 @@ fn requests_are_served_at_end_while_scanning() {
         battery: None,
         log_every: None,
         realtime: false,
+        ack_after_commit: true,
     };
     let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
     let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).unwrap();
@@ -103,11 +104,18 @@ fn requests_are_served_at_end_while_scanning() {
             .unwrap()
             > 10
     );
-    // The connection limit (2) evicts the connection idle the longest.
+    // The connection limit (2) evicts a connection that never completed a
+    // request, not the active client.
     let mut d = BufReader::new(TcpStream::connect(addr).unwrap());
     let mut e = BufReader::new(TcpStream::connect(addr).unwrap());
     assert!(!ask(&mut e, "D0\n").is_empty());
-    assert!(!ask(&mut d, "D0\n").is_empty());
+    assert!(!ask(&mut c, "D0\n").is_empty());
+    let _ = d.get_mut().write_all(b"D0\n");
+    let mut line = String::new();
+    assert!(
+        matches!(d.read_line(&mut line), Ok(0) | Err(_)),
+        "the silent connection was evicted: {line:?}"
+    );
     let state = bg.stop().unwrap();
     assert!(state.stats.scans > 20);
     assert!(state.stats.requests >= 40);
@@ -136,11 +144,12 @@ fn mc_protocol_over_tcp_and_udp() {
         battery: None,
         log_every: None,
         realtime: false,
+        ack_after_commit: true,
     };
     let any = "127.0.0.1:0".parse().unwrap();
     let l = vec![
-        Listener::tcp(any, Mc { password: None }, 4),
-        Listener::mc_udp(any, Mc { password: None }),
+        Listener::tcp(any, Mc::new(None), 4),
+        Listener::mc_udp(any, Mc::new(None)),
     ];
     let bg = Background::start(ServeState::new(cpu), cfg, l, vec![]).unwrap();
     let addrs = bg.addrs.clone();
@@ -161,4 +170,83 @@ fn mc_protocol_over_tcp_and_udp() {
     let (n, _) = u.recv_from(&mut buf).unwrap();
     assert_eq!(&buf[..n], &want);
     bg.stop().unwrap();
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn the_engine_thread_asks_for_sched_fifo_and_says_what_it_got() {
+    let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 8,
+        battery: None,
+        log_every: None,
+        realtime: true,
+        ack_after_commit: true,
+    };
+    let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
+    let bg = Background::start(ServeState::new(cpu), cfg, vec![l], vec![]).unwrap();
+    let mut c = BufReader::new(TcpStream::connect(bg.addrs[0]).unwrap());
+    assert!(!ask(&mut c, "STATS\n").is_empty());
+    let state = bg.stop().unwrap();
+    let st = &state.stats;
+    if st.realtime {
+        assert!(
+            st.realtime_note.starts_with("SCHED_FIFO priority"),
+            "{}",
+            st.realtime_note
+        );
+    } else {
+        // Without the privilege: the normal policy, and the reason.
+        assert!(
+            st.realtime_note.starts_with("not granted"),
+            "{}",
+            st.realtime_note
+        );
+    }
+    // As root (CI, this machine) it is granted for real: the policy of the
+    // thread that served the request is SCHED_FIFO.
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        assert!(st.realtime, "{}", st.realtime_note);
+    }
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn requests_run_on_the_sched_fifo_thread() {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        return; // needs the privilege
+    }
+    let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
+    let cpu = Cpu::new(
+        prog,
+        CpuConfig::default(),
+        Box::new(MonotonicClock::default()),
+    );
+    let cfg = EngineConfig {
+        period: Duration::from_millis(2),
+        end_budget: Duration::from_millis(1),
+        queue: 8,
+        battery: None,
+        log_every: None,
+        realtime: true,
+        ack_after_commit: true,
+    };
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let (handle, join) = softplc_serve::engine::spawn(ServeState::new(cpu), cfg, stop.clone());
+    // SAFETY: sched_getscheduler(0) queries the calling thread (the engine's).
+    let policy = handle
+        .call(|_| unsafe { libc::sched_getscheduler(0) })
+        .unwrap();
+    assert_eq!(policy, libc::SCHED_FIFO);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert!(join.join().unwrap().stats.realtime);
 }

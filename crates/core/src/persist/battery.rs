@@ -10,6 +10,28 @@ use std::time::{Duration, Instant};
 use super::{CommitStats, PersistError, Region, Store};
 use crate::engine::Cpu;
 
+/// What the CPU does when the state directory was found damaged at power-on
+/// (`[state] on_damage` in plc.toml). Either way the loss is reported as
+/// BATTERY ERROR 1600 in SD0 and the error history, and the intact regions
+/// are restored.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum OnDamage {
+    /// Keep running (a continuation error, as the CPU's BATTERY ERROR).
+    #[default]
+    Continue,
+    /// Hold a stop error: the CPU stays in STOP until RESET.
+    Stop,
+}
+
+/// How [`Battery::attach_with`] powers the CPU on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Attach {
+    /// The calendar clock continues from the saved offset to the host clock
+    /// (real time, `serve`); off, `run` keeps its reproducible `--clock` start.
+    pub restore_clock: bool,
+    pub on_damage: OnDamage,
+}
+
 /// A CPU's battery-backed memory in a state directory.
 pub struct Battery {
     store: Store,
@@ -28,6 +50,20 @@ impl Battery {
     /// to the host clock (real time, `serve`); `run` keeps its reproducible
     /// `--clock` start instead.
     pub fn attach(dir: &Path, cpu: &mut Cpu, restore_clock: bool) -> Result<Battery, PersistError> {
+        Battery::attach_with(
+            dir,
+            cpu,
+            Attach {
+                restore_clock,
+                on_damage: OnDamage::Continue,
+            },
+        )
+    }
+
+    /// [`Battery::attach`] with the damage policy. Lost data
+    /// ([`Store::lost`]) is reported as BATTERY ERROR 1600.
+    pub fn attach_with(dir: &Path, cpu: &mut Cpu, opts: Attach) -> Result<Battery, PersistError> {
+        let restore_clock = opts.restore_clock;
         let mut layout: Vec<Region> = cpu
             .retained_layout()
             .into_iter()
@@ -42,6 +78,9 @@ impl Battery {
                 cpu.set_calendar_unix_us(host_unix_us() + offset);
             }
         }
+        if !store.lost().is_empty() {
+            cpu.report_battery_error(opts.on_damage == OnDamage::Stop);
+        }
         let bufs = layout.iter().map(|r| vec![0; r.len]).collect();
         Ok(Battery {
             store,
@@ -53,6 +92,11 @@ impl Battery {
 
     pub fn warnings(&self) -> &[String] {
         self.store.warnings()
+    }
+
+    /// Retained data found damaged at power-on (see [`Store::lost`]).
+    pub fn lost(&self) -> &[String] {
+        self.store.lost()
     }
 
     /// Commits the CPU's retained memory now (atomically; only changed chunks

@@ -4,8 +4,10 @@
 //! field before checking it against the bytes actually present; they return a
 //! short description of what is wrong instead.
 
-/// Magic at the start of `image.bin` (format version 1).
-pub(crate) const IMAGE_MAGIC: &[u8; 8] = b"SPLCIMG\x01";
+/// Magic at the start of `image.bin`, format version 2 (per-region checksums).
+pub(crate) const IMAGE_MAGIC: &[u8; 8] = b"SPLCIMG\x02";
+/// Format version 1 (one checksum over the whole file), still read.
+pub(crate) const IMAGE_MAGIC_V1: &[u8; 8] = b"SPLCIMG\x01";
 /// Magic at the start of every journal frame (format version 1).
 pub(crate) const FRAME_MAGIC: u32 = u32::from_le_bytes(*b"SPJ1");
 /// Frame head: magic u32, body length u32, generation u64, chunk-record count u32.
@@ -25,6 +27,9 @@ pub(crate) struct ImageRegion {
     /// after the last commit and is all zeros).
     pub committed: bool,
     pub data: Vec<u8>,
+    /// False when the region's checksum failed (or the file ends inside it): its
+    /// contents are lost and `data` is zeros.
+    pub intact: bool,
 }
 
 /// A decoded base image.
@@ -37,24 +42,28 @@ pub(crate) struct Image {
 
 /// The image header, up to and not including the region data.
 ///
-/// Layout: magic (8) | generation u64 | region count u32 |
+/// Version 2 layout: magic (8) | generation u64 | region count u32 |
 /// per region: name length u16, name (UTF-8), data length u64, flags u8 (bit 0:
-/// committed) | region data, concatenated in table order | CRC32 u32 over all
-/// preceding bytes.
+/// committed), CRC32 of the region data u32 | CRC32 u32 of all preceding header
+/// bytes | region data, concatenated in table order. A damaged region loses only
+/// itself; a damaged header loses the image.
 pub(crate) fn image_header<'a>(
     generation: u64,
-    regions: impl ExactSizeIterator<Item = (&'a str, usize, bool)>,
+    regions: impl ExactSizeIterator<Item = (&'a str, usize, bool, u32)>,
 ) -> Vec<u8> {
     let mut out = Vec::with_capacity(64);
     out.extend_from_slice(IMAGE_MAGIC);
     out.extend_from_slice(&generation.to_le_bytes());
     out.extend_from_slice(&(regions.len() as u32).to_le_bytes());
-    for (name, len, committed) in regions {
+    for (name, len, committed, crc) in regions {
         out.extend_from_slice(&(name.len() as u16).to_le_bytes());
         out.extend_from_slice(name.as_bytes());
         out.extend_from_slice(&(len as u64).to_le_bytes());
         out.push(u8::from(committed));
+        out.extend_from_slice(&crc.to_le_bytes());
     }
+    let crc = crc32fast::hash(&out);
+    out.extend_from_slice(&crc.to_le_bytes());
     out
 }
 
@@ -99,22 +108,31 @@ impl<'a> Reader<'a> {
     }
 }
 
-/// Decodes and verifies a whole base image file.
+/// Decodes and verifies a base image file. `Err` when the header is unusable
+/// (then nothing can be recovered); a region whose own checksum fails comes back
+/// with `intact: false`.
 pub(crate) fn decode_image(bytes: &[u8]) -> Result<Image, String> {
     if bytes.len() < IMAGE_MAGIC.len() + 8 + 4 + 4 {
         return Err(format!("{} bytes is too short for an image", bytes.len()));
     }
-    if &bytes[..IMAGE_MAGIC.len()] != IMAGE_MAGIC {
+    let v1 = &bytes[..IMAGE_MAGIC.len()] == IMAGE_MAGIC_V1;
+    if !v1 && &bytes[..IMAGE_MAGIC.len()] != IMAGE_MAGIC {
         return Err("bad magic (not a softplc image, or another format version)".into());
     }
-    let (body, crc) = bytes.split_at(bytes.len() - 4);
-    let stored = u32::from_le_bytes(crc.try_into().unwrap_or([0; 4]));
-    let actual = crc32fast::hash(body);
-    if stored != actual {
-        return Err(format!(
-            "checksum mismatch (stored {stored:08x}, computed {actual:08x})"
-        ));
-    }
+    let body = if v1 {
+        // Version 1: one CRC over the whole file.
+        let (body, crc) = bytes.split_at(bytes.len() - 4);
+        let stored = u32::from_le_bytes(crc.try_into().unwrap_or([0; 4]));
+        let actual = crc32fast::hash(body);
+        if stored != actual {
+            return Err(format!(
+                "checksum mismatch (stored {stored:08x}, computed {actual:08x})"
+            ));
+        }
+        body
+    } else {
+        bytes
+    };
     let mut r = Reader {
         buf: body,
         pos: IMAGE_MAGIC.len(),
@@ -131,30 +149,63 @@ pub(crate) fn decode_image(bytes: &[u8]) -> Result<Image, String> {
         if name_len == 0 || name_len > MAX_NAME {
             return Err(format!("region #{i}: bad name length {name_len}"));
         }
-        let name = std::str::from_utf8(r.take(name_len, "region name")?)
-            .map_err(|_| format!("region #{i}: name is not UTF-8"))?
-            .to_owned();
+        let name = String::from_utf8_lossy(r.take(name_len, "region name")?).into_owned();
         let len = r.u64("region length")?;
         let flags = r.u8("region flags")?;
+        let crc = if v1 {
+            None
+        } else {
+            Some(r.u32("region checksum")?)
+        };
+        table.push((name, len, flags, crc));
+    }
+    if !v1 {
+        let end = r.pos;
+        let stored = r.u32("header checksum")?;
+        let actual = crc32fast::hash(&body[..end]);
+        if stored != actual {
+            return Err(format!(
+                "header checksum mismatch (stored {stored:08x}, computed {actual:08x})"
+            ));
+        }
+    }
+    for (name, _, flags, _) in &table {
         if flags & !1 != 0 {
             return Err(format!("region {name:?}: unknown flags {flags:#04x}"));
         }
-        table.push((name, len, flags & 1 != 0));
     }
     let data_len: u64 = table.iter().map(|t| t.1).sum();
     let left = (body.len() - r.pos) as u64;
-    if data_len != left {
+    if v1 && data_len != left {
+        return Err(format!(
+            "region table announces {data_len} data bytes, file holds {left}"
+        ));
+    }
+    if !v1 && data_len > left + (64 << 20) {
+        // More than a truncation could explain: refuse to allocate it.
         return Err(format!(
             "region table announces {data_len} data bytes, file holds {left}"
         ));
     }
     let mut regions = Vec::with_capacity(count);
-    for (name, len, committed) in table {
-        let data = r.take(len as usize, "region data")?.to_vec();
+    for (name, len, flags, crc) in table {
+        let len = len as usize;
+        let (data, intact) = match r.take(len, "region data") {
+            Ok(d) => match crc {
+                Some(c) if crc32fast::hash(d) != c => (vec![0; len], false),
+                _ => (d.to_vec(), true),
+            },
+            // The file ends inside this region (truncated).
+            Err(_) => {
+                r.pos = body.len();
+                (vec![0; len], false)
+            }
+        };
         regions.push(ImageRegion {
             name,
-            committed,
+            committed: flags & 1 != 0,
             data,
+            intact,
         });
     }
     Ok(Image {

@@ -17,11 +17,15 @@
 //! | `journal.log` | write-ahead log: one frame per commit after *G*, append-only |
 //! | `image.bin.tmp` | a checkpoint in progress; deleted on open |
 //! | `*.corrupt` | a damaged image or orphaned journal moved aside on open |
+//! | `lock` | the owner's `flock` and PID (see *Single writer*) |
 //!
-//! **Base image** (`image.bin`): magic `SPLCIMG\x01`, the generation *G* of the
-//! last commit it contains, the region table (name, length, committed flag), the
-//! region bytes, and a CRC32 over all of it. It is only ever replaced whole (by
-//! rename), and verified whole on open.
+//! **Base image** (`image.bin`): magic `SPLCIMG\x02`, the generation *G* of the
+//! last commit it contains, the region table (name, length, committed flag, CRC32
+//! of the region's bytes), a CRC32 of the header, then the region bytes. It is
+//! only ever replaced whole (by rename). On open each region is verified by its
+//! own checksum, so one damaged byte loses only its region (version 1 images,
+//! with one CRC over the whole file, are still read). Damaged committed data is
+//! listed by [`Store::lost`] (see `recover.rs`).
 //!
 //! **Journal** (`journal.log`): a sequence of frames, one per commit:
 //! `magic "SPJ1" | body length u32 | generation u64 | record count u32 |
@@ -75,8 +79,11 @@
 //! The image is also rewritten on open when the layout differs from the image's
 //! region table (regions added, removed, resized or reordered), so journal frames
 //! always refer to the region table of the image they follow. Regions are matched
-//! by name; a region whose size changed starts zeroed, is returned as `None`, and
-//! a warning says so.
+//! by name, and regions whose names carry device numbers (`latch:D1000-1999`,
+//! `file-register`) also point by point across a changed range or size
+//! (`remap.rs`): devices retained before and after keep their values, and a
+//! warning names what was dropped. Any other region whose size changed starts
+//! zeroed, is returned as `None`, and a warning says so.
 //!
 //! # Durability: `set_sync`
 //!
@@ -93,12 +100,13 @@
 //!
 //! # Single writer
 //!
-//! One process owns a state directory at a time. There is no lock (a pid/lock
-//! file would be left behind by every kill -9 and need stale-lock heuristics).
-//! Two processes committing to the same directory would both append generation
-//! *n + 1*; recovery would stop at the second one as out of sequence and lose
-//! everything after it — the caller (the CLI) must not start two PLCs on one
-//! state directory.
+//! One process owns a state directory at a time: [`Store::open`] takes an OS
+//! advisory lock (`flock`) on the file `lock` and holds it while the store
+//! lives ([`lock`] module). The kernel drops it when the process dies, kill -9
+//! included, so it never goes stale; a second opener gets
+//! [`PersistError::Locked`] naming the directory and the owner's PID. (Two
+//! writers would both append generation *n + 1* and recovery would stop at the
+//! second as out of sequence.)
 //!
 //! # Errors
 //!
@@ -107,14 +115,17 @@
 //! (with the path) and an invalid layout are returned as [`PersistError`].
 
 mod battery;
-pub use battery::Battery;
+pub use battery::{Attach, Battery, OnDamage};
 mod format;
+pub mod lock;
+mod recover;
+mod remap;
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use format::{begin_frame, decode_frame, decode_image, finish_frame, image_header, push_record};
+use format::{begin_frame, finish_frame, image_header, push_record};
 
 /// Granularity of dirty detection: a changed byte writes its whole chunk.
 ///
@@ -191,6 +202,14 @@ pub enum PersistError {
     /// warnings; the variant is what those warnings are made of.
     #[error("{}: corrupt: {what}", path.display())]
     Corrupt { path: PathBuf, what: String },
+    /// Another process owns the state directory (holds its lock).
+    #[error(
+        "state directory {} is in use by another softplc process{}; stop it first or use \
+         another state directory",
+        dir.display(),
+        pid.map(|p| format!(" (PID {p})")).unwrap_or_default()
+    )]
+    Locked { dir: PathBuf, pid: Option<u32> },
     /// The layout passed to `open`, or the regions passed to `commit`, are invalid.
     #[error("persist layout: {0}")]
     Layout(String),
@@ -237,6 +256,10 @@ pub struct Store {
     warnings: Vec<String>,
     frame: Vec<u8>,
     runs: Vec<(usize, usize, usize)>,
+    /// Held while the store lives: one owner per directory.
+    _lock: lock::DirLock,
+    /// Committed data found damaged at open (see [`Store::lost`]).
+    lost: Vec<String>,
 }
 
 impl std::fmt::Debug for Store {
@@ -261,16 +284,6 @@ impl std::fmt::Debug for Store {
     }
 }
 
-/// The state recovered from the image and the journal, in the image's region table.
-struct Recovered {
-    generation: u64,
-    regions: Vec<format::ImageRegion>,
-    /// The image exists, is valid, and the journal was replayed against it.
-    have_image: bool,
-    /// Frames applied from the journal.
-    replayed: usize,
-}
-
 impl Store {
     /// Opens or creates the store in `dir` (created if missing). Returns the last
     /// committed contents of each region in `layout` order, or None for a region that
@@ -293,6 +306,7 @@ impl Store {
     ) -> Result<(Store, Vec<Option<Vec<u8>>>), PersistError> {
         check_layout(layout)?;
         fs::create_dir_all(dir).map_err(io_err("create directory", dir))?;
+        let dir_lock = lock::lock(dir)?;
         let image_path = dir.join(IMAGE_FILE);
         let tmp_path = dir.join(IMAGE_TMP);
         let journal_path = dir.join(JOURNAL_FILE);
@@ -305,55 +319,25 @@ impl Store {
             Err(e) => return Err(io_err("remove", &tmp_path)(e)),
         }
 
-        let rec = recover(&image_path, &journal_path, &mut warnings)?;
+        let rec = recover::recover(&image_path, &journal_path, &mut warnings)?;
 
-        // Map the recovered regions onto the requested layout, by name.
-        let mut recovered: Vec<Option<format::ImageRegion>> =
-            rec.regions.into_iter().map(Some).collect();
+        // Map the recovered regions onto the requested layout, by name and
+        // device numbers (remap.rs).
         let same_table = rec.have_image
-            && recovered.len() == layout.len()
-            && recovered.iter().zip(layout).all(|(r, l)| {
-                r.as_ref()
-                    .is_some_and(|r| r.name == l.name && r.data.len() == l.len)
-            });
-        let mut shadow = Vec::with_capacity(layout.len());
-        let mut committed = Vec::with_capacity(layout.len());
-        let mut out = Vec::with_capacity(layout.len());
-        for l in layout {
-            let found = recovered
-                .iter_mut()
-                .find(|r| r.as_ref().is_some_and(|r| r.name == l.name))
-                .and_then(Option::take);
-            match found {
-                Some(r) if r.data.len() == l.len => {
-                    out.push(r.committed.then(|| r.data.clone()));
-                    committed.push(r.committed);
-                    shadow.push(r.data);
-                }
-                other => {
-                    if let Some(r) = other.filter(|r| r.committed) {
-                        warnings.push(format!(
-                            "region {:?}: size changed from {} to {} bytes; its saved contents \
-                             were discarded and it starts zeroed",
-                            l.name,
-                            r.data.len(),
-                            l.len
-                        ));
-                    }
-                    out.push(None);
-                    committed.push(false);
-                    shadow.push(vec![0; l.len]);
-                }
-            }
-        }
-        for r in recovered.into_iter().flatten().filter(|r| r.committed) {
-            warnings.push(format!(
-                "region {:?} ({} bytes) is no longer in the layout; its saved contents were \
-                 discarded",
-                r.name,
-                r.data.len()
-            ));
-        }
+            && !rec.image_damaged
+            && rec.regions.len() == layout.len()
+            && rec
+                .regions
+                .iter()
+                .zip(layout)
+                .all(|(r, l)| r.name == l.name && r.data.len() == l.len);
+        let remap::Mapped {
+            out,
+            shadow,
+            committed,
+            ..
+        } = remap::map(layout, rec.regions, &mut warnings);
+        let lost = rec.lost;
 
         let journal = OpenOptions::new()
             .append(true)
@@ -385,6 +369,8 @@ impl Store {
             warnings,
             frame: Vec::new(),
             runs: Vec::new(),
+            _lock: dir_lock,
+            lost,
         };
         if !same_table {
             // New store, changed layout, or a damaged image: the journal must
@@ -518,17 +504,12 @@ impl Store {
                 .iter()
                 .zip(&self.shadow)
                 .zip(&self.committed)
-                .map(|((n, d), &c)| (n.as_str(), d.len(), c)),
+                .map(|((n, d), &c)| (n.as_str(), d.len(), c, crc32fast::hash(d))),
         );
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(&header);
         w.write_all(&header).map_err(io_err("write", path))?;
         for data in &self.shadow {
-            crc.update(data);
             w.write_all(data).map_err(io_err("write", path))?;
         }
-        w.write_all(&crc.finalize().to_le_bytes())
-            .map_err(io_err("write", path))?;
         let file = w
             .into_inner()
             .map_err(|e| io_err("write", path)(e.into_error()))?;
@@ -551,6 +532,14 @@ impl Store {
     /// Warnings from open (discarded regions, torn journal tail, damaged files …).
     pub fn warnings(&self) -> &[String] {
         &self.warnings
+    }
+
+    /// Committed data that open found damaged and could not recover (a region
+    /// whose checksum failed, an unreadable image, journal commits after a bad
+    /// frame), one description each; empty when everything committed came back.
+    /// A torn last journal frame (a kill inside `commit`) is not a loss.
+    pub fn lost(&self) -> &[String] {
+        &self.lost
     }
 
     /// Whether each commit is followed by `fdatasync` (power-loss safety at the cost
@@ -648,138 +637,6 @@ fn dirty_runs(
         runs.push((index, start, len));
     }
     chunks
-}
-
-/// Moves a damaged file aside as `<name>.corrupt` (replacing an older one).
-fn move_aside(path: &Path) -> Result<PathBuf, PersistError> {
-    let mut to = path.as_os_str().to_owned();
-    to.push(".corrupt");
-    let to = PathBuf::from(to);
-    fs::rename(path, &to).map_err(io_err("rename", path))?;
-    Ok(to)
-}
-
-fn warn(warnings: &mut Vec<String>, e: PersistError) {
-    warnings.push(e.to_string());
-}
-
-/// Loads the image, replays the journal, truncates a bad journal tail.
-fn recover(
-    image_path: &Path,
-    journal_path: &Path,
-    warnings: &mut Vec<String>,
-) -> Result<Recovered, PersistError> {
-    let image = match fs::read(image_path) {
-        Ok(bytes) => match decode_image(&bytes) {
-            Ok(image) => Some(image),
-            Err(what) => {
-                warn(
-                    warnings,
-                    PersistError::Corrupt {
-                        path: image_path.to_path_buf(),
-                        what: format!("{what}; starting from empty memory"),
-                    },
-                );
-                let to = move_aside(image_path)?;
-                warnings.push(format!("damaged image kept as {}", to.display()));
-                None
-            }
-        },
-        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-        Err(e) => return Err(io_err("read", image_path)(e)),
-    };
-    let journal = match fs::read(journal_path) {
-        Ok(bytes) => bytes,
-        Err(e) if e.kind() == io::ErrorKind::NotFound => Vec::new(),
-        Err(e) => return Err(io_err("read", journal_path)(e)),
-    };
-    let Some(image) = image else {
-        if !journal.is_empty() {
-            let to = move_aside(journal_path)?;
-            warnings.push(format!(
-                "{}: journal without a valid image ({} bytes) cannot be replayed; kept as {}",
-                journal_path.display(),
-                journal.len(),
-                to.display()
-            ));
-        }
-        return Ok(Recovered {
-            generation: 0,
-            regions: Vec::new(),
-            have_image: false,
-            replayed: 0,
-        });
-    };
-
-    let base = image.generation;
-    let mut generation = base;
-    let mut regions = image.regions;
-    let mut replayed = 0;
-    let mut pos = 0;
-    let problem = loop {
-        let frame = match decode_frame(&journal, pos) {
-            Ok(None) => break None,
-            Ok(Some(frame)) => frame,
-            Err(what) => break Some(what),
-        };
-        if replayed == 0 && frame.generation <= base {
-            // Already folded into the image by a checkpoint that did not get to
-            // truncate the journal (possibly written for an older layout).
-        } else if frame.generation == generation + 1 {
-            if let Some(bad) = frame.records.iter().find(|r| {
-                r.region >= regions.len()
-                    || match r.offset.checked_add(r.data.len()) {
-                        Some(end) => end > regions[r.region].data.len(),
-                        None => true,
-                    }
-            }) {
-                break Some(format!(
-                    "generation {}: record for region #{} at {}+{} is outside the layout",
-                    frame.generation,
-                    bad.region,
-                    bad.offset,
-                    bad.data.len()
-                ));
-            }
-            for r in &frame.records {
-                regions[r.region].data[r.offset..r.offset + r.data.len()]
-                    .copy_from_slice(&journal[r.data.clone()]);
-            }
-            regions.iter_mut().for_each(|r| r.committed = true);
-            generation += 1;
-            replayed += 1;
-        } else {
-            break Some(format!(
-                "generation {} follows generation {generation}",
-                frame.generation
-            ));
-        }
-        pos = frame.end;
-    };
-    if let Some(what) = problem {
-        warn(
-            warnings,
-            PersistError::Corrupt {
-                path: journal_path.to_path_buf(),
-                what: format!(
-                    "{what}; discarded {} bytes from offset {pos} (state is generation {generation})",
-                    journal.len() - pos
-                ),
-            },
-        );
-        let file = OpenOptions::new()
-            .write(true)
-            .open(journal_path)
-            .map_err(io_err("open", journal_path))?;
-        file.set_len(pos as u64)
-            .map_err(io_err("truncate", journal_path))?;
-    }
-    Ok(Recovered {
-        generation,
-        regions,
-        have_image: true,
-        replayed,
-    })
 }
 
 #[cfg(unix)]

@@ -453,29 +453,77 @@ fn stale_temp_image_is_ignored_and_removed() {
 }
 
 #[test]
-fn damaged_image_starts_empty_with_warnings() {
+fn damaged_region_loses_only_itself_and_is_reported() {
     let t = TempDir::new("badimage");
     let l = layout();
     let a = contents(&l, 1);
     commit_all(&t, &l, std::slice::from_ref(&a));
+    drop(Store::open(t.path(), &l).unwrap()); // clean open: nothing lost
+    let (mut store, _) = Store::open(t.path(), &l).unwrap();
+    store.checkpoint().unwrap(); // everything in the image, journal empty
+    drop(store);
+    // Flip one byte in the middle of the image: inside "zr" (64 KiB).
     let mut img = fs::read(t.image()).unwrap();
     let mid = img.len() / 2;
     img[mid] ^= 0xff;
     fs::write(t.image(), &img).unwrap();
 
     let (mut store, got) = Store::open(t.path(), &l).unwrap();
-    assert_eq!(got, vec![None; 4]);
+    assert_eq!(got[0], Some(a[0].clone()), "other regions intact");
+    assert_eq!(got[1], None, "the damaged region is lost");
+    assert_eq!(got[2], Some(a[2].clone()));
+    assert_eq!(got[3], Some(a[3].clone()));
+    assert_eq!(store.lost().len(), 1, "{:?}", store.lost());
+    assert!(store.lost()[0].contains("\"zr\""), "{:?}", store.lost());
     let w = store.warnings().join("\n");
-    assert!(w.contains("corrupt: checksum mismatch"), "{w}");
-    assert!(w.contains("journal without a valid image"), "{w}");
+    assert!(w.contains("region \"zr\": checksum mismatch"), "{w}");
     assert!(t.path().join("image.bin.corrupt").exists());
-    assert!(t.path().join("journal.log.corrupt").exists());
-    // Usable again.
+    // Usable again, and the loss is reported once.
     store.commit(&refs(&a)).unwrap();
     drop(store);
     let (store, got) = Store::open(t.path(), &l).unwrap();
     assert_eq!(got, some(&a));
     assert!(store.warnings().is_empty());
+    assert!(store.lost().is_empty());
+}
+
+#[test]
+fn damaged_image_header_loses_everything_and_is_reported() {
+    let t = TempDir::new("badheader");
+    let l = layout();
+    let a = contents(&l, 1);
+    commit_all(&t, &l, std::slice::from_ref(&a));
+    let mut img = fs::read(t.image()).unwrap();
+    img[20] ^= 0xff; // in the region table
+    fs::write(t.image(), &img).unwrap();
+    let (store, got) = Store::open(t.path(), &l).unwrap();
+    assert_eq!(got, vec![None; 4]);
+    let w = store.warnings().join("\n");
+    assert!(w.contains("image.bin: corrupt"), "{w}");
+    assert!(w.contains("journal without a valid image"), "{w}");
+    assert_eq!(store.lost().len(), 1);
+    assert!(t.path().join("image.bin.corrupt").exists());
+    assert!(t.path().join("journal.log.corrupt").exists());
+}
+
+#[test]
+fn torn_tail_is_not_a_loss_but_a_bad_frame_is() {
+    let t = TempDir::new("tornloss");
+    let l = vec![Region::new("a", 16)];
+    commit_all(&t, &l, &[vec![vec![1u8; 16]], vec![vec![2u8; 16]]]);
+    let j = fs::read(t.journal()).unwrap();
+    fs::write(t.journal(), &j[..j.len() - 3]).unwrap();
+    let (store, _) = Store::open(t.path(), &l).unwrap();
+    assert!(!store.warnings().is_empty());
+    assert!(store.lost().is_empty(), "{:?}", store.lost());
+    drop(store);
+    commit_all(&t, &l, &[vec![vec![3u8; 16]]]);
+    let mut j = fs::read(t.journal()).unwrap();
+    let n = j.len();
+    j[n - 6] ^= 1; // inside the last, complete frame
+    fs::write(t.journal(), &j).unwrap();
+    let (store, _) = Store::open(t.path(), &l).unwrap();
+    assert_eq!(store.lost().len(), 1, "{:?}", store.lost());
 }
 
 #[test]
@@ -484,16 +532,22 @@ fn truncated_or_garbage_image_does_not_panic() {
     let l = layout();
     commit_all(&t, &l, &[contents(&l, 1)]);
     let img = fs::read(t.image()).unwrap();
+    let journal = fs::read(t.journal()).unwrap();
     for len in [0, 5, 20, 40, img.len() - 1] {
         fs::write(t.image(), &img[..len]).unwrap();
+        fs::write(t.journal(), &journal).unwrap();
         let (store, got) = Store::open(t.path(), &l).unwrap();
-        assert_eq!(got, vec![None; 4]);
+        if len < 40 {
+            assert_eq!(got, vec![None; 4]);
+        } else {
+            // Cut inside the last region: only that one is lost.
+            assert_eq!(got[3], None);
+        }
         assert!(!store.warnings().is_empty());
+        assert!(!store.lost().is_empty());
     }
     // Valid CRC over nonsense: a region table that overruns the file.
-    let mut bad = image_header(7, [("x", 1usize << 40, true)].into_iter());
-    let crc = crc32fast::hash(&bad);
-    bad.extend_from_slice(&crc.to_le_bytes());
+    let bad = image_header(7, [("x", 1usize << 40, true, 0)].into_iter());
     fs::write(t.image(), &bad).unwrap();
     let (store, _) = Store::open(t.path(), &l).unwrap();
     assert!(

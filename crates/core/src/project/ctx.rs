@@ -3,7 +3,7 @@
 use std::ops::Range;
 use std::time::Duration;
 
-use super::tree::{line_col, Entry, Item, Value};
+use super::tree::{Entry, Item, Value};
 use super::units::{self, parse_duration};
 use crate::program::{Diagnostic, Diagnostics};
 
@@ -12,20 +12,42 @@ pub(crate) struct Ctx<'a> {
     file: String,
     src: &'a str,
     diags: Vec<(usize, Diagnostic)>,
+    /// Byte offset of the start of every line: diagnostics find their line by
+    /// binary search, so thousands of errors cost O(n log n), not O(n²).
+    line_starts: Vec<usize>,
 }
 
 impl<'a> Ctx<'a> {
     pub fn new(file: &str, src: &'a str) -> Self {
+        let line_starts = std::iter::once(0)
+            .chain(src.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
         Ctx {
             file: file.to_string(),
             src,
             diags: Vec::new(),
+            line_starts,
         }
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    fn line_col(&self, offset: usize) -> (u32, u32) {
+        let mut offset = offset.min(self.src.len());
+        while !self.src.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = self.line_starts.partition_point(|&s| s <= offset).max(1);
+        let start = self.line_starts[line - 1];
+        let col = self.src[start..offset].chars().count();
+        (
+            u32::try_from(line).unwrap_or(u32::MAX),
+            u32::try_from(col + 1).unwrap_or(u32::MAX),
+        )
     }
 
     /// Reports an error at the start of `span`.
     pub fn error(&mut self, span: &Range<usize>, message: impl Into<String>) {
-        let (line, col) = line_col(self.src, span.start);
+        let (line, col) = self.line_col(span.start);
         self.diags.push((
             span.start,
             Diagnostic {
@@ -210,5 +232,18 @@ mod tests {
         assert_eq!(suggest("cpy", &["cpu", "ras"]), Some("cpu"));
         assert_eq!(suggest("Q", &["M", "ST"]), None);
         assert_eq!(distance("kitten", "sitting"), 3);
+    }
+
+    #[test]
+    fn line_col_by_binary_search_matches_the_scan() {
+        let src = "a = 1\n[x]\nkey = \"é\" x\n\nlast";
+        let cx = Ctx::new("f", src);
+        for off in 0..=src.len() + 2 {
+            assert_eq!(
+                cx.line_col(off),
+                super::super::tree::line_col(src, off),
+                "{off}"
+            );
+        }
     }
 }

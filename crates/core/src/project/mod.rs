@@ -57,6 +57,9 @@ pub struct Project {
     pub programs: Vec<ProgramSpec>,
     /// `[state] dir` resolved relative to the project (default `state`).
     pub state_dir: PathBuf,
+    /// `[state] on_damage`: stop or continue when the state directory is found
+    /// damaged at power-on (default continue; BATTERY ERROR 1600 either way).
+    pub state_on_damage: crate::persist::OnDamage,
     /// `[cpu] common_pointer`: pointers from this number to P4095 are common,
     /// callable from every program (004 §10.9.2); `None` (default): all local.
     pub common_pointer: Option<u32>,
@@ -64,6 +67,9 @@ pub struct Project {
     /// the Modbus server; see docs/plc-toml.md).
     pub modbus: Option<toml::Table>,
 }
+
+/// Largest `plc.toml` read.
+pub const MAX_MANIFEST_BYTES: u64 = 4 << 20;
 
 /// True when `path` is a directory containing `plc.toml`, or a file named
 /// `plc.toml` (whether it exists or not, so that loading it reports the problem).
@@ -103,7 +109,8 @@ pub fn load_project(path: &Path) -> Result<Project, Diagnostics> {
             path.display()
         )));
     }
-    let bytes = std::fs::read(&manifest).map_err(|e| fail(format!("cannot read file: {e}")))?;
+    let bytes =
+        crate::program::read_limited(&manifest, MAX_MANIFEST_BYTES, "plc.toml").map_err(fail)?;
     let src = match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => {
@@ -181,8 +188,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);
     }
+    let mut state_on_damage = crate::persist::OnDamage::default();
     if let Some(t) = table(&mut cx, "state") {
-        if let Some(d) = settings::state(&mut cx, t) {
+        if let Some(d) = settings::state(&mut cx, t, &mut state_on_damage) {
             state_dir = dir.join(d);
         }
     }
@@ -205,6 +213,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         config,
         programs,
         state_dir,
+        state_on_damage,
         common_pointer,
         modbus,
     })

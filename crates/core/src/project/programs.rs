@@ -65,7 +65,8 @@ pub(crate) fn programs(
         );
     }
     let mut types_ok = true;
-    let mut files: Vec<(PathBuf, &str)> = Vec::new();
+    // Listed files by path (a map: 16,000 tables must not cost O(n²)).
+    let mut files: std::collections::HashMap<PathBuf, &str> = std::collections::HashMap::new();
     let mut first_low_speed: Option<&Item> = None;
     for (item, t) in &tables {
         cx.unknown_keys(
@@ -83,7 +84,7 @@ pub(crate) fn programs(
                     let path = dir.join(name);
                     if name.trim().is_empty() {
                         cx.error(&e.item.span, "file must not be empty");
-                    } else if let Some((_, prev)) = files.iter().find(|(p, _)| *p == path) {
+                    } else if let Some(prev) = files.get(&path) {
                         cx.error(
                             &e.item.span,
                             format!(
@@ -95,9 +96,9 @@ pub(crate) fn programs(
                             &e.item.span,
                             format!("program file \"{name}\" not found ({})", path.display()),
                         );
-                        files.push((path, name));
+                        files.insert(path, name);
                     } else {
-                        files.push((path.clone(), name));
+                        files.insert(path.clone(), name);
                         file = Some(path);
                     }
                 }

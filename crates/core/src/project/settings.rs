@@ -245,9 +245,21 @@ fn parse_datetime(s: &str) -> Option<DateTime> {
     DateTime::parse(s)
 }
 
-/// `[state] dir`: the persistence directory, relative to the project.
-pub(crate) fn state<'t>(cx: &mut Ctx, t: &'t [Entry]) -> Option<&'t str> {
-    cx.unknown_keys(t, Some("[state]"), &["dir"]);
+/// `[state]`: `dir`, the persistence directory relative to the project, and
+/// `on_damage`, what a damaged state directory does at power-on.
+pub(crate) fn state<'t>(
+    cx: &mut Ctx,
+    t: &'t [Entry],
+    on_damage: &mut crate::persist::OnDamage,
+) -> Option<&'t str> {
+    use crate::persist::OnDamage;
+    cx.unknown_keys(t, Some("[state]"), &["dir", "on_damage"]);
+    if let Some(e) = t.iter().find(|e| e.key == "on_damage") {
+        let choices = [("continue", OnDamage::Continue), ("stop", OnDamage::Stop)];
+        if let Some(m) = cx.choice(e, &choices) {
+            *on_damage = m;
+        }
+    }
     let e = t.iter().find(|e| e.key == "dir")?;
     let d = cx.string(e, "a directory path (a string)")?;
     if d.trim().is_empty() {

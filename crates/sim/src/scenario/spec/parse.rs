@@ -82,8 +82,12 @@ const MAX_EVENTS: u64 = 1_000_000;
 impl Scenario {
     /// Reads and parses a scenario file.
     pub fn load(path: &Path) -> Result<Scenario, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        const MAX_SCENARIO_BYTES: u64 = 4 << 20;
+        let bytes =
+            softplc_core::program::read_limited(path, MAX_SCENARIO_BYTES, "a scenario file")
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|e| format!("{}: not UTF-8 text: {e}", path.display()))?;
         Scenario::parse(&text, path)
     }
 
