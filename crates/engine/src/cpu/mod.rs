@@ -1,0 +1,343 @@
+//! The CPU: program scheduling by execution type, the scan cycle and the
+//! operating states RUN/STOP/PAUSE with RESET and latch clear (004 ch. 4).
+//!
+//! `mod.rs` builds the CPU and gives access to it; [`states`] changes its
+//! operating state, [`schedule`] runs a scan (program execution types,
+//! low-speed, fixed-scan and interrupt programs), [`end`] is END processing
+//! and the monitors, [`retained`] the battery-backed memory image.
+
+mod end;
+mod retained;
+mod schedule;
+mod states;
+
+use std::time::Duration;
+
+use super::exec::{self, Outcome};
+use super::special;
+use super::{
+    Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, Runtime, StopToRunOutput,
+};
+use softplc_ir::access::{DeviceSpec, Value};
+use softplc_ir::calendar::PlcClock;
+use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::ops::Program;
+use softplc_ir::ops::MAX_NESTING;
+
+/// A compiled program with its execution type, as the PLC parameter lists it.
+#[derive(Debug)]
+pub struct LoadedProgram {
+    pub program: Program,
+    pub exec: ExecType,
+    /// Interval of a fixed-scan program.
+    pub interval: Option<Duration>,
+    /// Simulated execution time of one run of the program (a softplc parameter
+    /// for virtual time; `None` = instantaneous). It decides how much of the
+    /// constant-scan spare time or low-speed execution time low-speed programs
+    /// use (004 §4.2.3).
+    pub sim_time: Option<Duration>,
+}
+
+/// One row of the program monitor list (004 §7.11, qcpu.md §4.9): execution
+/// count (wraps at 65536) and host execution time of a program file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProgramMonitor {
+    pub file: String,
+    pub exec: ExecType,
+    pub count: u16,
+    /// Wall-clock time of its last run and the longest run.
+    pub last: Duration,
+    pub max: Duration,
+}
+
+/// Scheduling state of a program file in the CPU.
+struct Slot {
+    exec: ExecType,
+    interval_us: u64,
+    /// POFF: run once with conditions OFF at the next scan.
+    off_pending: bool,
+    /// Simulated execution time of one run, µs.
+    cost_us: u64,
+    /// Program monitor: runs (wrapping) and host time of the last and longest run.
+    count: u16,
+    last_ns: u64,
+    max_ns: u64,
+    /// Engine time at which a fixed-scan program runs next.
+    next_due_us: u64,
+}
+
+/// A MELSEC-Q CPU with its programs.
+pub struct Cpu {
+    /// The program files in parameter order, their hidden state and scheduling.
+    programs: Vec<Program>,
+    locals: Vec<ProgState>,
+    slots: Vec<Slot>,
+    rt: Runtime,
+    cfg: CpuConfig,
+    clock: Box<dyn Clock>,
+    state: CpuState,
+    /// A stop error holds the CPU in STOP until RESET.
+    stop_error: bool,
+    /// Input image: what the input modules present; copied to X at input refresh.
+    inputs: Box<[bool]>,
+    /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
+    saved_y: Box<[bool]>,
+    /// Clock reading at power-on, at the last STOP→RUN and at the last END.
+    power_on_us: u64,
+    run_start_us: u64,
+    last_end_us: u64,
+    /// The initial programs have yet to run (power-on, RESET, STOP→RUN).
+    initial_pending: bool,
+    /// SM402/SM403: first scan after RUN.
+    first_scan: bool,
+    /// SM210 at the previous END, for its OFF→ON edge.
+    sm210: bool,
+    scans: u64,
+    min_scan_us: Option<u64>,
+    max_scan_us: Option<u64>,
+    /// Interrupt programs: In → (slot, op index).
+    interrupts: Vec<Option<(usize, u32)>>,
+    /// Interrupt program executions per In (monitor list, wrapping).
+    int_counts: Vec<u16>,
+    /// Next occurrence of I28-I31 and causes remembered while disabled.
+    int_due: [u64; 4],
+    int_pending: [bool; 4],
+    /// SM50 at the previous END, for its OFF→ON edge.
+    sm50: bool,
+    trace: Option<crate::trace::Trace>,
+    /// Simulated time used by the programs of the current scan, µs.
+    busy_us: u64,
+    /// Low-speed programs in progress: position in the cycle, simulated time
+    /// still owed by the running program, start of the cycle (µs).
+    low_pos: usize,
+    low_left_us: u64,
+    /// Simulated low-speed execution time of the current cycle, µs.
+    low_exec_us: u64,
+    /// Low-speed scan bookkeeping (SM404/405, SD528-SD535).
+    low_first: bool,
+    low_last_end_us: u64,
+    low_min_us: Option<u64>,
+    low_max_us: u64,
+}
+
+/// IMASK at power-on: everything enabled except the error interrupts I32-I47,
+/// which need IMASK (004 L10902-10904).
+const DEFAULT_IMASK: [u16; 16] = {
+    let mut m = [0xFFFF; 16];
+    m[2] = 0;
+    m
+};
+
+impl Cpu {
+    /// Powers on a CPU with one scan program and puts it in RUN.
+    ///
+    /// Panics when `program` was compiled for other device points than
+    /// `cfg.devices` (use [`Cpu::with_programs`] to get an error instead).
+    pub fn new(program: Program, cfg: CpuConfig, clock: Box<dyn Clock>) -> Cpu {
+        let p = LoadedProgram {
+            program,
+            exec: ExecType::Scan,
+            interval: None,
+            sim_time: None,
+        };
+        Cpu::with_programs(vec![p], cfg, clock)
+            .expect("the program was compiled for the CPU's device points")
+    }
+
+    /// Powers on a CPU with the programs of a project (in parameter order) and puts
+    /// it in RUN. Fails when the programs do not link: a CALL to a common pointer
+    /// no program defines, a common or interrupt pointer defined twice.
+    pub fn with_programs(
+        programs: Vec<LoadedProgram>,
+        cfg: CpuConfig,
+        clock: Box<dyn Clock>,
+    ) -> Result<Cpu, String> {
+        let mem = DeviceMemory::new(&cfg.devices);
+        let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
+        let x = cfg.devices.points(DeviceKind::X) as usize;
+        let y = cfg.devices.points(DeviceKind::Y) as usize;
+        let now = clock.now_us();
+        let slots: Vec<Slot> = programs
+            .iter()
+            .map(|p| Slot {
+                cost_us: p.sim_time.map_or(0, |d| d.as_micros() as u64),
+                count: 0,
+                last_ns: 0,
+                max_ns: 0,
+                interval_us: p.interval.map_or(0, |d| d.as_micros().max(1) as u64),
+                next_due_us: now,
+                off_pending: false,
+                exec: p.exec,
+            })
+            .collect();
+        let mut programs: Vec<Program> = programs.into_iter().map(|p| p.program).collect();
+        // Compiled indices are only valid for the device layout they were compiled
+        // for (004 §10: device points are a parameter).
+        if let Some(p) = programs
+            .iter()
+            .find(|p| p.bit_len != mem.map.bit_len() || p.word_len != mem.map.word_len())
+        {
+            return Err(format!(
+                "{} was compiled for other device points than this CPU's parameters",
+                p.file
+            ));
+        }
+        let interrupts = crate::link::link(&mut programs)?;
+        let locals = programs.iter().map(ProgState::new).collect();
+        let rt = Runtime {
+            mem,
+            now_us: now,
+            clock: PlcClock::new(cfg.clock_start, now),
+            shared: vec![0; programs.iter().map(|p| p.shared_words).max().unwrap_or(0) as usize]
+                .into_boxed_slice(),
+            timer_rem: vec![0; timers as usize].into_boxed_slice(),
+            timer_base_us: [
+                cfg.timer_low.as_micros().max(1) as u32,
+                cfg.timer_high.as_micros().max(1) as u32,
+            ],
+            scan_us: 0,
+            mc_off: 0,
+            calls: Vec::with_capacity(MAX_NESTING),
+            fors: Vec::with_capacity(MAX_NESTING),
+            stop_request: false,
+            watchdog: cfg.watchdog,
+            wdt_start: std::time::Instant::now(),
+            abort: Default::default(),
+            operation_error: cfg.operation_error,
+            error: None,
+            history: std::collections::VecDeque::with_capacity(crate::HISTORY_LEN),
+            ei: false,
+            imask: DEFAULT_IMASK,
+            in_interrupt: false,
+            type_requests: vec![None; slots.len()].into_boxed_slice(),
+            force_off: false,
+            duty: [None; 10],
+            trace_trigger: false,
+            trace_reset: false,
+        };
+        let mut cpu = Cpu {
+            programs,
+            locals,
+            slots,
+            rt,
+            cfg,
+            clock,
+            state: CpuState::Run,
+            stop_error: false,
+            inputs: vec![false; x].into_boxed_slice(),
+            saved_y: vec![false; y].into_boxed_slice(),
+            power_on_us: now,
+            run_start_us: now,
+            last_end_us: now,
+            initial_pending: true,
+            first_scan: true,
+            sm210: false,
+            scans: 0,
+            min_scan_us: None,
+            max_scan_us: None,
+            interrupts,
+            int_counts: vec![0; 256],
+            int_due: [0; 4],
+            int_pending: [false; 4],
+            sm50: false,
+            trace: None,
+            busy_us: 0,
+            low_pos: 0,
+            low_left_us: 0,
+            low_exec_us: 0,
+            low_first: true,
+            low_last_end_us: 0,
+            low_min_us: None,
+            low_max_us: 0,
+        };
+        cpu.power_on();
+        Ok(cpu)
+    }
+
+    pub fn program_count(&self) -> usize {
+        self.programs.len()
+    }
+
+    /// Program file `i` in parameter order.
+    pub fn program_at(&self, i: usize) -> &Program {
+        &self.programs[i]
+    }
+
+    /// The first program (the only one of a single-file CPU).
+    pub fn program(&self) -> &Program {
+        &self.programs[0]
+    }
+
+    pub fn config(&self) -> &CpuConfig {
+        &self.cfg
+    }
+
+    pub fn state(&self) -> CpuState {
+        self.state
+    }
+
+    /// The latest self-diagnostic error (what SD0 holds), if any.
+    pub fn error(&self) -> Option<&CpuError> {
+        self.rt.error.as_ref()
+    }
+
+    /// Scans executed in RUN since power-on.
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    pub fn memory(&self) -> &DeviceMemory {
+        &self.rt.mem
+    }
+
+    pub fn memory_mut(&mut self) -> &mut DeviceMemory {
+        &mut self.rt.mem
+    }
+
+    /// Reads the engine clock (µs).
+    pub fn now_us(&self) -> u64 {
+        self.clock.now_us()
+    }
+
+    /// Sets input X`n` as an input module would: it reaches X at the next input
+    /// refresh and stays until set again.
+    pub fn set_input(&mut self, n: u32, on: bool) {
+        if let Some(b) = self.inputs.get_mut(n as usize) {
+            *b = on;
+        }
+        let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
+    }
+
+    /// The external output Y`n`: the Y device while running or paused, OFF in
+    /// STOP (004 §4.4).
+    pub fn output(&self, n: u32) -> bool {
+        self.state != CpuState::Stop
+            && self
+                .rt
+                .mem
+                .get_bit(DeviceKind::Y, n as i64)
+                .unwrap_or(false)
+    }
+
+    /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
+    pub fn read_device(&self, spec: &DeviceSpec) -> Result<Value, String> {
+        spec.read(&self.rt.mem)
+    }
+
+    /// Writes a device by name. Writes to X go to the input image as well, so the
+    /// value survives the next input refresh.
+    pub fn write_device(&mut self, spec: &DeviceSpec, value: &str) -> Result<(), String> {
+        spec.write(&mut self.rt.mem, value)?;
+        if let Some((DeviceKind::X, first, count)) = spec.bit_span() {
+            let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
+            for n in first as usize..(first + count) as usize {
+                if let Some(b) = self.inputs.get_mut(n) {
+                    *b = self.rt.mem.bits[xb + n];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    // --- operating states (004 §4.4, §7.5, §7.8) ---
+}

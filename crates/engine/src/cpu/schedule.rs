@@ -1,0 +1,351 @@
+//! One scan: the programs by execution type, low-speed programs, fixed-scan
+//! programs and the I28-I31 interrupts (004 §4.2, §4.1.3).
+
+use super::*;
+
+impl Cpu {
+    /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
+    /// the scan programs in parameter order, one pass of the low-speed programs,
+    /// END processing. Right after power-on, RESET or STOP→RUN the scan runs the
+    /// initial programs instead, followed by one END (004 §4.2.1). In STOP and
+    /// PAUSE only END processing happens.
+    pub fn scan(&mut self) {
+        let now = self.clock.now_us();
+        if self.state != CpuState::Run {
+            self.last_end_us = now;
+            return;
+        }
+        self.rt.now_us = now;
+        self.busy_us = 0;
+        // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
+        self.rt.wdt_start = std::time::Instant::now();
+        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
+        self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
+        let initial =
+            self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
+        self.initial_pending = false;
+        let ok = if initial {
+            // The initial execution monitor time, when set, replaces the WDT for
+            // the initial programs (004 L1446-1503).
+            let wdt = self.rt.watchdog;
+            if let Some(t) = self.cfg.initial_monitor {
+                self.rt.watchdog = t;
+            }
+            let ok = self.service_interrupts(now) && self.run_type(ExecType::Initial);
+            self.rt.watchdog = wdt;
+            ok
+        } else {
+            self.service_interrupts(now)
+                && self.run_off_pending()
+                && self.run_fixed_scan(now)
+                && self.run_type(ExecType::Scan)
+                && self.run_low_speed(now)
+        };
+        if !ok && self.aborted() {
+            // Stopped by the host mid-scan: STOP, no error.
+            self.set_stop();
+            self.scans += 1;
+            return;
+        }
+        if !ok {
+            // Stop error: the CPU stops at the point of detection, outputs OFF.
+            self.stop_error = true;
+            self.set_stop();
+            self.scans += 1;
+            return;
+        }
+        self.end_processing(now, initial);
+    }
+
+    /// Runs every program of one execution type in parameter order; false on a
+    /// stop error.
+    pub(super) fn run_type(&mut self, exec: ExecType) -> bool {
+        for i in 0..self.slots.len() {
+            if self.slots[i].exec == exec && !self.run_slot(i) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// POFF: the program runs once with its conditions forced OFF, which turns
+    /// its coils OFF (qcpu.md §2.2 table), before becoming a standby program.
+    pub(super) fn run_off_pending(&mut self) -> bool {
+        for i in 0..self.slots.len() {
+            if std::mem::take(&mut self.slots[i].off_pending) {
+                self.rt.force_off = true;
+                let ok = self.run_slot(i);
+                self.rt.force_off = false;
+                if !ok {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
+    /// virtual time, so a pass always fits the spare time). SM510 is ON and SD510
+    /// holds the program number while one runs; SM404/SM405 are the low-speed
+    /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
+    pub(super) fn run_low_speed(&mut self, _now: u64) -> bool {
+        // The low-speed programs in parameter order, without allocating.
+        let n_low = self
+            .slots
+            .iter()
+            .filter(|s| s.exec == ExecType::LowSpeed)
+            .count();
+        if n_low == 0 {
+            return true;
+        }
+
+        let first = self.low_first;
+        self.sm(404, first);
+        self.sm(405, !first);
+        let sync = self.rt.mem.get_bit(DeviceKind::SM, 330).unwrap_or(false);
+        let timed = self
+            .slots
+            .iter()
+            .any(|s| s.exec == ExecType::LowSpeed && s.cost_us > 0);
+        // The time low-speed programs may use in this scan (004 §4.2.3): the
+        // low-speed execution time, or the constant-scan spare time less 0.5 ms
+        // (none when the spare time is 0.5 ms or less).
+        let budget = match (self.cfg.low_speed_time, self.cfg.constant_scan) {
+            (Some(l), _) => l.as_micros() as u64,
+            (None, Some(c)) => (c.as_micros() as u64)
+                .saturating_sub(self.busy_us)
+                .saturating_sub(500),
+            (None, None) => 0,
+        };
+        if !timed {
+            // Without simulated execution times a cycle takes no time: one
+            // complete cycle per scan.
+            self.low_pos = 0;
+            self.low_left_us = 0;
+            for k in 0..n_low {
+                if !self.run_low(self.low_slot(k)) {
+                    return false;
+                }
+            }
+            self.low_speed_end();
+            return true;
+        }
+        let mut used = 0u64;
+        loop {
+            if self.low_pos >= n_low {
+                self.low_pos = 0;
+            }
+            if self.low_left_us > 0 {
+                // The suspended program continues (004 §4.2.3 (3)(b)).
+                let d = self.low_left_us.min(budget - used);
+                self.low_left_us -= d;
+                self.low_exec_us += d;
+                used += d;
+                if self.low_left_us > 0 {
+                    break;
+                }
+            } else {
+                if used >= budget {
+                    break;
+                }
+                let i = self.low_slot(self.low_pos);
+                if !self.run_low(i) {
+                    return false;
+                }
+                self.low_left_us = self.slots[i].cost_us;
+                continue;
+            }
+            // The running program completed.
+            self.low_pos += 1;
+            if self.low_pos == n_low {
+                self.low_pos = 0;
+                self.low_speed_end();
+                if sync {
+                    // Synchronous (SM330 ON): no second cycle in the same scan.
+                    break;
+                }
+            }
+        }
+        self.busy_us += used;
+        self.sm(510, false);
+        true
+    }
+
+    /// The slot of the `k`-th low-speed program in parameter order.
+    pub(super) fn low_slot(&self, k: usize) -> usize {
+        (0..self.slots.len())
+            .filter(|&i| self.slots[i].exec == ExecType::LowSpeed)
+            .nth(k)
+            .unwrap_or(0)
+    }
+
+    pub(super) fn sm(&mut self, n: i64, v: bool) {
+        let _ = self.rt.mem.set_bit(DeviceKind::SM, n, v);
+    }
+
+    /// Runs low-speed program `i` with SM510 ON and SD510 = its number (the
+    /// simulated time is accounted by the caller).
+    pub(super) fn run_low(&mut self, i: usize) -> bool {
+        self.sm(510, true);
+        let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
+        let cost = self.slots[i].cost_us;
+        let ok = self.run_slot(i);
+        self.busy_us -= cost;
+        self.sm(510, false);
+        ok
+    }
+
+    /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
+    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — into
+    /// SD528-SD535; SD430 counts.
+    pub(super) fn low_speed_end(&mut self) {
+        let us = std::mem::take(&mut self.low_exec_us);
+        if !self.low_first {
+            self.low_max_us = self.low_max_us.max(us);
+        }
+        self.low_min_us = Some(self.low_min_us.map_or(us, |m| m.min(us)));
+        for (reg, v) in [
+            (528, us),
+            (532, self.low_min_us.unwrap_or(0)),
+            (534, self.low_max_us),
+        ] {
+            let (ms, sub) = special::ms_us(v);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, reg, ms);
+            let _ = self.rt.mem.set_word(DeviceKind::SD, reg + 1, sub);
+        }
+        let c = self
+            .rt
+            .mem
+            .get_word(DeviceKind::SD, 430)
+            .unwrap_or(0)
+            .wrapping_add(1);
+        let _ = self.rt.mem.set_word(DeviceKind::SD, 430, c);
+        self.low_first = false;
+    }
+
+    /// Simulated execution time of the last scan (programs run, low-speed time
+    /// used), µs. With constant scan the scan takes the longer of this and the
+    /// constant-scan period; a virtual-time driver may advance its clock by it.
+    pub fn busy_us(&self) -> u64 {
+        self.busy_us
+    }
+
+    /// Fixed-scan programs whose interval has elapsed, in parameter order. In
+    /// virtual time a scan is instantaneous, so every interval that elapsed since
+    /// the last scan runs the program once, before the scan programs.
+    pub(super) fn run_fixed_scan(&mut self, now: u64) -> bool {
+        for i in 0..self.slots.len() {
+            if self.slots[i].exec != ExecType::FixedScan {
+                continue;
+            }
+            while self.slots[i].next_due_us <= now {
+                let iv = self.slots[i].interval_us.max(1);
+                self.slots[i].next_due_us += iv;
+                if !self.run_slot(i) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Fixed-cycle interrupts I28-I31 (004 §4.1.3, App. 3): every occurrence since
+    /// the previous scan, in time order (I31 before I28 at the same instant, by
+    /// priority), runs its interrupt program when EI and IMASK allow it; a cause
+    /// occurring while disabled is remembered once and runs when enabled.
+    pub(super) fn service_interrupts(&mut self, now: u64) -> bool {
+        if self.interrupts[28..32].iter().all(Option::is_none) {
+            return true;
+        }
+        const MAX_PER_SCAN: u32 = 100_000;
+        let periods = self
+            .cfg
+            .interrupt_periods
+            .map(|p| p.as_micros().max(1) as u64);
+        let mut runs = 0;
+        loop {
+            // The earliest due cause; ties go to the higher I number.
+            let k = (0..4).rev().min_by_key(|&k| self.int_due[k]).unwrap_or(0);
+            if self.int_due[k] > now {
+                break;
+            }
+            runs += 1;
+            if runs > MAX_PER_SCAN {
+                // Pathological period/scan ratio: skip ahead instead of looping.
+                self.int_due[k] = now + periods[k];
+                continue;
+            }
+            self.int_due[k] += periods[k];
+            let n = 28 + k;
+            if self.interrupts[n].is_some() {
+                if self.rt.interrupt_enabled(n) {
+                    if !self.run_interrupt(n) {
+                        return false;
+                    }
+                } else {
+                    self.int_pending[k] = true;
+                }
+            }
+        }
+        for k in (0..4).rev() {
+            if self.int_pending[k] && self.rt.interrupt_enabled(28 + k) {
+                self.int_pending[k] = false;
+                if !self.run_interrupt(28 + k) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Runs interrupt program `In`, saving and restoring Z0-Z15 around it (the
+    /// default, not "high-speed execution", 004 L1270-1290).
+    pub(super) fn run_interrupt(&mut self, n: usize) -> bool {
+        let Some((i, pc)) = self.interrupts[n] else {
+            return true;
+        };
+        let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+        let zn = self.rt.mem.map.points(DeviceKind::Z) as usize;
+        let mut z = [0u16; 16];
+        z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
+        self.rt.in_interrupt = true;
+        self.int_counts[n] = self.int_counts[n].wrapping_add(1);
+        let out = exec::run(
+            &self.programs,
+            &mut self.locals,
+            &mut self.rt,
+            i,
+            pc as usize,
+        );
+        self.rt.in_interrupt = false;
+        self.rt.mem.words[zb..zb + zn.min(16)].copy_from_slice(&z[..zn.min(16)]);
+        self.outcome(out)
+    }
+
+    /// Starts (or with `None` stops) a sampling trace, sampled at END.
+    pub fn set_trace(&mut self, trace: Option<crate::trace::Trace>) {
+        self.trace = trace;
+    }
+
+    pub fn trace(&self) -> Option<&crate::trace::Trace> {
+        self.trace.as_ref()
+    }
+
+    /// The error history, oldest first (latest 16).
+    pub fn error_history(&self) -> Vec<crate::HistoryEntry> {
+        self.rt.history.iter().copied().collect()
+    }
+
+    pub(super) fn run_slot(&mut self, i: usize) -> bool {
+        self.busy_us += self.slots[i].cost_us;
+        let t = std::time::Instant::now();
+        let out = exec::run(&self.programs, &mut self.locals, &mut self.rt, i, 0);
+        let ns = t.elapsed().as_nanos() as u64;
+        let s = &mut self.slots[i];
+        s.count = s.count.wrapping_add(1);
+        s.last_ns = ns;
+        s.max_ns = s.max_ns.max(ns);
+        self.outcome(out)
+    }
+}

@@ -1,0 +1,188 @@
+//! Operating states: RUN, STOP, PAUSE, RESET, latch clear, power-on and
+//! STOP→RUN (004 §4.4, §7.5, §7.8).
+
+use super::retained::latch_spans;
+use super::*;
+
+impl Cpu {
+    /// RUN (key switch or remote RUN). From STOP this is STOP→RUN: outputs per the
+    /// "STOP→RUN output" parameter, device initial values written, the initial
+    /// programs run again. Refused while a stop error is held (RESET first).
+    pub fn set_run(&mut self) -> Result<(), String> {
+        match self.state {
+            CpuState::Run => Ok(()),
+            CpuState::Pause => {
+                self.state = CpuState::Run;
+                special::set_status(&mut self.rt.mem, self.state);
+                Ok(())
+            }
+            CpuState::Stop if self.stop_error => Err(format!(
+                "the CPU is stopped by error {}; RESET it first",
+                self.rt.error.as_ref().map_or(0, |e| e.code.0)
+            )),
+            CpuState::Stop => {
+                let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
+                let y = &mut self.rt.mem.bits[yb..yb + self.saved_y.len()];
+                match self.cfg.stop_to_run_output {
+                    StopToRunOutput::Previous => y.copy_from_slice(&self.saved_y),
+                    StopToRunOutput::Recalculate => y.fill(false),
+                }
+                self.start_run();
+                Ok(())
+            }
+        }
+    }
+
+    /// STOP (key switch or remote STOP): the Y image is saved and the external
+    /// outputs go OFF; device memory is kept.
+    pub fn set_stop(&mut self) {
+        if self.state != CpuState::Stop {
+            let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
+            let n = self.saved_y.len();
+            self.saved_y.copy_from_slice(&self.rt.mem.bits[yb..yb + n]);
+            self.state = CpuState::Stop;
+            special::set_status(&mut self.rt.mem, self.state);
+        }
+    }
+
+    /// PAUSE (remote PAUSE): the program stops with outputs held.
+    pub fn set_pause(&mut self) -> Result<(), String> {
+        match self.state {
+            CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
+            _ => {
+                self.state = CpuState::Pause;
+                special::set_status(&mut self.rt.mem, self.state);
+                Ok(())
+            }
+        }
+    }
+
+    /// RESET (switch or remote RESET, accepted in STOP): the same processing as
+    /// power-on — devices outside the latch ranges cleared, errors cleared — then
+    /// RUN as the key switch says.
+    pub fn reset(&mut self) -> Result<(), String> {
+        if self.state != CpuState::Stop {
+            return Err("RESET is accepted only in STOP".into());
+        }
+        self.power_on();
+        Ok(())
+    }
+
+    /// Latch clear (accepted in STOP). The L.CLR switch clears the latch (1)
+    /// ranges; a remote latch clear also clears latch (2), every device outside
+    /// the latch ranges and the error (qcpu.md §4.2, [CONFLICT] 11). File
+    /// registers are never cleared by latch clear (004 L7028-7031).
+    pub fn latch_clear(&mut self, remote: bool) -> Result<(), String> {
+        if self.state != CpuState::Stop {
+            return Err("latch clear is accepted only in STOP".into());
+        }
+        let ranges: Vec<_> = self
+            .cfg
+            .latch
+            .iter()
+            .filter(|r| r.clearable || remote)
+            .copied()
+            .collect();
+        for r in &ranges {
+            for (bit, start, len) in latch_spans(&self.rt.mem, r) {
+                if bit {
+                    self.rt.mem.bits[start..start + len].fill(false);
+                } else {
+                    self.rt.mem.words[start..start + len].fill(0);
+                }
+            }
+        }
+        if remote {
+            self.clear_unlatched();
+            self.rt.error = None;
+            self.rt.history.clear();
+            self.stop_error = false;
+            special::power_on(&mut self.rt.mem);
+        }
+        Ok(())
+    }
+
+    /// Power-on / RESET processing (004 §4.3 table): devices outside the latch
+    /// ranges and the file registers cleared, system registers set, device initial
+    /// values written, RUN from the initial programs.
+    pub(super) fn power_on(&mut self) {
+        self.clear_unlatched();
+        self.rt.error = None;
+        self.stop_error = false;
+        self.rt.timer_rem.fill(0);
+        self.rt.ei = false;
+        self.rt.imask = DEFAULT_IMASK;
+        self.rt.duty = [None; 10];
+        let now = self.clock.now_us();
+        self.power_on_us = now;
+        self.min_scan_us = None;
+        self.max_scan_us = None;
+        special::power_on(&mut self.rt.mem);
+        self.start_run();
+    }
+
+    /// Common part of power-on and STOP→RUN.
+    pub(super) fn start_run(&mut self) {
+        let now = self.clock.now_us();
+        for l in &mut self.locals {
+            l.clear();
+        }
+        self.rt.shared.fill(0);
+        for s in &mut self.slots {
+            s.next_due_us = now + s.interval_us;
+        }
+        for (k, p) in self.cfg.interrupt_periods.iter().enumerate() {
+            self.int_due[k] = now + p.as_micros().max(1) as u64;
+        }
+        self.write_initial_values();
+        self.run_start_us = now;
+        self.last_end_us = now;
+        self.low_last_end_us = now;
+        self.low_exec_us = 0;
+        self.low_pos = 0;
+        self.low_left_us = 0;
+        self.low_first = true;
+        self.initial_pending = true;
+        self.first_scan = true;
+        self.state = CpuState::Run;
+        special::set_status(&mut self.rt.mem, self.state);
+    }
+
+    pub(super) fn write_initial_values(&mut self) {
+        for iv in &self.cfg.initial_values {
+            // Validated when the project was loaded.
+            let _ = iv.device.write(&mut self.rt.mem, &iv.value);
+        }
+    }
+
+    /// Clears every device except the latch ranges and the file registers.
+    pub(super) fn clear_unlatched(&mut self) {
+        let mem = &mut self.rt.mem;
+        let keep_words = |mem: &DeviceMemory| {
+            let zr = mem.map.base(DeviceKind::ZR) as usize;
+            zr..zr + mem.map.points(DeviceKind::ZR) as usize
+        };
+        let zr = keep_words(mem);
+        let mut saved_words: Vec<(usize, Vec<u16>)> =
+            vec![(zr.start, mem.words[zr.clone()].to_vec())];
+        let mut saved_bits: Vec<(usize, Vec<bool>)> = Vec::new();
+        for r in &self.cfg.latch {
+            for (bit, start, len) in latch_spans(mem, r) {
+                if bit {
+                    saved_bits.push((start, mem.bits[start..start + len].to_vec()));
+                } else {
+                    saved_words.push((start, mem.words[start..start + len].to_vec()));
+                }
+            }
+        }
+        mem.clear();
+        for (start, v) in saved_bits {
+            mem.bits[start..start + v.len()].copy_from_slice(&v);
+        }
+        for (start, v) in saved_words {
+            mem.words[start..start + v.len()].copy_from_slice(&v);
+        }
+    }
+
+    // --- the scan ---
+}
