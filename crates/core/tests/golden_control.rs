@@ -1,7 +1,7 @@
 //! Golden tests for program control (CJ/SCJ/JMP/GOEND, CALL/RET, FOR/NEXT/BREAK,
 //! pulse forms), run-time errors and STOP. Expected values are worked out by
 //! hand in the comments. Step numbers follow
-//! `softplc_core::instructions::catalog::steps`: contacts and coils 1 step,
+//! each definition's step rule (`softplc_lang::isa::Steps`): contacts and coils 1 step,
 //! PLS/PLF/FF/MC 2, OUT T/C 4, any other instruction 1 + its operand count
 //! (CJ P1 = 2, FOR K2 = 2, MOV K1 D0 = 3, `/ D0 K0 D10` = 4).
 

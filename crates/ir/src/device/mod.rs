@@ -133,7 +133,8 @@ impl DeviceMap {
                 nw += n;
             }
         }
-        // Block switching (RSET) is not implemented yet: R addresses block 0 of ZR.
+        // R is a window onto ZR: its base is block 0. Program operands on R are
+        // `Indexed` and add the block RSET selected (SD648) when they run.
         base[DeviceKind::R as usize] = base[DeviceKind::ZR as usize];
         DeviceMap {
             base,

@@ -24,12 +24,11 @@
 //! 8 loops and the QnACPU's always-limited ranges are not modelled). No
 //! instruction allocates when it executes.
 //!
-//! Scope of the registration: it lives in the hidden state words of the
-//! program file that holds the PIDINIT (see `registry`), so PIDINIT and the
-//! PIDCONT/PIDSTOP/PIDRUN/PIDPRMW that use it must be in the same program
-//! file; and like every hidden state it is cleared at STOP→RUN and power-on,
-//! after which PIDINIT must run again (a loop's running state is in the I/O
-//! data and survives if those devices do).
+//! Scope of the registration: it is CPU-wide, in the shared state words
+//! (`ExecCtx::shared`, see `registry`), so a PIDINIT in an initial program
+//! serves the PIDCONT/PIDSTOP/PIDRUN/PIDPRMW of a scan program; it is cleared
+//! at STOP→RUN and power-on, after which PIDINIT must run again (a loop's
+//! running state is in the I/O data and survives if those devices do).
 
 pub mod algo;
 mod cont;
