@@ -349,3 +349,36 @@ fn trace_and_tracer_instructions() {
     assert!(!t.is_complete());
     assert_eq!(t.samples().map(|(s, _, _)| s).collect::<Vec<_>>(), [7, 8]);
 }
+
+// EI/DI without a contact (PM §6.7; a GX Works2 export opens a rung with DI).
+
+const I31_COUNTS_D0: &str = "FEND\nI31\nLD SM400\nINC D0\nIRET\nEND\n";
+
+#[test]
+fn di_may_open_a_rung_and_ei_after_an_output_runs_unconditionally() {
+    // EI follows the output of the X0 rung: it does not take X0's condition.
+    let mut p = Plc::new(&format!("DI\nLD X0\nOUT Y0\nEI\n{I31_COUNTS_D0}"));
+    p.scans(5);
+    assert!(!p.bit("Y0"));
+    // I31 (10 ms) is due once a scan: the cause of scan 1, held while DI, runs
+    // once EI enables it, then one run before each of scans 2-5.
+    assert_eq!(p.int("D0"), 5);
+}
+
+#[test]
+fn ei_after_a_contact_runs_while_the_condition_is_on() {
+    let mut p = Plc::new(&format!("LD X0\nEI\n{I31_COUNTS_D0}"));
+    p.scans(5);
+    assert_eq!(p.int("D0"), 0);
+    p.set("X0", "1").scans(5);
+    // The cause held pending while disabled runs when EI executes, then one
+    // run before each of the next four scans.
+    assert_eq!(p.int("D0"), 5);
+}
+
+#[test]
+fn di_without_a_contact_disables_at_every_scan() {
+    let mut p = Plc::new(&format!("LD SM400\nEI\nDI\n{I31_COUNTS_D0}"));
+    p.scans(5);
+    assert_eq!(p.int("D0"), 0);
+}

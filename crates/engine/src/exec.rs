@@ -359,14 +359,9 @@ pub(crate) fn run(
                 return rt.end_checks(cur, pc - 1);
             }
             Op::Nop => {}
-            Op::Ei => {
-                if acc & mc_on {
-                    rt.set_ei(true);
-                }
-            }
-            Op::Di => {
-                if acc & mc_on {
-                    rt.set_ei(false);
+            Op::Interrupts { enable, always } => {
+                if *always || acc & mc_on {
+                    rt.set_ei(*enable);
                 }
             }
             Op::Imask(s) => {

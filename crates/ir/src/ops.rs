@@ -347,9 +347,12 @@ pub enum Op {
     Stop,
     Nop,
     // --- interrupts and diagnostics ---
-    /// EI / DI: enable or disable interrupts.
-    Ei,
-    Di,
+    /// EI (`enable`) / DI: enable or disable interrupts; `always` when written
+    /// without a contact (at the start of a rung), else driven by the condition.
+    Interrupts {
+        enable: bool,
+        always: bool,
+    },
     /// IMASK s: 16 words, one enable bit per interrupt pointer I0-I255.
     Imask(Box<WordArg>),
     /// End of an interrupt program.

@@ -43,7 +43,7 @@ static BRANCH: Doc = Doc {
 static INTERRUPTS: Doc = Doc {
     family: "interrupt control",
     cite: "PM §6.7; 004 §4.1.3",
-    notes: "I28-I31 fixed-cycle interrupts; I32-I49 rejected",
+    notes: "I28-I31 fixed-cycle interrupts; I32-I49 rejected; EI/DI without a contact (opening a rung or after an output) run at every scan, after contacts while the condition is ON",
 };
 static SUBROUTINES: Doc = Doc {
     family: "subroutine",
@@ -137,12 +137,26 @@ fn stop_goend(c: &mut Compiler<'_>, u: &Use<'_>) {
     }
 }
 
+/// EI/DI (PM §6.7): the manual writes them without a contact, and GX Works2
+/// exports open a rung with them; softplc also accepts them after contacts
+/// (then they run while the condition is ON, as softplc did before).
+/// Decision: without a contact — at the start of a rung, or after another
+/// rung's output — they run at every scan, never taking another rung's
+/// condition.
 fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
-    if c.count(i, m, &[0]) && c.output(i, m) {
-        c.emit(if m == "EI" { Op::Ei } else { Op::Di });
+    if !c.count(i, m, &[0]) {
+        return;
     }
+    let enable = m == "EI";
+    let always = !c.has_rung || c.after_output;
+    if always {
+        c.standalone(i, m);
+    } else if !c.output(i, m) {
+        return;
+    }
+    c.emit(Op::Interrupts { enable, always });
 }
 
 fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
