@@ -18,7 +18,8 @@ pub struct ExecCtx<'a> {
     pub scan_us: u32,
     /// CPU-wide state shared by instructions of every program file (what the
     /// CPU keeps outside device memory, e.g. the PID registration), cleared at
-    /// power-on and STOP→RUN; sized by [`crate::ops::Program::shared_words`].
+    /// power-on and STOP→RUN; sized by [`crate::ops::Program::shared_words`]; each
+    /// family's part is a [`CpuSlot`].
     pub shared: &'a mut [u32],
     /// The calendar clock (read with `clock.now(now_us)`, set by DATEWR).
     pub clock: &'a mut PlcClock,
@@ -125,6 +126,85 @@ macro_rules! local_state {
                 let mut k = 0;
                 $(words[k] = $crate::instr::StateWord::to_word(self.$field); k += 1;)*
                 let _ = k;
+            }
+        }
+    };
+}
+
+/// CPU-wide state of an instruction family (the PID registration, the RND
+/// series): words of [`ExecCtx::shared`], shared by the instructions of every
+/// program file and cleared at power-on and STOP→RUN. Each type gets its own
+/// words the first time it is used, so no family computes offsets by hand.
+/// Declare one with [`cpu_state!`](crate::cpu_state).
+pub trait CpuState {
+    /// Words it occupies.
+    const WORDS: u32;
+    /// Its first word in the shared state (assigned once per process).
+    fn offset() -> u32;
+}
+
+/// Reserves `words` shared-state words for a new [`CpuState`] type.
+pub fn allocate_cpu_words(words: u32) -> u32 {
+    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    NEXT.fetch_add(words, std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Where a [`CpuState`] lives (from `Args::cpu`).
+#[derive(Debug)]
+pub struct CpuSlot<T> {
+    at: u32,
+    _state: std::marker::PhantomData<fn() -> T>,
+}
+
+impl<T> Clone for CpuSlot<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for CpuSlot<T> {}
+
+impl<T: CpuState> CpuSlot<T> {
+    pub fn new() -> Self {
+        CpuSlot {
+            at: T::offset(),
+            _state: std::marker::PhantomData,
+        }
+    }
+
+    /// Words one past the state: the shared words a program using it needs.
+    pub fn end(&self) -> u32 {
+        self.at + T::WORDS
+    }
+
+    /// The state's words in the shared state (`cx.shared`, borrowed alone so
+    /// that `cx.mem` stays usable).
+    #[inline]
+    pub fn words<'a>(&self, shared: &'a mut [u32]) -> &'a mut [u32] {
+        let at = self.at as usize;
+        &mut shared[at..at + T::WORDS as usize]
+    }
+}
+
+impl<T: CpuState> Default for CpuSlot<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Declares a [`CpuState`] type of `WORDS` shared words.
+#[macro_export]
+macro_rules! cpu_state {
+    ($(#[$m:meta])* $vis:vis struct $name:ident[$words:expr];) => {
+        $(#[$m])*
+        #[derive(Debug)]
+        $vis struct $name;
+
+        impl $crate::instr::CpuState for $name {
+            const WORDS: u32 = $words as u32;
+            fn offset() -> u32 {
+                static AT: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+                *AT.get_or_init(|| $crate::instr::allocate_cpu_words(Self::WORDS))
             }
         }
     };

@@ -4,7 +4,7 @@ use super::compile::Compiler;
 use super::dialect::Flag;
 use super::source::SourceInstr;
 use softplc_ir::device::{DeviceMap, Operand};
-use softplc_ir::instr::{LocalSlot, LocalState};
+use softplc_ir::instr::{CpuSlot, CpuState, LocalSlot, LocalState};
 use softplc_ir::ops::{BitArg, BitBlock, Block, Num, WordArg};
 
 /// Operand access for a family module compiling one instruction. Every method
@@ -128,7 +128,7 @@ impl<'c, 'a> Args<'c, 'a> {
 
     /// Declares that the instruction uses the first `words` CPU-wide state
     /// words (`ExecCtx::shared`).
-    pub fn need_shared(&mut self, words: u32) {
+    fn need_shared(&mut self, words: u32) {
         self.c.shared_words = self.c.shared_words.max(words);
     }
 
@@ -137,6 +137,13 @@ impl<'c, 'a> Args<'c, 'a> {
     pub fn flag(&self, f: Flag) -> Option<u32> {
         let (kind, n) = self.c.dialect.flag(f)?;
         self.c.map.index(kind, n)
+    }
+
+    /// The CPU-wide state `T` this instruction uses (see [`CpuState`]).
+    pub fn cpu<T: CpuState>(&mut self) -> CpuSlot<T> {
+        let slot = CpuSlot::new();
+        self.need_shared(slot.end());
+        slot
     }
 
     /// Allocates this instruction's typed state (see [`LocalState`]).

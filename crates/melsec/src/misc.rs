@@ -8,24 +8,22 @@
 //!
 //! # CPU-wide state
 //!
-//! The RND/SRND random series is one per CPU. It lives in the CPU-wide
-//! [`ExecCtx::shared`] words at [`SHARED_AT`] ([`SHARED_WORDS`] words), after
-//! the PID registrations; an RND/SRND declares them with `Args::need_shared`.
+//! The RND/SRND random series is one per CPU: a [`CpuState`](softplc_ir::instr::CpuState)
+//! of one word ([`RandomSeries`]).
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::instr::CpuSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
 
-/// Words of the CPU-wide shared state ([`ExecCtx::shared`]) this family keeps:
-/// the state of the RND/SRND random series.
-pub const SHARED_WORDS: usize = 1;
-
-/// Offset of this family's words in [`ExecCtx::shared`]: after the two PID
-/// registrations.
-pub const SHARED_AT: usize = 2 * super::pid::registry::REGISTRY_WORDS;
+softplc_ir::cpu_state! {
+    /// The RND/SRND series: the generator state xor the power-on seed, so that
+    /// the cleared word is the series of seed 1.
+    pub struct RandomSeries[1];
+}
 
 /// This family's instructions.
 pub static DEFS: &[Def] = &[
@@ -65,6 +63,7 @@ const DEFAULT_SEED: u32 = 1;
 #[derive(Debug)]
 struct Rnd {
     d: WordArg,
+    series: CpuSlot<RandomSeries>,
 }
 
 /// PM §7.12.12 SRND(P) `S`: restarts the random series from the seed S (any
@@ -73,35 +72,32 @@ struct Rnd {
 #[derive(Debug)]
 struct Srnd {
     s: WordArg,
-}
-
-/// RND/SRND use their word of the CPU-wide state (module documentation).
-fn rng_ready(a: &mut Args<'_, '_>) -> bool {
-    a.need_shared((SHARED_AT + SHARED_WORDS) as u32);
-    true
+    series: CpuSlot<RandomSeries>,
 }
 
 fn rnd(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    if !a.count(&[1]) || !rng_ready(a) {
+    if !a.count(&[1]) {
         return None;
     }
     Some(Box::new(Rnd {
         d: a.word_dest(0, Num::I16, 1)?,
+        series: a.cpu(),
     }))
 }
 
 fn srnd(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    if !a.count(&[1]) || !rng_ready(a) {
+    if !a.count(&[1]) {
         return None;
     }
     Some(Box::new(Srnd {
         s: a.word_src(0, Num::I16)?,
+        series: a.cpu(),
     }))
 }
 
 impl Instr for Rnd {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let word = &mut cx.shared[SHARED_AT];
+        let word = &mut self.series.words(cx.shared)[0];
         let state = (*word ^ DEFAULT_SEED)
             .wrapping_mul(1_103_515_245)
             .wrapping_add(12_345);
@@ -115,7 +111,7 @@ impl Instr for Rnd {
 impl Instr for Srnd {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let seed = cx.mem.read16(&self.s)? as u32;
-        cx.shared[SHARED_AT] = seed ^ DEFAULT_SEED;
+        self.series.words(cx.shared)[0] = seed ^ DEFAULT_SEED;
         Ok(())
     }
 }

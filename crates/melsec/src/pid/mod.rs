@@ -41,6 +41,7 @@ use params::LoopParams;
 use registry::Registry;
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::instr::CpuSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc, Pulse};
@@ -102,12 +103,24 @@ impl Family {
         }
     }
 
-    /// Offset of the family's registration in the CPU-wide shared state
-    /// ([`softplc_ir::instr::ExecCtx::shared`]).
-    const fn shared(self) -> usize {
+    /// The family's registration in the CPU-wide shared state.
+    fn registry(self, shared: &mut [u32]) -> Registry<'_> {
+        let words = match self {
+            Family::Incomplete => CpuSlot::<IncompleteRegistration>::new().words(shared),
+            Family::Complete => CpuSlot::<CompleteRegistration>::new().words(shared),
+        };
+        Registry::at(words, 0)
+    }
+
+    /// Declares that an instruction uses the family's registration.
+    fn declare(self, a: &mut Args<'_, '_>) {
         match self {
-            Family::Incomplete => 0,
-            Family::Complete => registry::REGISTRY_WORDS,
+            Family::Incomplete => {
+                a.cpu::<IncompleteRegistration>();
+            }
+            Family::Complete => {
+                a.cpu::<CompleteRegistration>();
+            }
         }
     }
 
@@ -118,6 +131,16 @@ impl Family {
             Family::Complete
         }
     }
+}
+
+softplc_ir::cpu_state! {
+    /// The S. family's registration (S.PIDINIT, 001 §8.1.1), CPU-wide.
+    struct IncompleteRegistration[registry::REGISTRY_WORDS];
+}
+
+softplc_ir::cpu_state! {
+    /// The plain family's registration (PIDINIT, 001 §9.1.1), CPU-wide.
+    struct CompleteRegistration[registry::REGISTRY_WORDS];
 }
 
 /// This family's instructions (001 §3.1.3/§3.2.3 instruction lists). The `S.`
@@ -154,8 +177,8 @@ static COMPLETE: Doc = Doc {
 /// Checks the operand count (S.PIDPRMW/PIDPRMW 2, the others 1; 001 §8.1,
 /// §9.1 "设置数据"); the family follows the spelling (`S.`/`SP.` or plain).
 fn prologue(a: &mut Args<'_, '_>, operands: usize) -> Option<Family> {
-    a.need_shared(2 * registry::REGISTRY_WORDS as u32);
     let fam = Family::of(a.mnemonic());
+    fam.declare(a);
     a.count(&[operands]).then_some(fam)
 }
 
@@ -199,7 +222,7 @@ impl PidInit {
 impl Instr for PidInit {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let mut reg = Registry::at(cx.shared, fam.shared());
+        let mut reg = fam.registry(cx.shared);
         let s = cx.mem.block_start(&self.data, 2)?;
         let (n, k) = (cx.mem.words[s] as i16, cx.mem.words[s + 1] as i16);
         let max = MAX_LOOPS as i16;
@@ -258,7 +281,7 @@ impl PidCont {
 impl Instr for PidCont {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let mut reg = Registry::at(cx.shared, fam.shared());
+        let mut reg = fam.registry(cx.shared);
         if !reg.registered() {
             return Err(ORDER);
         }
@@ -306,16 +329,15 @@ impl PidStopRun {
 
 impl Instr for PidStopRun {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let root = self.fam.shared();
         let (loops, ready) = {
-            let reg = Registry::at(cx.shared, root);
+            let reg = self.fam.registry(cx.shared);
             (reg.loops(), reg.registered() && reg.cont_seen())
         };
         if !ready {
             return Err(ORDER);
         }
         let i = loop_index(cx, &self.n, loops)?;
-        Registry::at(cx.shared, root).set_stopped(i, !self.run);
+        self.fam.registry(cx.shared).set_stopped(i, !self.run);
         Ok(())
     }
 }
@@ -355,9 +377,8 @@ impl PidPrmw {
 impl Instr for PidPrmw {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let fam = self.fam;
-        let root = fam.shared();
         let (loops, registered) = {
-            let reg = Registry::at(cx.shared, root);
+            let reg = self.fam.registry(cx.shared);
             (reg.loops(), reg.registered())
         };
         if !registered {
@@ -368,7 +389,7 @@ impl Instr for PidPrmw {
         let s = cx.mem.block_start(&self.data, per as u32)?;
         let w = &cx.mem.words[s..s + per];
         LoopParams::decode(fam, w).ok_or(ErrorCode::OPERATION)?;
-        Registry::at(cx.shared, root).set_loop(i, w, true);
+        self.fam.registry(cx.shared).set_loop(i, w, true);
         Ok(())
     }
 }
