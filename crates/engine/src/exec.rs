@@ -68,6 +68,19 @@ pub(crate) fn run(
             }
         };
     }
+    /// What a family instruction sees while it runs.
+    macro_rules! exec_ctx {
+        () => {
+            softplc_ir::instr::ExecCtx {
+                mem: &mut rt.mem,
+                state: &mut locals[cur].state,
+                now_us: rt.now_us,
+                scan_us: rt.scan_us,
+                clock: &mut rt.clock,
+                shared: &mut rt.shared,
+            }
+        };
+    }
     macro_rules! back_jump {
         ($target:expr) => {
             if ($target as usize) < pc {
@@ -221,26 +234,12 @@ pub(crate) fn run(
             }
             Op::Ext(x) => {
                 if acc & mc_on {
-                    let mut cx = softplc_ir::instr::ExecCtx {
-                        mem: &mut rt.mem,
-                        state: &mut locals[cur].state,
-                        now_us: rt.now_us,
-                        scan_us: rt.scan_us,
-                        clock: &mut rt.clock,
-                        shared: &mut rt.shared,
-                    };
+                    let mut cx = exec_ctx!();
                     try_op!(prog.ext[*x as usize].exec(&mut cx));
                 }
             }
             Op::ExtAlways(x) => {
-                let mut cx = softplc_ir::instr::ExecCtx {
-                    mem: &mut rt.mem,
-                    state: &mut locals[cur].state,
-                    now_us: rt.now_us,
-                    scan_us: rt.scan_us,
-                    clock: &mut rt.clock,
-                    shared: &mut rt.shared,
-                };
+                let mut cx = exec_ctx!();
                 let instr = &prog.ext[*x as usize];
                 try_op!(if acc & mc_on {
                     instr.exec(&mut cx)
