@@ -175,6 +175,8 @@ pub(crate) fn load(
     let program =
         program::load_file(path, &DeviceConfig::default()).map_err(|d| report(&d, path))?;
     let mut cfg = CpuConfig::default();
+    project::check_capacity(&cfg.model, &[(program.file.as_str(), program.steps)])
+        .map_err(|d| report(&program::Diagnostics(vec![d]), path))?;
     if let Some(t) = start {
         cfg.clock_start = t;
     }

@@ -69,3 +69,75 @@ fn sixteen_thousand_program_tables_are_all_diagnosed() {
     );
     assert!(err.contains("too many programs (16000)"));
 }
+
+#[test]
+fn toml_syntax_errors_are_one_line_with_line_and_column() {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::write(
+        t.path().join("plc.toml"),
+        "[cpu]\nmodel = \"Q06HCPU\"\n[[program\nfile = \"m.il\"\n",
+    )
+    .unwrap();
+    let out = softplc().arg("check").arg(t.path()).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = err.lines().next().unwrap_or_default();
+    assert!(
+        line.ends_with(
+            "plc.toml:3:10: TOML syntax error: invalid table header; expected `.`, `]]`"
+        ),
+        "{err}"
+    );
+    // A scenario file: position and message on one line too.
+    std::fs::write(
+        t.path().join("s.toml"),
+        "program = \"x.il\"\n\n[[model]\nkind = 3\n",
+    )
+    .unwrap();
+    let out = softplc()
+        .arg("test")
+        .arg(t.path().join("s.toml"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("s.toml: 3:8: invalid table header; expected `.`, `]]`\n"),
+        "{text}"
+    );
+    std::fs::write(t.path().join("s2.toml"), "program = \"x.il\"\nbogus = 1\n").unwrap();
+    let out = softplc()
+        .arg("test")
+        .arg(t.path().join("s2.toml"))
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("s2.toml: 2:1: unknown field `bogus`"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_program_larger_than_the_program_memory_is_rejected() {
+    // Q06HCPU: 60k = 61,440 steps, of which a file header takes 34 (004 Table 3.1).
+    // 30,703 rungs of LD + OUT + END = 61,407 steps + 34 = 61,441: one too many.
+    let t = tempfile::tempdir().unwrap();
+    let big = t.path().join("big.il");
+    std::fs::write(&big, "LD X0\nOUT Y0\n".repeat(30_703) + "END\n").unwrap();
+    let out = softplc().arg("check").arg(&big).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("the programs take 61441 steps")
+            && err.contains("program memory of 61440 steps"),
+        "{err}"
+    );
+    // One rung less fits exactly.
+    std::fs::write(&big, "LD X0\nOUT Y0\n".repeat(30_702) + "END\n").unwrap();
+    let out = softplc().arg("check").arg(&big).output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -16,6 +16,8 @@ mod initial;
 mod latch;
 mod programs;
 mod settings;
+pub use settings::{check_capacity, program_capacity, FILE_HEADER_STEPS};
+pub use tree::line_col;
 mod tree;
 mod units;
 
@@ -246,6 +248,11 @@ impl Project {
         if !diags.is_empty() {
             return Err(Diagnostics(diags));
         }
+        let files: Vec<(&str, u32)> = loaded
+            .iter()
+            .map(|l| (l.program.file.as_str(), l.program.steps))
+            .collect();
+        settings::check_capacity(&self.config.model, &files).map_err(|d| Diagnostics(vec![d]))?;
         crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(|e| {
             Diagnostics(vec![crate::program::Diagnostic {
                 file: self.manifest.display().to_string(),

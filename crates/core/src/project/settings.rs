@@ -9,21 +9,66 @@ use crate::engine::calendar::DateTime;
 use crate::engine::{CpuConfig, ErrorMode, StopToRunOutput};
 
 /// CPU models softplc answers as, with the number of program files each can
-/// execute (program memory files, 004 Table 3.1 L1001; at most 124 execute, L1016).
-pub(crate) const MODELS: &[(&str, usize)] = &[
-    ("Q02CPU", 28),
-    ("Q02HCPU", 28),
-    ("Q06HCPU", 60),
-    ("Q12HCPU", 124),
-    ("Q25HCPU", 124),
+/// execute (program memory files, 004 Table 3.1 L1001; at most 124 execute, L1016)
+/// and its program capacity in k steps (004 Table 3.1 L1001: 28k/60k/124k/252k).
+pub(crate) const MODELS: &[(&str, usize, u32)] = &[
+    ("Q02CPU", 28, 28),
+    ("Q02HCPU", 28, 28),
+    ("Q06HCPU", 60, 60),
+    ("Q12HCPU", 124, 124),
+    ("Q25HCPU", 124, 252),
 ];
+
+/// Steps of program memory a model has (1k = 1024 steps; decision).
+pub fn program_capacity(model: &str) -> u32 {
+    MODELS
+        .iter()
+        .find(|(m, _, _)| *m == model)
+        .map_or(252, |(_, _, k)| *k)
+        * 1024
+}
+
+/// The file header every program file takes in program memory (004 L1018:
+/// "文件标题容量（缺省值：34 步）").
+pub const FILE_HEADER_STEPS: u32 = 34;
+
+/// Checks that programs of `steps` (one entry per file, as `(file, steps)`)
+/// fit the model's program memory with their file headers; the error names the
+/// first file that does not fit.
+pub fn check_capacity(
+    model: &str,
+    files: &[(&str, u32)],
+) -> Result<(), crate::program::Diagnostic> {
+    let capacity = program_capacity(model);
+    let mut used = 0u64;
+    for (file, steps) in files {
+        used += (*steps + FILE_HEADER_STEPS) as u64;
+        if used > capacity as u64 {
+            let total: u64 = files
+                .iter()
+                .map(|(_, s)| (*s + FILE_HEADER_STEPS) as u64)
+                .sum();
+            return Err(crate::program::Diagnostic {
+                file: file.to_string(),
+                line: 1,
+                col: 1,
+                message: format!(
+                    "the programs take {total} steps ({FILE_HEADER_STEPS} file-header steps a file \
+                     included), more than the {model}'s program memory of {capacity} steps \
+                     (004 Table 3.1)"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
 
 /// Program files the model can execute.
 pub(crate) fn max_programs(model: &str) -> usize {
     MODELS
         .iter()
-        .find(|(m, _)| *m == model)
-        .map_or(124, |(_, n)| *n)
+        .find(|(m, _, _)| *m == model)
+        .map_or(124, |(_, n, _)| *n)
 }
 
 /// `[cpu] model` and `common_pointer`; returns the first common pointer.
@@ -58,10 +103,10 @@ fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
             &e.item.span,
             format!("model \"{text}\": the APLC dialect is not implemented yet"),
         );
-    } else if let Some((m, _)) = MODELS.iter().find(|(m, _)| *m == up) {
+    } else if let Some((m, _, _)) = MODELS.iter().find(|(m, _, _)| *m == up) {
         config.model = m.to_string();
     } else {
-        let list: Vec<&str> = MODELS.iter().map(|(m, _)| *m).collect();
+        let list: Vec<&str> = MODELS.iter().map(|(m, _, _)| *m).collect();
         cx.error(
             &e.item.span,
             format!(

@@ -77,7 +77,13 @@ pub(crate) struct SyntaxError {
 /// Parses a TOML document into a fully spanned tree (the root is a table).
 pub(crate) fn parse(src: &str) -> Result<Item, SyntaxError> {
     let raw: RawNode = toml::from_str(src).map_err(|e| SyntaxError {
-        message: e.message().trim().to_string(),
+        message: e
+            .message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join("; "),
         span: e.span().unwrap_or(0..0),
     })?;
     Ok(raw.finish(0..0))
@@ -277,7 +283,8 @@ impl<'de> Visitor<'de> for KeyVisitor {
 }
 
 /// 1-based line and character column of byte `offset` in `src`.
-pub(crate) fn line_col(src: &str, offset: usize) -> (u32, u32) {
+/// Line and column (1-based, in characters) of byte `offset` of `src`.
+pub fn line_col(src: &str, offset: usize) -> (u32, u32) {
     let mut offset = offset.min(src.len());
     while !src.is_char_boundary(offset) {
         offset -= 1;

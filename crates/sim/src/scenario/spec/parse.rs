@@ -98,7 +98,11 @@ impl Scenario {
     }
 
     fn parse_inner(text: &str, path: &Path) -> Result<Scenario, String> {
-        let doc: Doc = toml::from_str(text).map_err(|e| e.to_string().trim_end().to_string())?;
+        let doc: Doc = toml::from_str(text).map_err(|e| {
+            let (line, col) =
+                softplc_core::project::line_col(text, e.span().map_or(0, |s| s.start));
+            format!("{line}:{col}: {}", one_line(e.message()))
+        })?;
         let base = match path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -328,4 +332,14 @@ fn timeline_entry(
         });
     }
     Ok(())
+}
+
+/// A TOML error message on one line (its parts joined with "; ").
+fn one_line(message: &str) -> String {
+    message
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
 }
