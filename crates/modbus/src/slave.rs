@@ -460,7 +460,13 @@ fn read_words(chunks: &[Chunk], cpu: &Cpu) -> Vec<u16> {
     addresses(chunks)
         .zip(words)
         // Pairs: the high word (even offset) of a 16-bit value is 0.
-        .map(|((c, o), v)| if c.range.pairs && o.is_multiple_of(2) { 0 } else { v })
+        .map(|((c, o), v)| {
+            if c.range.pairs && o.is_multiple_of(2) {
+                0
+            } else {
+                v
+            }
+        })
         .collect()
 }
 
