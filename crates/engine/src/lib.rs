@@ -57,6 +57,15 @@ pub enum StopToRunOutput {
     Recalculate,
 }
 
+/// Device clear of a remote RUN with a clear mode ([`Cpu::remote_run_clear`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunClear {
+    /// Clear mode 01: every device outside the latch ranges.
+    OutsideLatch,
+    /// Clear mode 02: the latch ranges too.
+    All,
+}
+
 /// Execution type of a program file (004 §4.2, qcpu.md §2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ExecType {

@@ -1,12 +1,10 @@
 //! Reading and writing resolved operands. Index-modified operands are bounds
 //! checked here: an effective device outside its range is error 4101, never a panic.
 
+use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
 use crate::fault::{ErrorCode, Fault};
 use crate::ops::{BitArg, BitBlock, Block, Indexed, IndexedKind, WordArg};
-
-/// Points of one file-register block (R0-R32767).
-const R_BLOCK: i64 = 32768;
 
 impl DeviceMemory {
     /// Flat index of an index-modified operand spanning `span` points.
@@ -16,11 +14,12 @@ impl DeviceMemory {
             Indexed::NONE => 0,
             z => self.words[z as usize] as i16 as i64,
         };
+        // R: the block SD648 selects (`ix.block` is SD648's index).
         let block = match ix.block {
             Indexed::NONE => 0,
-            b => self.words[b as usize] as i64 * R_BLOCK,
+            b => self.words[b as usize],
         };
-        let n = ix.number as i64 + z + block;
+        let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {
             return Err(ErrorCode::RANGE);
         }

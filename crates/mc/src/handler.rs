@@ -13,18 +13,20 @@
 //! - Remote RUN with a clear mode clears device memory only when the CPU was in
 //!   STOP: every device but X (refreshed from the input image), SM/SD (system) and
 //!   the file registers R/ZR; clear mode 01 keeps the latch ranges. Device initial
-//!   values are then written again.
+//!   values are then written again ([`Cpu::remote_run_clear`]).
+//! - Every device access goes through `softplc_core::access` spans (R with
+//!   [`RBlock::Selected`]) and the CPU's span writes.
 //! - Remote password: with a password configured, a [`Session`] starts locked and
 //!   refuses everything but unlock (1630) and loopback (0619) with `C201`. Unlock
 //!   with the right password unlocks the session, a wrong one answers `C200`;
 //!   lock (1631, with the right password) locks it again. Without a configured
 //!   password, unlock and lock complete normally and change nothing.
 
-use softplc_core::device::{DeviceKind, DeviceMemory};
-use softplc_core::engine::{Cpu, CpuState};
+use softplc_core::access::{AccessError, RBlock, Span};
+use softplc_core::engine::{Cpu, CpuState, RunClear};
 
 use crate::command::{ClearMode, Command, Unit};
-use crate::device::{Device, DeviceRef};
+use crate::device::DeviceRef;
 use crate::end_code::EndCode;
 use crate::frame::{decode_request, encode_response, FrameError, Request, Response, ResponseData};
 
@@ -168,44 +170,42 @@ fn execute(
         BatchRead { unit, head, points } => {
             let n = *points as usize;
             match unit {
-                Unit::Word => ResponseData::Words(read_words(cpu.memory(), *head, n)?),
-                Unit::Bit => ResponseData::Bits(read_bits(cpu.memory(), *head, n)?),
+                Unit::Word => ResponseData::Words(read_words(cpu, *head, n)?),
+                Unit::Bit => ResponseData::Bits(read_bits(cpu, *head, n)?),
             }
         }
         BatchWriteWords { head, values } => {
-            let w = prepare_words(cpu.memory(), *head, values.len())?;
+            let w = prepare_words(cpu, *head, values.len())?;
             apply_words(cpu, w, values);
             ResponseData::None
         }
         BatchWriteBits { head, values } => {
-            let w = prepare_bits(cpu.memory(), *head, values.len())?;
+            let w = prepare_bits(cpu, *head, values.len())?;
             apply_bits(cpu, w, values);
             ResponseData::None
         }
         RandomRead { words, dwords } => {
-            let mem = cpu.memory();
             let words = words
                 .iter()
-                .map(|d| Ok(read_words(mem, *d, 1)?[0]))
+                .map(|d| Ok(read_words(cpu, *d, 1)?[0]))
                 .collect::<Result<_>>()?;
             let dwords = dwords
                 .iter()
                 .map(|d| {
-                    let w = read_words(mem, *d, 2)?;
+                    let w = read_words(cpu, *d, 2)?;
                     Ok(w[0] as u32 | (w[1] as u32) << 16)
                 })
                 .collect::<Result<_>>()?;
             ResponseData::Random { words, dwords }
         }
         RandomWriteWords { words, dwords } => {
-            let mem = cpu.memory();
             let ws = words
                 .iter()
-                .map(|(d, _)| prepare_words(mem, *d, 1))
+                .map(|(d, _)| prepare_words(cpu, *d, 1))
                 .collect::<Result<Vec<_>>>()?;
             let ds = dwords
                 .iter()
-                .map(|(d, _)| prepare_words(mem, *d, 2))
+                .map(|(d, _)| prepare_words(cpu, *d, 2))
                 .collect::<Result<Vec<_>>>()?;
             for (w, (_, v)) in ws.into_iter().zip(words) {
                 apply_words(cpu, w, &[*v]);
@@ -216,10 +216,9 @@ fn execute(
             ResponseData::None
         }
         RandomWriteBits { points } => {
-            let mem = cpu.memory();
             let ps = points
                 .iter()
-                .map(|(d, _)| prepare_bits(mem, *d, 1))
+                .map(|(d, _)| prepare_bits(cpu, *d, 1))
                 .collect::<Result<Vec<_>>>()?;
             for (w, (_, v)) in ps.into_iter().zip(points) {
                 apply_bits(cpu, w, &[*v]);
@@ -229,8 +228,10 @@ fn execute(
         RemoteRun { clear, .. } => {
             let was_stopped = cpu.state() == CpuState::Stop;
             cpu.set_run().map_err(|_| EndCode::NOT_EXECUTABLE)?;
-            if was_stopped && *clear != ClearMode::None {
-                clear_devices(cpu, *clear == ClearMode::All);
+            match (was_stopped, clear) {
+                (true, ClearMode::OutsideLatch) => cpu.remote_run_clear(RunClear::OutsideLatch),
+                (true, ClearMode::All) => cpu.remote_run_clear(RunClear::All),
+                _ => {}
             }
             ResponseData::None
         }
@@ -283,157 +284,52 @@ fn execute(
     })
 }
 
-// --- device access ---
+// --- device access: through `softplc_core::access` ---
 
-/// A checked span of device memory: flat start index in the bit or word array,
-/// and for X the device number (writes go through the input image).
-#[derive(Clone, Copy)]
-struct Span {
-    bit: bool,
-    start: usize,
-    input: Option<u32>,
+/// Resolves `points` consecutive points of `d` (bits for a bit device, words
+/// for a word device), R in the block SD648 selects; `C056` past the end.
+fn locate(cpu: &Cpu, d: DeviceRef, points: usize) -> Result<Span> {
+    let points = u32::try_from(points).map_err(|_| EndCode::ADDRESS_RANGE)?;
+    cpu.span(d.device.kind(), d.number, points, RBlock::Selected)
+        .map_err(end_code)
 }
 
-/// Points of one file-register block.
-const R_BLOCK: u64 = 32768;
-
-/// Locates `points` consecutive points of `d` (bits for a bit device, words for
-/// a word device); `C056` past the end.
-fn locate(mem: &DeviceMemory, d: DeviceRef, points: usize) -> Result<Span> {
-    let kind = d.device.kind();
-    let end = d.number as u64 + points as u64;
-    if end > mem.map.points(kind) as u64 {
-        return Err(EndCode::ADDRESS_RANGE);
-    }
-    let start = if d.device == Device::R {
-        let block = mem.get_word(DeviceKind::SD, 648).unwrap_or(0) as u64;
-        let n = block * R_BLOCK + d.number as u64;
-        if n + points as u64 > mem.map.points(DeviceKind::ZR) as u64 {
-            return Err(EndCode::ADDRESS_RANGE);
-        }
-        mem.map.base(DeviceKind::ZR) as u64 + n
-    } else {
-        mem.map.base(kind) as u64 + d.number as u64
-    };
-    Ok(Span {
-        bit: kind.is_bit(),
-        start: start as usize,
-        input: (kind == DeviceKind::X).then_some(d.number),
-    })
-}
-
-fn read_words(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Vec<u16>> {
-    if d.device.is_bit() {
-        let s = locate(mem, d, 16 * n)?;
-        Ok((0..n)
-            .map(|i| mem.pack_bits(s.start + 16 * i, 16) as u16)
-            .collect())
-    } else {
-        let s = locate(mem, d, n)?;
-        Ok(mem.words[s.start..s.start + n].to_vec())
+fn end_code(e: AccessError) -> EndCode {
+    match e {
+        AccessError::NotBit { .. } => EndCode::REQUEST_CONTENTS,
+        _ => EndCode::ADDRESS_RANGE,
     }
 }
 
-fn read_bits(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Vec<bool>> {
-    if !d.device.is_bit() {
-        return Err(EndCode::REQUEST_CONTENTS);
-    }
-    let s = locate(mem, d, n)?;
-    Ok(mem.bits[s.start..s.start + n].to_vec())
+fn read_words(cpu: &Cpu, d: DeviceRef, n: usize) -> Result<Vec<u16>> {
+    let s = prepare_words(cpu, d, n)?;
+    cpu.memory().read_span_words(&s).map_err(end_code)
 }
 
-/// Checks a write of `n` words at `d`.
-fn prepare_words(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Span> {
-    locate(mem, d, if d.device.is_bit() { 16 * n } else { n })
+fn read_bits(cpu: &Cpu, d: DeviceRef, n: usize) -> Result<Vec<bool>> {
+    let s = prepare_bits(cpu, d, n)?;
+    cpu.memory().read_span_bits(&s).map_err(end_code)
+}
+
+/// Checks a write of `n` words at `d` (16 points a word of a bit device).
+fn prepare_words(cpu: &Cpu, d: DeviceRef, n: usize) -> Result<Span> {
+    locate(cpu, d, if d.device.is_bit() { 16 * n } else { n })
 }
 
 /// Checks a write of `n` bits at `d`.
-fn prepare_bits(mem: &DeviceMemory, d: DeviceRef, n: usize) -> Result<Span> {
+fn prepare_bits(cpu: &Cpu, d: DeviceRef, n: usize) -> Result<Span> {
     if !d.device.is_bit() {
         return Err(EndCode::REQUEST_CONTENTS);
     }
-    locate(mem, d, n)
+    locate(cpu, d, n)
 }
 
+/// Writes a checked span; X goes through the input image.
 fn apply_words(cpu: &mut Cpu, s: Span, values: &[u16]) {
-    if s.bit {
-        let bits: Vec<bool> = values
-            .iter()
-            .flat_map(|w| (0..16).map(move |i| w >> i & 1 != 0))
-            .collect();
-        apply_bits(cpu, s, &bits);
-    } else {
-        cpu.memory_mut().words[s.start..s.start + values.len()].copy_from_slice(values);
-    }
+    // Checked by `prepare_words` for exactly these values: cannot fail.
+    let _ = cpu.write_span_words(&s, values);
 }
 
 fn apply_bits(cpu: &mut Cpu, s: Span, values: &[bool]) {
-    match s.input {
-        Some(first) => {
-            for (i, v) in values.iter().enumerate() {
-                cpu.set_input(first + i as u32, *v);
-            }
-        }
-        None => cpu.memory_mut().bits[s.start..s.start + values.len()].copy_from_slice(values),
-    }
-}
-
-/// Device memory clear of remote RUN: everything but X, SM, SD, R and ZR; the
-/// latch ranges too when `all`. Device initial values are written again.
-fn clear_devices(cpu: &mut Cpu, all: bool) {
-    let latch = if all {
-        Vec::new()
-    } else {
-        cpu.config().latch.clone()
-    };
-    let initial = cpu.config().initial_values.clone();
-    let mem = cpu.memory_mut();
-    // Save the latch ranges (timers and counters latch contact, coil and value).
-    let mut saved_bits = Vec::new();
-    let mut saved_words = Vec::new();
-    for r in &latch {
-        use DeviceKind::*;
-        let kinds: &[DeviceKind] = match r.kind {
-            TS | TC | TN => &[TS, TC, TN],
-            STS | STC | STN => &[STS, STC, STN],
-            CS | CC | CN => &[CS, CC, CN],
-            _ => std::slice::from_ref(&r.kind),
-        };
-        for k in kinds {
-            let points = mem.map.points(*k);
-            if r.start >= points || r.start > r.end {
-                continue;
-            }
-            let start = (mem.map.base(*k) + r.start) as usize;
-            let len = (r.end.min(points - 1) - r.start + 1) as usize;
-            if k.is_bit() {
-                saved_bits.push((start, mem.bits[start..start + len].to_vec()));
-            } else {
-                saved_words.push((start, mem.words[start..start + len].to_vec()));
-            }
-        }
-    }
-    for k in DeviceKind::ALL {
-        use DeviceKind::*;
-        if matches!(k, X | SM | SD | R | ZR) {
-            continue;
-        }
-        let start = mem.map.base(k) as usize;
-        let len = mem.map.points(k) as usize;
-        if k.is_bit() {
-            mem.bits[start..start + len].fill(false);
-        } else {
-            mem.words[start..start + len].fill(0);
-        }
-    }
-    for (start, v) in saved_bits {
-        mem.bits[start..start + v.len()].copy_from_slice(&v);
-    }
-    for (start, v) in saved_words {
-        mem.words[start..start + v.len()].copy_from_slice(&v);
-    }
-    for iv in &initial {
-        // Validated when the project was loaded.
-        let _ = iv.device.write(mem, &iv.value);
-    }
+    let _ = cpu.write_span_bits(&s, values);
 }

@@ -12,7 +12,8 @@
 //!
 //! let prog = softplc_core::program::compile_il("t.il", "LD SM400\nOUT M8191\nEND\n", &Default::default()).unwrap();
 //! let mut cpu = Cpu::new(prog, Default::default(), Box::new(VirtualClock::new()));
-//! cpu.memory_mut().set_word(softplc_core::device::DeviceKind::D, 107, 0x022B).unwrap();
+//! let d107 = softplc_core::access::DeviceSpec::parse("D107").unwrap();
+//! cpu.write_device(&d107, "H022B").unwrap();
 //! let (map, mut slave) = (Map::q_default(), Slave::new(1));
 //! // RTU: station 1 reads holding registers 107-109 (D107-D109).
 //! let request = [0x01, 0x03, 0x00, 0x6B, 0x00, 0x03, 0x74, 0x17];

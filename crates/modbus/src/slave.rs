@@ -1,7 +1,7 @@
 //! Serving requests against the CPU: addressing, broadcast, listen-only, FC 08
 //! diagnostics and counters, exceptions, device access.
 
-use softplc_core::device::DeviceKind;
+use softplc_core::access::{RBlock, Span};
 use softplc_core::engine::Cpu;
 
 use crate::frame::{decode, Frame, FrameError, FrameErrorKind, Proto};
@@ -396,14 +396,19 @@ fn pack_bits(bits: &[bool]) -> Vec<u8> {
         .collect()
 }
 
+/// The devices a piece reaches, as one access span (R is the block-0 window
+/// R0-R32767 of the map); `None` when the CPU does not have them all.
+fn span(c: &Chunk, cpu: &Cpu) -> Option<Span> {
+    let first = c.range.device(c.offset);
+    let last = c.range.device(c.offset + c.len - 1);
+    cpu.span(c.range.kind, first, last - first + 1, RBlock::First)
+        .ok()
+}
+
 /// Exception 04 when a piece reaches devices the CPU does not have.
 fn present(chunks: &[Chunk], cpu: &Cpu) -> Result<(), Exception> {
-    let map = &cpu.memory().map;
     for c in chunks {
-        let last = c.range.device(c.offset + c.len - 1);
-        if last >= map.points(c.range.kind) {
-            return Err(Exception::ServerDeviceFailure);
-        }
+        span(c, cpu).ok_or(Exception::ServerDeviceFailure)?;
     }
     Ok(())
 }
@@ -415,14 +420,26 @@ fn addresses<'a>(chunks: &'a [Chunk<'a>]) -> impl Iterator<Item = (&'a Chunk<'a>
         .flat_map(|c| (c.offset..c.offset + c.len).map(move |o| (c, o)))
 }
 
+/// The points of every piece, read through its span (checked by [`present`]).
+fn read_points<T: Copy + Default>(
+    chunks: &[Chunk],
+    cpu: &Cpu,
+    read: impl Fn(&Span) -> Option<Vec<T>>,
+) -> Vec<T> {
+    let mut out = Vec::new();
+    for c in chunks {
+        let first = c.range.device(c.offset);
+        let points = span(c, cpu).and_then(|s| read(&s)).unwrap_or_default();
+        for o in c.offset..c.offset + c.len {
+            let i = (c.range.device(o) - first) as usize;
+            out.push(points.get(i).copied().unwrap_or_default());
+        }
+    }
+    out
+}
+
 fn read_bits(chunks: &[Chunk], cpu: &Cpu) -> Vec<bool> {
-    let mem = cpu.memory();
-    addresses(chunks)
-        .map(|(c, o)| {
-            mem.get_bit(c.range.kind, c.range.device(o) as i64)
-                .unwrap_or(false)
-        })
-        .collect()
+    read_points(chunks, cpu, |s| cpu.memory().read_span_bits(s).ok())
 }
 
 fn write_bits(chunks: &[Chunk], values: &[bool], cpu: &mut Cpu) {
@@ -431,23 +448,19 @@ fn write_bits(chunks: &[Chunk], values: &[bool], cpu: &mut Cpu) {
         if !c.range.is_writable(n) {
             continue;
         }
-        if c.range.kind == DeviceKind::X {
-            // Through the input image, so the value survives the next input refresh.
-            cpu.set_input(n, v);
-        } else {
-            let _ = cpu.memory_mut().set_bit(c.range.kind, n as i64, v);
+        // X through the input image, so the value survives the next input refresh.
+        if let Ok(s) = cpu.span(c.range.kind, n, 1, RBlock::First) {
+            let _ = cpu.write_span_bits(&s, &[v]);
         }
     }
 }
 
 fn read_words(chunks: &[Chunk], cpu: &Cpu) -> Vec<u16> {
-    let mem = cpu.memory();
+    let words = read_points(chunks, cpu, |s| cpu.memory().read_span_words(s).ok());
     addresses(chunks)
-        .map(|(c, o)| {
-            let v = mem
-                .get_word(c.range.kind, c.range.device(o) as i64)
-                .unwrap_or(0);
-            // Pairs: the high word (even offset) of a 16-bit value is 0.
+        .zip(words)
+        // Pairs: the high word (even offset) of a 16-bit value is 0.
+        .map(|((c, o), v)| {
             if c.range.pairs && o.is_multiple_of(2) {
                 0
             } else {
@@ -458,12 +471,13 @@ fn read_words(chunks: &[Chunk], cpu: &Cpu) -> Vec<u16> {
 }
 
 fn write_words(chunks: &[Chunk], values: &[u16], cpu: &mut Cpu) {
-    let mem = cpu.memory_mut();
     for ((c, o), &v) in addresses(chunks).zip(values) {
         let n = c.range.device(o);
         if !c.range.is_writable(n) || (c.range.pairs && o.is_multiple_of(2)) {
             continue;
         }
-        let _ = mem.set_word(c.range.kind, n as i64, v);
+        if let Ok(s) = cpu.span(c.range.kind, n, 1, RBlock::First) {
+            let _ = cpu.write_span_words(&s, &[v]);
+        }
     }
 }

@@ -2,10 +2,12 @@
 //! operating states RUN/STOP/PAUSE with RESET and latch clear (004 ch. 4).
 //!
 //! `mod.rs` builds the CPU and gives access to it; [`states`] changes its
-//! operating state, [`schedule`] runs a scan (program execution types,
+//! operating state, [`door`] is the typed access from outside (names, spans,
+//! values, the input image), [`schedule`] runs a scan (program execution types,
 //! low-speed, fixed-scan and interrupt programs), [`end`] is END processing
 //! and the monitors, [`retained`] the battery-backed memory image.
 
+mod door;
 mod end;
 mod retained;
 mod schedule;
@@ -16,9 +18,9 @@ use std::time::Duration;
 use super::exec::{self, Outcome};
 use super::special;
 use super::{
-    Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, Runtime, StopToRunOutput,
+    Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, RunClear, Runtime,
+    StopToRunOutput,
 };
-use softplc_ir::access::{DeviceSpec, Value};
 use softplc_ir::calendar::PlcClock;
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
@@ -299,15 +301,6 @@ impl Cpu {
         self.clock.now_us()
     }
 
-    /// Sets input X`n` as an input module would: it reaches X at the next input
-    /// refresh and stays until set again.
-    pub fn set_input(&mut self, n: u32, on: bool) {
-        if let Some(b) = self.inputs.get_mut(n as usize) {
-            *b = on;
-        }
-        let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
-    }
-
     /// The external output Y`n`: the Y device while running or paused, OFF in
     /// STOP (004 §4.4).
     pub fn output(&self, n: u32) -> bool {
@@ -317,26 +310,6 @@ impl Cpu {
                 .mem
                 .get_bit(DeviceKind::Y, n as i64)
                 .unwrap_or(false)
-    }
-
-    /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
-    pub fn read_device(&self, spec: &DeviceSpec) -> Result<Value, String> {
-        spec.read(&self.rt.mem)
-    }
-
-    /// Writes a device by name. Writes to X go to the input image as well, so the
-    /// value survives the next input refresh.
-    pub fn write_device(&mut self, spec: &DeviceSpec, value: &str) -> Result<(), String> {
-        spec.write(&mut self.rt.mem, value)?;
-        if let Some((DeviceKind::X, first, count)) = spec.bit_span() {
-            let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
-            for n in first as usize..(first + count) as usize {
-                if let Some(b) = self.inputs.get_mut(n) {
-                    *b = self.rt.mem.bits[xb + n];
-                }
-            }
-        }
-        Ok(())
     }
 
     // --- operating states (004 §4.4, §7.5, §7.8) ---

@@ -102,6 +102,49 @@ impl Cpu {
         Ok(())
     }
 
+    /// Device clear of a remote RUN with a clear mode, done after
+    /// [`Self::set_run`] from STOP: every device but X (refreshed from the input
+    /// image), SM/SD (system) and the file registers R/ZR; the latch ranges are
+    /// kept with [`RunClear::OutsideLatch`] and cleared too with
+    /// [`RunClear::All`]. Device initial values are then written again.
+    pub fn remote_run_clear(&mut self, mode: RunClear) {
+        let mem = &mut self.rt.mem;
+        // Save the latch ranges (timers and counters latch contact, coil and value).
+        let mut saved_bits: Vec<(usize, Vec<bool>)> = Vec::new();
+        let mut saved_words: Vec<(usize, Vec<u16>)> = Vec::new();
+        if mode == RunClear::OutsideLatch {
+            for r in self.cfg.latch.iter().filter(|r| r.start <= r.end) {
+                for (bit, start, len) in latch_spans(mem, r) {
+                    if bit {
+                        saved_bits.push((start, mem.bits[start..start + len].to_vec()));
+                    } else {
+                        saved_words.push((start, mem.words[start..start + len].to_vec()));
+                    }
+                }
+            }
+        }
+        for k in DeviceKind::ALL {
+            use DeviceKind::*;
+            if matches!(k, X | SM | SD | R | ZR) {
+                continue;
+            }
+            let start = mem.map.base(k) as usize;
+            let len = mem.map.points(k) as usize;
+            if k.is_bit() {
+                mem.bits[start..start + len].fill(false);
+            } else {
+                mem.words[start..start + len].fill(0);
+            }
+        }
+        for (start, v) in saved_bits {
+            mem.bits[start..start + v.len()].copy_from_slice(&v);
+        }
+        for (start, v) in saved_words {
+            mem.words[start..start + v.len()].copy_from_slice(&v);
+        }
+        self.write_initial_values();
+    }
+
     /// Power-on / RESET processing (004 §4.3 table): devices outside the latch
     /// ranges and the file registers cleared, system registers set, device initial
     /// values written, RUN from the initial programs.

@@ -1,10 +1,8 @@
 //! Devices resolved once at build time and read/written every scan without
 //! allocation or string work.
 
-use std::fmt::Write as _;
-
-use softplc_core::access::{DeviceSpec, ValueType};
-use softplc_core::device::{parse_operand, DeviceKind, DeviceMemory, Operand};
+use softplc_core::access::{DeviceSpec, Value, ValueType};
+use softplc_core::device::DeviceMemory;
 use softplc_core::engine::Cpu;
 
 use super::fmt::Kind;
@@ -104,114 +102,44 @@ impl Source {
     }
 }
 
-/// Where a model output is written.
-#[derive(Clone, Debug)]
-enum Target {
-    /// X`n`: the input image, as an input module.
-    Input(u32),
-    Bit(DeviceKind, i64),
-    Word(DeviceKind, i64),
-    /// Digit-specified, bit-of-word or index-modified: through
-    /// `Cpu::write_device` with the value formatted into a reused buffer.
-    Other,
-}
-
-/// A model output bound to a device.
+/// A model output bound to a device, written as a typed value through the
+/// CPU's door (X reaches the input image, as from an input module).
 #[derive(Clone, Debug)]
 pub struct Sink {
     spec: DeviceSpec,
-    target: Target,
     scale: Scale,
-    buf: String,
 }
 
 impl Sink {
     pub fn new(text: &str, scale: Scale, mem: &DeviceMemory) -> Result<Sink, String> {
         let probe = Probe::new(text, mem)?;
-        let spec = probe.spec;
-        let op = parse_operand(text.trim().split(':').next().unwrap_or(""))
-            .map_err(|e| format!("`{text}`: {e}"))?;
-        let target = match op {
-            Operand::Device {
-                dev,
-                digits: None,
-                bit: None,
-                index: None,
-            } => {
-                if dev.kind == DeviceKind::X {
-                    Target::Input(dev.number)
-                } else if dev.kind.is_bit() {
-                    Target::Bit(dev.kind, i64::from(dev.number))
-                } else {
-                    Target::Word(dev.word_kind(), i64::from(dev.number))
-                }
-            }
-            _ => Target::Other,
-        };
         Ok(Sink {
-            spec,
-            target,
+            spec: probe.spec,
             scale,
-            buf: String::with_capacity(32),
         })
     }
 
-    /// Writes the model output `v`.
+    /// Writes the model output `v`: bits ON above 0.5; integers rounded and
+    /// clamped to the type's range (NaN is 0); `f32` as the nearest float.
     #[inline]
     pub fn write(&mut self, cpu: &mut Cpu, v: f64) {
         let x = match self.scale {
             Scale::Analog { raw, eng } => f64::from(to_raw(v, eng, raw)),
             _ => v,
         };
-        match self.target {
-            Target::Input(n) => cpu.set_input(n, x > 0.5),
-            Target::Bit(k, n) => {
-                let _ = cpu.memory_mut().set_bit(k, n, x > 0.5);
-            }
-            Target::Word(k, n) => {
-                let mem = cpu.memory_mut();
-                let x = if x.is_nan() { 0.0 } else { x };
-                match self.spec.ty {
-                    ValueType::I16 => {
-                        let w = x.round().clamp(-32768.0, 32767.0) as i16 as u16;
-                        let _ = mem.set_word(k, n, w);
-                    }
-                    ValueType::U16 => {
-                        let _ = mem.set_word(k, n, x.round().clamp(0.0, 65535.0) as u16);
-                    }
-                    ValueType::I32 | ValueType::U32 | ValueType::F32 => {
-                        let d: u32 = match self.spec.ty {
-                            ValueType::I32 => {
-                                x.round().clamp(i32::MIN as f64, i32::MAX as f64) as i32 as u32
-                            }
-                            ValueType::U32 => x.round().clamp(0.0, u32::MAX as f64) as u32,
-                            _ => (x as f32).to_bits(),
-                        };
-                        let _ = mem.set_word(k, n, d as u16);
-                        let _ = mem.set_word(k, n + 1, (d >> 16) as u16);
-                    }
-                    ValueType::Bit | ValueType::Str => {}
-                }
-            }
-            Target::Other => {
-                self.buf.clear();
-                let x = if x.is_nan() { 0.0 } else { x };
-                let _ = match self.spec.ty {
-                    ValueType::Bit => write!(self.buf, "{}", u8::from(x > 0.5)),
-                    ValueType::F32 => write!(self.buf, "{x:?}"),
-                    ValueType::I16 => {
-                        write!(self.buf, "{}", x.round().clamp(-32768.0, 32767.0) as i64)
-                    }
-                    ValueType::U16 => write!(self.buf, "{}", x.round().clamp(0.0, 65535.0) as i64),
-                    ValueType::I32 => write!(
-                        self.buf,
-                        "{}",
-                        x.round().clamp(i32::MIN as f64, i32::MAX as f64) as i64
-                    ),
-                    _ => write!(self.buf, "{}", x.round().clamp(0.0, u32::MAX as f64) as i64),
-                };
-                let _ = cpu.write_device(&self.spec, &self.buf);
-            }
-        }
+        let x = if x.is_nan() { 0.0 } else { x };
+        let int = |lo: f64, hi: f64| Value::Int(x.round().clamp(lo, hi) as i64);
+        let value = match self.spec.ty {
+            ValueType::Bit => Value::Bool(x > 0.5),
+            ValueType::I16 => int(-32768.0, 32767.0),
+            ValueType::U16 => int(0.0, 65535.0),
+            ValueType::I32 => int(i32::MIN as f64, i32::MAX as f64),
+            ValueType::U32 => int(0.0, u32::MAX as f64),
+            ValueType::F32 => Value::Float(x),
+            // Refused when the sink was bound.
+            ValueType::Str => return,
+        };
+        // A device pushed out of range by its index register is not written.
+        let _ = cpu.write_value(&self.spec, &value);
     }
 }

@@ -30,11 +30,11 @@ impl Bound {
     }
 }
 
-/// A resolved timeline write.
+/// A resolved timeline write: the value parsed once, written typed.
 struct Write {
     scan: u64,
     spec: softplc_core::access::DeviceSpec,
-    value: String,
+    value: softplc_core::access::Value,
 }
 
 /// A scenario ready to run: CPU powered on, every device resolved.
@@ -164,12 +164,13 @@ impl Scenario {
         for e in &self.timeline {
             for (dev, value) in &e.set {
                 let spec = softplc_core::access::DeviceSpec::parse(dev.trim())?;
-                spec.write(&mut scratch, value)
-                    .map_err(|err| format!("timeline at scan {}: {err}", e.scan))?;
+                let at = |err: String| format!("timeline at scan {}: {err}", e.scan);
+                spec.write(&mut scratch, value).map_err(at)?;
+                let value = spec.parse_value(value).map_err(|e| at(e.into()))?;
                 writes.push(Write {
                     scan: e.scan,
                     spec,
-                    value: value.clone(),
+                    value,
                 });
             }
         }
@@ -307,7 +308,7 @@ impl Run {
             }
             while let Some(w) = self.writes.get(next_write).filter(|w| w.scan == n) {
                 // Checked on a scratch memory at build: cannot fail.
-                let _ = self.cpu.write_device(&w.spec, &w.value);
+                let _ = self.cpu.write_value(&w.spec, &w.value);
                 next_write += 1;
             }
             self.clock.advance_us(self.scan_us);

@@ -1,0 +1,88 @@
+//! The door for writers outside the scan (CLI, simulator, MC, Modbus): device
+//! names, spans and typed values through `softplc_ir::access`, with the input
+//! image kept: a write to X survives the next input refresh, as an input
+//! module's signal would.
+
+use super::*;
+use softplc_ir::access::{AccessError, DeviceSpec, RBlock, Span, Value};
+
+impl Cpu {
+    /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
+    pub fn read_device(&self, spec: &DeviceSpec) -> Result<Value, String> {
+        spec.read(&self.rt.mem)
+    }
+
+    /// Writes a device by name from text (`--set D0=H1F`). Writes to X go to the
+    /// input image as well, so the value survives the next input refresh.
+    pub fn write_device(&mut self, spec: &DeviceSpec, value: &str) -> Result<(), String> {
+        spec.write(&mut self.rt.mem, value)?;
+        self.mirror_spec(spec);
+        Ok(())
+    }
+
+    /// Writes a typed value to a device by name ([`DeviceSpec::write_value`]);
+    /// X goes to the input image as well.
+    pub fn write_value(&mut self, spec: &DeviceSpec, value: &Value) -> Result<(), AccessError> {
+        spec.write_value(&mut self.rt.mem, value)?;
+        self.mirror_spec(spec);
+        Ok(())
+    }
+
+    /// Resolves `len` points of `kind` from `number`, R in block `r`.
+    pub fn span(
+        &self,
+        kind: DeviceKind,
+        number: u32,
+        len: u32,
+        r: RBlock,
+    ) -> Result<Span, AccessError> {
+        self.rt.mem.span(kind, number, len, r)
+    }
+
+    /// Writes a span from words (16 points a word for a bit span); X goes to
+    /// the input image as well.
+    pub fn write_span_words(&mut self, s: &Span, values: &[u16]) -> Result<(), AccessError> {
+        self.rt.mem.write_span_words(s, values)?;
+        self.mirror(s.kind(), s.number(), s.len());
+        Ok(())
+    }
+
+    /// Writes a bit span; X goes to the input image as well.
+    pub fn write_span_bits(&mut self, s: &Span, values: &[bool]) -> Result<(), AccessError> {
+        self.rt.mem.write_span_bits(s, values)?;
+        self.mirror(s.kind(), s.number(), s.len());
+        Ok(())
+    }
+
+    /// Sets input X`n` as an input module would: it reaches X at the next input
+    /// refresh and stays until set again.
+    pub fn set_input(&mut self, n: u32, on: bool) {
+        if let Some(b) = self.inputs.get_mut(n as usize) {
+            *b = on;
+        }
+        let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
+    }
+
+    /// Copies X written by name into the input image (bit and digit-specified
+    /// names without index modification, as before the door).
+    fn mirror_spec(&mut self, spec: &DeviceSpec) {
+        if let Some((kind, first, count)) = spec.bit_span() {
+            self.mirror(kind, first, count);
+        }
+    }
+
+    /// Copies X`first`..X`first + count` from device memory into the input image.
+    fn mirror(&mut self, kind: DeviceKind, first: u32, count: u32) {
+        if kind != DeviceKind::X {
+            return;
+        }
+        for n in first..first + count {
+            if let (Some(b), Ok(v)) = (
+                self.inputs.get_mut(n as usize),
+                self.rt.mem.get_bit(DeviceKind::X, n as i64),
+            ) {
+                *b = v;
+            }
+        }
+    }
+}
