@@ -27,7 +27,7 @@ pub(crate) fn power_on(mem: &mut DeviceMemory) {
     let zr = mem.map.points(DeviceKind::ZR);
     sd(mem, 640, 1);
     sd(mem, 647, (zr / 1024).min(u16::MAX as u32) as u16);
-    sd(mem, 648, 0);
+    sd(mem, softplc_ir::access::SD_R_BLOCK as i64, 0);
     // SD290-SD304: device points X Y M L B F SB V S T ST C D W SW.
     use DeviceKind::*;
     for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW]

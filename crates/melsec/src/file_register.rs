@@ -4,6 +4,7 @@
 //! write them byte by byte.
 
 use super::{Args, ExecCtx, Instr};
+use softplc_ir::access::R_BLOCK;
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::ops::{Num, WordArg};
@@ -49,8 +50,8 @@ fn compile_rset(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     let points = map.points(DeviceKind::ZR) as i64;
     Some(Box::new(Rset {
         s,
-        sd648: (map.base(DeviceKind::SD) + 648) as usize,
-        blocks: (points + 32767) / 32768,
+        sd648: (map.base(DeviceKind::SD) + softplc_ir::access::SD_R_BLOCK) as usize,
+        blocks: (points + R_BLOCK as i64 - 1) / R_BLOCK as i64,
     }))
 }
 
