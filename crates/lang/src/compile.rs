@@ -207,6 +207,8 @@ impl<'a> Compiler<'a> {
         self.cur_step = i.step.unwrap_or(self.step);
         self.cur_line = i.mnemonic.line;
         let errors = self.diags.len();
+        // A misspelt form counts its steps as an application instruction.
+        let unknown_steps = isa::Steps::Operands.count(&i.operands);
         let (steps, class) = match self.dialect.isa.lookup(&m) {
             Found::Def(def, pulse) => {
                 self.compile_def(&Use {
@@ -220,7 +222,7 @@ impl<'a> Compiler<'a> {
             Found::NoPulse(def) => {
                 let name = def.name;
                 self.err(&i.mnemonic, format!("`{m}`: {name} has no pulse form"));
-                (1 + i.operands.len() as u32, Some(def.class))
+                (unknown_steps, Some(def.class))
             }
             Found::WrongPulse(def) => {
                 let base = &def.name[2..];
@@ -230,11 +232,11 @@ impl<'a> Compiler<'a> {
                         "unknown instruction `{m}`: the pulse form of `S.{base}` is `SP.{base}`"
                     ),
                 );
-                (1 + i.operands.len() as u32, Some(def.class))
+                (unknown_steps, Some(def.class))
             }
             Found::Unknown => {
                 self.err(&i.mnemonic, format!("unknown instruction `{m}`"));
-                (1 + i.operands.len() as u32, None)
+                (unknown_steps, None)
             }
         };
         if self.diags.len() > errors {
