@@ -1,13 +1,12 @@
-//! softplc-melsec: the MELSEC-Q instruction set. Instruction families, one module per chapter of the MELSEC-Q/QnA programming
-//! manual (common instructions): sequence instructions (contacts, coils, timers,
-//! counters, master control) and basic instructions (comparison, arithmetic,
-//! conversion, transfer). Program-control instructions (jumps, CALL, FOR/NEXT)
-//! live in the engine's interpreter loop because they move the program counter.
-//!
-//! Further families plug in through [`FAMILIES`]: a family module offers a
-//! `lookup` that maps a mnemonic (without its `P` suffix) to a compile function,
-//! which reads operands through [`Args`] and returns an [`Instr`] the engine
-//! executes when the rung condition is ON. Pulse forms are handled for them.
+//! softplc-melsec: the MELSEC-Q dialect. One module per chapter of the
+//! MELSEC-Q/QnA programming manual (common instructions) and of the PID manual
+//! (001), each with its `DEFS`: one [`Def`] per instruction (name, pulse form,
+//! rung class, drive, steps, manual reference) next to its behaviour. The
+//! sequence instructions (`ladder`), program control (`control`) and the
+//! built-in compare/arithmetic/MOV (`basic`) are lowered into the ladder
+//! machine's ops; every other instruction compiles to an [`Instr`] through
+//! [`Args`]. [`DEFS`] lists the families, [`isa`] indexes them, [`dialect`]
+//! adds the devices, word order and system flags.
 
 pub mod arithmetic;
 pub mod basic;
