@@ -56,9 +56,3 @@ impl Dialect {
             .map(|&(_, k, n)| (k, n))
     }
 }
-
-impl std::fmt::Debug for Isa {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Isa({} instructions)", self.all().count())
-    }
-}

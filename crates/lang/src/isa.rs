@@ -210,11 +210,6 @@ impl Def {
         self
     }
 
-    pub const fn class(mut self, c: Class) -> Def {
-        self.class = c;
-        self
-    }
-
     /// Runs at every execution (see [`Drive::Always`]); no pulse form.
     pub const fn always(mut self) -> Def {
         self.drive = Drive::Always;
@@ -275,6 +270,12 @@ impl Isa {
             }
         }
         Found::Unknown
+    }
+}
+
+impl std::fmt::Debug for Isa {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Isa({} instructions)", self.all().count())
     }
 }
 
