@@ -39,8 +39,11 @@ enum Command {
     ///
     /// Exit status is non-zero when the program has errors.
     Check {
-        /// Program file (.il or .csv).
+        /// Program file (.il or .csv), or a project directory.
         program: PathBuf,
+        /// CPU model a single program file is checked for (default Q06HCPU).
+        #[arg(long, value_name = "MODEL")]
+        model: Option<String>,
     },
     /// Run scenario tests: a program against plant models in virtual time,
     /// with a timeline of inputs and assertions (docs/scenarios.md).
@@ -65,7 +68,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run(args) => run::run(*args),
-        Command::Check { program } => run::check(&program),
+        Command::Check { program, model } => run::check(&program, model.as_deref()),
         Command::Test(args) => test_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
     }

@@ -22,6 +22,11 @@ pub struct RunArgs {
     /// Program file (.il text list or GX Works2 .csv export), or a project
     /// directory (or its plc.toml).
     pub program: PathBuf,
+    /// CPU model a single program file runs on (default Q06HCPU; a process
+    /// CPU, e.g. Q06PHCPU, has the process-control instructions). A project
+    /// sets it with `[cpu] model`.
+    #[arg(long, value_name = "MODEL")]
+    pub model: Option<String>,
     /// State directory for latched devices, file registers and the error history
     /// (default for a project: its [state] dir; a single file keeps no state
     /// unless this is given). Each run is a power-on.
@@ -158,8 +163,16 @@ pub(crate) fn load(
     path: &Path,
     clock: Box<dyn Clock>,
     start: Option<DateTime>,
+    model: Option<&str>,
 ) -> Result<Loaded, ExitCode> {
     if project::is_project(path) {
+        if model.is_some() {
+            eprintln!(
+                "{}: --model applies to a single program file; a project sets [cpu] model",
+                path.display()
+            );
+            return Err(ExitCode::from(2));
+        }
         let mut p = project::load_project(path).map_err(|d| report(&d, path))?;
         if let Some(t) = start {
             p.config.clock_start = t;
@@ -172,9 +185,19 @@ pub(crate) fn load(
             on_damage: p.state_on_damage,
         });
     }
-    let program =
-        program::load_file(path, &DeviceConfig::default()).map_err(|d| report(&d, path))?;
     let mut cfg = CpuConfig::default();
+    if let Some(m) = model {
+        cfg.model = match project::known_model(m) {
+            Ok(m) => m.to_string(),
+            Err(e) => {
+                eprintln!("--model: {e}");
+                return Err(ExitCode::from(2));
+            }
+        };
+    }
+    let dialect = program::dialect_for(&cfg.model, program::ProcessSettings::default());
+    let program = program::load_file_in(path, &DeviceConfig::default(), &dialect, None)
+        .map_err(|d| report(&d, path))?;
     project::check_capacity(&cfg.model, &[(program.file.as_str(), program.steps)])
         .map_err(|d| report(&program::Diagnostics(vec![d]), path))?;
     if let Some(t) = start {
@@ -188,8 +211,8 @@ pub(crate) fn load(
     })
 }
 
-pub fn check(path: &Path) -> ExitCode {
-    match load(path, Box::new(VirtualClock::new()), None) {
+pub fn check(path: &Path, model: Option<&str>) -> ExitCode {
+    match load(path, Box::new(VirtualClock::new()), None, model) {
         Ok(l) => {
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
@@ -275,7 +298,12 @@ pub fn run(args: RunArgs) -> ExitCode {
         state,
         on_damage,
         ..
-    } = match load(&args.program, Box::new(clock.clone()), args.clock) {
+    } = match load(
+        &args.program,
+        Box::new(clock.clone()),
+        args.clock,
+        args.model.as_deref(),
+    ) {
         Ok(l) => l,
         Err(code) => return code,
     };

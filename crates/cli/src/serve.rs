@@ -21,6 +21,9 @@ use crate::run::{load, parse_datetime, parse_duration, report_attach, state_erro
 pub struct ServeArgs {
     /// Program file (.il or .csv) or project directory (or its plc.toml).
     pub program: PathBuf,
+    /// CPU model a single program file runs on (default Q06HCPU; see `run --model`).
+    #[arg(long, value_name = "MODEL")]
+    pub model: Option<String>,
     /// Constant scan period (default: the project's constant_scan, else 10ms).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub scan_time: Option<Duration>,
@@ -113,6 +116,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         &args.program,
         Box::new(MonotonicClock::default()),
         Some(start),
+        args.model.as_deref(),
     ) {
         Ok(l) => l,
         Err(code) => return code,

@@ -62,3 +62,36 @@ pub fn load_bytes(
 pub fn compile_il(name: &str, text: &str, devices: &DeviceConfig) -> Result<Program, Diagnostics> {
     load_bytes(name, text.as_bytes(), devices)
 }
+
+pub use softplc_lang::dialect::Dialect;
+pub use softplc_melsec::process::settings::ProcessSettings;
+
+/// The dialect a CPU model compiles in: the process CPU's (Q02PHCPU …
+/// Q25PHCPU, with the project's `[process]` decisions) or MELSEC-Q's.
+pub fn dialect_for(model: &str, process: ProcessSettings) -> Dialect {
+    if softplc_melsec::is_process_model(model) {
+        softplc_melsec::process_dialect(process)
+    } else {
+        softplc_melsec::dialect().clone()
+    }
+}
+
+/// [`load_file_with`] in a given dialect (see [`dialect_for`]).
+pub fn load_file_in(
+    path: &Path,
+    devices: &DeviceConfig,
+    dialect: &Dialect,
+    common_from: Option<u32>,
+) -> Result<Program, Diagnostics> {
+    softplc_lang::load_file(path, devices, dialect, common_from)
+}
+
+/// [`compile_il`] in a given dialect (see [`dialect_for`]).
+pub fn compile_il_in(
+    name: &str,
+    text: &str,
+    devices: &DeviceConfig,
+    dialect: &Dialect,
+) -> Result<Program, Diagnostics> {
+    softplc_lang::load_bytes(name, text.as_bytes(), devices, dialect, None)
+}

@@ -30,7 +30,7 @@ fn cpu_model() {
     );
     assert_eq!(
         error(&with_main("[cpu]\nmodel = \"Q99CPU\"\n")),
-        "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, or APLC-TCP)"
+        "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, or APLC-TCP)"
     );
     assert_eq!(
         error(&with_main("[cpu]\nmodel = 6\n")),

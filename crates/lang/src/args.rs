@@ -151,6 +151,16 @@ impl<'c, 'a> Args<'c, 'a> {
         LocalSlot::new(self.state_words(T::WORDS))
     }
 
+    /// The project's setting of type `T` (see [`crate::settings`]), or its default.
+    pub fn setting<T: std::any::Any + Clone + Default>(&self) -> T {
+        self.c
+            .dialect
+            .settings
+            .get::<T>()
+            .cloned()
+            .unwrap_or_default()
+    }
+
     pub fn map(&self) -> &DeviceMap {
         self.c.map
     }

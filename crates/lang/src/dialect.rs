@@ -9,6 +9,7 @@
 use softplc_ir::device::{DeviceKind, DeviceTable};
 
 use super::isa::Isa;
+use super::settings::Settings;
 
 /// A system flag an instruction reads or writes, by its role (MELSEC SM700,
 /// SM701 …; the APLC has its own numbers for the same roles).
@@ -35,8 +36,9 @@ pub enum WordOrder {
     HighFirst,
 }
 
-/// A PLC dialect.
-#[derive(Debug)]
+/// A PLC dialect. A project may make its own copy with other
+/// [`Settings`] (`Dialect { settings, ..base.clone() }`).
+#[derive(Clone, Debug)]
 pub struct Dialect {
     /// The family's name, for messages ("MELSEC-Q").
     pub name: &'static str,
@@ -45,6 +47,8 @@ pub struct Dialect {
     pub word_order: WordOrder,
     /// Where each system flag lives.
     pub flags: &'static [(Flag, DeviceKind, u32)],
+    /// The project's choices instructions read when they compile.
+    pub settings: Settings,
 }
 
 impl Dialect {

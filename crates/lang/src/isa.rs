@@ -224,24 +224,49 @@ impl Def {
 
 /// An instruction set: a dialect's definitions, indexed by name.
 pub struct Isa {
-    defs: &'static [&'static [Def]],
+    defs: Vec<&'static [Def]>,
     index: HashMap<&'static str, &'static Def>,
 }
 
 impl Isa {
     /// Indexes the definitions (a dialect's families, in registry order). A name
     /// defined twice is a programming error of the dialect.
-    pub fn new(defs: &'static [&'static [Def]]) -> Isa {
-        let mut index = HashMap::new();
-        for d in defs.iter().flat_map(|f| f.iter()) {
-            let prev = index.insert(d.name, d);
+    pub fn new(defs: &[&'static [Def]]) -> Isa {
+        let mut isa = Isa {
+            defs: Vec::new(),
+            index: HashMap::new(),
+        };
+        for family in defs {
+            isa.add(family);
+        }
+        isa
+    }
+
+    fn add(&mut self, family: &'static [Def]) {
+        for d in family {
+            let prev = self.index.insert(d.name, d);
             assert!(prev.is_none(), "instruction {} defined twice", d.name);
         }
-        Isa { defs, index }
+        self.defs.push(family);
+    }
+
+    /// The set plus `foreign` families (instructions of another CPU model of
+    /// the dialect, e.g. the process CPU's), each rejected at load with
+    /// `reason`, so a program using one learns which model it needs.
+    pub fn rejecting(mut self, foreign: &[&'static [Def]], reason: &'static str) -> Isa {
+        for family in foreign {
+            let rejected: Vec<Def> = family
+                .iter()
+                .map(|d| Def::rejected(d.name, reason).pulse(d.pulse))
+                .collect();
+            // Built once per dialect (in a `LazyLock`), so leaking is bounded.
+            self.add(Box::leak(rejected.into_boxed_slice()));
+        }
+        self
     }
 
     /// All definitions, in registry order.
-    pub fn all(&self) -> impl Iterator<Item = &'static Def> {
+    pub fn all(&self) -> impl Iterator<Item = &'static Def> + '_ {
         self.defs.iter().flat_map(|f| f.iter())
     }
 
@@ -264,9 +289,10 @@ impl Isa {
         }
         if let Some(rest) = m.strip_prefix("SP.") {
             if let Some(d) = self.get(&format!("S.{rest}")) {
-                if d.pulse == Pulse::SPrefix {
-                    return Found::Def(d, true);
-                }
+                return match d.pulse {
+                    Pulse::SPrefix => Found::Def(d, true),
+                    _ => Found::NoPulse(d),
+                };
             }
         }
         Found::Unknown
@@ -293,6 +319,14 @@ pub enum Found {
 /// The generated part of COMPATIBILITY.md: the "Implemented" and "Rejected at
 /// load" tables, from the definitions (`tests/compat.rs` keeps the file current).
 pub fn compat_markdown(isa: &Isa) -> String {
+    let mut out = implemented_table(isa);
+    out += "\n## Rejected at load\n\nEach of these gives `unsupported instruction`, with the reason shown here, at\nthe mnemonic's line and column.\n\n";
+    out += &rejected_table(isa);
+    out
+}
+
+/// The implemented instructions, one row per [`Doc`].
+pub fn implemented_table(isa: &Isa) -> String {
     let mut out =
         String::from("| instructions | family | reference | notes |\n|---|---|---|---|\n");
     let mut rows: Vec<(&'static Doc, Vec<String>)> = Vec::new();
@@ -318,7 +352,12 @@ pub fn compat_markdown(isa: &Isa) -> String {
             doc.notes
         );
     }
-    out += "\n## Rejected at load\n\nEach of these gives `unsupported instruction`, with the reason shown here, at\nthe mnemonic's line and column.\n\n| instructions | reason |\n|---|---|\n";
+    out
+}
+
+/// The rejected instructions, one row per reason.
+pub fn rejected_table(isa: &Isa) -> String {
+    let mut out = String::from("| instructions | reason |\n|---|---|\n");
     let mut rejected: Vec<(&'static str, Vec<String>)> = Vec::new();
     for d in isa.all() {
         let Kind::Rejected(reason) = d.kind else {

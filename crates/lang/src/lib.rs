@@ -12,6 +12,7 @@ pub mod il;
 pub mod isa;
 pub mod resolve;
 mod rung;
+pub mod settings;
 mod source;
 
 use std::path::Path;

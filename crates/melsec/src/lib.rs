@@ -23,6 +23,7 @@ pub mod limits;
 pub mod logic;
 pub mod misc;
 pub mod pid;
+pub mod process;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
@@ -35,6 +36,7 @@ pub use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 pub use softplc_lang::compile::Args;
 use softplc_lang::dialect::{Dialect, Flag, WordOrder};
 use softplc_lang::isa::{Def, Isa};
+use softplc_lang::settings::Settings;
 
 pub use softplc_lang::isa::CompileFn;
 
@@ -64,11 +66,33 @@ pub static DEFS: &[&[Def]] = &[
     rejected::DEFS,
 ];
 
-/// The MELSEC-Q instruction set, indexed by name.
+/// The MELSEC-Q instruction set, indexed by name; the process CPU's
+/// instructions are rejected naming the models that have them.
 pub fn isa() -> &'static Isa {
-    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| Isa::new(DEFS));
+    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
+        Isa::new(DEFS).rejecting(process::FAMILIES, process::NEEDS_PROCESS_CPU)
+    });
     &ISA
 }
+
+/// The process CPU's instruction set (QnPHCPU, 000 §1): MELSEC-Q's and the
+/// process-control instructions.
+pub fn process_isa() -> &'static Isa {
+    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
+        let families: Vec<&'static [Def]> = DEFS.iter().chain(process::FAMILIES).copied().collect();
+        Isa::new(&families)
+    });
+    &ISA
+}
+
+/// System flags of the instructions (SM700 …).
+const FLAGS: &[(Flag, DeviceKind, u32)] = &[
+    (Flag::Carry, DeviceKind::SM, 700),
+    (Flag::NoNul, DeviceKind::SM, 701),
+    (Flag::BinarySearch, DeviceKind::SM, 702),
+    (Flag::SortDescending, DeviceKind::SM, 703),
+    (Flag::AllTrue, DeviceKind::SM, 704),
+];
 
 /// The MELSEC-Q dialect: its instruction set, devices (hex X/Y/B/W), low word
 /// first, and the SM70x flags of the instructions.
@@ -78,13 +102,24 @@ pub fn dialect() -> &'static Dialect {
         isa: isa(),
         devices: &MELSEC_Q,
         word_order: WordOrder::LowFirst,
-        flags: &[
-            (Flag::Carry, DeviceKind::SM, 700),
-            (Flag::NoNul, DeviceKind::SM, 701),
-            (Flag::BinarySearch, DeviceKind::SM, 702),
-            (Flag::SortDescending, DeviceKind::SM, 703),
-            (Flag::AllTrue, DeviceKind::SM, 704),
-        ],
+        flags: FLAGS,
+        settings: Settings::new(),
     });
     &DIALECT
+}
+
+/// The dialect of the process CPU models (Q02PHCPU … Q25PHCPU) with the
+/// project's decisions (plc.toml `[process]`).
+pub fn process_dialect(settings: process::settings::ProcessSettings) -> Dialect {
+    Dialect {
+        name: "MELSEC-QnPH",
+        isa: process_isa(),
+        settings: Settings::new().with(settings),
+        ..dialect().clone()
+    }
+}
+
+/// Whether `model` is a process CPU.
+pub fn is_process_model(model: &str) -> bool {
+    process::MODELS.contains(&model)
 }

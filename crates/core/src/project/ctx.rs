@@ -136,6 +136,20 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// The entry's value as a boolean, or an error saying what was expected.
+    pub fn bool(&mut self, e: &Entry, expected: &str) -> Option<bool> {
+        match &e.item.value {
+            Value::Bool(b) => Some(*b),
+            v => {
+                self.error(
+                    &e.item.span,
+                    format!("{} must be {expected}, not {}", e.key, v.type_name()),
+                );
+                None
+            }
+        }
+    }
+
     /// A duration string checked against a setting range.
     pub fn duration(&mut self, e: &Entry, range: units::Range) -> Option<Duration> {
         let text = self.string(e, "a duration string such as \"100ms\"")?;

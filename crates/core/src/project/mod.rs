@@ -16,7 +16,7 @@ mod initial;
 mod latch;
 mod programs;
 mod settings;
-pub use settings::{check_capacity, program_capacity, FILE_HEADER_STEPS};
+pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
 pub use tree::line_col;
 mod tree;
 mod units;
@@ -68,6 +68,8 @@ pub struct Project {
     /// The `[modbus]` table as written (map and slave settings, interpreted by
     /// the Modbus server; see docs/plc-toml.md).
     pub modbus: Option<toml::Table>,
+    /// `[process]`: the process CPU's decisions (default: the spec's choices).
+    pub process: crate::program::ProcessSettings,
 }
 
 /// Largest `plc.toml` read.
@@ -163,6 +165,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         "state",
         // The Modbus slave's map and settings, read by `softplc serve`.
         "modbus",
+        "process",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -201,6 +204,12 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "initial") {
         config.initial_values = initial::initial(&mut cx, t, &config.devices);
     }
+    let mut process = crate::program::ProcessSettings::default();
+    if let Some(e) = section("process") {
+        if let Some(t) = cx.table(e, "[process]") {
+            settings::process(&mut cx, e, t, &config.model, &mut process);
+        }
+    }
     let programs = programs::programs(&mut cx, section("program"), dir, &config);
 
     if cx.has_errors() {
@@ -218,10 +227,16 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         state_on_damage,
         common_pointer,
         modbus,
+        process,
     })
 }
 
 impl Project {
+    /// The dialect the project's programs compile in (by `[cpu] model`).
+    pub fn dialect(&self) -> crate::program::Dialect {
+        crate::program::dialect_for(&self.config.model, self.process)
+    }
+
     /// Loads and compiles every program of the project (all diagnostics of all
     /// files on failure) and builds the CPU, linked and powered on.
     pub fn build_cpu(
@@ -230,10 +245,12 @@ impl Project {
     ) -> Result<crate::engine::Cpu, Diagnostics> {
         let mut loaded = Vec::new();
         let mut diags = Vec::new();
+        let dialect = self.dialect();
         for spec in &self.programs {
-            match crate::program::load_file_with(
+            match crate::program::load_file_in(
                 &spec.file,
                 &self.config.devices,
+                &dialect,
                 self.common_pointer,
             ) {
                 Ok(program) => loaded.push(crate::engine::LoadedProgram {

@@ -17,7 +17,62 @@ pub(crate) const MODELS: &[(&str, usize, u32)] = &[
     ("Q06HCPU", 60, 60),
     ("Q12HCPU", 124, 124),
     ("Q25HCPU", 124, 252),
+    // The process CPUs (000 §1, L18-44): the QnHCPU's memory, plus the
+    // process-control instructions.
+    ("Q02PHCPU", 28, 28),
+    ("Q06PHCPU", 60, 60),
+    ("Q12PHCPU", 124, 124),
+    ("Q25PHCPU", 124, 252),
 ];
+
+/// `[process]`: the process CPU's decisions (spec/process-control.md
+/// DEC-1 … DEC-36), each `key = true|false`; only on a process CPU model.
+pub(crate) fn process(
+    cx: &mut Ctx,
+    e: &Entry,
+    t: &[Entry],
+    model: &str,
+    out: &mut crate::program::ProcessSettings,
+) {
+    use softplc_melsec::process::settings::KEYS;
+    if !softplc_melsec::is_process_model(model) {
+        cx.error(
+            &e.item.span,
+            format!(
+                "[process] sets the process CPU's decisions, but the model is {model} \
+                 (a process CPU is Q02PHCPU, Q06PHCPU, Q12PHCPU or Q25PHCPU)"
+            ),
+        );
+        return;
+    }
+    let names: Vec<&str> = KEYS.iter().map(|k| k.name).collect();
+    cx.unknown_keys(t, Some("[process]"), &names);
+    for e in t {
+        if !names.contains(&e.key.as_str()) {
+            continue;
+        }
+        if let Some(v) = cx.bool(e, "true or false") {
+            out.set(&e.key, v);
+        }
+    }
+}
+
+/// The model named `text` (case-insensitive), as softplc spells it, or an
+/// error listing the models.
+pub fn known_model(text: &str) -> Result<&'static str, String> {
+    let up = text.trim().to_ascii_uppercase();
+    MODELS
+        .iter()
+        .find(|(m, _, _)| *m == up)
+        .map(|(m, _, _)| *m)
+        .ok_or_else(|| {
+            let list: Vec<&str> = MODELS.iter().map(|(m, _, _)| *m).collect();
+            format!(
+                "unknown CPU model \"{text}\" (expected {})",
+                list.join(", ")
+            )
+        })
+}
 
 /// Steps of program memory a model has (1k = 1024 steps; decision).
 pub fn program_capacity(model: &str) -> u32 {

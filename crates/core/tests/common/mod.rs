@@ -7,7 +7,7 @@ use std::time::Duration;
 use softplc_core::engine::{
     Cpu, CpuConfig, CpuState, ErrorCode, ExecType, LoadedProgram, VirtualClock,
 };
-use softplc_core::program::compile_il;
+use softplc_core::program::{compile_il, compile_il_in, dialect_for, ProcessSettings};
 
 pub mod pid;
 pub mod project;
@@ -23,6 +23,30 @@ impl Plc {
     /// diagnostics if it does not load. Scans take 10 ms of virtual time.
     pub fn new(src: &str) -> Plc {
         Plc::with_config(src, CpuConfig::default())
+    }
+
+    /// Compiles `.il` text for a process CPU (Q06PHCPU) with the given
+    /// process-control decisions.
+    pub fn process_with(src: &str, settings: ProcessSettings) -> Plc {
+        let cfg = CpuConfig {
+            model: "Q06PHCPU".into(),
+            ..CpuConfig::default()
+        };
+        let dialect = dialect_for(&cfg.model, settings);
+        let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
+            .unwrap_or_else(|d| panic!("load failed:\n{d}"));
+        let clock = VirtualClock::new();
+        let cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        Plc {
+            cpu,
+            clock,
+            scan_us: 10_000,
+        }
+    }
+
+    /// [`Plc::process_with`] the spec's decisions.
+    pub fn process(src: &str) -> Plc {
+        Plc::process_with(src, ProcessSettings::default())
     }
 
     pub fn with_config(src: &str, cfg: CpuConfig) -> Plc {
@@ -120,6 +144,20 @@ impl Plc {
     /// The error code in SD0 / the engine's latest error.
     pub fn error(&self) -> Option<ErrorCode> {
         self.cpu.error().map(|e| e.code)
+    }
+}
+
+/// Diagnostics of a process-CPU program that must fail to load, as
+/// `line:col: message`.
+pub fn process_diagnostics(src: &str) -> Vec<String> {
+    let dialect = dialect_for("Q06PHCPU", ProcessSettings::default());
+    match compile_il_in("t.il", src, &CpuConfig::default().devices, &dialect) {
+        Ok(_) => panic!("expected diagnostics"),
+        Err(d) => {
+            d.0.iter()
+                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                .collect()
+        }
     }
 }
 

@@ -107,9 +107,14 @@ impl Scenario {
         let clock = VirtualClock::new();
         let cpu = match &self.source {
             super::Source::Program(p) => {
-                let prog =
-                    program::load_file(p, &DeviceConfig::default()).map_err(|d| format!("{d}"))?;
-                Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()))
+                let mut cfg = CpuConfig::default();
+                if let Some(m) = &self.cpu {
+                    cfg.model = m.clone();
+                }
+                let dialect = program::dialect_for(&cfg.model, Default::default());
+                let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
+                    .map_err(|d| format!("{d}"))?;
+                Cpu::new(prog, cfg, Box::new(clock.clone()))
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;

@@ -164,6 +164,10 @@ pub struct Scenario {
     pub file: PathBuf,
     pub name: String,
     pub source: Source,
+    /// `cpu`: the CPU model a program file runs on (default Q06HCPU; e.g.
+    /// "Q06PHCPU" for the process-control instructions). A project sets its
+    /// own with `[cpu] model`.
+    pub cpu: Option<String>,
     /// Virtual time per scan, µs.
     pub scan_us: u64,
     /// Scans to run (the duration rounded up to whole scans).

@@ -22,6 +22,7 @@ struct Doc {
     description: Option<String>,
     program: Option<String>,
     project: Option<String>,
+    cpu: Option<String>,
     scan_time: toml::Value,
     duration: toml::Value,
     #[serde(default)]
@@ -116,6 +117,17 @@ impl Scenario {
                 )
             }
         };
+        let cpu = match (&doc.cpu, &source) {
+            (None, _) => None,
+            (Some(_), Source::Project(_)) => {
+                return Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
+            }
+            (Some(m), Source::Program(_)) => Some(
+                softplc_core::project::known_model(m)
+                    .map_err(|e| format!("cpu: {e}"))?
+                    .to_string(),
+            ),
+        };
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
         if scan_us == 0 {
             return Err("scan_time: must be at least 1us".into());
@@ -189,6 +201,7 @@ impl Scenario {
             file: path.to_path_buf(),
             name,
             source,
+            cpu,
             scan_us,
             scans,
             models,

@@ -1,0 +1,369 @@
+//! What every process-control instruction shares (000 §2.2, §3, §14; spec
+//! §1.2-§1.4, §5): operand areas, the system devices (ΔT in SD1500, the error
+//! details SD1502/SD1503, the hold flags SM1500/SM1501), float words with the
+//! manual's validity checks, the error path, and the one period-counter rule
+//! (DEC-1 … DEC-4).
+
+use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::ops::{Block, WordArg};
+use softplc_lang::isa::{CompileFn, Def, Doc, Pulse, Steps};
+
+use super::settings::ProcessSettings;
+use crate::Args;
+
+/// A process-control instruction (000 §2.2.6-§2.2.7): runs on every scan
+/// while its condition is ON, has no pulse form, and takes
+/// 2 + ⌈len(name without "S.")/2⌉ + operands steps (`S.IN R0 R100 R200 R1000`
+/// is 7, L669-677).
+pub const fn def(name: &'static str, operands: u32, doc: &'static Doc, compile: CompileFn) -> Def {
+    let len = name.len() as u32 - 2;
+    Def::app(name, doc, compile)
+        .pulse(Pulse::None)
+        .steps(Steps::Fixed(2 + len.div_ceil(2) + operands))
+}
+
+/// A process-control operation error: SD1502 detail code (000 Table 14.1)
+/// and SD1503 processing number (Table 14.2) where the instruction stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PcError {
+    pub detail: u16,
+    pub step: u16,
+}
+
+impl PcError {
+    /// Not a number, ±∞ or denormal (SD1502 = 1).
+    pub const fn bad_number(step: u16) -> PcError {
+        PcError { detail: 1, step }
+    }
+    /// A negative value where none is allowed (2).
+    pub const fn negative(step: u16) -> PcError {
+        PcError { detail: 2, step }
+    }
+    /// A value out of its range (3).
+    pub const fn range(step: u16) -> PcError {
+        PcError { detail: 3, step }
+    }
+    /// An execution count over 32767 (4).
+    pub const fn count(step: u16) -> PcError {
+        PcError { detail: 4, step }
+    }
+    /// Division by 0 (5).
+    pub const fn divide(step: u16) -> PcError {
+        PcError { detail: 5, step }
+    }
+    /// A result beyond the float range (6).
+    pub const fn overflow(step: u16) -> PcError {
+        PcError { detail: 6, step }
+    }
+}
+
+/// The process CPU's system devices, resolved when an instruction compiles.
+#[derive(Clone, Copy, Debug)]
+pub struct Sys {
+    /// SD1500-SD1501: the execution cycle ΔT, float seconds.
+    dt: usize,
+    /// SD1502 / SD1503: the error detail code and processing number.
+    detail: usize,
+    step: usize,
+    /// SM1500: S.IN holds BW on input range-over.
+    sm1500: usize,
+    /// SM1501: output instructions hold MV while SEA = 1.
+    sm1501: usize,
+    /// SD1508: S.PIDP options.
+    sd1508: usize,
+}
+
+impl Sys {
+    /// The system devices of the CPU being compiled for.
+    pub fn new(a: &Args<'_, '_>) -> Option<Sys> {
+        let map = a.map();
+        let w = |n| map.index(DeviceKind::SD, n).map(|i| i as usize);
+        let b = |n| map.index(DeviceKind::SM, n).map(|i| i as usize);
+        Some(Sys {
+            dt: w(1500)?,
+            detail: w(1502)?,
+            step: w(1503)?,
+            sm1500: b(1500)?,
+            sm1501: b(1501)?,
+            sd1508: w(1508)?,
+        })
+    }
+
+    /// ΔT from SD1500-SD1501, checked (a bad float is detail 1 at `step`).
+    pub fn dt(&self, m: &DeviceMemory, step: u16) -> Result<f32, PcError> {
+        real(m, self.dt, step)
+    }
+
+    /// SM1500 (S.IN hold on range-over).
+    pub fn hold_input(&self, m: &DeviceMemory) -> bool {
+        m.bits[self.sm1500]
+    }
+
+    /// SM1501 (hold MV while SEA = 1).
+    pub fn hold_output(&self, m: &DeviceMemory) -> bool {
+        m.bits[self.sm1501]
+    }
+
+    /// SD1508.
+    pub fn options(&self, m: &DeviceMemory) -> u16 {
+        m.words[self.sd1508]
+    }
+
+    /// Reports `e` as the CPU does: SD1502/SD1503 set, 4100 raised (000 §14).
+    pub fn fail(&self, m: &mut DeviceMemory, e: PcError) -> Fault {
+        m.words[self.detail] = e.detail;
+        m.words[self.step] = e.step;
+        ErrorCode::OPERATION
+    }
+
+    /// Runs an instruction body and reports its error, if any.
+    pub fn run(
+        &self,
+        m: &mut DeviceMemory,
+        body: impl FnOnce(&mut DeviceMemory) -> Result<(), PcError>,
+    ) -> Result<(), Fault> {
+        body(m).map_err(|e| self.fail(m, e))
+    }
+}
+
+/// An operand area of `words` words: a word device (index modification
+/// allowed), not a constant, bit or digit-specified device (the CPU's 4302),
+/// and, when its start is known at load, one that fits its device.
+pub fn area(a: &mut Args<'_, '_>, k: usize, words: u32, what: &str) -> Option<Block> {
+    let b = a.block(k)?;
+    if let WordArg::Word(i) = b.start {
+        if i as u64 + words as u64 > b.limit as u64 {
+            let text = a.text(k).to_string();
+            a.error(
+                k,
+                format!("`{text}`: the {what} takes {words} words, past the end of the device"),
+            );
+            return None;
+        }
+    }
+    Some(b)
+}
+
+/// A dummy operand (000 §3.2: any word device, SD1506 recommended): checked
+/// to be a word device, not used.
+pub fn dummy(a: &mut Args<'_, '_>, k: usize) -> Option<()> {
+    a.block(k).map(|_| ())
+}
+
+/// Reads a float word pair (low word first).
+#[inline]
+pub fn get_f(m: &DeviceMemory, i: usize) -> f32 {
+    f32::from_bits(m.words[i] as u32 | (m.words[i + 1] as u32) << 16)
+}
+
+/// Writes a float word pair (low word first).
+#[inline]
+pub fn set_f(m: &mut DeviceMemory, i: usize, v: f32) {
+    let b = v.to_bits();
+    m.words[i] = b as u16;
+    m.words[i + 1] = (b >> 16) as u16;
+}
+
+/// Reads a 32-bit BIN word pair (low word first).
+#[inline]
+pub fn get_u32(m: &DeviceMemory, i: usize) -> u32 {
+    m.words[i] as u32 | (m.words[i + 1] as u32) << 16
+}
+
+/// Writes a 32-bit BIN word pair (low word first).
+#[inline]
+pub fn set_u32(m: &mut DeviceMemory, i: usize, v: u32) {
+    m.words[i] = v as u16;
+    m.words[i + 1] = (v >> 16) as u16;
+}
+
+/// Whether `v` is a number the CPU operates on (000 §2.2.4: 0 or
+/// 2^-126 ≤ |v| < 2^128).
+#[inline]
+pub fn valid(v: f32) -> bool {
+    v == 0.0 || v.is_normal()
+}
+
+/// Reads a float operand, checked: NaN, ±∞ and denormals are detail 1.
+#[inline]
+pub fn real(m: &DeviceMemory, i: usize, step: u16) -> Result<f32, PcError> {
+    let v = get_f(m, i);
+    if valid(v) {
+        Ok(v)
+    } else {
+        Err(PcError::bad_number(step))
+    }
+}
+
+/// A computed result, checked: beyond the float range is detail 6. A
+/// denormal result flushes to 0, as a CPU without gradual underflow gives.
+#[inline]
+pub fn result(v: f32, step: u16) -> Result<f32, PcError> {
+    if v.is_nan() || v.is_infinite() {
+        Err(PcError::overflow(step))
+    } else if v.is_subnormal() {
+        Ok(0.0)
+    } else {
+        Ok(v)
+    }
+}
+
+/// The count of executions of ΔT in a period `p` (DEC-2): round(p/ΔT) with
+/// halves up, in f32, at least 1 (the integer part when `truncate` — the
+/// manual's exceptions — or when the setting says so). ΔT < 0 or p < 0 is
+/// detail 2, ΔT = 0 detail 5, a count over 32767 detail 4.
+pub fn count(
+    p: f32,
+    dt: f32,
+    truncate: bool,
+    s: &ProcessSettings,
+    step: u16,
+) -> Result<u16, PcError> {
+    if dt < 0.0 || p < 0.0 {
+        return Err(PcError::negative(step));
+    }
+    if dt == 0.0 {
+        return Err(PcError::divide(step));
+    }
+    let q = p / dt;
+    let n = if truncate || !s.period_count_rounds {
+        q.trunc()
+    } else {
+        (q + 0.5).floor()
+    };
+    if n > 32767.0 {
+        return Err(PcError::count(step));
+    }
+    Ok((n as u16).max(1))
+}
+
+/// What one execution did to a period counter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tick {
+    /// This execution started the counter (flag was 0): time 0 of a period.
+    pub start: bool,
+    /// The period was reached on this execution.
+    pub reached: bool,
+}
+
+impl Tick {
+    /// A period begins on this execution (the start or a reach): take a
+    /// sample, a reference, start an operate phase.
+    pub fn begins(self) -> bool {
+        self.start || self.reached
+    }
+}
+
+/// Advances the period counter whose preset flag and counter are the words at
+/// `flag` and `counter` by one execution (spec §1.3.1, DEC-1 and DEC-3); `n`
+/// gives the period's count and is evaluated only when the counter loads
+/// (DEC-3), or every execution under the alternative.
+pub fn tick(
+    m: &mut DeviceMemory,
+    flag: usize,
+    counter: usize,
+    s: &ProcessSettings,
+    n: impl FnOnce() -> Result<u16, PcError>,
+) -> Result<Tick, PcError> {
+    if s.period_change_at_reach {
+        if m.words[flag] == 0 {
+            m.words[counter] = n()?;
+            m.words[flag] = 1;
+            return Ok(Tick {
+                start: true,
+                reached: !s.counter_start_is_time_zero,
+            });
+        }
+        let c = m.words[counter].saturating_sub(1);
+        if c == 0 {
+            m.words[counter] = n()?;
+            Ok(Tick {
+                start: false,
+                reached: true,
+            })
+        } else {
+            m.words[counter] = c;
+            Ok(Tick {
+                start: false,
+                reached: false,
+            })
+        }
+    } else {
+        // The alternative of DEC-3: an up-count compared with the current N.
+        let n = n()?;
+        if m.words[flag] == 0 {
+            m.words[counter] = 0;
+            m.words[flag] = 1;
+            return Ok(Tick {
+                start: true,
+                reached: !s.counter_start_is_time_zero,
+            });
+        }
+        let c = m.words[counter].saturating_add(1);
+        let reached = c >= n;
+        m.words[counter] = if reached { 0 } else { c };
+        Ok(Tick {
+            start: false,
+            reached,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use softplc_ir::device::{DeviceConfig, DeviceMemory};
+
+    fn mem() -> DeviceMemory {
+        DeviceMemory::new(&DeviceConfig::default())
+    }
+
+    #[test]
+    fn counts_round_halves_up_in_f32_and_check_limits() {
+        let s = ProcessSettings::default();
+        // 0.9/0.3 is 2.9999998 in f32: rounding gives 3, truncation 2 (spec DEC-2).
+        assert_eq!(count(0.9, 0.3, false, &s, 1), Ok(3));
+        assert_eq!(count(0.9, 0.3, true, &s, 1), Ok(2));
+        assert_eq!(count(2.5, 1.0, false, &s, 1), Ok(3));
+        assert_eq!(count(0.0, 1.0, false, &s, 1), Ok(1));
+        assert_eq!(count(32767.0, 1.0, false, &s, 1), Ok(32767));
+        assert_eq!(count(32768.0, 1.0, false, &s, 7), Err(PcError::count(7)));
+        assert_eq!(count(5.0, 0.0, false, &s, 1), Err(PcError::divide(1)));
+        assert_eq!(count(5.0, -1.0, false, &s, 1), Err(PcError::negative(1)));
+    }
+
+    /// ΔT = 1 s, CT = 5 s: computes at t = 5, 10, 15 (spec §1.3.1).
+    #[test]
+    fn a_period_is_reached_on_the_nth_execution_after_the_start() {
+        let s = ProcessSettings::default();
+        let mut m = mem();
+        let reached: Vec<bool> = (0..16)
+            .map(|_| tick(&mut m, 0, 1, &s, || Ok(5)).unwrap().reached)
+            .collect();
+        let at: Vec<usize> = (0..16).filter(|&t| reached[t]).collect();
+        assert_eq!(at, [5, 10, 15]);
+        assert_eq!((m.words[0], m.words[1]), (1, 5));
+        let up = ProcessSettings {
+            period_change_at_reach: false,
+            ..s
+        };
+        let mut m = mem();
+        let at: Vec<usize> = (0..16)
+            .filter(|_| tick(&mut m, 0, 1, &up, || Ok(5)).unwrap().reached)
+            .collect();
+        assert_eq!(at, [5, 10, 15]);
+    }
+
+    #[test]
+    fn floats_are_checked_as_the_cpu_does() {
+        let mut m = mem();
+        set_f(&mut m, 10, 1.5);
+        assert_eq!(real(&m, 10, 3), Ok(1.5));
+        set_f(&mut m, 10, f32::NAN);
+        assert_eq!(real(&m, 10, 3), Err(PcError::bad_number(3)));
+        set_f(&mut m, 10, f32::MIN_POSITIVE / 2.0);
+        assert_eq!(real(&m, 10, 3), Err(PcError::bad_number(3)));
+        assert_eq!(result(f32::MAX * 2.0, 4), Err(PcError::overflow(4)));
+    }
+}

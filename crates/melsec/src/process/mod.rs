@@ -1,0 +1,31 @@
+//! Process-control instructions of the QnPH/QnPRH process CPU, seed 000
+//! (Programming Manual, Process Control Instructions, SH(NA)-080449CHN-B;
+//! "000 §x" below). Behaviour the manual leaves open follows
+//! `shared/spec/process-control.md` and its decisions DEC-1 … DEC-36, each a
+//! named setting ([`settings::ProcessSettings`], plc.toml `[process]`).
+//!
+//! The instructions exist only on the process CPU models (Q02PHCPU …
+//! Q25PHCPU): [`crate::process_dialect`] has them, [`crate::dialect`] rejects
+//! them at load naming the models.
+//!
+//! Modules: `settings` (the decisions), `tag` (the 128-word loop tag, MODE,
+//! ALM/INH/ALM2 bits), `common` (operand areas, ΔT and the system devices,
+//! float checks, the error path with SD1502/SD1503, the period counter of
+//! spec §1.3.1), and one module per chapter of the manual.
+
+pub mod common;
+pub mod compensation;
+pub mod settings;
+pub mod tag;
+
+use softplc_lang::isa::Def;
+
+/// The process-control families (a new family is one line here).
+pub static FAMILIES: &[&[Def]] = &[compensation::DEFS];
+
+/// The CPU models that have these instructions.
+pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
+
+/// Why a non-process CPU rejects them.
+pub const NEEDS_PROCESS_CPU: &str = "a process-control instruction (000): it needs a process CPU \
+     ([cpu] model = \"Q02PHCPU\", \"Q06PHCPU\", \"Q12PHCPU\" or \"Q25PHCPU\", or --model)";
