@@ -68,6 +68,9 @@ pub struct TuneArgs {
     /// Settling band of the metrics, % of the SV step.
     #[arg(long, value_name = "PCT", default_value_t = 2.0)]
     pub band: f64,
+    /// Centred moving average over PV before the verification metrics (0 = none).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration, default_value = "2s")]
+    pub smooth: Duration,
     /// Head of the PID's operation constants (S2): MTD (+0) and PN (+4) are
     /// written before the verification.
     #[arg(long, value_name = "DEV")]
@@ -144,6 +147,7 @@ pub fn run(args: TuneArgs) -> ExitCode {
     o.sv_step = args.sv_step;
     o.verify_s = args.verify_for.map(secs);
     o.band_pct = args.band;
+    o.smooth_s = secs(args.smooth);
     o.pid_constants = args.pid_constants.clone();
     o.at1_period = args.at1_period.map(secs);
     let report = match tune_scenario(&sc, &o) {

@@ -54,14 +54,18 @@ pub struct Options {
     /// Run the closed-loop verification.
     pub verify: bool,
     /// SV step of the verification, engineering units (default: the PV
-    /// change of the step test, so MV moves about as far as in the test;
-    /// upwards unless that leaves the range).
+    /// change of the step test, so MV moves on by about the test's step, in
+    /// the same direction unless that leaves the range).
     pub sv_step: Option<f64>,
     /// Length of the verification after the SV step, s (default
     /// 10·τ + 20·θ + 10·CT).
     pub verify_s: Option<f64>,
     /// Settling band of the metrics, % of the SV step.
     pub band_pct: f64,
+    /// Width of the centred moving average applied to PV before the
+    /// verification metrics, s (0 = none), so that measurement noise does
+    /// not count as leaving the band.
+    pub smooth_s: f64,
     /// Head of the PID instruction's operation constants (S2): MTD (+0, float)
     /// and PN (+4) are written before the verification when given.
     pub pid_constants: Option<String>,
@@ -87,6 +91,7 @@ impl Options {
             sv_step: None,
             verify_s: None,
             band_pct: 2.0,
+            smooth_s: 2.0,
             pid_constants: None,
             at1_period: None,
         }
@@ -256,6 +261,17 @@ pub fn tune_scenario(sc: &Scenario, opts: &Options) -> Result<Report, String> {
             .unwrap_or(1.0),
     };
     let at1 = at1_compare(&resp, rl, span, at1_period, process.gain, opts);
+    if let Some(c) = &at1.curve {
+        // S.AT1's Kp = c·|STEP|/100/(R·L); the fit's ZN Kp = c·τ/(K·θ).
+        let zn_ratio = c.r * c.l * 100.0
+            / (opts.step_pct.abs() * process.gain.abs() * process.dead_time / process.tau);
+        if !(0.75..=1.33).contains(&zn_ratio) {
+            warnings.push(format!(
+                "S.AT1's R·L is {zn_ratio:.2}× the fit's K·θ/τ: its maximum-slope method is \
+                 sensitive to noise and sampling (try a longer AT1ST, --at1-period)"
+            ));
+        }
+    }
     let table = rules::table(&process, &opts.rule_options);
     if ct > 0.0 && process.dead_time > 0.0 && ct > process.dead_time / 2.0 {
         warnings.push(format!(
@@ -318,6 +334,9 @@ fn check_options(o: &Options) -> Result<(), String> {
     if let Some(v) = o.verify_s {
         pos(v, "--verify-for")?;
     }
+    if !(o.smooth_s >= 0.0 && o.smooth_s.is_finite()) {
+        return Err(format!("--smooth must be ≥ 0 (got {})", o.smooth_s));
+    }
     if let Some(p) = o.at1_period {
         pos(p, "--at1-period")?;
     }
@@ -356,26 +375,36 @@ fn mean(prefix: &[f64], a: usize, b: usize) -> f64 {
     (prefix[b] - prefix[a]) / (b - a).max(1) as f64
 }
 
-/// Holds MV until PV is steady: at least `min_hold_s`, and the drift rate
-/// over the last quarter of the hold (the means of its two halves), carried
-/// over a time as long as the hold so far, stays within `tol`. Returns the
-/// steady PV (mean of the last tenth) and the hold time.
+/// Holds MV until PV is steady: at least `min_hold_s`, and the drift over
+/// the last quarter of the hold (the difference of the means of its two
+/// halves) is either below `tol` when carried over a time as long as the hold
+/// so far, or not significant against the noise (within 3 standard errors of
+/// that difference). Returns the steady PV (mean of the last tenth) and the
+/// hold time.
 fn hold_until_steady(s: &mut Session, o: &Options, tol: f64) -> Result<(f64, f64), String> {
     let start = s.now();
-    let mut prefix = vec![0.0];
+    let mut sum = vec![0.0];
+    let mut sum_sq = vec![0.0];
     loop {
         let x = s.scan()?;
-        prefix.push(prefix[prefix.len() - 1] + x.pv);
-        let n = prefix.len() - 1;
+        sum.push(sum[sum.len() - 1] + x.pv);
+        sum_sq.push(sum_sq[sum_sq.len() - 1] + x.pv * x.pv);
+        let n = sum.len() - 1;
         let held = s.now() - start;
         if held >= o.min_hold_s && n >= 8 {
             let w = (n / 4).max(4);
-            let a = mean(&prefix, n - w, n - w / 2);
-            let b = mean(&prefix, n - w / 2, n);
-            let rate = (b - a) / ((w / 2) as f64 * s.scan_s);
-            if rate.abs() * held <= tol {
+            let half = w / 2;
+            let a = mean(&sum, n - w, n - half);
+            let b = mean(&sum, n - half, n);
+            let m = mean(&sum, n - w, n);
+            let var = (mean(&sum_sq, n - w, n) - m * m).max(0.0);
+            let noise = 3.0 * (var * 2.0 / half as f64).sqrt();
+            let carried = (b - a).abs() * held / (half as f64 * s.scan_s);
+            // (The noise test needs enough samples: on a noise-free drift the
+            // spread of the window alone would pass it with few samples.)
+            if carried <= tol || (half >= 25 && (b - a).abs() <= noise) {
                 let tail = (n / 10).max(1);
-                return Ok((mean(&prefix, n - tail, n), held));
+                return Ok((mean(&sum, n - tail, n), held));
             }
         }
         if held >= o.max_hold_s {
@@ -522,11 +551,16 @@ fn verify(
     s.scan_for((3.0 * ct).max(5.0 * s.scan_s))?;
     let sv_before = s.read(offset::SV)?;
     let step = o.sv_step.unwrap_or_else(|| {
-        let up = pv_change.abs().max(0.01 * (rh - rl).abs());
-        if sv_before + up > rh.max(rl) || sv_before + up < rh.min(rl) {
-            -up
+        let min = 0.01 * (rh - rl).abs();
+        let step = if pv_change.abs() < min {
+            min.copysign(pv_change)
         } else {
-            up
+            pv_change
+        };
+        if sv_before + step > rh.max(rl) || sv_before + step < rh.min(rl) {
+            -step
+        } else {
+            step
         }
     });
     let sv_after = sv_before + step;
@@ -547,6 +581,8 @@ fn verify(
         mv_min = mv_min.min(x.mv);
         mv_max = mv_max.max(x.mv);
     }
+    let half = (o.smooth_s / 2.0 / s.scan_s).round() as usize;
+    let y = centred_mean(&y, half);
     let metrics = step_metrics(&t, &y, y[0], sv_after, o.band_pct);
     let (mh, ml) = (s.read(offset::MH)?, s.read(offset::ML)?);
     if mv_max >= mh.max(ml) || mv_min <= ml.min(mh) {
@@ -574,6 +610,21 @@ fn verify(
         mv_max,
         settled,
     })
+}
+
+/// The centred moving average of `y` over `2·half + 1` samples (fewer at
+/// the ends).
+fn centred_mean(y: &[f64], half: usize) -> Vec<f64> {
+    if half == 0 {
+        return y.to_vec();
+    }
+    let mut prefix = vec![0.0];
+    for v in y {
+        prefix.push(prefix[prefix.len() - 1] + v);
+    }
+    (0..y.len())
+        .map(|i| mean(&prefix, i.saturating_sub(half), (i + half + 1).min(y.len())))
+        .collect()
 }
 
 fn write_value(s: &mut Session, d: &DeviceSpec, v: Value) -> Result<(), String> {
