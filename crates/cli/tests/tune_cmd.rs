@@ -93,7 +93,10 @@ fn tune_the_example_as_json() {
 fn the_example_scenario_passes_softplc_test() {
     let out = softplc().arg("test").arg(example()).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success() && text.contains("2 passed, 0 failed"), "{text}");
+    assert!(
+        out.status.success() && text.contains("2 passed, 0 failed"),
+        "{text}"
+    );
 }
 
 #[test]
