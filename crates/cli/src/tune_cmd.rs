@@ -68,7 +68,7 @@ pub struct TuneArgs {
     /// Settling band of the metrics, % of the SV step.
     #[arg(long, value_name = "PCT", default_value_t = 2.0)]
     pub band: f64,
-    /// Centred moving average over PV before the verification metrics (0 = none).
+    /// Centred moving average over PV before the verification metrics (0s = none).
     #[arg(long, value_name = "DUR", value_parser = parse_duration, default_value = "2s")]
     pub smooth: Duration,
     /// Head of the PID's operation constants (S2): MTD (+0) and PN (+4) are

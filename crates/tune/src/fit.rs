@@ -12,8 +12,10 @@
 //! (process-control spec §4.37). The fit minimises `Σ (yᵢ − ŷ(tᵢ))²` over
 //! (K, τ, θ) by Levenberg–Marquardt with the analytic Jacobian, started from
 //! the two-point estimate (the times the response crosses 28.3 % and 63.2 %
-//! of its final change: `τ = 1.5·(t63 − t28)`, `θ = t63 − τ`). `y0` is not
-//! fitted: it is the steady state measured before the step.
+//! of its final change: `τ = 1.5·(t63 − t28)`, `θ = t63 − τ`) and from the
+//! same point with θ scaled by 0.5, 1.5 and 0 (the cost has a kink in θ); the
+//! best of the four is kept. `y0` is not fitted: it is the steady state
+//! measured before the step.
 
 use serde::Serialize;
 
@@ -46,7 +48,7 @@ pub struct FopdtFit {
     pub r2: f64,
     /// Samples used.
     pub samples: usize,
-    /// Levenberg–Marquardt iterations.
+    /// Levenberg–Marquardt iterations of the kept start.
     pub iterations: usize,
 }
 
@@ -91,7 +93,25 @@ pub fn fit_fopdt(data: &StepResponse) -> Result<FopdtFit, String> {
     }
     let (t, y) = thin(&data.t, &data.y);
     let start = two_point_estimate(&t, &y, data.y0, data.du)?;
-    let (p, iterations) = levenberg_marquardt(&t, &y, data.y0, data.du, start);
+    // The cost has a kink in θ (where the response starts), so besides the
+    // two-point start a few other dead times are tried and the best fit kept.
+    let mut best: Option<([f64; 3], usize, f64)> = None;
+    let mut r = vec![0.0; t.len()];
+    for theta_factor in [1.0, 0.5, 1.5, 0.0] {
+        let p0 = [start[0], start[1], start[2] * theta_factor];
+        let (p, it) = levenberg_marquardt(&t, &y, data.y0, data.du, p0);
+        let cost = residuals(&t, &y, data.y0, data.du, &p, &mut r);
+        match &best {
+            Some(b) if b.2 <= cost => {}
+            _ => best = Some((p, it, cost)),
+        }
+        if start[2] == 0.0 {
+            break;
+        }
+    }
+    let Some((p, iterations, _)) = best else {
+        return Err("step response: no fit".into());
+    };
     let (gain, tau, dead_time) = (p[0], p[1], p[2]);
     let mut ss_res = 0.0;
     for (ti, yi) in t.iter().zip(&y) {
@@ -338,6 +358,17 @@ mod tests {
         assert!((f.tau - 30.0).abs() < 1.0, "{f:?}");
         assert!((f.dead_time - 10.0).abs() < 0.5, "{f:?}");
         assert!(f.rms > 0.03 && f.rms < 0.08 && f.r2 > 0.99, "{f:?}");
+    }
+
+    #[test]
+    fn a_poor_start_still_finds_the_dead_time() {
+        // A long dead time against τ: θ = 40 s, τ = 5 s.
+        let d = sampled(1.0, 5.0, 40.0, 2.0, 0.0, 0.25, 400);
+        let f = fit_fopdt(&d).unwrap();
+        assert!(
+            (f.dead_time - 40.0).abs() < 1e-3 && (f.tau - 5.0).abs() < 1e-3,
+            "{f:?}"
+        );
     }
 
     #[test]
