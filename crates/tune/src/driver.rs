@@ -148,8 +148,8 @@ pub struct Verification {
     pub metrics: StepMetrics,
     pub mv_min: f64,
     pub mv_max: f64,
-    /// Settled within the run and no oscillation through the band after
-    /// settling: the loop is stable at these settings.
+    /// PV stays within the band from the settling time to the end of the
+    /// run (a sustained oscillation through the band never settles).
     pub settled: bool,
 }
 
