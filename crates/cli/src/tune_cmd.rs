@@ -24,9 +24,13 @@ pub struct TuneArgs {
     /// Head device of the loop tag (the D2 of S.IN/S.PID/S.OUT1), e.g. R1000.
     #[arg(long = "loop", value_name = "DEV", required_unless_present = "fit_csv")]
     pub loop_head: Option<String>,
-    /// Read PV from this device instead of the loop tag's PV (+10).
+    /// Read PV from this device instead of the loop tag's PV (+10; written by
+    /// S.PHPL), e.g. a float of engineering units.
     #[arg(long, value_name = "DEV")]
     pub pv: Option<String>,
+    /// The --pv device holds PV in % of the range RH−RL (e.g. S.IN's BW).
+    #[arg(long, requires = "pv")]
+    pub pv_percent: bool,
     /// MV step of the open-loop test, % (negative steps down).
     #[arg(
         long,
@@ -134,6 +138,7 @@ pub fn run(args: TuneArgs) -> ExitCode {
     };
     let mut o = Options::new(head);
     o.pv_device = args.pv.clone();
+    o.pv_percent = args.pv_percent;
     o.step_pct = args.step;
     o.initial_mv = args.mv0;
     o.min_hold_s = secs(args.hold);

@@ -35,6 +35,9 @@ pub struct Options {
     pub loop_head: String,
     /// Read PV from this device instead of the loop tag's +10.
     pub pv_device: Option<String>,
+    /// The `pv_device` holds PV in % of RH − RL (as S.IN's BW), not in
+    /// engineering units.
+    pub pv_percent: bool,
     /// MV step of the open-loop test, % (signed).
     pub step_pct: f64,
     /// MV to hold before the step, % (default: the loop's MV as found).
@@ -79,6 +82,7 @@ impl Options {
         Options {
             loop_head: loop_head.to_string(),
             pv_device: None,
+            pv_percent: false,
             step_pct: 10.0,
             initial_mv: None,
             min_hold_s: 30.0,
@@ -178,7 +182,15 @@ pub struct Report {
 /// Runs the workflow on a loaded scenario.
 pub fn tune_scenario(sc: &Scenario, opts: &Options) -> Result<Report, String> {
     check_options(opts)?;
-    let mut s = Session::start(sc, &opts.loop_head, opts.pv_device.as_deref())?;
+    if opts.pv_percent && opts.pv_device.is_none() {
+        return Err("--pv-percent goes with --pv DEV".into());
+    }
+    let mut s = Session::start(
+        sc,
+        &opts.loop_head,
+        opts.pv_device.as_deref(),
+        opts.pv_percent,
+    )?;
     let head = s.tag.head.clone();
     let mut warnings = Vec::new();
 

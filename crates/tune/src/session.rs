@@ -35,6 +35,8 @@ pub struct Session {
     pub tag: LoopTag,
     /// Where PV is read (the loop tag's +10 unless `--pv` names a device).
     pv: Option<DeviceSpec>,
+    /// The `--pv` device holds PV in % of RH − RL (e.g. S.IN's BW).
+    pv_percent: bool,
     /// Virtual time per scan, s.
     pub scan_s: f64,
     /// The scans of the scenario's timeline (played before tuning starts).
@@ -57,6 +59,7 @@ impl Session {
         sc: &Scenario,
         loop_head: &str,
         pv_device: Option<&str>,
+        pv_percent: bool,
     ) -> Result<Session, String> {
         let run = sc.build()?;
         let tag = LoopTag::new(loop_head, run.cpu())?;
@@ -88,6 +91,7 @@ impl Session {
             run,
             tag,
             pv,
+            pv_percent,
             trend: Trend {
                 every: 1,
                 ..Trend::default()
@@ -105,12 +109,19 @@ impl Session {
     pub fn pv(&self) -> Result<f64, String> {
         match &self.pv {
             None => self.tag.read(self.run.cpu(), offset::PV),
-            Some(d) => match self.run.cpu().read_device(d)? {
-                Value::Float(x) => Ok(x),
-                Value::Int(i) => Ok(i as f64),
-                Value::Bool(b) => Ok(f64::from(u8::from(b))),
-                Value::Str(_) => Err(format!("{}: a string", d.text)),
-            },
+            Some(d) => {
+                let v = match self.run.cpu().read_device(d)? {
+                    Value::Float(x) => x,
+                    Value::Int(i) => i as f64,
+                    Value::Bool(b) => f64::from(u8::from(b)),
+                    Value::Str(_) => return Err(format!("{}: a string", d.text)),
+                };
+                if !self.pv_percent {
+                    return Ok(v);
+                }
+                let (rl, rh) = (self.read(offset::RL)?, self.read(offset::RH)?);
+                Ok(rl + v * (rh - rl) / 100.0)
+            }
         }
     }
 

@@ -138,6 +138,27 @@ fn a_reverse_plant_gets_forward_action_through_the_pid_constants() {
 }
 
 #[test]
+fn pv_in_percent_from_another_device() {
+    // The stand-in's E1 (D1310, float %) is what S.IN's BW would be: read as
+    // % of the 0..200 range it gives the same plant.
+    let sc = Scenario::load(&fixture("standin_fopdt.toml")).unwrap();
+    let mut o = Options::new("R1000");
+    o.initial_mv = Some(25.0);
+    o.pv_device = Some("D1310:f32".into());
+    o.pv_percent = true;
+    o.verify = false;
+    let r = tune_scenario(&sc, &o).unwrap();
+    let id = &r.identification;
+    assert!(
+        within(id.fit.gain, 1.2, 0.01) && within(id.fit.tau, 60.0, 0.01),
+        "{id:?}"
+    );
+    assert_eq!(r.trend_labels[0], "PV D1310:f32");
+    o.pv_device = None;
+    assert!(tune_scenario(&sc, &o).unwrap_err().contains("--pv-percent"));
+}
+
+#[test]
 fn the_trend_and_json() {
     let r = tune(Rule::SimcPi);
     assert_eq!(r.trend.devices.len(), 3);
