@@ -4,6 +4,7 @@ mod run;
 mod serve;
 mod signal;
 mod test_cmd;
+mod tune_cmd;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -54,6 +55,20 @@ enum Command {
     ///
     /// Example: softplc test examples/sim/*.toml --plot tank.svg
     Test(Box<test_cmd::TestArgs>),
+    /// Tune a process-control loop offline, in virtual time, on a scenario's
+    /// program and plant model.
+    ///
+    /// Puts the loop tag (--loop, the D2 of S.IN/S.PID/S.OUT1) in MAN, waits
+    /// for a steady PV, steps MV by --step %, fits a first-order-plus-dead-time
+    /// model to the response (K in % of range per %MV, τ, θ, RMS error, R²),
+    /// prints the tuning rules (ZN, CHR, SIMC, IMC) in S.PID's units (P, TI,
+    /// TD, η = 1/MTD) beside what S.AT1 would identify, then writes the
+    /// --rule's P/I/D, switches to AUT, steps SV and reports overshoot, rise
+    /// and settling time and IAE. Exit status 1 when the verification does
+    /// not settle, 2 on errors.
+    ///
+    /// Example: softplc tune examples/process/fopdt_loop.toml --loop R1000 --svg loop.svg
+    Tune(Box<tune_cmd::TuneArgs>),
     /// Run a program in real time at its constant scan period and serve it over
     /// the MC protocol (TCP, UDP) and Modbus (TCP, RTU, ASCII) until Ctrl-C or SIGTERM.
     ///
@@ -70,6 +85,7 @@ fn main() -> ExitCode {
         Command::Run(args) => run::run(*args),
         Command::Check { program, model } => run::check(&program, model.as_deref()),
         Command::Test(args) => test_cmd::run(*args),
+        Command::Tune(args) => tune_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
     }
 }

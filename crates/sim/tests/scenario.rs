@@ -523,6 +523,46 @@ at = \"1s\"
     );
 }
 
+#[test]
+fn stepping_scan_by_scan_matches_the_run_and_reports_a_stop() {
+    // The integrator of `models_step_before_each_scan…` driven by `Run::step`
+    // gives the values `Run::run` gives (50·(n−1)·dt at scan n); the timeline
+    // is applied, the CPU is reachable between scans, and a stop is an error
+    // naming the scan and the error code.
+    let scenario = format!(
+        "{HEAD}
+[[model]]
+type = \"integrator\"
+inputs.u = {{ device = \"D820\", raw = [0, 2000], eng = [0, 100] }}
+outputs.y = \"D10:f32\"
+
+[[timeline]]
+at = \"0.5s\"
+set = {{ X0 = 1 }}
+"
+    );
+    let program = "LD SM400\nMOV K1000 D820\nLD X0\n/ D0 D1 D2\nEND\n";
+    let mut run = build(program, &scenario).unwrap();
+    assert_eq!(run.scan_us(), 10_000);
+    for n in 1..=49u64 {
+        assert_eq!(run.step().unwrap(), n * 10_000);
+    }
+    assert_eq!(run.steps_done(), 49);
+    let spec = softplc_core::access::DeviceSpec::parse("D10:f32").unwrap();
+    let y = run.cpu().read_device(&spec).unwrap();
+    assert_eq!(
+        y,
+        softplc_core::access::Value::Float(f64::from(48.0f32 * 0.5))
+    );
+    // Between scans the driver may write devices: D1 = 0 stays a division
+    // by zero at scan 50, when the timeline turns X0 on.
+    let d1 = softplc_core::access::DeviceSpec::parse("D1").unwrap();
+    run.cpu_mut().write_device(&d1, "0").unwrap();
+    let e = run.step().unwrap_err();
+    assert!(e.contains("scan 50") && e.contains("4100"), "{e}");
+    assert!(run.step().unwrap_err().contains("stopped"));
+}
+
 // ---------------------------------------------------------------- trace, plot, progress
 
 #[test]

@@ -53,6 +53,9 @@ pub struct Run {
     ring: Ring,
     checks: Vec<Check>,
     recorder: Option<Recorder>,
+    /// Scans done and the next timeline write, for [`Run::step`].
+    stepped: u64,
+    next_step_write: usize,
 }
 
 /// The result of one assertion.
@@ -274,11 +277,87 @@ impl Scenario {
             names,
             checks,
             recorder,
+            stepped: 0,
+            next_step_write: 0,
         })
     }
 }
 
 impl Run {
+    /// One scan's input refresh, timeline writes and the scan itself.
+    fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) {
+        // Input refresh: the plant advances over the scan and the sensors
+        // are sampled.
+        for m in &mut self.models {
+            let mem = self.cpu.memory();
+            for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
+                *buf = src.read(mem);
+            }
+            m.model.step(dt, &m.in_buf, &mut m.out_buf);
+            m.write_outputs(&mut self.cpu);
+        }
+        while let Some(w) = self.writes.get(*next_write).filter(|w| w.scan == n) {
+            // Checked on a scratch memory at build: cannot fail.
+            let _ = self.cpu.write_value(&w.spec, &w.value);
+            *next_write += 1;
+        }
+        self.clock.advance_us(self.scan_us);
+        self.cpu.scan();
+    }
+
+    /// Why the CPU stopped: the error code, message and step.
+    fn stop_detail(&self) -> String {
+        match self.cpu.error() {
+            Some(e) => {
+                let place = match (&e.file, e.line, e.step) {
+                    (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
+                    _ => String::new(),
+                };
+                format!("error {} {}{place}", e.code.0, e.code.message())
+            }
+            None => "no error recorded".into(),
+        }
+    }
+
+    /// Runs one scan as [`Run::run`] does (models, due timeline writes, the
+    /// scan) but without expectations or trace, for drivers that act on the
+    /// CPU between scans (`softplc tune`). Scans go on past the scenario's
+    /// duration; the timeline simply has no more writes. Returns the virtual
+    /// time after the scan in µs, or why the CPU stopped.
+    pub fn step(&mut self) -> Result<u64, String> {
+        if self.cpu.state() == CpuState::Stop {
+            return Err(format!("the CPU is stopped: {}", self.stop_detail()));
+        }
+        let n = self.stepped + 1;
+        let mut next = self.next_step_write;
+        self.advance(n, self.scan_us as f64 / 1e6, &mut next);
+        self.next_step_write = next;
+        self.stepped = n;
+        if self.cpu.state() == CpuState::Stop {
+            return Err(format!(
+                "the CPU stopped at scan {n} ({}): {}",
+                fmt_time(n * self.scan_us),
+                self.stop_detail()
+            ));
+        }
+        Ok(n * self.scan_us)
+    }
+
+    /// Scans done by [`Run::step`].
+    pub fn steps_done(&self) -> u64 {
+        self.stepped
+    }
+
+    /// Virtual time per scan, µs.
+    pub fn scan_us(&self) -> u64 {
+        self.scan_us
+    }
+
+    /// The CPU, to write devices between [`Run::step`]s (through its door).
+    pub fn cpu_mut(&mut self) -> &mut Cpu {
+        &mut self.cpu
+    }
+
     /// Scans the run will execute.
     pub fn total_scans(&self) -> u64 {
         self.total
@@ -301,23 +380,7 @@ impl Run {
         let mut done = 0;
         let mut stopped = None;
         for n in 1..=self.total {
-            // Input refresh: the plant advances over the scan and the sensors
-            // are sampled.
-            for m in &mut self.models {
-                let mem = self.cpu.memory();
-                for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
-                    *buf = src.read(mem);
-                }
-                m.model.step(dt, &m.in_buf, &mut m.out_buf);
-                m.write_outputs(&mut self.cpu);
-            }
-            while let Some(w) = self.writes.get(next_write).filter(|w| w.scan == n) {
-                // Checked on a scratch memory at build: cannot fail.
-                let _ = self.cpu.write_value(&w.spec, &w.value);
-                next_write += 1;
-            }
-            self.clock.advance_us(self.scan_us);
-            self.cpu.scan();
+            self.advance(n, dt, &mut next_write);
             done = n;
             let time_us = n * self.scan_us;
             let mem = self.cpu.memory();
@@ -360,16 +423,7 @@ impl Run {
             });
         }
         if let Some(n) = stopped {
-            let detail = match self.cpu.error() {
-                Some(e) => {
-                    let place = match (&e.file, e.line, e.step) {
-                        (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
-                        _ => String::new(),
-                    };
-                    format!("error {} {}{place}", e.code.0, e.code.message())
-                }
-                None => "no error recorded".into(),
-            };
+            let detail = self.stop_detail();
             results.push(CheckResult {
                 text: format!(
                     "the CPU keeps running (stopped at {}, scan {n})",

@@ -1,0 +1,154 @@
+//! `softplc tune` on the shipped example (examples/process/fopdt_loop.toml):
+//! it prints the tuning table, writes the SVG trend, recovers the plant's
+//! K, τ, θ and verifies a loop that settles.
+
+use std::path::Path;
+use std::process::Command;
+
+fn softplc() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_softplc"))
+}
+
+fn example() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/process/fopdt_loop.toml")
+}
+
+fn within(v: f64, want: f64, rel: f64) -> bool {
+    (v - want).abs() <= rel * want.abs()
+}
+
+#[test]
+fn tune_the_example_prints_a_table_and_writes_an_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("loop.svg");
+    let out = softplc()
+        .arg("tune")
+        .arg(example())
+        .args(["--loop", "R1000", "--mv0", "25", "--svg"])
+        .arg(&svg)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for row in [
+        "zn-p ",
+        "zn-pi ",
+        "zn-pid ",
+        "chr-pi ",
+        "chr-pid ",
+        "simc-pi ",
+        "simc-pid ",
+        "imc-pid ",
+    ] {
+        assert!(text.contains(row), "no {row} in\n{text}");
+    }
+    assert!(text.contains("FOPDT fit: K = 0.80"), "{text}");
+    assert!(text.contains("— settled"), "{text}");
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        drawn.starts_with("<svg") && drawn.contains("PV R1010"),
+        "{}",
+        &drawn[..100]
+    );
+}
+
+#[test]
+fn tune_the_example_as_json() {
+    let out = softplc()
+        .arg("tune")
+        .arg(example())
+        .args(["--loop", "R1000", "--mv0", "25", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // The plant: K = 0.8 C/% = 0.4 %/% of 0..200 C, τ = 90 s, θ = 15 s, with
+    // 0.05 C of noise on the measurement.
+    let id = &j["identification"];
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    assert!(within(f(&id["fit"]["gain"]), 0.8, 0.03), "{id}");
+    assert!(within(f(&id["process"]["gain"]), 0.4, 0.03), "{id}");
+    assert!(within(f(&id["fit"]["tau"]), 90.0, 0.03), "{id}");
+    assert!(within(f(&id["fit"]["dead_time"]), 15.0, 0.03), "{id}");
+    // Closed loop with simc-pi: settles, modest overshoot, no sustained
+    // oscillation (few crossings of the band).
+    let v = &j["verification"];
+    assert_eq!(v["tuning"]["rule"], "simc-pi");
+    assert_eq!(v["settled"], true);
+    let m = &v["metrics"];
+    assert!(f(&m["overshoot_pct"]) < 12.0, "{m}");
+    assert!(f(&m["settling_time"]) < 200.0, "{m}");
+    assert!(m["band_crossings"].as_u64().unwrap() <= 3, "{m}");
+}
+
+#[test]
+fn the_example_scenario_passes_softplc_test() {
+    let out = softplc().arg("test").arg(example()).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && text.contains("2 passed, 0 failed"),
+        "{text}"
+    );
+}
+
+#[test]
+fn fit_csv_and_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("step.csv");
+    let mut s = String::from("t,u,y\n");
+    for i in 0..400 {
+        let t = f64::from(i);
+        let u = if t >= 50.0 { 1.0 } else { 0.0 };
+        let y = if t > 60.0 {
+            2.0 * (1.0 - (-(t - 60.0) / 40.0).exp())
+        } else {
+            0.0
+        };
+        s += &format!("{t},{u},{y}\n");
+    }
+    std::fs::write(&csv, s).unwrap();
+    let out = softplc()
+        .args(["tune", "--json", "--fit-csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(within(j["fit"]["gain"].as_f64().unwrap(), 2.0, 1e-6), "{j}");
+    assert!(within(j["fit"]["tau"].as_f64().unwrap(), 40.0, 1e-4), "{j}");
+    assert!(
+        within(j["fit"]["dead_time"].as_f64().unwrap(), 10.0, 1e-4),
+        "{j}"
+    );
+
+    std::fs::write(&csv, "t,u,y\n0,0,0\nx,1,1\n").unwrap();
+    let out = softplc()
+        .args(["tune", "--fit-csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("step.csv:3: `x` is not a number"), "{err}");
+
+    let out = softplc()
+        .arg("tune")
+        .arg(example())
+        .args(["--loop", "R1000", "--rule", "pid"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown rule `pid`"));
+}

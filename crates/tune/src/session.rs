@@ -1,0 +1,198 @@
+//! A scenario run driven scan by scan through a loop tag, with the trend of
+//! PV, SV and MV recorded for the plot.
+
+use softplc_core::access::{DeviceSpec, Value};
+use softplc_sim::scenario::fmt::Kind;
+use softplc_sim::scenario::{Run, Scenario, TraceData};
+
+use crate::loop_tag::{offset, LoopTag};
+
+/// Trend samples kept before the trend is thinned to every other sample.
+const MAX_TREND: usize = 100_000;
+
+/// Keeps the 1st, 3rd, 5th … element.
+fn every_other<T>(v: &mut Vec<T>) {
+    let mut i = 0;
+    v.retain(|_| {
+        i += 1;
+        i % 2 == 1
+    });
+}
+
+/// One scan's values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Virtual time after the scan, s.
+    pub t: f64,
+    pub pv: f64,
+    pub sv: f64,
+    pub mv: f64,
+}
+
+/// The running scenario.
+pub struct Session {
+    pub run: Run,
+    pub tag: LoopTag,
+    /// Where PV is read (the loop tag's +10 unless `--pv` names a device).
+    pv: Option<DeviceSpec>,
+    /// The `--pv` device holds PV in % of RH − RL (e.g. S.IN's BW).
+    pv_percent: bool,
+    /// Virtual time per scan, s.
+    pub scan_s: f64,
+    /// The scans of the scenario's timeline (played before tuning starts).
+    pub timeline_scans: u64,
+    trend: Trend,
+    labels: [String; 3],
+}
+
+#[derive(Default)]
+struct Trend {
+    every: u64,
+    count: u64,
+    scans: Vec<u64>,
+    samples: Vec<Sample>,
+}
+
+impl Session {
+    /// Builds the scenario's run and resolves the loop tag (and PV device).
+    pub fn start(
+        sc: &Scenario,
+        loop_head: &str,
+        pv_device: Option<&str>,
+        pv_percent: bool,
+    ) -> Result<Session, String> {
+        let run = sc.build()?;
+        let tag = LoopTag::new(loop_head, run.cpu())?;
+        let pv = match pv_device {
+            Some(d) => {
+                let spec = DeviceSpec::parse(d.trim()).map_err(|e| format!("--pv: {e}"))?;
+                run.cpu()
+                    .read_device(&spec)
+                    .map_err(|e| format!("--pv: {e}"))?;
+                if matches!(spec.ty, softplc_core::access::ValueType::Str) {
+                    return Err(format!("--pv {d}: a string cannot be a PV"));
+                }
+                Some(spec)
+            }
+            None => None,
+        };
+        let labels = [
+            format!(
+                "PV {}",
+                pv.as_ref()
+                    .map_or_else(|| tag.name_at(offset::PV), |p| p.text.clone())
+            ),
+            format!("SV {}", tag.name_at(offset::SV)),
+            format!("MV {} [%]", tag.name_at(offset::MV)),
+        ];
+        Ok(Session {
+            scan_s: run.scan_us() as f64 / 1e6,
+            timeline_scans: sc.timeline.last().map_or(0, |e| e.scan),
+            run,
+            tag,
+            pv,
+            pv_percent,
+            trend: Trend {
+                every: 1,
+                ..Trend::default()
+            },
+            labels,
+        })
+    }
+
+    /// Virtual time after the last scan, s.
+    pub fn now(&self) -> f64 {
+        self.run.steps_done() as f64 * self.scan_s
+    }
+
+    /// PV now.
+    pub fn pv(&self) -> Result<f64, String> {
+        match &self.pv {
+            None => self.tag.read(self.run.cpu(), offset::PV),
+            Some(d) => {
+                let v = match self.run.cpu().read_device(d)? {
+                    Value::Float(x) => x,
+                    Value::Int(i) => i as f64,
+                    Value::Bool(b) => f64::from(u8::from(b)),
+                    Value::Str(_) => return Err(format!("{}: a string", d.text)),
+                };
+                if !self.pv_percent {
+                    return Ok(v);
+                }
+                let (rl, rh) = (self.read(offset::RL)?, self.read(offset::RH)?);
+                Ok(rl + v * (rh - rl) / 100.0)
+            }
+        }
+    }
+
+    /// Reads a float of the loop tag.
+    pub fn read(&self, off: u32) -> Result<f64, String> {
+        self.tag.read(self.run.cpu(), off)
+    }
+
+    /// Writes a float of the loop tag (before the next scan).
+    pub fn write(&mut self, off: u32, v: f64) -> Result<(), String> {
+        self.tag.write(self.run.cpu_mut(), off, v)
+    }
+
+    /// One scan; returns its sample (and records it in the trend).
+    pub fn scan(&mut self) -> Result<Sample, String> {
+        self.run.step()?;
+        let s = Sample {
+            t: self.now(),
+            pv: self.pv()?,
+            sv: self.read(offset::SV)?,
+            mv: self.read(offset::MV)?,
+        };
+        let tr = &mut self.trend;
+        if tr.count.is_multiple_of(tr.every) {
+            tr.scans.push(self.run.steps_done());
+            tr.samples.push(s);
+            if tr.samples.len() >= MAX_TREND {
+                every_other(&mut tr.samples);
+                every_other(&mut tr.scans);
+                tr.every *= 2;
+            }
+        }
+        tr.count += 1;
+        Ok(s)
+    }
+
+    /// Scans for `seconds` of virtual time (at least one scan).
+    pub fn scan_for(&mut self, seconds: f64) -> Result<Sample, String> {
+        let n = (seconds / self.scan_s).ceil().max(1.0) as u64;
+        let mut last = self.scan()?;
+        for _ in 1..n {
+            last = self.scan()?;
+        }
+        Ok(last)
+    }
+
+    /// The recorded trend as a trace for `softplc_sim::plot`.
+    pub fn trace(&self) -> TraceData {
+        let tr = &self.trend;
+        let mut values = Vec::with_capacity(tr.samples.len() * 3);
+        for s in &tr.samples {
+            values.extend([s.pv, s.sv, s.mv]);
+        }
+        TraceData {
+            devices: self
+                .labels
+                .iter()
+                .map(|l| (l.clone(), Kind::Float))
+                .collect(),
+            scans: tr.scans.clone(),
+            times_us: tr
+                .samples
+                .iter()
+                .map(|s| (s.t * 1e6).round() as u64)
+                .collect(),
+            values,
+        }
+    }
+
+    /// The trend's column names (PV, SV, MV).
+    pub fn labels(&self) -> &[String; 3] {
+        &self.labels
+    }
+}
