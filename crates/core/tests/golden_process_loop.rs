@@ -183,7 +183,7 @@ fn s_phpl_loop_stop() {
 
 /// Table 14.2 for S.PHPL: RH = RL is 5 at 1 (5 on loop stop); ΔT = 0 with
 /// a change-rate time is 5 at 3, CTIM/ΔT > 32767 is 4 at 3; a NaN E1 is 1
-/// at 2.
+/// at 2, an overflowing PV 6 at 4.
 #[test]
 fn s_phpl_errors() {
     let mut p = phpl(ProcessSettings::default());
@@ -205,6 +205,13 @@ fn s_phpl_errors() {
     let mut p = phpl(ProcessSettings::default());
     p.set("D0", "-1").set("D1", "-1").scan();
     assert_pc_error(&p, 1, 2);
+    // (RH − RL)/100 × E1 overflows only in the engineering conversion.
+    let mut p = phpl(ProcessSettings::default());
+    p.set("D1022:f32", "3e38")
+        .set("D1024:f32", "-3e38")
+        .set("D0:f32", "50")
+        .scan();
+    assert_pc_error(&p, 6, 4);
 }
 
 const SEL: &str = "LD SM400\nS.SEL D2012 D100 D10 D1000 D3012\nEND\n";
@@ -339,7 +346,8 @@ fn s_sel_loop_stop() {
 }
 
 /// Table 14.2 for S.SEL: RH = RL in an auto mode is 5 at 3 (the manual
-/// modes do not divide); a NaN E2 is 1 at 1; an upper INH below D0 is 4101.
+/// modes do not divide); a NaN E2 is 1 at 1, a NaN DML 1 at 4, a NaN NMIN
+/// 1 at 5; an upper INH below D0 is 4101.
 #[test]
 fn s_sel_errors() {
     let mut p = sel();
@@ -352,6 +360,13 @@ fn s_sel_errors() {
     let mut p = sel();
     p.set("D3012", "-1").set("D3013", "-1").scan();
     assert_pc_error(&p, 1, 1);
+    let mut p = sel();
+    p.set("D1048", "-1").set("D1049", "-1").scan();
+    assert_pc_error(&p, 1, 4);
+    let mut p = sel();
+    p.set("D12", "-1").set("D13", "-1").scan();
+    assert_pc_error(&p, 1, 5);
+    assert_eq!(p.real("D1012"), 30.0, "step 4 wrote MV");
     let mut p = Plc::process("LD SM400\nS.SEL D4 D100 D10 D1000 D3012\nEND\n");
     loop_tag(&mut p, 1000);
     p.set("D10:f32", "100")
@@ -464,7 +479,7 @@ fn s_pgs_limits_modes_and_stop() {
 }
 
 /// Table 14.2 for S.PGS: 2 SV count-up, 3 MVPGS (PTNO > 16 or TYPE 2 is
-/// SD1502 = 3), a NaN MV1 is 1 at 3.
+/// SD1502 = 3), a NaN MV1 is 1 at 3, a NaN MH 1 at 4.
 #[test]
 fn s_pgs_errors() {
     let mut p = pgs();
@@ -480,4 +495,7 @@ fn s_pgs_errors() {
     let mut p = pgs();
     p.set("D1054", "-1").set("D1055", "-1").scan();
     assert_pc_error(&p, 1, 3);
+    let mut p = pgs();
+    p.set("D1018", "-1").set("D1019", "-1").scan();
+    assert_pc_error(&p, 1, 4);
 }

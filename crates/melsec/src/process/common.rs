@@ -455,6 +455,43 @@ mod tests {
         assert_eq!(at, [5, 10, 15]);
     }
 
+    /// m = int(CTIM/ΔT), 0 allowed (no processing); the window of DEC-18.
+    #[test]
+    fn change_rate_window_takes_evaluates_and_retakes() {
+        assert_eq!(rate_count(0.9, 1.0, 3), Ok(0));
+        assert_eq!(rate_count(4.5, 1.0, 3), Ok(4));
+        assert_eq!(rate_count(4.0, 0.0, 3), Err(PcError::divide(3)));
+        assert_eq!(rate_count(-4.0, 1.0, 2), Err(PcError::negative(2)));
+        assert_eq!(rate_count(32768.0, 1.0, 2), Err(PcError::count(2)));
+        let s = ProcessSettings::default();
+        let mut m = mem();
+        let w: Vec<Window> = (0..6)
+            .map(|_| window(&mut m, 0, 1, 2, &s).unwrap())
+            .collect();
+        let e = Window::Evaluate { retake: true };
+        assert_eq!(
+            w,
+            [
+                Window::Start,
+                Window::Hold,
+                e,
+                Window::Hold,
+                e,
+                Window::Hold
+            ]
+        );
+        assert_eq!(window(&mut m, 0, 1, 0, &s), Ok(Window::Skip));
+        let every = ProcessSettings {
+            change_rate_window: false,
+            ..s
+        };
+        let mut m = mem();
+        let w: Vec<Window> = (0..3)
+            .map(|_| window(&mut m, 0, 1, 2, &every).unwrap())
+            .collect();
+        assert_eq!(w, [Window::Start, Window::Evaluate { retake: false }, e]);
+    }
+
     #[test]
     fn floats_are_checked_as_the_cpu_does() {
         let mut m = mem();

@@ -341,4 +341,18 @@ mod tests {
         });
         assert!(!other.allows(0x4000, alm::PHA));
     }
+
+    #[test]
+    fn apply_sets_alm_and_bb_unless_inhibited() {
+        let inh = Inh::new(&ProcessSettings::default());
+        let (mut a, mut b) = (alm::SPA, 0u16);
+        assert!(inh.apply(0, &mut a, alm::PHA, &mut b, bb::BB2, true));
+        assert_eq!((a, b), (alm::SPA | alm::PHA, bb::BB2));
+        assert!(!inh.apply(alm::PHA, &mut a, alm::PHA, &mut b, bb::BB2, true));
+        assert_eq!((a, b), (alm::SPA, 0));
+        inh.apply(0, &mut a, alm::HHA, &mut b, 0, true);
+        assert_eq!((a, b), (alm::SPA | alm::HHA, 0), "no BB bit");
+        inh.apply(0x8000, &mut a, alm::HHA, &mut b, 0, true);
+        assert_eq!(a, alm::SPA, "ERRI");
+    }
 }
