@@ -499,3 +499,61 @@ fn s_pgs_errors() {
     p.set("D1018", "-1").set("D1019", "-1").scan();
     assert_pc_error(&p, 1, 4);
 }
+
+/// One loop tag shared by S.IN → S.PHPL → S.OUT1 (the SMON loop plus an
+/// output, 000 §2.3, App. 1): from the documented initial state (MODE 8H,
+/// ALM 4000H = stopped, INH 4000H = TRKF) the loop runs once ALM := 0, the
+/// manual mode keeps TRKF, AUT drops the first ΔMV (bumpless), the next one
+/// counts, and a sensor alarm from S.IN with SM1501 ON holds MV.
+#[test]
+fn a_loop_tag_shared_by_s_in_s_phpl_and_s_out1() {
+    let src = "LD SM400\nS.IN D0 D100 D10 D1000\nS.PHPL D100 D110 SD1506 D1000\n\
+               S.OUT1 D200 D120 D30 D1000\nEND\n";
+    let mut p = Plc::process(src);
+    loop_tag(&mut p, 1000);
+    p.set("D1001", "H8")
+        .set("D1003", "H4000")
+        .set("D1004", "H4000");
+    for (off, v) in [
+        (0, "100"),
+        (2, "0"),
+        (4, "100"),
+        (6, "0"),
+        (8, "110"),
+        (10, "100"),
+        (12, "0"),
+        (14, "-10"),
+    ] {
+        p.set(&format!("D{}:f32", 10 + off), v);
+    }
+    p.set("D30:f32", "100").set("D32:f32", "0");
+    p.set("D0:f32", "50").set("D200:f32", "2").scan();
+    assert_eq!(
+        (p.real("D100"), p.real("D110"), p.real("D120")),
+        (0.0, 0.0, 0.0)
+    );
+    assert_eq!(p.int("D1001"), 8);
+    p.set("D1003", "0").scan();
+    assert_eq!(
+        (p.real("D100"), p.real("D1010"), p.real("D120")),
+        (40.0, 40.0, 0.0)
+    );
+    assert_eq!(p.int("D1004"), 0x4000, "manual keeps TRKF");
+    p.set("D1001", "H10").scan();
+    assert_eq!(
+        (p.real("D100"), p.real("D1012"), p.int("D1004")),
+        (48.0, 0.0, 0)
+    );
+    p.scan();
+    let bw = 50f32 + 0.2 * (48.0 - 50.0);
+    assert_eq!((p.real("D100"), p.real("D1010")), (bw as f64, bw as f64));
+    assert_eq!((p.real("D1012"), p.real("D120")), (2.0, 2.0));
+    p.set("D0:f32", "120").set("SM1501", "1").scan();
+    assert_eq!(
+        (p.int("D1003"), p.real("D1012"), p.real("D120")),
+        (0x200, 2.0, 2.0)
+    );
+    p.set("SM1501", "0").scan();
+    assert_eq!(p.real("D1012"), 4.0);
+    assert_eq!(p.error(), None);
+}

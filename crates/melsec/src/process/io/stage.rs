@@ -135,14 +135,7 @@ pub(crate) enum Flow {
 /// The loop stop and the mode judgment shared by the three output
 /// instructions; `velocity` adds the ALM2 clearing and the TRKF setting of
 /// S.OUT1/S.DUTY. Returns `None` when an auto mode goes on to the limiter.
-fn judge(
-    k: &Kit,
-    m: &mut DeviceMemory,
-    bbi: usize,
-    d2: usize,
-    sys: &Sys,
-    velocity: bool,
-) -> Option<Flow> {
+fn judge(k: &Kit, m: &mut DeviceMemory, bbi: usize, d2: usize, velocity: bool) -> Option<Flow> {
     let alm_w = m.words[d2 + ALM];
     if alm_w & alm::SPA != 0 {
         m.words[d2 + ALM] = alm_w & !ALM_OUT;
@@ -166,15 +159,15 @@ fn judge(
     if !k.mode.auto(mode) {
         return Some(Flow::Idle);
     }
-    if alm_w & alm::SEA != 0 && sys.hold_output(m) {
+    if alm_w & alm::SEA != 0 && k.sys.hold_output(m) {
         m.words[bbi] &= !BB_OUT;
         return Some(Flow::Held);
     }
     None
 }
 
-/// The limiter pass of the auto modes on the temporary MV `t`; `skip` says
-/// whether DEC-10 skips it because T = MV. Returns the limiter's result
+/// The limiter pass of the auto modes on the temporary MV `t`, skipped when
+/// T = MV (DEC-10); `velocity` writes ALM2. Returns the limiter's result
 /// when it ran (for the reset windup).
 fn limiter(
     k: &Kit,
@@ -217,7 +210,7 @@ pub(crate) fn velocity(
     bbi: usize,
     d2: usize,
 ) -> Result<Flow, PcError> {
-    if let Some(f) = judge(k, m, bbi, d2, &k.sys, true) {
+    if let Some(f) = judge(k, m, bbi, d2, true) {
         return Ok(f);
     }
     // (2) input addition.
@@ -258,7 +251,7 @@ pub(crate) fn positional(
     bbi: usize,
     d2: usize,
 ) -> Result<Flow, PcError> {
-    if let Some(f) = judge(k, m, bbi, d2, &k.sys, false) {
+    if let Some(f) = judge(k, m, bbi, d2, false) {
         return Ok(f);
     }
     let t = real(m, e1, 2)?;
