@@ -125,6 +125,16 @@ impl Sys {
     ) -> Result<(), Fault> {
         body(m).map_err(|e| self.fail(m, e))
     }
+
+    /// [`Sys::run`] for a body with a result (what the instruction still has
+    /// to do outside the error path, e.g. resolve another operand).
+    pub fn run_with<T>(
+        &self,
+        m: &mut DeviceMemory,
+        body: impl FnOnce(&mut DeviceMemory) -> Result<T, PcError>,
+    ) -> Result<T, Fault> {
+        body(m).map_err(|e| self.fail(m, e))
+    }
 }
 
 /// An operand area of `words` words: a word device (index modification
@@ -310,6 +320,96 @@ pub fn tick(
     }
 }
 
+/// The change-rate check count m = int(CTIM/ΔT) of S.PHPL and S.BC (000
+/// §9.8 L13410-13420, §8.6 L6355-6361: the integer part; m = 0 means no
+/// change-rate processing). ΔT or CTIM < 0 is detail 2, ΔT = 0 detail 5,
+/// m > 32767 detail 4 (DEC-36).
+pub fn rate_count(ctim: f32, dt: f32, step: u16) -> Result<u16, PcError> {
+    if dt < 0.0 || ctim < 0.0 {
+        return Err(PcError::negative(step));
+    }
+    if dt == 0.0 {
+        return Err(PcError::divide(step));
+    }
+    let q = (ctim / dt).trunc();
+    if q > 32767.0 {
+        return Err(PcError::count(step));
+    }
+    Ok(q as u16)
+}
+
+/// What one execution does in a change-rate window (DEC-18).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Window {
+    /// m = 0: no change-rate processing, alarms and counter untouched.
+    Skip,
+    /// The start execution: take the reference, no evaluation.
+    Start,
+    /// Inside a window: the alarms keep the last window's result.
+    Hold,
+    /// Evaluate E1 − reference; re-take the reference when `retake` (the
+    /// window ends on this execution).
+    Evaluate { retake: bool },
+}
+
+/// Advances the change-rate window of S.PHPL/S.BC whose flag and counter are
+/// the words `flag`/`counter` (spec §1.3.1 with P = CTIM, N = m; DEC-18):
+/// the start execution takes the reference; every m-th execution after it
+/// evaluates against it and re-takes it; the others hold (under the
+/// alternative of DEC-18 they evaluate against the reference too).
+pub fn window(
+    m: &mut DeviceMemory,
+    flag: usize,
+    counter: usize,
+    count: u16,
+    s: &ProcessSettings,
+) -> Result<Window, PcError> {
+    if count == 0 {
+        return Ok(Window::Skip);
+    }
+    let t = tick(m, flag, counter, s, || Ok(count))?;
+    Ok(if t.start {
+        Window::Start
+    } else if t.reached {
+        Window::Evaluate { retake: true }
+    } else if !s.change_rate_window {
+        Window::Evaluate { retake: false }
+    } else {
+        Window::Hold
+    })
+}
+
+/// The word 8 below operand `k` — the INH (+4) of the loop tag whose MV
+/// (+12) operand `k` names, where an instruction sets the upper loop's TRKF
+/// (spec §1.8, L7424, L7497-7499; S.SEL §9.24). When `k` is a device number
+/// below 8 (no such word) the block's limit is 0, so using it is 4101.
+pub fn upper_inh(a: &mut Args<'_, '_>, k: usize) -> Option<Block> {
+    use softplc_ir::device::Operand;
+    let b = a.block(k)?;
+    let base = match a.operand(k)? {
+        Operand::Device { dev, .. } => a.map().base(dev.word_kind()),
+        _ => return None,
+    };
+    let none = Block {
+        start: WordArg::Word(0),
+        limit: 0,
+    };
+    Some(match b.start {
+        WordArg::Word(i) if i >= base + 8 => Block {
+            start: WordArg::Word(i - 8),
+            limit: b.limit,
+        },
+        WordArg::Indexed(ix) if ix.number >= 8 => Block {
+            start: WordArg::Indexed(Box::new(softplc_ir::ops::Indexed {
+                number: ix.number - 8,
+                ..*ix
+            })),
+            limit: b.limit,
+        },
+        _ => none,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -353,6 +453,43 @@ mod tests {
             .filter(|_| tick(&mut m, 0, 1, &up, || Ok(5)).unwrap().reached)
             .collect();
         assert_eq!(at, [5, 10, 15]);
+    }
+
+    /// m = int(CTIM/ΔT), 0 allowed (no processing); the window of DEC-18.
+    #[test]
+    fn change_rate_window_takes_evaluates_and_retakes() {
+        assert_eq!(rate_count(0.9, 1.0, 3), Ok(0));
+        assert_eq!(rate_count(4.5, 1.0, 3), Ok(4));
+        assert_eq!(rate_count(4.0, 0.0, 3), Err(PcError::divide(3)));
+        assert_eq!(rate_count(-4.0, 1.0, 2), Err(PcError::negative(2)));
+        assert_eq!(rate_count(32768.0, 1.0, 2), Err(PcError::count(2)));
+        let s = ProcessSettings::default();
+        let mut m = mem();
+        let w: Vec<Window> = (0..6)
+            .map(|_| window(&mut m, 0, 1, 2, &s).unwrap())
+            .collect();
+        let e = Window::Evaluate { retake: true };
+        assert_eq!(
+            w,
+            [
+                Window::Start,
+                Window::Hold,
+                e,
+                Window::Hold,
+                e,
+                Window::Hold
+            ]
+        );
+        assert_eq!(window(&mut m, 0, 1, 0, &s), Ok(Window::Skip));
+        let every = ProcessSettings {
+            change_rate_window: false,
+            ..s
+        };
+        let mut m = mem();
+        let w: Vec<Window> = (0..3)
+            .map(|_| window(&mut m, 0, 1, 2, &every).unwrap())
+            .collect();
+        assert_eq!(w, [Window::Start, Window::Evaluate { retake: false }, e]);
     }
 
     #[test]

@@ -15,13 +15,23 @@
 
 pub mod common;
 pub mod compensation;
+pub mod io;
+pub mod pgs;
+pub mod phpl;
+pub mod sel;
 pub mod settings;
 pub mod tag;
 
 use softplc_lang::isa::Def;
 
 /// The process-control families (a new family is one line here).
-pub static FAMILIES: &[&[Def]] = &[compensation::DEFS];
+pub static FAMILIES: &[&[Def]] = &[
+    compensation::DEFS,
+    io::DEFS,
+    phpl::DEFS,
+    sel::DEFS,
+    pgs::DEFS,
+];
 
 /// The CPU models that have these instructions.
 pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];

@@ -89,6 +89,21 @@ softplc_ir::layout! {
         ct_count: u16 @ 97,
         /// Past values: ALM2 (MHA2/MLA2, which ignore INH; see [`Alm2`]).
         alm2: u16 @ 116,
+        /// Past values: S.DUTY output-period counter preset flag.
+        duty_flag: u16 @ 118,
+        /// Past values: S.DUTY output-period counter.
+        duty_count: u16 @ 119,
+        /// Past values: S.DUTY output counter (executions since the period began).
+        duty_out: u16 @ 120,
+        /// Past values: S.DUTY output-ON counter.
+        duty_on: u16 @ 121,
+        /// Past values: change-rate monitor counter preset flag (S.PHPL, S.BC).
+        rate_flag: u16 @ 124,
+        /// Past values: change-rate monitor counter (S.PHPL, S.BC).
+        rate_count: u16 @ 125,
+        /// Past values: the change-rate reference E1n-m (S.PHPL; S.BC keeps a
+        /// BIN32 there).
+        rate_ref: f32 @ 126,
     }
 }
 
@@ -142,6 +157,16 @@ pub mod alm {
     pub const SPA: u16 = 1 << 14;
 }
 
+/// BB bits of the block memory (BB1 … BB16 = b0 … b15). BB1 is, unless an
+/// instruction says otherwise, the OR of its other alarm BB bits.
+pub mod bb {
+    pub const BB1: u16 = 1 << 0;
+    pub const BB2: u16 = 1 << 1;
+    pub const BB3: u16 = 1 << 2;
+    pub const BB4: u16 = 1 << 3;
+    pub const BB5: u16 = 1 << 4;
+}
+
 /// The INH flags above the inhibit bits, placed per DEC-6.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Inh {
@@ -169,6 +194,36 @@ impl Inh {
     /// Whether the alarm `bit` (an [`alm`] bit) is detected under `inh`.
     pub fn allows(self, inh: u16, bit: u16) -> bool {
         inh & (self.erri | bit) == 0
+    }
+
+    /// Applies one alarm result (spec §1.6, the "*1" footnotes of every
+    /// instruction): ALM `alm_bit` and block-memory `bb_bit` (0 for an alarm
+    /// with no BB bit, e.g. HHA/LLA) become `on`, or 0 when the alarm's
+    /// inhibit (the INH bit of the same number) or ERRI is set. Returns the
+    /// value written.
+    pub fn apply(
+        self,
+        inh: u16,
+        alm: &mut u16,
+        alm_bit: u16,
+        bb: &mut u16,
+        bb_bit: u16,
+        on: bool,
+    ) -> bool {
+        let on = on && self.allows(inh, alm_bit);
+        put(alm, alm_bit, on);
+        put(bb, bb_bit, on);
+        on
+    }
+}
+
+/// Sets or clears `bits` of `w`.
+#[inline]
+pub fn put(w: &mut u16, bits: u16, on: bool) {
+    if on {
+        *w |= bits;
+    } else {
+        *w &= !bits;
     }
 }
 
@@ -285,5 +340,19 @@ mod tests {
             ..s
         });
         assert!(!other.allows(0x4000, alm::PHA));
+    }
+
+    #[test]
+    fn apply_sets_alm_and_bb_unless_inhibited() {
+        let inh = Inh::new(&ProcessSettings::default());
+        let (mut a, mut b) = (alm::SPA, 0u16);
+        assert!(inh.apply(0, &mut a, alm::PHA, &mut b, bb::BB2, true));
+        assert_eq!((a, b), (alm::SPA | alm::PHA, bb::BB2));
+        assert!(!inh.apply(alm::PHA, &mut a, alm::PHA, &mut b, bb::BB2, true));
+        assert_eq!((a, b), (alm::SPA, 0));
+        inh.apply(0, &mut a, alm::HHA, &mut b, 0, true);
+        assert_eq!((a, b), (alm::SPA | alm::HHA, 0), "no BB bit");
+        inh.apply(0x8000, &mut a, alm::HHA, &mut b, 0, true);
+        assert_eq!(a, alm::SPA, "ERRI");
     }
 }
