@@ -15,13 +15,14 @@
 
 pub mod common;
 pub mod compensation;
+pub mod dynamics;
 pub mod settings;
 pub mod tag;
 
 use softplc_lang::isa::Def;
 
 /// The process-control families (a new family is one line here).
-pub static FAMILIES: &[&[Def]] = &[compensation::DEFS];
+pub static FAMILIES: &[&[Def]] = &[compensation::DEFS, dynamics::DEFS];
 
 /// The CPU models that have these instructions.
 pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
