@@ -16,13 +16,22 @@
 pub mod common;
 pub mod compensation;
 pub mod dynamics;
+pub mod limiters;
+pub mod manual;
+pub mod selectors;
 pub mod settings;
 pub mod tag;
 
 use softplc_lang::isa::Def;
 
 /// The process-control families (a new family is one line here).
-pub static FAMILIES: &[&[Def]] = &[compensation::DEFS, dynamics::DEFS];
+pub static FAMILIES: &[&[Def]] = &[
+    compensation::DEFS,
+    dynamics::DEFS,
+    selectors::DEFS,
+    limiters::DEFS,
+    manual::DEFS,
+];
 
 /// The CPU models that have these instructions.
 pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
