@@ -13,7 +13,9 @@
 //! float checks, the error path with SD1502/SD1503, the period counter of
 //! spec §1.3.1), and one module per chapter of the manual.
 
+pub mod arithmetic;
 pub mod common;
+pub mod comparison;
 pub mod compensation;
 pub mod dynamics;
 pub mod limiters;
@@ -31,6 +33,8 @@ pub static FAMILIES: &[&[Def]] = &[
     selectors::DEFS,
     limiters::DEFS,
     manual::DEFS,
+    arithmetic::DEFS,
+    comparison::DEFS,
 ];
 
 /// The CPU models that have these instructions.
