@@ -246,6 +246,29 @@ fn s_flt_sampling_period_rounds() {
     assert_eq!(bw, [0.0, 0.0, 2.0, 2.0, 4.0, 4.0], "samples 1, 3, 5");
 }
 
+/// DEC-3: a change of ΔT takes effect when the period in progress ends (ST
+/// = 2, ΔT 1 → 2 after the start: the next sample at t = 2, then every
+/// execution); the alternative compares an up-count with the current N.
+#[test]
+fn s_flt_period_change_follows_dec_3() {
+    let run = |s: ProcessSettings| {
+        let mut p = flt(s, "2", "1", "1");
+        let mut bw = Vec::new();
+        for t in 0..4 {
+            p.set("D0:f32", &t.to_string()).scan();
+            bw.push(p.real("D100"));
+            p.set("SD1500:f32", "2");
+        }
+        bw
+    };
+    assert_eq!(run(ProcessSettings::default()), [0.0, 0.0, 2.0, 3.0]);
+    let alt = ProcessSettings {
+        period_change_at_reach: false,
+        ..ProcessSettings::default()
+    };
+    assert_eq!(run(alt), [0.0, 1.0, 2.0, 3.0]);
+}
+
 /// SN ∉ 0..48: SD1502 = 3; ST/ΔT over 32767: 4; ΔT = 0: 5 (spec §5);
 /// DEC-26's alternative is not described: rejected at load.
 #[test]

@@ -320,3 +320,28 @@ fn s_ded_rejects_undescribed_alternatives() {
     };
     assert!(diagnostics_with(DED, s)[0].contains("DEC-23"));
 }
+
+/// DEC-8: previous BW/BB are D1 as found; the hidden-copy alternative is
+/// not described, so instructions that read their history reject it at
+/// load, and those that do not (S.DBND, S.ADD) accept it.
+#[test]
+fn dec_8_alternative_is_rejected_where_history_is_read() {
+    let alt = ProcessSettings {
+        previous_in_block_memory: false,
+        ..ProcessSettings::default()
+    };
+    let d = diagnostics_with(I, alt);
+    assert!(
+        d[0].starts_with("2:1: `S.I`: [process] previous_in_block_memory = false (DEC-8)"),
+        "{d:?}"
+    );
+    let src = "LD SM400\nS.LIMT D0 D100 D10 SD1506\nS.> D0 D110 D20 SD1506\n\
+               S.SUM D0 D120 D30 SD1506\nS.FLT D0 D130 D40 D200\nS.AMR D0 D140 D50 SD1506\n\
+               S.DBND D0 D150 D60 SD1506\nS.ADD D0 D160 D70 SD1506\nEND\n";
+    let d = diagnostics_with(src, alt);
+    let lines: Vec<&str> = d.iter().map(|m| &m[..2]).collect();
+    assert_eq!(lines, ["2:", "3:", "4:", "5:", "6:"], "{d:?}");
+    let mut p = Plc::process_with("LD SM400\nS.DBND D0 D100 D10 SD1506\nEND\n", alt);
+    p.set("D10:f32", "100").set("D0:f32", "50").scan();
+    assert_eq!(p.real("D100"), 50.0);
+}

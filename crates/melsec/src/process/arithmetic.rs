@@ -50,6 +50,9 @@ enum Op {
     Mul,
 }
 
+/// 000 §11.1 S.ADD L20425-20594, §11.2 S.SUB L20599-20762, §11.3 S.MUL
+/// L20763-20926.
+///
 /// 000 §11.1 S.ADD, §11.2 S.SUB, §11.3 S.MUL `S.x S1 D1 S2 D2(dmy)`: S1 +0 n
 /// (BIN16, 0..5), +1/+2 E1 … +2n−1/+2n En; D1 +0 BW; S2 +0 n (coefficient
 /// count, 0..5), +1/+2 K1 … +2n−1/+2n Kn, +2n+1/+2n+2 B.
@@ -159,6 +162,8 @@ impl Instr for Terms {
     }
 }
 
+/// 000 §11.4 S.DIV L20927-21094.
+///
 /// 000 §11.4 S.DIV `S.DIV S1 D1 S2 D2(dmy)`: S1 +0 E1 (numerator), +2 E2
 /// (denominator); D1 +0 BW; S2 +0 A, +2 K1, +4 K2, +6 B1, +8 B2, +10 B3.
 /// BW = A × (K1·E1 + B1)/(K2·E2 + B2) + B3 (L21077-21083); a denominator of 0
@@ -215,6 +220,8 @@ impl Instr for Div {
     }
 }
 
+/// 000 §11.5 S.SQR L21095-21222.
+///
 /// 000 §11.5 S.SQR `S.SQR S1 D1 S2 D2(dmy)`: S1 +0 E1; D1 +0 BW; S2 +0 OLC
 /// output low cut, +2 K. BW = K·√E1; 0 when K·√E1 ≤ OLC or E1 < 0
 /// (L21206-21213).
@@ -265,6 +272,8 @@ impl Instr for Sqr {
     }
 }
 
+/// 000 §11.6 S.ABS L21223-21412.
+///
 /// 000 §11.6 S.ABS `S.ABS S1 D1 S2(dmy) D2(dmy)`: S1 +0 E1; D1 +0 BW, +2 BB
 /// (BB1 = b0: E1 > 0, BB2 = b1: E1 < 0, both 0 for E1 = 0). BW = |E1|
 /// (L21395-21405).
@@ -304,5 +313,61 @@ impl Instr for Abs {
             put_bits(m, d1 + 2, 3, bb);
             Ok(())
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{comparison, compensation, dynamics, limiters, manual, selectors};
+
+    /// Steps per 000 §2.2.7 as spec §2's inventory lists them (chapters 9-12).
+    #[test]
+    fn steps_follow_the_inventory() {
+        let table = [
+            ("S.LLAG", 8),
+            ("S.I", 7),
+            ("S.D", 7),
+            ("S.DED", 8),
+            ("S.HS", 7),
+            ("S.LS", 7),
+            ("S.MID", 8),
+            ("S.AVE", 8),
+            ("S.LIMT", 8),
+            ("S.VLMT1", 9),
+            ("S.VLMT2", 9),
+            ("S.DBND", 8),
+            ("S.BUMP", 8),
+            ("S.AMR", 8),
+            ("S.FG", 7),
+            ("S.IFG", 8),
+            ("S.FLT", 8),
+            ("S.SUM", 8),
+            ("S.TPC", 8),
+            ("S.ADD", 8),
+            ("S.SUB", 8),
+            ("S.MUL", 8),
+            ("S.DIV", 8),
+            ("S.SQR", 8),
+            ("S.ABS", 8),
+            ("S.>", 7),
+            ("S.<", 7),
+            ("S.=", 7),
+            ("S.>=", 7),
+            ("S.<=", 7),
+        ];
+        let defs: Vec<_> = [
+            dynamics::DEFS,
+            selectors::DEFS,
+            limiters::DEFS,
+            manual::DEFS,
+            compensation::DEFS,
+            super::DEFS,
+            comparison::DEFS,
+        ]
+        .concat();
+        for (name, steps) in table {
+            let d = defs.iter().find(|d| d.name == name).expect(name);
+            assert_eq!(d.steps.count(&[]), steps, "{name}");
+        }
     }
 }

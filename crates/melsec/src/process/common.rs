@@ -404,6 +404,15 @@ pub fn only_default(a: &mut Args<'_, '_>, value: bool, key: &str, dec: u8) -> bo
     value
 }
 
+/// For an instruction that reads its previous BW or BB from the block
+/// memory (DEC-8): the alternative, a hidden copy, is not described (when it
+/// is initialised, whether a program write presets it), so
+/// `previous_in_block_memory = false` is a load error (see [`only_default`]).
+pub fn history_in_block_memory(a: &mut Args<'_, '_>) -> Option<()> {
+    let s: ProcessSettings = a.setting();
+    only_default(a, s.previous_in_block_memory, "previous_in_block_memory", 8).then_some(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

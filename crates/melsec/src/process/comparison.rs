@@ -1,12 +1,15 @@
 //! Comparisons with hysteresis (000 ch. 12): S.>, S.<, S.=, S.>=, S.<=. The
-//! relations are (R) (spec §4.36, DEC-31). Not in Table 14.2: SD1503 = 1.
+//! relations are (R) (spec §4.36, DEC-31); the previous BB1 is D1+2 as found
+//! (DEC-8; its alternative is a load error). Not in Table 14.2: SD1503 = 1.
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, def, dummy, put_bits, real, result, set_f, PcError, Sys};
+use super::common::{
+    area, def, dummy, history_in_block_memory, put_bits, real, result, set_f, PcError, Sys,
+};
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
 
@@ -35,6 +38,9 @@ enum Rel {
     Le,
 }
 
+/// 000 §12.1 S.> L21433-21645, §12.2 S.< L21706-21875, §12.3 S.= L21894-22056,
+/// §12.4 S.>= L22075-22243, §12.5 S.<= L22262-22431.
+///
 /// 000 §12 `S.x S1 D1 S2 D2(dmy)`: S1 +0 E1, +2 E2; D1 +0 BW (= E1), +2 BB
 /// (BB1 = b0, the result); S2 +0 K set value, +2 HS hysteresis (not S.=,
 /// whose S2 is K only, 2 words). With X = E2 + K (L21628-21636):
@@ -95,6 +101,7 @@ impl Cmp {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let s: ProcessSettings = a.setting();
         let sys = Sys::new(a)?;
         let s1 = area(a, 0, 4, "input data");

@@ -7,8 +7,8 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, count, count_word, def, dummy, get_u32, only_default, put_bits, real, result, set_f,
-    set_u32, tick_started, PcError, Sys,
+    area, bit, count, count_word, def, dummy, get_u32, history_in_block_memory, only_default,
+    put_bits, real, result, set_f, set_u32, tick_started, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -122,6 +122,8 @@ impl Instr for Eng {
     }
 }
 
+/// 000 §10.1 S.FG L19006-19237, §10.2 S.IFG L19280-19465.
+///
 /// 000 §10.1 S.FG, §10.2 S.IFG `S.x S1 D1 S2 D2`: S1 +0 E1; D1 +0 BW; S2 +0
 /// SN (BIN16, 0..48); D2 the user's table, Xi at +4(i−1), Yi at +4(i−1)+2
 /// (4·SN words). S.FG (L19206-19223): E1 ≤ X1 → Y1; Xi-1 < E1 ≤ Xi → BW =
@@ -223,6 +225,8 @@ impl Instr for Fg {
     }
 }
 
+/// 000 §10.3 S.FLT L19466-19680.
+///
 /// 000 §10.3 S.FLT `S.FLT S1 D1 S2 D2`: S1 +0 E1; D1 +0 BW, +2 BB (BB1 = b0,
 /// 1 while the table is not full, L19663-19665); S2 +0 ST (s), +2 SN (BIN16,
 /// 0..48); D2 local +0 ST′, +2 SN′ (the last ST and SN), +3 i (period
@@ -253,6 +257,7 @@ impl Flt {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let s: ProcessSettings = a.setting();
         if !only_default(a, s.flt_restart_on_change, "flt_restart_on_change", 26) {
             return None;
@@ -338,6 +343,8 @@ impl Instr for Flt {
     }
 }
 
+/// 000 §10.4 S.SUM L19681-19852.
+///
 /// 000 §10.4 S.SUM `S.SUM S1 D1 S2 D2(dmy)`: S1 +0 E1, +2 e1 (b0); D1 +0 BW;
 /// S2 +0 ILC input low cut, +2 A initial value, +4 RANGE (BIN16: 1 /s, 2
 /// /min, 3 /h). e1 = 0: BW = A; e1 = 1: E1 ≤ ILC holds BW, E1 > ILC gives BW
@@ -356,6 +363,7 @@ impl Sum {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let sys = Sys::new(a)?;
         let s1 = area(a, 0, 3, "input data");
         let d1 = area(a, 1, 2, "block memory");
@@ -401,6 +409,8 @@ impl Instr for Sum {
     }
 }
 
+/// 000 §10.5 S.TPC L19857-20078.
+///
 /// 000 §10.5 S.TPC `S.TPC S1 D1 S2 D2(dmy)`: S1 +0 E1 differential pressure,
 /// +2 E2 temperature, +4 E3 pressure, +6 e1 (b0: E2 used), e2 (b1: E3 used);
 /// D1 +0 BW; S2 +0 T′ design temperature, +2 B1 (273.15), +4 P′ design

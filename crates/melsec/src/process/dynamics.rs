@@ -1,5 +1,7 @@
 //! Dynamic elements (000 ch. 9): S.LLAG, S.I, S.D, S.DED. "Previous"
-//! values are the block memory D1 as found (DEC-8); no instruction here is in
+//! values are the block memory D1 as found (DEC-8; its undescribed
+//! alternative is a load error, `common::history_in_block_memory`); no
+//! instruction here is in
 //! Table 14.2, so every error reports SD1503 = 1 (L23918).
 
 use softplc_ir::device::DeviceMemory;
@@ -8,8 +10,8 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, count, count_word, def, dummy, only_default, put_bits, real, result, set_f,
-    tick_started, PcError, Sys,
+    area, bit, count, count_word, def, dummy, history_in_block_memory, only_default, put_bits,
+    real, result, set_f, tick_started, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -51,6 +53,9 @@ enum LagKind {
     Derivative,
 }
 
+/// 000 §9.9 S.LLAG L13519-13698, §9.10 S.I L13699-13860, §9.11 S.D
+/// L13861-14035.
+///
 /// 000 §9.9 S.LLAG, §9.10 S.I, §9.11 S.D, `S.x S1 D1 S2 D2`: S1 +0 E1, +2
 /// e1 (b0); D1 +0 BW; S2 +0 T1 (S.LLAG lag) or T, +2 T2 (S.LLAG lead) or Ys;
 /// D2 local +0 E1n-1 (S.LLAG, S.D; a dummy for S.I, L13758). In the
@@ -91,6 +96,7 @@ impl Lag {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let s: ProcessSettings = a.setting();
         let sys = Sys::new(a)?;
         let s1 = area(a, 0, 3, "input data");
@@ -181,6 +187,8 @@ impl Instr for Lag {
     }
 }
 
+/// 000 §9.12 S.DED L14036-14344.
+///
 /// 000 §9.12 S.DED `S.DED S1 D1 S2 D2`: S1 +0 E1, +2 e1 (b0); D1 +0 BW, +2
 /// BB (BB1 = b0, "data not yet complete"); S2 +0 ST (s), +2 SN (BIN16
 /// 0..48), +3 Ys, +5 OCHG (b0); D2 local +0 e1′ (previous e1), +1 period
@@ -214,6 +222,7 @@ impl Ded {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let s: ProcessSettings = a.setting();
         if !only_default(a, s.ded_start_without_edge, "ded_start_without_edge", 22)
             | !only_default(a, s.ded_bypass_resets, "ded_bypass_resets", 23)

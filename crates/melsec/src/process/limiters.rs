@@ -1,15 +1,17 @@
 //! Limiters and dead band (000 §9.17-§9.19, §9.22): S.LIMT, S.VLMT1,
 //! S.VLMT2, S.DBND. The table rows are tried in order (S.LIMT: the limits
-//! first); in a
-//! hysteresis band BW follows the row and BB1/BB2 keep their values (the
-//! previous BB is D1+2 as found, DEC-8). Not in Table 14.2: SD1503 = 1.
+//! first); in a hysteresis band BW follows the row and BB1/BB2 keep their
+//! values (the previous BB is D1+2 as found, DEC-8; its alternative is a
+//! load error). Not in Table 14.2: SD1503 = 1.
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, def, dummy, put_bits, real, result, set_f, PcError, Sys};
+use super::common::{
+    area, def, dummy, history_in_block_memory, put_bits, real, result, set_f, PcError, Sys,
+};
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
 
@@ -47,6 +49,9 @@ enum Kind {
     DeadBand,
 }
 
+/// 000 §9.17 S.LIMT L15327-15525, §9.18 S.VLMT1 L15526-15735, §9.19 S.VLMT2
+/// L15736-15928, §9.22 S.DBND L17152-17326.
+///
 /// `S.x S1 D1 S2 D2(dmy)`: S1 +0 E1; D1 +0 BW, +2 BB (BB1 = b0, BB2 = b1).
 /// * 000 §9.17 S.LIMT, S2 +0 HILMT, +2 LOLMT, +4 HS1, +6 HS2 (L15505-15515):
 ///   E1 ≥ HILMT → HILMT, BB1 = 1, BB2 = 0; E1 ≤ LOLMT → LOLMT, 0, 1;
@@ -107,6 +112,9 @@ impl Limit {
     fn compile(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
         if !a.count(&[4]) {
             return None;
+        }
+        if kind != Kind::DeadBand {
+            history_in_block_memory(a)?;
         }
         let sys = Sys::new(a)?;
         let s1 = area(a, 0, 2, "input data");

@@ -6,7 +6,9 @@ use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, bit, def, dummy, real, result, set_f, PcError, Sys};
+use super::common::{
+    area, bit, def, dummy, history_in_block_memory, real, result, set_f, PcError, Sys,
+};
 use crate::{Args, ExecCtx, Instr};
 
 static BUMP: Doc = Doc {
@@ -27,6 +29,8 @@ pub static DEFS: &[Def] = &[
     def("S.AMR", 4, &AMR, Amr::compile),
 ];
 
+/// 000 §9.25 S.BUMP L18570-18786.
+///
 /// 000 §9.25 S.BUMP `S.BUMP S1 D1 S2 D2`: S1 +0 E1 output setting value
 /// (auto), +2 E2 output control value (manual), +4 e1 (b0: 0 manual, 1
 /// auto); D1 +0 BW; S2 +0 T delay time (s), +2 a delay zone (%); D2 local +0
@@ -119,6 +123,8 @@ impl Instr for Bump {
     }
 }
 
+/// 000 §9.26 S.AMR L18787-19002.
+///
 /// 000 §9.26 S.AMR `S.AMR S1 D1 S2 D2(dmy)`: S1 +0 E1 increase rate, +2 E2
 /// decrease rate, +4 E3 output setting value, +6 e1 (b0: 0 manual, 1 auto),
 /// e2 (b1: increase), e3 (b2: decrease); D1 +0 BW; S2 +0 d1 upper limit, +2
@@ -140,6 +146,7 @@ impl Amr {
         if !a.count(&[4]) {
             return None;
         }
+        history_in_block_memory(a)?;
         let sys = Sys::new(a)?;
         let s1 = area(a, 0, 7, "input data");
         let d1 = area(a, 1, 2, "block memory");

@@ -36,6 +36,9 @@ enum Pick {
     Average,
 }
 
+/// 000 §9.13 S.HS L14345-14621, §9.14 S.LS L14622-14896, §9.15 S.MID
+/// L14897-15183, §9.16 S.AVE L15184-15326.
+///
 /// 000 §9.13-§9.16 `S.x S1 D1 S2(dmy) D2(dmy)`: S1 +0 n (BIN16, 1..16),
 /// +1/+2 E1 … +2n−1/+2n En (1 + 2n words); D1 +0 BW, +2 BB (BB1..BB16 = b0..b15:
 /// input i gave the result; not for S.AVE, whose D1 is 2 words).
