@@ -294,3 +294,18 @@ fn s_amr_ramps_by_push_buttons() {
     p.set("D4:f32", "33").set("D6", "6").scan();
     assert_eq!(p.real("D100"), 33.0, "e1 = 0: BW = E3");
 }
+
+/// Index modification (000 §2.2.8): the variable-length input area follows
+/// Z0, and an indexed block memory past the end of D is 4101.
+#[test]
+fn selectors_with_index_modification() {
+    let mut p = Plc::process("LD SM400\nS.AVE D0Z0 D100Z1 SD1506 SD1506\nEND\n");
+    p.set("Z0", "10").set("Z1", "0").set("D10", "3");
+    p.set("D11:f32", "3")
+        .set("D13:f32", "4")
+        .set("D15:f32", "8")
+        .scan();
+    assert_eq!(p.real("D100"), 5.0);
+    p.set("Z1", "12187").scan();
+    assert_eq!(p.error().map(|e| e.0), Some(4101));
+}
