@@ -111,4 +111,24 @@ mod tests {
         let e = parse_il("t.il", "LD X0\n$MOV \"AB D0\n").unwrap_err();
         assert_eq!(e[0].to_string(), "t.il:2:6: unterminated string `\"AB D0`");
     }
+
+    /// Mnemonics with relation signs (the process CPU's `S.>=`, `LD<>`) are
+    /// one token, like any other.
+    #[test]
+    fn relation_signs_stay_in_the_mnemonic() {
+        let s = parse_il("t.il", "S.>= D0 D100 D10 SD1506\nS.< D0 D1 D2 D3\n").unwrap();
+        let m: Vec<&str> = s
+            .items
+            .iter()
+            .map(|i| match i {
+                SourceItem::Instr(i) => i.mnemonic.text.as_str(),
+                _ => panic!(),
+            })
+            .collect();
+        assert_eq!(m, ["S.>=", "S.<"]);
+        match &s.items[0] {
+            SourceItem::Instr(i) => assert_eq!(i.operands[0].text, "D0"),
+            _ => panic!(),
+        }
+    }
 }

@@ -410,6 +410,109 @@ pub fn upper_inh(a: &mut Args<'_, '_>, k: usize) -> Option<Block> {
     })
 }
 
+/// [`tick`] for a period counter without a preset flag (S.DED local +1,
+/// S.FLT local +3): the caller says whether this execution is the start
+/// execution (spec §1.3.1 table: the S.DED 1→0 edge, the S.FLT ST/SN change);
+/// otherwise the counter at `counter` counts down as under [`tick`] (DEC-1,
+/// DEC-3, and the DEC-3 alternative's up-count).
+pub fn tick_started(
+    m: &mut DeviceMemory,
+    counter: usize,
+    start: bool,
+    s: &ProcessSettings,
+    n: impl FnOnce() -> Result<u16, PcError>,
+) -> Result<Tick, PcError> {
+    let started = Tick {
+        start: true,
+        reached: !s.counter_start_is_time_zero,
+    };
+    let not = |reached| Tick {
+        start: false,
+        reached,
+    };
+    if s.period_change_at_reach {
+        if start {
+            m.words[counter] = n()?;
+            return Ok(started);
+        }
+        let c = m.words[counter].saturating_sub(1);
+        if c == 0 {
+            m.words[counter] = n()?;
+            Ok(not(true))
+        } else {
+            m.words[counter] = c;
+            Ok(not(false))
+        }
+    } else {
+        let n = n()?;
+        if start {
+            m.words[counter] = 0;
+            return Ok(started);
+        }
+        let c = m.words[counter].saturating_add(1);
+        let reached = c >= n;
+        m.words[counter] = if reached { 0 } else { c };
+        Ok(not(reached))
+    }
+}
+
+/// Bit `b` of word `i` (a control bit e1 … of the input data, BB bits).
+#[inline]
+pub fn bit(m: &DeviceMemory, i: usize, b: u32) -> bool {
+    m.words[i] >> b & 1 != 0
+}
+
+/// Writes the bits of `mask` in word `i` from `value`, the others kept (BB
+/// bits an instruction does not define are left as found).
+#[inline]
+pub fn put_bits(m: &mut DeviceMemory, i: usize, mask: u16, value: u16) {
+    m.words[i] = m.words[i] & !mask | value & mask;
+}
+
+/// A signed BIN16 count (n, SN) checked against `lo..=hi` (detail 3, DEC-36).
+#[inline]
+pub fn count_word(
+    m: &DeviceMemory,
+    i: usize,
+    lo: i16,
+    hi: i16,
+    step: u16,
+) -> Result<usize, PcError> {
+    let n = m.words[i] as i16;
+    if (lo..=hi).contains(&n) {
+        Ok(n as usize)
+    } else {
+        Err(PcError::range(step))
+    }
+}
+
+/// Rejects a decision setting whose alternative the manual and the spec do
+/// not describe (`[process] key = false`): a load error at the mnemonic
+/// rather than a silently ignored setting. Returns whether the setting is
+/// the spec's choice.
+pub fn only_default(a: &mut Args<'_, '_>, value: bool, key: &str, dec: u8) -> bool {
+    if !value {
+        let m = a.mnemonic().to_string();
+        a.error(
+            usize::MAX,
+            format!(
+                "`{m}`: [process] {key} = false (DEC-{dec}) has no alternative described by \
+                 the manual or the spec; only `true` is implemented"
+            ),
+        );
+    }
+    value
+}
+
+/// For an instruction that reads its previous BW or BB from the block
+/// memory (DEC-8): the alternative, a hidden copy, is not described (when it
+/// is initialised, whether a program write presets it), so
+/// `previous_in_block_memory = false` is a load error (see [`only_default`]).
+pub fn history_in_block_memory(a: &mut Args<'_, '_>) -> Option<()> {
+    let s: ProcessSettings = a.setting();
+    only_default(a, s.previous_in_block_memory, "previous_in_block_memory", 8).then_some(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

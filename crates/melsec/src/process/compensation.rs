@@ -1,13 +1,41 @@
 //! Compensation instructions (000 ch. 10): S.FG, S.IFG, S.FLT, S.SUM, S.TPC,
 //! S.ENG, S.IENG.
 
+use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, def, dummy, real, result, set_f, Sys};
+use super::common::{
+    area, bit, count, count_word, def, dummy, get_u32, history_in_block_memory, only_default,
+    put_bits, real, result, set_f, set_u32, tick_started, PcError, Sys,
+};
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
+
+static FG: Doc = Doc {
+    family: "process control: compensation",
+    cite: "000 §10.1 L19006-19237, §10.2 L19280-19465",
+    notes: "broken line through the user's (Xi, Yi) table in D2 (4·SN words), SN = 0 not \
+            executed, a decreasing point ends the table; SN ∉ 0..48 is 4100 (SD1502 = 3)",
+};
+static FLT: Doc = Doc {
+    family: "process control: compensation",
+    cite: "000 §10.3 L19466-19680",
+    notes: "mean of the last SN samples every round(ST/ΔT) executions, output once full, BB1 \
+            while filling; restarts on an ST/SN change (DEC-26)",
+};
+static SUM: Doc = Doc {
+    family: "process control: compensation",
+    cite: "000 §10.4 L19681-19852",
+    notes: "BW + E1·ΔT/T above the low cut, T = 1/60/3600 s by RANGE; RANGE ∉ 1..3 is 4100 \
+            (SD1502 = 3)",
+};
+static TPC: Doc = Doc {
+    family: "process control: compensation",
+    cite: "000 §10.5 L19857-20078",
+    notes: "BW = E1 × A1 × A2, A1 = (B1 + T′)/(B1 + E2), A2 = (B2 + E3)/(B2 + P′) (DEC-27)",
+};
 
 static ENG: Doc = Doc {
     family: "process control: compensation",
@@ -16,6 +44,11 @@ static ENG: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[
+    def("S.FG", 4, &FG, Fg::compile_fg),
+    def("S.IFG", 4, &FG, Fg::compile_ifg),
+    def("S.FLT", 4, &FLT, Flt::compile),
+    def("S.SUM", 4, &SUM, Sum::compile),
+    def("S.TPC", 4, &TPC, Tpc::compile),
     def("S.ENG", 4, &ENG, Eng::compile_eng),
     def("S.IENG", 4, &ENG, Eng::compile_ieng),
 ];
@@ -86,5 +119,383 @@ impl Instr for Eng {
             set_f(m, d1, result(bw, 1)?);
             Ok(())
         })
+    }
+}
+
+/// 000 §10.1 S.FG L19006-19237, §10.2 S.IFG L19280-19465.
+///
+/// 000 §10.1 S.FG, §10.2 S.IFG `S.x S1 D1 S2 D2`: S1 +0 E1; D1 +0 BW; S2 +0
+/// SN (BIN16, 0..48); D2 the user's table, Xi at +4(i−1), Yi at +4(i−1)+2
+/// (4·SN words). S.FG (L19206-19223): E1 ≤ X1 → Y1; Xi-1 < E1 ≤ Xi → BW =
+/// (Yi − Yi-1)/(Xi − Xi-1) × (E1 − Xi-1) + Yi-1; E1 > Xn → Yn. SN = 0: not
+/// executed. Xi-1 > Xi makes n = i − 1 (the rest is ignored); of equal Xi the
+/// smallest i is taken. S.IFG (L19433-19450) is the same with X and Y
+/// swapped. SN ∉ 0..48 is 4100 with SD1502 = 3.
+#[derive(Debug)]
+struct Fg {
+    inverse: bool,
+    sys: Sys,
+    s1: Block,
+    d1: Block,
+    s2: Block,
+    d2: Block,
+}
+
+impl Fg {
+    fn compile_fg(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        Fg::compile(a, false)
+    }
+
+    fn compile_ifg(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        Fg::compile(a, true)
+    }
+
+    fn compile(a: &mut Args<'_, '_>, inverse: bool) -> Option<Box<dyn Instr>> {
+        if !a.count(&[4]) {
+            return None;
+        }
+        let sys = Sys::new(a)?;
+        let s1 = area(a, 0, 2, "input data");
+        let d1 = area(a, 1, 2, "block memory");
+        let s2 = area(a, 2, 1, "operation constants");
+        let d2 = area(a, 3, 4, "breakpoint table");
+        Some(Box::new(Fg {
+            inverse,
+            sys,
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+            d2: d2?,
+        }))
+    }
+
+    fn body(
+        &self,
+        m: &mut DeviceMemory,
+        s1: usize,
+        d1: usize,
+        d2: usize,
+        n: usize,
+    ) -> Result<(), PcError> {
+        let e1 = real(m, s1, 1)?;
+        // The compared and the interpolated coordinate of point i.
+        let (cx, cy) = if self.inverse { (2, 0) } else { (0, 2) };
+        let x = |m: &DeviceMemory, i: usize| real(m, d2 + 4 * i + cx, 1);
+        let y = |m: &DeviceMemory, i: usize| real(m, d2 + 4 * i + cy, 1);
+        let mut xp = x(m, 0)?;
+        let mut bw = None;
+        if e1 <= xp {
+            bw = Some(y(m, 0)?);
+        } else {
+            for i in 1..n {
+                let xi = x(m, i)?;
+                if xi < xp {
+                    bw = Some(y(m, i - 1)?);
+                    break;
+                }
+                if e1 <= xi {
+                    let (yp, yi) = (y(m, i - 1)?, y(m, i)?);
+                    bw = Some((yi - yp) / (xi - xp) * (e1 - xp) + yp);
+                    break;
+                }
+                xp = xi;
+            }
+        }
+        let bw = match bw {
+            Some(v) => v,
+            None => y(m, n - 1)?,
+        };
+        set_f(m, d1, result(bw, 1)?);
+        Ok(())
+    }
+}
+
+impl Instr for Fg {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let s1 = cx.mem.block_start(&self.s1, 2)?;
+        let d1 = cx.mem.block_start(&self.d1, 2)?;
+        let s2 = cx.mem.block_start(&self.s2, 1)?;
+        let n = match count_word(cx.mem, s2, 0, 48, 1) {
+            Ok(0) => return Ok(()),
+            Ok(n) => n,
+            Err(e) => return Err(self.sys.fail(cx.mem, e)),
+        };
+        let d2 = cx.mem.block_start(&self.d2, 4 * n as u32)?;
+        self.sys.run(cx.mem, |m| self.body(m, s1, d1, d2, n))
+    }
+}
+
+/// 000 §10.3 S.FLT L19466-19680.
+///
+/// 000 §10.3 S.FLT `S.FLT S1 D1 S2 D2`: S1 +0 E1; D1 +0 BW, +2 BB (BB1 = b0,
+/// 1 while the table is not full, L19663-19665); S2 +0 ST (s), +2 SN (BIN16,
+/// 0..48); D2 local +0 ST′, +2 SN′ (the last ST and SN), +3 i (period
+/// counter), +4 n1 (samples stored), +5 n2 (the next table slot), +6/+7
+/// unused, +8 … +2SN+7 the table (8 + 2·SN words).
+/// * SN = 0: BW and BB := 0, end (L19669).
+/// * (ST, SN) ≠ (ST′, SN′), which includes a cleared area: a start (DEC-26):
+///   ST′/SN′ stored, the table emptied, the counter loaded with N =
+///   round(ST/ΔT) (L19656), the first sample taken.
+/// * Every N-th execution after it takes the next sample, the oldest dropped
+///   when full. Once SN are stored, BW := their mean (summed oldest first,
+///   ÷ SN) and BB1 := 0 on each sample; before, BW holds and BB1 = 1.
+///
+/// Errors: SN ∉ 0..48 is SD1502 = 3; ST/ΔT over 32767 is 4, ΔT = 0 is 5, ST
+/// or ΔT < 0 is 2 (SD1503 = 1).
+#[derive(Debug)]
+struct Flt {
+    s: ProcessSettings,
+    sys: Sys,
+    s1: Block,
+    d1: Block,
+    s2: Block,
+    d2: Block,
+}
+
+impl Flt {
+    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        if !a.count(&[4]) {
+            return None;
+        }
+        history_in_block_memory(a)?;
+        let s: ProcessSettings = a.setting();
+        if !only_default(a, s.flt_restart_on_change, "flt_restart_on_change", 26) {
+            return None;
+        }
+        let sys = Sys::new(a)?;
+        let s1 = area(a, 0, 2, "input data");
+        let d1 = area(a, 1, 3, "block memory");
+        let s2 = area(a, 2, 3, "operation constants");
+        let d2 = area(a, 3, 8, "local work memory");
+        Some(Box::new(Flt {
+            s,
+            sys,
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+            d2: d2?,
+        }))
+    }
+
+    fn body(
+        &self,
+        m: &mut DeviceMemory,
+        s1: usize,
+        d1: usize,
+        s2: usize,
+        d2: usize,
+        sn: usize,
+    ) -> Result<(), PcError> {
+        let e1 = real(m, s1, 1)?;
+        let st = real(m, s2, 1)?;
+        let dt = self.sys.dt(m, 1)?;
+        let changed = get_u32(m, d2) != st.to_bits() || m.words[d2 + 2] as usize != sn;
+        if sn == 0 {
+            set_f(m, d1, 0.0);
+            m.words[d1 + 2] = 0;
+            set_u32(m, d2, st.to_bits());
+            m.words[d2 + 2] = 0;
+            m.words[d2 + 4] = 0;
+            return Ok(());
+        }
+        let s = &self.s;
+        let t = tick_started(m, d2 + 3, changed, s, || count(st, dt, false, s, 1))?;
+        if t.start {
+            set_u32(m, d2, st.to_bits());
+            m.words[d2 + 2] = sn as u16;
+            m.words[d2 + 4] = 0;
+            m.words[d2 + 5] = 0;
+        }
+        if !t.begins() {
+            return Ok(());
+        }
+        // Stale or foreign counts are taken modulo the table (no panic).
+        let next = m.words[d2 + 5] as usize % sn;
+        set_f(m, d2 + 8 + 2 * next, e1);
+        let stored = (m.words[d2 + 4] as usize + 1).min(sn);
+        m.words[d2 + 4] = stored as u16;
+        m.words[d2 + 5] = ((next + 1) % sn) as u16;
+        if stored < sn {
+            put_bits(m, d1 + 2, 1, 1);
+            return Ok(());
+        }
+        let mut sum = 0f32;
+        for k in 0..sn {
+            sum += real(m, d2 + 8 + 2 * ((next + 1 + k) % sn), 1)?;
+        }
+        set_f(m, d1, result(sum / sn as f32, 1)?);
+        put_bits(m, d1 + 2, 1, 0);
+        Ok(())
+    }
+}
+
+impl Instr for Flt {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let s1 = cx.mem.block_start(&self.s1, 2)?;
+        let d1 = cx.mem.block_start(&self.d1, 3)?;
+        let s2 = cx.mem.block_start(&self.s2, 3)?;
+        let sn = match count_word(cx.mem, s2 + 2, 0, 48, 1) {
+            Ok(n) => n,
+            Err(e) => return Err(self.sys.fail(cx.mem, e)),
+        };
+        let d2 = cx.mem.block_start(&self.d2, 8 + 2 * sn as u32)?;
+        self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, d2, sn))
+    }
+}
+
+/// 000 §10.4 S.SUM L19681-19852.
+///
+/// 000 §10.4 S.SUM `S.SUM S1 D1 S2 D2(dmy)`: S1 +0 E1, +2 e1 (b0); D1 +0 BW;
+/// S2 +0 ILC input low cut, +2 A initial value, +4 RANGE (BIN16: 1 /s, 2
+/// /min, 3 /h). e1 = 0: BW = A; e1 = 1: E1 ≤ ILC holds BW, E1 > ILC gives BW
+/// = BW + E1 × ΔT/T with T = 1, 60, 3600 (L19831-19845). RANGE ∉ 1..3 is 4100
+/// with SD1502 = 3.
+#[derive(Debug)]
+struct Sum {
+    sys: Sys,
+    s1: Block,
+    d1: Block,
+    s2: Block,
+}
+
+impl Sum {
+    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        if !a.count(&[4]) {
+            return None;
+        }
+        history_in_block_memory(a)?;
+        let sys = Sys::new(a)?;
+        let s1 = area(a, 0, 3, "input data");
+        let d1 = area(a, 1, 2, "block memory");
+        let s2 = area(a, 2, 5, "operation constants");
+        dummy(a, 3)?;
+        Some(Box::new(Sum {
+            sys,
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+        }))
+    }
+
+    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
+        let t = match m.words[s2 + 4] {
+            1 => 1.0,
+            2 => 60.0,
+            3 => 3600.0,
+            _ => return Err(PcError::range(1)),
+        };
+        let e1 = real(m, s1, 1)?;
+        let ilc = real(m, s2, 1)?;
+        let init = real(m, s2 + 2, 1)?;
+        let dt = self.sys.dt(m, 1)?;
+        let bw = if !bit(m, s1 + 2, 0) {
+            init
+        } else if e1 <= ilc {
+            return Ok(());
+        } else {
+            real(m, d1, 1)? + e1 * dt / t
+        };
+        set_f(m, d1, result(bw, 1)?);
+        Ok(())
+    }
+}
+
+impl Instr for Sum {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let s1 = cx.mem.block_start(&self.s1, 3)?;
+        let d1 = cx.mem.block_start(&self.d1, 2)?;
+        let s2 = cx.mem.block_start(&self.s2, 5)?;
+        self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
+    }
+}
+
+/// 000 §10.5 S.TPC L19857-20078.
+///
+/// 000 §10.5 S.TPC `S.TPC S1 D1 S2 D2(dmy)`: S1 +0 E1 differential pressure,
+/// +2 E2 temperature, +4 E3 pressure, +6 e1 (b0: E2 used), e2 (b1: E3 used);
+/// D1 +0 BW; S2 +0 T′ design temperature, +2 B1 (273.15), +4 P′ design
+/// pressure, +6 B2 (10332). BW = E1 × A1 × A2 (L20044-20070), A1 = (B1 +
+/// T′)/(B1 + E2) when E2 is used, else 1; A2 = (B2 + E3)/(B2 + P′) when E3 is
+/// used, else 1 (DEC-27; `tpc_reconstructed = false` gives the
+/// numerator-first reading (B1 + E2)/(B1 + T′) and (B2 + P′)/(B2 + E3)). A
+/// zero denominator is 4100 with SD1502 = 5.
+#[derive(Debug)]
+struct Tpc {
+    reconstructed: bool,
+    sys: Sys,
+    s1: Block,
+    d1: Block,
+    s2: Block,
+}
+
+impl Tpc {
+    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        if !a.count(&[4]) {
+            return None;
+        }
+        let s: ProcessSettings = a.setting();
+        let sys = Sys::new(a)?;
+        let s1 = area(a, 0, 7, "input data");
+        let d1 = area(a, 1, 2, "block memory");
+        let s2 = area(a, 2, 8, "operation constants");
+        dummy(a, 3)?;
+        Some(Box::new(Tpc {
+            reconstructed: s.tpc_reconstructed,
+            sys,
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+        }))
+    }
+
+    /// A1 (`inverse` false) or A2 (true) of DEC-27: (B + design)/(B +
+    /// measured) or its reciprocal, whichever the reading gives.
+    fn ratio(
+        &self,
+        design: f32,
+        measured: f32,
+        offset: f32,
+        inverse: bool,
+    ) -> Result<f32, PcError> {
+        let (num, den) = if self.reconstructed != inverse {
+            (offset + design, offset + measured)
+        } else {
+            (offset + measured, offset + design)
+        };
+        if den == 0.0 {
+            return Err(PcError::divide(1));
+        }
+        result(num / den, 1)
+    }
+
+    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
+        let e1 = real(m, s1, 1)?;
+        let e2 = real(m, s1 + 2, 1)?;
+        let e3 = real(m, s1 + 4, 1)?;
+        let t = real(m, s2, 1)?;
+        let b1 = real(m, s2 + 2, 1)?;
+        let p = real(m, s2 + 4, 1)?;
+        let b2 = real(m, s2 + 6, 1)?;
+        let a1 = if bit(m, s1 + 6, 0) {
+            self.ratio(t, e2, b1, false)?
+        } else {
+            1.0
+        };
+        let a2 = if bit(m, s1 + 6, 1) {
+            self.ratio(p, e3, b2, true)?
+        } else {
+            1.0
+        };
+        set_f(m, d1, result(e1 * a1 * a2, 1)?);
+        Ok(())
+    }
+}
+
+impl Instr for Tpc {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let s1 = cx.mem.block_start(&self.s1, 7)?;
+        let d1 = cx.mem.block_start(&self.d1, 2)?;
+        let s2 = cx.mem.block_start(&self.s2, 8)?;
+        self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }

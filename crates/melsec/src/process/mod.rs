@@ -13,12 +13,18 @@
 //! float checks, the error path with SD1502/SD1503, the period counter of
 //! spec §1.3.1), and one module per chapter of the manual.
 
+pub mod arithmetic;
 pub mod common;
+pub mod comparison;
 pub mod compensation;
 pub mod io;
 pub mod pgs;
 pub mod phpl;
 pub mod sel;
+pub mod dynamics;
+pub mod limiters;
+pub mod manual;
+pub mod selectors;
 pub mod settings;
 pub mod tag;
 
@@ -31,6 +37,12 @@ pub static FAMILIES: &[&[Def]] = &[
     phpl::DEFS,
     sel::DEFS,
     pgs::DEFS,
+    dynamics::DEFS,
+    selectors::DEFS,
+    limiters::DEFS,
+    manual::DEFS,
+    arithmetic::DEFS,
+    comparison::DEFS,
 ];
 
 /// The CPU models that have these instructions.
