@@ -52,6 +52,16 @@ pub(crate) fn process(
             continue;
         }
         if let Some(v) = cx.bool(e, "true or false") {
+            if e.key == "detail_codes" && !v {
+                // The error codes apply to every instruction and the manual
+                // offers no other assignment to switch to.
+                cx.error(
+                    &e.item.span,
+                    "detail_codes = false: the manual describes no other assignment of the \
+                     SD1502 detail codes (DEC-36), so only true is accepted",
+                );
+                continue;
+            }
             out.set(&e.key, v);
         }
     }
