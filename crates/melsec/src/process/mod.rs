@@ -13,15 +13,17 @@
 //! float checks, the error path with SD1502/SD1503, the period counter of
 //! spec §1.3.1), and one module per chapter of the manual.
 
+pub mod autotune;
 pub mod common;
 pub mod compensation;
+pub mod pid;
 pub mod settings;
 pub mod tag;
 
 use softplc_lang::isa::Def;
 
 /// The process-control families (a new family is one line here).
-pub static FAMILIES: &[&[Def]] = &[compensation::DEFS];
+pub static FAMILIES: &[&[Def]] = &[compensation::DEFS, pid::DEFS, autotune::DEFS];
 
 /// The CPU models that have these instructions.
 pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
