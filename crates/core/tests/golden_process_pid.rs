@@ -503,7 +503,7 @@ fn s_pid_error_codes() {
         let (pn, trk, svptn) = pattern_at(m);
         let check = if m == "S.2PID" { 8 } else { 6 };
         let dvls = if m == "S.BPI" { "D200" } else { "D202" };
-        let cases: Vec<(&str, Box<dyn Fn(&mut common::Plc)>, (i64, i64))> = vec![
+        let cases: Vec<Case> = vec![
             ("ΔT = 0", Box::new(|p| setf(p, "SD1500", 0.0)), (5, 1)),
             ("ΔT < 0", Box::new(|p| setf(p, "SD1500", -1.0)), (2, 1)),
             ("CT/ΔT > 32767", Box::new(|p| tf(p, 46, 40000.0)), (4, 1)),
@@ -603,7 +603,7 @@ fn s_spi_error_codes() {
         tf(p, 56, 2.0);
         tf(p, 46, 1.0);
     };
-    let cases: Vec<(&str, Box<dyn Fn(&mut common::Plc)>, (i64, i64))> = vec![
+    let cases: Vec<Case> = vec![
         ("ΔT 0", Box::new(|p| setf(p, "SD1500", 0.0)), (5, 1)),
         ("STHT/ΔT > 32767", Box::new(|p| tf(p, 56, 1e6)), (4, 1)),
         ("ST < 0", Box::new(|p| tf(p, 46, -1.0)), (2, 1)),

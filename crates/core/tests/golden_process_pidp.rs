@@ -160,7 +160,7 @@ fn s_pidp_loop_stop() {
 /// deviation, 7 rate/limiter, 8 output conversion.
 #[test]
 fn s_pidp_error_codes() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut common::Plc)>, (i64, i64))> = vec![
+    let cases: Vec<Case> = vec![
         ("ΔT 0", Box::new(|p| setf(p, "SD1500", 0.0)), (5, 1)),
         (
             "SVPTN 4",
@@ -265,7 +265,7 @@ fn s_r_cascade_tracking_and_stop() {
 /// limiter, 5 ratio operation; S.R's other form is rejected at load.
 #[test]
 fn s_r_error_codes() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut common::Plc)>, (i64, i64))> = vec![
+    let cases: Vec<Case> = vec![
         ("CT/ΔT > 32767", Box::new(|p| tf(p, 46, 1e5)), (4, 1)),
         (
             "cascade NaN E2",
@@ -389,7 +389,7 @@ fn s_onf3_three_position_control() {
 #[test]
 fn s_onf_error_codes() {
     for m in ["S.ONF2", "S.ONF3"] {
-        let cases: Vec<(&str, Box<dyn Fn(&mut common::Plc)>, (i64, i64))> = vec![
+        let cases: Vec<Case> = vec![
             ("ΔT 0", Box::new(|p| setf(p, "SD1500", 0.0)), (5, 1)),
             (
                 "SVPTN 4",
@@ -423,4 +423,42 @@ fn s_onf_error_codes() {
             assert_eq!(error_after(&mut p, 3), want, "{m}: {what}");
         }
     }
+}
+
+/// Each control instruction loads on a process CPU with the steps of 000
+/// §2.2.7 (2 + ⌈len/2⌉ + 5 operands: 9, S.R 8) and its operand checks.
+#[test]
+fn control_instructions_load_with_their_steps_and_operand_checks() {
+    let programs = [
+        ("LD SM400\nS.PID D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.2PID D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.PIDP D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.SPI D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.IPD D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.BPI D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.R D0 D100 D200 D1000 SD1506\nEND\n", 8),
+        ("LD SM400\nS.ONF2 D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.ONF3 D0 D100 D200 D1000 SD1506\nEND\n", 9),
+        ("LD SM400\nS.AT1 D0 D100 D200 D1000 D300\nEND\n", 9),
+    ];
+    let dialect = softplc_core::program::dialect_for("Q06PHCPU", ProcessSettings::default());
+    let devices = softplc_core::engine::CpuConfig::default().devices;
+    for (src, steps) in programs {
+        let prog = softplc_core::program::compile_il_in("t.il", src, &devices, &dialect)
+            .unwrap_or_else(|d| panic!("{src}: {d}"));
+        assert_eq!(prog.op_step.last().copied(), Some(1 + steps), "{src}");
+    }
+    let d = common::process_diagnostics(
+        "LD SM400\nS.PID D0 D100 D200 D12200 D300\nS.PIDP D0 K1 D200 D1000 D300\nS.AT1 D0 D100 D200 D1000\nEND\n",
+    );
+    assert!(
+        d[0].contains("`D12200`: the loop memory takes 128 words"),
+        "{d:?}"
+    );
+    assert!(d[1].contains("`K1`: a word device is needed here"), "{d:?}");
+    assert!(d[2].starts_with("4:1: "), "{d:?}");
+    assert_eq!(d.len(), 3, "{d:?}");
+    // A plain Q CPU rejects them, naming the process models.
+    let d = common::diagnostics("LD SM400\nS.PID D0 D100 D200 D1000 D300\nEND\n");
+    assert!(d[0].contains("Q06PHCPU"), "{d:?}");
 }

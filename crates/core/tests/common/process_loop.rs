@@ -168,3 +168,6 @@ pub fn error_after(p: &mut Plc, scans: u32) -> (i64, i64) {
     );
     (p.int("SD1502"), p.int("SD1503"))
 }
+
+/// An error case: what, the setup, (SD1502, SD1503).
+pub type Case = (&'static str, Box<dyn Fn(&mut Plc)>, (i64, i64));

@@ -43,7 +43,7 @@ use crate::{Args, ExecCtx, Instr};
 static AT1: Doc = Doc {
     family: "process control: auto-tuning",
     cite: "000 §13.1 L22617-23567",
-    notes: "ZN step response on MAN loops; sample 0 at the step (DEC-32), R = |R′|/100 stored \
+    notes: "ZN step response on MAN loops; sample 0 at the step (DEC-32), R = abs(R′)/100 stored \
             (DEC-33), MV restored once (DEC-34), BB1 = BB2 ∨ … ∨ BB8 (DEC-35)",
 };
 

@@ -6,8 +6,8 @@
 
 use softplc_ir::device::DeviceMemory;
 
+use super::basic::{bn, shift_pv};
 use super::front::{Areas, Front};
-use super::pid::{bn, shift_pv};
 use super::{gains, Input};
 use crate::process::common::{result, PcError};
 

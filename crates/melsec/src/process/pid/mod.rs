@@ -10,11 +10,11 @@
 //! ([`crate::process::tag::LoopTag`]); S3 +0 E2, the set value from the
 //! upper loop (%), or a dummy (SD1506) when SVPTN says E2 is unused.
 
+pub mod basic;
 pub mod bpi;
 pub mod front;
 pub mod ipd;
 pub mod onoff;
-pub mod pid;
 pub mod pidp;
 pub mod ratio;
 pub mod spi;
@@ -178,7 +178,7 @@ impl Velocity {
             forward: pat.forward,
         };
         let (bw, check) = match self.law {
-            Law::Pid => (pid::law(f, m, a, &input)?, 6),
+            Law::Pid => (basic::law(f, m, a, &input)?, 6),
             Law::TwoDof => (twodof::law(f, m, a, &input)?, 8),
             Law::Ipd => (ipd::law(f, m, a, &input)?, 6),
             Law::Bpi => (bpi::law(m, a, &input)?, 6),

@@ -12,8 +12,8 @@
 
 use softplc_ir::device::DeviceMemory;
 
+use super::basic::shift_pv;
 use super::front::{derivative, past, Areas, Front};
-use super::pid::shift_pv;
 use super::{gains, Input};
 use crate::process::common::{real, result, set_f, PcError};
 use crate::process::tag::LoopTag;
