@@ -626,3 +626,62 @@ fn s_spi_error_codes() {
         assert_eq!(error_after(&mut p, 3), want, "S.SPI: {what}");
     }
 }
+
+/// The counter decisions on S.PID (spec §1.3.1): DEC-3, a CT change takes
+/// effect when the period in progress ends (CT 5 → 2 at t = 2: computes at
+/// t = 5, 7, 9); DEC-2, CT 0.9 / ΔT 0.3 = 2.9999998 in f32 rounds to 3
+/// (computes at t = 3, 6), the alternative truncates to 2 (t = 2, 4, 6).
+#[test]
+fn s_pid_counter_decisions() {
+    let at = |s: ProcessSettings, ct: f32, dt: f32, change: Option<(usize, f32)>| {
+        let mut p = start_with("S.PID", s);
+        setf(&mut p, "SD1500", dt);
+        tf(&mut p, 46, ct);
+        tf(&mut p, 14, 50.0);
+        setf(&mut p, "D0", 40.0);
+        let mut out = vec![];
+        for t in 0..10 {
+            if let Some((when, v)) = change {
+                if t == when {
+                    tf(&mut p, 46, v);
+                }
+            }
+            p.scan();
+            if bw(&p) != 0.0 {
+                out.push(t);
+            }
+        }
+        out
+    };
+    let d = ProcessSettings::default();
+    assert_eq!(at(d, 5.0, 1.0, Some((2, 2.0))), [5, 7, 9]);
+    assert_eq!(at(d, 0.9, 0.3, None), [3, 6, 9]);
+    let trunc = settings(|s| s.period_count_rounds = false);
+    assert_eq!(at(trunc, 0.9, 0.3, None), [2, 4, 6, 8]);
+    // DEC-3's alternative compares an up-count with the current N: the
+    // change to 2 at t = 2 computes at once (count 2 ≥ 2), then every 2.
+    let up = settings(|s| s.period_change_at_reach = false);
+    assert_eq!(at(up, 5.0, 1.0, Some((2, 2.0))), [2, 4, 6, 8]);
+}
+
+/// DEC-5: LCM = b2 and LCC = b0 by default; the derivative is forced to 0 in
+/// LCM (and CMV), kept in LCC; the switch swaps the two bits.
+#[test]
+fn s_pid_derivative_modes_follow_dec_5() {
+    let run = |s: ProcessSettings, mode: u16| {
+        let mut p = start_with("S.PID", s);
+        tw(&mut p, 1, mode);
+        tf(&mut p, 56, 2.0);
+        tf(&mut p, 54, 0.0);
+        setf(&mut p, "D0", 40.0);
+        p.scan().scan();
+        tag(&p, 102)
+    };
+    let d = ProcessSettings::default();
+    let swapped = settings(|s| s.mode_lcc_b0 = false);
+    assert_eq!(run(d, 0x4), 0.0, "LCM");
+    assert_eq!(run(d, CMV), 0.0, "CMV");
+    assert!(run(d, 0x1) != 0.0, "LCC");
+    assert!(run(swapped, 0x4) != 0.0, "LCC = b2 when swapped");
+    assert_eq!(run(swapped, 0x1), 0.0, "LCM = b0 when swapped");
+}

@@ -359,10 +359,12 @@ impl Instr for At1 {
             d2: m.block_start(&self.d2, 128)?,
             d3: m.block_start(&self.d3, 22)?,
         };
-        let r = self.sys.run(cx.mem, |m| self.body(m, &a));
-        // DEC-35: BB1 = BB2 ∨ … ∨ BB8 after every execution.
-        let bb = cx.mem.words[a.d1];
-        set_bits(cx.mem, a.d1, 1, bb & ALARMS != 0);
-        r
+        self.sys.run(cx.mem, |m| {
+            self.body(m, &a)?;
+            // DEC-35: BB1 = BB2 ∨ … ∨ BB8 at the end of every execution.
+            let bb = m.words[a.d1];
+            set_bits(m, a.d1, 1, bb & ALARMS != 0);
+            Ok(())
+        })
     }
 }

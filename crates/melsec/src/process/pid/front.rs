@@ -185,22 +185,14 @@ impl Operands {
 
 /// Flat index of device number 0 of the block's device.
 fn device_base(a: &Args<'_, '_>, b: &Block) -> u32 {
-    match &b.start {
-        WordArg::Indexed(ix) => ix.base,
-        _ => {
-            let map = a.map();
-            DeviceKind::ALL
-                .iter()
-                .filter(|k| !k.is_bit() && map.points(**k) > 0)
-                .map(|k| map.base(*k))
-                .find(|&base| {
-                    DeviceKind::ALL.iter().any(|k| {
-                        !k.is_bit() && map.base(*k) == base && base + map.points(*k) == b.limit
-                    })
-                })
-                .unwrap_or(b.limit)
-        }
+    if let WordArg::Indexed(ix) = &b.start {
+        return ix.base;
     }
+    let map = a.map();
+    DeviceKind::ALL
+        .iter()
+        .find(|k| !k.is_bit() && map.points(**k) > 0 && map.base(**k) + map.points(**k) == b.limit)
+        .map_or(b.limit, |k| map.base(*k))
 }
 
 /// The operation-constant words every control instruction has: PN, TRK and
