@@ -10,11 +10,15 @@
 //! no firmware split, L12156-12187) both are held at their previous values.
 
 use softplc_ir::device::DeviceMemory;
+use softplc_ir::layout::At;
 
 use super::front::{past, tag, tag_pos, word, Areas};
 use super::Input;
 use crate::process::common::{real, result, set_f, PcError};
 use crate::process::tag::{alm, LoopTag};
+
+/// ΣDV, S.BPI's +56 (000 §9.6 L11940-11950).
+const SDV: At<f32> = LoopTag::d;
 
 /// ΔMV of S.BPI (processing No. 5).
 pub fn law(m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32, PcError> {
@@ -24,9 +28,9 @@ pub fn law(m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32, PcError> {
     let ip = if frozen {
         real(m, d2 + past::W98, 5)?
     } else {
-        let sdv = result(tag(m, d2, LoopTag::d, 5)? + i.dv, 5)?;
+        let sdv = result(tag(m, d2, SDV, 5)? + i.dv, 5)?;
         let ip = result(i.ct / ti * sdv, 5)?;
-        set_f(m, d2 + LoopTag::d.offset(), sdv);
+        set_f(m, d2 + SDV.offset(), sdv);
         set_f(m, d2 + past::W98, ip);
         ip
     };

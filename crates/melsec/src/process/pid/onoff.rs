@@ -15,11 +15,16 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
+use softplc_ir::layout::At;
 
 use super::front::{put, run, set_bits, tag, tag_pos, word, Areas, Front, Halt, Operands, Pattern};
 use crate::process::common::{get_f, set_f, PcError};
 use crate::process::tag::LoopTag;
 use crate::{Args, ExecCtx, Instr};
+
+/// The hysteresis widths S.ONF2/3 keep at +18/+20 (000 §9.20 L16100-16140).
+const HS0: At<f32> = LoopTag::mh;
+const HS1: At<f32> = LoopTag::ml;
 
 #[derive(Debug)]
 pub struct OnOff {
@@ -45,7 +50,7 @@ impl OnOff {
 
     /// (3) MV′ (processing No. 4).
     fn compensate(&self, m: &DeviceMemory, a: &Areas, dv: f32) -> Result<f32, PcError> {
-        let hs0 = tag_pos(m, a.d2, LoopTag::mh, 4)?;
+        let hs0 = tag_pos(m, a.d2, HS0, 4)?;
         let prev = get_f(m, a.d1);
         Ok(if !self.three {
             if dv > hs0 {
@@ -56,7 +61,7 @@ impl OnOff {
                 prev
             }
         } else {
-            let hs1 = tag_pos(m, a.d2, LoopTag::ml, 4)?;
+            let hs1 = tag_pos(m, a.d2, HS1, 4)?;
             if dv >= hs1 + hs0 {
                 100.0
             } else if dv <= -(hs1 + hs0) {

@@ -15,11 +15,20 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
+use softplc_ir::layout::At;
 
 use super::front::{past, put, run, tag, tag_pos, word, Areas, Front, Halt, Operands, Pattern};
 use crate::process::common::{real, result, set_f, PcError};
 use crate::process::tag::LoopTag;
 use crate::{Args, ExecCtx, Instr};
+
+/// S.R's meanings of loop-tag words (000 §9.7 L12520-12580).
+const SPR: At<f32> = LoopTag::sv;
+const BIAS: At<f32> = LoopTag::dv;
+const DR: At<f32> = LoopTag::dvl;
+const RMAX: At<f32> = LoopTag::p;
+const RMIN: At<f32> = LoopTag::i;
+const RN: At<f32> = LoopTag::d;
 
 #[derive(Debug)]
 pub struct Ratio {
@@ -66,21 +75,21 @@ impl Ratio {
             e2_upper_mv: svptn & 2 == 0,
         };
         let mode = word(m, d2, LoopTag::mode);
-        let rmax = tag(m, d2, LoopTag::p, 2)?;
-        let rmin = tag(m, d2, LoopTag::i, 2)?;
+        let rmax = tag(m, d2, RMAX, 2)?;
+        let rmin = tag(m, d2, RMIN, 2)?;
         let spr = if f.mode.cascade(mode) {
             if pat.e2_used {
                 let e2 = real(m, a.s3, 2)?;
                 let spr = result((rmax - rmin) / 100.0 * e2 + rmin, 2)?;
                 if f.s.cascade_writes_sv {
-                    put(m, d2, LoopTag::sv, spr);
+                    put(m, d2, SPR, spr);
                 }
                 spr
             } else {
-                tag(m, d2, LoopTag::sv, 2)?
+                tag(m, d2, SPR, 2)?
             }
         } else {
-            let spr = tag(m, d2, LoopTag::sv, 3)?;
+            let spr = tag(m, d2, SPR, 3)?;
             if pat.trk && pat.e2_used && f.mode.tracking(mode) {
                 if rmax == rmin {
                     return Err(PcError::divide(3).into());
@@ -90,7 +99,7 @@ impl Ratio {
             }
             spr
         };
-        let dr = tag_pos(m, d2, LoopTag::dvl, 4)?;
+        let dr = tag_pos(m, d2, DR, 4)?;
         let r1 = real(m, d2 + past::W98, 4)?;
         let d = result(spr - r1, 4)?;
         let rn = if d > dr {
@@ -100,10 +109,10 @@ impl Ratio {
         } else {
             spr
         };
-        put(m, d2, LoopTag::d, rn);
+        put(m, d2, RN, rn);
         set_f(m, d2 + past::W98, rn);
         let e1 = real(m, a.s1, 5)?;
-        let bias = tag(m, d2, LoopTag::dv, 5)?;
+        let bias = tag(m, d2, BIAS, 5)?;
         if rmax == rmin {
             return Err(PcError::divide(5).into());
         }

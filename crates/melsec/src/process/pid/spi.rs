@@ -17,11 +17,16 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
+use softplc_ir::layout::At;
 
 use super::front::{past, run, set_bits, tag, word, Areas, Front, Halt, Operands, Pattern};
 use crate::process::common::{count, real, result, set_f, tick, PcError};
 use crate::process::tag::{alm, LoopTag};
 use crate::{Args, ExecCtx, Instr};
+
+/// S.SPI's meanings of +46 and +56 (000 §9.4 L10250-10270).
+const ST: At<f32> = LoopTag::ct;
+const STHT: At<f32> = LoopTag::d;
 
 #[derive(Debug)]
 pub struct Spi {
@@ -46,8 +51,8 @@ impl Spi {
     fn phase(&self, m: &mut DeviceMemory, d2: usize) -> Result<Option<bool>, PcError> {
         let f = &self.f;
         let dt = f.sys.dt(m, 1)?;
-        let stht = tag(m, d2, LoopTag::d, 1)?;
-        let st = tag(m, d2, LoopTag::ct, 1)?;
+        let stht = tag(m, d2, STHT, 1)?;
+        let st = tag(m, d2, ST, 1)?;
         let n = whole(stht, dt, f)?;
         let ns = whole(st, dt, f)?;
         if n == 0 {
