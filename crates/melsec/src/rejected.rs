@@ -23,7 +23,6 @@ const IXDEV: &str = "IXDEV/IXSET build the IX/IXEND offset table from the device
                      not supported";
 const FX: &str = "not a MELSEC-Q instruction (FX series); use the comparison contacts or BKCMP";
 const QNU: &str = "not in the QnH instruction set (Universal model QnU or later)";
-const PROCESS: &str = "process-control instructions (QnPH) are not implemented yet";
 
 /// The rejected instructions.
 pub static DEFS: &[Def] = &[
@@ -94,9 +93,6 @@ pub static DEFS: &[Def] = &[
         "ADRSET",
         "indirect addresses (ADRSET) are not modelled: devices have no memory addresses",
     ),
-    Def::rejected("S.PID", PROCESS).pulse(Pulse::SPrefix),
-    Def::rejected("S.2PID", PROCESS).pulse(Pulse::SPrefix),
-    Def::rejected("S.AT1", PROCESS).pulse(Pulse::SPrefix),
     Def::rejected("CMP", FX),
     Def::rejected("DCMP", FX),
     Def::rejected("ECMP", FX),

@@ -14,16 +14,18 @@
 //! spec §1.3.1), and one module per chapter of the manual.
 
 pub mod arithmetic;
+pub mod autotune;
 pub mod common;
 pub mod comparison;
 pub mod compensation;
-pub mod io;
-pub mod pgs;
-pub mod phpl;
-pub mod sel;
 pub mod dynamics;
+pub mod io;
 pub mod limiters;
 pub mod manual;
+pub mod pgs;
+pub mod phpl;
+pub mod pid;
+pub mod sel;
 pub mod selectors;
 pub mod settings;
 pub mod tag;
@@ -32,8 +34,8 @@ use softplc_lang::isa::Def;
 
 /// The process-control families (a new family is one line here).
 pub static FAMILIES: &[&[Def]] = &[
-    compensation::DEFS,
     io::DEFS,
+    pid::DEFS,
     phpl::DEFS,
     sel::DEFS,
     pgs::DEFS,
@@ -41,8 +43,10 @@ pub static FAMILIES: &[&[Def]] = &[
     selectors::DEFS,
     limiters::DEFS,
     manual::DEFS,
+    compensation::DEFS,
     arithmetic::DEFS,
     comparison::DEFS,
+    autotune::DEFS,
 ];
 
 /// The CPU models that have these instructions.

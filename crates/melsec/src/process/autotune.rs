@@ -1,0 +1,370 @@
+//! Auto-tuning (000 ch. 13): S.AT1, Ziegler-Nichols step response.
+//!
+//! 000 §13.1 S.AT1 L22617-23567 (spec §4.37) `S.AT1 S1 D1 S2 D2 D3`: S1 +0
+//! E1 (PV, %), +2 e1 (b0: 1 start, 0 stop). D1 +0 BB only: BB1 alarm (b0),
+//! BB2 input high, BB3 input low, BB4 output high, BB5 output low, BB6
+//! timeout, BB7 operation mode, BB8 identification, BB16 (b15) AT complete.
+//! S2 +0 PN. D2 the loop tag: MODE, ALM (SPA, HHA, LLA, PHA, PLA), MV +12,
+//! MH +18, ML +20, P/I/D +52/+54/+56 (written), AT1STEPMV +70, AT1ST +72,
+//! AT1TOUT1 +74, AT1TOUT2 +76. D3 22 words of local memory: +0/+1 sampling
+//! counter flag/counter, +2/+3 timeout, +4/+5 post-max-slope timeout, +6
+//! step flag, +7 samples since the step, +8/9 PV0, +10/11 PVn-1, +12/13 the
+//! maximum slope (per sample, signed), +14/15 the sample count at the
+//! maximum (float), +16/17 PV at the maximum, +18/19 R, +20/21 L.
+//!
+//! (1) (e1, BB16): (0,0) clears BB2..BB8 and restores MV if the step was
+//! made; (0,1) clears BB16; (1,1) ends; (1,0) → (2) loop stop: BB16, restore
+//! → (3) A-group: BB7, BB16, restore → (4) PHA/HHA: BB2, PLA/LLA: BB3, BB16,
+//! MV not restored → (5) AT1TOUT1 reached: BB6, BB16, MV not restored → (6)
+//! AT1TOUT2 reached since the last maximum → (10) → (7) the step: T1 = MV +
+//! AT1STEPMV, > MH: BB4, < ML: BB5 (BB16, MV unchanged), else MV := T1,
+//! sample 0 (PV0 = PVn-1 = E1) and the sampling counter starts (DEC-32) →
+//! (8) sampling period reached → (9) T2 = E1 − PVn-1, the extreme slope in
+//! the expected direction (rising for PN = 0 with a positive step or PN = 1
+//! with a negative one) restarts the post-max-slope counter → (10) R′ =
+//! max/AT1ST, R = |R′|/100 (stored per DEC-33), b = PVmax − R′ × count ×
+//! AT1ST, L = (PV0 − b)/R′; R = 0 or L ≤ 0: BB8, BB16, restore → (11) ZN by
+//! the current I and D: P 1/(R·L) × |STEP|/100; PI 0.9/(R·L) × …, TI 3.33·L;
+//! PID 1.2/(R·L) × …, TI 2·L, TD 0.5·L; BB16, restore. Every restore clears
+//! the step flag and every ending the counter flags (DEC-34); BB1 = BB2 ∨ …
+//! ∨ BB8 after every execution (DEC-35).
+
+use softplc_ir::device::DeviceMemory;
+use softplc_ir::fault::Fault;
+use softplc_ir::ops::Block;
+use softplc_lang::isa::{Def, Doc};
+
+use super::common::{area, count, def, real, result, set_f, tick, PcError, Sys};
+use super::pid::front::{put, set_bits, tag, word};
+use super::settings::ProcessSettings;
+use super::tag::{alm, LoopTag, Mode};
+use crate::{Args, ExecCtx, Instr};
+
+static AT1: Doc = Doc {
+    family: "process control: auto-tuning",
+    cite: "000 §13.1 L22617-23567",
+    notes: "ZN step response on MAN loops; sample 0 at the step (DEC-32), R = abs(R′)/100 stored \
+            (DEC-33), MV restored once (DEC-34), BB1 = BB2 ∨ … ∨ BB8 (DEC-35)",
+};
+
+pub static DEFS: &[Def] = &[def("S.AT1", 5, &AT1, At1::compile)];
+
+const BB2: u16 = 1 << 1;
+const BB3: u16 = 1 << 2;
+const BB4: u16 = 1 << 3;
+const BB5: u16 = 1 << 4;
+const BB6: u16 = 1 << 5;
+const BB7: u16 = 1 << 6;
+const BB8: u16 = 1 << 7;
+const BB16: u16 = 1 << 15;
+const ALARMS: u16 = BB2 | BB3 | BB4 | BB5 | BB6 | BB7 | BB8;
+
+/// D3 offsets.
+mod local {
+    pub const SAMPLE_FLAG: usize = 0;
+    pub const SAMPLE: usize = 1;
+    pub const TOUT_FLAG: usize = 2;
+    pub const TOUT: usize = 3;
+    pub const POST_FLAG: usize = 4;
+    pub const POST: usize = 5;
+    pub const STEPPED: usize = 6;
+    pub const COUNT: usize = 7;
+    pub const PV0: usize = 8;
+    pub const PV1: usize = 10;
+    pub const MAX: usize = 12;
+    pub const MAX_COUNT: usize = 14;
+    pub const MAX_PV: usize = 16;
+    pub const R: usize = 18;
+    pub const L: usize = 20;
+}
+
+#[derive(Debug)]
+struct At1 {
+    s: ProcessSettings,
+    mode: Mode,
+    sys: Sys,
+    s1: Block,
+    d1: Block,
+    s2: Block,
+    d2: Block,
+    d3: Block,
+}
+
+#[derive(Clone, Copy)]
+struct Areas {
+    s1: usize,
+    d1: usize,
+    s2: usize,
+    d2: usize,
+    d3: usize,
+}
+
+impl At1 {
+    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+        if !a.count(&[5]) {
+            return None;
+        }
+        let s: ProcessSettings = a.setting();
+        let sys = Sys::new(a)?;
+        let s1 = area(a, 0, 3, "input data");
+        let d1 = area(a, 1, 1, "block memory");
+        let s2 = area(a, 2, 1, "operation constants");
+        let d2 = area(a, 3, 128, "loop memory");
+        let d3 = area(a, 4, 22, "local work memory");
+        if !s.at1_bb1_or {
+            a.error(
+                0,
+                "S.AT1: at1_bb1_or = false asks for a BB1 the manual does not describe \
+                 (000 §13.1 L22749 names BB1 \"alarm\" only); only DEC-35 is implemented",
+            );
+            return None;
+        }
+        Some(Box::new(At1 {
+            s,
+            mode: Mode::new(&s),
+            sys,
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+            d2: d2?,
+            d3: d3?,
+        }))
+    }
+
+    /// MV := MV − AT1STEPMV when the step was made; the step flag := 0
+    /// (DEC-34).
+    fn restore(&self, m: &mut DeviceMemory, a: &Areas, step: u16) -> Result<(), PcError> {
+        if m.words[a.d3 + local::STEPPED] == 1 {
+            let mv = tag(m, a.d2, LoopTag::mv, step)?;
+            let st = tag(m, a.d2, LoopTag::at1_step_mv, step)?;
+            put(m, a.d2, LoopTag::mv, result(mv - st, step)?);
+            if self.s.at1_restore_clears_flags {
+                m.words[a.d3 + local::STEPPED] = 0;
+            }
+        }
+        Ok(())
+    }
+
+    /// An ending: the bits `bits` and BB16 := 1, the counter flags cleared
+    /// (DEC-34).
+    fn end(&self, m: &mut DeviceMemory, a: &Areas, bits: u16) {
+        m.words[a.d1] |= bits | BB16;
+        self.clear_flags(m, a);
+    }
+
+    fn clear_flags(&self, m: &mut DeviceMemory, a: &Areas) {
+        if self.s.at1_restore_clears_flags {
+            for k in [local::SAMPLE_FLAG, local::TOUT_FLAG, local::POST_FLAG] {
+                m.words[a.d3 + k] = 0;
+            }
+        }
+    }
+
+    /// Starts (or restarts) the counter whose flag is at D3 + `flag`.
+    fn start(
+        &self,
+        m: &mut DeviceMemory,
+        a: &Areas,
+        flag: usize,
+        p: f32,
+        dt: f32,
+        step: u16,
+    ) -> Result<(), PcError> {
+        let s = self.s;
+        m.words[a.d3 + flag] = 0;
+        tick(m, a.d3 + flag, a.d3 + flag + 1, &s, || {
+            count(p, dt, false, &s, step)
+        })?;
+        Ok(())
+    }
+
+    fn body(&self, m: &mut DeviceMemory, a: &Areas) -> Result<(), PcError> {
+        let e1_on = m.words[a.s1 + 2] & 1 != 0;
+        let done = m.words[a.d1] & BB16 != 0;
+        match (e1_on, done) {
+            (false, false) => {
+                set_bits(m, a.d1, ALARMS, false);
+                self.restore(m, a, 1)?;
+                self.clear_flags(m, a);
+                return Ok(());
+            }
+            (false, true) => {
+                set_bits(m, a.d1, BB16, false);
+                return Ok(());
+            }
+            (true, true) => return Ok(()),
+            (true, false) => {}
+        }
+        let d2 = a.d2;
+        let al = word(m, d2, LoopTag::alm);
+        if al & alm::SPA != 0 {
+            self.restore(m, a, 1)?;
+            self.end(m, a, 0);
+            return Ok(());
+        }
+        if !self.mode.manual(word(m, d2, LoopTag::mode)) {
+            self.restore(m, a, 1)?;
+            self.end(m, a, BB7);
+            return Ok(());
+        }
+        if al & (alm::PHA | alm::HHA) != 0 {
+            self.end(m, a, BB2);
+            return Ok(());
+        }
+        if al & (alm::PLA | alm::LLA) != 0 {
+            self.end(m, a, BB3);
+            return Ok(());
+        }
+        let s = self.s;
+        let dt = self.sys.dt(m, 2)?;
+        let tout1 = tag(m, d2, LoopTag::at1_tout1, 2)?;
+        let d3 = a.d3;
+        let t = tick(m, d3 + local::TOUT_FLAG, d3 + local::TOUT, &s, || {
+            count(tout1, dt, false, &s, 2)
+        })?;
+        if t.reached {
+            self.end(m, a, BB6);
+            return Ok(());
+        }
+        if m.words[d3 + local::POST_FLAG] != 0 {
+            let dt = self.sys.dt(m, 3)?;
+            let tout2 = tag(m, d2, LoopTag::at1_tout2, 3)?;
+            let t = tick(m, d3 + local::POST_FLAG, d3 + local::POST, &s, || {
+                count(tout2, dt, false, &s, 3)
+            })?;
+            if t.reached {
+                return self.identify(m, a);
+            }
+        }
+        let ast = tag(m, d2, LoopTag::at1_st, 5)?;
+        if m.words[d3 + local::STEPPED] != 1 {
+            let mv = tag(m, d2, LoopTag::mv, 4)?;
+            let step = tag(m, d2, LoopTag::at1_step_mv, 4)?;
+            let mh = tag(m, d2, LoopTag::mh, 4)?;
+            let ml = tag(m, d2, LoopTag::ml, 4)?;
+            let e1 = real(m, a.s1, 4)?;
+            let t1 = result(mv + step, 4)?;
+            if t1 > mh {
+                self.end(m, a, BB4);
+                return Ok(());
+            }
+            if t1 < ml {
+                self.end(m, a, BB5);
+                return Ok(());
+            }
+            put(m, d2, LoopTag::mv, t1);
+            m.words[d3 + local::STEPPED] = 1;
+            m.words[d3 + local::COUNT] = 0;
+            set_f(m, d3 + local::PV0, e1);
+            set_f(m, d3 + local::PV1, e1);
+            for k in [
+                local::MAX,
+                local::MAX_COUNT,
+                local::MAX_PV,
+                local::R,
+                local::L,
+            ] {
+                set_f(m, d3 + k, 0.0);
+            }
+            if s.at1_step_starts_sampling {
+                self.start(m, a, local::SAMPLE_FLAG, ast, dt, 5)?;
+            }
+            return Ok(());
+        }
+        let t = tick(m, d3 + local::SAMPLE_FLAG, d3 + local::SAMPLE, &s, || {
+            count(ast, dt, false, &s, 5)
+        })?;
+        if !t.reached {
+            return Ok(());
+        }
+        // (9) observation.
+        let n = m.words[d3 + local::COUNT].saturating_add(1);
+        m.words[d3 + local::COUNT] = n;
+        let e1 = real(m, a.s1, 6)?;
+        let pv1 = real(m, d3 + local::PV1, 6)?;
+        let t2 = result(e1 - pv1, 6)?;
+        set_f(m, d3 + local::PV1, e1);
+        let step = tag(m, d2, LoopTag::at1_step_mv, 6)?;
+        let pn = m.words[a.s2];
+        if pn > 1 {
+            return Err(PcError::range(6));
+        }
+        let forward = pn == 1;
+        let rising = (!forward && step > 0.0) || (forward && step < 0.0);
+        let max = real(m, d3 + local::MAX, 6)?;
+        if (rising && t2 > max) || (!rising && t2 < max) {
+            set_f(m, d3 + local::MAX, t2);
+            set_f(m, d3 + local::MAX_COUNT, n as f32);
+            set_f(m, d3 + local::MAX_PV, e1);
+            let tout2 = tag(m, d2, LoopTag::at1_tout2, 3)?;
+            self.start(m, a, local::POST_FLAG, tout2, dt, 3)?;
+        }
+        Ok(())
+    }
+
+    /// (10) identification and (11) the PID constants.
+    fn identify(&self, m: &mut DeviceMemory, a: &Areas) -> Result<(), PcError> {
+        let (d2, d3) = (a.d2, a.d3);
+        let ast = tag(m, d2, LoopTag::at1_st, 7)?;
+        if ast == 0.0 {
+            return Err(PcError::divide(7));
+        }
+        let max = real(m, d3 + local::MAX, 7)?;
+        let r1 = result(max / ast, 7)?;
+        let r = r1.abs() / 100.0;
+        set_f(m, d3 + local::R, if self.s.at1_stores_r { r } else { r1 });
+        if r == 0.0 {
+            self.restore(m, a, 7)?;
+            self.end(m, a, BB8);
+            return Ok(());
+        }
+        let pv0 = real(m, d3 + local::PV0, 7)?;
+        let pvm = real(m, d3 + local::MAX_PV, 7)?;
+        let cnt = real(m, d3 + local::MAX_COUNT, 7)?;
+        let b = result(pvm - r1 * (cnt * ast), 7)?;
+        let l = result((pv0 - b) / r1, 7)?;
+        set_f(m, d3 + local::L, l);
+        if l <= 0.0 {
+            self.restore(m, a, 7)?;
+            self.end(m, a, BB8);
+            return Ok(());
+        }
+        let ti = tag(m, d2, LoopTag::i, 8)?;
+        let td = tag(m, d2, LoopTag::d, 8)?;
+        let step = tag(m, d2, LoopTag::at1_step_mv, 8)?;
+        let (c, ti, td) = if ti == 0.0 {
+            (1.0, 0.0, 0.0)
+        } else if td == 0.0 {
+            (0.9, 3.33 * l, 0.0)
+        } else {
+            (1.2, 2.0 * l, 0.5 * l)
+        };
+        let kp = result(c / (r * l) * (step.abs() / 100.0), 8)?;
+        put(m, d2, LoopTag::p, kp);
+        put(m, d2, LoopTag::i, result(ti, 8)?);
+        put(m, d2, LoopTag::d, result(td, 8)?);
+        self.restore(m, a, 8)?;
+        self.end(m, a, 0);
+        Ok(())
+    }
+}
+
+impl Instr for At1 {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let m = &*cx.mem;
+        let a = Areas {
+            s1: m.block_start(&self.s1, 3)?,
+            d1: m.block_start(&self.d1, 1)?,
+            s2: m.block_start(&self.s2, 1)?,
+            d2: m.block_start(&self.d2, 128)?,
+            d3: m.block_start(&self.d3, 22)?,
+        };
+        self.sys.run(cx.mem, |m| {
+            self.body(m, &a)?;
+            // DEC-35: BB1 = BB2 ∨ … ∨ BB8 at the end of every execution.
+            let bb = m.words[a.d1];
+            set_bits(m, a.d1, 1, bb & ALARMS != 0);
+            Ok(())
+        })
+    }
+}
