@@ -42,6 +42,7 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/", get(crate::pages::ladder))
         .route("/overview", get(crate::pages::overview))
         .route("/devices", get(crate::pages::devices))
+        .route("/trend", get(crate::pages::trend))
         .route("/monitor.js", get(crate::pages::script))
         .route("/monitor.css", get(crate::pages::style))
         .route("/api/v1/status", get(status))

@@ -441,7 +441,14 @@ async fn pages_and_unknown_routes() {
     let r = get(s.addr, "/").await;
     assert_eq!(r.status, 200);
     assert!(r.headers.to_ascii_lowercase().contains("text/html"));
-    for p in ["/overview", "/devices", "/monitor.js", "/monitor.css"] {
+    for p in [
+        "/overview",
+        "/devices",
+        "/devices?start=X0&count=16",
+        "/trend?names=D100",
+        "/monitor.js",
+        "/monitor.css",
+    ] {
         assert_eq!(get(s.addr, p).await.status, 200, "{p}");
     }
     let r = get(s.addr, "/api/v1/nope").await;
