@@ -43,6 +43,7 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/overview", get(crate::pages::overview))
         .route("/devices", get(crate::pages::devices))
         .route("/trend", get(crate::pages::trend))
+        .route("/loops", get(crate::loops::page))
         .route("/monitor.js", get(crate::pages::script))
         .route("/monitor.css", get(crate::pages::style))
         .route("/api/v1/status", get(status))
@@ -88,12 +89,21 @@ async fn not_found() -> Response {
     error(StatusCode::NOT_FOUND, "no such page or API route")
 }
 
-/// Runs `f` at the next END; a full queue is 503.
+/// Longest a request waits for an END (a scan stuck in an endless loop).
+pub const END_WAIT: Duration = Duration::from_secs(10);
+
+/// Runs `f` at the next END; a full queue, or no END within [`END_WAIT`], is 503.
 async fn at_end<R: Send + 'static>(
     app: &App,
     f: impl FnOnce(&mut ServeState) -> R + Send + 'static,
 ) -> Result<R, Response> {
-    app.engine.at_end(f).await.map_err(|_| busy())
+    match tokio::time::timeout(END_WAIT, app.engine.at_end(f)).await {
+        Ok(r) => r.map_err(|_| busy()),
+        Err(_) => Err(error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the CPU did not reach END in time (a scan that does not end?)",
+        )),
+    }
 }
 
 /// Contract §3.1: no token configured → 403; a missing or wrong bearer → 401.
@@ -184,6 +194,7 @@ async fn status(State(app): Shared) -> Response {
             "forced": forced_json(s),
             "breakpoint": breakpoint_json(s),
             "overruns": s.stats.overruns,
+            "watched": s.ext::<Monitor>().watched(),
         })
     })
     .await;

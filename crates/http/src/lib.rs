@@ -10,6 +10,7 @@
 
 pub mod api;
 pub mod ladder;
+pub mod loops;
 pub mod monitor;
 pub mod pages;
 pub mod values;

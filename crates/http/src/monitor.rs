@@ -173,6 +173,13 @@ pub struct Monitor {
     seq: u64,
 }
 
+impl Monitor {
+    /// Devices SSE clients watch now (read at each published END).
+    pub fn watched(&self) -> usize {
+        self.subs.len()
+    }
+}
+
 /// Installs the END hook (once, from the server's first request).
 pub fn install(s: &mut ServeState, tx: watch::Sender<Arc<Snapshot>>) {
     let m = s.ext::<Monitor>();

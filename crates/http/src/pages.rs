@@ -32,7 +32,13 @@ pub(crate) fn esc(s: &str) -> String {
 }
 
 /// The page frame: navigation, the CPU bar (state, scan, buttons, token).
-fn frame(app: &App, title: &str, page: &str, names: &[String], body: &str) -> Html<String> {
+pub(crate) fn frame(
+    app: &App,
+    title: &str,
+    page: &str,
+    names: &[String],
+    body: &str,
+) -> Html<String> {
     let mut uniq: Vec<&str> = Vec::new();
     for n in names.iter().take(crate::values::MAX_NAMES) {
         if !uniq.contains(&n.as_str()) {
@@ -49,6 +55,7 @@ fn frame(app: &App, title: &str, page: &str, names: &[String], body: &str) -> Ht
         ("/overview", "Overview"),
         ("/devices", "Devices"),
         ("/trend", "Trend"),
+        ("/loops", "Loops"),
     ]
     .iter()
     .map(|(h, t)| {
@@ -169,12 +176,12 @@ pub async fn overview(State(app): State<Arc<App>>) -> Response {
 }
 
 /// Hexadecimal device kinds of MELSEC names (`--show` §2).
-fn hex_kind(prefix: &str) -> bool {
+pub(crate) fn hex_kind(prefix: &str) -> bool {
     matches!(prefix, "X" | "Y" | "B" | "W" | "SB" | "SW" | "DX" | "DY")
 }
 
 /// `D100` → ("D", 100), `X1F` → ("X", 31).
-fn split_name(name: &str) -> Option<(String, u32)> {
+pub(crate) fn split_name(name: &str) -> Option<(String, u32)> {
     let u = name.trim().to_ascii_uppercase();
     let at = u.find(|c: char| c.is_ascii_digit())?;
     let (p, n) = u.split_at(at);

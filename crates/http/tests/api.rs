@@ -429,6 +429,18 @@ async fn events_stream_only_the_requested_names_2_to_10_per_second() {
         span <= Duration::from_millis(2500),
         "at least 2/s: {span:?}"
     );
+    // The stream closed: its names are no longer read at END.
+    let mut watched = 1;
+    for _ in 0..100 {
+        watched = get(s.addr, "/api/v1/status").await.json()["watched"]
+            .as_u64()
+            .unwrap();
+        if watched == 0 {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    assert_eq!(watched, 0, "unsubscribed when the client went away");
     // A write shows in the stream.
     send(s.addr, "POST", "/api/v1/force", Some(r#"{"X0": true}"#)).await;
     let (_, ev) = sse(s.addr, "/api/v1/events?names=Y0", 2).await;
@@ -446,6 +458,7 @@ async fn pages_and_unknown_routes() {
         "/devices",
         "/devices?start=X0&count=16",
         "/trend?names=D100",
+        "/loops",
         "/monitor.js",
         "/monitor.css",
     ] {
@@ -454,4 +467,42 @@ async fn pages_and_unknown_routes() {
     let r = get(s.addr, "/api/v1/nope").await;
     assert_eq!(r.status, 404);
     assert!(r.json()["error"].is_string());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bad_page_requests_are_400() {
+    let s = start(None);
+    for p in [
+        "/devices?start=zz",
+        "/devices?names=D0,QQ",
+        "/trend?names=QQ",
+    ] {
+        let r = get(s.addr, p).await;
+        assert_eq!(r.status, 400, "{p}");
+        assert!(
+            r.body.contains("QQ") || r.body.contains("zz"),
+            "{p}: the page names it"
+        );
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn ladder_and_loop_pages_carry_element_ids_and_names() {
+    let s = start_program(
+        "LD X0\nOUT Y0\nLD SM400\nMOV K2 D500\nPIDINIT D500\nPIDCONT D600\nEND\n",
+        None,
+    );
+    let r = get(s.addr, "/").await;
+    assert!(r.body.contains(r#"id="e0-0" data-dev="X0""#), "{}", r.body);
+    assert!(
+        r.body.contains(r#"data-names="X0,Y0,SM400,D500,D600""#),
+        "{}",
+        r.body
+    );
+    let r = get(s.addr, "/loops").await;
+    assert_eq!(r.status, 200);
+    // Two loops (D500 = 2): loop 2's SV is D600 + 10 + 18.
+    assert!(r.body.contains("PIDCONT D600 loop 2"), "{}", r.body);
+    assert!(r.body.contains(r#"data-v="D628""#));
+    assert!(r.body.contains(r#"data-v="D512""#), "loop 2's action word");
 }

@@ -165,6 +165,24 @@
     });
     $$("[data-v]").forEach((el) => { el.textContent = show(values[el.dataset.v], el.dataset.fmt); });
     if (page === "trend") trendAdd(dev);
+    if (page === "loops") loopsUpdate();
+  }
+
+  // --- loop faceplates: bars over 0..2000 (the PID digital range), mode, alarms, a small trend ---
+  const loopHist = new Map();
+  function loopsUpdate() {
+    $$("[data-bar]").forEach((b) => { const v = values[b.dataset.bar]; if (typeof v === "number") b.style.width = Math.max(0, Math.min(100, v / 20)) + "%"; });
+    $$("[data-mode]").forEach((td) => { const v = values[td.dataset.mode]; td.textContent = v === 1 ? "AUTO" : v === 0 ? "MANUAL" : ""; });
+    $$("[data-alarm]").forEach((td) => { const v = values[td.dataset.alarm] || 0;
+      td.textContent = [(v & 1) ? "PV rate" : "", (v & 2) ? "MV rate" : ""].filter((x) => x).join(", ");
+      td.classList.toggle("on", v !== 0); });
+    $$("svg.ltrend").forEach((svg) => {
+      const h = loopHist.get(svg) || []; loopHist.set(svg, h);
+      h.push([values[svg.dataset.sv], values[svg.dataset.pv], values[svg.dataset.mv]]);
+      if (h.length > 300) h.shift();
+      const pts = (i) => h.map((s, k) => (k * 320 / 299).toFixed(1) + "," + (88 - Math.max(0, Math.min(2000, s[i] || 0)) / 2000 * 86).toFixed(1)).join(" ");
+      svg.innerHTML = ["#36c", "#0a7", "#c80"].map((c, i) => '<polyline fill="none" stroke="' + c + '" points="' + pts(i) + '"/>').join("");
+    });
   }
   if (names) {
     const es = new EventSource("/api/v1/events?names=" + encodeURIComponent(names));
