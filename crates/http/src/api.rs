@@ -140,8 +140,18 @@ fn equal(a: &[u8], b: &[u8]) -> bool {
     a.len() == b.len() && a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
 }
 
-/// Parses a JSON body; malformed JSON is 400.
-fn body<T: serde::de::DeserializeOwned>(bytes: &[u8], what: &str) -> Result<T, Response> {
+/// A request body, or why it was refused (413 over [`crate::BODY_LIMIT`]).
+type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
+
+/// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
+/// with `{"error": ...}`.
+fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, Response> {
+    let bytes = bytes.as_ref().map_err(|r| {
+        error(
+            r.status(),
+            format!("request body refused: {}", r.body_text()),
+        )
+    })?;
     serde_json::from_slice(bytes).map_err(|e| bad(format!("malformed JSON body ({what}): {e}")))
 }
 
@@ -255,7 +265,7 @@ fn write_all(s: &mut ServeState, writes: &[(DeviceSpec, Value)]) -> Result<u64, 
     Ok(s.cpu.scans())
 }
 
-async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Bytes) -> Response {
+async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
     }
@@ -294,7 +304,7 @@ async fn list_forces(State(app): Shared) -> Response {
     }
 }
 
-async fn force(State(app): Shared, headers: HeaderMap, bytes: Bytes) -> Response {
+async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
     }
@@ -343,7 +353,7 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Bytes) -> Response
     }
 }
 
-async fn release(State(app): Shared, headers: HeaderMap, bytes: Bytes) -> Response {
+async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
     }
@@ -459,7 +469,7 @@ async fn get_breakpoint(State(app): Shared) -> Response {
 
 /// Extension (docs/web-monitor.md): `{"when": "D0 >= 100"}` pauses the CPU
 /// at the END where the condition becomes true.
-async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Bytes) -> Response {
+async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
     }

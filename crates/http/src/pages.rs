@@ -92,7 +92,15 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     body.push_str(r#"<div class="tabs">"#);
     for (i, p) in progs.iter().enumerate() {
         let cls = if i == pi { " class=\"cur\"" } else { "" };
-        let _ = write!(body, r#"<a href="/?prog={i}"{cls}>{}</a>"#, esc(&p.file));
+        let name = std::path::Path::new(&p.file)
+            .file_name()
+            .map_or(p.file.clone(), |n| n.to_string_lossy().into_owned());
+        let _ = write!(
+            body,
+            r#"<a href="/?prog={i}"{cls} title="{}">{}</a>"#,
+            esc(&p.file),
+            esc(&name)
+        );
     }
     body.push_str("</div>");
     let Some(prog) = progs.get(pi) else {

@@ -207,6 +207,7 @@ async fn oversized_bodies_are_refused() {
     let big = format!("{{\"D0\": 1, \"pad\": \"{}\"}}", "x".repeat(200_000));
     let r = send(s.addr, "POST", "/api/v1/devices", Some(&big)).await;
     assert_eq!(r.status, 413, "{}", r.body);
+    assert!(r.json()["error"].as_str().unwrap().contains("body"));
     let j = get(s.addr, "/api/v1/devices?names=D0").await.json();
     assert_eq!(j["devices"]["D0"], 0);
 }

@@ -24,6 +24,8 @@ pub struct Grid<'a> {
     pub links: Vec<(usize, usize, usize)>,
     /// A standalone instruction (END, FEND, MCR …) across the rung.
     pub standalone: Option<&'a Elem>,
+    /// The rung laid out.
+    pub rung: Option<&'a Rung>,
 }
 
 fn size(n: &Net) -> (usize, usize) {
@@ -82,6 +84,7 @@ impl<'a> Grid<'a> {
                 let mut g = Grid {
                     cols: fan_width(f).max(1),
                     rows: fan_height(f),
+                    rung: Some(rung),
                     ..Grid::default()
                 };
                 g.fan(f, 0, 0);

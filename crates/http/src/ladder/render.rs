@@ -6,6 +6,7 @@
 
 use std::fmt::Write;
 
+use super::build::{Fan, Item, Net, Rung, RungBody};
 use super::grid::{Cell, Grid};
 use super::{Elem, Kind};
 
@@ -229,6 +230,35 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
     out.push_str("</g>");
 }
 
+/// The rung's structure for the page's power-flow script: a net is an
+/// element id, `{"s": [...]}` (series) or `{"p": [...]}` (parallel); a fan is
+/// `{"f": net or null, "i": [output id or fan, ...]}`.
+pub fn structure(rung: &Rung) -> serde_json::Value {
+    use serde_json::json;
+    fn net(n: &Net) -> serde_json::Value {
+        match n {
+            Net::Elem(e) => json!(e.id),
+            Net::Series(v) => json!({ "s": v.iter().map(net).collect::<Vec<_>>() }),
+            Net::Parallel(v) => json!({ "p": v.iter().map(net).collect::<Vec<_>>() }),
+        }
+    }
+    fn fan(f: &Fan) -> serde_json::Value {
+        let items: Vec<_> = f
+            .items
+            .iter()
+            .map(|i| match i {
+                Item::Out(e) => json!(e.id),
+                Item::Fan(c) => fan(c),
+            })
+            .collect();
+        json!({ "f": f.prefix.as_ref().map(net), "i": items })
+    }
+    match &rung.body {
+        RungBody::Fan(f) => fan(f),
+        RungBody::Standalone(_) => serde_json::Value::Null,
+    }
+}
+
 /// The rung as SVG (`prog`: program index, for element ids).
 pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) -> String {
     let left = 44;
@@ -237,8 +267,12 @@ pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) 
     let mut s = String::new();
     let _ = write!(
         s,
-        r#"<svg class="rung" id="r{prog}-{index}" data-line="{line}" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
+        r#"<svg class="rung" id="r{prog}-{index}" data-line="{line}" width="{width}" height="{height}" viewBox="0 0 {width} {height}""#
     );
+    if let Some(r) = g.rung {
+        let _ = write!(s, r#" data-net="{}""#, esc(&structure(r).to_string()));
+    }
+    s.push('>');
     let _ = write!(
         s,
         r#"<text class="ln" x="2" y="14">{}</text><line class="rail" x1="{}" y1="0" x2="{}" y2="{height}"/>"#,

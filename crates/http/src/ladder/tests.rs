@@ -111,4 +111,19 @@ fn svg_has_an_element_per_contact_and_coil() {
     assert!(svg.contains(r#"class="el k-coil" id="e0-2" data-dev="T0""#));
     assert!(svg.contains(r#"data-v="TN0""#));
     assert!(svg.contains(r#"data-v="D0""#));
+    // The structure for the power-flow script: X0 and /X1 in series, then
+    // the timer coil and the MOV box.
+    assert_eq!(
+        render::structure(&p.rungs[0]),
+        serde_json::json!({"f": {"s": [0, 1]}, "i": [2, 3]})
+    );
+    assert!(svg.contains("data-net=\"{&quot;f&quot;"), "{svg}");
+    let s =
+        softplc_core::program::il::parse_il("t.il", "LD X0\nMPS\nAND X1\nOUT Y0\nMPP\nOUT Y1\n")
+            .unwrap();
+    let p = LadderProgram::from_source(&s);
+    assert_eq!(
+        render::structure(&p.rungs[0]),
+        serde_json::json!({"f": 0, "i": [{"f": 1, "i": [2]}, 3]})
+    );
 }

@@ -147,6 +147,31 @@
     if (typeof v === "number" && !Number.isInteger(v)) return v.toPrecision(7).replace(/\.?0+$/, "");
     return String(v);
   }
+  // Power flow from the left rail: a closed contact passes power, series
+  // needs all, parallel any; INV inverts; outputs and boxes with power get "pw".
+  function powerFlow() {
+    $$("svg.rung[data-net]").forEach((svg) => {
+      const prog = svg.id.slice(1).split("-")[0];
+      const el = (id) => document.getElementById("e" + prog + "-" + id);
+      const net = (n, p) => {
+        if (typeof n === "number") {
+          const g = el(n); if (!g) return p;
+          const k = g.classList;
+          const out = k.contains("k-mod") ? (g.dataset.m === "INV" ? !p : p) : p && k.contains("on");
+          k.toggle("pw", p);
+          return out;
+        }
+        if (n.s) return n.s.reduce((q, m) => net(m, q), p);
+        if (n.p) return n.p.map((m) => net(m, p)).some((x) => x);
+        return p;
+      };
+      const fan = (f, p) => {
+        const q = f.f == null ? p : net(f.f, p);
+        f.i.forEach((i) => { if (typeof i === "number") { const g = el(i); if (g) g.classList.toggle("pw", q); } else fan(i, q); });
+      };
+      try { fan(JSON.parse(svg.dataset.net), true); } catch (e) {}
+    });
+  }
   function markForced() {
     $$(".el").forEach((g) => g.classList.toggle("forced", g.dataset.dev in forced));
     $$("td.fx").forEach((td) => { const f = forced[td.dataset.f]; td.textContent = f === undefined ? "" : "forced " + (f ? "ON" : "OFF"); });
@@ -163,6 +188,7 @@
       else on = v === true;
       k.toggle("on", on === true);
     });
+    powerFlow();
     $$("[data-v]").forEach((el) => { el.textContent = show(values[el.dataset.v], el.dataset.fmt); });
     if (page === "trend") trendAdd(dev);
     if (page === "loops") loopsUpdate();
