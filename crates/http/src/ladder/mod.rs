@@ -22,7 +22,7 @@ pub mod render;
 
 use std::path::Path;
 
-use softplc_core::program::{Source, SourceItem};
+use softplc_core::program::{Dialect, Source, SourceItem};
 
 pub use build::{build, Fan, Item, Net, Rung, RungBody};
 
@@ -99,15 +99,24 @@ pub struct LadderProgram {
 impl LadderProgram {
     /// Lays out a parsed file (MELSEC-Q instruction classes).
     pub fn from_source(src: &Source) -> LadderProgram {
-        let dialect = softplc_core::program::dialect_for("Q06HCPU", Default::default());
+        LadderProgram::from_source_in(src, softplc_core::instructions::dialect())
+    }
+
+    /// Lays out a parsed file with the instruction classes of `dialect`.
+    pub fn from_source_in(src: &Source, dialect: &Dialect) -> LadderProgram {
         LadderProgram {
             file: src.file.clone(),
-            rungs: build(src, &dialect),
+            rungs: build(src, dialect),
         }
     }
 
-    /// Reads and lays out a program file (`.csv` or `.il`).
+    /// Reads and lays out a program file (`.csv` or `.il`) as MELSEC-Q.
     pub fn from_file(path: &Path) -> Result<LadderProgram, String> {
+        LadderProgram::from_file_in(path, softplc_core::instructions::dialect())
+    }
+
+    /// Reads and lays out a program file in `dialect`.
+    pub fn from_file_in(path: &Path, dialect: &Dialect) -> Result<LadderProgram, String> {
         let name = path.display().to_string();
         let is_csv = path
             .extension()
@@ -128,7 +137,7 @@ impl LadderProgram {
             d.first()
                 .map_or_else(|| "cannot parse".to_string(), |d| d.to_string())
         })?;
-        Ok(LadderProgram::from_source(&src))
+        Ok(LadderProgram::from_source_in(&src, dialect))
     }
 
     /// Every device the program names, once, in order of appearance.
@@ -149,12 +158,14 @@ impl LadderProgram {
 }
 
 /// The ladder of every program file of `cpu`, read again from the files it
-/// was compiled from (a file that cannot be read shows as a note).
+/// was compiled from (a file that cannot be read shows as a note), with the
+/// instruction classes of the CPU model's dialect.
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
+    let dialect = softplc_core::program::dialect_for(&cpu.config().model, Default::default());
     (0..cpu.program_count())
         .map(|i| {
             let file = &cpu.program_at(i).file;
-            LadderProgram::from_file(Path::new(file)).unwrap_or_else(|e| {
+            LadderProgram::from_file_in(Path::new(file), &dialect).unwrap_or_else(|e| {
                 eprintln!("softplc: --http: no ladder for {file}: {e}");
                 LadderProgram {
                     file: file.clone(),
