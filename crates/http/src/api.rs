@@ -10,6 +10,7 @@
 // Handlers answer with a `Response` either way; the error side is the reply.
 #![allow(clippy::result_large_err)]
 
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -523,7 +524,11 @@ struct Subscription {
 
 impl Drop for Subscription {
     fn drop(&mut self) {
+        self.app.streams.fetch_sub(1, Ordering::Relaxed);
         let names = std::mem::take(&mut self.names);
+        if names.is_empty() {
+            return;
+        }
         let app = self.app.clone();
         if let Ok(rt) = tokio::runtime::Handle::try_current() {
             rt.spawn(async move {
@@ -544,16 +549,25 @@ async fn events(State(app): Shared, Query(q): Q) -> Response {
     };
     let mut names: Vec<String> = specs.iter().map(|d| d.text.clone()).collect();
     names.dedup();
+    if app.streams.fetch_add(1, Ordering::Relaxed) >= crate::MAX_STREAMS {
+        app.streams.fetch_sub(1, Ordering::Relaxed);
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("at most {} event streams at once", crate::MAX_STREAMS),
+        );
+    }
+    // From here the guard gives the stream and its names back when dropped.
+    let mut guard = Subscription {
+        app: app.clone(),
+        names: Vec::new(),
+    };
     let sub = specs.clone();
     match at_end(&app, move |s| monitor::subscribe(s, &sub)).await {
         Ok(Ok(())) => {}
         Ok(Err(e)) => return bad(e),
         Err(e) => return e,
     }
-    let guard = Subscription {
-        app: app.clone(),
-        names: specs.iter().map(|d| d.text.clone()).collect(),
-    };
+    guard.names = specs.iter().map(|d| d.text.clone()).collect();
     let mut rx = app.snapshots.clone();
     rx.mark_unchanged();
     let stream =

@@ -40,7 +40,12 @@ pub struct App {
     pub cfg: HttpConfig,
     pub engine: EngineHandle,
     pub snapshots: tokio::sync::watch::Receiver<Arc<monitor::Snapshot>>,
+    /// Open event streams (at most [`MAX_STREAMS`]).
+    pub streams: std::sync::atomic::AtomicUsize,
 }
+
+/// Most event streams open at once; more are 503.
+pub const MAX_STREAMS: usize = 128;
 
 /// The web monitor as a `softplc-serve` listener on `addr`.
 pub fn listener(addr: SocketAddr, cfg: HttpConfig) -> Listener {
@@ -63,5 +68,6 @@ pub async fn start(cfg: HttpConfig, engine: EngineHandle) -> Result<Arc<App>, so
         cfg,
         engine,
         snapshots: rx,
+        streams: Default::default(),
     }))
 }

@@ -259,12 +259,26 @@ pub fn start_step(s: &mut ServeState, n: u64) -> Result<oneshot::Receiver<StepDo
     Ok(rx)
 }
 
+/// Most distinct devices all SSE clients together watch (bounds the work
+/// of one published END).
+pub const MAX_WATCHED: usize = 4096;
+
 /// Adds subscribers of `specs` (each must be readable now).
 pub fn subscribe(s: &mut ServeState, specs: &[DeviceSpec]) -> Result<(), String> {
     for d in specs {
         s.cpu.read_device(d)?;
     }
     let m = s.ext::<Monitor>();
+    let fresh = specs
+        .iter()
+        .filter(|d| !m.subs.iter().any(|(e, _)| e.text == d.text))
+        .count();
+    if m.subs.len() + fresh > MAX_WATCHED {
+        return Err(format!(
+            "the monitor watches {} devices already; at most {MAX_WATCHED}",
+            m.subs.len()
+        ));
+    }
     for d in specs {
         match m.subs.iter_mut().find(|(e, _)| e.text == d.text) {
             Some((_, n)) => *n += 1,
