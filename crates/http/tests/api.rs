@@ -113,9 +113,14 @@ async fn a_missing_or_wrong_token_is_401_and_cookies_never_authorise() {
         ("POST", "/api/v1/devices", r#"{"D0": 5}"#),
         ("POST", "/api/v1/force", r#"{"X0": true}"#),
         ("DELETE", "/api/v1/force", r#"["X0"]"#),
+        ("POST", "/api/v1/cpu/run", ""),
         ("POST", "/api/v1/cpu/stop", ""),
+        ("POST", "/api/v1/cpu/pause", ""),
+        ("POST", "/api/v1/cpu/reset", ""),
         ("POST", "/api/v1/cpu/step", ""),
+        ("POST", "/api/v1/cpu/step?scans=2", ""),
         ("POST", "/api/v1/breakpoint", r#"{"when": "M0"}"#),
+        ("DELETE", "/api/v1/breakpoint", ""),
     ] {
         for h in [
             vec![],
