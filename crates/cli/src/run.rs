@@ -154,6 +154,8 @@ pub(crate) struct Loaded {
     pub state: Option<PathBuf>,
     /// A project's `[modbus]` table.
     pub modbus: Option<toml::Table>,
+    /// A project's `[http]` table.
+    pub http: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
 }
@@ -182,6 +184,7 @@ pub(crate) fn load(
             cpu,
             state: Some(p.state_dir),
             modbus: p.modbus,
+            http: p.http,
             on_damage: p.state_on_damage,
         });
     }
@@ -207,6 +210,7 @@ pub(crate) fn load(
         cpu: Cpu::new(program, cfg, clock),
         state: None,
         modbus: None,
+        http: None,
         on_damage: OnDamage::default(),
     })
 }

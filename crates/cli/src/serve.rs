@@ -55,9 +55,14 @@ pub struct ServeArgs {
     /// Refuse Modbus writes (exception 01).
     #[arg(long)]
     pub modbus_read_only: bool,
-    /// Web monitor and JSON API.
+    /// Web monitor and JSON API (contract §3.1), e.g. 127.0.0.1:8080 or 8080
+    /// (a bare port binds loopback).
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
+    /// Bearer token that allows writes, forcing and RUN/STOP over HTTP (also
+    /// `[http] token` in plc.toml); without one the HTTP side is read-only.
+    #[arg(long, value_name = "TOKEN")]
+    pub http_token: Option<String>,
     /// Remote password for the MC protocol: exactly 4 ASCII letters or digits,
     /// as on the QCPU. Until a connection (or UDP sender) unlocks, every MC
     /// request but unlock and loopback is refused (C201), reads included. Wrong
@@ -85,6 +90,22 @@ pub struct ServeArgs {
     pub stats_every: Option<Duration>,
 }
 
+/// The web monitor's token: `--http-token`, else `[http] token` (contract §3).
+fn http_token(arg: Option<&str>, table: Option<&toml::Table>) -> Result<Option<String>, String> {
+    let from_toml = match table.and_then(|t| t.get("token")) {
+        None => None,
+        Some(toml::Value::String(s)) => Some(s.clone()),
+        Some(v) => return Err(format!("[http] token: expected a string, not `{v}`")),
+    };
+    let Some(t) = arg.map(str::to_string).or(from_toml) else {
+        return Ok(None);
+    };
+    if t.is_empty() || !t.bytes().all(|b| b.is_ascii_graphic()) {
+        return Err("--http-token: the token must be printable ASCII without spaces".into());
+    }
+    Ok(Some(t))
+}
+
 fn host_clock() -> DateTime {
     let s = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -97,9 +118,6 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         eprintln!("softplc: {msg}");
         ExitCode::from(2)
     };
-    if args.http.is_some() {
-        return fail("--http: the web monitor is not implemented yet".into());
-    }
     if let Some(p) = &args.password {
         if let Err(e) = softplc_serve::mc::check_password(p) {
             return fail(format!("--password: {e}"));
@@ -111,6 +129,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         mut cpu,
         state,
         modbus,
+        http,
         on_damage,
     } = match load(
         &args.program,
@@ -163,6 +182,25 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             }
             Err(e) => return fail(format!("--mc-udp {e}")),
         }
+    }
+    if let Some(a) = &args.http {
+        let addr = match softplc_serve::parse_addr(a) {
+            Ok(a) => a,
+            Err(e) => return fail(format!("--http {e}")),
+        };
+        let token = match http_token(args.http_token.as_deref(), http.as_ref()) {
+            Ok(t) => t,
+            Err(e) => return fail(e),
+        };
+        let cfg = softplc_http::HttpConfig {
+            token,
+            model: cpu.config().model.clone(),
+            ladder: softplc_http::ladder::load_programs(&cpu),
+        };
+        listeners.push(softplc_http::listener(addr, cfg));
+        names.push("web monitor".to_string());
+    } else if args.http_token.is_some() {
+        eprintln!("softplc: --http-token has no effect without --http");
     }
     let table = modbus.unwrap_or_default();
     let modbus_setup = || -> Result<(Map, Slave), String> {

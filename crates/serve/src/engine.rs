@@ -23,6 +23,12 @@ pub struct ScanStats {
     pub scans: u64,
     /// Execution time of the last scan (program + END processing), µs.
     pub current_us: u64,
+    /// The CPU's own execution time of the last scan, from input refresh to
+    /// END, without serving requests, commit or the constant-scan wait (what
+    /// contract §3.1 `scan_time_us` reports), and its minimum and maximum, µs.
+    pub exec_us: u64,
+    pub exec_min_us: u64,
+    pub exec_max_us: u64,
     pub min_us: u64,
     pub max_us: u64,
     /// Scans that did not finish within the period.
@@ -52,7 +58,14 @@ pub struct ServeState {
     pub wrote: bool,
     /// Replies of this END, sent after its commit.
     replies: Vec<Box<dyn FnOnce() + Send>>,
+    /// Called on the engine thread after every scan, before the requests of
+    /// its END (the web monitor's step, breakpoints and snapshots). Add one
+    /// from a request with [`ServeState::add_hook`].
+    hooks: Vec<Hook>,
 }
+
+/// An END hook ([`ServeState::add_hook`]).
+pub type Hook = Box<dyn FnMut(&mut ServeState) + Send>;
 
 impl ServeState {
     pub fn new(cpu: Cpu) -> Self {
@@ -62,7 +75,28 @@ impl ServeState {
             ext: Vec::new(),
             wrote: false,
             replies: Vec::new(),
+            hooks: Vec::new(),
         }
+    }
+
+    /// Runs `hook` after every scan from the next one on, before the requests
+    /// of that END are served.
+    pub fn add_hook(&mut self, hook: Hook) {
+        self.hooks.push(hook);
+    }
+
+    /// Runs the END hooks (the engine thread, after each scan).
+    fn run_hooks(&mut self) {
+        if self.hooks.is_empty() {
+            return;
+        }
+        let mut hooks = std::mem::take(&mut self.hooks);
+        for h in &mut hooks {
+            h(self);
+        }
+        // Hooks added by a hook run from the next END.
+        hooks.append(&mut self.hooks);
+        self.hooks = hooks;
     }
 
     /// The shared protocol state of type `T`, created with `T::default()` on first use.
@@ -235,12 +269,28 @@ fn run(
     let mut due = Instant::now();
     let mut jitter_sum = 0f64;
     let mut logged = Instant::now();
+    let mut timed = false;
     while !stop.load(Ordering::Relaxed) {
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
         beat.started.fetch_add(1, Ordering::Relaxed);
+        let executed = s.cpu.scans();
         s.cpu.scan();
         beat.finished.fetch_add(1, Ordering::Relaxed);
+        if s.cpu.scans() != executed {
+            // Only scans that executed (not STOP/PAUSE) count, as SD520.
+            let exec = start.elapsed().as_micros() as u64;
+            let st = &mut s.stats;
+            st.exec_min_us = if timed {
+                st.exec_min_us.min(exec)
+            } else {
+                exec
+            };
+            timed = true;
+            st.exec_us = exec;
+            st.exec_max_us = st.exec_max_us.max(exec);
+        }
+        s.run_hooks();
         // END processing: communication requests, within the budget.
         let end = Instant::now();
         while end.elapsed() < cfg.end_budget {

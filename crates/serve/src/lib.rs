@@ -15,7 +15,7 @@ use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-pub use engine::{Busy, EngineConfig, EngineHandle, ScanStats, ServeState};
+pub use engine::{Busy, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
 pub use tcp::{FrameLen, Protocol};
 
 /// A protocol server to start.
@@ -41,6 +41,24 @@ impl Listener {
             start: Box::new(move |l, e| match l {
                 Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
                 Bound::Tcp(_) => unreachable!("a UDP listener is bound to a UDP socket"),
+            }),
+        }
+    }
+
+    /// A TCP server of its own on `addr` (the web monitor, crates/http): `start`
+    /// gets the bound listener and the engine handle and spawns the server.
+    pub fn tcp_with(
+        addr: SocketAddr,
+        start: impl FnOnce(tokio::net::TcpListener, EngineHandle) -> tokio::task::JoinHandle<()>
+            + Send
+            + 'static,
+    ) -> Listener {
+        Listener {
+            addr,
+            udp: false,
+            start: Box::new(move |l, e| match l {
+                Bound::Tcp(l) => start(l, e),
+                Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
             }),
         }
     }

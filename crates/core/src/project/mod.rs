@@ -68,6 +68,8 @@ pub struct Project {
     /// The `[modbus]` table as written (map and slave settings, interpreted by
     /// the Modbus server; see docs/plc-toml.md).
     pub modbus: Option<toml::Table>,
+    /// The `[http]` table as written (`token`, read by `softplc serve --http`).
+    pub http: Option<toml::Table>,
     /// `[process]`: the process CPU's decisions (default: the spec's choices).
     pub process: crate::program::ProcessSettings,
 }
@@ -166,6 +168,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         // The Modbus slave's map and settings, read by `softplc serve`.
         "modbus",
         "process",
+        // The web monitor's settings (`token`), read by `softplc serve --http`.
+        "http",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -215,9 +219,11 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if cx.has_errors() {
         return Err(cx.finish());
     }
-    let modbus = toml::from_str::<toml::Table>(src)
-        .ok()
+    let whole = toml::from_str::<toml::Table>(src).ok();
+    let modbus = whole
+        .as_ref()
         .and_then(|t| t.get("modbus").and_then(|m| m.as_table()).cloned());
+    let http = whole.and_then(|t| t.get("http").and_then(|m| m.as_table()).cloned());
     Ok(Project {
         dir: dir.to_path_buf(),
         manifest: PathBuf::from(name),
@@ -227,6 +233,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         state_on_damage,
         common_pointer,
         modbus,
+        http,
         process,
     })
 }

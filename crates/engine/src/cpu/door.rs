@@ -17,6 +17,7 @@ impl Cpu {
     pub fn write_device(&mut self, spec: &DeviceSpec, value: &str) -> Result<(), String> {
         spec.write(&mut self.rt.mem, value)?;
         self.mirror_spec(spec);
+        self.force_spec(spec);
         Ok(())
     }
 
@@ -25,6 +26,7 @@ impl Cpu {
     pub fn write_value(&mut self, spec: &DeviceSpec, value: &Value) -> Result<(), AccessError> {
         spec.write_value(&mut self.rt.mem, value)?;
         self.mirror_spec(spec);
+        self.force_spec(spec);
         Ok(())
     }
 
@@ -44,6 +46,9 @@ impl Cpu {
     pub fn write_span_words(&mut self, s: &Span, values: &[u16]) -> Result<(), AccessError> {
         self.rt.mem.write_span_words(s, values)?;
         self.mirror(s.kind(), s.number(), s.len());
+        if !self.forces.is_empty() {
+            self.force_written(Some((s.kind(), s.number(), s.len())));
+        }
         Ok(())
     }
 
@@ -51,6 +56,9 @@ impl Cpu {
     pub fn write_span_bits(&mut self, s: &Span, values: &[bool]) -> Result<(), AccessError> {
         self.rt.mem.write_span_bits(s, values)?;
         self.mirror(s.kind(), s.number(), s.len());
+        if !self.forces.is_empty() {
+            self.force_written(Some((s.kind(), s.number(), s.len())));
+        }
         Ok(())
     }
 
@@ -61,6 +69,16 @@ impl Cpu {
             *b = on;
         }
         let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
+        if !self.forces.is_empty() {
+            self.force_written(Some((DeviceKind::X, n, 1)));
+        }
+    }
+
+    /// Forced values win over a write by name (see [`super::force`]).
+    fn force_spec(&mut self, spec: &DeviceSpec) {
+        if !self.forces.is_empty() {
+            self.force_written(spec.bit_span());
+        }
     }
 
     /// Copies X written by name into the input image (bit and digit-specified

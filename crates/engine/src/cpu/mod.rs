@@ -9,6 +9,8 @@
 
 mod door;
 mod end;
+mod force;
+pub use force::MAX_FORCES;
 mod retained;
 mod schedule;
 mod states;
@@ -120,6 +122,8 @@ pub struct Cpu {
     low_last_end_us: u64,
     low_min_us: Option<u64>,
     low_max_us: u64,
+    /// Forced X/Y ([`force`]).
+    forces: Vec<force::Force>,
 }
 
 /// IMASK at power-on: everything enabled except the error interrupts I32-I47,
@@ -251,6 +255,7 @@ impl Cpu {
             low_last_end_us: 0,
             low_min_us: None,
             low_max_us: 0,
+            forces: Vec::new(),
         };
         cpu.power_on();
         Ok(cpu)
@@ -283,6 +288,11 @@ impl Cpu {
         self.rt.error.as_ref()
     }
 
+    /// The error history, oldest first (004 §7.20.2).
+    pub fn history(&self) -> impl Iterator<Item = &crate::HistoryEntry> {
+        self.rt.history.iter()
+    }
+
     /// Scans executed in RUN since power-on.
     pub fn scans(&self) -> u64 {
         self.scans
@@ -302,8 +312,16 @@ impl Cpu {
     }
 
     /// The external output Y`n`: the Y device while running or paused, OFF in
-    /// STOP (004 §4.4).
+    /// STOP (004 §4.4); a forced output's forced value.
     pub fn output(&self, n: u32) -> bool {
+        if let Some(f) = self
+            .forces
+            .iter()
+            .find(|f| f.kind == DeviceKind::Y && f.n == n)
+        {
+            // A forced output is output in every state (docs/forcing.md).
+            return f.on;
+        }
         self.state != CpuState::Stop
             && self
                 .rt

@@ -21,6 +21,10 @@ impl Cpu {
         self.rt.wdt_start = std::time::Instant::now();
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        if !self.forces.is_empty() {
+            self.apply_forces(DeviceKind::X);
+            self.unforce_outputs();
+        }
         special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
         let initial =
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
@@ -42,6 +46,11 @@ impl Cpu {
                 && self.run_type(ExecType::Scan)
                 && self.run_low_speed(now)
         };
+        if !self.forces.is_empty() {
+            // Forced outputs win over the program (and inputs it wrote).
+            self.apply_forces(DeviceKind::Y);
+            self.apply_forces(DeviceKind::X);
+        }
         if !ok && self.aborted() {
             // Stopped by the host mid-scan: STOP, no error.
             self.set_stop();

@@ -149,6 +149,8 @@ impl Cpu {
     /// ranges and the file registers cleared, system registers set, device initial
     /// values written, RUN from the initial programs.
     pub(super) fn power_on(&mut self) {
+        // Forces are released at power-off and RESET (docs/forcing.md).
+        self.forces.clear();
         self.clear_unlatched();
         self.rt.error = None;
         self.stop_error = false;

@@ -1,0 +1,599 @@
+//! The JSON API of contract §3.1 under `/api/v1`, and the routes of the pages.
+//!
+//! Every answer is computed by an `at_end` job on the engine thread, so all
+//! values of one response come from the same END and writes land between two
+//! scans. Writes, forcing, `cpu/*` and breakpoints need `Authorization: Bearer
+//! TOKEN` (cookies are never read); without a configured token they are 403,
+//! with one a missing or wrong token is 401. Every 400 is `{"error": "..."}`
+//! naming the bad name or value, and nothing of a rejected request is written.
+
+// Handlers answer with a `Response` either way; the error side is the reply.
+#![allow(clippy::result_large_err)]
+
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::body::Bytes;
+use axum::extract::{DefaultBodyLimit, Query, State};
+use axum::http::{header, HeaderMap, StatusCode};
+use axum::response::sse::{Event, KeepAlive, Sse};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::{Json, Router};
+use serde_json::{json, Map, Value as Json_};
+use softplc_core::access::{DeviceSpec, Value};
+use softplc_serve::ServeState;
+
+use crate::monitor::{self, Breakpoint, Monitor};
+use crate::values::{self, from_json, io_name, io_point, to_json};
+use crate::App;
+
+type Shared = State<Arc<App>>;
+type Q = Query<std::collections::HashMap<String, String>>;
+
+/// Longest a step request waits for its scans.
+const STEP_WAIT: Duration = Duration::from_secs(60);
+/// Most scans one step request executes.
+pub const MAX_STEP: u64 = 10_000;
+
+/// The router: pages and `/api/v1`.
+pub fn router(app: Arc<App>) -> Router {
+    Router::new()
+        .route("/", get(crate::pages::ladder))
+        .route("/overview", get(crate::pages::overview))
+        .route("/devices", get(crate::pages::devices))
+        .route("/trend", get(crate::pages::trend))
+        .route("/loops", get(crate::loops::page))
+        .route("/monitor.js", get(crate::pages::script))
+        .route("/monitor.css", get(crate::pages::style))
+        .route("/api/v1/status", get(status))
+        .route("/api/v1/devices", get(read_devices).post(write_devices))
+        .route(
+            "/api/v1/force",
+            get(list_forces).post(force).delete(release),
+        )
+        .route("/api/v1/cpu/run", post(cpu_run))
+        .route("/api/v1/cpu/stop", post(cpu_stop))
+        .route("/api/v1/cpu/pause", post(cpu_pause))
+        .route("/api/v1/cpu/reset", post(cpu_reset))
+        .route("/api/v1/cpu/step", post(cpu_step))
+        .route(
+            "/api/v1/breakpoint",
+            get(get_breakpoint)
+                .post(set_breakpoint)
+                .delete(clear_breakpoint),
+        )
+        .route("/api/v1/events", get(events))
+        .fallback(not_found)
+        .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
+        .with_state(app)
+}
+
+/// `{"error": msg}` with `code`.
+pub fn error(code: StatusCode, msg: impl Into<String>) -> Response {
+    (code, Json(json!({ "error": msg.into() }))).into_response()
+}
+
+fn bad(msg: impl Into<String>) -> Response {
+    error(StatusCode::BAD_REQUEST, msg)
+}
+
+fn busy() -> Response {
+    error(
+        StatusCode::SERVICE_UNAVAILABLE,
+        softplc_serve::Busy.to_string(),
+    )
+}
+
+async fn not_found() -> Response {
+    error(StatusCode::NOT_FOUND, "no such page or API route")
+}
+
+/// Longest a request waits for an END (a scan stuck in an endless loop).
+pub const END_WAIT: Duration = Duration::from_secs(10);
+
+/// Runs `f` at the next END; a full queue, or no END within [`END_WAIT`], is 503.
+async fn at_end<R: Send + 'static>(
+    app: &App,
+    f: impl FnOnce(&mut ServeState) -> R + Send + 'static,
+) -> Result<R, Response> {
+    match tokio::time::timeout(END_WAIT, app.engine.at_end(f)).await {
+        Ok(r) => r.map_err(|_| busy()),
+        Err(_) => Err(error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the CPU did not reach END in time (a scan that does not end?)",
+        )),
+    }
+}
+
+/// Contract §3.1: no token configured → 403; a missing or wrong bearer → 401.
+fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
+    let Some(token) = &app.cfg.token else {
+        return Err(error(
+            StatusCode::FORBIDDEN,
+            "the web monitor is read-only: start serve with --http-token (or [http] token) to allow writes",
+        ));
+    };
+    let given = headers
+        .get(header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(|v| v.strip_prefix("Bearer "))
+        .map(str::trim);
+    match given {
+        Some(g) if equal(g.as_bytes(), token.as_bytes()) => Ok(()),
+        _ => {
+            let mut r = error(
+                StatusCode::UNAUTHORIZED,
+                "a valid `Authorization: Bearer TOKEN` header is required",
+            );
+            r.headers_mut().insert(
+                header::WWW_AUTHENTICATE,
+                header::HeaderValue::from_static("Bearer"),
+            );
+            Err(r)
+        }
+    }
+}
+
+/// Compares in time independent of where the first difference is.
+fn equal(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+/// A request body, or why it was refused (413 over [`crate::BODY_LIMIT`]).
+type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
+
+/// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
+/// with `{"error": ...}`.
+fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, Response> {
+    let bytes = bytes.as_ref().map_err(|r| {
+        error(
+            r.status(),
+            format!("request body refused: {}", r.body_text()),
+        )
+    })?;
+    serde_json::from_slice(bytes).map_err(|e| bad(format!("malformed JSON body ({what}): {e}")))
+}
+
+/// The CPU's error as in contract §2.
+fn error_json(s: &ServeState) -> Json_ {
+    s.cpu.error().map_or(Json_::Null, |e| {
+        json!({
+            "code": e.code.0,
+            "message": e.code.message(),
+            "step": e.step,
+            "file": e.file,
+            "line": e.line,
+        })
+    })
+}
+
+fn forced_json(s: &ServeState) -> Json_ {
+    let mut m = Map::new();
+    for (k, n, on) in s.cpu.forced() {
+        m.insert(io_name(k, n), Json_::Bool(on));
+    }
+    Json_::Object(m)
+}
+
+fn breakpoint_json(s: &mut ServeState) -> Json_ {
+    s.ext::<Monitor>()
+        .breakpoint
+        .as_ref()
+        .map_or(Json_::Null, |b| json!({ "when": b.text(), "hit": b.hit }))
+}
+
+async fn status(State(app): Shared) -> Response {
+    let model = app.cfg.model.clone();
+    let r = at_end(&app, move |s| {
+        let st = &s.stats;
+        let history: Vec<Json_> = s
+            .cpu
+            .history()
+            .map(|h| {
+                json!({"code": h.code.0, "message": h.code.message(), "time": h.time, "detail": h.detail})
+            })
+            .collect();
+        json!({
+            "state": s.cpu.state().as_str(),
+            "scan": s.cpu.scans(),
+            "scan_time_us": {"last": st.exec_us, "min": st.exec_min_us, "max": st.exec_max_us},
+            "error": error_json(s),
+            "model": model,
+            "history": history,
+            "forced": forced_json(s),
+            "breakpoint": breakpoint_json(s),
+            "overruns": s.stats.overruns,
+            "watched": s.ext::<Monitor>().watched(),
+        })
+    })
+    .await;
+    match r {
+        Ok(j) => Json(j).into_response(),
+        Err(e) => e,
+    }
+}
+
+/// Reads `specs` now: `{"scan": N, "devices": {...}}`, or the first error.
+fn read_all(s: &ServeState, specs: &[DeviceSpec]) -> Result<Json_, String> {
+    let mut m = Map::new();
+    for d in specs {
+        let v = s.cpu.read_device(d)?;
+        m.insert(d.text.clone(), to_json(&v));
+    }
+    Ok(json!({"scan": s.cpu.scans(), "devices": m}))
+}
+
+async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
+    let specs = match values::spec_list(q.get("names").map(String::as_str)) {
+        Ok(s) => s,
+        Err(e) => return bad(e),
+    };
+    match at_end(&app, move |s| read_all(s, &specs)).await {
+        Ok(Ok(j)) => Json(j).into_response(),
+        Ok(Err(e)) => bad(e),
+        Err(e) => e,
+    }
+}
+
+/// Writes every `(device, value)` or none: on a failure the ones written are
+/// put back before the END ends, so no scan sees a part.
+fn write_all(s: &mut ServeState, writes: &[(DeviceSpec, Value)]) -> Result<u64, String> {
+    let mut done: Vec<(&DeviceSpec, Value)> = Vec::with_capacity(writes.len());
+    let mut fail = None;
+    for (d, v) in writes {
+        let old = match s.cpu.read_device(d) {
+            Ok(o) => o,
+            Err(e) => {
+                fail = Some(e);
+                break;
+            }
+        };
+        if let Err(e) = s.cpu.write_value(d, v) {
+            fail = Some(e.to_string());
+            break;
+        }
+        done.push((d, old));
+    }
+    if let Some(e) = fail {
+        for (d, old) in done.into_iter().rev() {
+            let _ = s.cpu.write_value(d, &old);
+        }
+        return Err(e);
+    }
+    s.wrote = true;
+    Ok(s.cpu.scans())
+}
+
+async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let obj: Map<String, Json_> = match body(&bytes, "expected an object {\"D0\": 5}") {
+        Ok(o) => o,
+        Err(r) => return r,
+    };
+    if obj.len() > values::MAX_NAMES {
+        return bad(format!(
+            "at most {} devices in one write",
+            values::MAX_NAMES
+        ));
+    }
+    let mut writes = Vec::with_capacity(obj.len());
+    for (name, v) in &obj {
+        let d = match values::spec(name) {
+            Ok(d) => d,
+            Err(e) => return bad(e),
+        };
+        match from_json(&d, v) {
+            Ok(v) => writes.push((d, v)),
+            Err(e) => return bad(e),
+        }
+    }
+    match at_end(&app, move |s| write_all(s, &writes)).await {
+        Ok(Ok(scan)) => Json(json!({ "scan": scan })).into_response(),
+        Ok(Err(e)) => bad(e),
+        Err(e) => e,
+    }
+}
+
+async fn list_forces(State(app): Shared) -> Response {
+    match at_end(&app, |s| json!({ "forced": forced_json(s) })).await {
+        Ok(j) => Json(j).into_response(),
+        Err(e) => e,
+    }
+}
+
+async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let obj: Map<String, Json_> = match body(&bytes, "expected an object {\"X0\": true}") {
+        Ok(o) => o,
+        Err(r) => return r,
+    };
+    let mut forces = Vec::with_capacity(obj.len());
+    for (name, v) in &obj {
+        let (k, n) = match io_point(name) {
+            Ok(p) => p,
+            Err(e) => return bad(e),
+        };
+        let Some(on) = v.as_bool() else {
+            return bad(format!("`{name}`: a force is true or false, not `{v}`"));
+        };
+        forces.push((k, n, on));
+    }
+    let r = at_end(&app, move |s| {
+        // Check every point first: nothing is forced when one is refused.
+        let limit = softplc_core::engine::MAX_FORCES;
+        let known = s.cpu.forced().count();
+        let fresh = forces
+            .iter()
+            .filter(|(k, n, _)| !s.cpu.forced().any(|(fk, fn_, _)| fk == *k && fn_ == *n))
+            .count();
+        if known + fresh > limit {
+            return Err(format!("at most {limit} devices can be forced"));
+        }
+        for (k, n, _) in &forces {
+            if *n >= s.cpu.memory().map.points(*k) {
+                return Err(format!("`{}` is beyond the CPU's points", io_name(*k, *n)));
+            }
+        }
+        for (k, n, on) in forces {
+            s.cpu.force(k, n, on)?;
+        }
+        s.wrote = true;
+        Ok(json!({ "forced": forced_json(s) }))
+    })
+    .await;
+    match r {
+        Ok(Ok(j)) => Json(j).into_response(),
+        Ok(Err(e)) => bad(e),
+        Err(e) => e,
+    }
+}
+
+async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let names: Vec<String> = match body(&bytes, "expected a list [\"X0\"]") {
+        Ok(o) => o,
+        Err(r) => return r,
+    };
+    let mut points = Vec::with_capacity(names.len());
+    for name in &names {
+        match io_point(name) {
+            Ok(p) => points.push(p),
+            Err(e) => return bad(e),
+        }
+    }
+    let r = at_end(&app, move |s| {
+        for (k, n) in points {
+            s.cpu.release(k, n);
+        }
+        s.wrote = true;
+        json!({ "forced": forced_json(s) })
+    })
+    .await;
+    match r {
+        Ok(j) => Json(j).into_response(),
+        Err(e) => e,
+    }
+}
+
+/// A remote operation answering `{"state": ...}`; a refused one is 409.
+async fn cpu_op(
+    app: Arc<App>,
+    headers: HeaderMap,
+    op: fn(&mut ServeState) -> Result<(), String>,
+) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let r = at_end(&app, move |s| {
+        let r = op(s);
+        s.wrote = true;
+        r.map(|_| s.cpu.state().as_str())
+    })
+    .await;
+    match r {
+        Ok(Ok(state)) => Json(json!({ "state": state })).into_response(),
+        Ok(Err(e)) => error(StatusCode::CONFLICT, e),
+        Err(e) => e,
+    }
+}
+
+async fn cpu_run(State(app): Shared, h: HeaderMap) -> Response {
+    cpu_op(app, h, |s| s.cpu.set_run()).await
+}
+
+async fn cpu_stop(State(app): Shared, h: HeaderMap) -> Response {
+    cpu_op(app, h, |s| {
+        s.cpu.set_stop();
+        Ok(())
+    })
+    .await
+}
+
+async fn cpu_pause(State(app): Shared, h: HeaderMap) -> Response {
+    cpu_op(app, h, |s| s.cpu.set_pause()).await
+}
+
+async fn cpu_reset(State(app): Shared, h: HeaderMap) -> Response {
+    cpu_op(app, h, |s| s.cpu.reset()).await
+}
+
+/// `cpu/step?scans=N`: N scans from PAUSE, answered once the CPU paused again.
+async fn cpu_step(State(app): Shared, headers: HeaderMap, Query(q): Q) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let n = match q.get("scans").map(|s| s.trim().parse::<u64>()) {
+        None => 1,
+        Some(Ok(n)) if (1..=MAX_STEP).contains(&n) => n,
+        Some(_) => {
+            return bad(format!(
+                "`scans={}`: expected a number of scans from 1 to {MAX_STEP}",
+                q.get("scans").map_or("", |s| s.as_str())
+            ))
+        }
+    };
+    let rx = match at_end(&app, move |s| {
+        s.wrote = true;
+        monitor::start_step(s, n)
+    })
+    .await
+    {
+        Ok(Ok(rx)) => rx,
+        Ok(Err(e)) => return error(StatusCode::CONFLICT, e),
+        Err(e) => return e,
+    };
+    match tokio::time::timeout(STEP_WAIT, rx).await {
+        Ok(Ok(done)) => {
+            Json(json!({"state": done.state.as_str(), "scan": done.scan})).into_response()
+        }
+        _ => error(
+            StatusCode::GATEWAY_TIMEOUT,
+            "the step did not complete in time",
+        ),
+    }
+}
+
+async fn get_breakpoint(State(app): Shared) -> Response {
+    match at_end(&app, |s| json!({ "breakpoint": breakpoint_json(s) })).await {
+        Ok(j) => Json(j).into_response(),
+        Err(e) => e,
+    }
+}
+
+/// Extension (docs/web-monitor.md): `{"when": "D0 >= 100"}` pauses the CPU
+/// at the END where the condition becomes true.
+async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    let obj: Map<String, Json_> = match body(&bytes, "expected {\"when\": \"D0 >= 100\"}") {
+        Ok(o) => o,
+        Err(r) => return r,
+    };
+    let Some(when) = obj.get("when").and_then(Json_::as_str) else {
+        return bad("expected {\"when\": \"D0 >= 100\"} (or a bit device: \"M0\")");
+    };
+    let bp = match Breakpoint::parse(when) {
+        Ok(b) => b,
+        Err(e) => return bad(e),
+    };
+    let r = at_end(&app, move |s| {
+        s.cpu.read_device(&bp.device)?;
+        let mut bp = bp;
+        // It pauses when the condition *becomes* true: from its value now.
+        bp.prev = bp.holds(s);
+        s.ext::<Monitor>().breakpoint = Some(bp);
+        Ok::<_, String>(json!({ "breakpoint": breakpoint_json(s) }))
+    })
+    .await;
+    match r {
+        Ok(Ok(j)) => Json(j).into_response(),
+        Ok(Err(e)) => bad(e),
+        Err(e) => e,
+    }
+}
+
+async fn clear_breakpoint(State(app): Shared, headers: HeaderMap) -> Response {
+    if let Err(r) = authorize(&app, &headers) {
+        return r;
+    }
+    match at_end(&app, |s| {
+        s.ext::<Monitor>().breakpoint = None;
+        json!({ "breakpoint": null })
+    })
+    .await
+    {
+        Ok(j) => Json(j).into_response(),
+        Err(e) => e,
+    }
+}
+
+/// Unsubscribes the names of a closed event stream.
+struct Subscription {
+    app: Arc<App>,
+    names: Vec<String>,
+}
+
+impl Drop for Subscription {
+    fn drop(&mut self) {
+        self.app.streams.fetch_sub(1, Ordering::Relaxed);
+        let names = std::mem::take(&mut self.names);
+        if names.is_empty() {
+            return;
+        }
+        let app = self.app.clone();
+        if let Ok(rt) = tokio::runtime::Handle::try_current() {
+            rt.spawn(async move {
+                let _ = app
+                    .engine
+                    .at_end(move |s| monitor::unsubscribe(s, &names))
+                    .await;
+            });
+        }
+    }
+}
+
+/// `events?names=...`: one unnamed event per published snapshot (≤ 10/s).
+async fn events(State(app): Shared, Query(q): Q) -> Response {
+    let specs = match values::spec_list(q.get("names").map(String::as_str)) {
+        Ok(s) => s,
+        Err(e) => return bad(e),
+    };
+    let mut names: Vec<String> = specs.iter().map(|d| d.text.clone()).collect();
+    names.dedup();
+    if app.streams.fetch_add(1, Ordering::Relaxed) >= crate::MAX_STREAMS {
+        app.streams.fetch_sub(1, Ordering::Relaxed);
+        return error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("at most {} event streams at once", crate::MAX_STREAMS),
+        );
+    }
+    // From here the guard gives the stream and its names back when dropped.
+    let mut guard = Subscription {
+        app: app.clone(),
+        names: Vec::new(),
+    };
+    let sub = specs.clone();
+    match at_end(&app, move |s| monitor::subscribe(s, &sub)).await {
+        Ok(Ok(())) => {}
+        Ok(Err(e)) => return bad(e),
+        Err(e) => return e,
+    }
+    guard.names = specs.iter().map(|d| d.text.clone()).collect();
+    let mut rx = app.snapshots.clone();
+    rx.mark_unchanged();
+    let stream =
+        futures_util::stream::unfold((rx, guard, names), |(mut rx, guard, names)| async move {
+            loop {
+                rx.changed().await.ok()?;
+                let snap = rx.borrow_and_update().clone();
+                let mut m = Map::new();
+                for n in &names {
+                    match snap.values.get(n) {
+                        Some(v) => {
+                            m.insert(n.clone(), v.clone());
+                        }
+                        None => break,
+                    }
+                }
+                if m.len() < names.len() {
+                    // Published before this client's names were added.
+                    continue;
+                }
+                let data = json!({"scan": snap.scan, "devices": m}).to_string();
+                let ev: Result<Event, std::convert::Infallible> = Ok(Event::default().data(data));
+                return Some((ev, (rx, guard, names)));
+            }
+        });
+    Sse::new(stream)
+        .keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
+        .into_response()
+}

@@ -1,0 +1,242 @@
+//! Loop faceplates (issue #15): the PID loops found in the program's source
+//! (PIDCONT / S.PIDCONT with the PIDINIT / S.PIDINIT before them) with their
+//! I/O data words (SV, PV, MV, MVMAN, MAN/AUTO, ALARM; 001 §5.2(4) Table 5.4)
+//! and tuning parameters (001 §5.1 Table 5.2). Loop k's I/O data start at
+//! the PIDCONT operand + 10 common words + k × 18 (23 for the S. family), its
+//! control data at the PIDINIT operand + 2 + k × 10 (14). The number of loops
+//! is the PIDINIT operand's first word, read when the page is served.
+//!
+//! Parameters written here take effect when the program registers them again
+//! (PIDINIT / PIDPRMW), as on the CPU.
+
+use crate::ladder::LadderProgram;
+
+/// One PIDCONT and the PIDINIT that registers its loops.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PidSet {
+    pub file: String,
+    /// `PIDCONT` or `S.PIDCONT` as written.
+    pub mnemonic: String,
+    /// The I/O data head (`D600`) and the control data head (`D500`).
+    pub io: String,
+    pub init: Option<String>,
+    /// The incomplete-derivative (`S.`) family.
+    pub incomplete: bool,
+}
+
+/// One loop's device names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Loop {
+    pub title: String,
+    pub sv: String,
+    pub pv: String,
+    pub mv: String,
+    pub mvman: String,
+    pub mode: String,
+    pub alarm: String,
+    /// (label, device) of the tuning parameters.
+    pub params: Vec<(&'static str, String)>,
+}
+
+fn base(m: &str) -> String {
+    let u = m.to_ascii_uppercase();
+    let u = u
+        .strip_prefix("SP.")
+        .map_or(u.clone(), |r| format!("S.{r}"));
+    u.strip_suffix('P')
+        .filter(|b| b.ends_with("PIDINIT") || b.ends_with("PIDCONT"))
+        .map_or(u.clone(), str::to_string)
+}
+
+/// The PIDCONTs of `programs`, each with the last PIDINIT of its family before it.
+pub fn find(programs: &[LadderProgram]) -> Vec<PidSet> {
+    let mut out = Vec::new();
+    for p in programs {
+        let mut init: [Option<String>; 2] = [None, None];
+        for r in &p.rungs {
+            r.for_each(&mut |e| {
+                let m = base(&e.mnemonic);
+                let s = m.starts_with("S.");
+                let Some(op) = e.operands.first() else { return };
+                if m.ends_with("PIDINIT") {
+                    init[s as usize] = Some(op.clone());
+                } else if m.ends_with("PIDCONT") {
+                    out.push(PidSet {
+                        file: p.file.clone(),
+                        mnemonic: e.mnemonic.clone(),
+                        io: op.clone(),
+                        init: init[s as usize].clone(),
+                        incomplete: s,
+                    });
+                }
+            });
+        }
+    }
+    out
+}
+
+/// `D600` + `k` → `D610`, in the device's numbering.
+fn offset(name: &str, k: u64) -> Option<String> {
+    let (p, n) = crate::pages::split_name(name)?;
+    let n = u32::try_from(n as u64 + k).ok()?;
+    let s = if crate::pages::hex_kind(&p) {
+        format!("{p}{n:X}")
+    } else {
+        format!("{p}{n}")
+    };
+    softplc_core::access::DeviceSpec::parse(&s).ok().map(|_| s)
+}
+
+impl PidSet {
+    /// The words of loop `k` (0-based); `None` past the device's end.
+    pub fn loop_at(&self, k: u32) -> Option<Loop> {
+        let (io_words, prm_words) = if self.incomplete { (23, 14) } else { (18, 10) };
+        let k = k as u64;
+        let io = |w: u64| offset(&self.io, 10 + k * io_words + w);
+        let mut params = Vec::new();
+        if let Some(init) = &self.init {
+            let labels: &[(&str, u64)] = &[
+                ("action (0 fwd, 1 rev)", 0),
+                ("Ts ×10 ms", 1),
+                ("Kp ×0.01", 2),
+                ("TI ×100 ms", 3),
+                ("TD ×10 ms", 4),
+                ("α %", 5),
+                ("MVLL", 6),
+                ("MVHL", 7),
+                ("ΔMVL", 8),
+                ("ΔPVL", 9),
+            ];
+            for (l, w) in labels {
+                params.push((*l, offset(init, 2 + k * prm_words + w)?));
+            }
+            if self.incomplete {
+                params.push(("KD ×0.01", offset(init, 2 + k * prm_words + 11)?));
+            }
+        }
+        Some(Loop {
+            title: format!("{} {} loop {}", self.mnemonic, self.io, k + 1),
+            sv: io(0)?,
+            pv: io(1)?,
+            mv: io(2)?,
+            mvman: io(4)?,
+            mode: io(5)?,
+            alarm: io(6)?,
+            params,
+        })
+    }
+}
+
+/// `/loops`: a faceplate per PID loop: SV/PV/MV bars and trend, mode,
+/// alarms and the tuning parameters (click to change, with the token).
+pub async fn page(
+    axum::extract::State(app): axum::extract::State<std::sync::Arc<crate::App>>,
+) -> axum::response::Response {
+    use axum::response::IntoResponse;
+    use std::fmt::Write;
+    let sets = find(&app.cfg.ladder);
+    // The loop counts, from one END.
+    let heads: Vec<Option<String>> = sets.iter().map(|s| s.init.clone()).collect();
+    let counts = tokio::time::timeout(
+        crate::api::END_WAIT,
+        app.engine.at_end(move |s| {
+            heads
+                .iter()
+                .map(|h| {
+                    h.as_ref()
+                        .and_then(|h| softplc_core::access::DeviceSpec::parse(h).ok())
+                        .and_then(|d| s.cpu.read_device(&d).ok())
+                        .and_then(|v| match v {
+                            softplc_core::access::Value::Int(n) => Some(n.clamp(1, 32) as u32),
+                            _ => None,
+                        })
+                        .unwrap_or(1)
+                })
+                .collect::<Vec<u32>>()
+        }),
+    )
+    .await
+    .ok()
+    .and_then(Result::ok)
+    .unwrap_or_default();
+    let esc = crate::pages::esc;
+    let mut names = Vec::new();
+    let mut body = String::from(r#"<section class="cards">"#);
+    if sets.is_empty() {
+        body.push_str("<p>No PID loop (PIDCONT, S.PIDCONT) in the program.</p>");
+    }
+    for (set, n) in sets
+        .iter()
+        .zip(counts.iter().copied().chain(std::iter::repeat(1)))
+    {
+        for k in 0..n {
+            let Some(l) = set.loop_at(k) else { continue };
+            let _ = write!(
+                body,
+                r#"<div class="card loop"><h3>{t}</h3><p class="hint">{f}</p>
+<table class="fp"><tr><th>SV</th><td class="v edit" data-v="{sv}"></td><td><div class="barbox"><div class="bar sv" data-bar="{sv}"></div></div></td></tr>
+<tr><th>PV</th><td class="v" data-v="{pv}"></td><td><div class="barbox"><div class="bar pv" data-bar="{pv}"></div></div></td></tr>
+<tr><th>MV</th><td class="v" data-v="{mv}"></td><td><div class="barbox"><div class="bar mv" data-bar="{mv}"></div></div></td></tr>
+<tr><th>MV man</th><td class="v edit" data-v="{mvman}"></td><td></td></tr>
+<tr><th>mode</th><td class="v edit" data-v="{mode}"></td><td class="mode" data-mode="{mode}"></td></tr>
+<tr><th>alarm</th><td class="v" data-v="{alarm}"></td><td class="alarm" data-alarm="{alarm}"></td></tr></table>
+<svg class="ltrend" width="320" height="90" data-sv="{sv}" data-pv="{pv}" data-mv="{mv}"></svg>
+<table class="prm">"#,
+                t = esc(&l.title),
+                f = esc(&set.file),
+                sv = esc(&l.sv),
+                pv = esc(&l.pv),
+                mv = esc(&l.mv),
+                mvman = esc(&l.mvman),
+                mode = esc(&l.mode),
+                alarm = esc(&l.alarm),
+            );
+            for (label, d) in &l.params {
+                let _ = write!(
+                    body,
+                    r#"<tr><th>{}</th><td class="dn">{d}</td><td class="v edit" data-v="{d}"></td></tr>"#,
+                    esc(label),
+                    d = esc(d)
+                );
+                names.push(d.clone());
+            }
+            body.push_str("</table></div>");
+            names.extend([l.sv, l.pv, l.mv, l.mvman, l.mode, l.alarm]);
+        }
+    }
+    body.push_str("</section>");
+    crate::pages::frame(&app, "Loops", "loops", &names, &body).into_response()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn prog(src: &str) -> Vec<LadderProgram> {
+        let s = softplc_core::program::il::parse_il("p.il", src).unwrap();
+        vec![LadderProgram::from_source(&s)]
+    }
+
+    #[test]
+    fn loops_of_both_families() {
+        let sets = find(&prog(
+            "LD X0\nPIDINIT D500\nLD SM400\nPIDCONT D600\nS.PIDINIT D700\nSP.PIDCONT D800\n",
+        ));
+        assert_eq!(sets.len(), 2);
+        let l = sets[0].loop_at(1).unwrap();
+        assert_eq!(
+            (l.sv.as_str(), l.pv.as_str(), l.mv.as_str()),
+            ("D628", "D629", "D630")
+        );
+        assert_eq!((l.mode.as_str(), l.alarm.as_str()), ("D633", "D634"));
+        assert_eq!(l.params[0], ("action (0 fwd, 1 rev)", "D512".to_string()));
+        assert_eq!(l.params.len(), 10);
+        let s = sets[1].loop_at(0).unwrap();
+        assert!(sets[1].incomplete);
+        assert_eq!(s.sv, "D810");
+        assert_eq!(s.params[2].1, "D704");
+        assert_eq!(s.params.last().unwrap().1, "D713");
+        // Past any device number: no loop, no overflow.
+        assert!(sets[0].loop_at(u32::MAX).is_none());
+    }
+}

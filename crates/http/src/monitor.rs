@@ -1,0 +1,328 @@
+//! The web monitor's part of END processing (contract §3.1), one hook on the
+//! engine thread after every scan:
+//!
+//! - **step**: `cpu/step?scans=N` puts a paused CPU in RUN; after exactly N
+//!   executed scans the hook pauses it again and answers the request;
+//! - **breakpoint**: "pause at END when a condition becomes true" (an
+//!   extension, docs/web-monitor.md): the condition is read at every END of a
+//!   running CPU; on its rising edge the CPU pauses;
+//! - **snapshots**: the names SSE clients subscribed to are read at most every
+//!   [`SAMPLE`] and published on a `watch` channel, so every event is one END
+//!   and nothing is read while no one watches.
+//!
+//! All state lives in [`Monitor`], kept in `ServeState::ext` and touched only
+//! on the engine thread (requests change it with `at_end` jobs): no locks.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use serde_json::Value as Json;
+use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::engine::CpuState;
+use softplc_serve::ServeState;
+use tokio::sync::{oneshot, watch};
+
+use crate::values::to_json;
+
+/// Snapshots are published at most this often (10 a second, contract §3.1).
+pub const SAMPLE: Duration = Duration::from_millis(100);
+
+/// Device values of one END.
+#[derive(Debug, Default)]
+pub struct Snapshot {
+    /// `scan` of that END (contract §3.1).
+    pub scan: u64,
+    /// Serial number of the snapshot (0: none yet).
+    pub seq: u64,
+    pub values: HashMap<String, Json>,
+}
+
+/// A running step request.
+struct Step {
+    until: u64,
+    done: Option<oneshot::Sender<StepDone>>,
+}
+
+/// How a step ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StepDone {
+    pub state: CpuState,
+    pub scan: u64,
+}
+
+/// A comparison of a breakpoint condition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Cmp {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Cmp::Eq => "==",
+            Cmp::Ne => "!=",
+            Cmp::Lt => "<",
+            Cmp::Le => "<=",
+            Cmp::Gt => ">",
+            Cmp::Ge => ">=",
+        }
+    }
+}
+
+/// "Pause at END when `device op value` becomes true".
+#[derive(Clone, Debug)]
+pub struct Breakpoint {
+    pub device: DeviceSpec,
+    pub cmp: Cmp,
+    pub value: Value,
+    /// The condition at the previous END (it pauses on the rising edge).
+    pub prev: bool,
+    /// `scan` of the END at which it paused the CPU, if it did.
+    pub hit: Option<u64>,
+}
+
+impl Breakpoint {
+    /// Parses `M0` (ON), `D0 >= 100`, `D10:f32 < 1.5`, `Y0 == false`.
+    pub fn parse(text: &str) -> Result<Breakpoint, String> {
+        let t = text.trim();
+        let ops = [
+            ("==", Cmp::Eq),
+            ("!=", Cmp::Ne),
+            ("<>", Cmp::Ne),
+            (">=", Cmp::Ge),
+            ("<=", Cmp::Le),
+            ("=", Cmp::Eq),
+            ("<", Cmp::Lt),
+            (">", Cmp::Gt),
+        ];
+        let found = ops
+            .iter()
+            .filter_map(|(s, c)| t.find(s).map(|i| (i, *s, *c)))
+            .min_by_key(|(i, s, _)| (*i, std::cmp::Reverse(s.len())));
+        let (name, cmp, value) = match found {
+            Some((i, s, c)) => (&t[..i], c, Some(t[i + s.len()..].trim())),
+            None => (t, Cmp::Eq, None),
+        };
+        let device = crate::values::spec(name)?;
+        let value = match value {
+            None if device.ty == softplc_core::access::ValueType::Bit => Value::Bool(true),
+            None => {
+                return Err(format!(
+                    "`{t}`: a word device needs a comparison, e.g. `D0 >= 100`"
+                ))
+            }
+            Some(v) => device
+                .parse_value(v)
+                .map_err(|e| format!("breakpoint `{t}`: {e}"))?,
+        };
+        Ok(Breakpoint {
+            device,
+            cmp,
+            value,
+            prev: false,
+            hit: None,
+        })
+    }
+
+    pub fn text(&self) -> String {
+        format!("{} {} {}", self.device.text, self.cmp.as_str(), self.value)
+    }
+
+    /// The condition against device memory now (false when unreadable).
+    pub(crate) fn holds(&self, s: &ServeState) -> bool {
+        let Ok(v) = s.cpu.read_device(&self.device) else {
+            return false;
+        };
+        let ord = match (&v, &self.value) {
+            (Value::Bool(a), Value::Bool(b)) => a.partial_cmp(b),
+            (Value::Int(a), Value::Int(b)) => a.partial_cmp(b),
+            (Value::Float(a), Value::Float(b)) => a.partial_cmp(b),
+            (Value::Int(a), Value::Float(b)) => (*a as f64).partial_cmp(b),
+            (Value::Float(a), Value::Int(b)) => a.partial_cmp(&(*b as f64)),
+            (Value::Str(a), Value::Str(b)) => a.partial_cmp(b),
+            _ => None,
+        };
+        let Some(o) = ord else { return false };
+        use std::cmp::Ordering::*;
+        match self.cmp {
+            Cmp::Eq => o == Equal,
+            Cmp::Ne => o != Equal,
+            Cmp::Lt => o == Less,
+            Cmp::Le => o != Greater,
+            Cmp::Gt => o == Greater,
+            Cmp::Ge => o != Less,
+        }
+    }
+}
+
+/// The monitor's state on the engine thread.
+#[derive(Default)]
+pub struct Monitor {
+    step: Option<Step>,
+    pub breakpoint: Option<Breakpoint>,
+    /// Subscribed names with their subscriber counts.
+    subs: Vec<(DeviceSpec, usize)>,
+    publish: Option<watch::Sender<Arc<Snapshot>>>,
+    last: Option<Instant>,
+    seq: u64,
+}
+
+impl Monitor {
+    /// Devices SSE clients watch now (read at each published END).
+    pub fn watched(&self) -> usize {
+        self.subs.len()
+    }
+}
+
+/// Installs the END hook (once, from the server's first request).
+pub fn install(s: &mut ServeState, tx: watch::Sender<Arc<Snapshot>>) {
+    let m = s.ext::<Monitor>();
+    if m.publish.is_some() {
+        m.publish = Some(tx);
+        return;
+    }
+    m.publish = Some(tx);
+    s.add_hook(Box::new(end_hook));
+}
+
+fn end_hook(s: &mut ServeState) {
+    let state = s.cpu.state();
+    let scan = s.cpu.scans();
+    let mut m = std::mem::take(s.ext::<Monitor>());
+    if let Some(st) = &mut m.step {
+        if state != CpuState::Run || scan >= st.until {
+            if state == CpuState::Run {
+                let _ = s.cpu.set_pause();
+            }
+            if let Some(done) = st.done.take() {
+                let _ = done.send(StepDone {
+                    state: s.cpu.state(),
+                    scan,
+                });
+            }
+            m.step = None;
+        }
+    }
+    if let Some(bp) = &mut m.breakpoint {
+        if s.cpu.state() == CpuState::Run {
+            let now = bp.holds(s);
+            if now && !bp.prev {
+                let _ = s.cpu.set_pause();
+                bp.hit = Some(scan);
+            }
+            bp.prev = now;
+        }
+    }
+    if !m.subs.is_empty() && m.last.is_none_or(|t| t.elapsed() >= SAMPLE) {
+        m.last = Some(Instant::now());
+        m.seq += 1;
+        let values = m
+            .subs
+            .iter()
+            .map(|(d, _)| {
+                let v = s.cpu.read_device(d).map_or(Json::Null, |v| to_json(&v));
+                (d.text.clone(), v)
+            })
+            .collect();
+        if let Some(tx) = &m.publish {
+            let _ = tx.send(Arc::new(Snapshot {
+                scan,
+                seq: m.seq,
+                values,
+            }));
+        }
+    }
+    *s.ext::<Monitor>() = m;
+}
+
+/// Starts a step of `n` scans from PAUSE; the receiver gets the state after it.
+pub fn start_step(s: &mut ServeState, n: u64) -> Result<oneshot::Receiver<StepDone>, String> {
+    if s.cpu.state() != CpuState::Pause {
+        return Err(format!(
+            "step runs from PAUSE; the CPU is in {}",
+            s.cpu.state().as_str()
+        ));
+    }
+    s.cpu.set_run()?;
+    let (tx, rx) = oneshot::channel();
+    let until = s.cpu.scans() + n;
+    s.ext::<Monitor>().step = Some(Step {
+        until,
+        done: Some(tx),
+    });
+    Ok(rx)
+}
+
+/// Most distinct devices all SSE clients together watch (bounds the work
+/// of one published END).
+pub const MAX_WATCHED: usize = 4096;
+
+/// Adds subscribers of `specs` (each must be readable now).
+pub fn subscribe(s: &mut ServeState, specs: &[DeviceSpec]) -> Result<(), String> {
+    for d in specs {
+        s.cpu.read_device(d)?;
+    }
+    let m = s.ext::<Monitor>();
+    let fresh = specs
+        .iter()
+        .filter(|d| !m.subs.iter().any(|(e, _)| e.text == d.text))
+        .count();
+    if m.subs.len() + fresh > MAX_WATCHED {
+        return Err(format!(
+            "the monitor watches {} devices already; at most {MAX_WATCHED}",
+            m.subs.len()
+        ));
+    }
+    for d in specs {
+        match m.subs.iter_mut().find(|(e, _)| e.text == d.text) {
+            Some((_, n)) => *n += 1,
+            None => m.subs.push((d.clone(), 1)),
+        }
+    }
+    // The next END publishes the new names.
+    m.last = None;
+    Ok(())
+}
+
+/// Removes subscribers of `names`.
+pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
+    let m = s.ext::<Monitor>();
+    for name in names {
+        if let Some(i) = m.subs.iter().position(|(e, _)| &e.text == name) {
+            m.subs[i].1 -= 1;
+            if m.subs[i].1 == 0 {
+                m.subs.swap_remove(i);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn breakpoint_conditions_parse() {
+        let b = Breakpoint::parse("D0 >= 100").unwrap();
+        assert_eq!((b.device.text.as_str(), b.cmp), ("D0", Cmp::Ge));
+        assert_eq!(b.value, Value::Int(100));
+        let b = Breakpoint::parse("M5").unwrap();
+        assert_eq!((b.cmp, b.value.clone()), (Cmp::Eq, Value::Bool(true)));
+        let b = Breakpoint::parse("D10:f32<1.5").unwrap();
+        assert_eq!((b.cmp, b.value.clone()), (Cmp::Lt, Value::Float(1.5)));
+        assert_eq!(
+            Breakpoint::parse("Y0 == false").unwrap().value,
+            Value::Bool(false)
+        );
+        assert_eq!(Breakpoint::parse("D1 <> 3").unwrap().cmp, Cmp::Ne);
+        assert!(Breakpoint::parse("D0").unwrap_err().contains("comparison"));
+        assert!(Breakpoint::parse("D0 > x").is_err());
+        assert!(Breakpoint::parse("QQ >= 1").unwrap_err().contains("QQ"));
+    }
+}

@@ -1,0 +1,252 @@
+// softplc web monitor: live values from /api/v1/events (contract §3.1),
+// writes with the bearer token typed in the header (sessionStorage, never a
+// cookie). One hand-written script, no build step.
+"use strict";
+(function () {
+  const $ = (s, r) => (r || document).querySelector(s);
+  const $$ = (s, r) => Array.from((r || document).querySelectorAll(s));
+  const page = document.body.dataset.page;
+  const names = document.body.dataset.names;
+  let values = {};
+  let forced = {};
+
+  const tokenInput = $("#token");
+  if (tokenInput) {
+    tokenInput.value = sessionStorage.getItem("softplc-token") || "";
+    tokenInput.addEventListener("change", () => sessionStorage.setItem("softplc-token", tokenInput.value));
+  }
+  function say(text, bad) {
+    const m = $("#msg");
+    m.textContent = text;
+    m.className = bad ? "bad" : "ok";
+  }
+  async function api(method, path, body) {
+    const h = { "Content-Type": "application/json" };
+    const t = tokenInput && tokenInput.value;
+    if (t) h["Authorization"] = "Bearer " + t;
+    const r = await fetch(path, { method, headers: h, credentials: "omit",
+      body: body === undefined ? undefined : JSON.stringify(body) });
+    let j = null;
+    try { j = await r.json(); } catch (e) { j = { error: r.statusText }; }
+    if (!r.ok) { say(r.status + ": " + (j && j.error), true); throw new Error(j && j.error); }
+    return j;
+  }
+  window.softplc = { api, values: () => values };
+
+  // --- the CPU bar and the overview ---
+  function fmtErr(e) { return e ? e.code + " " + e.message + (e.file ? " (" + e.file + ":" + e.line + ")" : "") : "none"; }
+  async function poll() {
+    try {
+      const r = await fetch("/api/v1/status", { credentials: "omit" });
+      const s = await r.json();
+      $("#state").textContent = s.state;
+      $("#state").className = "state s-" + s.state;
+      $("#scan").textContent = s.scan;
+      $("#stime").textContent = s.scan_time_us.last + " (" + s.scan_time_us.min + "–" + s.scan_time_us.max + ")";
+      $("#err").textContent = s.error ? "error " + fmtErr(s.error) : "";
+      forced = s.forced || {};
+      markForced();
+      if (page === "overview") overview(s);
+    } catch (e) { $("#state").textContent = "offline"; }
+  }
+  function overview(s) {
+    const set = (id, v) => { const el = $("#" + id); if (el) el.textContent = v; };
+    set("o-model", s.model); set("o-state", s.state); set("o-scan", s.scan);
+    set("o-last", s.scan_time_us.last); set("o-min", s.scan_time_us.min); set("o-max", s.scan_time_us.max);
+    set("o-over", s.overruns); set("o-error", fmtErr(s.error));
+    const tb = $("#o-history tbody");
+    tb.innerHTML = "";
+    (s.history || []).slice().reverse().forEach((h) => {
+      const tr = document.createElement("tr");
+      [new Date(h.time * 1000).toISOString().replace("T", " ").slice(0, 19), h.code, h.message, h.detail == null ? "" : h.detail]
+        .forEach((v) => { const td = document.createElement("td"); td.textContent = v; tr.appendChild(td); });
+      tb.appendChild(tr);
+    });
+    const f = Object.keys(forced);
+    set("o-forced", f.length ? f.map((k) => k + "=" + (forced[k] ? "ON" : "OFF")).join(", ") : "none");
+    set("o-bp", s.breakpoint ? s.breakpoint.when + (s.breakpoint.hit != null ? " (paused at scan " + s.breakpoint.hit + ")" : "") : "none");
+  }
+  setInterval(poll, 500);
+  poll();
+
+  $$("button[data-op]").forEach((b) => b.addEventListener("click", async () => {
+    const op = b.dataset.op;
+    const path = "/api/v1/cpu/" + op + (op === "step" ? "?scans=" + ($("#nscans").value || 1) : "");
+    try { const r = await api("POST", path); say(op.toUpperCase() + ": " + r.state + (r.scan != null ? " at scan " + r.scan : "")); poll(); } catch (e) {}
+  }));
+
+  // --- forcing and writing ---
+  async function force(name, on) { await api("POST", "/api/v1/force", { [name]: on }); say(name + " forced " + (on ? "ON" : "OFF")); poll(); }
+  async function release(name) { await api("DELETE", "/api/v1/force", [name]); say(name + " released"); poll(); }
+  async function write(name, v) { const r = await api("POST", "/api/v1/devices", { [name]: v }); say(name + " = " + v + " at scan " + r.scan); }
+  function parseInput(name, text, fmt, old) {
+    if (typeof old === "boolean") return /^(1|on|true)$/i.test(text.trim());
+    if (fmt === "float" || /:f32$/i.test(name)) return parseFloat(text);
+    if (fmt === "str" || /:str$/i.test(name)) return text;
+    if (fmt === "hex") return "H" + text.trim().replace(/^(0x|h)/i, "");
+    const n = Number(text);
+    return Number.isInteger(n) ? n : text.trim();
+  }
+  const io = (n) => /^[XY][0-9A-F]+$/i.test(n || "");
+  const menu = $("#menu");
+  function showMenu(ev, name) {
+    ev.preventDefault();
+    const v = values[name];
+    const items = [];
+    if (typeof v === "boolean") {
+      items.push(["set ON", () => write(name, true)], ["set OFF", () => write(name, false)]);
+    } else {
+      items.push(["change value…", () => { const t = prompt(name + " =", v); if (t !== null) write(name, parseInput(name, t, "dec", v)); }]);
+    }
+    if (io(name)) items.push(["force ON", () => force(name, true)], ["force OFF", () => force(name, false)], ["release", () => release(name)]);
+    menu.innerHTML = "<b></b>";
+    menu.firstChild.textContent = name;
+    items.forEach(([t, f]) => { const b = document.createElement("button"); b.textContent = t; b.dataset.act = t;
+      b.addEventListener("click", () => { menu.hidden = true; f().catch(() => {}); }); menu.appendChild(b); });
+    menu.style.left = ev.pageX + "px"; menu.style.top = ev.pageY + "px"; menu.hidden = false;
+  }
+  document.addEventListener("click", (e) => { if (!menu.contains(e.target) && !e.target.closest(".el")) menu.hidden = true; });
+  $$(".el").forEach((g) => { if (g.dataset.dev) g.addEventListener("click", (e) => showMenu(e, g.dataset.dev)); });
+  $$("td.edit").forEach((td) => {
+    td.addEventListener("click", () => {
+      const n = td.dataset.v; const old = values[n];
+      const t = prompt(n + " =", td.textContent);
+      if (t !== null) write(n, parseInput(n, t, td.dataset.fmt, old)).catch(() => {});
+    });
+    td.addEventListener("contextmenu", (e) => showMenu(e, td.dataset.v));
+  });
+  $$("#f-on,#f-off,#f-rel").forEach((b) => b.addEventListener("click", () => {
+    const n = $("#f-name").value.trim();
+    (b.id === "f-rel" ? release(n) : force(n, b.id === "f-on")).catch(() => {});
+  }));
+  const bpSet = $("#bp-set");
+  if (bpSet) {
+    bpSet.addEventListener("click", () => api("POST", "/api/v1/breakpoint", { when: $("#bp-when").value }).then(() => { say("breakpoint set"); poll(); }).catch(() => {}));
+    $("#bp-clear").addEventListener("click", () => api("DELETE", "/api/v1/breakpoint").then(() => { say("breakpoint cleared"); poll(); }).catch(() => {}));
+  }
+
+  // --- live values ---
+  function konst(t) {
+    if (t in values) return values[t];
+    let m = /^K(-?\d+)$/i.exec(t); if (m) return Number(m[1]);
+    m = /^H([0-9A-F]+)$/i.exec(t); if (m) return parseInt(m[1], 16);
+    m = /^E(.+)$/i.exec(t); if (m) return parseFloat(m[1]);
+    return undefined;
+  }
+  function compare(m, ops) {
+    const op = m.replace(/^(LD|AND|OR)/, "").replace(/^[DE]/, "");
+    const a = konst(ops[0]), b = konst(ops[1]);
+    if (a === undefined || b === undefined) return undefined;
+    return { "=": a === b, "<>": a !== b, ">": a > b, "<": a < b, ">=": a >= b, "<=": a <= b }[op];
+  }
+  function show(v, fmt) {
+    if (v === undefined) return "";
+    if (v === null) return "?";
+    if (typeof v === "boolean") return v ? "ON" : "OFF";
+    if (fmt === "hex" && typeof v === "number") return "H" + (v >>> 0).toString(16).toUpperCase().padStart(4, "0");
+    if (typeof v === "number" && !Number.isInteger(v)) return v.toPrecision(7).replace(/\.?0+$/, "");
+    return String(v);
+  }
+  // Power flow from the left rail: a closed contact passes power, series
+  // needs all, parallel any; INV inverts; outputs and boxes with power get "pw".
+  function powerFlow() {
+    $$("svg.rung[data-net]").forEach((svg) => {
+      const prog = svg.id.slice(1).split("-")[0];
+      const el = (id) => document.getElementById("e" + prog + "-" + id);
+      const net = (n, p) => {
+        if (typeof n === "number") {
+          const g = el(n); if (!g) return p;
+          const k = g.classList;
+          const out = k.contains("k-mod") ? (g.dataset.m === "INV" ? !p : p) : p && k.contains("on");
+          k.toggle("pw", p);
+          return out;
+        }
+        if (n.s) return n.s.reduce((q, m) => net(m, q), p);
+        if (n.p) return n.p.map((m) => net(m, p)).some((x) => x);
+        return p;
+      };
+      const fan = (f, p) => {
+        const q = f.f == null ? p : net(f.f, p);
+        f.i.forEach((i) => { if (typeof i === "number") { const g = el(i); if (g) g.classList.toggle("pw", q); } else fan(i, q); });
+      };
+      try { fan(JSON.parse(svg.dataset.net), true); } catch (e) {}
+    });
+  }
+  function markForced() {
+    $$(".el").forEach((g) => g.classList.toggle("forced", g.dataset.dev in forced));
+    $$("td.fx").forEach((td) => { const f = forced[td.dataset.f]; td.textContent = f === undefined ? "" : "forced " + (f ? "ON" : "OFF"); });
+  }
+  function update(dev) {
+    Object.assign(values, dev);
+    $$(".el").forEach((g) => {
+      const v = values[g.dataset.dev];
+      const k = g.classList;
+      let on;
+      if (k.contains("k-cmp")) on = compare(g.dataset.m, g.dataset.ops.split(" "));
+      else if (k.contains("k-nc")) on = v === false;
+      else if (k.contains("k-box") || k.contains("k-mod") || k.contains("k-end")) on = undefined;
+      else on = v === true;
+      k.toggle("on", on === true);
+    });
+    powerFlow();
+    $$("[data-v]").forEach((el) => { el.textContent = show(values[el.dataset.v], el.dataset.fmt); });
+    if (page === "trend") trendAdd(dev);
+    if (page === "loops") loopsUpdate();
+  }
+
+  // --- loop faceplates: bars over 0..2000 (the PID digital range), mode, alarms, a small trend ---
+  const loopHist = new Map();
+  function loopsUpdate() {
+    $$("[data-bar]").forEach((b) => { const v = values[b.dataset.bar]; if (typeof v === "number") b.style.width = Math.max(0, Math.min(100, v / 20)) + "%"; });
+    $$("[data-mode]").forEach((td) => { const v = values[td.dataset.mode]; td.textContent = v === 1 ? "AUTO" : v === 0 ? "MANUAL" : ""; });
+    $$("[data-alarm]").forEach((td) => { const v = values[td.dataset.alarm] || 0;
+      td.textContent = [(v & 1) ? "PV rate" : "", (v & 2) ? "MV rate" : ""].filter((x) => x).join(", ");
+      td.classList.toggle("on", v !== 0); });
+    $$("svg.ltrend").forEach((svg) => {
+      const h = loopHist.get(svg) || []; loopHist.set(svg, h);
+      h.push([values[svg.dataset.sv], values[svg.dataset.pv], values[svg.dataset.mv]]);
+      if (h.length > 300) h.shift();
+      const pts = (i) => h.map((s, k) => (k * 320 / 299).toFixed(1) + "," + (88 - Math.max(0, Math.min(2000, s[i] || 0)) / 2000 * 86).toFixed(1)).join(" ");
+      svg.innerHTML = ["#36c", "#0a7", "#c80"].map((c, i) => '<polyline fill="none" stroke="' + c + '" points="' + pts(i) + '"/>').join("");
+    });
+  }
+  if (names) {
+    const es = new EventSource("/api/v1/events?names=" + encodeURIComponent(names));
+    es.onmessage = (e) => { const d = JSON.parse(e.data); $("#scan").textContent = d.scan; update(d.devices); };
+    es.onerror = () => say("live values interrupted; retrying", true);
+  }
+
+  // --- trend: END samples as SVG polylines ---
+  const samples = [];
+  let paused = false;
+  const colours = ["#0a7", "#c33", "#36c", "#c80", "#909", "#077", "#555", "#a50"];
+  function trendAdd(dev) {
+    if (paused) return;
+    samples.push([Date.now(), names.split(",").map((n) => { const v = dev[n]; return typeof v === "boolean" ? (v ? 1 : 0) : v; })]);
+    if (samples.length > 600) samples.shift();
+    const svg = $("#trend"); const W = 900, H = 320;
+    const ns = names.split(",");
+    let html = "";
+    ns.forEach((n, i) => {
+      const ys = samples.map((s) => s[1][i]).filter((v) => typeof v === "number");
+      if (!ys.length) return;
+      const lo = Math.min(...ys), hi = Math.max(...ys), span = hi - lo || 1;
+      const pts = samples.map((s, k) => (k * W / 599).toFixed(1) + "," + (H - 10 - (s[1][i] - lo) / span * (H - 20)).toFixed(1)).join(" ");
+      html += '<polyline fill="none" stroke="' + colours[i % 8] + '" stroke-width="1.5" points="' + pts + '"/>';
+    });
+    svg.innerHTML = html;
+    $("#legend").innerHTML = "";
+    ns.forEach((n, i) => { const s = document.createElement("span"); s.style.color = colours[i % 8];
+      s.textContent = n + " = " + show(values[n]) + "  "; $("#legend").appendChild(s); });
+  }
+  const tp = $("#t-pause");
+  if (tp) {
+    tp.addEventListener("click", () => { paused = !paused; tp.textContent = paused ? "resume" : "pause"; });
+    $("#t-csv").addEventListener("click", () => {
+      const rows = ["time," + names].concat(samples.map((s) => new Date(s[0]).toISOString() + "," + s[1].join(",")));
+      const a = document.createElement("a");
+      a.href = URL.createObjectURL(new Blob([rows.join("\n")], { type: "text/csv" }));
+      a.download = "trend.csv"; a.click();
+    });
+  }
+})();

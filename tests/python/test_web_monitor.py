@@ -1,0 +1,132 @@
+"""The web monitor (issue #15, contract §3.1) in a real browser: Debian's
+chromium driven by Playwright (the PyPI package; `playwright install` is
+never run). Skipped with a message when chromium is not installed.
+
+Screenshots of each page go to docs/ (web-monitor-*.png)."""
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import time
+import urllib.request
+
+import pytest
+
+from conftest import ROOT, free_port, wait_port
+
+CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+TOKEN = "browser-test-token"
+DOCS = ROOT / "docs"
+
+pytestmark = pytest.mark.skipif(
+    not (os.path.exists(CHROMIUM) or shutil.which("chromium")),
+    reason=f"chromium not installed ({CHROMIUM}): the browser test of the web monitor is skipped",
+)
+
+
+def api(port, method, path, body=None, token=TOKEN):
+    data = None if body is None else json.dumps(body).encode()
+    req = urllib.request.Request(f"http://127.0.0.1:{port}{path}", data=data, method=method)
+    req.add_header("Content-Type", "application/json")
+    if token:
+        req.add_header("Authorization", f"Bearer {token}")
+    with urllib.request.urlopen(req, timeout=30) as r:
+        return json.loads(r.read())
+
+
+@pytest.fixture
+def monitor():
+    binary = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
+    port = free_port()
+    proc = subprocess.Popen(
+        [binary, "serve", str(ROOT / "examples" / "conveyor.il"), "--scan-time", "10ms",
+         "--http", f"127.0.0.1:{port}", "--http-token", TOKEN, "--no-realtime"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    wait_port(port, proc)
+    yield port
+    proc.send_signal(signal.SIGTERM)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+@pytest.fixture
+def browser():
+    sync_api = pytest.importorskip("playwright.sync_api")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=shutil.which("chromium") or CHROMIUM,
+                              args=["--no-sandbox", "--disable-gpu"])
+        yield b
+        b.close()
+
+
+def fill(page, selector):
+    return page.eval_on_selector(selector, "e => getComputedStyle(e).fill")
+
+
+def test_monitor_in_a_browser(monitor, browser):
+    port = monitor
+    base = f"http://127.0.0.1:{port}"
+    page = browser.new_page(viewport={"width": 1200, "height": 800})
+    page.goto(base + "/")
+    page.wait_for_function("document.querySelector('#state').textContent === 'RUN'")
+
+    # A contact changes colour when its input is written through the API.
+    x0 = "#e0-0"  # LD X0 (start button)
+    assert page.get_attribute(x0, "data-dev") == "X0"
+    off = fill(page, x0 + " rect.sym")
+    api(port, "POST", "/api/v1/devices", {"X0": True, "X1": True})
+    page.wait_for_selector(x0 + ".on", timeout=5000)
+    on = fill(page, x0 + " rect.sym")
+    assert on != off, (on, off)
+    # The motor Y0 holds itself and shows ON.
+    page.wait_for_selector("#e0-4.on", timeout=5000)
+    DOCS.mkdir(exist_ok=True)
+    page.screenshot(path=str(DOCS / "web-monitor-ladder.png"), full_page=True)
+
+    # Modify a value in the device monitor with the token.
+    page.goto(base + "/devices?start=D100&count=8")
+    page.fill("#token", TOKEN)
+    page.dispatch_event("#token", "change")
+    page.once("dialog", lambda d: d.accept("1234"))
+    page.click("td[data-v='D100']")
+    page.wait_for_function("document.querySelector(\"td[data-v='D100']\").textContent === '1234'")
+    assert api(port, "GET", "/api/v1/devices?names=D100")["devices"]["D100"] == 1234
+    page.screenshot(path=str(DOCS / "web-monitor-devices.png"), full_page=True)
+
+    # Force an input from the overview page; the ladder shows it forced.
+    page.goto(base + "/overview")
+    page.fill("#f-name", "X2")
+    page.click("#f-on")
+    page.wait_for_function("document.querySelector('#o-forced').textContent.includes('X2=ON')")
+    assert api(port, "GET", "/api/v1/force")["forced"] == {"X2": True}
+
+    # Step a paused CPU one scan.
+    page.click("button[data-op='pause']")
+    page.wait_for_function("document.querySelector('#o-state').textContent === 'PAUSE'")
+    before = api(port, "GET", "/api/v1/status")["scan"]
+    time.sleep(0.1)
+    assert api(port, "GET", "/api/v1/status")["scan"] == before, "PAUSE holds the scan"
+    page.fill("#nscans", "1")
+    page.click("#step")
+    page.wait_for_function(f"document.querySelector('#msg').textContent.includes('scan {before + 1}')")
+    status = api(port, "GET", "/api/v1/status")
+    assert (status["state"], status["scan"]) == ("PAUSE", before + 1)
+    page.screenshot(path=str(DOCS / "web-monitor-overview.png"), full_page=True)
+    page.click("button[data-op='run']")
+
+    page.goto(base + "/")
+    page.wait_for_selector("#e0-11.forced", timeout=5000)  # AND X2 in the counter rung
+
+    # A trend updates from the live samples.
+    page.goto(base + "/trend?names=D10,CN0,Y0")
+    page.wait_for_selector("#trend polyline", timeout=5000)
+    n0 = page.eval_on_selector("#trend polyline", "e => e.getAttribute('points').split(' ').length")
+    time.sleep(0.6)
+    n1 = page.eval_on_selector("#trend polyline", "e => e.getAttribute('points').split(' ').length")
+    assert n1 > n0
+    page.screenshot(path=str(DOCS / "web-monitor-trend.png"), full_page=True)
