@@ -13,6 +13,7 @@ pub mod ladder;
 pub mod loops;
 pub mod monitor;
 pub mod pages;
+pub mod process_loops;
 pub mod values;
 
 use std::net::SocketAddr;

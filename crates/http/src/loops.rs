@@ -76,7 +76,7 @@ pub fn find(programs: &[LadderProgram]) -> Vec<PidSet> {
 }
 
 /// `D600` + `k` → `D610`, in the device's numbering.
-fn offset(name: &str, k: u64) -> Option<String> {
+pub(crate) fn offset(name: &str, k: u64) -> Option<String> {
     let (p, n) = crate::pages::split_name(name)?;
     let n = u32::try_from(n as u64 + k).ok()?;
     let s = if crate::pages::hex_kind(&p) {
@@ -162,8 +162,11 @@ pub async fn page(
     let esc = crate::pages::esc;
     let mut names = Vec::new();
     let mut body = String::from(r#"<section class="cards">"#);
-    if sets.is_empty() {
-        body.push_str("<p>No PID loop (PIDCONT, S.PIDCONT) in the program.</p>");
+    let process = crate::process_loops::find(&app.cfg.ladder);
+    if sets.is_empty() && process.is_empty() {
+        body.push_str(
+            "<p>No control loop (PIDCONT, S.PIDCONT, or a process-control loop tag) in the program.</p>",
+        );
     }
     for (set, n) in sets
         .iter()
@@ -204,6 +207,7 @@ pub async fn page(
             names.extend([l.sv, l.pv, l.mv, l.mvman, l.mode, l.alarm]);
         }
     }
+    crate::process_loops::render(&process, &mut names, &mut body);
     body.push_str("</section>");
     crate::pages::frame(&app, "Loops", "loops", &names, &body).into_response()
 }

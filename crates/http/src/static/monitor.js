@@ -197,7 +197,13 @@
   // --- loop faceplates: bars over 0..2000 (the PID digital range), mode, alarms, a small trend ---
   const loopHist = new Map();
   function loopsUpdate() {
-    $$("[data-bar]").forEach((b) => { const v = values[b.dataset.bar]; if (typeof v === "number") b.style.width = Math.max(0, Math.min(100, v / 20)) + "%"; });
+    $$("[data-bar]").forEach((b) => { const v = values[b.dataset.bar]; const sc = Number(b.dataset.scale || 2000); if (typeof v === "number") b.style.width = Math.max(0, Math.min(100, v / sc * 100)) + "%"; });
+    // Process loop tags (000 §3.3.5): MODE one bit set, ALM bits (spec §1.5, §1.6).
+    const PMODES = [[0x8, "MAN"], [0x10, "AUT"], [0x20, "CAS"], [0x40, "CMB"], [0x80, "CAB"], [0x100, "CCB"], [0x200, "CMV"], [0x400, "CSV"], [0x1, "LCC"], [0x2, "LCA"], [0x4, "LCM"]];
+    const PALARMS = [[0x4000, "SPA (stopped)"], [0x800, "DMLA"], [0x200, "SEA"], [0x100, "HHA"], [0x80, "LLA"], [0x40, "PHA"], [0x20, "PLA"], [0x10, "DPPA"], [0x8, "DPNA"], [0x4, "DVLA"], [0x2, "MHA"], [0x1, "MLA"]];
+    $$("[data-pmode]").forEach((td) => { const v = values[td.dataset.pmode] || 0; td.textContent = PMODES.filter(([b]) => v & b).map(([, n]) => n).join(" "); });
+    $$("[data-palarm]").forEach((td) => { const v = values[td.dataset.palarm] || 0;
+      td.textContent = PALARMS.filter(([b]) => v & b).map(([, n]) => n).join(", "); td.classList.toggle("on", v !== 0); });
     $$("[data-mode]").forEach((td) => { const v = values[td.dataset.mode]; td.textContent = v === 1 ? "AUTO" : v === 0 ? "MANUAL" : ""; });
     $$("[data-alarm]").forEach((td) => { const v = values[td.dataset.alarm] || 0;
       td.textContent = [(v & 1) ? "PV rate" : "", (v & 2) ? "MV rate" : ""].filter((x) => x).join(", ");
@@ -206,7 +212,8 @@
       const h = loopHist.get(svg) || []; loopHist.set(svg, h);
       h.push([values[svg.dataset.sv], values[svg.dataset.pv], values[svg.dataset.mv]]);
       if (h.length > 300) h.shift();
-      const pts = (i) => h.map((s, k) => (k * 320 / 299).toFixed(1) + "," + (88 - Math.max(0, Math.min(2000, s[i] || 0)) / 2000 * 86).toFixed(1)).join(" ");
+      const sc = Number(svg.dataset.scale || 2000);
+      const pts = (i) => h.map((s, k) => (k * 320 / 299).toFixed(1) + "," + (88 - Math.max(0, Math.min(sc, s[i] || 0)) / sc * 86).toFixed(1)).join(" ");
       svg.innerHTML = ["#36c", "#0a7", "#c80"].map((c, i) => '<polyline fill="none" stroke="' + c + '" points="' + pts(i) + '"/>').join("");
     });
   }
