@@ -84,8 +84,9 @@ fn tune_the_example_as_json() {
     assert_eq!(v["tuning"]["rule"], "simc-pi");
     assert_eq!(v["settled"], true);
     let m = &v["metrics"];
-    assert!(f(&m["overshoot_pct"]) < 12.0, "{m}");
-    assert!(f(&m["settling_time"]) < 200.0, "{m}");
+    // (measured: 5.7 % overshoot, settled in 94 s)
+    assert!(f(&m["overshoot_pct"]) < 8.0, "{m}");
+    assert!(f(&m["settling_time"]) < 120.0, "{m}");
     assert!(m["band_crossings"].as_u64().unwrap() <= 3, "{m}");
 }
 
