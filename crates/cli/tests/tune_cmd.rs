@@ -61,7 +61,15 @@ fn tune_the_example_as_json() {
     let out = softplc()
         .arg("tune")
         .arg(example())
-        .args(["--loop", "R1000", "--mv0", "25", "--json"])
+        .args([
+            "--loop",
+            "R1000",
+            "--mv0",
+            "25",
+            "--pid-constants",
+            "D1200",
+            "--json",
+        ])
         .output()
         .unwrap();
     assert!(
@@ -78,6 +86,14 @@ fn tune_the_example_as_json() {
     assert!(within(f(&id["process"]["gain"]), 0.4, 0.03), "{id}");
     assert!(within(f(&id["fit"]["tau"]), 90.0, 0.03), "{id}");
     assert!(within(f(&id["fit"]["dead_time"]), 15.0, 0.03), "{id}");
+    // S.AT1's view of the same record (AT1ST = 10 s from the scenario): its
+    // tangent dead time lies between θ and θ + AT1ST, and its three ZN rows.
+    let at1 = &j["at1"];
+    assert_eq!(f(&at1["curve"]["sample_period"]), 10.0, "{at1}");
+    let l = f(&at1["curve"]["l"]);
+    let theta = f(&id["fit"]["dead_time"]);
+    assert!(l >= theta && l <= theta + 10.0, "{at1}");
+    assert_eq!(at1["rows"].as_array().unwrap().len(), 3, "{at1}");
     // Closed loop with simc-pi: settles, modest overshoot, no sustained
     // oscillation (few crossings of the band).
     let v = &j["verification"];
