@@ -14,8 +14,9 @@
 //!    MV recorded and the step metrics computed ([`crate::metrics`]).
 //!
 //! Only the loop-tag words are touched (plus, optionally, the PID's operation
-//! constants MTD and PN), so the driver works unchanged on a loop built from
-//! S.IN → S.PID → S.OUT1 or on a stand-in program with the same layout.
+//! constants MTD and PN), so the driver works unchanged on any loop built
+//! from S.IN → S.PHPL → S.PID → S.OUT1 (or S.2PID, …) with the standard
+//! loop-tag layout.
 
 use serde::Serialize;
 use softplc_core::access::{DeviceSpec, Value};
