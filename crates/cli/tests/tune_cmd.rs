@@ -79,13 +79,14 @@ fn tune_the_example_as_json() {
     );
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // The plant: K = 0.8 C/% = 0.4 %/% of 0..200 C, τ = 90 s, θ = 15 s, with
-    // 0.05 C of noise on the measurement.
+    // 0.05 C of noise on the measurement (measured: K 0.8008, τ 90.01 s,
+    // θ 14.97 s).
     let id = &j["identification"];
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
-    assert!(within(f(&id["fit"]["gain"]), 0.8, 0.03), "{id}");
-    assert!(within(f(&id["process"]["gain"]), 0.4, 0.03), "{id}");
-    assert!(within(f(&id["fit"]["tau"]), 90.0, 0.03), "{id}");
-    assert!(within(f(&id["fit"]["dead_time"]), 15.0, 0.03), "{id}");
+    assert!(within(f(&id["fit"]["gain"]), 0.8, 0.01), "{id}");
+    assert!(within(f(&id["process"]["gain"]), 0.4, 0.01), "{id}");
+    assert!(within(f(&id["fit"]["tau"]), 90.0, 0.01), "{id}");
+    assert!(within(f(&id["fit"]["dead_time"]), 15.0, 0.01), "{id}");
     // S.AT1's view of the same record (AT1ST = 10 s from the scenario): its
     // tangent dead time lies between θ and θ + AT1ST, and its three ZN rows.
     let at1 = &j["at1"];

@@ -33,10 +33,12 @@ fn within(v: f64, want: f64, rel: f64) -> bool {
 fn the_fit_recovers_the_plant() {
     let r = tune(Rule::SimcPi);
     let id = &r.identification;
-    assert!(within(id.fit.gain, 1.2, 0.01), "{id:?}");
-    assert!(within(id.process.gain, 0.6, 0.01), "{id:?}");
-    assert!(within(id.fit.tau, 60.0, 0.01), "{id:?}");
-    assert!(within(id.fit.dead_time, 10.0, 0.01), "{id:?}");
+    // The quantisation of the A/D word (0.0125 C) is all the fit sees
+    // (measured: K 1.200005, τ 60.003 s, θ 10.002 s).
+    assert!(within(id.fit.gain, 1.2, 0.001), "{id:?}");
+    assert!(within(id.process.gain, 0.6, 0.001), "{id:?}");
+    assert!(within(id.fit.tau, 60.0, 0.001), "{id:?}");
+    assert!(within(id.fit.dead_time, 10.0, 0.001), "{id:?}");
     assert!(id.fit.r2 > 0.9999 && id.rms_pct_of_range < 0.01, "{id:?}");
     // The step test held MV at 25 % until steady (PV 30 C) and stepped 10 %.
     let st = &r.step_test;
@@ -135,10 +137,10 @@ fn a_reverse_plant_gets_forward_action_through_the_pid_constants() {
     o.pid_constants = Some("D1200".into());
     o.rule = Rule::SimcPid;
     let r = tune_scenario(&sc, &o).unwrap();
-    assert!(within(r.identification.fit.gain, -0.8, 0.01), "{r:?}");
-    assert!(within(r.identification.process.gain, -0.4, 0.01), "{r:?}");
-    assert!(within(r.identification.fit.tau, 30.0, 0.01), "{r:?}");
-    assert!(within(r.identification.fit.dead_time, 5.0, 0.01), "{r:?}");
+    assert!(within(r.identification.fit.gain, -0.8, 0.001), "{r:?}");
+    assert!(within(r.identification.process.gain, -0.4, 0.001), "{r:?}");
+    assert!(within(r.identification.fit.tau, 30.0, 0.001), "{r:?}");
+    assert!(within(r.identification.fit.dead_time, 5.0, 0.001), "{r:?}");
     let v = r.verification.as_ref().unwrap();
     // (measured: 1.1 % overshoot, settled in 19 s)
     assert!(v.settled && v.metrics.overshoot_pct < 3.0, "{v:?}");
@@ -160,7 +162,7 @@ fn pv_in_percent_from_another_device() {
     let r = tune_scenario(&sc, &o).unwrap();
     let id = &r.identification;
     assert!(
-        within(id.fit.gain, 1.2, 0.01) && within(id.fit.tau, 60.0, 0.01),
+        within(id.fit.gain, 1.2, 0.001) && within(id.fit.tau, 60.0, 0.001),
         "{id:?}"
     );
     assert_eq!(r.trend_labels[0], "PV D1310:f32");
