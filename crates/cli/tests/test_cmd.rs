@@ -224,12 +224,34 @@ fn shipped_examples_pass() {
         "examples/sim/conveyor.toml",
         "examples/sim/fill_drain.toml",
         "examples/sim/heated_tank.toml",
+        // The process CPU's loops (Q06PHCPU): S.PID flow loop, S.2PID/S.PID
+        // cascade, S.AT1 auto-tuning, S.R ratio, and the loop `softplc
+        // tune` runs on (at rest in MAN).
+        "examples/process/flow_loop.toml",
+        "examples/process/cascade.toml",
+        "examples/process/autotune.toml",
+        "examples/process/ratio.toml",
+        "examples/process/fopdt_loop.toml",
         "--plot",
         &svg,
     ]);
     let text = stdout(&out);
     // With several scenarios each plot file gets the scenario's name.
-    assert!(dir.path().join("plot-conveyor.svg").is_file(), "{text}");
+    for name in [
+        "conveyor",
+        "fill_drain",
+        "heated_tank",
+        "flow_loop",
+        "cascade",
+        "autotune",
+        "ratio",
+        "fopdt_loop",
+    ] {
+        assert!(
+            dir.path().join(format!("plot-{name}.svg")).is_file(),
+            "no plot for {name}: {text}"
+        );
+    }
     assert!(out.status.success(), "{text}");
     assert!(!text.contains("FAIL"), "{text}");
     assert!(

@@ -14,8 +14,9 @@
 //!    MV recorded and the step metrics computed ([`crate::metrics`]).
 //!
 //! Only the loop-tag words are touched (plus, optionally, the PID's operation
-//! constants MTD and PN), so the driver works unchanged on a loop built from
-//! S.IN → S.PID → S.OUT1 or on a stand-in program with the same layout.
+//! constants MTD and PN), so the driver works unchanged on any loop built
+//! from S.IN → S.PHPL → S.PID → S.OUT1 (or S.2PID, …) with the standard
+//! loop-tag layout.
 
 use serde::Serialize;
 use softplc_core::access::{DeviceSpec, Value};
@@ -477,7 +478,8 @@ fn finish(t: Vec<f64>, y: Vec<f64>, y0: f64, o: &Options) -> StepResponse {
     }
 }
 
-/// What S.AT1 would identify from the record, resampled every `period`.
+/// What S.AT1 would identify from the record, resampled every `period`
+/// (sample k = the scan k·period after the step's scan).
 fn at1_compare(
     resp: &StepResponse,
     rl: f64,
@@ -492,7 +494,10 @@ fn at1_compare(
         1.0
     };
     let pct = |v: f64| (v - rl) * 100.0 / span;
-    let mut pv = vec![pct(resp.y0)];
+    // Sample 0 is PV in the scan of the step (S.AT1's PV0, DEC-32), not the
+    // steady PV of the hold: S.AT1 executed before S.OUT1 in that scan sees
+    // exactly these samples.
+    let mut pv = vec![pct(resp.y.first().copied().unwrap_or(resp.y0))];
     let mut k = 1;
     loop {
         let i = ((k as f64 * period - resp.t[0]) / dt).round();

@@ -26,4 +26,4 @@ pub mod loop_tag;
 pub mod metrics;
 pub mod report;
 pub mod rules;
-mod session;
+pub mod session;

@@ -1,8 +1,7 @@
 //! The loop tag of a process-control loop (process-control spec §3): the
 //! 128 words at the head device D2 that S.IN, S.PID, S.OUT1 and S.AT1 share.
 //! The tuning driver reads and writes the loop only through these words, so
-//! the same driver tunes a loop built from the real instructions or from a
-//! stand-in program that keeps the same layout.
+//! it tunes any program that keeps this layout.
 
 use softplc_core::access::{DeviceSpec, Value};
 use softplc_core::device::{parse_operand, Operand};

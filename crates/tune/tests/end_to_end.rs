@@ -1,6 +1,7 @@
-//! The tuning workflow end to end on the stand-in loop program
-//! (`fixtures/standin_loop.il`, standing in for S.IN → S.PID → S.OUT1) and
-//! FOPDT plants in virtual time. Deterministic: no wall-clock assertions.
+//! The tuning workflow end to end on a process CPU program
+//! (`examples/process/temperature_loop.il`: S.IN → S.PHPL → S.PID → S.OUT1,
+//! loop tag R1000) and FOPDT plants in virtual time. Deterministic: no
+//! wall-clock assertions.
 
 use std::path::{Path, PathBuf};
 
@@ -17,7 +18,7 @@ fn fixture(name: &str) -> PathBuf {
 /// The fixture plant: K = 1.2 C/% on a 0..200 C range = 0.6 %/%, τ = 60 s,
 /// θ = 10 s.
 fn tune(rule: Rule) -> Report {
-    let sc = Scenario::load(&fixture("standin_fopdt.toml")).unwrap();
+    let sc = Scenario::load(&fixture("fopdt.toml")).unwrap();
     let mut o = Options::new("R1000");
     o.initial_mv = Some(25.0);
     o.rule = rule;
@@ -32,10 +33,12 @@ fn within(v: f64, want: f64, rel: f64) -> bool {
 fn the_fit_recovers_the_plant() {
     let r = tune(Rule::SimcPi);
     let id = &r.identification;
-    assert!(within(id.fit.gain, 1.2, 0.01), "{id:?}");
-    assert!(within(id.process.gain, 0.6, 0.01), "{id:?}");
-    assert!(within(id.fit.tau, 60.0, 0.01), "{id:?}");
-    assert!(within(id.fit.dead_time, 10.0, 0.01), "{id:?}");
+    // The quantisation of the A/D word (0.0125 C) is all the fit sees
+    // (measured: K 1.200005, τ 60.003 s, θ 10.002 s).
+    assert!(within(id.fit.gain, 1.2, 0.001), "{id:?}");
+    assert!(within(id.process.gain, 0.6, 0.001), "{id:?}");
+    assert!(within(id.fit.tau, 60.0, 0.001), "{id:?}");
+    assert!(within(id.fit.dead_time, 10.0, 0.001), "{id:?}");
     assert!(id.fit.r2 > 0.9999 && id.rms_pct_of_range < 0.01, "{id:?}");
     // The step test held MV at 25 % until steady (PV 30 C) and stepped 10 %.
     let st = &r.step_test;
@@ -82,9 +85,12 @@ fn simc_pi_settles_with_little_overshoot() {
     let v = r.verification.as_ref().unwrap();
     let m = &v.metrics;
     assert!(v.settled, "{v:?}");
-    // SIMC with τc = θ: a smooth response, settling within a few θ + τc.
-    assert!(m.overshoot_pct < 10.0, "{m:?}");
-    assert!(m.settling_time.unwrap() < 120.0, "{m:?}");
+    // SIMC with τc = θ: a smooth response, settling within a few θ + τc
+    // (measured: 5.8 % overshoot, settled in 63 s; S.OUT1's MV stays inside
+    // 35..71 %, so its limiter and reset windup do not act).
+    assert!(m.overshoot_pct > 2.0 && m.overshoot_pct < 8.0, "{m:?}");
+    assert!(m.settling_time.unwrap() < 80.0, "{m:?}");
+    assert!(v.mv_min >= 34.9 && v.mv_max < 80.0, "{v:?}");
     assert!(m.band_crossings <= 2, "{m:?}");
     // The loop tag holds the settings that were verified.
     assert_eq!(v.tuning.rule, Rule::SimcPi);
@@ -105,33 +111,39 @@ fn zn_pid_is_faster_and_oscillates_more_but_settles() {
         z.rise_time.unwrap() < s.rise_time.unwrap(),
         "{z:?} vs {s:?}"
     );
-    // ZN aims at a quarter decay: large, but not sustained, oscillation.
-    assert!(z.overshoot_pct < 70.0, "{z:?}");
+    // ZN aims at a quarter decay: large, but not sustained, oscillation
+    // (measured: 22 % overshoot; MV touches MH = 100 %, where S.OUT1's
+    // reset windup holds it).
+    assert!(z.overshoot_pct < 30.0, "{z:?}");
+    let zv = zn.verification.as_ref().unwrap();
+    assert!(zv.mv_max <= 100.0 && zv.mv_min >= 0.0, "{zv:?}");
 }
 
 #[test]
 fn chr_pi_does_not_overshoot() {
     let r = tune(Rule::ChrPi);
     let v = r.verification.unwrap();
-    assert!(v.settled && v.metrics.overshoot_pct < 2.0, "{v:?}");
+    // (measured: 3e-5 %, settled in 151 s)
+    assert!(v.settled && v.metrics.overshoot_pct < 0.5, "{v:?}");
 }
 
 #[test]
 fn a_reverse_plant_gets_forward_action_through_the_pid_constants() {
     // K = −0.8 C/% = −0.4 %/%: the driver writes PN = 1 (D1204) and MTD
     // (D1200).
-    let sc = Scenario::load(&fixture("standin_reverse.toml")).unwrap();
+    let sc = Scenario::load(&fixture("reverse.toml")).unwrap();
     let mut o = Options::new("R1000");
     o.step_pct = 20.0;
     o.pid_constants = Some("D1200".into());
     o.rule = Rule::SimcPid;
     let r = tune_scenario(&sc, &o).unwrap();
-    assert!(within(r.identification.fit.gain, -0.8, 0.01), "{r:?}");
-    assert!(within(r.identification.process.gain, -0.4, 0.01), "{r:?}");
-    assert!(within(r.identification.fit.tau, 30.0, 0.01), "{r:?}");
-    assert!(within(r.identification.fit.dead_time, 5.0, 0.01), "{r:?}");
+    assert!(within(r.identification.fit.gain, -0.8, 0.001), "{r:?}");
+    assert!(within(r.identification.process.gain, -0.4, 0.001), "{r:?}");
+    assert!(within(r.identification.fit.tau, 30.0, 0.001), "{r:?}");
+    assert!(within(r.identification.fit.dead_time, 5.0, 0.001), "{r:?}");
     let v = r.verification.as_ref().unwrap();
-    assert!(v.settled && v.metrics.overshoot_pct < 15.0, "{v:?}");
+    // (measured: 1.1 % overshoot, settled in 19 s)
+    assert!(v.settled && v.metrics.overshoot_pct < 3.0, "{v:?}");
     assert!(v.tuning.td > 0.0 && v.tuning.eta == Some(0.125));
     // The SV step goes down (the step test moved PV down) and PV follows.
     assert!(v.sv_after < v.sv_before, "{v:?}");
@@ -139,9 +151,9 @@ fn a_reverse_plant_gets_forward_action_through_the_pid_constants() {
 
 #[test]
 fn pv_in_percent_from_another_device() {
-    // The stand-in's E1 (D1310, float %) is what S.IN's BW would be: read as
-    // % of the 0..200 range it gives the same plant.
-    let sc = Scenario::load(&fixture("standin_fopdt.toml")).unwrap();
+    // S.IN's BW (D1310, float %): read as % of the 0..200 range it gives the
+    // same plant.
+    let sc = Scenario::load(&fixture("fopdt.toml")).unwrap();
     let mut o = Options::new("R1000");
     o.initial_mv = Some(25.0);
     o.pv_device = Some("D1310:f32".into());
@@ -150,7 +162,7 @@ fn pv_in_percent_from_another_device() {
     let r = tune_scenario(&sc, &o).unwrap();
     let id = &r.identification;
     assert!(
-        within(id.fit.gain, 1.2, 0.01) && within(id.fit.tau, 60.0, 0.01),
+        within(id.fit.gain, 1.2, 0.001) && within(id.fit.tau, 60.0, 0.001),
         "{id:?}"
     );
     assert_eq!(r.trend_labels[0], "PV D1310:f32");
@@ -183,7 +195,7 @@ fn the_run_is_deterministic() {
 
 #[test]
 fn errors_name_the_devices() {
-    let sc = Scenario::load(&fixture("standin_fopdt.toml")).unwrap();
+    let sc = Scenario::load(&fixture("fopdt.toml")).unwrap();
     // D2000: nothing initialises it, RH = RL = 0.
     let e = tune_scenario(&sc, &Options::new("D2000")).unwrap_err();
     assert!(
@@ -210,20 +222,9 @@ fn errors_name_the_devices() {
 
 #[test]
 fn a_stopped_cpu_is_an_error_with_its_cause() {
-    // SV in % divides by RH − RL: with RH = RL the stand-in stops with 4100
-    // (the test writes RL := RH before the program's division).
-    let sc = Scenario::load(&fixture("standin_stop.toml")).unwrap();
+    // With RH = RL (the timeline writes RL := RH) S.PHPL stops the CPU with
+    // 4100.
+    let sc = Scenario::load(&fixture("stop.toml")).unwrap();
     let e = tune_scenario(&sc, &Options::new("R1000")).unwrap_err();
     assert!(e.contains("4100") && e.contains("stopped"), "{e}");
-}
-
-#[test]
-fn the_example_program_is_the_fixture() {
-    let example =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/process/standin_loop.il");
-    assert_eq!(
-        std::fs::read_to_string(example).unwrap(),
-        std::fs::read_to_string(fixture("standin_loop.il")).unwrap(),
-        "examples/process/standin_loop.il must stay a copy of the fixture"
-    );
 }
