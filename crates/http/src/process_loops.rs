@@ -32,7 +32,8 @@ pub fn find(programs: &[LadderProgram]) -> Vec<ProcessLoop> {
         for r in &p.rungs {
             r.for_each(&mut |e| {
                 let m = e.mnemonic.to_ascii_uppercase();
-                let (Some(tag), true) = (e.operands.get(3), LOOP_INSTRUCTIONS.contains(&m.as_str()))
+                let (Some(tag), true) =
+                    (e.operands.get(3), LOOP_INSTRUCTIONS.contains(&m.as_str()))
                 else {
                     return;
                 };

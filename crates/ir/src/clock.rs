@@ -8,6 +8,13 @@ use std::time::Instant;
 /// Microseconds since an arbitrary origin, never going backwards.
 pub trait Clock: Send {
     fn now_us(&self) -> u64;
+
+    /// Virtual time: instructions take none of it, so the engine's wall-clock
+    /// watchdog only guards against endless scans (see
+    /// `softplc_engine::VIRTUAL_WATCHDOG_FLOOR`).
+    fn is_virtual(&self) -> bool {
+        false
+    }
 }
 
 /// Virtual time, advanced explicitly by its owner (cloneable handle).
@@ -27,6 +34,10 @@ impl VirtualClock {
 impl Clock for VirtualClock {
     fn now_us(&self) -> u64 {
         self.0.load(Ordering::Relaxed)
+    }
+
+    fn is_virtual(&self) -> bool {
+        true
     }
 }
 

@@ -206,7 +206,7 @@ impl Cpu {
             calls: Vec::with_capacity(MAX_NESTING),
             fors: Vec::with_capacity(MAX_NESTING),
             stop_request: false,
-            watchdog: cfg.watchdog,
+            watchdog: wall_watchdog(cfg.watchdog, clock.is_virtual()),
             wdt_start: std::time::Instant::now(),
             abort: Default::default(),
             operation_error: cfg.operation_error,
@@ -306,6 +306,12 @@ impl Cpu {
         &mut self.rt.mem
     }
 
+    /// The watchdog time the scan checks in wall-clock time (see
+    /// [`wall_watchdog`]).
+    pub(crate) fn wall_watchdog(&self, t: std::time::Duration) -> std::time::Duration {
+        wall_watchdog(t, self.clock.is_virtual())
+    }
+
     /// Reads the engine clock (µs).
     pub fn now_us(&self) -> u64 {
         self.clock.now_us()
@@ -331,4 +337,33 @@ impl Cpu {
     }
 
     // --- operating states (004 §4.4, §7.5, §7.8) ---
+}
+
+/// Under virtual time the watchdog is at least this long in wall-clock time.
+/// Instructions take no virtual time, so a real CPU's WDT ERROR from a long
+/// scan has no deterministic counterpart; the watchdog still stops an
+/// endless scan, but a machine under load (a preempted engine thread) does
+/// not turn an ordinary scan into 5000 (COMPATIBILITY.md "Watchdog").
+pub const VIRTUAL_WATCHDOG_FLOOR: std::time::Duration = std::time::Duration::from_secs(1);
+
+fn wall_watchdog(t: std::time::Duration, virtual_time: bool) -> std::time::Duration {
+    if virtual_time {
+        t.max(VIRTUAL_WATCHDOG_FLOOR)
+    } else {
+        t
+    }
+}
+
+#[cfg(test)]
+mod watchdog_tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn virtual_time_raises_the_wall_clock_watchdog_to_its_floor() {
+        let ms = Duration::from_millis;
+        assert_eq!(wall_watchdog(ms(200), true), VIRTUAL_WATCHDOG_FLOOR);
+        assert_eq!(wall_watchdog(ms(200), false), ms(200));
+        assert_eq!(wall_watchdog(ms(2000), true), ms(2000));
+    }
 }

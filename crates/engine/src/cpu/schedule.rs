@@ -34,7 +34,7 @@ impl Cpu {
             // the initial programs (004 L1446-1503).
             let wdt = self.rt.watchdog;
             if let Some(t) = self.cfg.initial_monitor {
-                self.rt.watchdog = t;
+                self.rt.watchdog = self.wall_watchdog(t);
             }
             let ok = self.service_interrupts(now) && self.run_type(ExecType::Initial);
             self.rt.watchdog = wdt;
