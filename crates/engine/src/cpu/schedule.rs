@@ -21,7 +21,10 @@ impl Cpu {
         self.rt.wdt_start = std::time::Instant::now();
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
-        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
+        match &self.rt.system {
+            Some(s) => s.scan_start(&mut self.rt.mem, now - self.run_start_us, self.first_scan),
+            None => special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan),
+        }
         let initial =
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;
