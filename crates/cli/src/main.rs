@@ -1,5 +1,6 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
+mod names;
 mod run;
 mod serve;
 mod signal;
@@ -39,8 +40,12 @@ enum Command {
     ///
     /// Exit status is non-zero when the program has errors.
     Check {
-        /// Program file (.il or .csv).
+        /// Program file (.il, .csv or .apl).
         program: PathBuf,
+        /// How a single program file is read: melsec or aplc (default by
+        /// name: `.apl` is aplc).
+        #[arg(long, value_name = "D", value_enum)]
+        dialect: Option<names::DialectArg>,
     },
     /// Run scenario tests: a program against plant models in virtual time,
     /// with a timeline of inputs and assertions (docs/scenarios.md).
@@ -65,7 +70,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run(args) => run::run(*args),
-        Command::Check { program } => run::check(&program),
+        Command::Check { program, dialect } => run::check(&program, dialect),
         Command::Test(args) => test_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
     }

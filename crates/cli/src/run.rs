@@ -17,6 +17,8 @@ use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
+use crate::names::{DevName, DialectArg};
+
 #[derive(Args, Debug)]
 pub struct RunArgs {
     /// Program file (.il text list or GX Works2 .csv export), or a project
@@ -73,6 +75,11 @@ pub struct RunArgs {
     /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub timeout: Option<Duration>,
+    /// How a single program file is read: melsec or aplc (default by name:
+    /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
+    /// of :i32/:u32/:f32, TN5/CN5 current values.
+    #[arg(long, value_name = "D", value_enum)]
+    pub dialect: Option<DialectArg>,
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -159,6 +166,49 @@ pub(crate) fn load(
     clock: Box<dyn Clock>,
     start: Option<DateTime>,
 ) -> Result<Loaded, ExitCode> {
+    load_with(path, clock, start, None)
+}
+
+/// True when a single program file is read as `.apl` (contract §2).
+pub(crate) fn is_aplc(path: &Path, dialect: Option<DialectArg>) -> bool {
+    !project::is_project(path)
+        && dialect.map_or(softplc_core::aplc::is_apl(path), |d| d == DialectArg::Aplc)
+}
+
+/// [`load`] with the `--dialect` of a single program file.
+pub(crate) fn load_with(
+    path: &Path,
+    clock: Box<dyn Clock>,
+    start: Option<DateTime>,
+    dialect: Option<DialectArg>,
+) -> Result<Loaded, ExitCode> {
+    if is_aplc(path, dialect) {
+        let program = softplc_core::aplc::load_file(path).map_err(|d| report(&d, path))?;
+        let mut cfg = softplc_core::aplc::cpu_config();
+        if let Some(t) = start {
+            cfg.clock_start = t;
+        }
+        let cpu = Cpu::with_programs(
+            vec![softplc_core::engine::LoadedProgram {
+                program,
+                exec: Default::default(),
+                interval: None,
+                sim_time: None,
+            }],
+            cfg,
+            clock,
+        )
+        .map_err(|e| {
+            eprintln!("softplc: {e}");
+            ExitCode::from(1)
+        })?;
+        return Ok(Loaded {
+            cpu,
+            state: None,
+            modbus: None,
+            on_damage: OnDamage::default(),
+        });
+    }
     if project::is_project(path) {
         let mut p = project::load_project(path).map_err(|d| report(&d, path))?;
         if let Some(t) = start {
@@ -188,8 +238,8 @@ pub(crate) fn load(
     })
 }
 
-pub fn check(path: &Path) -> ExitCode {
-    match load(path, Box::new(VirtualClock::new()), None) {
+pub fn check(path: &Path, dialect: Option<DialectArg>) -> ExitCode {
+    match load_with(path, Box::new(VirtualClock::new()), None, dialect) {
         Ok(l) => {
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
@@ -207,17 +257,17 @@ pub fn check(path: &Path) -> ExitCode {
 /// A write scheduled before a scan.
 struct Write {
     scan: u64,
-    spec: DeviceSpec,
+    spec: DevName,
     value: String,
 }
 
-fn parse_write(arg: &str, scan: u64) -> Result<Write, String> {
+fn parse_write(arg: &str, scan: u64, aplc: bool) -> Result<Write, String> {
     let (dev, value) = arg
         .split_once('=')
         .ok_or_else(|| format!("`{arg}`: expected DEV=VALUE"))?;
     Ok(Write {
         scan,
-        spec: DeviceSpec::parse(dev.trim())?,
+        spec: DevName::parse(dev.trim(), aplc)?,
         value: value.trim().to_string(),
     })
 }
@@ -242,10 +292,11 @@ fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
     .map(Some)
 }
 
-fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String> {
+fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DevName>), String> {
+    let aplc = is_aplc(&args.program, args.dialect);
     let mut writes = Vec::new();
     for s in &args.set {
-        writes.push(parse_write(s, 1)?);
+        writes.push(parse_write(s, 1, aplc)?);
     }
     for a in &args.at {
         let (n, rest) = a
@@ -257,13 +308,13 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
             .ok()
             .filter(|n| *n >= 1)
             .ok_or_else(|| format!("`{a}`: scan number must be 1 or more"))?;
-        writes.push(parse_write(rest, n)?);
+        writes.push(parse_write(rest, n, aplc)?);
     }
     writes.sort_by_key(|w| w.scan);
     let shows = args
         .show
         .iter()
-        .map(|s| DeviceSpec::parse(s))
+        .map(|s| DevName::parse(s, aplc))
         .collect::<Result<Vec<_>, _>>()?;
     Ok((writes, shows))
 }
@@ -275,7 +326,12 @@ pub fn run(args: RunArgs) -> ExitCode {
         state,
         on_damage,
         ..
-    } = match load(&args.program, Box::new(clock.clone()), args.clock) {
+    } = match load_with(
+        &args.program,
+        Box::new(clock.clone()),
+        args.clock,
+        args.dialect,
+    ) {
         Ok(l) => l,
         Err(code) => return code,
     };
@@ -326,7 +382,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     let mut scans = 0u64;
     for n in 1..=args.scans {
         while let Some(w) = pending.next_if(|w| w.scan == n) {
-            if let Err(e) = cpu.write_device(&w.spec, &w.value) {
+            if let Err(e) = w.spec.write(&mut cpu, &w.value) {
                 eprintln!("softplc: {e}");
                 return ExitCode::from(2);
             }
@@ -381,10 +437,10 @@ pub fn run(args: RunArgs) -> ExitCode {
     let mut devices = Map::new();
     let mut text = Vec::new();
     for spec in &shows {
-        match cpu.read_device(spec) {
+        match spec.read(&cpu) {
             Ok(v) => {
-                text.push(format!("{} = {v}", spec.text));
-                devices.insert(spec.text.clone(), to_json(&v));
+                text.push(format!("{} = {v}", spec.text()));
+                devices.insert(spec.text().to_string(), to_json(&v));
             }
             Err(e) => {
                 eprintln!("softplc: {e}");
