@@ -41,8 +41,7 @@ impl Name {
                 .is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit()))
         });
         let (melsec, bit, wide, local) = if value_of {
-            let d = parse_device(&format!("{}{}", &u[..1], &u[2..]))
-                .map_err(|e| format!("`{s}`: {e}"))?
+            let d = parse_device(&format!("{}{}", &u[..1], &u[2..]))?
                 .filter(|d| d.group.is_none())
                 .ok_or_else(|| format!("`{s}` is not a device"))?;
             let (kind, n) = d
@@ -52,9 +51,7 @@ impl Name {
             let wide = d.dev == Dev::C && is_counter32(d.n);
             (with_index(kind.format(n), d.index), false, wide, false)
         } else {
-            let d = parse_device(&u)
-                .map_err(|e| format!("`{s}`: {e}"))?
-                .ok_or_else(|| format!("`{s}` is not an APLC device"))?;
+            let d = parse_device(&u)?.ok_or_else(|| format!("`{s}` is not an APLC device"))?;
             let local = matches!(d.dev, Dev::LM | Dev::V);
             if let Some(k) = d.group {
                 let (kind, n) = d

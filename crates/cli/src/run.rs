@@ -292,8 +292,7 @@ fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
     .map(Some)
 }
 
-fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DevName>), String> {
-    let aplc = is_aplc(&args.program, args.dialect);
+fn parse_options(args: &RunArgs, aplc: bool) -> Result<(Vec<Write>, Vec<DevName>), String> {
     let mut writes = Vec::new();
     for s in &args.set {
         writes.push(parse_write(s, 1, aplc)?);
@@ -336,7 +335,9 @@ pub fn run(args: RunArgs) -> ExitCode {
         Err(code) => return code,
     };
     let (writes, shows, trace) =
-        match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
+        match parse_options(&args, cpu.config().model == softplc_core::aplc::MODEL)
+            .and_then(|(w, s)| Ok((w, s, parse_trace(&args)?)))
+        {
             Ok(x) => x,
             Err(e) => {
                 eprintln!("softplc: {e}");
