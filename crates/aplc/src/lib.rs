@@ -8,6 +8,7 @@
 
 pub mod arith;
 pub mod basic;
+pub mod bits;
 pub mod compare;
 pub mod compile;
 pub mod constant;
@@ -22,6 +23,7 @@ pub mod resolve;
 pub mod system;
 pub mod text;
 pub mod timers;
+pub mod transfer;
 
 use std::path::Path;
 use std::sync::{Arc, OnceLock};
@@ -41,6 +43,8 @@ pub static DEFS: &[&[Def]] = &[
     counters::DEFS,
     flow::DEFS,
     arith::DEFS,
+    transfer::DEFS,
+    bits::DEFS,
     compare::DEFS,
     rejected::DEFS,
 ];

@@ -4,7 +4,7 @@
 //! Every failure is a message naming the token.
 
 use softplc_ir::device::{DeviceKind, DeviceMap};
-use softplc_ir::ops::{BitArg, Indexed, IndexedKind, WordArg};
+use softplc_ir::ops::{BitArg, Block, Indexed, IndexedKind, WordArg};
 use softplc_lang::compile::{Args, Compiler};
 use softplc_lang::Token;
 
@@ -212,6 +212,52 @@ fn indexed(
         points,
         z: map.base(DeviceKind::Z) + z as u32,
         block: Indexed::NONE,
+    })
+}
+
+/// The first word of a 16-bit block (BMOV, FMOV: D, SD as a source, C0-C199,
+/// T, V) and the end of its device.
+pub fn block(map: &DeviceMap, text: &str, dest: bool) -> Result<Block, String> {
+    let d = device(text)?;
+    if d.group.is_some() {
+        return Err(format!(
+            "`{text}`: blocks of bit groups are not implemented yet in softplc"
+        ));
+    }
+    if !matches!(d.dev, Dev::D | Dev::SD | Dev::C | Dev::T | Dev::V) {
+        return Err(format!("`{text}`: a block is D, SD, C, T or V"));
+    }
+    let start = word(map, text, Width::W16, dest, false)?;
+    let (kind, _) = d
+        .dev
+        .word_storage(0)
+        .ok_or_else(|| format!("`{text}` is not a word device"))?;
+    let points = if d.dev == Dev::C { 200 } else { d.dev.points() };
+    Ok(Block {
+        start,
+        limit: map.base(kind) + points,
+    })
+}
+
+/// The first pair of a 32-bit destination block (DFMOV: D, V, C200-C255).
+pub fn block32(map: &DeviceMap, text: &str) -> Result<Block, String> {
+    let d = device(text)?;
+    if d.group.is_some() || d.dev == Dev::SD {
+        return Err(format!("`{text}`: a 32-bit block is D, V or C200-C255"));
+    }
+    let start = word(map, text, Width::W32, true, false)?;
+    let (kind, first) = d
+        .dev
+        .word_storage(0)
+        .ok_or_else(|| format!("`{text}` is not a word device"))?;
+    let points = if d.dev == Dev::C {
+        crate::devices::counter_word(255) + 2
+    } else {
+        d.dev.points() + first
+    };
+    Ok(Block {
+        start,
+        limit: map.base(kind) + points,
     })
 }
 

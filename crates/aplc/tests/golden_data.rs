@@ -143,3 +143,54 @@ POU MAIN\nVAR\n    LM0 FLAG TEMP BOOL\n    W  TEMP INT\nEND_VAR\nLD 水压\nOUT 
     assert_eq!(p.int("D0"), 5);
     assert_eq!(p.int("V0"), 5, "MAIN's locals after the last scan");
 }
+
+/// §8.2 #20-25: BMOV, FMOV 500, DFMOV 100000 (D10-D29), SWAP 16#1027,
+/// XCH 5000 ↔ 1000, DXCH 5000000 ↔ 1000000.
+#[test]
+fn block_transfer_examples() {
+    let src = "LD SM1\nFMOV 500 D100 10\nBMOV D100 D200 10\nDFMOV 100000 D10 10\nMOV 16#1027 D0\nSWAP D0\n\
+MOV 5000 D1\nMOV 1000 D2\nXCH D1 D2\nDMOV 5000000 D4\nDMOV 1000000 D6\nDXCH D4 D6\nMOV 7 D300\nBMOV D300 D301 -1\n";
+    let mut p = plc(src);
+    p.scan();
+    for k in 0..10 {
+        assert_eq!(p.int(&format!("D{}", 100 + k)), 500);
+        assert_eq!(p.int(&format!("D{}", 200 + k)), 500);
+        assert_eq!(p.int(&format!("D{}:i32", 10 + 2 * k)), 100_000);
+    }
+    assert_eq!(p.int("D30"), 0);
+    assert_eq!(p.int("D0:u16"), 0x2710);
+    assert_eq!((p.int("D1"), p.int("D2")), (1000, 5000));
+    assert_eq!((p.int("D4:i32"), p.int("D6:i32")), (1_000_000, 5_000_000));
+    assert_eq!(
+        p.error_code(),
+        Some(64),
+        "a negative count is an illegal value"
+    );
+    assert_eq!(p.int("D301"), 0);
+}
+
+/// BMOV past the last D is error 65 and copies nothing.
+#[test]
+fn bmov_out_of_range() {
+    let mut p = plc("LD SM0\nMOV 1 D7990\nBMOV D7990 D0 20\n");
+    p.scan();
+    assert_eq!(p.error_code(), Some(65));
+    assert_eq!(p.int("D0"), 0);
+    assert!(p.running());
+}
+
+/// §8.4 #66: ZRST / ZSET M10 10 (L8699, L8724); ZRST on C clears values.
+#[test]
+fn zrst_zset() {
+    let mut p = plc("LD M0\nZSET M10 10\nLD M1\nZRST M10 10\nZRST C199 2\n");
+    p.set("M0", "1").scan();
+    assert!((10..20).all(|m| p.bit(&format!("M{m}"))));
+    assert!(!p.bit("M20") && !p.bit("M9"));
+    p.set("CN199", "5")
+        .set("CN200", "70000")
+        .set("M0", "0")
+        .set("M1", "1")
+        .scan();
+    assert!((10..20).all(|m| !p.bit(&format!("M{m}"))));
+    assert_eq!((p.int("CN199"), p.int("CN200")), (0, 0));
+}
