@@ -250,3 +250,25 @@ fn system_relays() {
     p.scan();
     assert!(p.bit("M0") && !p.bit("M1") && p.bit("M15"));
 }
+
+/// An endless CJ loop is error 61 (watchdog, 200 ms): SD20 = 61, STOP (D14).
+#[test]
+fn watchdog_is_error_61() {
+    let mut p = plc("LBL 0\nLD SM0\nCJ 0\n");
+    p.scan();
+    assert!(!p.running());
+    assert_eq!(p.error_code(), Some(61));
+    assert_eq!(p.int("SD20"), 61);
+    assert!(p.bit("SM20"));
+}
+
+/// STOP with power flow stops the user program (L3735-3743); NOP does nothing.
+#[test]
+fn stop_instruction() {
+    let mut p = plc("NOP\nLD SM0\nOUT Y0\nLD M0\nSTOP\nWDT\n");
+    p.scan();
+    assert!(p.running() && p.bit("Y0"));
+    p.set("M0", "1").scan();
+    assert!(!p.running());
+    assert_eq!(p.error_code(), None);
+}

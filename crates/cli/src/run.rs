@@ -450,11 +450,13 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     }
     let time_ms = scans as f64 * args.scan_time.as_secs_f64() * 1000.0;
+    // The APLC has no step numbers in its reports (contract §2).
+    let aplc = cpu.config().model == softplc_core::aplc::MODEL;
     let error = cpu.error().map(|e| {
         json!({
             "code": e.code.0,
             "message": e.code.message(),
-            "step": e.step,
+            "step": if aplc { None } else { e.step },
             "file": e.file,
             "line": e.line,
         })

@@ -128,6 +128,7 @@ fn run_error_json() {
     assert_eq!(v["state"], "RUN");
     assert_eq!(v["error"]["code"], 69);
     assert_eq!(v["error"]["line"], 2);
+    assert!(v["error"]["step"].is_null());
     assert_eq!(v["devices"]["D4"], 3);
     assert_eq!(v["devices"]["SD20"], 69);
 }
