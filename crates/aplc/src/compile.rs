@@ -130,6 +130,13 @@ fn finish(mut c: Compiler<'_>, last: Token) -> Result<Program, Diagnostics> {
         c.err(&last, "the last contacts of the POU lead to no output");
     }
     c.close_rung(&last);
+    for tok in std::mem::take(&mut c.for_open) {
+        let at = Token {
+            text: "FOR".into(),
+            ..tok
+        };
+        c.err(&at, "FOR without its NEXT in this POU (L3580)");
+    }
     for (n, tok) in std::mem::take(&mut c.mc_open) {
         c.err(&tok, format!("MC {n} without MCR {n}"));
     }
@@ -137,6 +144,8 @@ fn finish(mut c: Compiler<'_>, last: Token) -> Result<Program, Diagnostics> {
     for (at, n, tok) in fixups {
         if c.labels.contains_key(&n) {
             c.fixups.push((at, n, tok));
+        } else if n > 127 {
+            // The skip of a FOR without NEXT, reported above.
         } else {
             c.err(&tok, format!("CJ {n}: no LBL {n} in this POU (L3646)"));
         }

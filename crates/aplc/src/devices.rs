@@ -8,7 +8,7 @@
 //! and TN (value); C on CS (contact) and CN (value), where C0-C199 take CN0-CN199
 //! and the 32-bit C200+k take the pair CN(200+2k) (high word), CN(201+2k)
 //! (low word); LM on B, V on W. Eight hidden bits of kind V hold the MC
-//! levels' state.
+//! levels' state, one more the FOR gate.
 
 use softplc_ir::device::{DeviceConfig, DeviceKind};
 
@@ -153,6 +153,8 @@ pub fn counter_word(n: u32) -> u32 {
 const CN_WORDS: u32 = 200 + 2 * 56;
 /// Hidden bits (kind V) holding the state of MC levels 0-7.
 pub const MC_BITS: u32 = 8;
+/// The hidden bit (kind V) of the FOR gate, after the MC bits.
+pub const FOR_BIT: u32 = MC_BITS;
 
 /// The device points of an APLC-TCP CPU in softplc's memory layout.
 pub fn device_config() -> DeviceConfig {
@@ -171,7 +173,7 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::W, 64),
         (DeviceKind::Z, 16),
         (DeviceKind::SD, 256),
-        (DeviceKind::V, MC_BITS),
+        (DeviceKind::V, MC_BITS + 1),
         (DeviceKind::TS, 256),
         (DeviceKind::CS, CN_WORDS),
     ] {

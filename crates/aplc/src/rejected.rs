@@ -16,8 +16,6 @@ const NONE: &str =
 pub static DEFS: &[Def] = &[
     Def::rejected("STL", NOT_YET).no_pulse(),
     Def::rejected("RET", NOT_YET).no_pulse(),
-    Def::rejected("FOR", NOT_YET).no_pulse(),
-    Def::rejected("NEXT", NOT_YET).no_pulse(),
     Def::rejected("EI", NOT_YET).no_pulse(),
     Def::rejected("DI", NOT_YET).no_pulse(),
     Def::rejected("CIRET", NOT_YET).no_pulse(),

@@ -157,6 +157,11 @@ fn ladder_structure() {
         "the last contacts of the POU lead to no output",
     );
     one("OUT Y0\n", "`OUT` needs a preceding LD");
+    one(
+        "LD M0\nFOR 3\nLD M1\nOUT Y0\n",
+        "t.apl:2:1: FOR without its NEXT in this POU",
+    );
+    one("LD M0\nOUT Y0\nNEXT\n", "t.apl:3:1: NEXT without FOR");
 }
 
 #[test]

@@ -272,3 +272,22 @@ fn stop_instruction() {
     assert!(!p.running());
     assert_eq!(p.error_code(), None);
 }
+
+/// §8.1 #12: on M2's rising edge `FOR 100` with `INC D0` → D0 = 100
+/// (L3568-3570); PF OFF or S ≤ 0 skips the body; nesting multiplies.
+#[test]
+fn for_next() {
+    let src = "LD M2\nEU\nFOR 100\nLD SM0\nINC D0\nNEXT\nLD M3\nFOR D10\nLD SM0\nFOR 3\nLD SM0\nINC D1\nNEXT\nNEXT\nLD SM0\nINC D2\n";
+    let mut p = plc(src);
+    p.scan();
+    assert_eq!((p.int("D0"), p.int("D1"), p.int("D2")), (0, 0, 1));
+    p.set("M2", "1").scan();
+    assert_eq!(p.int("D0"), 100);
+    p.scan();
+    assert_eq!(p.int("D0"), 100, "EU: once");
+    p.set("M3", "1").set("D10", "-2").scan();
+    assert_eq!(p.int("D1"), 0, "S ≤ 0 skips");
+    p.set("D10", "4").scan();
+    assert_eq!(p.int("D1"), 12);
+    assert_eq!(p.int("D2"), 5);
+}
