@@ -9,15 +9,19 @@
 pub mod arith;
 pub mod basic;
 pub mod bits;
+pub mod calc;
 pub mod compare;
 pub mod compile;
 pub mod constant;
+pub mod convert;
 pub mod counters;
 pub mod devices;
 pub mod flow;
+pub mod logic;
 pub mod names;
 pub mod num;
 pub mod pou;
+pub mod real;
 pub mod rejected;
 pub mod resolve;
 pub mod system;
@@ -45,6 +49,11 @@ pub static DEFS: &[&[Def]] = &[
     arith::DEFS,
     transfer::DEFS,
     bits::DEFS,
+    logic::DEFS,
+    logic::SHIFTS,
+    real::DEFS,
+    convert::DEFS,
+    convert::FUNCS,
     compare::DEFS,
     rejected::DEFS,
 ];
