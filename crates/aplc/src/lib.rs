@@ -10,6 +10,7 @@ pub mod arith;
 pub mod basic;
 pub mod bits;
 pub mod calc;
+pub mod call;
 pub mod compare;
 pub mod compile;
 pub mod constant;
@@ -46,6 +47,7 @@ pub static DEFS: &[&[Def]] = &[
     timers::DEFS,
     counters::DEFS,
     flow::DEFS,
+    call::DEFS,
     arith::DEFS,
     transfer::DEFS,
     bits::DEFS,

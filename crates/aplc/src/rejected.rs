@@ -19,8 +19,6 @@ pub static DEFS: &[Def] = &[
     Def::rejected("EI", NOT_YET).no_pulse(),
     Def::rejected("DI", NOT_YET).no_pulse(),
     Def::rejected("CIRET", NOT_YET).no_pulse(),
-    Def::rejected("CALL", NOT_YET).no_pulse(),
-    Def::rejected("CSRET", NOT_YET).no_pulse(),
     Def::rejected("PUSH", NOT_YET).no_pulse(),
     Def::rejected("FIFO", NOT_YET).no_pulse(),
     Def::rejected("LIFO", NOT_YET).no_pulse(),

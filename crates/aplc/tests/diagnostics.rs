@@ -193,8 +193,8 @@ fn pous_and_variables() {
         "one edge per input",
     );
     one(
-        "POU MAIN\nLD M0\nOUT Y0\nPOU SBR_1\nLD M0\nOUT Y1\n",
-        "`SBR_1`: subroutines are not implemented yet in softplc",
+        "POU MAIN\nLD M0\nOUT Y0\nPOU INT_1 EVENT 26\nLD M0\nOUT Y1\n",
+        "`INT_1`: interrupt routines are not implemented yet in softplc",
     );
     one(
         "POU MAIN\nVAR\n  A IN INT\nEND_VAR\nLD M0\nOUT Y0\n",
