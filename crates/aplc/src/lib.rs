@@ -9,8 +9,11 @@
 pub mod arith;
 pub mod basic;
 pub mod bits;
+pub mod bitword;
+pub mod blockshift;
 pub mod calc;
 pub mod call;
+pub mod checksum;
 pub mod compare;
 pub mod compile;
 pub mod constant;
@@ -22,9 +25,11 @@ pub mod logic;
 pub mod names;
 pub mod num;
 pub mod pou;
+pub mod ramp;
 pub mod real;
 pub mod rejected;
 pub mod resolve;
+pub mod stack;
 pub mod system;
 pub mod text;
 pub mod timers;
@@ -56,6 +61,11 @@ pub static DEFS: &[&[Def]] = &[
     real::DEFS,
     convert::DEFS,
     convert::FUNCS,
+    bitword::DEFS,
+    checksum::DEFS,
+    stack::DEFS,
+    blockshift::DEFS,
+    ramp::DEFS,
     compare::DEFS,
     rejected::DEFS,
 ];
