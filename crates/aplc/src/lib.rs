@@ -7,6 +7,7 @@
 //! MELSEC text.
 
 pub mod arith;
+pub mod ascii;
 pub mod basic;
 pub mod bits;
 pub mod bitword;
@@ -66,6 +67,7 @@ pub static DEFS: &[&[Def]] = &[
     stack::DEFS,
     blockshift::DEFS,
     ramp::DEFS,
+    ascii::DEFS,
     compare::DEFS,
     rejected::DEFS,
 ];

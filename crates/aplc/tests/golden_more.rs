@@ -206,3 +206,48 @@ fn ramps() {
     p.scan();
     assert_eq!(p.error_code(), Some(64));
 }
+
+/// §8.4 #59: ITA and ATI with SM186 OFF and ON (L5695-5771).
+#[test]
+fn ita_ati() {
+    let src = "LD SM0\nITA 16#9876 D20 6\nATI D10 D30 4\n";
+    let mut p = plc(src);
+    for (d, v) in [
+        ("D10", 0x3938),
+        ("D11", 0x3736),
+        ("D12", 0x3534),
+        ("D13", 0x3332),
+    ] {
+        p.set(d, &v.to_string());
+    }
+    p.scan();
+    assert_eq!((p.int("D20:u16"), p.int("D21:u16")), (0x3839, 0x3637));
+    assert_eq!(p.int("D30:u16"), 0x8967);
+    p.set("SM186", "1").scan();
+    assert_eq!(
+        [p.int("D20"), p.int("D21"), p.int("D22"), p.int("D23")],
+        [0x39, 0x38, 0x37, 0x36]
+    );
+    assert_eq!(p.int("D30:u16"), 0x8642);
+    p.set("D10", &0x3961.to_string()).set("SM186", "0").scan();
+    assert_eq!(p.int("SD20"), 64, "lower-case hex is not accepted");
+}
+
+/// REF is checked at load; REFF quantises (L6510-6571); RSUM (L5206-5239).
+#[test]
+fn ref_reff_rsum() {
+    let mut p =
+        plc("LD SM0\nREF X0 8\nREFF 30\nRMOV 100000.5 D0\nRMOV 50001.0 D2\nRSUM D0 2 D10\n");
+    p.scan();
+    assert_eq!(p.int("SD35"), 16);
+    assert_eq!(p.real("D10:f32"), 150001.5);
+    let e = common::errors("LD M0\nREF X4 8\nREF Y0 12\n");
+    assert!(
+        e.contains("t.apl:2:5: `X4`: REF starts at X or Y, a multiple of 8"),
+        "{e}"
+    );
+    assert!(
+        e.contains("t.apl:3:8: `12`: REF's count is a constant 8-256"),
+        "{e}"
+    );
+}
