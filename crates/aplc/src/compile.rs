@@ -18,6 +18,7 @@ use softplc_lang::{Diagnostic, Diagnostics, Source, SourceInstr, Token};
 
 use crate::call::{self, RET_LABEL};
 use crate::pou::{Pou, PouKind, Unit};
+use crate::sfc::Sfc;
 
 /// Subroutine nesting below MAIN (L2345).
 const MAX_DEPTH: u32 = 6;
@@ -44,6 +45,8 @@ impl Instr for EnterPou {
 struct Links {
     /// CALL sites: (caller, callee, op index of the `Call`, token).
     calls: Vec<(PouKind, u8, usize, Token)>,
+    /// SFC state (step bodies are unique in the program).
+    sfc: Sfc,
 }
 
 /// Compiles a parsed file.
@@ -69,7 +72,10 @@ pub fn compile(file: &str, unit: &Unit) -> Result<Program, Diagnostics> {
         c.err(&t, "the program has no instruction (an empty MAIN)");
         return finish(c);
     };
-    let mut links = Links { calls: Vec::new() };
+    let mut links = Links {
+        calls: Vec::new(),
+        sfc: Sfc::default(),
+    };
     let range = |k: DeviceKind| (map.base(k), map.base(k) + map.points(k));
     c.ext.push(Box::new(EnterPou {
         lm: range(DeviceKind::B),
@@ -103,9 +109,25 @@ fn pou(c: &mut Compiler<'_>, unit: &Unit, p: &Pou, links: &mut Links) {
     c.after_output = true;
     c.depth = 0;
     c.mps.clear();
-    for i in &p.body {
+    let mut k = 0;
+    while k < p.body.len() {
+        let i = &p.body[k];
+        if i.mnemonic.text.eq_ignore_ascii_case("STL") {
+            let run: Vec<&SourceInstr> = p.body[k..]
+                .iter()
+                .take_while(|i| i.mnemonic.text.eq_ignore_ascii_case("STL"))
+                .collect();
+            c.cur_step = c.step;
+            c.cur_line = i.mnemonic.line;
+            links.sfc.stl(c, &run);
+            c.step += 3 * run.len() as u32;
+            k += run.len();
+            continue;
+        }
         instr(c, unit, p.kind, i, links);
+        k += 1;
     }
+    links.sfc.close(c);
     let last = p
         .body
         .last()
@@ -162,6 +184,20 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
                     }
                 }
                 ("CSRET", _) => csret(c, kind, i),
+                ("RET", _) if kind != PouKind::Main => c.err(
+                    &i.mnemonic,
+                    "RET outside MAIN: it ends the SFC section of the main program (L3101)",
+                ),
+                ("RET", _) => {
+                    if c.count(i, "RET", &[0]) {
+                        links.sfc.close(c);
+                    }
+                }
+                ("MC" | "MCR", _) if links.sfc.in_step() => c.err(
+                    &i.mnemonic,
+                    format!("`{m}` in an SFC step: MC/MCR may not be used in steps (L2518)"),
+                ),
+                ("SET" | "OUT", _) if links.sfc.transition(c, i, &m) => {}
                 ("CFEND", _) if kind != PouKind::Main => c.err(
                     &i.mnemonic,
                     "CFEND outside MAIN: it ends the main program only (L3681)",

@@ -8,7 +8,7 @@
 //! and TN (value); C on CS (contact) and CN (value), where C0-C199 take CN0-CN199
 //! and the 32-bit C200+k take the pair CN(200+2k) (high word), CN(201+2k)
 //! (low word); LM on B, V on W. Eight hidden bits of kind V hold the MC
-//! levels' state, two more the FOR gate and the CALL flow.
+//! levels' state, four more the FOR gate, the CALL flow and the SFC step gate.
 
 use softplc_ir::device::{DeviceConfig, DeviceKind};
 
@@ -157,6 +157,9 @@ pub const MC_BITS: u32 = 8;
 pub const FOR_BIT: u32 = MC_BITS;
 /// The hidden bit (kind V) giving a rung its power flow back after CALL.
 pub const CALL_BIT: u32 = MC_BITS + 1;
+/// Hidden bits (kind V) of SFC steps: the skip of a step body, its MC state.
+pub const STEP_SKIP_BIT: u32 = MC_BITS + 2;
+pub const STEP_MC_BIT: u32 = MC_BITS + 3;
 
 /// The device points of an APLC-TCP CPU in softplc's memory layout.
 pub fn device_config() -> DeviceConfig {
@@ -175,7 +178,7 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::W, 64),
         (DeviceKind::Z, 16),
         (DeviceKind::SD, 256),
-        (DeviceKind::V, MC_BITS + 2),
+        (DeviceKind::V, MC_BITS + 4),
         (DeviceKind::TS, 256),
         (DeviceKind::CS, CN_WORDS),
     ] {

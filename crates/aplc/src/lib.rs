@@ -30,6 +30,7 @@ pub mod ramp;
 pub mod real;
 pub mod rejected;
 pub mod resolve;
+pub mod sfc;
 pub mod stack;
 pub mod system;
 pub mod text;
@@ -50,6 +51,7 @@ pub use devices::device_config;
 /// Every definition, by chapter.
 pub static DEFS: &[&[Def]] = &[
     basic::DEFS,
+    sfc::DEFS,
     timers::DEFS,
     counters::DEFS,
     flow::DEFS,
