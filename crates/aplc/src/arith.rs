@@ -6,9 +6,10 @@
 
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
-use softplc_ir::ops::{Apply, WordArg};
+use softplc_ir::ops::{Apply, Op as LadderOp, WordArg};
 use softplc_lang::compile::Args;
-use softplc_lang::isa::{Def, Doc, Steps};
+use softplc_lang::compile::Compiler;
+use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
 
 use crate::constant::Width;
 use crate::num::{self, E_DIV0};
@@ -27,9 +28,7 @@ static ARITH: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.2.1 L3804 MOV
-    Def::app("MOV", &MOVE, mov)
-        .no_pulse()
-        .steps(Steps::Fixed(5)),
+    Def::lower("MOV", Class::Output, &MOVE, mov).steps(Steps::Fixed(5)),
     // 002 §6.2.2 L3834 DMOV
     Def::app("DMOV", &MOVE, dmov)
         .no_pulse()
@@ -91,24 +90,25 @@ pub static DEFS: &[Def] = &[
         .steps(Steps::Fixed(4)),
 ];
 
-/// 16-bit MOV as the shared `Apply::Mov` (one word: no word order).
-fn mov(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    if !a.count(&[2]) {
-        return None;
+/// 16-bit MOV on the shared ladder ops (one word: no word order): the
+/// inline `MovK`/`MovW` for plain words, `Apply::Mov` otherwise.
+fn mov(c: &mut Compiler<'_>, u: &Use<'_>) {
+    let i = u.instr;
+    if !c.count(i, u.m, &[2]) || !c.output(i, u.m) {
+        return;
     }
-    let s = a.word_at(0, Width::W16, false);
-    let d = a.sd_dest_at(1, Width::W16)?;
-    Some(Box::new(Shared(Apply::Mov { words: 1, s: s?, d })))
-}
-
-/// A shared kernel operation run as an instruction.
-#[derive(Debug)]
-struct Shared(Apply);
-
-impl Instr for Shared {
-    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        softplc_ir::kernels::basic::apply(cx.mem, &mut [], &self.0)
-    }
+    let r = crate::resolve::word(c.map, &i.operands[0].text, Width::W16, false, false);
+    let s = crate::resolve::at(c, &i.operands[0], r);
+    let r = crate::resolve::word(c.map, &i.operands[1].text, Width::W16, true, true);
+    let d = crate::resolve::at(c, &i.operands[1], r);
+    let (Some(s), Some(d)) = (s, d) else {
+        return;
+    };
+    c.emit(match (s, d) {
+        (WordArg::Const(k), WordArg::Word(d)) => LadderOp::MovK { k: k as u16, d },
+        (WordArg::Word(s), WordArg::Word(d)) => LadderOp::MovW { s, d },
+        (s, d) => LadderOp::Apply(Box::new(Apply::Mov { words: 1, s, d })),
+    });
 }
 
 #[derive(Debug)]
