@@ -54,15 +54,6 @@ pub fn compile(file: &str, unit: &Unit) -> Result<Program, Diagnostics> {
     let cfg = crate::devices::device_config();
     let map = DeviceMap::new(&cfg);
     let mut c = Compiler::new(file, &map, crate::dialect());
-    for p in &unit.pous {
-        if let PouKind::Int { .. } = p.kind {
-            let msg = format!(
-                "`{}`: interrupt routines are not implemented yet in softplc",
-                p.header.text
-            );
-            c.err(&p.header, msg);
-        }
-    }
     let Some(main) = unit.pous.iter().find(|p| p.kind == PouKind::Main) else {
         let t = Token {
             text: String::new(),
@@ -76,12 +67,33 @@ pub fn compile(file: &str, unit: &Unit) -> Result<Program, Diagnostics> {
         calls: Vec::new(),
         sfc: Sfc::default(),
     };
+    let ints: Vec<&Pou> = unit
+        .pous
+        .iter()
+        .filter(|p| matches!(p.kind, PouKind::Int { .. }))
+        .collect();
+    let events: Vec<u8> = ints
+        .iter()
+        .filter_map(|p| match p.kind {
+            PouKind::Int { event, .. } => Some(event),
+            _ => None,
+        })
+        .collect();
+    let int_calls = if ints.is_empty() {
+        Vec::new()
+    } else {
+        crate::interrupt::dispatch(&mut c, &events)
+    };
     let range = |k: DeviceKind| (map.base(k), map.base(k) + map.points(k));
-    c.ext.push(Box::new(EnterPou {
-        lm: range(DeviceKind::B),
-        v: range(DeviceKind::W),
-    }));
-    c.emit(Op::ExtAlways(0));
+    let enter = |c: &mut Compiler<'_>| {
+        let x = c.ext.len() as u32;
+        c.ext.push(Box::new(EnterPou {
+            lm: range(DeviceKind::B),
+            v: range(DeviceKind::W),
+        }));
+        c.emit(Op::ExtAlways(x));
+    };
+    enter(&mut c);
     pou(&mut c, unit, main, &mut links);
     c.emit(Op::End);
     let mut starts = HashMap::new();
@@ -91,6 +103,15 @@ pub fn compile(file: &str, unit: &Unit) -> Result<Program, Diagnostics> {
             pou(&mut c, unit, p, &mut links);
             c.emit(Op::Ret);
         }
+    }
+    for (p, at) in ints.iter().zip(&int_calls) {
+        let start = c.ops.len() as u32;
+        if let Op::Call(t) = &mut c.ops[*at] {
+            *t = start;
+        }
+        enter(&mut c);
+        pou(&mut c, unit, p, &mut links);
+        c.emit(Op::Ret);
     }
     for (_, n, at, _) in &links.calls {
         if let (Some(&t), Op::Call(target)) = (starts.get(n), &mut c.ops[*at]) {
@@ -184,6 +205,7 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
                     }
                 }
                 ("CSRET", _) => csret(c, kind, i),
+                ("CIRET", _) if matches!(kind, PouKind::Int { .. }) => ciret(c, i),
                 ("RET", _) if kind != PouKind::Main => c.err(
                     &i.mnemonic,
                     "RET outside MAIN: it ends the SFC section of the main program (L3101)",
@@ -244,6 +266,18 @@ fn csret(c: &mut Compiler<'_>, kind: PouKind, i: &SourceInstr) {
         return;
     }
     if !c.count(i, "CSRET", &[0]) || !c.output(i, "CSRET") {
+        return;
+    }
+    let at = c.emit(Op::Cj {
+        target: 0,
+        always: false,
+    });
+    c.fixups.push((at, RET_LABEL, i.mnemonic.clone()));
+}
+
+/// 002 §6.1 L3725 CIRET: with power flow, return from the interrupt routine.
+fn ciret(c: &mut Compiler<'_>, i: &SourceInstr) {
+    if !c.count(i, "CIRET", &[0]) || !c.output(i, "CIRET") {
         return;
     }
     let at = c.emit(Op::Cj {

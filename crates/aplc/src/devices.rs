@@ -8,7 +8,8 @@
 //! and TN (value); C on CS (contact) and CN (value), where C0-C199 take CN0-CN199
 //! and the 32-bit C200+k take the pair CN(200+2k) (high word), CN(201+2k)
 //! (low word); LM on B, V on W. Eight hidden bits of kind V hold the MC
-//! levels' state, four more the FOR gate, the CALL flow and the SFC step gate.
+//! levels' state, then the FOR gate, the CALL flow, the SFC step gate and the
+//! interrupt dispatch.
 
 use softplc_ir::device::{DeviceConfig, DeviceKind};
 
@@ -160,6 +161,13 @@ pub const CALL_BIT: u32 = MC_BITS + 1;
 /// Hidden bits (kind V) of SFC steps: the skip of a step body, its MC state.
 pub const STEP_SKIP_BIT: u32 = MC_BITS + 2;
 pub const STEP_MC_BIT: u32 = MC_BITS + 3;
+/// Hidden bits (kind V) of interrupts: the global enable (EI), "an event was
+/// taken", and one bit per interrupt routine.
+pub const EI_BIT: u32 = MC_BITS + 4;
+pub const INT_ANY_BIT: u32 = MC_BITS + 5;
+pub const INT_BITS: u32 = MC_BITS + 6;
+/// Interrupt routines a program can have: 16 edge, 3 timed, 8 serial events.
+pub const MAX_INT: u32 = 32;
 
 /// The device points of an APLC-TCP CPU in softplc's memory layout.
 pub fn device_config() -> DeviceConfig {
@@ -178,7 +186,7 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::W, 64),
         (DeviceKind::Z, 16),
         (DeviceKind::SD, 256),
-        (DeviceKind::V, MC_BITS + 4),
+        (DeviceKind::V, INT_BITS + MAX_INT),
         (DeviceKind::TS, 256),
         (DeviceKind::CS, CN_WORDS),
     ] {

@@ -22,6 +22,7 @@ pub mod convert;
 pub mod counters;
 pub mod devices;
 pub mod flow;
+pub mod interrupt;
 pub mod logic;
 pub mod names;
 pub mod num;
@@ -56,6 +57,7 @@ pub static DEFS: &[&[Def]] = &[
     counters::DEFS,
     flow::DEFS,
     call::DEFS,
+    interrupt::DEFS,
     arith::DEFS,
     transfer::DEFS,
     bits::DEFS,

@@ -14,9 +14,6 @@ const NONE: &str =
     "not available on APLC-TCP: the manual defines no body for it (\"无\", decision D7)";
 
 pub static DEFS: &[Def] = &[
-    Def::rejected("EI", NOT_YET).no_pulse(),
-    Def::rejected("DI", NOT_YET).no_pulse(),
-    Def::rejected("CIRET", NOT_YET).no_pulse(),
     Def::rejected("ASC", NOT_YET).no_pulse(),
     Def::rejected("EROMWR", NOT_YET).no_pulse(),
     Def::rejected("PID", NOT_YET).no_pulse(),

@@ -193,8 +193,8 @@ fn pous_and_variables() {
         "one edge per input",
     );
     one(
-        "POU MAIN\nLD M0\nOUT Y0\nPOU INT_1 EVENT 26\nLD M0\nOUT Y1\n",
-        "`INT_1`: interrupt routines are not implemented yet in softplc",
+        "POU MAIN\nLD M0\nOUT Y0\nPOU INT_1 EVENT 26\nLD M0\nOUT Y1\nPOU INT_1 EVENT 27\n",
+        "POU `INT_1` defined twice",
     );
     one(
         "POU MAIN\nVAR\n  A IN INT\nEND_VAR\nLD M0\nOUT Y0\n",
