@@ -26,6 +26,7 @@ pub mod interrupt;
 pub mod logic;
 pub mod names;
 pub mod num;
+pub mod pid;
 pub mod pou;
 pub mod ramp;
 pub mod real;
@@ -72,6 +73,7 @@ pub static DEFS: &[&[Def]] = &[
     blockshift::DEFS,
     ramp::DEFS,
     ascii::DEFS,
+    pid::DEFS,
     compare::DEFS,
     rejected::DEFS,
 ];

@@ -16,7 +16,6 @@ const NONE: &str =
 pub static DEFS: &[Def] = &[
     Def::rejected("ASC", NOT_YET).no_pulse(),
     Def::rejected("EROMWR", NOT_YET).no_pulse(),
-    Def::rejected("PID", NOT_YET).no_pulse(),
     Def::rejected("MODBUS", NOT_YET).no_pulse(),
     Def::rejected("EVFWD", NOT_YET).no_pulse(),
     Def::rejected("EVREV", NOT_YET).no_pulse(),

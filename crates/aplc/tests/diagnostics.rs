@@ -243,15 +243,20 @@ fn pous_and_variables() {
 }
 
 /// Manual listings load (contract §1.1: L2185-2208, L3655-3662 with SM0,
-/// L7761-7797).
+/// L7761-7797, L7862-7882).
 #[test]
 fn manual_listings_load() {
-    let pid =
-        "LD      SM1           //初始化程序只需运行一次\nMOV     1000    D500   //设定目标值\n\
-LD      M0\nFROM    0    5    D501      1\nTO      0    8    D502      1\n";
+    let pid = "LD      SM1           //初始化程序只需运行一次\nMOV     1000    D500   //设定目标值\n\
+MOV     500     D510   //采样时间 (Ts) 范围为 1~32767 (ms) 但比运算周期\n                        //短的时间数值无法执行\n\
+MOV     7       D511   //动作方向\nMOV     70     D512\nMOV     100    D513\nMOV    25      D514\nMOV    0        D515\n\
+MOV    63      D516\nFMOV    0        D517      8  //清除 PID 运算中间数据存储区\nMOV    2000     D525\nMOV    2000     D526\n\
+MOV    2000     D527\nMOV    2000     D528\n//PID 指令执行运算\nLD      M0\nFROM    0    5    D501      1\n\
+PID      D500 D501 D510 D502  //PID 指令: PID S1 S2 S3 D\nTO      0    8    D502      1\n";
     softplc_aplc::load_bytes("pid.apl", pid.as_bytes()).unwrap();
-    let e = errors("LD SM1\nMOV 1000 D500\nFMOV 0 D517 8\nLD M0\nPID D500 D501 D510 D502\n");
-    assert!(!e.contains("`FMOV`") && e.contains("`PID`"), "{e}");
+    let ramp = "LD      SM1\nMOV     0 D0\nMOV     2000 D1\nLD      X0\nRAMP D0 D1 D10 1000 M0\nLD X1\nTO 0 6 D10 1\n";
+    softplc_aplc::load_bytes("ramp.apl", ramp.as_bytes()).unwrap();
+    let cj = "LD M0\nCJ 0\nLD SM0\nMOV 100 D0\nCFEND\nLBL 0\nLD M1\nMOV 200 D0\n";
+    softplc_aplc::load_bytes("cj.apl", cj.as_bytes()).unwrap();
 }
 
 /// A listing that is not a program: nothing panics on junk.

@@ -251,3 +251,36 @@ fn ref_reff_rsum() {
         "{e}"
     );
 }
+
+/// PID by hand: P only (Kp 100 %, reverse): MV follows EV = SV − PV; with
+/// TI = 25 (2.5 s) and Ts = 500 ms the first step adds Ts/TI·EV = 0.2·EV.
+#[test]
+fn pid_velocity_form() {
+    let setup = "LD SM1\nMOV 1000 D500\nMOV 500 D510\nMOV 1 D511\nMOV 0 D512\nMOV 100 D513\nMOV 0 D514\nMOV 0 D515\nMOV 0 D516\nFMOV 0 D517 8\n\
+LD SM0\nPID D500 D501 D510 D502\n";
+    let mut p = plc(setup);
+    p.scan_us = 500_000;
+    p.scan(); // scan 1: no time elapsed yet (scan time 0 before the first END)
+    p.scan();
+    assert_eq!(p.int("D502"), 1000, "EV 1000");
+    p.set("D501", "500").scan();
+    assert_eq!(p.int("D502"), 500, "EV 500: ΔMV = −500");
+    let mut p = plc(&setup.replace("MOV 0 D514", "MOV 25 D514"));
+    p.scan_us = 500_000;
+    p.scans(2);
+    assert_eq!(p.int("D502"), 1200);
+    p.scan();
+    assert_eq!(p.int("D502"), 1400, "integral 200 a sample");
+    // Output limits (bit 5): clamped to [D528, D527].
+    let mut p = plc(&setup.replace("MOV 1 D511", "MOV 33 D511").replace(
+        "FMOV 0 D517 8",
+        "FMOV 0 D517 8\nMOV 600 D527\nMOV -100 D528",
+    ));
+    p.scan_us = 500_000;
+    p.scans(2);
+    assert_eq!(p.int("D502"), 600);
+    // A parameter out of range is error 64.
+    let mut p = plc(&setup.replace("MOV 100 D513", "MOV 0 D513"));
+    p.scans(2);
+    assert_eq!(p.error_code(), Some(64));
+}
