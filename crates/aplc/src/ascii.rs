@@ -1,4 +1,4 @@
-//! Hex ↔ ASCII ITA, ATI (002 §6.5 L5695-5771; spec aplc.md §4.8) and the
+//! ASCII ASC and hex ↔ ASCII ITA, ATI (002 §6.5 L5695-5771; spec aplc.md §4.8) and the
 //! I/O instructions REF, REFF (002 §6.9 L6510-6571) and RSUM (002 §6.4
 //! L5206-5239).
 //!
@@ -24,7 +24,7 @@ use crate::resolve::{self, ArgsExt};
 static HEX: Doc = Doc {
     family: "hex and ASCII",
     cite: "002 §6.5 L5695-5771",
-    notes: "ITA most significant nibble first, 1-256 characters (a constant gives at most 4); ATI upper-case hex only, a constant source at most 2 characters (1 with SM186 ON); bad characters or counts are error 64; SM186 packing",
+    notes: "ASC S1…S8 D: up to 8 character codes 16#21-16#7E written as constants (fewer are filled with 0); ITA most significant nibble first, 1-256 characters (a constant gives at most 4); ATI upper-case hex only, a constant source at most 2 characters (1 with SM186 ON); bad characters or counts are error 64; SM186 packing",
 };
 static IO: Doc = Doc {
     family: "I/O refresh, REAL sum",
@@ -33,6 +33,10 @@ static IO: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[
+    // 002 §6.5.16 L5658 ASC
+    Def::app("ASC", &HEX, asc)
+        .no_pulse()
+        .steps(Steps::Fixed(19)),
     // 002 §6.5.17 L5695 ITA
     Def::app("ITA", &HEX, hex).no_pulse().steps(Steps::Fixed(7)),
     // 002 §6.5.18 L5731 ATI
@@ -292,5 +296,65 @@ impl Instr for Rsum {
             total = next;
         }
         num::write32(cx.mem, &self.d, total.to_bits())
+    }
+}
+
+#[derive(Debug)]
+struct Asc {
+    chars: [u8; 8],
+    d: Block,
+    packing: u32,
+}
+
+fn asc(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+    let n = a.len();
+    if !(2..=9).contains(&n) {
+        a.count(&[9]);
+        return None;
+    }
+    let mut chars = [0u8; 8];
+    for (k, c) in chars.iter_mut().enumerate().take(n - 1) {
+        match crate::constant::parse(a.text(k), Width::W16) {
+            Ok(v) if (0x21..=0x7E).contains(&v) => *c = v as u8,
+            Ok(_) => {
+                a.error(
+                    k,
+                    format!(
+                        "`{}`: ASC takes character codes 16#21-16#7E (L5678)",
+                        a.text(k)
+                    ),
+                );
+                return None;
+            }
+            Err(e) => {
+                a.error(k, e);
+                return None;
+            }
+        }
+    }
+    let r = resolve::block(a.map(), a.text(n - 1), true);
+    let d = a.check(n - 1, r)?;
+    let packing = a.map().base(DeviceKind::SM) + 186;
+    Some(Box::new(Asc { chars, d, packing }))
+}
+
+impl Instr for Asc {
+    /// SM186 OFF: D..D+3 two characters a word, the first low; ON: D..D+7
+    /// one a word (L5684-5693).
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let one = cx.mem.bits[self.packing as usize];
+        if one {
+            let d = cx.mem.block_start(&self.d, 8)?;
+            for (k, c) in self.chars.iter().enumerate() {
+                cx.mem.words[d + k] = *c as u16;
+            }
+        } else {
+            let d = cx.mem.block_start(&self.d, 4)?;
+            for k in 0..4 {
+                cx.mem.words[d + k] =
+                    u16::from_le_bytes([self.chars[2 * k], self.chars[2 * k + 1]]);
+            }
+        }
+        Ok(())
     }
 }

@@ -284,3 +284,24 @@ LD SM0\nPID D500 D501 D510 D502\n";
     p.scans(2);
     assert_eq!(p.error_code(), Some(64));
 }
+
+/// §8.4 #59: ASC "12345678" with SM186 OFF and ON (L5690-5693).
+#[test]
+fn asc() {
+    let mut p = plc("LD M0\nASC 16#31 16#32 16#33 16#34 16#35 16#36 16#37 16#38 D0\n");
+    p.set("M0", "1").scan();
+    assert_eq!(
+        [p.int("D0"), p.int("D1"), p.int("D2"), p.int("D3")],
+        [0x3231, 0x3433, 0x3635, 0x3837]
+    );
+    p.set("SM186", "1").scan();
+    assert_eq!(
+        (0..8).map(|k| p.int(&format!("D{k}"))).collect::<Vec<_>>(),
+        (0x31..=0x38).collect::<Vec<_>>()
+    );
+    let e = common::errors("LD M0\nASC 16#20 D0\n");
+    assert!(
+        e.contains("`16#20`: ASC takes character codes 16#21-16#7E"),
+        "{e}"
+    );
+}
