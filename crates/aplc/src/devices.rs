@@ -7,7 +7,8 @@
 //! X, Y, M, S, SM, SD, D, Z on the kinds of the same name; T on TS (contact)
 //! and TN (value); C on CS (contact) and CN (value), where C0-C199 take CN0-CN199
 //! and the 32-bit C200+k take the pair CN(200+2k) (high word), CN(201+2k)
-//! (low word); LM on B, V on W. Eight hidden bits of kind V hold the MC
+//! (low word); LM on B, V on W; the timers' hidden timing bits and
+//! remainders on STS/STN. Eight hidden bits of kind V hold the MC
 //! levels' state, then the FOR gate, the CALL flow, the SFC step gate and the
 //! interrupt dispatch.
 
@@ -188,6 +189,8 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::SD, 256),
         (DeviceKind::V, INT_BITS + MAX_INT),
         (DeviceKind::TS, 256),
+        // Hidden: the timers' "timing" bits and sub-unit remainders.
+        (DeviceKind::STS, 256),
         (DeviceKind::CS, CN_WORDS),
     ] {
         c.set_points(k, n);

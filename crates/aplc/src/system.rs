@@ -48,8 +48,10 @@ impl System for Aplc {
         sm(mem, 15, toggle);
     }
 
-    /// SD30/SD31/SD32: current, minimum, maximum scan time in ms.
+    /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,
+    /// maximum scan time in ms.
     fn scan_end(&self, mem: &mut DeviceMemory, t: ScanTimes) {
+        crate::timers::housekeeping(mem, t.current_us);
         sd(mem, 30, ms(t.current_us));
         sd(mem, 31, ms(t.min_us));
         sd(mem, 32, ms(t.max_us));

@@ -3,13 +3,12 @@
 //! base follows the number: T0-T209 100 ms, T210-T251 10 ms, T252-T255 1 ms
 //! (L1667-1677).
 //!
-//! Timing (D21): each timer keeps its own sub-unit remainder and counts from
-//! its own start. An execution of a timer that was already timing adds the
-//! scan time measured at the previous END; the value saturates at 32767 and
-//! the coil is compared with the preset when the instruction executes (L3123).
-//! Deviation, until the engine has a housekeeping hook for instructions: the
-//! value shown between scans is the one of the last execution, one scan
-//! behind D21's housekeeping update; the coil switches on the same scan.
+//! Timing (D21): each timer counts from its own start. The instruction marks
+//! its timer as timing (a hidden bit, storage STS) and compares the value with
+//! the preset when it executes (L3123); the housekeeping phase at the end of
+//! each scan ([`housekeeping`], from the system devices) adds that scan's
+//! duration to every timing timer, keeping the part below one unit (storage
+//! STN, in 10 µs) and saturating at 32767.
 
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
@@ -51,14 +50,30 @@ pub fn base_us(n: u32) -> u32 {
 
 local_state! {
     struct TimerState {
-        /// Time below one unit, µs.
-        rem: u32,
-        /// Timing is in progress (the previous execution counted).
-        timing: bool,
         /// The power flow at the previous execution.
         prev: bool,
         /// Executed since RUN (TON resets on its first execution, L3123).
         seen: bool,
+    }
+}
+
+/// The housekeeping of 10/100 ms and 1 ms timers (L933, L1677): adds the
+/// scan's duration to each timer marked as timing.
+pub fn housekeeping(mem: &mut softplc_ir::device::DeviceMemory, scan_us: u64) {
+    let (timing, rem, value) = (
+        mem.map.base(DeviceKind::STS) as usize,
+        mem.map.base(DeviceKind::STN) as usize,
+        mem.map.base(DeviceKind::TN) as usize,
+    );
+    for n in 0..mem.map.points(DeviceKind::STS).min(256) as usize {
+        if !mem.bits[timing + n] {
+            continue;
+        }
+        let base = base_us(n as u32) as u64;
+        let total = mem.words[rem + n] as u64 * 10 + scan_us;
+        let v = (mem.words[value + n] as i16).max(0) as u64 + total / base;
+        mem.words[value + n] = v.min(32767) as u16;
+        mem.words[rem + n] = ((total % base) / 10) as u16;
     }
 }
 
@@ -75,7 +90,9 @@ struct Timer {
     mode: Mode,
     contact: u32,
     value: u32,
-    base_us: u32,
+    /// The hidden "timing" bit and sub-unit remainder (STS, STN).
+    timing: u32,
+    rem: u32,
     preset: WordArg,
     st: LocalSlot<TimerState>,
 }
@@ -92,7 +109,8 @@ fn compile(a: &mut Args<'_, '_>, mode: Mode) -> Option<Box<dyn Instr>> {
         mode,
         contact: map.base(DeviceKind::TS) + n,
         value: map.base(DeviceKind::TN) + n,
-        base_us: base_us(n),
+        timing: map.base(DeviceKind::STS) + n,
+        rem: map.base(DeviceKind::STN) + n,
         preset,
         st: a.local(),
     }))
@@ -112,80 +130,70 @@ fn tmon(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
 }
 
 impl Timer {
-    /// Adds the previous scan's time to the value (saturating at 32767).
-    fn count(&self, cx: &mut ExecCtx<'_>, st: &mut TimerState) -> i32 {
-        let v = self.value as usize;
-        let mut cur = cx.mem.words[v] as i16 as i32;
-        if st.timing {
-            let total = st.rem as u64 + cx.scan_us as u64;
-            let units = total / self.base_us as u64;
-            st.rem = (total % self.base_us as u64) as u32;
-            cur = (cur.max(0) as i64 + units as i64).min(32767) as i32;
-            cx.mem.words[v] = cur as u16;
-        } else {
-            st.timing = true;
-            st.rem = 0;
-        }
-        cur
+    fn start(&self, cx: &mut ExecCtx<'_>) {
+        cx.mem.bits[self.timing as usize] = true;
+        cx.mem.words[self.rem as usize] = 0;
+    }
+
+    fn stop(&self, cx: &mut ExecCtx<'_>) {
+        cx.mem.bits[self.timing as usize] = false;
     }
 
     fn step(&self, cx: &mut ExecCtx<'_>, pf: bool) -> Result<(), Fault> {
         let mut st = cx.local(&self.st);
         let preset = cx.mem.read16(&self.preset)? as i16 as i32;
         let (v, c) = (self.value as usize, self.contact as usize);
+        let timing = cx.mem.bits[self.timing as usize];
         if !st.seen && self.mode == Mode::On {
             cx.mem.words[v] = 0;
             cx.mem.bits[c] = false;
-            st.timing = false;
+            self.stop(cx);
         }
         st.seen = true;
+        let cur = cx.mem.words[v] as i16 as i32;
         match self.mode {
             Mode::On | Mode::Retentive if pf => {
-                let cur = self.count(cx, &mut st);
+                if !cx.mem.bits[self.timing as usize] {
+                    self.start(cx);
+                }
                 cx.mem.bits[c] = cur >= preset;
             }
             Mode::On => {
                 cx.mem.words[v] = 0;
                 cx.mem.bits[c] = false;
-                st.timing = false;
+                self.stop(cx);
             }
             // TONR: PF OFF holds value and coil (L3135-3169).
-            Mode::Retentive => st.timing = false,
+            Mode::Retentive => self.stop(cx),
             // TOF: PF ON: value 0, coil ON; the falling edge starts timing;
             // at the preset the coil goes OFF and the value holds (L3171-3199).
             Mode::Off if pf => {
                 cx.mem.words[v] = 0;
                 cx.mem.bits[c] = true;
-                st.timing = false;
+                self.stop(cx);
             }
             Mode::Off => {
                 if st.prev {
-                    st.timing = true;
-                    st.rem = 0;
-                } else if st.timing {
-                    let cur = self.count(cx, &mut st);
-                    if cur >= preset {
-                        cx.mem.words[v] = preset.max(0) as u16;
-                        cx.mem.bits[c] = false;
-                        st.timing = false;
-                    }
+                    self.start(cx);
+                } else if timing && cur >= preset {
+                    cx.mem.words[v] = preset.max(0) as u16;
+                    cx.mem.bits[c] = false;
+                    self.stop(cx);
                 }
             }
             // TMON: a rising edge while idle starts a pulse from the current
             // value; PF is ignored while timing; at the preset the value
             // returns to 0 and the coil goes OFF (L3201-3235).
             Mode::OneShot => {
-                if st.timing {
-                    let cur = self.count(cx, &mut st);
+                if timing {
                     if cur >= preset {
                         cx.mem.words[v] = 0;
                         cx.mem.bits[c] = false;
-                        st.timing = false;
+                        self.stop(cx);
                     }
                 } else if pf && !st.prev {
                     cx.mem.bits[c] = true;
-                    st.timing = true;
-                    st.rem = 0;
+                    self.start(cx);
                 }
             }
         }
