@@ -125,9 +125,19 @@ pub fn dialect() -> &'static Dialect {
     })
 }
 
-/// The system devices for the engine (`CpuConfig::system`).
+/// The system devices for the engine (`CpuConfig::system`), watchdog 200 ms,
+/// no constant scan.
 pub fn system() -> Arc<dyn softplc_ir::system::System> {
-    Arc::new(system::Aplc)
+    system_with(200, 0)
+}
+
+/// The system devices with the watchdog and constant-scan settings (ms) that
+/// SD34, SD33 and SM8 show.
+pub fn system_with(watchdog_ms: u16, constant_scan_ms: u16) -> Arc<dyn softplc_ir::system::System> {
+    Arc::new(system::Aplc {
+        watchdog_ms,
+        constant_scan_ms,
+    })
 }
 
 /// True for a mnemonic of the APLC instruction set (implemented or not).

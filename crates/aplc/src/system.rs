@@ -7,9 +7,14 @@ use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::ErrorCode;
 use softplc_ir::system::{ScanTimes, System};
 
-/// The APLC-TCP's system devices.
+/// The APLC-TCP's system devices, with the system block's times.
 #[derive(Debug, Default)]
-pub struct Aplc;
+pub struct Aplc {
+    /// SD34: the watchdog in effect (100-1000 ms, D4).
+    pub watchdog_ms: u16,
+    /// SD33: the constant scan (0 = off; SM8 ON otherwise).
+    pub constant_scan_ms: u16,
+}
 
 fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
     let _ = mem.set_bit(DeviceKind::SM, n, v);
@@ -29,6 +34,9 @@ impl System for Aplc {
         sm(mem, 196, true);
         sd(mem, 25, 255);
         sd(mem, 26, 255);
+        sd(mem, 33, self.constant_scan_ms);
+        sd(mem, 34, self.watchdog_ms);
+        sm(mem, 8, self.constant_scan_ms > 0);
     }
 
     /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;
@@ -57,16 +65,18 @@ impl System for Aplc {
         sd(mem, 32, ms(t.max_us));
     }
 
-    /// Faults of the shared kernels and the engine in Appendix 6 numbers.
-    fn code(&self, code: ErrorCode) -> ErrorCode {
-        ErrorCode(match code.0 {
+    /// Faults of the shared kernels and the engine in Appendix 6 numbers; a
+    /// scan longer than the constant scan is no error (L950).
+    fn code(&self, code: ErrorCode) -> Option<ErrorCode> {
+        Some(ErrorCode(match code.0 {
             4100 => 64,
             4101 => 65,
             5000 => 61,
+            5010 => return None,
             4200..=4203 | 4211 | 4212 => 68,
             4213 => 66,
             c => c,
-        })
+        }))
     }
 
     /// SM20 and the SD20-SD24 history (newest in SD20, pushed only when it

@@ -180,4 +180,29 @@ fn aplc_project() {
     let out = softplc(&["check", &d]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("[latch] in an APLC-TCP project"));
+    // [ras]: the watchdog in effect shows in SD34 (below 100 ms acts as 100,
+    // D4), the constant scan in SD33 with SM8; above 1000 ms is an error.
+    write(&dir, "plc.toml", "[cpu]\nmodel = \"APLC-TCP\"\n[ras]\nwatchdog = \"50ms\"\nconstant_scan = \"20ms\"\n[[program]]\nfile = \"main.prg\"\n");
+    let v = json(&softplc(&[
+        "run", &d, "--show", "SD34", "--show", "SD33", "--show", "SM8", "--json",
+    ]));
+    assert_eq!(
+        (
+            v["devices"]["SD34"].clone(),
+            v["devices"]["SD33"].clone(),
+            v["devices"]["SM8"].clone()
+        ),
+        (100.into(), 20.into(), true.into())
+    );
+    write(&dir, "plc.toml", "[cpu]\nmodel = \"APLC-TCP\"\n[ras]\nwatchdog = \"1500ms\"\n[[program]]\nfile = \"main.prg\"\n");
+    let out = softplc(&["check", &d]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("watchdog: APLC-TCP allows 0-1000 ms"));
+    let v = json(&softplc(&[
+        "run",
+        "examples/aplc/conveyor.apl",
+        "--show",
+        "SD34",
+        "--json",
+    ]));
+    assert_eq!(v["devices"]["SD34"], 200);
 }

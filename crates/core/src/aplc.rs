@@ -33,12 +33,22 @@ pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
 /// An APLC-TCP CPU: its device layout, no latch ranges (no power-loss
 /// retention, decision D5), watchdog 200 ms (D4), its system devices.
 pub fn cpu_config() -> CpuConfig {
+    cpu_config_with(Duration::from_millis(200), None)
+}
+
+/// [`cpu_config`] with a watchdog and constant scan (shown in SD34, SD33, SM8).
+pub fn cpu_config_with(watchdog: Duration, constant_scan: Option<Duration>) -> CpuConfig {
+    let ms = |d: Duration| d.as_millis().min(u16::MAX as u128) as u16;
     CpuConfig {
         model: MODEL.to_string(),
         devices: softplc_aplc::device_config(),
-        watchdog: Duration::from_millis(200),
+        watchdog,
+        constant_scan,
         latch: Vec::new(),
-        system: Some(softplc_aplc::system()),
+        system: Some(softplc_aplc::system_with(
+            ms(watchdog),
+            constant_scan.map_or(0, ms),
+        )),
         ..CpuConfig::default()
     }
 }

@@ -229,7 +229,7 @@ impl Runtime {
         let step = prog.op_step.get(pc).copied();
         self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
         if let Some(s) = &self.system {
-            return s.stops(s.code(code));
+            return s.code(code).is_some_and(|c| s.stops(c));
         }
         !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
     }
@@ -245,7 +245,11 @@ impl Runtime {
         let now = self.clock.now(self.now_us);
         let code = match &self.system {
             Some(s) => {
-                let code = s.code(code);
+                // `None`: not an error in this family (the APLC's constant
+                // scan overrun, L950).
+                let Some(code) = s.code(code) else {
+                    return;
+                };
                 s.report_error(&mut self.mem, code);
                 code
             }

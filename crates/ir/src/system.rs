@@ -23,8 +23,9 @@ pub trait System: Send + Sync + std::fmt::Debug {
     /// END (housekeeping) of a scan.
     fn scan_end(&self, mem: &mut DeviceMemory, times: ScanTimes);
     /// The family's code for a fault the shared kernels or the engine raise
-    /// (range, operation, watchdog errors are MELSEC-numbered there).
-    fn code(&self, code: ErrorCode) -> ErrorCode;
+    /// (range, operation, watchdog errors are MELSEC-numbered there); `None`
+    /// when the condition is no error in this family (nothing is recorded).
+    fn code(&self, code: ErrorCode) -> Option<ErrorCode>;
     /// Records error `code` (already translated) in the system devices.
     fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode);
     /// True when error `code` stops the CPU.

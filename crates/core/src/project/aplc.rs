@@ -8,10 +8,34 @@ use super::ProgramSpec;
 use crate::engine::{CpuConfig, ExecType};
 use crate::program::{Diagnostic, Program};
 
-/// Applies the APLC-TCP CPU to `config` and reports the tables and keys the
-/// APLC does not have.
+/// Applies the APLC-TCP CPU to `config` (after `[ras]` was read) and reports
+/// the tables and keys the APLC does not have. The watchdog is at most
+/// 1000 ms and below 100 ms acts as 100 ms; the constant scan is at most the
+/// watchdog (L953, L1103, SD33-SD34, decision D4).
 pub(crate) fn configure(cx: &mut Ctx, top: &[Entry], config: &mut CpuConfig) {
-    let base = crate::aplc::cpu_config();
+    let ras = top.iter().find(|e| e.key == "ras");
+    let key = |k: &str| match ras.map(|r| &r.item.value) {
+        Some(super::tree::Value::Table(t)) => {
+            t.iter().find(|e| e.key == k).map(|e| e.item.span.clone())
+        }
+        _ => None,
+    };
+    let limit = std::time::Duration::from_millis(1000);
+    if config.watchdog > limit {
+        let at = key("watchdog").unwrap_or(0..0);
+        cx.error(&at, "watchdog: APLC-TCP allows 0-1000 ms (L1103)");
+    }
+    config.watchdog = config.watchdog.max(std::time::Duration::from_millis(100));
+    if let Some(cs) = config.constant_scan {
+        if cs > limit || cs > config.watchdog {
+            let at = key("constant_scan").unwrap_or(0..0);
+            cx.error(
+                &at,
+                "constant_scan: APLC-TCP allows 0-1000 ms, not above the watchdog (L953)",
+            );
+        }
+    }
+    let base = crate::aplc::cpu_config_with(config.watchdog, config.constant_scan);
     config.devices = base.devices;
     config.system = base.system;
     config.latch = Vec::new();

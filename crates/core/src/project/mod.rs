@@ -175,9 +175,6 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "cpu") {
         common_pointer = settings::cpu(&mut cx, t, &mut config);
     }
-    if config.model == crate::aplc::MODEL {
-        aplc::configure(&mut cx, top, &mut config);
-    }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
         devices::devices(&mut cx, t, devices_at.unwrap_or(0..0), &mut config.devices);
@@ -190,6 +187,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     }
     if let Some(t) = table(&mut cx, "interrupts") {
         settings::interrupts(&mut cx, t, &mut config);
+    }
+    if config.model == crate::aplc::MODEL {
+        aplc::configure(&mut cx, top, &mut config);
     }
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);
