@@ -1,5 +1,6 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
+mod names;
 mod run;
 mod serve;
 mod signal;
@@ -40,11 +41,15 @@ enum Command {
     ///
     /// Exit status is non-zero when the program has errors.
     Check {
-        /// Program file (.il or .csv), or a project directory.
+        /// Program file (.il, .csv or .apl), or a project directory.
         program: PathBuf,
         /// CPU model a single program file is checked for (default Q06HCPU).
         #[arg(long, value_name = "MODEL")]
         model: Option<String>,
+        /// How a single program file is read: melsec or aplc (default by
+        /// name: `.apl` is aplc).
+        #[arg(long, value_name = "D", value_enum)]
+        dialect: Option<names::DialectArg>,
     },
     /// Run scenario tests: a program against plant models in virtual time,
     /// with a timeline of inputs and assertions (docs/scenarios.md).
@@ -83,7 +88,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run(args) => run::run(*args),
-        Command::Check { program, model } => run::check(&program, model.as_deref()),
+        Command::Check {
+            program,
+            model,
+            dialect,
+        } => run::check(&program, model.as_deref(), dialect),
         Command::Test(args) => test_cmd::run(*args),
         Command::Tune(args) => tune_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),

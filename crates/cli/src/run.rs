@@ -17,6 +17,8 @@ use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
+use crate::names::{DevName, DialectArg};
+
 #[derive(Args, Debug)]
 pub struct RunArgs {
     /// Program file (.il text list or GX Works2 .csv export), or a project
@@ -78,6 +80,11 @@ pub struct RunArgs {
     /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub timeout: Option<Duration>,
+    /// How a single program file is read: melsec or aplc (default by name:
+    /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
+    /// of :i32/:u32/:f32, TN5/CN5 current values.
+    #[arg(long, value_name = "D", value_enum)]
+    pub dialect: Option<DialectArg>,
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -167,6 +174,59 @@ pub(crate) fn load(
     start: Option<DateTime>,
     model: Option<&str>,
 ) -> Result<Loaded, ExitCode> {
+    load_with(path, clock, start, None, model)
+}
+
+/// True when a single program file is read as `.apl` (contract §2).
+pub(crate) fn is_aplc(path: &Path, dialect: Option<DialectArg>) -> bool {
+    !project::is_project(path)
+        && dialect.map_or(softplc_core::aplc::is_apl(path), |d| d == DialectArg::Aplc)
+}
+
+/// [`load`] with the `--dialect` of a single program file.
+pub(crate) fn load_with(
+    path: &Path,
+    clock: Box<dyn Clock>,
+    start: Option<DateTime>,
+    dialect: Option<DialectArg>,
+    model: Option<&str>,
+) -> Result<Loaded, ExitCode> {
+    if is_aplc(path, dialect) {
+        if model.is_some_and(|m| !m.eq_ignore_ascii_case(softplc_core::aplc::MODEL)) {
+            eprintln!(
+                "{}: --model: an APLC program runs on {}",
+                path.display(),
+                softplc_core::aplc::MODEL
+            );
+            return Err(ExitCode::from(2));
+        }
+        let program = softplc_core::aplc::load_file(path).map_err(|d| report(&d, path))?;
+        let mut cfg = softplc_core::aplc::cpu_config();
+        if let Some(t) = start {
+            cfg.clock_start = t;
+        }
+        let cpu = Cpu::with_programs(
+            vec![softplc_core::engine::LoadedProgram {
+                program,
+                exec: Default::default(),
+                interval: None,
+                sim_time: None,
+            }],
+            cfg,
+            clock,
+        )
+        .map_err(|e| {
+            eprintln!("softplc: {e}");
+            ExitCode::from(1)
+        })?;
+        return Ok(Loaded {
+            cpu,
+            state: None,
+            modbus: None,
+            http: None,
+            on_damage: OnDamage::default(),
+        });
+    }
     if project::is_project(path) {
         if model.is_some() {
             eprintln!(
@@ -215,8 +275,8 @@ pub(crate) fn load(
     })
 }
 
-pub fn check(path: &Path, model: Option<&str>) -> ExitCode {
-    match load(path, Box::new(VirtualClock::new()), None, model) {
+pub fn check(path: &Path, model: Option<&str>, dialect: Option<DialectArg>) -> ExitCode {
+    match load_with(path, Box::new(VirtualClock::new()), None, dialect, model) {
         Ok(l) => {
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
@@ -234,17 +294,17 @@ pub fn check(path: &Path, model: Option<&str>) -> ExitCode {
 /// A write scheduled before a scan.
 struct Write {
     scan: u64,
-    spec: DeviceSpec,
+    spec: DevName,
     value: String,
 }
 
-fn parse_write(arg: &str, scan: u64) -> Result<Write, String> {
+fn parse_write(arg: &str, scan: u64, aplc: bool) -> Result<Write, String> {
     let (dev, value) = arg
         .split_once('=')
         .ok_or_else(|| format!("`{arg}`: expected DEV=VALUE"))?;
     Ok(Write {
         scan,
-        spec: DeviceSpec::parse(dev.trim())?,
+        spec: DevName::parse(dev.trim(), aplc)?,
         value: value.trim().to_string(),
     })
 }
@@ -269,10 +329,10 @@ fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
     .map(Some)
 }
 
-fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String> {
+fn parse_options(args: &RunArgs, aplc: bool) -> Result<(Vec<Write>, Vec<DevName>), String> {
     let mut writes = Vec::new();
     for s in &args.set {
-        writes.push(parse_write(s, 1)?);
+        writes.push(parse_write(s, 1, aplc)?);
     }
     for a in &args.at {
         let (n, rest) = a
@@ -284,13 +344,13 @@ fn parse_options(args: &RunArgs) -> Result<(Vec<Write>, Vec<DeviceSpec>), String
             .ok()
             .filter(|n| *n >= 1)
             .ok_or_else(|| format!("`{a}`: scan number must be 1 or more"))?;
-        writes.push(parse_write(rest, n)?);
+        writes.push(parse_write(rest, n, aplc)?);
     }
     writes.sort_by_key(|w| w.scan);
     let shows = args
         .show
         .iter()
-        .map(|s| DeviceSpec::parse(s))
+        .map(|s| DevName::parse(s, aplc))
         .collect::<Result<Vec<_>, _>>()?;
     Ok((writes, shows))
 }
@@ -302,17 +362,20 @@ pub fn run(args: RunArgs) -> ExitCode {
         state,
         on_damage,
         ..
-    } = match load(
+    } = match load_with(
         &args.program,
         Box::new(clock.clone()),
         args.clock,
+        args.dialect,
         args.model.as_deref(),
     ) {
         Ok(l) => l,
         Err(code) => return code,
     };
     let (writes, shows, trace) =
-        match parse_options(&args).and_then(|(w, s)| Ok((w, s, parse_trace(&args)?))) {
+        match parse_options(&args, cpu.config().model == softplc_core::aplc::MODEL)
+            .and_then(|(w, s)| Ok((w, s, parse_trace(&args)?)))
+        {
             Ok(x) => x,
             Err(e) => {
                 eprintln!("softplc: {e}");
@@ -358,7 +421,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     let mut scans = 0u64;
     for n in 1..=args.scans {
         while let Some(w) = pending.next_if(|w| w.scan == n) {
-            if let Err(e) = cpu.write_device(&w.spec, &w.value) {
+            if let Err(e) = w.spec.write(&mut cpu, &w.value) {
                 eprintln!("softplc: {e}");
                 return ExitCode::from(2);
             }
@@ -413,10 +476,10 @@ pub fn run(args: RunArgs) -> ExitCode {
     let mut devices = Map::new();
     let mut text = Vec::new();
     for spec in &shows {
-        match cpu.read_device(spec) {
+        match spec.read(&cpu) {
             Ok(v) => {
-                text.push(format!("{} = {v}", spec.text));
-                devices.insert(spec.text.clone(), to_json(&v));
+                text.push(format!("{} = {v}", spec.text()));
+                devices.insert(spec.text().to_string(), to_json(&v));
             }
             Err(e) => {
                 eprintln!("softplc: {e}");
@@ -425,11 +488,13 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     }
     let time_ms = scans as f64 * args.scan_time.as_secs_f64() * 1000.0;
+    // The APLC has no step numbers in its reports (contract §2).
+    let aplc = cpu.config().model == softplc_core::aplc::MODEL;
     let error = cpu.error().map(|e| {
         json!({
             "code": e.code.0,
             "message": e.code.message(),
-            "step": e.step,
+            "step": if aplc { None } else { e.step },
             "file": e.file,
             "line": e.line,
         })

@@ -12,6 +12,7 @@ pub use softplc_engine as engine;
 pub use softplc_ir::{access, device};
 pub use softplc_melsec as instructions;
 
+pub mod aplc;
 pub mod persist;
 pub mod program;
 pub mod project;

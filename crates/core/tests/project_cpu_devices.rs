@@ -24,10 +24,10 @@ fn cpu_model() {
             m
         );
     }
-    assert_eq!(
-        error(&with_main("[cpu]\nmodel = \"APLC-TCP\"\n")),
-        "2:9: model \"APLC-TCP\": the APLC dialect is not implemented yet"
-    );
+    // APLC-TCP selects the APLC dialect (contract §4).
+    let p = ok(&with_main("[cpu]\nmodel = \"APLC-TCP\"\n"));
+    assert_eq!(p.config.model, "APLC-TCP");
+    assert!(p.config.system.is_some() && p.config.latch.is_empty());
     assert_eq!(
         error(&with_main("[cpu]\nmodel = \"Q99CPU\"\n")),
         "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, or APLC-TCP)"

@@ -122,6 +122,9 @@ pub struct CpuConfig {
     /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
     pub interrupt_periods: [Duration; 4],
     pub initial_values: Vec<InitialValue>,
+    /// The family's system devices and error numbering; `None` is MELSEC-Q's
+    /// (`special.rs`). The APLC dialect passes its own.
+    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
 }
 
 impl Default for CpuConfig {
@@ -158,6 +161,7 @@ impl Default for CpuConfig {
                 Duration::from_millis(10),
             ],
             initial_values: Vec::new(),
+            system: None,
         }
     }
 }
@@ -209,6 +213,8 @@ pub(crate) struct Runtime {
     /// TRACE / TRACER executed this scan (applied at END).
     pub trace_trigger: bool,
     pub trace_reset: bool,
+    /// See [`CpuConfig::system`].
+    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
 }
 
 /// Entries kept in the error history (004 §7.20.2).
@@ -222,6 +228,9 @@ impl Runtime {
     pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
+        if let Some(s) = &self.system {
+            return s.code(code).is_some_and(|c| s.stops(c));
+        }
         !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
     }
 
@@ -234,7 +243,21 @@ impl Runtime {
         line: Option<u32>,
     ) {
         let now = self.clock.now(self.now_us);
-        special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
+        let code = match &self.system {
+            Some(s) => {
+                // `None`: not an error in this family (the APLC's constant
+                // scan overrun, L950).
+                let Some(code) = s.code(code) else {
+                    return;
+                };
+                s.report_error(&mut self.mem, code);
+                code
+            }
+            None => {
+                special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
+                code
+            }
+        };
         self.error = Some(CpuError {
             code,
             step,

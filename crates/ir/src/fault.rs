@@ -62,6 +62,23 @@ impl ErrorCode {
             5000 => "WDT ERROR: scan time exceeded the watchdog",
             9000 => "F****: annunciator ON",
             5010 => "PRG.TIME OVER: scan time exceeded the constant scan",
+            // APLC-TCP execution errors (seed 002 Appendix 6, L11266-11289);
+            // the numbers do not overlap MELSEC's.
+            60 => "program compile error",
+            61 => "user program timeout (watchdog)",
+            62 => "illegal instruction",
+            63 => "illegal operand device type",
+            64 => "illegal operand value",
+            65 => "operand device number out of range",
+            66 => "subroutine stack overflow",
+            67 => "interrupt request queue overflow",
+            68 => "illegal jump label or subroutine call",
+            69 => "divide by zero",
+            70 => "illegal stack definition",
+            72 => "undefined subroutine or interrupt routine",
+            73 => "special module address invalid",
+            74 => "special module access error",
+            75 => "I/O immediate refresh error",
             _ => "error",
         }
     }

@@ -15,3 +15,4 @@ pub mod kernels;
 pub mod layout;
 mod operand;
 pub mod ops;
+pub mod system;

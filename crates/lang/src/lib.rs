@@ -97,7 +97,7 @@ pub fn load_bytes(
             file: name.to_string(),
             line: 1,
             col: 1,
-            message: "unsupported: the APLC dialect (.apl) is not implemented yet".into(),
+            message: "an .apl file is an APLC program: it is read by the APLC dialect (softplc-aplc), not as MELSEC text".into(),
         }])
     } else {
         match std::str::from_utf8(bytes) {

@@ -10,6 +10,7 @@
 //! The program files are only checked to exist here; compiling them is the
 //! caller's job (they need [`CpuConfig::devices`]).
 
+mod aplc;
 mod ctx;
 mod devices;
 mod initial;
@@ -194,6 +195,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "interrupts") {
         settings::interrupts(&mut cx, t, &mut config);
     }
+    if config.model == crate::aplc::MODEL {
+        aplc::configure(&mut cx, top, &mut config);
+    }
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);
     }
@@ -252,6 +256,28 @@ impl Project {
     ) -> Result<crate::engine::Cpu, Diagnostics> {
         let mut loaded = Vec::new();
         let mut diags = Vec::new();
+        if self.config.model == crate::aplc::MODEL {
+            let programs = aplc::load(&self.programs, &self.manifest.display().to_string())
+                .map_err(Diagnostics)?;
+            for program in programs {
+                loaded.push(crate::engine::LoadedProgram {
+                    program,
+                    exec: crate::engine::ExecType::Scan,
+                    interval: None,
+                    sim_time: None,
+                });
+            }
+            return crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(
+                |e| {
+                    Diagnostics(vec![crate::program::Diagnostic {
+                        file: self.manifest.display().to_string(),
+                        line: 1,
+                        col: 1,
+                        message: e,
+                    }])
+                },
+            );
+        }
         let dialect = self.dialect();
         for spec in &self.programs {
             match crate::program::load_file_in(

@@ -163,11 +163,9 @@ fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
         return;
     };
     let up = text.trim().to_ascii_uppercase();
-    if up == "APLC-TCP" {
-        cx.error(
-            &e.item.span,
-            format!("model \"{text}\": the APLC dialect is not implemented yet"),
-        );
+    if up == crate::aplc::MODEL {
+        // The APLC dialect: its devices and programs (project/aplc.rs).
+        config.model = crate::aplc::MODEL.to_string();
     } else if let Some((m, _, _)) = MODELS.iter().find(|(m, _, _)| *m == up) {
         config.model = m.to_string();
     } else {

@@ -66,15 +66,25 @@ impl Cpu {
                 self.max_scan_us = Some(self.max_scan_us.unwrap_or(0).max(scan_us));
             }
             self.min_scan_us = Some(self.min_scan_us.map_or(scan_us, |m| m.min(scan_us)));
-            special::end(
-                &mut self.rt.mem,
-                special::ScanTimes {
-                    current_us: scan_us,
-                    min_us: self.min_scan_us.unwrap_or(0),
-                    max_us: self.max_scan_us.unwrap_or(0),
-                    since_run_us: now - self.run_start_us,
-                },
-            );
+            match &self.rt.system {
+                Some(s) => s.scan_end(
+                    &mut self.rt.mem,
+                    softplc_ir::system::ScanTimes {
+                        current_us: scan_us,
+                        min_us: self.min_scan_us.unwrap_or(0),
+                        max_us: self.max_scan_us.unwrap_or(0),
+                    },
+                ),
+                None => special::end(
+                    &mut self.rt.mem,
+                    special::ScanTimes {
+                        current_us: scan_us,
+                        min_us: self.min_scan_us.unwrap_or(0),
+                        max_us: self.max_scan_us.unwrap_or(0),
+                        since_run_us: now - self.run_start_us,
+                    },
+                ),
+            }
             self.first_scan = false;
         }
         self.scans += 1;

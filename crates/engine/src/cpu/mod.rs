@@ -220,6 +220,7 @@ impl Cpu {
             duty: [None; 10],
             trace_trigger: false,
             trace_reset: false,
+            system: cfg.system.clone(),
         };
         let mut cpu = Cpu {
             programs,

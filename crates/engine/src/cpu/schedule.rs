@@ -25,7 +25,10 @@ impl Cpu {
             self.apply_forces(DeviceKind::X);
             self.unforce_outputs();
         }
-        special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan);
+        match &self.rt.system {
+            Some(s) => s.scan_start(&mut self.rt.mem, now - self.run_start_us, self.first_scan),
+            None => special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan),
+        }
         let initial =
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;

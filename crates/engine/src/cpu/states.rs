@@ -97,7 +97,7 @@ impl Cpu {
             self.rt.error = None;
             self.rt.history.clear();
             self.stop_error = false;
-            special::power_on(&mut self.rt.mem);
+            self.system_power_on();
         }
         Ok(())
     }
@@ -162,7 +162,7 @@ impl Cpu {
         self.power_on_us = now;
         self.min_scan_us = None;
         self.max_scan_us = None;
-        special::power_on(&mut self.rt.mem);
+        self.system_power_on();
         self.start_run();
     }
 
@@ -230,4 +230,14 @@ impl Cpu {
     }
 
     // --- the scan ---
+}
+
+impl Cpu {
+    /// Power-on values of the system devices (MELSEC's or the family's own).
+    fn system_power_on(&mut self) {
+        match &self.rt.system {
+            Some(s) => s.power_on(&mut self.rt.mem),
+            None => special::power_on(&mut self.rt.mem),
+        }
+    }
 }

@@ -1,0 +1,359 @@
+//! Subroutine calls (002 §6.1 L3745-3800, §3.2.5 L2341-2473; contract §1.1
+//! items 7-8): `CALL SBR_<n> args…` passes the IN, IN_OUT and OUT variables
+//! of the subroutine's table in order (TEMP excluded). Every activation has
+//! its own LM/V frame: the call saves the caller's frame, zeroes the locals,
+//! copies IN/IN_OUT in, runs the subroutine, copies OUT/IN_OUT back to the
+//! arguments after restoring the caller's frame (L1910, L1938, L2387-2389).
+//!
+//! Compiled as: `Ext(CallIn)` (with power flow) · `Call` · `ExtAlways(CallOut)`
+//! (only if the call happened) · `Ld(call bit)`, which gives the rung its
+//! power flow back after the subroutine's own logic.
+
+use softplc_ir::device::DeviceKind;
+use softplc_ir::fault::Fault;
+use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::ops::{BitArg, Op, WordArg};
+use softplc_lang::compile::Compiler;
+use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::{SourceInstr, Token};
+
+use crate::constant::Width;
+use crate::devices::CALL_BIT;
+use crate::num;
+use crate::pou::{Pou, PouKind, Unit};
+use crate::resolve::{self, BitUse};
+
+static DOC: Doc = Doc {
+    family: "subroutines",
+    cite: "002 §6.1 L3745-3800, §3.2.5 L2341-2473",
+    notes: "CALL SBR_n with IN/OUT/IN_OUT arguments by table order, a fresh LM/V frame per activation; CSRET returns early; no recursion, at most 6 levels, no CALL in interrupt routines (load errors)",
+};
+
+pub static DEFS: &[Def] = &[
+    // 002 §6.1 L3745 CALL (compiled by the driver, which knows the POUs)
+    Def::lower("CALL", Class::Output, &DOC, by_driver).steps(Steps::Operands),
+    // 002 §6.1 L3792 CSRET
+    Def::lower("CSRET", Class::Output, &DOC, by_driver).steps(Steps::Fixed(1)),
+];
+
+fn by_driver(c: &mut Compiler<'_>, u: &Use<'_>) {
+    c.err(
+        &u.instr.mnemonic,
+        format!("`{}` is compiled by the POU driver", u.m),
+    );
+}
+
+/// The hidden label of a subroutine's end (CSRET jumps there).
+pub const RET_LABEL: u32 = 1 << 17;
+
+/// Words of a saved frame: V0-V63, LM0-LM63 packed in two words, the
+/// "called" flag.
+const FRAME: u32 = 64 + 2 + 1;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Ty {
+    Bit,
+    W16,
+    W32,
+}
+
+#[derive(Debug)]
+enum Arg {
+    Bit(BitArg),
+    Word(WordArg),
+}
+
+#[derive(Debug)]
+struct Param {
+    copy_in: bool,
+    copy_out: bool,
+    ty: Ty,
+    arg: Arg,
+    /// Flat index of the local: an LM bit or the first V word.
+    local: u32,
+}
+
+#[derive(Debug)]
+struct Frame {
+    lm: u32,
+    v: u32,
+    /// First of the call site's [`FRAME`] state words.
+    save: u32,
+}
+
+#[derive(Debug)]
+struct CallIn {
+    params: Box<[Param]>,
+    frame: Frame,
+}
+
+#[derive(Debug)]
+struct CallOut {
+    params: Box<[Param]>,
+    frame: Frame,
+    bit: u32,
+}
+
+/// At most 16 bit and 16 word parameters (L2361).
+const MAX_PARAMS: usize = 32;
+
+fn read(cx: &ExecCtx<'_>, p: &Param, from_local: bool) -> Result<u32, Fault> {
+    let local = WordArg::Word(p.local);
+    Ok(match (&p.arg, p.ty, from_local) {
+        (_, Ty::Bit, true) => cx.mem.bits[p.local as usize] as u32,
+        (Arg::Bit(b), _, false) => cx.mem.read_bit(b)? as u32,
+        (_, Ty::W16, true) => cx.mem.read16(&local)? as u32,
+        (_, Ty::W32, true) => num::read32(cx.mem, &local)?,
+        (Arg::Word(w), Ty::W16, false) => cx.mem.read16(w)? as u32,
+        (Arg::Word(w), _, false) => num::read32(cx.mem, w)?,
+    })
+}
+
+fn write(cx: &mut ExecCtx<'_>, p: &Param, to_local: bool, v: u32) -> Result<(), Fault> {
+    let local = WordArg::Word(p.local);
+    match (&p.arg, p.ty, to_local) {
+        (_, Ty::Bit, true) => cx.mem.bits[p.local as usize] = v != 0,
+        (Arg::Bit(b), _, false) => cx.mem.write_bit(b, v != 0)?,
+        (_, Ty::W16, true) => cx.mem.write16(&local, v as u16)?,
+        (_, Ty::W32, true) => num::write32(cx.mem, &local, v)?,
+        (Arg::Word(w), Ty::W16, false) => cx.mem.write16(w, v as u16)?,
+        (Arg::Word(w), _, false) => num::write32(cx.mem, w, v)?,
+    }
+    Ok(())
+}
+
+impl Frame {
+    fn save(&self, cx: &mut ExecCtx<'_>) {
+        let (v, lm, s) = (self.v as usize, self.lm as usize, self.save as usize);
+        for k in 0..64 {
+            cx.state[s + k] = cx.mem.words[v + k] as u32;
+        }
+        let (mut lo, mut hi) = (0u32, 0u32);
+        for k in 0..32 {
+            lo |= (cx.mem.bits[lm + k] as u32) << k;
+            hi |= (cx.mem.bits[lm + 32 + k] as u32) << k;
+        }
+        cx.state[s + 64] = lo;
+        cx.state[s + 65] = hi;
+        cx.mem.words[v..v + 64].fill(0);
+        cx.mem.bits[lm..lm + 64].fill(false);
+    }
+
+    fn restore(&self, cx: &mut ExecCtx<'_>) {
+        let (v, lm, s) = (self.v as usize, self.lm as usize, self.save as usize);
+        for k in 0..64 {
+            cx.mem.words[v + k] = cx.state[s + k] as u16;
+        }
+        let (lo, hi) = (cx.state[s + 64], cx.state[s + 65]);
+        for k in 0..32 {
+            cx.mem.bits[lm + k] = lo >> k & 1 != 0;
+            cx.mem.bits[lm + 32 + k] = hi >> k & 1 != 0;
+        }
+    }
+
+    fn called(&self) -> usize {
+        self.save as usize + 66
+    }
+}
+
+impl Instr for CallIn {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mut buf = [0u32; MAX_PARAMS];
+        for (p, b) in self.params.iter().zip(buf.iter_mut()) {
+            if p.copy_in {
+                *b = read(cx, p, false)?;
+            }
+        }
+        self.frame.save(cx);
+        for (p, b) in self.params.iter().zip(buf.iter()) {
+            if p.copy_in {
+                write(cx, p, true, *b)?;
+            }
+        }
+        cx.state[self.frame.called()] = 1;
+        Ok(())
+    }
+}
+
+impl CallOut {
+    fn step(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let called = std::mem::take(&mut cx.state[self.frame.called()]) != 0;
+        cx.mem.bits[self.bit as usize] = called;
+        if !called {
+            return Ok(());
+        }
+        let mut buf = [0u32; MAX_PARAMS];
+        for (p, b) in self.params.iter().zip(buf.iter_mut()) {
+            if p.copy_out {
+                *b = read(cx, p, true)?;
+            }
+        }
+        self.frame.restore(cx);
+        for (p, b) in self.params.iter().zip(buf.iter()) {
+            if p.copy_out {
+                write(cx, p, false, *b)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Instr for CallOut {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        self.step(cx)
+    }
+    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        self.step(cx)
+    }
+}
+
+/// The subroutine number of `SBR_<n>` (any case).
+pub fn sbr_number(t: &str) -> Option<u8> {
+    let u = t.to_ascii_uppercase();
+    u.strip_prefix("SBR_")?.parse().ok().filter(|n| *n <= 63)
+}
+
+/// Compiles `CALL SBR_<n> args…`; returns the callee and the op index of
+/// its `Call` for linking.
+pub fn call(
+    c: &mut Compiler<'_>,
+    unit: &Unit,
+    caller: PouKind,
+    i: &SourceInstr,
+) -> Option<(u8, usize, Token)> {
+    if matches!(caller, PouKind::Int { .. }) {
+        c.err(
+            &i.mnemonic,
+            "CALL in an interrupt routine: interrupt routines cannot call subroutines (L2363)",
+        );
+        return None;
+    }
+    let Some(target) = i.operands.first() else {
+        c.err(&i.mnemonic, "`CALL` needs a subroutine: CALL SBR_<n> args…");
+        return None;
+    };
+    if !c.output(i, "CALL") {
+        return None;
+    }
+    let Some(n) = sbr_number(&target.text) else {
+        c.err(
+            target,
+            format!("`{}`: a subroutine is SBR_0-SBR_63 (L2455)", target.text),
+        );
+        return None;
+    };
+    let Some(callee) = unit.pous.iter().find(|p| p.kind == PouKind::Sbr(n)) else {
+        c.err(
+            target,
+            format!(
+                "CALL of `{}`: no POU SBR_{n} in the program (L3757)",
+                target.text
+            ),
+        );
+        return None;
+    };
+    let params = params(c, callee, i)?;
+    let frame = |save| Frame {
+        lm: c.map.base(DeviceKind::B),
+        v: c.map.base(DeviceKind::W),
+        save,
+    };
+    let save = c.state_words;
+    c.state_words += FRAME;
+    let (f_in, f_out) = (frame(save), frame(save));
+    let bit = c.map.base(DeviceKind::V) + CALL_BIT;
+    let params_out = params
+        .iter()
+        .map(|p| Param {
+            arg: match &p.arg {
+                Arg::Bit(b) => Arg::Bit(b.clone()),
+                Arg::Word(w) => Arg::Word(w.clone()),
+            },
+            ..*p
+        })
+        .collect();
+    let x = c.ext.len() as u32;
+    c.ext.push(Box::new(CallIn {
+        params: params.into_boxed_slice(),
+        frame: f_in,
+    }));
+    c.emit(Op::Ext(x));
+    let at = c.emit(Op::Call(0));
+    let x = c.ext.len() as u32;
+    c.ext.push(Box::new(CallOut {
+        params: params_out,
+        frame: f_out,
+        bit,
+    }));
+    c.emit(Op::ExtAlways(x));
+    c.emit(Op::Ld(bit));
+    Some((n, at, target.clone()))
+}
+
+/// Resolves the arguments against the callee's table (L3757-3790).
+fn params(c: &mut Compiler<'_>, callee: &Pou, i: &SourceInstr) -> Option<Vec<Param>> {
+    let vars: Vec<_> = callee.vars.iter().filter(|v| v.kind != "TEMP").collect();
+    let args = &i.operands[1..];
+    if args.len() != vars.len() {
+        let names: Vec<&str> = vars.iter().map(|v| v.name.as_str()).collect();
+        c.err(
+            &i.operands[0],
+            format!(
+                "CALL {}: takes {} argument(s) ({}), found {} (L3790)",
+                i.operands[0].text,
+                vars.len(),
+                names.join(", "),
+                args.len()
+            ),
+        );
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut ok = true;
+    for (v, tok) in vars.iter().zip(args) {
+        let copy_in = v.kind != "OUT";
+        let copy_out = v.kind != "IN";
+        let local_n: u32 = v
+            .addr
+            .trim_start_matches(|ch: char| ch.is_ascii_alphabetic())
+            .parse()
+            .unwrap_or(0);
+        let (ty, arg, local) = if v.ty == "BOOL" {
+            let what = if copy_out {
+                BitUse::Coil
+            } else {
+                BitUse::Contact
+            };
+            let r = resolve::bit(c.map, &tok.text, what);
+            (
+                Ty::Bit,
+                resolve::at(c, tok, r).map(Arg::Bit),
+                c.map.base(DeviceKind::B) + local_n,
+            )
+        } else {
+            let (ty, w) = match v.ty.as_str() {
+                "INT" | "WORD" => (Ty::W16, Width::W16),
+                "REAL" => (Ty::W32, Width::Real),
+                _ => (Ty::W32, Width::W32),
+            };
+            let r = resolve::word(c.map, &tok.text, w, copy_out, false)
+                .map_err(|e| format!("{e} (argument {} {} {})", v.name, v.kind, v.ty));
+            (
+                ty,
+                resolve::at(c, tok, r).map(Arg::Word),
+                c.map.base(DeviceKind::W) + local_n,
+            )
+        };
+        match arg {
+            Some(arg) => out.push(Param {
+                copy_in,
+                copy_out,
+                ty,
+                arg,
+                local,
+            }),
+            None => ok = false,
+        }
+    }
+    ok.then_some(out)
+}

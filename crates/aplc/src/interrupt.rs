@@ -1,0 +1,235 @@
+//! Interrupt routines (002 chapter 9 L10064-10310; spec aplc.md §3.5,
+//! decision D3): `POU INT_<n> EVENT <e>`, EI/DI, CIRET.
+//!
+//! Decision (virtual time): events are taken at the start of each scan,
+//! before MAIN, in the order they occurred: the edges of X0-X7 since the
+//! previous scan (events 0-7 rising, 10-17 falling, enabled by SM40-SM47) and
+//! the timed interrupts 0-2 (events 26-28, period SD66-SD68 in ms, 1-32767,
+//! enabled by SM66-SM68; enabling restarts the timing, L10151). An event
+//! needs the global enable (EI) too. The 8-deep FIFO holds what one scan
+//! start finds; a ninth event is lost with run error 67 (L10117). Routines
+//! run one at a time, each with fresh LM/V. The serial events 30-37 need the
+//! free port (not implemented yet) and never occur.
+//!
+//! Compiled as a dispatch section at the start of the program: `Scan`
+//! (collect the events), then a loop `Pop` · `Ld(routine bit)` · `Call` … that
+//! calls each routine through the engine's CALL, until the queue is empty.
+
+use softplc_ir::device::{DeviceKind, DeviceMap};
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::ops::Op;
+use softplc_lang::compile::Compiler;
+use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+
+use crate::devices::{EI_BIT, INT_ANY_BIT, INT_BITS, MAX_INT};
+
+static DOC: Doc = Doc {
+    family: "interrupts",
+    cite: "002 ch. 9 L10064-10310, §6.1 L3699-3733",
+    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial events 30-37 never occur (free port not implemented yet)",
+};
+
+pub static DEFS: &[Def] = &[
+    // 002 §6.1 L3699 EI
+    Def::lower("EI", Class::Output, &DOC, ei_di).steps(Steps::Fixed(1)),
+    // 002 §6.1 L3710 DI
+    Def::lower("DI", Class::Output, &DOC, ei_di).steps(Steps::Fixed(1)),
+    // 002 §6.1 L3725 CIRET (compiled by the driver)
+    Def::lower("CIRET", Class::Output, &DOC, ei_di).steps(Steps::Fixed(1)),
+];
+
+/// 67: interrupt request queue overflow.
+const E_QUEUE: ErrorCode = ErrorCode(67);
+/// The FIFO's depth (L10113).
+const DEPTH: usize = 8;
+
+#[derive(Debug)]
+struct SetEi {
+    bit: u32,
+    on: bool,
+}
+
+impl Instr for SetEi {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.mem.bits[self.bit as usize] = self.on;
+        Ok(())
+    }
+}
+
+// 002 §6.1 L3699-3723 EI / DI: with power flow, enable / disable interrupts.
+fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
+    let i = u.instr;
+    if !c.count(i, u.m, &[0]) || !c.output(i, u.m) {
+        return;
+    }
+    if u.m == "CIRET" {
+        return c.err(&i.mnemonic, "CIRET outside an interrupt routine (L3733)");
+    }
+    let x = c.ext.len() as u32;
+    let bit = c.map.base(DeviceKind::V) + EI_BIT;
+    c.ext.push(Box::new(SetEi {
+        bit,
+        on: u.m == "EI",
+    }));
+    c.emit(Op::Ext(x));
+}
+
+/// State words of the dispatcher.
+const PREV_X: usize = 0;
+const TIMED: usize = 1; // 3 × (enabled, next due lo, next due hi)
+const LEN: usize = 10;
+const QUEUE: usize = 11;
+const WORDS: u32 = (QUEUE + DEPTH) as u32;
+
+/// What the dispatcher reads and writes.
+#[derive(Debug, Clone)]
+struct Dispatch {
+    /// (event, routine index) of the program's routines.
+    routines: Vec<(u8, u32)>,
+    x: u32,
+    sm: u32,
+    sd: u32,
+    v: u32,
+    state: u32,
+}
+
+#[derive(Debug)]
+struct Scan(Dispatch);
+
+#[derive(Debug)]
+struct Pop(Dispatch);
+
+impl Dispatch {
+    fn push(&self, cx: &mut ExecCtx<'_>, event: u8, lost: &mut bool) {
+        let Some(&(_, r)) = self.routines.iter().find(|(e, _)| *e == event) else {
+            return; // no routine: acknowledged as a no-op (L10125)
+        };
+        let s = self.state as usize;
+        let len = cx.state[s + LEN] as usize;
+        if len >= DEPTH {
+            *lost = true;
+        } else {
+            cx.state[s + QUEUE + len] = r;
+            cx.state[s + LEN] = len as u32 + 1;
+        }
+    }
+}
+
+impl Instr for Scan {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        self.off(cx)
+    }
+    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let d = &self.0;
+        let s = d.state as usize;
+        let ei = cx.mem.bits[(d.v + EI_BIT) as usize];
+        let mut lost = false;
+        // X0-X7 edges since the previous scan.
+        let prev = cx.state[s + PREV_X];
+        let mut now_x = 0u32;
+        for k in 0..8 {
+            now_x |= (cx.mem.bits[(d.x + k) as usize] as u32) << k;
+        }
+        cx.state[s + PREV_X] = now_x;
+        for k in 0..8u32 {
+            let (was, is) = (prev >> k & 1 != 0, now_x >> k & 1 != 0);
+            if was == is || !ei || !cx.mem.bits[(d.sm + 40 + k) as usize] {
+                continue;
+            }
+            let event = if is { k } else { 10 + k };
+            d.push(cx, event as u8, &mut lost);
+        }
+        // Timed interrupts 0-2: SM66-SM68, SD66-SD68.
+        let now_ms = cx.now_us / 1000;
+        for t in 0..3u32 {
+            let at = s + TIMED + 3 * t as usize;
+            let on = cx.mem.bits[(d.sm + 66 + t) as usize];
+            let period = cx.mem.words[(d.sd + 66 + t) as usize] as i16;
+            if !on || period < 1 {
+                cx.state[at] = 0;
+                continue;
+            }
+            let mut due = cx.state[at + 1] as u64 | (cx.state[at + 2] as u64) << 32;
+            if cx.state[at] == 0 {
+                cx.state[at] = 1;
+                due = now_ms + period as u64;
+            }
+            while now_ms >= due {
+                if ei {
+                    d.push(cx, 26 + t as u8, &mut lost);
+                }
+                due += period as u64;
+            }
+            cx.state[at + 1] = due as u32;
+            cx.state[at + 2] = (due >> 32) as u32;
+        }
+        if lost {
+            Err(E_QUEUE)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+impl Instr for Pop {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        self.off(cx)
+    }
+    /// Takes the head of the queue: its routine's bit ON, the others OFF, and
+    /// the "any" bit when one was taken.
+    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let d = &self.0;
+        let s = d.state as usize;
+        let bits = (d.v + INT_BITS) as usize;
+        cx.mem.bits[bits..bits + MAX_INT as usize].fill(false);
+        let len = cx.state[s + LEN] as usize;
+        let any = len > 0;
+        if any {
+            let r = cx.state[s + QUEUE] as usize;
+            cx.state
+                .copy_within(s + QUEUE + 1..s + QUEUE + len, s + QUEUE);
+            cx.state[s + LEN] = len as u32 - 1;
+            cx.mem.bits[bits + r] = true;
+        }
+        cx.mem.bits[(d.v + INT_ANY_BIT) as usize] = any;
+        Ok(())
+    }
+}
+
+/// Emits the dispatch section for `routines` (event of each, in routine
+/// order); returns the op indices of the `Call`s, routine by routine.
+pub fn dispatch(c: &mut Compiler<'_>, events: &[u8]) -> Vec<usize> {
+    let map: &DeviceMap = c.map;
+    let d = Dispatch {
+        routines: events
+            .iter()
+            .enumerate()
+            .map(|(r, e)| (*e, r as u32))
+            .collect(),
+        x: map.base(DeviceKind::X),
+        sm: map.base(DeviceKind::SM),
+        sd: map.base(DeviceKind::SD),
+        v: map.base(DeviceKind::V),
+        state: c.state_words,
+    };
+    c.state_words += WORDS;
+    let x = c.ext.len() as u32;
+    c.ext.push(Box::new(Scan(d.clone())));
+    c.emit(Op::ExtAlways(x));
+    let top = c.ops.len() as u32;
+    let x = c.ext.len() as u32;
+    c.ext.push(Box::new(Pop(d.clone())));
+    c.emit(Op::ExtAlways(x));
+    let mut calls = Vec::new();
+    for r in 0..events.len() as u32 {
+        c.emit(Op::Ld(d.v + INT_BITS + r));
+        calls.push(c.emit(Op::Call(0)));
+    }
+    c.emit(Op::Ld(d.v + INT_ANY_BIT));
+    c.emit(Op::Cj {
+        target: top,
+        always: false,
+    });
+    calls
+}

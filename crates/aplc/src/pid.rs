@@ -1,0 +1,181 @@
+//! The APLC PID instruction `PID S1 S2 S3 D` (002 §6.11.1 L7657-7817; spec
+//! aplc.md §5, decision D22): SV in S1, PV in S2, the 20-word parameter block
+//! at S3, MV in D; the velocity form
+//!
+//!   ΔMV = Kp·{(EVn − EVn−1) + (Ts/TI)·EVn + Dn},  MVn = MVn−1 + ΔMV,
+//!
+//! with the filtered PV (PVnf = PVn + α·(PVnf−1 − PVn)), EVn = PVnf − SV
+//! (forward) or SV − PVnf (reverse, mode bit 0), and the derivative term of
+//! §5.4. It computes with power flow each time Ts has elapsed.
+//!
+//! Decision, the working area S3+7..S3+14 (the manual says only that the
+//! program zeroes it, L7726): +7 EVn−1, +8 PVnf−1, +9 PVnf−2, +10 Dn−1
+//! (rounded), +11 PVn−1 (for the input alarm), +12 the fraction of MV
+//! (×10000, signed), +13 reserved, +14 the milliseconds since the last
+//! sample. Values out of range in S3..S3+6, limits upper < lower, or a negative
+//! alarm setting are error 64 with no computation.
+
+use softplc_ir::fault::Fault;
+use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::ops::{Block, WordArg};
+use softplc_lang::compile::Args;
+use softplc_lang::isa::{Def, Doc, Steps};
+
+use crate::constant::Width;
+use crate::devices::{parse_device, Dev};
+use crate::num::E_VALUE;
+use crate::resolve::{self, ArgsExt};
+
+static DOC: Doc = Doc {
+    family: "PID",
+    cite: "002 §6.11.1 L7657-7817",
+    notes: "velocity form with input filter, derivative gain and time; limits (bit5) or change alarms (bits 1, 2) in S3+15..S3+19; working area layout S3+7..S3+14 is softplc's (decision, pid.rs); error 64 for parameters out of range",
+};
+
+pub static DEFS: &[Def] = &[
+    // 002 §6.11.1 L7657 PID
+    Def::app("PID", &DOC, compile)
+        .no_pulse()
+        .steps(Steps::Fixed(9)),
+];
+
+#[derive(Debug)]
+struct Pid {
+    sv: WordArg,
+    pv: WordArg,
+    block: Block,
+    mv: WordArg,
+}
+
+fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+    if !a.count(&[4]) {
+        return None;
+    }
+    for k in 0..4 {
+        let ok = matches!(parse_device(&a.text(k).to_ascii_uppercase()), Ok(Some(d)) if d.dev == Dev::D && d.group.is_none());
+        if !ok {
+            a.error(
+                k,
+                format!("`{}`: PID's operands are D registers (L7662)", a.text(k)),
+            );
+            return None;
+        }
+    }
+    let sv = a.word_at(0, Width::W16, false);
+    let pv = a.word_at(1, Width::W16, false);
+    let r = resolve::block(a.map(), a.text(2), true);
+    let block = a.check(2, r);
+    let mv = a.word_at(3, Width::W16, true)?;
+    Some(Box::new(Pid {
+        sv: sv?,
+        pv: pv?,
+        block: block?,
+        mv,
+    }))
+}
+
+fn clamp16(v: f64) -> i16 {
+    v.round().clamp(-32768.0, 32767.0) as i16
+}
+
+impl Instr for Pid {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let b = cx.mem.block_start(&self.block, 20)?;
+        let w = |cx: &ExecCtx<'_>, k: usize| cx.mem.words[b + k] as i16;
+        let (ts, mode, alpha, kp, ti, kd, td) = (
+            w(cx, 0),
+            w(cx, 1) as u16,
+            w(cx, 2),
+            w(cx, 3),
+            w(cx, 4),
+            w(cx, 5),
+            w(cx, 6),
+        );
+        let ok = ts >= 1
+            && (0..=99).contains(&alpha)
+            && kp >= 1
+            && ti >= 0
+            && (0..=100).contains(&kd)
+            && td >= 0;
+        if !ok {
+            return Err(E_VALUE);
+        }
+        let (alarm_in, alarm_out, limits) = match (mode & 4 != 0, mode & 32 != 0) {
+            (true, true) => (false, false, false),
+            (o, l) => (mode & 2 != 0 && !l, o, l),
+        };
+        let negative = |from: usize| w(cx, from) < 0 || w(cx, from + 1) < 0;
+        if limits && w(cx, 17) < w(cx, 18) || alarm_in && negative(15) || alarm_out && negative(17)
+        {
+            return Err(E_VALUE);
+        }
+        // Sampling: the scan time measured at the previous END accumulates.
+        let elapsed = (cx.mem.words[b + 14] as u32 + cx.scan_us / 1000).min(u16::MAX as u32);
+        if elapsed < ts as u32 {
+            cx.mem.words[b + 14] = elapsed as u16;
+            return Ok(());
+        }
+        cx.mem.words[b + 14] = (elapsed - ts as u32).min(ts as u32) as u16;
+        let (sv, pv) = (
+            cx.mem.read16(&self.sv)? as i16 as f64,
+            cx.mem.read16(&self.pv)? as i16 as f64,
+        );
+        let (ev1, pf1, pf2, d1, pv1) = (
+            w(cx, 7) as f64,
+            w(cx, 8) as f64,
+            w(cx, 9) as f64,
+            w(cx, 10) as f64,
+            w(cx, 11),
+        );
+        let a = alpha as f64 / 100.0;
+        let pvf = pv + a * (pf1 - pv);
+        let reverse = mode & 1 != 0;
+        let ev = if reverse { sv - pvf } else { pvf - sv };
+        let (ts_ms, ti_ms, td_ms, ad) = (
+            ts as f64,
+            ti as f64 * 100.0,
+            td as f64 * 10.0,
+            kd as f64 / 100.0,
+        );
+        let dn = if td == 0 {
+            0.0
+        } else {
+            let den = ts_ms + ad * td_ms;
+            let curve = if reverse {
+                2.0 * pf1 - pvf - pf2
+            } else {
+                pvf + pf2 - 2.0 * pf1
+            };
+            td_ms / den * curve + ad * td_ms / den * d1
+        };
+        let integral = if ti == 0 { 0.0 } else { ts_ms / ti_ms * ev };
+        let dmv = kp as f64 / 100.0 * ((ev - ev1) + integral + dn);
+        let frac = w(cx, 12) as f64 / 10000.0;
+        let prev = cx.mem.read16(&self.mv)? as i16 as f64;
+        let mut mv = prev + frac + dmv;
+        if limits {
+            mv = mv.clamp(w(cx, 18) as f64, w(cx, 17) as f64);
+        }
+        let out = clamp16(mv);
+        let rest = if limits { 0.0 } else { mv - out as f64 };
+        cx.mem.write16(&self.mv, out as u16)?;
+        let mut alarms = 0u16;
+        if alarm_in {
+            let dpv = pv as i32 - pv1 as i32;
+            alarms |= (dpv > w(cx, 15) as i32) as u16 | ((-dpv > w(cx, 16) as i32) as u16) << 1;
+        }
+        if alarm_out {
+            let d = out as i32 - prev as i32;
+            alarms |= ((d > w(cx, 17) as i32) as u16) << 2 | ((-d > w(cx, 18) as i32) as u16) << 3;
+        }
+        let words = &mut cx.mem.words[b..b + 20];
+        words[7] = clamp16(ev) as u16;
+        words[8] = clamp16(pvf) as u16;
+        words[9] = pf1 as i16 as u16;
+        words[10] = clamp16(dn) as u16;
+        words[11] = pv as i16 as u16;
+        words[12] = clamp16(rest * 10000.0) as u16;
+        words[19] = alarms;
+        Ok(())
+    }
+}

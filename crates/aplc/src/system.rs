@@ -1,0 +1,105 @@
+//! APLC-TCP system devices through the engine's [`System`] seam (spec
+//! aplc.md §7.1-§7.2, §1.9, decision D14): SM0/SM1/SM2, the clocks SM10-SM15,
+//! the scan times SD30-SD32, the run-error flags SM20-SM22 and the SD20-SD24
+//! history; error numbering of Appendix 6 (L11239-11289).
+
+use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::fault::ErrorCode;
+use softplc_ir::system::{ScanTimes, System};
+
+/// The APLC-TCP's system devices, with the system block's times.
+#[derive(Debug, Default)]
+pub struct Aplc {
+    /// SD34: the watchdog in effect (100-1000 ms, D4).
+    pub watchdog_ms: u16,
+    /// SD33: the constant scan (0 = off; SM8 ON otherwise).
+    pub constant_scan_ms: u16,
+}
+
+fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
+    let _ = mem.set_bit(DeviceKind::SM, n, v);
+}
+
+fn sd(mem: &mut DeviceMemory, n: i64, v: u16) {
+    let _ = mem.set_word(DeviceKind::SD, n, v);
+}
+
+fn ms(us: u64) -> u16 {
+    (us / 1000).min(u16::MAX as u64) as u16
+}
+
+impl System for Aplc {
+    fn power_on(&self, mem: &mut DeviceMemory) {
+        // SM196: EEPROM write idle; SD25/SD26 initial 255 (Appendix 2).
+        sm(mem, 196, true);
+        sd(mem, 25, 255);
+        sd(mem, 26, 255);
+        sd(mem, 33, self.constant_scan_ms);
+        sd(mem, 34, self.watchdog_ms);
+        sm(mem, 8, self.constant_scan_ms > 0);
+    }
+
+    /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;
+    /// SM10-SM14 toggle every half period from RUN (first half 0); SM15
+    /// toggles every scan, 0 on the first (L10696-10760).
+    fn scan_start(&self, mem: &mut DeviceMemory, t: u64, first_scan: bool) {
+        sm(mem, 0, true);
+        sm(mem, 1, first_scan);
+        sm(mem, 2, first_scan);
+        let half = |us: u64| (t / us) & 1 == 1;
+        sm(mem, 10, half(5_000));
+        sm(mem, 11, half(50_000));
+        sm(mem, 12, half(500_000));
+        sm(mem, 13, half(30_000_000));
+        sm(mem, 14, half(1_800_000_000));
+        let toggle = !first_scan && !mem.get_bit(DeviceKind::SM, 15).unwrap_or(true);
+        sm(mem, 15, toggle);
+    }
+
+    /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,
+    /// maximum scan time in ms.
+    fn scan_end(&self, mem: &mut DeviceMemory, t: ScanTimes) {
+        crate::timers::housekeeping(mem, t.current_us);
+        sd(mem, 30, ms(t.current_us));
+        sd(mem, 31, ms(t.min_us));
+        sd(mem, 32, ms(t.max_us));
+    }
+
+    /// Faults of the shared kernels and the engine in Appendix 6 numbers; a
+    /// scan longer than the constant scan is no error (L950).
+    fn code(&self, code: ErrorCode) -> Option<ErrorCode> {
+        Some(ErrorCode(match code.0 {
+            4100 => 64,
+            4101 => 65,
+            5000 => 61,
+            5010 => return None,
+            4200..=4203 | 4211 | 4212 => 68,
+            4213 => 66,
+            c => c,
+        }))
+    }
+
+    /// SM20 and the SD20-SD24 history (newest in SD20, pushed only when it
+    /// differs, L1313-1316); SM21 for 65, SM22 for 64 (L10732-10733).
+    fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode) {
+        sm(mem, 20, true);
+        match code.0 {
+            65 => sm(mem, 21, true),
+            64 => sm(mem, 22, true),
+            _ => {}
+        }
+        let cur = mem.get_word(DeviceKind::SD, 20).unwrap_or(0);
+        if cur != code.0 {
+            for n in (21..=24).rev() {
+                let v = mem.get_word(DeviceKind::SD, n - 1).unwrap_or(0);
+                sd(mem, n, v);
+            }
+            sd(mem, 20, code.0);
+        }
+    }
+
+    /// 64-80 keep the CPU running; 60-63 and everything else stop it (D14).
+    fn stops(&self, code: ErrorCode) -> bool {
+        !(64..=80).contains(&code.0)
+    }
+}

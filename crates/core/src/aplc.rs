@@ -1,0 +1,54 @@
+//! The APLC-TCP CPU (seed 002): programs loaded by the APLC dialect
+//! (softplc-aplc) and a CPU configuration with its devices and system
+//! devices. The engine is the same; the dialect is passed, not special-cased.
+
+use std::path::Path;
+use std::time::Duration;
+
+use crate::engine::CpuConfig;
+use crate::program::{Diagnostics, Program};
+
+pub use softplc_aplc::names::Name;
+
+/// The model name that selects the APLC dialect (contract §4).
+pub const MODEL: &str = "APLC-TCP";
+
+/// True for a program file read as `.apl` by default (contract §2
+/// `--dialect`: by name).
+pub fn is_apl(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("apl"))
+}
+
+/// Loads an `.apl` program (any file name).
+pub fn load_file(path: &Path) -> Result<Program, Diagnostics> {
+    softplc_aplc::load_file(path)
+}
+
+/// Loads `.apl` text already in memory.
+pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
+    softplc_aplc::load_bytes(name, bytes)
+}
+
+/// An APLC-TCP CPU: its device layout, no latch ranges (no power-loss
+/// retention, decision D5), watchdog 200 ms (D4), its system devices.
+pub fn cpu_config() -> CpuConfig {
+    cpu_config_with(Duration::from_millis(200), None)
+}
+
+/// [`cpu_config`] with a watchdog and constant scan (shown in SD34, SD33, SM8).
+pub fn cpu_config_with(watchdog: Duration, constant_scan: Option<Duration>) -> CpuConfig {
+    let ms = |d: Duration| d.as_millis().min(u16::MAX as u128) as u16;
+    CpuConfig {
+        model: MODEL.to_string(),
+        devices: softplc_aplc::device_config(),
+        watchdog,
+        constant_scan,
+        latch: Vec::new(),
+        system: Some(softplc_aplc::system_with(
+            ms(watchdog),
+            constant_scan.map_or(0, ms),
+        )),
+        ..CpuConfig::default()
+    }
+}

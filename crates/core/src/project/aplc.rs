@@ -1,0 +1,106 @@
+//! An APLC-TCP project (`[cpu] model = "APLC-TCP"`, contract §1.1 item 10,
+//! §4): the APLC device layout and system devices; the MELSEC-only tables are
+//! load errors; program files are `.apl`.
+
+use super::ctx::Ctx;
+use super::tree::Entry;
+use super::ProgramSpec;
+use crate::engine::{CpuConfig, ExecType};
+use crate::program::{Diagnostic, Program};
+
+/// Applies the APLC-TCP CPU to `config` (after `[ras]` was read) and reports
+/// the tables and keys the APLC does not have. The watchdog is at most
+/// 1000 ms and below 100 ms acts as 100 ms; the constant scan is at most the
+/// watchdog (L953, L1103, SD33-SD34, decision D4).
+pub(crate) fn configure(cx: &mut Ctx, top: &[Entry], config: &mut CpuConfig) {
+    let ras = top.iter().find(|e| e.key == "ras");
+    let key = |k: &str| match ras.map(|r| &r.item.value) {
+        Some(super::tree::Value::Table(t)) => {
+            t.iter().find(|e| e.key == k).map(|e| e.item.span.clone())
+        }
+        _ => None,
+    };
+    let limit = std::time::Duration::from_millis(1000);
+    if config.watchdog > limit {
+        let at = key("watchdog").unwrap_or(0..0);
+        cx.error(&at, "watchdog: APLC-TCP allows 0-1000 ms (L1103)");
+    }
+    config.watchdog = config.watchdog.max(std::time::Duration::from_millis(100));
+    if let Some(cs) = config.constant_scan {
+        if cs > limit || cs > config.watchdog {
+            let at = key("constant_scan").unwrap_or(0..0);
+            cx.error(
+                &at,
+                "constant_scan: APLC-TCP allows 0-1000 ms, not above the watchdog (L953)",
+            );
+        }
+    }
+    let base = crate::aplc::cpu_config_with(config.watchdog, config.constant_scan);
+    config.devices = base.devices;
+    config.system = base.system;
+    config.latch = Vec::new();
+    for e in top {
+        let why = match e.key.as_str() {
+            "latch" => "APLC-TCP has no power-loss retention (L983, decision D5)",
+            "interrupts" | "devices" | "timers" => "it is MELSEC-only",
+            _ => continue,
+        };
+        cx.error(
+            &e.key_span,
+            format!("[{}] in an APLC-TCP project: {why}", e.key),
+        );
+    }
+    if let Some(ras) = top.iter().find(|e| e.key == "ras") {
+        if let super::tree::Value::Table(t) = &ras.item.value {
+            for e in t {
+                if matches!(e.key.as_str(), "operation_error" | "stop_to_run_output") {
+                    cx.error(
+                        &e.key_span,
+                        format!("[ras] {} is MELSEC-only: not in an APLC-TCP project", e.key),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Loads the programs of an APLC-TCP project: scan programs read as `.apl`.
+/// Decision (phase 1): one program file; several files forming one user
+/// program are not implemented yet.
+pub(crate) fn load(specs: &[ProgramSpec], manifest: &str) -> Result<Vec<Program>, Vec<Diagnostic>> {
+    let mut diags = Vec::new();
+    if specs.len() > 1 {
+        diags.push(Diagnostic {
+            file: manifest.to_string(),
+            line: 1,
+            col: 1,
+            message:
+                "an APLC-TCP project with several program files is not implemented yet in softplc"
+                    .into(),
+        });
+    }
+    let mut out = Vec::new();
+    for s in specs {
+        if s.exec != ExecType::Scan {
+            diags.push(Diagnostic {
+                file: manifest.to_string(),
+                line: 1,
+                col: 1,
+                message: format!(
+                    "{}: APLC-TCP programs are scan programs (type \"scan\")",
+                    s.file.display()
+                ),
+            });
+            continue;
+        }
+        match crate::aplc::load_file(&s.file) {
+            Ok(p) => out.push(p),
+            Err(d) => diags.extend(d.0),
+        }
+    }
+    if diags.is_empty() {
+        Ok(out)
+    } else {
+        Err(diags)
+    }
+}
