@@ -29,16 +29,22 @@ pub fn lock(dir: &Path) -> Result<DirLock, PersistError> {
         .truncate(false)
         .open(&path)
         .map_err(io_err("open", &path))?;
-    match try_flock(&file) {
+    // A lock our own process just released can still be held for a moment by
+    // a child being forked (it shares the open file until its exec closes it,
+    // O_CLOEXEC), so when the recorded owner is this process, try again for a
+    // short while before refusing.
+    let mut held = try_flock(&file);
+    for _ in 0..50 {
+        if !matches!(held, Ok(false)) || recorded_pid(&mut file) != Some(std::process::id()) {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+        held = try_flock(&file);
+    }
+    match held {
         Ok(true) => {}
         Ok(false) => {
-            let mut text = String::new();
-            let _ = file.read_to_string(&mut text);
-            let pid = text
-                .trim()
-                .parse::<u32>()
-                .ok()
-                .filter(|&p| p != std::process::id());
+            let pid = recorded_pid(&mut file).filter(|&p| p != std::process::id());
             return Err(PersistError::Locked {
                 dir: dir.to_path_buf(),
                 pid,
@@ -52,6 +58,14 @@ pub fn lock(dir: &Path) -> Result<DirLock, PersistError> {
         .and_then(|()| file.seek(SeekFrom::Start(0)))
         .and_then(|_| writeln!(file, "{}", std::process::id()));
     Ok(DirLock { _file: file })
+}
+
+/// The PID the owner wrote into the lock file, if readable.
+fn recorded_pid(file: &mut File) -> Option<u32> {
+    let mut text = String::new();
+    file.seek(SeekFrom::Start(0)).ok()?;
+    file.read_to_string(&mut text).ok()?;
+    text.trim().parse().ok()
 }
 
 /// `flock(LOCK_EX | LOCK_NB)`: Ok(false) when another open file holds it.
