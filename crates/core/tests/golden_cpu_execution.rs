@@ -231,12 +231,14 @@ fn reset_keeps_overlapping_latch_ranges_and_file_registers() {
     };
     let mut p = Plc::with_config("LD SM400\nOUT M100\nEND\n", cfg);
     for d in [
-        "D99", "D100", "D150", "D199", "D250", "D251", "D12287", "TN4", "TN5", "TN6", "TN7",
-        "W0", "R0", "ZR517119", "SD100",
+        "D99", "D100", "D150", "D199", "D250", "D251", "D12287", "TN4", "TN5", "TN6", "TN7", "W0",
+        "R0", "ZR517119",
     ] {
         p.set(d, "7");
     }
-    for m in ["M9", "M10", "M19", "M20", "L0", "L8191", "B0", "Y0", "TS5", "TS7"] {
+    for m in [
+        "M9", "M10", "M19", "M20", "L0", "L8191", "B0", "Y0", "TS5", "TS7",
+    ] {
         p.set(m, "1");
     }
     p.cpu.set_stop();

@@ -287,7 +287,9 @@ mod tests {
             }
         }
         assert!(STEP_NAMES.iter().all(|n| n.contains(STEP_MARKS)));
-        assert!(INSTRUCTION_NAMES.iter().all(|n| n.contains(INSTRUCTION_MARKS)));
+        assert!(INSTRUCTION_NAMES
+            .iter()
+            .all(|n| n.contains(INSTRUCTION_MARKS)));
     }
 
     #[test]
