@@ -5,6 +5,7 @@
 //! transport, the map and the slave's modes.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
+use softplc_core::device::DeviceKind;
 use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_modbus::{decode, decode_exact, serve, Map, Proto, Slave};
@@ -19,7 +20,11 @@ fuzz_target!(|data: &[u8]| {
     } else {
         Map::q_default()
     };
-    let cfg = CpuConfig::default();
+    // Both maps reach at most R32767 (ZR block 0): one file-register block
+    // instead of the 1 MB default serves every mapped address and keeps the
+    // CPU built per input small.
+    let mut cfg = CpuConfig::default();
+    cfg.devices.set_points(DeviceKind::ZR, 32768);
     let prog = compile_il("fuzz.il", "LD X0\nOUT Y0\nEND\n", &cfg.devices)
         .expect("the fuzz program compiles");
     let clock = VirtualClock::new();

@@ -210,6 +210,75 @@ fn latch_clear_switch_and_remote() {
 }
 
 #[test]
+fn reset_keeps_overlapping_latch_ranges_and_file_registers() {
+    // RESET clears every device outside the latch ranges and the file
+    // registers; overlapping and unsorted ranges, bit ranges and timer ranges
+    // (contact, coil and value together) are all kept, their neighbours cleared.
+    let range = |kind, start, end| LatchRange {
+        kind,
+        start,
+        end,
+        clearable: true,
+    };
+    let cfg = CpuConfig {
+        latch: vec![
+            range(DeviceKind::D, 150, 250),
+            range(DeviceKind::D, 100, 199),
+            range(DeviceKind::M, 10, 19),
+            range(DeviceKind::TN, 5, 6),
+        ],
+        ..CpuConfig::default()
+    };
+    let mut p = Plc::with_config("LD SM400\nOUT M100\nEND\n", cfg);
+    for d in [
+        "D99", "D100", "D150", "D199", "D250", "D251", "D12287", "TN4", "TN5", "TN6", "TN7", "W0",
+        "R0", "ZR517119",
+    ] {
+        p.set(d, "7");
+    }
+    for m in [
+        "M9", "M10", "M19", "M20", "L0", "L8191", "B0", "Y0", "TS5", "TS7",
+    ] {
+        p.set(m, "1");
+    }
+    p.cpu.set_stop();
+    p.cpu.reset().unwrap();
+    for (d, v) in [
+        ("D99", 0),
+        ("D100", 7),
+        ("D150", 7),
+        ("D199", 7),
+        ("D250", 7),
+        ("D251", 0),
+        ("D12287", 0),
+        ("TN4", 0),
+        ("TN5", 7),
+        ("TN6", 7),
+        ("TN7", 0),
+        ("W0", 0),
+        ("R0", 7),
+        ("ZR517119", 7),
+    ] {
+        assert_eq!(p.int(d), v, "{d}");
+    }
+    for (m, v) in [
+        ("M9", false),
+        ("M10", true),
+        ("M19", true),
+        ("M20", false),
+        // The ranges replace the default L0-L8191 latch.
+        ("L0", false),
+        ("L8191", false),
+        ("B0", false),
+        ("Y0", false),
+        ("TS5", true),
+        ("TS7", false),
+    ] {
+        assert_eq!(p.bit(m), v, "{m}");
+    }
+}
+
+#[test]
 fn initial_values_at_power_on_and_stop_to_run() {
     let cfg = CpuConfig {
         initial_values: vec![

@@ -60,14 +60,30 @@ const STEP_NAMES: [&str; 5] = ["step no.", "ステップ番号", "ステップno
 const INSTRUCTION_NAMES: [&str; 3] = ["instruction", "命令", "指令"];
 const IO_NAMES: [&str; 4] = ["i/o(device)", "i/o(デバイス)", "i/o(软元件)", "i/o(軟元件)"];
 
-fn header_name(cell: &str) -> String {
-    cell.to_lowercase()
-        .replace('（', "(")
-        .replace('）', ")")
-        .replace('／', "/")
-        .replace(['ｉ', 'Ｉ'], "i")
-        .replace(['ｏ', 'Ｏ'], "o")
+/// Whether a (trimmed) cell is one of `names` once lower-cased and with
+/// full-width parentheses, slash, `i` and `o` folded. Allocates nothing: the
+/// rows before the header row are all tested.
+fn is_header_name(cell: &[(char, u32)], names: &[&str]) -> bool {
+    let folded = cell
+        .iter()
+        .flat_map(|&(ch, _)| ch.to_lowercase())
+        .map(|ch| match ch {
+            '（' => '(',
+            '）' => ')',
+            '／' => '/',
+            'ｉ' => 'i',
+            'ｏ' => 'o',
+            other => other,
+        });
+    names.iter().any(|n| n.chars().eq(folded.clone()))
 }
+
+/// Every name of [`STEP_NAMES`] has one of these characters, and every name
+/// of [`INSTRUCTION_NAMES`] one of [`INSTRUCTION_MARKS`]; lower-casing and
+/// folding make none of them from other characters. A row with neither is not
+/// the header row, which [`header`] sees without splitting it.
+const STEP_MARKS: [char; 4] = ['p', 'P', 'プ', '步'];
+const INSTRUCTION_MARKS: [char; 4] = ['t', 'T', '命', '指'];
 
 /// A cell's unquoted text, each character with its 1-based column in the line.
 type Cell = Vec<(char, u32)>;
@@ -153,12 +169,12 @@ fn parse_text(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
 
 /// The column layout if `raw` is the header row (tab-separated, else comma-separated).
 fn header(raw: &str) -> Option<Columns> {
+    if !raw.contains(STEP_MARKS) || !raw.contains(INSTRUCTION_MARKS) {
+        return None;
+    }
     ['\t', ','].into_iter().find_map(|sep| {
-        let names: Vec<String> = split_cells(raw, sep)
-            .iter()
-            .map(|c| header_name(&string_of(trim(c))))
-            .collect();
-        let find = |any: &[&str]| names.iter().position(|n| any.contains(&n.as_str()));
+        let cells = split_cells(raw, sep);
+        let find = |any: &[&str]| cells.iter().position(|c| is_header_name(trim(c), any));
         Some(Columns {
             sep,
             step: find(&STEP_NAMES)?,
@@ -257,6 +273,36 @@ fn to_u32(n: usize) -> u32 {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn header_marks_come_only_from_themselves() {
+        // The quick test of `header` is exact: no other character lower-cases
+        // to a mark (folding makes only `(`, `)`, `/`, `i` and `o`), and each
+        // header name has one.
+        for c in (0..=0x10FFFF).filter_map(char::from_u32) {
+            for marks in [STEP_MARKS, INSTRUCTION_MARKS] {
+                if c.to_lowercase().any(|l| marks.contains(&l)) {
+                    assert!(marks.contains(&c), "{c:?} lower-cases to a mark");
+                }
+            }
+        }
+        assert!(STEP_NAMES.iter().all(|n| n.contains(STEP_MARKS)));
+        assert!(INSTRUCTION_NAMES
+            .iter()
+            .all(|n| n.contains(INSTRUCTION_MARKS)));
+    }
+
+    #[test]
+    fn header_names_fold_case_and_full_width() {
+        let cell = |s: &str| s.chars().map(|c| (c, 1)).collect::<Vec<_>>();
+        assert!(is_header_name(&cell("STEP NO."), &STEP_NAMES));
+        assert!(is_header_name(&cell("ステップNo."), &STEP_NAMES));
+        assert!(is_header_name(&cell("Ｉ／Ｏ（デバイス）"), &IO_NAMES));
+        assert!(is_header_name(&cell("ｉ/ｏ（软元件）"), &IO_NAMES));
+        assert!(!is_header_name(&cell("Step No"), &STEP_NAMES));
+        assert!(!is_header_name(&cell("Instructions"), &INSTRUCTION_NAMES));
+        assert!(!is_header_name(&cell(""), &INSTRUCTION_NAMES));
+    }
 
     const HEADER: &str = "\"Step No.\"\t\"Line Statement\"\t\"Instruction\"\t\"I/O(Device)\"\t\"Blank\"\t\"PI Statement\"\t\"Note\"";
 

@@ -201,32 +201,26 @@ impl Cpu {
     }
 
     /// Clears every device except the latch ranges and the file registers.
+    ///
+    /// Only the gaps between the kept spans are written: the file registers
+    /// (1 MB by default) are neither copied nor touched, so power-on and RESET
+    /// cost what the cleared devices cost.
     pub(super) fn clear_unlatched(&mut self) {
         let mem = &mut self.rt.mem;
-        let keep_words = |mem: &DeviceMemory| {
-            let zr = mem.map.base(DeviceKind::ZR) as usize;
-            zr..zr + mem.map.points(DeviceKind::ZR) as usize
-        };
-        let zr = keep_words(mem);
-        let mut saved_words: Vec<(usize, Vec<u16>)> =
-            vec![(zr.start, mem.words[zr.clone()].to_vec())];
-        let mut saved_bits: Vec<(usize, Vec<bool>)> = Vec::new();
+        let zr = mem.map.base(DeviceKind::ZR) as usize;
+        let mut keep_words = vec![(zr, mem.map.points(DeviceKind::ZR) as usize)];
+        let mut keep_bits = Vec::new();
         for r in &self.cfg.latch {
             for (bit, start, len) in latch_spans(mem, r) {
                 if bit {
-                    saved_bits.push((start, mem.bits[start..start + len].to_vec()));
+                    keep_bits.push((start, len));
                 } else {
-                    saved_words.push((start, mem.words[start..start + len].to_vec()));
+                    keep_words.push((start, len));
                 }
             }
         }
-        mem.clear();
-        for (start, v) in saved_bits {
-            mem.bits[start..start + v.len()].copy_from_slice(&v);
-        }
-        for (start, v) in saved_words {
-            mem.words[start..start + v.len()].copy_from_slice(&v);
-        }
+        fill_outside(&mut mem.bits, &mut keep_bits, false);
+        fill_outside(&mut mem.words, &mut keep_words, 0);
     }
 
     // --- the scan ---
@@ -239,5 +233,21 @@ impl Cpu {
             Some(s) => s.power_on(&mut self.rt.mem),
             None => special::power_on(&mut self.rt.mem),
         }
+    }
+}
+
+/// Fills `v` with `value` except the spans `(start, len)` of `keep` (in any
+/// order, possibly overlapping).
+fn fill_outside<T: Copy>(v: &mut [T], keep: &mut [(usize, usize)], value: T) {
+    keep.sort_unstable();
+    let mut at = 0;
+    for &(start, len) in keep.iter() {
+        if start > at {
+            v[at..start].fill(value);
+        }
+        at = at.max(start + len);
+    }
+    if at < v.len() {
+        v[at..].fill(value);
     }
 }
