@@ -1,6 +1,6 @@
 """The web monitor (issue #15, contract §3.1) in a real browser: Debian's
-chromium driven by Playwright (the PyPI package; `playwright install` is
-never run). Skipped with a message when chromium is not installed.
+chromium driven by Playwright (the PyPI package) through executable_path;
+no browser is downloaded. Skipped with a message when chromium is not installed.
 
 Screenshots of each page go to docs/ (web-monitor-*.png)."""
 import json
