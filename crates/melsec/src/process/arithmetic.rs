@@ -7,7 +7,7 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, count_word, def, dummy, only_default, put_bits, real, result, set_f, PcError, Sys,
+    area, count_word, def, dummy, only_default, put_bits, real, result, set_f, Areas, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -171,9 +171,7 @@ impl Instr for Terms {
 #[derive(Debug)]
 struct Div {
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Div {
@@ -182,16 +180,8 @@ impl Div {
             return None;
         }
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 4, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 12, "operation constants");
-        dummy(a, 3)?;
-        Some(Box::new(Div {
-            sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
-        }))
+        let areas = Areas::compile(a, [4, 2, 12]);
+        Some(Box::new(Div { sys, areas: areas? }))
     }
 
     fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
@@ -213,9 +203,7 @@ impl Div {
 
 impl Instr for Div {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 4)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 12)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }
@@ -228,9 +216,7 @@ impl Instr for Div {
 #[derive(Debug)]
 struct Sqr {
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Sqr {
@@ -239,24 +225,14 @@ impl Sqr {
             return None;
         }
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 2, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 4, "operation constants");
-        dummy(a, 3)?;
-        Some(Box::new(Sqr {
-            sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
-        }))
+        let areas = Areas::compile(a, [2, 2, 4]);
+        Some(Box::new(Sqr { sys, areas: areas? }))
     }
 }
 
 impl Instr for Sqr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| {
             let e1 = real(m, s1, 1)?;
             let olc = real(m, s2, 1)?;

@@ -155,6 +155,46 @@ pub fn area(a: &mut Args<'_, '_>, k: usize, words: u32, what: &str) -> Option<Bl
     Some(b)
 }
 
+/// The S1, D1 and S2 areas of an instruction written `S.x S1 D1 S2 D2(dmy)`
+/// with fixed word counts, declared once: checked at load by [`area`],
+/// resolved at each execution by [`Areas::starts`].
+#[derive(Debug)]
+pub struct Areas {
+    s1: Block,
+    d1: Block,
+    s2: Block,
+    words: [u32; 3],
+}
+
+impl Areas {
+    /// Operands 1-3 as areas of `words` words (every diagnostic reported)
+    /// and operand 4 a dummy.
+    pub fn compile(a: &mut Args<'_, '_>, words: [u32; 3]) -> Option<Areas> {
+        let s1 = area(a, 0, words[0], "input data");
+        let d1 = area(a, 1, words[1], "block memory");
+        let s2 = area(a, 2, words[2], "operation constants");
+        dummy(a, 3)?;
+        Some(Areas {
+            s1: s1?,
+            d1: d1?,
+            s2: s2?,
+            words,
+        })
+    }
+
+    /// Flat word indices of S1, D1 and S2 (4101 when an index-modified area
+    /// runs past its device).
+    #[inline]
+    pub fn starts(&self, m: &DeviceMemory) -> Result<(usize, usize, usize), Fault> {
+        let [w1, w2, w3] = self.words;
+        Ok((
+            m.block_start(&self.s1, w1)?,
+            m.block_start(&self.d1, w2)?,
+            m.block_start(&self.s2, w3)?,
+        ))
+    }
+}
+
 /// A dummy operand (000 §3.2: any word device, SD1506 recommended): checked
 /// to be a word device, not used.
 pub fn dummy(a: &mut Args<'_, '_>, k: usize) -> Option<()> {

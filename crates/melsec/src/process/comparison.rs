@@ -4,11 +4,10 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
-use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, def, dummy, history_in_block_memory, put_bits, real, result, set_f, PcError, Sys,
+    def, history_in_block_memory, put_bits, real, result, set_f, Areas, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -63,9 +62,7 @@ struct Cmp {
     rel: Rel,
     complementary: bool,
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Cmp {
@@ -104,17 +101,12 @@ impl Cmp {
         history_in_block_memory(a)?;
         let s: ProcessSettings = a.setting();
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 4, "input data");
-        let d1 = area(a, 1, 3, "block memory");
-        let s2 = area(a, 2, Cmp::words(rel), "operation constants");
-        dummy(a, 3)?;
+        let areas = Areas::compile(a, [4, 3, Cmp::words(rel)]);
         Some(Box::new(Cmp {
             rel,
             complementary: s.compare_complementary,
             sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
+            areas: areas?,
         }))
     }
 
@@ -165,9 +157,7 @@ impl Cmp {
 
 impl Instr for Cmp {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 4)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, Cmp::words(self.rel))?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }

@@ -7,8 +7,8 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, count, count_word, def, dummy, get_u32, history_in_block_memory, only_default,
-    put_bits, real, result, set_f, set_u32, tick_started, PcError, Sys,
+    area, bit, count, count_word, def, get_u32, history_in_block_memory, only_default, put_bits,
+    real, result, set_f, set_u32, tick_started, Areas, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -63,9 +63,7 @@ struct Eng {
     inverse: bool,
     decreasing: bool,
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Eng {
@@ -83,26 +81,19 @@ impl Eng {
         }
         let s: ProcessSettings = a.setting();
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 2, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 4, "operation constants");
-        dummy(a, 3)?;
+        let areas = Areas::compile(a, [2, 2, 4]);
         Some(Box::new(Eng {
             inverse,
             decreasing: s.ieng_decreasing,
             sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
+            areas: areas?,
         }))
     }
 }
 
 impl Instr for Eng {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| {
             let e1 = real(m, s1, 1)?;
             let rh = real(m, s2, 1)?;
@@ -353,9 +344,7 @@ impl Instr for Flt {
 #[derive(Debug)]
 struct Sum {
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Sum {
@@ -365,16 +354,8 @@ impl Sum {
         }
         history_in_block_memory(a)?;
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 3, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 5, "operation constants");
-        dummy(a, 3)?;
-        Some(Box::new(Sum {
-            sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
-        }))
+        let areas = Areas::compile(a, [3, 2, 5]);
+        Some(Box::new(Sum { sys, areas: areas? }))
     }
 
     fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
@@ -402,9 +383,7 @@ impl Sum {
 
 impl Instr for Sum {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 3)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 5)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }
@@ -423,9 +402,7 @@ impl Instr for Sum {
 struct Tpc {
     reconstructed: bool,
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Tpc {
@@ -435,16 +412,11 @@ impl Tpc {
         }
         let s: ProcessSettings = a.setting();
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 7, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 8, "operation constants");
-        dummy(a, 3)?;
+        let areas = Areas::compile(a, [7, 2, 8]);
         Some(Box::new(Tpc {
             reconstructed: s.tpc_reconstructed,
             sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
+            areas: areas?,
         }))
     }
 
@@ -493,9 +465,7 @@ impl Tpc {
 
 impl Instr for Tpc {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 7)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 8)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }

@@ -6,11 +6,10 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
-use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, def, dummy, history_in_block_memory, put_bits, real, result, set_f, PcError, Sys,
+    def, history_in_block_memory, put_bits, real, result, set_f, Areas, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -72,9 +71,7 @@ enum Kind {
 struct Limit {
     kind: Kind,
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Limit {
@@ -117,16 +114,11 @@ impl Limit {
             history_in_block_memory(a)?;
         }
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 2, "input data");
-        let d1 = area(a, 1, 3, "block memory");
-        let s2 = area(a, 2, Limit::words(kind), "operation constants");
-        dummy(a, 3)?;
+        let areas = Areas::compile(a, [2, 3, Limit::words(kind)]);
         Some(Box::new(Limit {
             kind,
             sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
+            areas: areas?,
         }))
     }
 
@@ -209,9 +201,7 @@ impl Limit {
 
 impl Instr for Limit {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, Limit::words(self.kind))?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }

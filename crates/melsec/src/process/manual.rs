@@ -7,7 +7,7 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, def, dummy, history_in_block_memory, real, result, set_f, PcError, Sys,
+    area, bit, def, history_in_block_memory, real, result, set_f, Areas, PcError, Sys,
 };
 use crate::{Args, ExecCtx, Instr};
 
@@ -136,9 +136,7 @@ impl Instr for Bump {
 #[derive(Debug)]
 struct Amr {
     sys: Sys,
-    s1: Block,
-    d1: Block,
-    s2: Block,
+    areas: Areas,
 }
 
 impl Amr {
@@ -148,16 +146,8 @@ impl Amr {
         }
         history_in_block_memory(a)?;
         let sys = Sys::new(a)?;
-        let s1 = area(a, 0, 7, "input data");
-        let d1 = area(a, 1, 2, "block memory");
-        let s2 = area(a, 2, 4, "operation constants");
-        dummy(a, 3)?;
-        Some(Box::new(Amr {
-            sys,
-            s1: s1?,
-            d1: d1?,
-            s2: s2?,
-        }))
+        let areas = Areas::compile(a, [7, 2, 4]);
+        Some(Box::new(Amr { sys, areas: areas? }))
     }
 
     fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
@@ -199,9 +189,7 @@ impl Amr {
 
 impl Instr for Amr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 7)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
+        let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
     }
 }
