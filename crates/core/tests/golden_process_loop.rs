@@ -3,6 +3,7 @@
 //! out by hand from the manual's formulas in f32 (spec §4.16, §4.26, §4.27).
 
 mod common;
+use common::process::assert_pc_error;
 use common::Plc;
 use softplc_core::program::ProcessSettings;
 
@@ -26,11 +27,6 @@ fn loop_tag(p: &mut Plc, d2: u32) {
     ] {
         p.set(&format!("D{}:f32", d2 + off), v);
     }
-}
-
-fn assert_pc_error(p: &Plc, detail: i64, step: i64) {
-    assert_eq!(p.error().map(|e| e.0), Some(4100));
-    assert_eq!((p.int("SD1502"), p.int("SD1503")), (detail, step));
 }
 
 const PHPL: &str = "LD SM400\nS.PHPL D0 D100 SD1506 D1000\nEND\n";

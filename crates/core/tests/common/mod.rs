@@ -10,6 +10,7 @@ use softplc_core::engine::{
 use softplc_core::program::{compile_il, compile_il_in, dialect_for, ProcessSettings};
 
 pub mod pid;
+pub mod process;
 pub mod project;
 
 pub struct Plc {
