@@ -21,6 +21,7 @@ pub mod constant;
 pub mod convert;
 pub mod counters;
 pub mod devices;
+pub mod eeprom;
 pub mod flow;
 pub mod interrupt;
 pub mod logic;
@@ -73,6 +74,7 @@ pub static DEFS: &[&[Def]] = &[
     blockshift::DEFS,
     ramp::DEFS,
     ascii::DEFS,
+    eeprom::DEFS,
     pid::DEFS,
     compare::DEFS,
     rejected::DEFS,

@@ -14,7 +14,6 @@ const NONE: &str =
     "not available on APLC-TCP: the manual defines no body for it (\"无\", decision D7)";
 
 pub static DEFS: &[Def] = &[
-    Def::rejected("EROMWR", NOT_YET).no_pulse(),
     Def::rejected("MODBUS", NOT_YET).no_pulse(),
     Def::rejected("EVFWD", NOT_YET).no_pulse(),
     Def::rejected("EVREV", NOT_YET).no_pulse(),

@@ -1,11 +1,14 @@
 //! APLC-TCP system devices through the engine's [`System`] seam (spec
 //! aplc.md §7.1-§7.2, §1.9, decision D14): SM0/SM1/SM2, the clocks SM10-SM15,
 //! the scan times SD30-SD32, the run-error flags SM20-SM22 and the SD20-SD24
-//! history; error numbering of Appendix 6 (L11239-11289).
+//! history; error numbering of Appendix 6 (L11239-11289); D6000-D6999
+//! loaded from the EEPROM image at power-on.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::ErrorCode;
 use softplc_ir::system::{ScanTimes, System};
+
+use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
 
 /// The APLC-TCP's system devices, with the system block's times.
 #[derive(Debug, Default)]
@@ -28,6 +31,18 @@ fn ms(us: u64) -> u16 {
     (us / 1000).min(u16::MAX as u64) as u16
 }
 
+/// Power-on: D6000-D6999 from the EEPROM image (ZR0-ZR999), which power-on
+/// keeps; every other device starts cleared (L983-991, table 2-2 L971-979,
+/// decision D5).
+fn load_eeprom(mem: &mut DeviceMemory) {
+    let n = EEPROM_WORDS as usize;
+    let from = mem.map.base(DeviceKind::ZR) as usize;
+    let to = (mem.map.base(DeviceKind::D) + EEPROM_FIRST) as usize;
+    if mem.map.points(DeviceKind::ZR) as usize >= n {
+        mem.words.copy_within(from..from + n, to);
+    }
+}
+
 impl System for Aplc {
     fn power_on(&self, mem: &mut DeviceMemory) {
         // SM196: EEPROM write idle; SD25/SD26 initial 255 (Appendix 2).
@@ -37,6 +52,13 @@ impl System for Aplc {
         sd(mem, 33, self.constant_scan_ms);
         sd(mem, 34, self.watchdog_ms);
         sm(mem, 8, self.constant_scan_ms > 0);
+        load_eeprom(mem);
+    }
+
+    /// The state directory's EEPROM image is back: D6000-D6999 as EROMWR
+    /// last wrote them (decision D5).
+    fn restored(&self, mem: &mut DeviceMemory) {
+        load_eeprom(mem);
     }
 
     /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;

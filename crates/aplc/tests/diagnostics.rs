@@ -117,8 +117,8 @@ fn instructions() {
     one("LD M0\nVRRD 0 D0\n", "no analog potentiometer");
     one("LD M0\nALT M1\n", "the manual defines no body for it");
     one(
-        "LD M0\nEROMWR D6000 16\n",
-        "unsupported instruction `EROMWR`: not implemented yet in softplc",
+        "LD M0\nEROMWR D5999 16\n",
+        "t.apl:2:8: `D5999`: EROMWR writes from D6000-D6999, without index",
     );
     one(
         "LD M0\nModbus 1 D0 D100\n",
