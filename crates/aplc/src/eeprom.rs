@@ -113,9 +113,7 @@ impl Eromwr {
             return Err(E_VALUE.into());
         }
         let n = n as usize;
-        cx.mem
-            .words
-            .copy_within(self.from..self.from + n, self.to);
+        cx.mem.words.copy_within(self.from..self.from + n, self.to);
         Ok(())
     }
 }

@@ -35,12 +35,7 @@ fn manual_example_survives_power_on() {
     p.set("D0", "7").set("D6100", "5");
     power_cycle(&mut p);
     assert_eq!(
-        (
-            p.int("D6016"),
-            p.int("D6032"),
-            p.int("D0"),
-            p.int("D6100")
-        ),
+        (p.int("D6016"), p.int("D6032"), p.int("D0"), p.int("D6100")),
         (16, 0, 0, 0)
     );
     assert!(!p.bit("M1000"), "M is cleared at power-on");
@@ -121,7 +116,10 @@ fn operand_diagnostics() {
             "LD M0\nEROMWR V0 1\n",
             "`V0`: EROMWR writes from D6000-D6999",
         ),
-        ("LD M0\nEROMWR D6000\n", "`EROMWR` takes 2 operands, found 1"),
+        (
+            "LD M0\nEROMWR D6000\n",
+            "`EROMWR` takes 2 operands, found 1",
+        ),
         ("LD M0\nEROMWRP D6000 1\n", "EROMWRP"),
     ] {
         let e = common::errors(src);

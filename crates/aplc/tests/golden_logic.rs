@@ -4,7 +4,7 @@
 mod common;
 use common::plc;
 
-/// Example 1, the LAD→IL listing (L2185-2208): Y0 = (X0∨X1)∧X14, Y1 = Y0∧X1,
+/// §8.1 #5, Example 1, the LAD→IL listing (L2185-2208): Y0 = (X0∨X1)∧X14, Y1 = Y0∧X1,
 /// Y2 = …∧X2, Y3 = …∧X2∧X3∧X4, Y4 = …∧X2∧(X5∧X6 ∨ X7∧X10), Y5 = …∧X2.
 #[test]
 fn mps_mrd_mpp_listing() {
@@ -26,7 +26,7 @@ fn mps_mrd_mpp_listing() {
     assert!(p.bit("Y3"));
 }
 
-/// Example 2 (L2798-2803): Y0 = (M1∧M2) ∨ (M3∧M4).
+/// §8.1 #3, Example 2 (L2798-2803): Y0 = (M1∧M2) ∨ (M3∧M4).
 #[test]
 fn orb() {
     let mut p = plc("LD  M1\nAND M2\nLD  M3\nAND M4\nORB\nOUT Y0\n");
@@ -40,7 +40,7 @@ fn orb() {
     assert!(p.bit("Y0"));
 }
 
-/// ANB (L2774): Y0 = (M0∨M1)∧(M2∨M3); ANI/ORI/LDI.
+/// §8.1 #4, ANB (L2774): Y0 = (M0∨M1)∧(M2∨M3); ANI/ORI/LDI.
 #[test]
 fn anb_and_negations() {
     let mut p = plc(
@@ -52,7 +52,7 @@ fn anb_and_negations() {
     assert!(p.bit("Y0") && !p.bit("Y1") && !p.bit("Y2"));
 }
 
-/// EU/ED on M2 (L2872-2876): Y2 ON one scan at OFF→ON, Y3 one scan at ON→OFF.
+/// §8.1 #6: EU/ED on M2 (L2872-2876): Y2 ON one scan at OFF→ON, Y3 one scan at ON→OFF.
 #[test]
 fn eu_ed() {
     let mut p = plc("LD M2\nEU\nOUT Y2\nLD M2\nED\nOUT Y3\nLD M2\nINV\nOUT Y4\n");
@@ -84,7 +84,7 @@ fn set_rst() {
     assert_eq!((p.int("CN200"), p.int("TN3")), (0, 0));
 }
 
-/// MC 0 with M0 OFF (L3006): Y0 forced OFF; SET holds.
+/// §8.1 #7: MC 0 with M0 OFF (L3006): Y0 forced OFF; SET holds.
 #[test]
 fn master_control() {
     let mut p = plc("LD M0\nMC 0\nLD SM0\nOUT Y0\nLD M1\nSET Y1\nMCR 0\nLD SM0\nOUT Y2\n");
@@ -126,7 +126,7 @@ fn time_bases_by_number() {
     assert_eq!(p.int("TN1"), 1);
 }
 
-/// Example 3, TONR (L3161-3169): M0 ON 0.5 s in total, in two pieces.
+/// §8.1 #8, Example 3, TONR (L3161-3169): M0 ON 0.5 s in total, in two pieces.
 #[test]
 fn tonr_accumulates() {
     let mut p = plc("LD M0\nTONR T1 5\nLD T1\nOUT Y0\n");
@@ -158,7 +158,7 @@ fn tof_off_delay() {
     assert_eq!(p.int("TN2"), 3);
 }
 
-/// TMON: a 0.5 s pulse, not retriggerable (L3227-3235).
+/// §8.1 #9: TMON, a 0.5 s pulse, not retriggerable (L3227-3235).
 #[test]
 fn tmon_one_shot() {
     let mut p = plc("LD M0\nTMON T3 5\n");
@@ -217,7 +217,7 @@ fn dcnt_32_bit() {
     assert_eq!(p.int("CN200:u32"), 99998);
 }
 
-/// Example 4, the CJ listing with `LD SM0` (L3655-3666).
+/// §8.1 #10, Example 4, the CJ listing with `LD SM0` (L3655-3666).
 #[test]
 fn cj_and_cfend() {
     let src = "LD M0\nCJ 0\nLD SM0\nMOV 100 D0\nCFEND\nLBL 0\nLD M1\nMOV 200 D0\n";
@@ -228,7 +228,7 @@ fn cj_and_cfend() {
     assert_eq!(p.int("D0"), 200);
 }
 
-/// CFEND with M0 (L3682-3687): OFF: Y0 follows SM12 (1 s clock); ON: the
+/// §8.1 #11: CFEND with M0 (L3682-3687): OFF: Y0 follows SM12 (1 s clock); ON: the
 /// rest of MAIN is skipped.
 #[test]
 fn cfend_stops_the_blink() {

@@ -39,7 +39,11 @@ fn ani_or_ori() {
     for (src, want, second) in cases {
         let mut p = plc(src);
         for (a, b) in [(false, false), (true, false), (false, true), (true, true)] {
-            assert_eq!(y0(&mut p, &[("M0", a), (second, b)]), want(a, b), "{src} {a} {b}");
+            assert_eq!(
+                y0(&mut p, &[("M0", a), (second, b)]),
+                want(a, b),
+                "{src} {a} {b}"
+            );
         }
     }
 }

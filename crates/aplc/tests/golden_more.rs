@@ -96,7 +96,7 @@ DMOV 100000 D10\nDMOV 200000 D12\nDMOV 300000 D14\nDMOV 400000 D16\nDMOV 500000 
     assert_eq!((p.int("D100:i32"), p.int("D102:i32")), (15000, 1_500_000));
 }
 
-/// D19: the Modbus request 01 01 00 00 01 00 gives 16#9A3D; chained in two
+/// §8.5 #74 and D19: the Modbus request 01 01 00 00 01 00 gives 16#9A3D; chained in two
 /// pieces the same; LRC of 00 11 … 77 is 16#24 (L8652-8667).
 #[test]
 fn checksums() {

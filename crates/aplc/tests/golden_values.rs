@@ -54,7 +54,7 @@ LD SM0\nSHR 31452 D3 5\nSHL 31452 D4 7\nDMOV 3013123244 D10\nDROR D10 D12 7\nDSH
     assert!(e.contains("`K2M0`: a bit group here must be K4"), "{e}");
 }
 
-/// §4.7 examples (L4892-5204).
+/// §8.3 #51: the §4.7 examples (L4892-5204).
 #[test]
 fn real_arithmetic() {
     let src = "LD SM0\nRADD -10000.2 2000.5 D0\nRSUB -10000.2 2000.5 D2\nRMUL -10000.2 2000.5 D4\nRDIV -10000.2 2000.5 D6\n\
