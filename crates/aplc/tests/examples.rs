@@ -98,3 +98,86 @@ fn sfc_example() {
     assert!(on(p, &["S29", "Y4"]) && !p.bit("S28"));
     assert!(!r.to(1200).bit("S30"), "M30 is OFF: S29 waits");
 }
+
+/// pid_setup.apl, open loop, PV written by hand (Ts = 500 ms: with 10 ms
+/// scans PID computes on scans 51, 101, 151, 201; D22, §5.4, α = 0.7,
+/// Ts/TI = 0.2, TD/(Ts + αD·TD) = 630/500):
+/// - PV 0: PVnf 0, EV 1000, ΔMV = 1000 + 200 = 1200;
+/// - PV 400: PVnf = 400 + 0.7·(0 − 400) = 120, EV 880, D = 1.26·(0 − 120 − 0)
+///   = −151.2, ΔMV = −120 + 176 − 151.2 = −95.2, MV 1104.8 → 1105;
+/// - PV 400: PVnf 204, EV 796, D = 1.26·(240 − 204) = 45.36,
+///   ΔMV = −84 + 159.2 + 45.36 = 120.56, MV 1104.8 + 120.56 → 1225;
+/// - PV 3000: the input change 2600 > D525 = 2000 sets alarm bit 0 of D529;
+///   PVnf 1042.8, EV −42.8, D = 1.26·(408 − 1042.8 − 120) = −951.048,
+///   ΔMV = −838.8 − 8.56 − 951.048, MV 1225.36 − 1798.408 → −573 (a change of
+///   1798, under the output alarm's 2000).
+/// FROM/TO record run error 73 and the CPU keeps running (D7).
+#[test]
+fn pid_setup_by_hand() {
+    let mut r = Run::new("pid_setup.apl");
+    r.set_at(1, "M0", "1");
+    assert_eq!((r.p.int("D500"), r.p.int("D511"), r.p.int("D516")), (1000, 7, 63));
+    assert_eq!(r.to(50).int("D502"), 0, "Ts not elapsed yet");
+    assert_eq!(r.to(51).int("D502"), 1200);
+    r.p.set("D501", "400");
+    assert_eq!(r.to(100).int("D502"), 1200);
+    assert_eq!(r.to(101).int("D502"), 1105);
+    assert_eq!(r.to(151).int("D502"), 1225);
+    assert_eq!(r.p.int("D529"), 0);
+    r.p.set("D501", "3000");
+    let p = r.to(201);
+    assert_eq!((p.int("D502"), p.int("D529")), (-573, 1));
+    assert!(p.running());
+    assert_eq!(p.error_code(), Some(73));
+}
+
+/// The scenario's plant (pid_setup.toml): `fopdt` with gain 1, τ = 5 s, no
+/// dead time, u = D502, y = D501, stepped before each scan as
+/// crates/sim/src/model/fopdt.rs does: y ← y + (K·u − y)·(1 − e^(−dt/τ)),
+/// written rounded.
+struct Lag {
+    y: f64,
+}
+
+impl Lag {
+    fn step(&mut self, p: &mut Plc) {
+        let b = -(-0.01f64 / 5.0).exp_m1();
+        let u = p.int("D502") as f64;
+        self.y += (u - self.y) * b;
+        p.set("D501", &(self.y.round() as i64).to_string());
+    }
+}
+
+/// pid_setup.toml: the closed loop on the lag, M0 ON from the first scan.
+/// By hand: MV 1200 on scan 51 (PV still 0); the lag then rises for 50 steps
+/// to 1200·(1 − e^(−0.1)) = 114.2 → PV 114 on scan 101, where PVnf = 34.2,
+/// EV 965.8, D = 1.26·(−34.2) = −43.09, ΔMV = −34.2 + 193.16 − 43.09 =
+/// 115.87 → MV 1316. Then (simulated here and in the scenario): the peak
+/// stays under 25 % overshoot, PV is within ±3 % of SV from 30 s on, no
+/// change alarm (D529 = 0), and SD20 shows FROM/TO's 73.
+#[test]
+fn pid_setup_closed_loop() {
+    let mut r = Run::new("pid_setup.apl");
+    let mut lag = Lag { y: 0.0 };
+    let mut peak = 0;
+    for n in 1..=6000u32 {
+        lag.step(&mut r.p);
+        if n == 1 {
+            r.p.set("M0", "1");
+        }
+        let p = r.to(n);
+        let (pv, mv) = (p.int("D501"), p.int("D502"));
+        match n {
+            51 => assert_eq!((pv, mv), (0, 1200)),
+            101 => assert_eq!((pv, mv), (114, 1316)),
+            _ => {}
+        }
+        peak = peak.max(pv);
+        if n >= 3000 {
+            assert!((pv - 1000).abs() <= 30, "scan {n}: PV {pv}");
+        }
+        assert_eq!(p.int("D529"), 0, "scan {n}");
+    }
+    assert!(peak > 1100 && peak <= 1250, "peak {peak}");
+    assert_eq!(r.p.int("SD20"), 73);
+}
