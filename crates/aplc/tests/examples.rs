@@ -116,7 +116,10 @@ fn sfc_example() {
 fn pid_setup_by_hand() {
     let mut r = Run::new("pid_setup.apl");
     r.set_at(1, "M0", "1");
-    assert_eq!((r.p.int("D500"), r.p.int("D511"), r.p.int("D516")), (1000, 7, 63));
+    assert_eq!(
+        (r.p.int("D500"), r.p.int("D511"), r.p.int("D516")),
+        (1000, 7, 63)
+    );
     assert_eq!(r.to(50).int("D502"), 0, "Ts not elapsed yet");
     assert_eq!(r.to(51).int("D502"), 1200);
     r.p.set("D501", "400");
@@ -180,4 +183,136 @@ fn pid_setup_closed_loop() {
     }
     assert!(peak > 1100 && peak <= 1250, "peak {peak}");
     assert_eq!(r.p.int("SD20"), 73);
+}
+
+/// The plant of batch_mix.toml, stepped before each scan as crates/sim does:
+/// a `tank` (area 0.5 m², height 1.5 m, cv 0.05; q_in 0.02 m³/s while Y0 is
+/// ON, drain valve 100 % while Y2 is ON; level → D100 in mm) and a `motor`
+/// (run = Y1, running → X2 after a 0.5 s feedback delay, i.e. on the 50th
+/// 10 ms step with the new run value). The program never fills and drains
+/// at once, so the tank takes its two closed forms: filling
+/// h ← h + q·dt/A, draining √h ← max(√h − c·dt/(2A), 0).
+struct Mixer {
+    h: f64,
+    run: bool,
+    same: u32,
+    running: bool,
+}
+
+impl Mixer {
+    fn new() -> Mixer {
+        Mixer {
+            h: 0.0,
+            run: false,
+            same: 0,
+            running: false,
+        }
+    }
+    fn step(&mut self, p: &mut Plc) {
+        let (a, dt) = (0.5, 0.01);
+        let q = if p.bit("Y0") { 0.02 } else { 0.0 };
+        let c = 0.05 * if p.bit("Y2") { 100.0 } else { 0.0 } / 100.0;
+        self.h = if c <= 0.0 {
+            self.h + q * dt / a
+        } else {
+            assert_eq!(q, 0.0, "the program never fills and drains at once");
+            let s = (self.h.sqrt() - c * dt / (2.0 * a)).max(0.0);
+            s * s
+        }
+        .clamp(0.0, 1.5);
+        p.set("D100", &((self.h * 1000.0).round() as i64).to_string());
+        let run = p.bit("Y1");
+        if run != self.run {
+            self.run = run;
+            self.same = 0;
+        }
+        self.same += 1;
+        if self.same >= 50 {
+            self.running = run;
+        }
+        p.set("X2", if self.running { "1" } else { "0" });
+    }
+}
+
+/// The timeline of batch_mix.toml as (scan, device, value).
+const BATCH_TIMELINE: &[(u32, &str, &str)] = &[
+    (100, "X0", "1"),
+    (150, "X0", "0"),
+    (1000, "X10", "1"),
+    (1200, "X10", "0"),
+    (5500, "X0", "1"),
+    (5550, "X0", "0"),
+];
+
+/// The scenario's order per scan: the plant steps, the timeline writes,
+/// the CPU scans; checks no scan fills and drains at once.
+struct Batch {
+    r: Run,
+    plant: Mixer,
+    max_level: i64,
+}
+
+impl Batch {
+    fn at(&mut self, n: u32) -> &Plc {
+        while self.r.n < n {
+            let k = self.r.n + 1;
+            self.plant.step(&mut self.r.p);
+            for (t, d, v) in BATCH_TIMELINE {
+                if *t == k {
+                    self.r.p.set(d, v);
+                }
+            }
+            let p = self.r.to(k);
+            self.max_level = self.max_level.max(p.int("D100"));
+            assert!(!(p.bit("Y0") && p.bit("Y2")), "scan {k}: fill and drain");
+        }
+        &self.r.p
+    }
+}
+
+/// batch_mix.apl / .toml, scan n at n × 10 ms. Timeline: X0 pulse at scan
+/// 100, the emergency stop X10 (input 8) held from 1000 to 1200, X0 again at
+/// 5500. By hand: the inlet adds 0.02·0.01/0.5 m = 0.4 mm a step; 900 steps
+/// before the stop give 360 mm, held while X10 is ON; 1000 mm (999.6 rounds
+/// up) after 2499 steps, on scan 2799. The mixer starts there, its feedback
+/// X2 comes 50 steps later (scan 2849), T0 needs 500 scans of it: drain from
+/// scan 3349. Draining lowers √h by 0.05·0.01/(2·0.5) = 0.0005 a step from
+/// √1.0 (the fill ran one more step: Y0 goes OFF one scan late): 20 mm, i.e.
+/// √h ≤ 0.1432, after 1714 steps, on scan 5063 (D0 = 1).
+#[test]
+fn batch_mix_example() {
+    let mut b = Batch {
+        r: Run::new("batch_mix.apl"),
+        plant: Mixer::new(),
+        max_level: 0,
+    };
+    assert!(b.at(1).bit("Y3"));
+    let p = b.at(100);
+    assert!(p.bit("S20") && p.bit("Y0"));
+    let p = b.at(1000);
+    assert_eq!((p.int("D100"), p.bit("Y0")), (360, false));
+    assert_eq!(b.at(1199).int("D100"), 360);
+    assert!(b.at(1200).bit("Y0"));
+    assert!(b.at(2798).bit("S20"));
+    let p = b.at(2799);
+    assert!(p.bit("S21") && p.bit("Y1"));
+    assert_eq!(b.at(2800).int("D100"), 1000);
+    assert!(!b.at(2848).bit("X2"));
+    assert!(b.at(2849).bit("X2"));
+    assert!(b.at(3348).bit("S21"));
+    let p = b.at(3349);
+    assert!(p.bit("S22") && p.bit("Y2"));
+    assert!(b.at(5062).bit("S22"));
+    let p = b.at(5063);
+    assert!(p.bit("S0"));
+    assert_eq!((p.int("D100"), p.int("D0")), (20, 1));
+    // The second batch starts from the 20 mm left and ends on scan 10212.
+    assert!(b.at(5500).bit("S20"));
+    assert!(b.at(10211).bit("S22"));
+    let p = b.at(10212);
+    assert!(p.bit("S0"));
+    assert_eq!(p.int("D0"), 2);
+    b.at(11000);
+    assert_eq!(b.r.p.int("D0"), 2);
+    assert_eq!(b.max_level, 1000);
 }
