@@ -26,7 +26,7 @@ use crate::resolve::ArgsExt;
 static DOC: Doc = Doc {
     family: "EEPROM write",
     cite: "002 §6.8.8 L6572-6628, §2.1.8 L985-991",
-    notes: "EROMWR S1 S2 on the rising edge: S1 a D6000-D6999 without index (load check), 0 ≤ S2 ≤ 16 and S1 + S2 ≤ 7000 or error 64 with nothing written (D12); the write completes at once, SM196 stays ON; power-on restores D6000-D6999 as EROMWR last wrote them, from the state directory (D5)",
+    notes: "EROMWR S1 S2 on the rising edge: S1 a D6000-D6999 without index (load check), 0 ≤ S2 ≤ 16 and S1 + S2 ≤ 7000 or error 64 with nothing written (D12); the write completes at once, SM196 stays ON; power-on and RESET load D6000-D6999 as EROMWR last wrote them, kept by the state directory of `run`/`serve` (D5); STOP→RUN keeps device values as they are",
 };
 
 pub static DEFS: &[Def] = &[
