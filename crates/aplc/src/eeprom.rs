@@ -110,7 +110,7 @@ impl Eromwr {
         }
         let n = num::read16(cx.mem, &self.count)? as i32;
         if !(0..=16).contains(&n) || self.first as i32 + n > (EEPROM_FIRST + EEPROM_WORDS) as i32 {
-            return Err(E_VALUE.into());
+            return Err(E_VALUE);
         }
         let n = n as usize;
         cx.mem.words.copy_within(self.from..self.from + n, self.to);

@@ -225,11 +225,11 @@ fn every_error_code_is_covered() {
                     "{code}: {file}::{name} does not assert `{fragment}`"
                 )),
             },
-            Never(_, names) => {
+            Never(why, names) => {
                 for n in *names {
                     if !rejected(n) {
                         problems.push(format!(
-                            "{code}: {n} loads now: name the test raising {code}"
+                            "{code} ({why}): {n} loads now: name the test raising {code}"
                         ));
                     }
                 }

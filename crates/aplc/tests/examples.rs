@@ -111,6 +111,7 @@ fn sfc_example() {
 ///   PVnf 1042.8, EV −42.8, D = 1.26·(408 − 1042.8 − 120) = −951.048,
 ///   ΔMV = −838.8 − 8.56 − 951.048, MV 1225.36 − 1798.408 → −573 (a change of
 ///   1798, under the output alarm's 2000).
+///
 /// FROM/TO record run error 73 and the CPU keeps running (D7).
 #[test]
 fn pid_setup_by_hand() {

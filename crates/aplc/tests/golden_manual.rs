@@ -31,7 +31,8 @@ fn ld_and_out() {
 /// `LD M0` / `ORI M2`: the listing is the program, so M0 is tested.
 #[test]
 fn ani_or_ori() {
-    let cases: [(&str, fn(bool, bool) -> bool, &str); 3] = [
+    type Truth = fn(bool, bool) -> bool;
+    let cases: [(&str, Truth, &str); 3] = [
         ("LD  M0\nANI M1\nOUT Y0\n", |a, b| a && !b, "M1"),
         ("LD  M0\nOR  M1\nOUT Y0\n", |a, b| a || b, "M1"),
         ("LD  M0\nORI M2\nOUT Y0\n", |a, b| a || !b, "M2"),
