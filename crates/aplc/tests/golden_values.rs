@@ -92,11 +92,12 @@ fn conversions_and_functions() {
     let src = "LD SM0\nDMOV 10000 D0\nDTI D0 D2\nITD -1000 D4\nFLT 10005 D6\nDFLT 100000 D8\nINT 10000.5 D10\n\
 LD SM182\nOUT M0\nLD SM0\nDINT 100000.5 D12\nBCD 3333 D14\nBIN 16#5555 D15\nGRY 16#AAAA D16\nGBIN 16#FFFF D17\nSEG 15 D18\n\
 SQT 1000 D19\nLD SM182\nOUT M1\nLD SM0\nDSQT 83000 D20\nVABS -1000 D22\nNEG 1000 D23\nDVABS -100000 D24\nDNEG 100000 D26\n\
-DBCD 66666666 D28\nDBIN 16#99999999 D30\nDGRY 16#88888888 D32\nDGBIN 16#CCCCCCCC D34\n";
+DBCD 66666666 D28\nDBIN 16#99999999 D30\nDGRY 16#88888888 D32\nDGBIN 16#CCCCCCCC D34\nITD 1000 D36\n";
     let mut p = plc(src);
     p.scan();
     assert_eq!(p.error_code(), None);
     assert_eq!((p.int("D2"), p.int("D4:i32")), (10000, -1000));
+    assert_eq!(p.int("D36:i32"), 1000, "the manual's ITD (L5300)");
     assert_eq!((p.real("D6:f32"), p.real("D8:f32")), (10005.0, 100000.0));
     assert_eq!((p.int("D10"), p.int("D12:i32")), (10000, 100000));
     assert!(
