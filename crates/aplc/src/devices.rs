@@ -8,8 +8,9 @@
 //! and TN (value); C on CS (contact) and CN (value), where C0-C199 take CN0-CN199
 //! and the 32-bit C200+k take the pair CN(200+2k) (high word), CN(201+2k)
 //! (low word); LM on B, V on W; the timers' hidden timing bits and
-//! remainders on STS/STN; the EEPROM image that EROMWR writes on ZR0-ZR999
-//! (kept through power-on like file registers, no APLC name reaches it).
+//! remainders on STS/STN; the EEPROM that EROMWR writes on ZR (kept through
+//! power-on like file registers, no APLC name reaches it): ZR0-ZR999 the
+//! image of D6000-D6999, ZR1000-ZR1999 1 where EROMWR wrote that word.
 //! Eight hidden bits of kind V hold the MC
 //! levels' state, then the FOR gate, the CALL flow, the SFC step gate and the
 //! interrupt dispatch.
@@ -173,7 +174,7 @@ pub const INT_BITS: u32 = MC_BITS + 6;
 pub const MAX_INT: u32 = 32;
 
 /// The EROMWR area D6000-D6999 (L985-991): its first register and size. Its
-/// EEPROM image is ZR0-ZR999.
+/// EEPROM image is ZR0-ZR999, the "saved" marks ZR1000-ZR1999.
 pub const EEPROM_FIRST: u32 = 6000;
 pub const EEPROM_WORDS: u32 = 1000;
 
@@ -199,8 +200,8 @@ pub fn device_config() -> DeviceConfig {
         // Hidden: the timers' "timing" bits and sub-unit remainders.
         (DeviceKind::STS, 256),
         (DeviceKind::CS, CN_WORDS),
-        // Hidden: the EEPROM image of D6000-D6999.
-        (DeviceKind::ZR, EEPROM_WORDS),
+        // Hidden: the EEPROM image of D6000-D6999 and its "saved" marks.
+        (DeviceKind::ZR, 2 * EEPROM_WORDS),
     ] {
         c.set_points(k, n);
     }

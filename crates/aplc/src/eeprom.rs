@@ -1,11 +1,12 @@
 //! EEPROM write EROMWR (002 §6.8.8 L6572-6628, §2.1.8 L985-991; spec
 //! aplc.md §4.11, decisions D5 and D12).
 //!
-//! The EEPROM is an image of D6000-D6999 in hidden words (ZR0-ZR999, see
-//! `devices`) that power-on keeps and the state directory persists, so a
-//! power-on loads D6000-D6999 from it and clears everything else
-//! (`system::load_eeprom`). EROMWR copies its block into the image on the
-//! rising edge of its power flow. The write completes inside the instruction
+//! The EEPROM is an image of D6000-D6999 in hidden words (ZR0-ZR999, with
+//! ZR1000-ZR1999 marking the words written, see `devices`) that power-on
+//! keeps and the state directory persists; power-on and STOP→RUN load the
+//! saved words into D6000-D6999 after the initial values, every other device
+//! starts cleared (`system::load_eeprom`). EROMWR copies its block into the
+//! image on the rising edge of its power flow. The write completes inside the instruction
 //! (softplc spends no virtual time on it), so SM196 (EEPROM write idle) stays
 //! ON and a second EROMWR in the same scan writes too.
 
@@ -26,7 +27,7 @@ use crate::resolve::ArgsExt;
 static DOC: Doc = Doc {
     family: "EEPROM write",
     cite: "002 §6.8.8 L6572-6628, §2.1.8 L985-991",
-    notes: "EROMWR S1 S2 on the rising edge: S1 a D6000-D6999 without index (load check), 0 ≤ S2 ≤ 16 and S1 + S2 ≤ 7000 or error 64 with nothing written (D12); the write completes at once, SM196 stays ON; power-on and RESET load D6000-D6999 as EROMWR last wrote them, kept by the state directory of `run`/`serve` (D5); STOP→RUN keeps device values as they are",
+    notes: "EROMWR S1 S2 on the rising edge: S1 a D6000-D6999 without index (load check), 0 ≤ S2 ≤ 16 and S1 + S2 ≤ 7000 or error 64 with nothing written (D12); the write completes at once, SM196 stays ON; power-on, RESET and STOP→RUN load the words EROMWR saved into D6000-D6999, over `[initial]` values (table 2-2), the state directory of `run`/`serve` keeps them (D5)",
 };
 
 pub static DEFS: &[Def] = &[
@@ -113,7 +114,9 @@ impl Eromwr {
             return Err(E_VALUE);
         }
         let n = n as usize;
-        cx.mem.words.copy_within(self.from..self.from + n, self.to);
+        let words = &mut cx.mem.words;
+        words.copy_within(self.from..self.from + n, self.to);
+        words[self.to + EEPROM_WORDS as usize..][..n].fill(1);
         Ok(())
     }
 }

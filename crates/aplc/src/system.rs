@@ -2,7 +2,7 @@
 //! aplc.md §7.1-§7.2, §1.9, decision D14): SM0/SM1/SM2, the clocks SM10-SM15,
 //! the scan times SD30-SD32, the run-error flags SM20-SM22 and the SD20-SD24
 //! history; error numbering of Appendix 6 (L11239-11289); D6000-D6999
-//! loaded from the EEPROM image at power-on.
+//! loaded from the EEPROM at power-on and STOP→RUN.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::ErrorCode;
@@ -31,15 +31,21 @@ fn ms(us: u64) -> u16 {
     (us / 1000).min(u16::MAX as u64) as u16
 }
 
-/// Power-on: D6000-D6999 from the EEPROM image (ZR0-ZR999), which power-on
-/// keeps; every other device starts cleared (L983-991, table 2-2 L971-979,
-/// decision D5).
+/// Each word of D6000-D6999 that EROMWR saved comes from the EEPROM image
+/// (ZR0-ZR999, marked in ZR1000-ZR1999), which power-on keeps: EEPROM data
+/// outranks the data block and the device values on power-on and STOP→RUN
+/// (table 2-2 L971-979); everything else starts cleared (L983, decision D5).
 fn load_eeprom(mem: &mut DeviceMemory) {
     let n = EEPROM_WORDS as usize;
-    let from = mem.map.base(DeviceKind::ZR) as usize;
-    let to = (mem.map.base(DeviceKind::D) + EEPROM_FIRST) as usize;
-    if mem.map.points(DeviceKind::ZR) as usize >= n {
-        mem.words.copy_within(from..from + n, to);
+    let zr = mem.map.base(DeviceKind::ZR) as usize;
+    let d = (mem.map.base(DeviceKind::D) + EEPROM_FIRST) as usize;
+    if (mem.map.points(DeviceKind::ZR) as usize) < 2 * n {
+        return;
+    }
+    for k in 0..n {
+        if mem.words[zr + n + k] != 0 {
+            mem.words[d + k] = mem.words[zr + k];
+        }
     }
 }
 
@@ -52,12 +58,12 @@ impl System for Aplc {
         sd(mem, 33, self.constant_scan_ms);
         sd(mem, 34, self.watchdog_ms);
         sm(mem, 8, self.constant_scan_ms > 0);
-        load_eeprom(mem);
     }
 
-    /// The state directory's EEPROM image is back: D6000-D6999 as EROMWR
-    /// last wrote them (decision D5).
-    fn restored(&self, mem: &mut DeviceMemory) {
+    /// After the initial values (`[initial]`, the data block's place): the
+    /// words EROMWR saved (decision D5), also after a state directory brought
+    /// the EEPROM back.
+    fn initialised(&self, mem: &mut DeviceMemory) {
         load_eeprom(mem);
     }
 

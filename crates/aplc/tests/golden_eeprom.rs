@@ -126,3 +126,18 @@ fn operand_diagnostics() {
         assert!(e.contains(want), "{src}: {e}");
     }
 }
+
+/// STOP→RUN: the saved words come back from the EEPROM over the device values
+/// (table 2-2 L971-979: EEPROM data "high", device values "low"); a word
+/// EROMWR never saved keeps its value, as every other device does.
+#[test]
+fn stop_to_run_loads_the_saved_words() {
+    let mut p = plc("LD M0\nEROMWR D6500 1\n");
+    p.set("D6500", "5").set("M0", "1").scan();
+    p.set("D6500", "6").set("D6501", "7").set("D1", "8").scan();
+    p.cpu.set_stop();
+    p.cpu.set_run().unwrap();
+    assert_eq!((p.int("D6500"), p.int("D6501"), p.int("D1")), (5, 7, 8));
+    power_cycle(&mut p);
+    assert_eq!((p.int("D6500"), p.int("D6501")), (5, 0));
+}

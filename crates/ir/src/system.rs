@@ -30,8 +30,9 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode);
     /// True when error `code` stops the CPU.
     fn stops(&self, code: ErrorCode) -> bool;
-    /// After the battery-backed memory was restored at power-on (a state
-    /// directory was attached): the family copies what it keeps there into
-    /// its devices (the APLC's EEPROM image into D6000-D6999).
-    fn restored(&self, _mem: &mut DeviceMemory) {}
+    /// Right after the device initial values were written (power-on, RESET,
+    /// STOP→RUN, the restore of battery-backed memory from a state
+    /// directory): data of the family that outranks them (the APLC's EEPROM
+    /// image into D6000-D6999, 002 table 2-2 L971-979).
+    fn initialised(&self, _mem: &mut DeviceMemory) {}
 }

@@ -50,8 +50,7 @@ impl Cpu {
     }
 
     /// Restores battery-backed memory read at power-on (`None`: that region was
-    /// never saved or its size changed), then lets the family's system
-    /// devices apply it (`System::restored`). Device initial values are written again
+    /// never saved or its size changed). Device initial values are written again
     /// afterwards because they override latched data (004 L7738-7740).
     pub fn restore_retained(&mut self, data: &[Option<Vec<u8>>]) {
         let spans = self.retained_spans();
@@ -83,9 +82,6 @@ impl Cpu {
                     time: i64::from_le_bytes(h[o + 6..o + 14].try_into().unwrap_or([0; 8])),
                 });
             }
-        }
-        if let Some(s) = &self.rt.system {
-            s.restored(&mut self.rt.mem);
         }
         self.write_initial_values();
     }

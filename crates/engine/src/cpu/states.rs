@@ -193,10 +193,15 @@ impl Cpu {
         special::set_status(&mut self.rt.mem, self.state);
     }
 
+    /// Device initial values, then the family's data that outranks them
+    /// (`System::initialised`).
     pub(super) fn write_initial_values(&mut self) {
         for iv in &self.cfg.initial_values {
             // Validated when the project was loaded.
             let _ = iv.device.write(&mut self.rt.mem, &iv.value);
+        }
+        if let Some(s) = &self.rt.system {
+            s.initialised(&mut self.rt.mem);
         }
     }
 
