@@ -141,3 +141,16 @@ fn stop_to_run_loads_the_saved_words() {
     power_cycle(&mut p);
     assert_eq!((p.int("D6500"), p.int("D6501")), (5, 0));
 }
+
+/// Steps (L6576, spec §4.11): 6, and 7 with an index-modified S2. `LD M0`
+/// is 1 step.
+#[test]
+fn step_count() {
+    let steps = |src: &str| {
+        softplc_aplc::load_bytes("t.apl", src.as_bytes())
+            .unwrap()
+            .steps
+    };
+    assert_eq!(steps("LD M0\nEROMWR D6000 16\n"), 1 + 6);
+    assert_eq!(steps("LD M0\nEROMWR D6000 D1Z1\n"), 1 + 7);
+}
