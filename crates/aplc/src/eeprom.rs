@@ -6,9 +6,9 @@
 //! keeps and the state directory persists; power-on and STOP→RUN load the
 //! saved words into D6000-D6999 after the initial values, every other device
 //! starts cleared (`system::load_eeprom`). EROMWR copies its block into the
-//! image on the rising edge of its power flow. The write completes inside the instruction
-//! (softplc spends no virtual time on it), so SM196 (EEPROM write idle) stays
-//! ON and a second EROMWR in the same scan writes too.
+//! image on the rising edge of its power flow. The write completes inside
+//! the instruction (softplc spends no virtual time on it), so SM196 (EEPROM
+//! write idle) stays ON and a second EROMWR in the same scan writes too.
 
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
@@ -55,10 +55,11 @@ local_state! {
 
 #[derive(Debug)]
 struct Eromwr {
-    /// S1's number (6000-6999) and its flat word index.
+    /// S1's number (6000-6999).
     first: u32,
+    /// The flat word index of S1.
     from: usize,
-    /// The image word of S1.
+    /// The flat index of S1's image word; its "saved" mark is 1000 words on.
     to: usize,
     count: WordArg,
     st: LocalSlot<Edge>,
