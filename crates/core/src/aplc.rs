@@ -30,6 +30,25 @@ pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
     softplc_aplc::load_bytes(name, bytes)
 }
 
+/// A powered-on APLC-TCP CPU running one program file as MAIN's scan
+/// program (`cfg` from [`cpu_config`]).
+pub fn single_cpu(
+    program: Program,
+    cfg: CpuConfig,
+    clock: Box<dyn crate::engine::Clock>,
+) -> Result<crate::engine::Cpu, String> {
+    crate::engine::Cpu::with_programs(
+        vec![crate::engine::LoadedProgram {
+            program,
+            exec: Default::default(),
+            interval: None,
+            sim_time: None,
+        }],
+        cfg,
+        clock,
+    )
+}
+
 /// An APLC-TCP CPU: its device layout, no latch ranges (no power-loss
 /// retention, decision D5), watchdog 200 ms (D4), its system devices.
 pub fn cpu_config() -> CpuConfig {

@@ -1,6 +1,7 @@
 //! The scenario file as TOML deserializes it, and its translation into a
 //! [`Scenario`]: source, times, models and the timeline.
 
+use softplc_core::names::Dialect;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -128,6 +129,7 @@ impl Scenario {
                     .to_string(),
             ),
         };
+        let dialect = dialect_of(&source, cpu.as_deref());
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
         if scan_us == 0 {
             return Err("scan_time: must be at least 1us".into());
@@ -144,7 +146,7 @@ impl Scenario {
 
         let mut models = Vec::new();
         for (i, m) in doc.model.into_iter().enumerate() {
-            models.push(model_spec(m, i)?);
+            models.push(model_spec(m, i, dialect)?);
         }
         let mut names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
         names.sort_unstable();
@@ -157,7 +159,7 @@ impl Scenario {
 
         let mut timeline = Vec::new();
         for (i, e) in doc.timeline.into_iter().enumerate() {
-            timeline_entry(e, i, scan_us, scans, &mut timeline)?;
+            timeline_entry(e, i, scan_us, scans, dialect, &mut timeline)?;
         }
         if timeline.len() as u64 > MAX_EVENTS {
             return Err(format!("timeline: more than {MAX_EVENTS} writes"));
@@ -167,7 +169,7 @@ impl Scenario {
         let mut expects = Vec::new();
         for (i, t) in doc.expect.iter().enumerate() {
             expects.push(
-                expect_spec(t, scan_us, scans)
+                expect_spec(t, scan_us, scans, dialect)
                     .map_err(|e| format!("expect #{} ({}): {e}", i + 1, expect_label(t)))?,
             );
         }
@@ -175,7 +177,7 @@ impl Scenario {
         let mut trace = TraceSpec::default();
         if let Some(t) = doc.trace {
             for d in &t.devices {
-                device(d, "trace")?;
+                device(d, "trace", dialect)?;
             }
             trace.devices = t.devices;
             trace.file = t.file.map(|f| base.join(f));
@@ -187,7 +189,7 @@ impl Scenario {
         let plot = match doc.plot {
             Some(p) => {
                 for d in &p.devices {
-                    device(d, "plot")?;
+                    device(d, "plot", dialect)?;
                 }
                 Some(PlotSpec {
                     file: base.join(p.file),
@@ -202,6 +204,7 @@ impl Scenario {
             name,
             source,
             cpu,
+            dialect,
             scan_us,
             scans,
             models,
@@ -240,7 +243,24 @@ impl Scenario {
     }
 }
 
-fn model_spec(m: ModelDoc, i: usize) -> Result<ModelSpec, String> {
+/// The dialect of the scenario's device names: an `.apl` program (or `cpu =
+/// "APLC-TCP"`), or a project whose `[cpu] model` is APLC-TCP (a project
+/// that does not load is reported when the scenario is built).
+fn dialect_of(source: &Source, cpu: Option<&str>) -> Dialect {
+    match source {
+        Source::Program(p) => match cpu {
+            Some(m) => Dialect::of_model(m),
+            None if softplc_core::aplc::is_apl(p) => Dialect::Aplc,
+            None => Dialect::Melsec,
+        },
+        Source::Project(p) => softplc_core::project::load_project(p)
+            .map_or(Dialect::Melsec, |proj| {
+                Dialect::of_model(&proj.config.model)
+            }),
+    }
+}
+
+fn model_spec(m: ModelDoc, i: usize, dialect: Dialect) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     let built = model::build(&m.kind, &m.params).map_err(|e| format!("{what}: {e}"))?;
@@ -260,12 +280,15 @@ fn model_spec(m: ModelDoc, i: usize) -> Result<ModelSpec, String> {
     let mut inputs = Vec::new();
     for (p, v) in &m.inputs {
         let idx = port(built.inputs(), p, "input")?;
-        inputs.push((idx, binding(v, &format!("{what}: input `{p}`"), true)?));
+        inputs.push((
+            idx,
+            binding(v, &format!("{what}: input `{p}`"), true, dialect)?,
+        ));
     }
     let mut outputs = Vec::new();
     for (p, v) in &m.outputs {
         let idx = port(built.outputs(), p, "output")?;
-        match binding(v, &format!("{what}: output `{p}`"), false)? {
+        match binding(v, &format!("{what}: output `{p}`"), false, dialect)? {
             InputBinding::Device { device, scale } => {
                 outputs.push((idx, OutputBinding { device, scale }))
             }
@@ -288,6 +311,7 @@ fn timeline_entry(
     i: usize,
     scan_us: u64,
     scans: u64,
+    dialect: Dialect,
     out: &mut Vec<EventSpec>,
 ) -> Result<(), String> {
     let what = format!("timeline #{}", i + 1);
@@ -311,7 +335,7 @@ fn timeline_entry(
     }
     let mut set = Vec::new();
     for (dev, v) in &e.set {
-        device(dev, &what)?;
+        device(dev, &what, dialect)?;
         set.push((dev.clone(), write_text(v, &format!("{what}: `{dev}`"))?));
     }
     let (every, count) = match (&e.every, e.count) {

@@ -1,7 +1,8 @@
 //! TOML values of a scenario file: times, numbers, device names, model port
 //! bindings, device writes and their conversion to scans.
 
-use softplc_core::access::{DeviceSpec, ValueType};
+use softplc_core::access::ValueType;
+use softplc_core::names::{DevName, Dialect};
 
 use super::{InputBinding, Scale};
 use crate::model;
@@ -52,9 +53,10 @@ fn pair_i32(v: &toml::Value, what: &str) -> Result<(i32, i32), String> {
     }
 }
 
-pub(super) fn device(text: &str, what: &str) -> Result<DeviceSpec, String> {
-    let spec = DeviceSpec::parse(text.trim()).map_err(|e| format!("{what}: {e}"))?;
-    if spec.ty == ValueType::Str {
+/// A device name in the scenario's dialect (checked against the CPU at build).
+pub(super) fn device(text: &str, what: &str, dialect: Dialect) -> Result<DevName, String> {
+    let spec = DevName::parse(text.trim(), dialect).map_err(|e| format!("{what}: {e}"))?;
+    if spec.ty() == ValueType::Str {
         return Err(format!(
             "{what}: `{text}`: strings cannot be bound or checked"
         ));
@@ -64,7 +66,12 @@ pub(super) fn device(text: &str, what: &str) -> Result<DeviceSpec, String> {
 
 /// `PORT = "DEV"`, `PORT = { device = "DEV", raw = [..], eng = [..] }` (and
 /// for inputs a constant number).
-pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputBinding, String> {
+pub(super) fn binding(
+    v: &toml::Value,
+    what: &str,
+    input: bool,
+    dialect: Dialect,
+) -> Result<InputBinding, String> {
     let (dev, scale) = match v {
         toml::Value::String(s) => (s.clone(), Scale::None),
         toml::Value::Integer(_) | toml::Value::Float(_) if input => {
@@ -83,7 +90,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
                 .and_then(|d| d.as_str())
                 .ok_or_else(|| format!("{what}: `device` (a string) is required"))?
                 .to_string();
-            let spec = device(&dev, what)?;
+            let spec = device(&dev, what, dialect)?;
             let eng = t
                 .get("eng")
                 .map(|e| pair_f64(e, &format!("{what}: eng")))
@@ -92,7 +99,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
                 .get("raw")
                 .map(|r| pair_i32(r, &format!("{what}: raw")))
                 .transpose()?;
-            let scale = match (raw, eng, spec.ty == ValueType::Bit) {
+            let scale = match (raw, eng, spec.ty() == ValueType::Bit) {
                 (None, None, _) => Scale::None,
                 (None, Some((off, on)), true) if input => Scale::Bit { off, on },
                 (Some(raw), Some(eng), false) => {
@@ -126,7 +133,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
             ))
         }
     };
-    device(&dev, what)?;
+    device(&dev, what, dialect)?;
     Ok(InputBinding::Device { device: dev, scale })
 }
 
