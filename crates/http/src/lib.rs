@@ -45,6 +45,13 @@ pub struct App {
     pub streams: std::sync::atomic::AtomicUsize,
 }
 
+impl App {
+    /// Whose device names the API takes: the served CPU model's (contract §3.1).
+    pub fn dialect(&self) -> softplc_core::names::Dialect {
+        softplc_core::names::Dialect::of_model(&self.cfg.model)
+    }
+}
+
 /// Most event streams open at once; more are 503.
 pub const MAX_STREAMS: usize = 128;
 
