@@ -211,7 +211,14 @@ fn aplc_scenario_binds_writes_and_checks_in_aplc_names() {
     assert!(svg.contains("D30:i32") && svg.contains("CN201"), "{svg}");
     // --trace names are APLC names too: K2Y10 = Y10-Y17, Y10 ON → 1.
     let out = softplc(
-        &["test", "t.toml", "--trace", "K2Y10,X10", "--trace-file", "k.csv"],
+        &[
+            "test",
+            "t.toml",
+            "--trace",
+            "K2Y10,X10",
+            "--trace-file",
+            "k.csv",
+        ],
         &dir,
     );
     assert!(out.status.success(), "{}", stdout(&out));
@@ -242,7 +249,10 @@ fn aplc_run_errors_are_reported_with_their_code_file_and_line() {
     let text = stdout(&out);
     assert!(!out.status.success(), "{text}");
     assert!(text.contains("PASS SD20 = 69 at 1.5 s: got 69"), "{text}");
-    assert!(text.contains("PASS SM20 = true at 1.5 s: got true"), "{text}");
+    assert!(
+        text.contains("PASS SM20 = true at 1.5 s: got true"),
+        "{text}"
+    );
     assert!(
         text.contains(
             "FAIL the CPU keeps running (stopped at 2 s, scan 200): error 69 divide by zero at ./t.apl:18"
@@ -258,9 +268,17 @@ fn aplc_names_are_checked_when_the_scenario_loads() {
         // X8 is not octal (L892).
         ("X10 = true", "X8 = true", "`X8`: X is numbered in octal"),
         // MAIN's locals cannot be driven from outside.
-        ("outputs.y = \"CN201\"", "outputs.y = \"V0\"", "`V0`: LM and V are POU locals"),
+        (
+            "outputs.y = \"CN201\"",
+            "outputs.y = \"V0\"",
+            "`V0`: LM and V are POU locals",
+        ),
         // C200-C255 are 32-bit.
-        ("device = \"CN200\"", "device = \"CN200:i16\"", "C200-C255 are 32-bit"),
+        (
+            "device = \"CN200\"",
+            "device = \"CN200:i16\"",
+            "C200-C255 are 32-bit",
+        ),
         // MELSEC's H prefix is not an APLC value (16#10 is).
         ("\"D10:f32\" = 25.0", "D10 = \"H10\"", "bad value `H10`"),
     ] {
