@@ -13,7 +13,7 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{DevName, Dialect, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
@@ -289,29 +289,29 @@ struct Write {
     value: String,
 }
 
-fn parse_write(arg: &str, scan: u64, dialect: Dialect) -> Result<Write, String> {
+fn parse_write(arg: &str, scan: u64, names: &Names) -> Result<Write, String> {
     let (dev, value) = arg
         .split_once('=')
         .ok_or_else(|| format!("`{arg}`: expected DEV=VALUE"))?;
     Ok(Write {
         scan,
-        spec: DevName::parse(dev.trim(), dialect)?,
+        spec: names.parse(dev.trim())?,
         value: value.trim().to_string(),
     })
 }
 
 /// The `--trace` devices in the CPU's dialect and the engine's trace over
 /// their storage.
-fn parse_trace(args: &RunArgs, dialect: Dialect) -> Result<Option<(Trace, Vec<DevName>)>, String> {
+fn parse_trace(args: &RunArgs, names: &Names) -> Result<Option<(Trace, Vec<DevName>)>, String> {
     if args.trace.is_empty() {
         return Ok(None);
     }
-    let names = args
+    let traced = args
         .trace
         .iter()
-        .map(|d| DevName::parse(d.trim(), dialect))
+        .map(|d| names.parse(d.trim()))
         .collect::<Result<Vec<_>, _>>()?;
-    let devices: Vec<DeviceSpec> = names.iter().map(|n| n.spec().clone()).collect();
+    let devices: Vec<DeviceSpec> = traced.iter().map(|n| n.spec().clone()).collect();
     Trace::new(TraceConfig {
         devices,
         every_scans: args.trace_every,
@@ -320,7 +320,7 @@ fn parse_trace(args: &RunArgs, dialect: Dialect) -> Result<Option<(Trace, Vec<De
         trigger: None,
         after_trigger: 0,
     })
-    .map(|t| Some((t, names)))
+    .map(|t| Some((t, traced)))
 }
 
 /// The trace as CSV, `scan,time_ms,DEV,…`, values in each name's type (an
@@ -346,10 +346,10 @@ fn trace_csv(t: &Trace, names: &[DevName]) -> String {
     out
 }
 
-fn parse_options(args: &RunArgs, dialect: Dialect) -> Result<(Vec<Write>, Vec<DevName>), String> {
+fn parse_options(args: &RunArgs, names: &Names) -> Result<(Vec<Write>, Vec<DevName>), String> {
     let mut writes = Vec::new();
     for s in &args.set {
-        writes.push(parse_write(s, 1, dialect)?);
+        writes.push(parse_write(s, 1, names)?);
     }
     for a in &args.at {
         let (n, rest) = a
@@ -361,13 +361,13 @@ fn parse_options(args: &RunArgs, dialect: Dialect) -> Result<(Vec<Write>, Vec<De
             .ok()
             .filter(|n| *n >= 1)
             .ok_or_else(|| format!("`{a}`: scan number must be 1 or more"))?;
-        writes.push(parse_write(rest, n, dialect)?);
+        writes.push(parse_write(rest, n, names)?);
     }
     writes.sort_by_key(|w| w.scan);
     let shows = args
         .show
         .iter()
-        .map(|s| DevName::parse(s, dialect))
+        .map(|s| names.parse(s))
         .collect::<Result<Vec<_>, _>>()?;
     Ok((writes, shows))
 }
@@ -389,9 +389,10 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let dialect = Dialect::of(&cpu);
-    let (writes, shows, trace) = match parse_options(&args, dialect)
-        .and_then(|(w, s)| Ok((w, s, parse_trace(&args, dialect)?)))
+    let names = Names::of(&cpu);
+    let dialect = names.dialect;
+    let (writes, shows, trace) = match parse_options(&args, &names)
+        .and_then(|(w, s)| Ok((w, s, parse_trace(&args, &names)?)))
     {
         Ok(x) => x,
         Err(e) => {

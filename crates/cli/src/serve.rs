@@ -20,7 +20,7 @@ use crate::run::{load, parse_datetime, parse_duration, report_attach, state_erro
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
-    /// Program file (.il or .csv) or project directory (or its plc.toml).
+    /// Program file (.il, .csv or .apl) or project directory (or its plc.toml).
     pub program: PathBuf,
     /// CPU model a single program file runs on (default Q06HCPU; see `run --model`).
     #[arg(long, value_name = "MODEL")]

@@ -276,10 +276,13 @@ fn multi_file_project() {
         "// the subroutine, with a global of its own\nVAR_GLOBAL\n    按钮   X10\nEND_VAR\nPOU SBR_0\nVAR\n    N   IN_OUT INT\nEND_VAR\nLD SM0\nINC #N\nLD M1\nDIV 1 D1 D2\n",
     );
     let d = dir.path().display().to_string();
+    // Global names of either file are device names outside the program too.
     let v = json(&softplc(&[
-        "run", &d, "--scans", "3", "--set", "X10=1", "--show", "Y10", "--show", "D0", "--json",
+        "run", &d, "--scans", "3", "--set", "按钮=1", "--show", "Y10", "--show", "灯", "--show",
+        "D0", "--json",
     ]));
     assert_eq!(v["devices"]["Y10"], true);
+    assert_eq!(v["devices"]["灯"], true);
     assert_eq!(v["devices"]["D0"], 3);
     assert!(v["error"].is_null());
     // The divide by zero is in sub.apl line 12, not line 20 of the whole.

@@ -150,14 +150,18 @@ fn get(port: u16, path: &str) -> (u16, serde_json::Value) {
 fn the_api_of_an_aplc_program_uses_aplc_names() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("t.apl");
-    std::fs::write(&p, "LD X10\nOUT Y10\nLD M1\nDIV 1 D0 D2\n").unwrap();
+    std::fs::write(
+        &p,
+        "VAR_GLOBAL\n    灯 Y10\nEND_VAR\nLD X10\nOUT Y10\nLD M1\nDIV 1 D0 D2\n",
+    )
+    .unwrap();
     let s = serve(&[p.to_str().unwrap(), "--http-token", "t"]);
     let body = r#"{"D10:i32": 100000, "X10": true, "D20": "16#1F"}"#;
     assert_eq!(post(s.port, "/api/v1/devices", Some("t"), body).0, 200);
     // 100000 = 16#0001_86A0: D10 = 1 (high), D11 = 34464; X10 is input 8.
     let (code, v) = get(
         s.port,
-        "/api/v1/devices?names=D10,D11:u16,D10:i32,Y10,X10,D20,K4Y0",
+        "/api/v1/devices?names=D10,D11:u16,D10:i32,Y10,X10,D20,K4Y0,%E7%81%AF",
     );
     assert_eq!(code, 200, "{v}");
     let d = &v["devices"];
@@ -169,6 +173,8 @@ fn the_api_of_an_aplc_program_uses_aplc_names() {
     assert_eq!(d["D20"], 31);
     // Y10 is bit 8 of K4Y0 (Y0-Y7, Y10-Y17).
     assert_eq!(d["K4Y0"], 256);
+    // The program's global name 灯 is Y10.
+    assert_eq!(d["灯"], true, "{v}");
     // X8 is not an APLC device; V0 is MAIN's local: both 400, nothing written.
     let (code, v) = get(s.port, "/api/v1/devices?names=X8");
     assert_eq!(code, 400);
@@ -200,7 +206,7 @@ fn the_api_of_an_aplc_program_uses_aplc_names() {
     );
     let (_, st) = get(s.port, "/api/v1/status");
     assert_eq!(st["error"]["code"], 69, "{st}");
-    assert_eq!(st["error"]["line"], 4);
+    assert_eq!(st["error"]["line"], 7);
     assert!(st["error"]["step"].is_null());
     assert_eq!(st["state"], "RUN");
 }

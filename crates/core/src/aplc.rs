@@ -22,12 +22,57 @@ pub fn is_apl(path: &Path) -> bool {
 
 /// Loads an `.apl` program (any file name).
 pub fn load_file(path: &Path) -> Result<Program, Diagnostics> {
-    softplc_aplc::load_file(path)
+    let name = path.display().to_string();
+    let bytes = softplc_lang::read_limited(path, softplc_lang::MAX_IL_BYTES, "a program file")
+        .map_err(|e| softplc_aplc::compile::file_error(&name, e))?;
+    load_bytes(&name, &bytes)
 }
 
-/// Loads `.apl` text already in memory.
+/// Loads `.apl` text already in memory; the program keeps its global
+/// variable names ([`Program::globals`](crate::program::ops::Program)) for
+/// device names from outside (contract §2).
 pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
-    softplc_aplc::load_bytes(name, bytes)
+    let text = softplc_aplc::text::decode(bytes);
+    let lines = softplc_aplc::text::lines(name, &text).map_err(|d| Diagnostics(vec![d]))?;
+    let unit =
+        softplc_aplc::pou::parse(name, &lines, &softplc_aplc::is_mnemonic).map_err(Diagnostics)?;
+    let mut program = softplc_aplc::compile::compile(name, &unit)?;
+    program.globals = globals_of(&unit);
+    Ok(program)
+}
+
+/// The global table of a parsed unit, sorted by name.
+fn globals_of(unit: &softplc_aplc::pou::Unit) -> Vec<(String, String)> {
+    let mut g: Vec<(String, String)> = unit
+        .globals
+        .iter()
+        .map(|(n, d)| (n.clone(), d.clone()))
+        .collect();
+    g.sort();
+    g
+}
+
+/// The global variables of `.apl` files (for tools that resolve names
+/// before building a CPU, e.g. scenario files); files that do not parse
+/// give none (their errors come when the program is loaded).
+pub fn globals_of_files(paths: &[&Path]) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    for p in paths {
+        let Ok(bytes) = softplc_lang::read_limited(p, softplc_lang::MAX_IL_BYTES, "a program file")
+        else {
+            continue;
+        };
+        let name = p.display().to_string();
+        let text = softplc_aplc::text::decode(&bytes);
+        let Ok(lines) = softplc_aplc::text::lines(&name, &text) else {
+            continue;
+        };
+        if let Ok(unit) = softplc_aplc::pou::parse(&name, &lines, &softplc_aplc::is_mnemonic) {
+            out.extend(globals_of(&unit));
+        }
+    }
+    out.sort();
+    out
 }
 
 /// A powered-on APLC-TCP CPU running one program file as MAIN's scan
@@ -172,6 +217,7 @@ pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
         softplc_aplc::pou::parse(&label, &globals, &softplc_aplc::is_mnemonic).map_err(remap)?;
     let mut program = softplc_aplc::compile::compile(&label, &unit).map_err(|d| remap(d.0))?;
     program.sources = sources;
+    program.globals = globals_of(&unit);
     Ok(program)
 }
 

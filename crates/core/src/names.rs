@@ -38,6 +38,59 @@ impl Dialect {
     }
 }
 
+/// What names mean for a CPU: its dialect and its programs' global
+/// variables (APLC: `启动` for `X0`, contract §2).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Names {
+    pub dialect: Dialect,
+    /// (upper-case name, device text).
+    pub globals: Vec<(String, String)>,
+}
+
+impl Names {
+    /// The names of a dialect without globals.
+    pub fn plain(dialect: Dialect) -> Names {
+        Names {
+            dialect,
+            globals: Vec::new(),
+        }
+    }
+
+    /// The names of a running CPU.
+    pub fn of(cpu: &Cpu) -> Names {
+        let mut globals: Vec<(String, String)> = (0..cpu.program_count())
+            .flat_map(|i| cpu.program_at(i).globals.iter().cloned())
+            .collect();
+        globals.sort();
+        Names {
+            dialect: Dialect::of(cpu),
+            globals,
+        }
+    }
+
+    /// Parses `DEV[:TYPE]` or, in the APLC dialect, `GLOBAL[:TYPE]` (the
+    /// name as given is the key in reports).
+    pub fn parse(&self, s: &str) -> Result<DevName, String> {
+        if self.dialect == Dialect::Aplc && !self.globals.is_empty() {
+            let (name, ty) = match s.split_once(':') {
+                Some((n, t)) => (n.trim(), Some(t)),
+                None => (s.trim(), None),
+            };
+            let key = name.to_uppercase();
+            if let Some((_, dev)) = self.globals.iter().find(|(n, _)| *n == key) {
+                let text = match ty {
+                    Some(t) => format!("{dev}:{t}"),
+                    None => dev.clone(),
+                };
+                let mut n = DevName::parse(&text, self.dialect)?;
+                n.spec.text = s.trim().to_string();
+                return Ok(n);
+            }
+        }
+        DevName::parse(s, self.dialect)
+    }
+}
+
 /// A device name of a dialect, resolved to the storage it lives in.
 #[derive(Clone, Debug)]
 pub struct DevName {
@@ -80,9 +133,10 @@ impl DevName {
         }
     }
 
-    /// Parses `s` in the dialect of `cpu`, checking the device exists there.
+    /// Parses `s` in the dialect of `cpu`, with its programs' global names,
+    /// checking the device exists there.
     pub fn parse_for(s: &str, cpu: &Cpu) -> Result<DevName, String> {
-        let n = DevName::parse(s, Dialect::of(cpu))?;
+        let n = Names::of(cpu).parse(s)?;
         if n.ty != ValueType::Str {
             n.raw(cpu.memory()).map_err(|e| e.to_string())?;
         }
@@ -295,6 +349,15 @@ mod tests {
             .write(&mut cpu, "1")
             .is_err());
         assert!(DevName::parse("X8", Dialect::Aplc).is_err());
+        // A global name stands for its device, shown as given.
+        let names = Names {
+            dialect: Dialect::Aplc,
+            globals: vec![("流量".into(), "D20".into())],
+        };
+        let g = names.parse("流量:f32").unwrap();
+        assert_eq!(g.text(), "流量:f32");
+        assert_eq!(g.read(&cpu).unwrap(), Value::Float(1.5));
+        assert!(Names::plain(Dialect::Aplc).parse("流量").is_err());
         // 16# is only APLC's; H is only MELSEC's.
         assert!(DevName::parse("D0", Dialect::Aplc)
             .unwrap()

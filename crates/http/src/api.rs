@@ -234,7 +234,7 @@ fn read_all(s: &ServeState, specs: &[DevName]) -> Result<Json_, String> {
 }
 
 async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::name_list(q.get("names").map(String::as_str), app.dialect()) {
+    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
@@ -290,7 +290,7 @@ async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> R
     }
     let mut writes = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let d = match values::name(name, app.dialect()) {
+        let d = match values::name(name, &app.names) {
             Ok(d) => d,
             Err(e) => return bad(e),
         };
@@ -323,7 +323,7 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
     };
     let mut forces = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let (k, n) = match io_point(name, app.dialect()) {
+        let (k, n) = match io_point(name, &app.names) {
             Ok(p) => p,
             Err(e) => return bad(e),
         };
@@ -373,7 +373,7 @@ async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Respons
     };
     let mut points = Vec::with_capacity(names.len());
     for name in &names {
-        match io_point(name, app.dialect()) {
+        match io_point(name, &app.names) {
             Ok(p) => points.push(p),
             Err(e) => return bad(e),
         }
@@ -490,7 +490,7 @@ async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Body) -> 
     let Some(when) = obj.get("when").and_then(Json_::as_str) else {
         return bad("expected {\"when\": \"D0 >= 100\"} (or a bit device: \"M0\")");
     };
-    let bp = match Breakpoint::parse(when, app.dialect()) {
+    let bp = match Breakpoint::parse(when, &app.names) {
         Ok(b) => b,
         Err(e) => return bad(e),
     };
@@ -552,7 +552,7 @@ impl Drop for Subscription {
 
 /// `events?names=...`: one unnamed event per published snapshot (≤ 10/s).
 async fn events(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::name_list(q.get("names").map(String::as_str), app.dialect()) {
+    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };

@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 use serde_json::Value as Json;
 use softplc_core::access::Value;
 use softplc_core::engine::CpuState;
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{DevName, Names};
 use softplc_serve::ServeState;
 use tokio::sync::{oneshot, watch};
 
@@ -90,8 +90,8 @@ pub struct Breakpoint {
 
 impl Breakpoint {
     /// Parses `M0` (ON), `D0 >= 100`, `D10:f32 < 1.5`, `Y0 == false` with
-    /// device names of `dialect`.
-    pub fn parse(text: &str, dialect: Dialect) -> Result<Breakpoint, String> {
+    /// the served CPU's device `names`.
+    pub fn parse(text: &str, names: &Names) -> Result<Breakpoint, String> {
         let t = text.trim();
         let ops = [
             ("==", Cmp::Eq),
@@ -111,7 +111,7 @@ impl Breakpoint {
             Some((i, s, c)) => (&t[..i], c, Some(t[i + s.len()..].trim())),
             None => (t, Cmp::Eq, None),
         };
-        let device = crate::values::name(name, dialect)?;
+        let device = crate::values::name(name, names)?;
         let value = match value {
             None if device.ty() == softplc_core::access::ValueType::Bit => Value::Bool(true),
             None => {
@@ -313,31 +313,34 @@ pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use softplc_core::names::Dialect;
 
     #[test]
     fn breakpoint_conditions_parse() {
-        let b = Breakpoint::parse("D0 >= 100", Dialect::Melsec).unwrap();
+        let b = Breakpoint::parse("D0 >= 100", &Names::plain(Dialect::Melsec)).unwrap();
         assert_eq!((b.device.text(), b.cmp), ("D0", Cmp::Ge));
         assert_eq!(b.value, Value::Int(100));
-        let b = Breakpoint::parse("M5", Dialect::Melsec).unwrap();
+        let b = Breakpoint::parse("M5", &Names::plain(Dialect::Melsec)).unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Eq, Value::Bool(true)));
-        let b = Breakpoint::parse("D10:f32<1.5", Dialect::Melsec).unwrap();
+        let b = Breakpoint::parse("D10:f32<1.5", &Names::plain(Dialect::Melsec)).unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Lt, Value::Float(1.5)));
         assert_eq!(
-            Breakpoint::parse("Y0 == false", Dialect::Melsec)
+            Breakpoint::parse("Y0 == false", &Names::plain(Dialect::Melsec))
                 .unwrap()
                 .value,
             Value::Bool(false)
         );
         assert_eq!(
-            Breakpoint::parse("D1 <> 3", Dialect::Melsec).unwrap().cmp,
+            Breakpoint::parse("D1 <> 3", &Names::plain(Dialect::Melsec))
+                .unwrap()
+                .cmp,
             Cmp::Ne
         );
-        assert!(Breakpoint::parse("D0", Dialect::Melsec)
+        assert!(Breakpoint::parse("D0", &Names::plain(Dialect::Melsec))
             .unwrap_err()
             .contains("comparison"));
-        assert!(Breakpoint::parse("D0 > x", Dialect::Melsec).is_err());
-        assert!(Breakpoint::parse("QQ >= 1", Dialect::Melsec)
+        assert!(Breakpoint::parse("D0 > x", &Names::plain(Dialect::Melsec)).is_err());
+        assert!(Breakpoint::parse("QQ >= 1", &Names::plain(Dialect::Melsec))
             .unwrap_err()
             .contains("QQ"));
     }

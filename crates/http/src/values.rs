@@ -6,31 +6,34 @@
 use serde_json::{json, Value as Json};
 use softplc_core::access::{DeviceSpec, Value, ValueType};
 use softplc_core::device::DeviceKind;
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{DevName, Dialect, Names};
 
 /// Most names in one request.
 pub const MAX_NAMES: usize = 1024;
 
-/// Parses a device name of `dialect`, naming it in the error.
-pub fn name(name: &str, dialect: Dialect) -> Result<DevName, String> {
+/// Parses a device name (or an APLC global name) of `names`, naming it in
+/// the error.
+pub fn name(name: &str, names: &Names) -> Result<DevName, String> {
     let name = name.trim();
     if name.is_empty() {
         return Err("empty device name".into());
     }
-    DevName::parse(name, dialect).map_err(|e| format!("unknown device `{name}`: {e}"))
+    names
+        .parse(name)
+        .map_err(|e| format!("unknown device `{name}`: {e}"))
 }
 
-/// Parses `names=D0,Y0,D10:f32` in `dialect`.
-pub fn name_list(names: Option<&str>, dialect: Dialect) -> Result<Vec<DevName>, String> {
-    split_names(names)?
+/// Parses `names=D0,Y0,D10:f32` with `names`.
+pub fn name_list(list: Option<&str>, names: &Names) -> Result<Vec<DevName>, String> {
+    split_names(list)?
         .into_iter()
-        .map(|n| name(n, dialect))
+        .map(|n| name(n, names))
         .collect()
 }
 
 /// Parses a MELSEC device name, naming it in the error.
 pub fn spec(text: &str) -> Result<DeviceSpec, String> {
-    name(text, Dialect::Melsec).map(|n| n.spec().clone())
+    name(text, &Names::plain(Dialect::Melsec)).map(|n| n.spec().clone())
 }
 
 /// Parses `names=D0,Y0,D10:f32` as MELSEC names.
@@ -94,8 +97,8 @@ pub fn from_json(dev: &DevName, v: &Json) -> Result<Value, String> {
 }
 
 /// X`n` or Y`n` named by a force request (contract §3.1: only X and Y).
-pub fn io_point(text: &str, dialect: Dialect) -> Result<(DeviceKind, u32), String> {
-    let d = name(text, dialect)?;
+pub fn io_point(text: &str, names: &Names) -> Result<(DeviceKind, u32), String> {
+    let d = name(text, names)?;
     match d.spec().bit_span() {
         Some((k @ (DeviceKind::X | DeviceKind::Y), n, 1)) if d.ty() == ValueType::Bit => Ok((k, n)),
         _ => Err(format!("`{}`: only X and Y points can be forced", d.text())),
@@ -116,7 +119,8 @@ mod tests {
 
     #[test]
     fn json_values_follow_the_device_type() {
-        let spec = |s| name(s, Dialect::Melsec);
+        let mel = Names::plain(Dialect::Melsec);
+        let spec = |s| name(s, &mel);
         let d = spec("D0").unwrap();
         assert_eq!(from_json(&d, &json!(5)).unwrap(), Value::Int(5));
         assert_eq!(from_json(&d, &json!("H1F")).unwrap(), Value::Int(31));
@@ -130,21 +134,26 @@ mod tests {
         assert!(from_json(&f, &json!(1e300)).is_err());
         assert!(spec("QQ9").unwrap_err().contains("QQ9"));
         // APLC: 16# values; LM/V are parsed but refused on write.
-        let d = name("D0", Dialect::Aplc).unwrap();
+        let d = name("D0", &Names::plain(Dialect::Aplc)).unwrap();
         assert_eq!(from_json(&d, &json!("16#1F")).unwrap(), Value::Int(31));
-        assert!(name("X8", Dialect::Aplc).unwrap_err().contains("X8"));
+        assert!(name("X8", &Names::plain(Dialect::Aplc))
+            .unwrap_err()
+            .contains("X8"));
     }
 
     #[test]
     fn only_x_and_y_points_are_forced() {
-        let m = Dialect::Melsec;
+        let m = &Names::plain(Dialect::Melsec);
         assert_eq!(io_point("X1F", m).unwrap(), (DeviceKind::X, 0x1F));
         assert_eq!(io_point("y0", m).unwrap(), (DeviceKind::Y, 0));
         assert!(io_point("M0", m).is_err());
         assert!(io_point("K4X0", m).is_err());
-        assert_eq!(io_name(DeviceKind::X, 0x1F, m), "X1F");
+        assert_eq!(io_name(DeviceKind::X, 0x1F, Dialect::Melsec), "X1F");
         // APLC X/Y are octal: X10 is input 8.
-        assert_eq!(io_point("X10", Dialect::Aplc).unwrap(), (DeviceKind::X, 8));
+        assert_eq!(
+            io_point("X10", &Names::plain(Dialect::Aplc)).unwrap(),
+            (DeviceKind::X, 8)
+        );
         assert_eq!(io_name(DeviceKind::Y, 8, Dialect::Aplc), "Y10");
     }
 }

@@ -439,6 +439,9 @@ pub struct Program {
     /// file)` ascending, `op_line` counting the lines of the files one after
     /// the other; empty for a program of one file.
     pub sources: Vec<(u32, String)>,
+    /// Names the source gives devices, for device names from outside the
+    /// program: the APLC's global variables as (upper-case name, device).
+    pub globals: Vec<(String, String)>,
 }
 
 impl Program {

@@ -4,7 +4,7 @@ use std::time::{Duration, Instant};
 
 use softplc_core::device::DeviceConfig;
 use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{Dialect, Names};
 use softplc_core::{aplc, program, project};
 
 use super::bind::{Probe, Sink, Source};
@@ -115,7 +115,7 @@ impl Scenario {
                 if let Some(m) = &self.cpu {
                     cfg.model = m.clone();
                 }
-                if self.dialect == Dialect::Aplc {
+                if self.names.dialect == Dialect::Aplc {
                     let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
                     aplc::single_cpu(prog, aplc::cpu_config(), Box::new(clock.clone()))?
                 } else {
@@ -172,10 +172,11 @@ impl Scenario {
         // Timeline: check every value on a scratch copy of the memory.
         let mut scratch = cpu.memory().clone();
         let mut writes = Vec::new();
+        let names = Names::of(&cpu);
         for e in &self.timeline {
             for (dev, value) in &e.set {
                 let at = |err: String| format!("timeline at scan {}: {err}", e.scan);
-                let name = DevName::parse(dev.trim(), Dialect::of(&cpu)).map_err(at)?;
+                let name = names.parse(dev.trim()).map_err(at)?;
                 let value = name
                     .parse_value(value)
                     .and_then(|v| name.door_value(&v))

@@ -1,7 +1,7 @@
 //! The `[[expect]]` tables of a scenario file: keys, checks and their labels.
 
 use softplc_core::access::ValueType;
-use softplc_core::names::Dialect;
+use softplc_core::names::Names;
 
 use super::values::{device, number, scan_at, scan_before, time_us};
 use super::{Band, Cond, ExpectKind, ExpectSpec, Setpoint};
@@ -45,7 +45,7 @@ pub(super) fn expect_spec(
     t: &toml::Table,
     scan_us: u64,
     scans: u64,
-    dialect: Dialect,
+    names: &Names,
 ) -> Result<ExpectSpec, String> {
     for k in t.keys() {
         if !EXPECT_KEYS.contains(&k.as_str()) {
@@ -60,7 +60,7 @@ pub(super) fn expect_spec(
         .and_then(|v| v.as_str())
         .ok_or("`device` (a string) is required")?
         .to_string();
-    let spec = device(&dev, "device", dialect)?;
+    let spec = device(&dev, "device", names)?;
     let is_bit = spec.ty() == ValueType::Bit;
     let show = match t.get("show") {
         None => Vec::new(),
@@ -68,7 +68,7 @@ pub(super) fn expect_spec(
             .iter()
             .map(|v| {
                 let s = v.as_str().ok_or("show: expected device names")?;
-                device(s, "show", dialect)?;
+                device(s, "show", names)?;
                 Ok(s.to_string())
             })
             .collect::<Result<Vec<_>, String>>()?,
@@ -156,7 +156,7 @@ pub(super) fn expect_spec(
         }
         let setpoint = match sp {
             toml::Value::String(s) => {
-                device(s, "setpoint", dialect)?;
+                device(s, "setpoint", names)?;
                 Setpoint::Device(s.clone())
             }
             v => Setpoint::Value(number(v, "setpoint")?),

@@ -2,7 +2,7 @@
 //! bindings, device writes and their conversion to scans.
 
 use softplc_core::access::ValueType;
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{DevName, Names};
 
 use super::{InputBinding, Scale};
 use crate::model;
@@ -54,8 +54,10 @@ fn pair_i32(v: &toml::Value, what: &str) -> Result<(i32, i32), String> {
 }
 
 /// A device name in the scenario's dialect (checked against the CPU at build).
-pub(super) fn device(text: &str, what: &str, dialect: Dialect) -> Result<DevName, String> {
-    let spec = DevName::parse(text.trim(), dialect).map_err(|e| format!("{what}: {e}"))?;
+pub(super) fn device(text: &str, what: &str, names: &Names) -> Result<DevName, String> {
+    let spec = names
+        .parse(text.trim())
+        .map_err(|e| format!("{what}: {e}"))?;
     if spec.ty() == ValueType::Str {
         return Err(format!(
             "{what}: `{text}`: strings cannot be bound or checked"
@@ -70,7 +72,7 @@ pub(super) fn binding(
     v: &toml::Value,
     what: &str,
     input: bool,
-    dialect: Dialect,
+    names: &Names,
 ) -> Result<InputBinding, String> {
     let (dev, scale) = match v {
         toml::Value::String(s) => (s.clone(), Scale::None),
@@ -90,7 +92,7 @@ pub(super) fn binding(
                 .and_then(|d| d.as_str())
                 .ok_or_else(|| format!("{what}: `device` (a string) is required"))?
                 .to_string();
-            let spec = device(&dev, what, dialect)?;
+            let spec = device(&dev, what, names)?;
             let eng = t
                 .get("eng")
                 .map(|e| pair_f64(e, &format!("{what}: eng")))
@@ -133,7 +135,7 @@ pub(super) fn binding(
             ))
         }
     };
-    device(&dev, what, dialect)?;
+    device(&dev, what, names)?;
     Ok(InputBinding::Device { device: dev, scale })
 }
 
