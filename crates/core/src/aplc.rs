@@ -159,10 +159,12 @@ pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
                 continue;
             }
         };
+        // Lines are numbered through the files one after the other.
+        let base = offset;
         for t in lines.iter_mut().flatten() {
-            t.line += offset;
+            t.line += base;
         }
-        sources.push((offset + 1, name.clone()));
+        sources.push((base + 1, name.clone()));
         offset += text.split('\n').count() as u32;
         let is = |l: &[Token], k: &str| l[0].text.eq_ignore_ascii_case(k);
         // The file's leading global tables go first in the combined program.
@@ -188,7 +190,7 @@ pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
             diags.push(Diagnostic::at(
                 &name,
                 &Token {
-                    line: first[0].line - (offset_of(&sources, first[0].line) - 1),
+                    line: first[0].line - base,
                     ..first[0].clone()
                 },
                 format!(
@@ -219,15 +221,6 @@ pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
     program.sources = sources;
     program.globals = globals_of(&unit);
     Ok(program)
-}
-
-/// The combined-numbering first line of the file holding `line`.
-fn offset_of(sources: &[(u32, String)], line: u32) -> u32 {
-    sources
-        .iter()
-        .rev()
-        .find(|(first, _)| line >= *first)
-        .map_or(1, |(first, _)| *first)
 }
 
 /// A diagnostic of the combined program at its file and own line; a `line N`

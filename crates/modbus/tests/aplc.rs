@@ -627,3 +627,94 @@ fn io_addresses_past_177_read_off_and_ignore_writes_on_an_aplc_cpu() {
         [2, 32]
     );
 }
+
+/// Every range of the APLC map reaches the storage its APLC device lives in
+/// on an APLC CPU (crates/aplc/src/devices.rs: T on TS/TN, C on CS/CN,
+/// C200+k on the pair CN(200+2k), CN(201+2k)): a value written by APLC name
+/// through the door is read back over Modbus at the map's address.
+#[test]
+fn map_ranges_land_on_the_aplc_storage() {
+    use softplc_core::names::{DevName, Dialect};
+    let mut cpu = aplc_cpu();
+    let set = |cpu: &mut Cpu, name: &str, v: &str| {
+        DevName::parse(name, Dialect::Aplc)
+            .unwrap()
+            .write(cpu, v)
+            .unwrap()
+    };
+    let coil = |cpu: &mut Cpu, a: u16| {
+        pdu(
+            cpu,
+            &ReadCoils {
+                address: a,
+                quantity: 1,
+            },
+        )[2] & 1
+            == 1
+    };
+    for (name, address) in [
+        ("Y0", 0),
+        ("Y177", 127),
+        ("X0", 1200),
+        ("X177", 1327),
+        ("M0", 2000),
+        ("M1999", 3999),
+        ("SM200", 4600),
+        ("S0", 6000),
+        ("S991", 6991),
+        ("T0", 8000),
+        ("T255", 8255),
+        ("C0", 9200),
+        ("C255", 9455),
+    ] {
+        assert!(!coil(&mut cpu, address), "{name} before");
+        set(&mut cpu, name, "1");
+        assert!(coil(&mut cpu, address), "{name} at coil {address}");
+    }
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &ReadDiscreteInputs {
+                address: 127,
+                quantity: 1
+            }
+        ),
+        [2, 1, 1]
+    );
+    let reg = |cpu: &mut Cpu, a: u16, n: u16| {
+        let r = pdu(
+            cpu,
+            &ReadHoldingRegisters {
+                address: a,
+                quantity: n,
+            },
+        );
+        r[2..]
+            .chunks(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+            .collect::<Vec<_>>()
+    };
+    for (k, (name, address)) in [
+        ("D0", 0u16),
+        ("D7999", 7999),
+        ("SD255", 8255),
+        ("Z0", 8500),
+        ("Z15", 8515),
+        ("TN0", 9000),
+        ("TN255", 9255),
+        ("CN0", 9500),
+        ("CN199", 9699),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let v = 1000 + k as u16;
+        set(&mut cpu, name, &v.to_string());
+        assert_eq!(reg(&mut cpu, address, 1), [v], "{name} at {address}");
+    }
+    // 32-bit counters: C200 = 16#0001_0002 at 9700-9701, C255 = -3 at 9810-9811.
+    set(&mut cpu, "CN200", "16#00010002");
+    set(&mut cpu, "CN255", "-3");
+    assert_eq!(reg(&mut cpu, 9700, 2), [1, 2]);
+    assert_eq!(reg(&mut cpu, 9810, 2), [0xFFFF, 0xFFFD]);
+}

@@ -81,6 +81,19 @@ fn tokio_modbus_on_an_aplc_program_at_unit_8() {
         ctx.read_input_registers(0, 1).unwrap(),
         Err(ExceptionCode::IllegalFunction)
     );
+    // SD as the map says (spec/aplc.md §7.2): SD50 is R/W, SD20 (the error
+    // code) is read-only: the write is answered and changes nothing.
+    ctx.write_single_register(8050, 123).unwrap().unwrap();
+    ctx.write_single_register(8020, 5).unwrap().unwrap();
+    std::thread::sleep(Duration::from_millis(10));
+    assert_eq!(
+        ctx.read_holding_registers(8050, 1).unwrap().unwrap(),
+        vec![123]
+    );
+    assert_eq!(
+        ctx.read_holding_registers(8020, 1).unwrap().unwrap(),
+        vec![0]
+    );
     // The refused writes changed nothing.
     assert_eq!(
         ctx.read_holding_registers(9700, 2).unwrap().unwrap(),
