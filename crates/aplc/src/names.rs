@@ -120,6 +120,17 @@ impl Name {
         })
     }
 
+    /// Two registers holding one value high word first: the door's `u32`
+    /// is turned on the way.
+    pub fn swaps(&self) -> bool {
+        self.swap
+    }
+
+    /// LM or V: MAIN's locals, read only from outside.
+    pub fn is_local(&self) -> bool {
+        self.local
+    }
+
     /// The value read through the door, in this name's type.
     pub fn present(&self, v: Value) -> Value {
         let Value::Int(raw) = v else {

@@ -33,7 +33,9 @@ enum Command {
     /// Devices use MELSEC names: X1F, Y10, B, W, SB, SW in hex; M100, D0, SM400,
     /// SD520, R0, ZR100000, Z0; K4M0 (digit specification), D0.F (bit of a word),
     /// D200Z0 (index modification); T0/C0/ST0 the contact, TN0/CN0/STN0 the
-    /// current value.
+    /// current value. An APLC program (.apl, --dialect aplc, an APLC-TCP
+    /// project) takes APLC names: X10/Y10 octal, Dn the high word of
+    /// :i32/:u32/:f32, CN200-CN255 32-bit, values 16#1F.
     ///
     /// Example: softplc run examples/blink.il --scans 100 --set X0=1 --show Y0 --show TN0
     Run(Box<run::RunArgs>),
@@ -76,6 +78,8 @@ enum Command {
     Tune(Box<tune_cmd::TuneArgs>),
     /// Run a program in real time at its constant scan period and serve it over
     /// the MC protocol (TCP, UDP) and Modbus (TCP, RTU, ASCII) until Ctrl-C or SIGTERM.
+    /// An APLC-TCP program answers Modbus with seed 002's map at unit 8 and has
+    /// no MC protocol.
     ///
     /// Requests are served at END processing, so a client never sees a
     /// half-written scan. Servers bind loopback unless an address says otherwise.

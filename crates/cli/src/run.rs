@@ -13,11 +13,12 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::names::{DevName, Dialect, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
 
-use crate::names::{DevName, DialectArg};
+use crate::names::DialectArg;
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
@@ -205,17 +206,7 @@ pub(crate) fn load_with(
         if let Some(t) = start {
             cfg.clock_start = t;
         }
-        let cpu = Cpu::with_programs(
-            vec![softplc_core::engine::LoadedProgram {
-                program,
-                exec: Default::default(),
-                interval: None,
-                sim_time: None,
-            }],
-            cfg,
-            clock,
-        )
-        .map_err(|e| {
+        let cpu = softplc_core::aplc::single_cpu(program, cfg, clock).map_err(|e| {
             eprintln!("softplc: {e}");
             ExitCode::from(1)
         })?;
@@ -298,26 +289,29 @@ struct Write {
     value: String,
 }
 
-fn parse_write(arg: &str, scan: u64, aplc: bool) -> Result<Write, String> {
+fn parse_write(arg: &str, scan: u64, names: &Names) -> Result<Write, String> {
     let (dev, value) = arg
         .split_once('=')
         .ok_or_else(|| format!("`{arg}`: expected DEV=VALUE"))?;
     Ok(Write {
         scan,
-        spec: DevName::parse(dev.trim(), aplc)?,
+        spec: names.parse(dev.trim())?,
         value: value.trim().to_string(),
     })
 }
 
-fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
+/// The `--trace` devices in the CPU's dialect and the engine's trace over
+/// their storage.
+fn parse_trace(args: &RunArgs, names: &Names) -> Result<Option<(Trace, Vec<DevName>)>, String> {
     if args.trace.is_empty() {
         return Ok(None);
     }
-    let devices = args
+    let traced = args
         .trace
         .iter()
-        .map(|d| DeviceSpec::parse(d.trim()))
+        .map(|d| names.parse(d.trim()))
         .collect::<Result<Vec<_>, _>>()?;
+    let devices: Vec<DeviceSpec> = traced.iter().map(|n| n.spec().clone()).collect();
     Trace::new(TraceConfig {
         devices,
         every_scans: args.trace_every,
@@ -326,13 +320,36 @@ fn parse_trace(args: &RunArgs) -> Result<Option<Trace>, String> {
         trigger: None,
         after_trigger: 0,
     })
-    .map(Some)
+    .map(|t| Some((t, traced)))
 }
 
-fn parse_options(args: &RunArgs, aplc: bool) -> Result<(Vec<Write>, Vec<DevName>), String> {
+/// The trace as CSV, `scan,time_ms,DEV,…`, values in each name's type (an
+/// APLC pair high word first).
+fn trace_csv(t: &Trace, names: &[DevName]) -> String {
+    let mut out = String::from("scan,time_ms");
+    for n in names {
+        out.push(',');
+        out.push_str(n.text());
+    }
+    out.push('\n');
+    for (scan, us, vals) in t.samples() {
+        out.push_str(&format!("{scan},{}", us as f64 / 1000.0));
+        for (v, n) in vals.iter().zip(names) {
+            out.push(',');
+            out.push_str(&match n.present(v) {
+                Value::Bool(b) => (b as u8).to_string(),
+                v => v.to_string(),
+            });
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn parse_options(args: &RunArgs, names: &Names) -> Result<(Vec<Write>, Vec<DevName>), String> {
     let mut writes = Vec::new();
     for s in &args.set {
-        writes.push(parse_write(s, 1, aplc)?);
+        writes.push(parse_write(s, 1, names)?);
     }
     for a in &args.at {
         let (n, rest) = a
@@ -344,13 +361,13 @@ fn parse_options(args: &RunArgs, aplc: bool) -> Result<(Vec<Write>, Vec<DevName>
             .ok()
             .filter(|n| *n >= 1)
             .ok_or_else(|| format!("`{a}`: scan number must be 1 or more"))?;
-        writes.push(parse_write(rest, n, aplc)?);
+        writes.push(parse_write(rest, n, names)?);
     }
     writes.sort_by_key(|w| w.scan);
     let shows = args
         .show
         .iter()
-        .map(|s| DevName::parse(s, aplc))
+        .map(|s| names.parse(s))
         .collect::<Result<Vec<_>, _>>()?;
     Ok((writes, shows))
 }
@@ -372,17 +389,24 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
-    let (writes, shows, trace) =
-        match parse_options(&args, cpu.config().model == softplc_core::aplc::MODEL)
-            .and_then(|(w, s)| Ok((w, s, parse_trace(&args)?)))
-        {
-            Ok(x) => x,
-            Err(e) => {
-                eprintln!("softplc: {e}");
-                return ExitCode::from(2);
-            }
-        };
-    cpu.set_trace(trace);
+    let names = Names::of(&cpu);
+    let dialect = names.dialect;
+    let (writes, shows, trace) = match parse_options(&args, &names)
+        .and_then(|(w, s)| Ok((w, s, parse_trace(&args, &names)?)))
+    {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let trace_names = match trace {
+        Some((t, names)) => {
+            cpu.set_trace(Some(t));
+            names
+        }
+        None => Vec::new(),
+    };
     // Power-on: latched devices, file registers and the error history come back.
     let mut battery = match args.state.clone().or(state) {
         Some(dir) => match Battery::attach_with(
@@ -461,7 +485,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         }
     }
     if let Some(t) = cpu.trace() {
-        let csv = t.to_csv();
+        let csv = trace_csv(t, &trace_names);
         match &args.trace_file {
             Some(path) => {
                 if let Err(e) = std::fs::write(path, csv) {
@@ -489,7 +513,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
     let time_ms = scans as f64 * args.scan_time.as_secs_f64() * 1000.0;
     // The APLC has no step numbers in its reports (contract §2).
-    let aplc = cpu.config().model == softplc_core::aplc::MODEL;
+    let aplc = dialect == Dialect::Aplc;
     let error = cpu.error().map(|e| {
         json!({
             "code": e.code.0,

@@ -10,6 +10,7 @@ use std::time::Duration;
 use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
+use softplc_core::names::Dialect;
 use softplc_core::persist::{Attach, Battery};
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
@@ -19,7 +20,7 @@ use crate::run::{load, parse_datetime, parse_duration, report_attach, state_erro
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
-    /// Program file (.il or .csv) or project directory (or its plc.toml).
+    /// Program file (.il, .csv or .apl) or project directory (or its plc.toml).
     pub program: PathBuf,
     /// CPU model a single program file runs on (default Q06HCPU; see `run --model`).
     #[arg(long, value_name = "MODEL")]
@@ -161,6 +162,20 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         },
         None => None,
     };
+    let aplc = Dialect::of(&cpu) == Dialect::Aplc;
+    if aplc {
+        // APLC-TCP speaks Modbus only (seed 002 ch. 10); see COMPATIBILITY.md.
+        for (flag, given) in [
+            ("--mc", args.mc.is_some()),
+            ("--mc-udp", args.mc_udp.is_some()),
+        ] {
+            if given {
+                return fail(format!(
+                    "{flag}: an APLC-TCP has no MC protocol (seed 002 ch. 10: Modbus RTU/ASCII/TCP and free port only); use --modbus"
+                ));
+            }
+        }
+    }
     let mut listeners = Vec::new();
     let mut names = Vec::new();
     if let Some(a) = &args.mc {
@@ -203,9 +218,16 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         eprintln!("softplc: --http-token has no effect without --http");
     }
     let table = modbus.unwrap_or_default();
+    // APLC-TCP: seed 002's map and unit address 8 (L10686, contract §3).
+    let (map_dialect, unit) = if aplc {
+        (softplc_modbus::Dialect::Aplc, 8)
+    } else {
+        (softplc_modbus::Dialect::Q, 1)
+    };
     let modbus_setup = || -> Result<(Map, Slave), String> {
-        let map = Map::from_toml(&table).map_err(|e| format!("[modbus]: {e}"))?;
-        let mut slave = Slave::from_toml(&table).map_err(|e| format!("[modbus]: {e}"))?;
+        let map = Map::from_toml_with(&table, map_dialect).map_err(|e| format!("[modbus]: {e}"))?;
+        let mut slave =
+            Slave::from_toml_with(&table, unit).map_err(|e| format!("[modbus]: {e}"))?;
         slave.read_only |= args.modbus_read_only;
         Ok((map, slave))
     };

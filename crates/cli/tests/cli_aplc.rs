@@ -206,3 +206,169 @@ fn aplc_project() {
     ]));
     assert_eq!(v["devices"]["SD34"], 200);
 }
+
+/// `--trace` samples APLC names: D10:i32 high word first, CN200 32-bit, X10
+/// (input 8); `--set`/`--show` take the same names as `softplc test`.
+#[test]
+fn trace_with_aplc_names() {
+    let dir = tempfile::tempdir().unwrap();
+    // Each scan: D10:i32 += 70000 (DADD, high word in D10); C200 counts the
+    // rising edges of X10.
+    let p = write(
+        &dir,
+        "t.apl",
+        "LD SM0\nDADD D10 70000 D10\nLD X10\nDCNT C200 5\n",
+    );
+    let csv = dir.path().join("t.csv");
+    let csv_s = csv.display().to_string();
+    let v = json(&softplc(&[
+        "run",
+        &p,
+        "--scans",
+        "3",
+        "--at",
+        "2:X10=1",
+        "--trace",
+        "D10:i32,D10,D11:u16,CN200,X10",
+        "--trace-file",
+        &csv_s,
+        "--show",
+        "CN200",
+        "--show",
+        "D10:i32",
+        "--json",
+    ]));
+    assert_eq!(v["devices"]["CN200"], 1);
+    assert_eq!(v["devices"]["D10:i32"], 210000);
+    // 70000 = 16#0001_1170: D10 = 1, D11 = 4464; 140000 = 16#0002_22E0:
+    // D10 = 2, D11 = 8928; 210000 = 16#0003_3450: D10 = 3, D11 = 13392.
+    assert_eq!(
+        std::fs::read_to_string(&csv).unwrap(),
+        "scan,time_ms,D10:i32,D10,D11:u16,CN200,X10\n\
+         1,10,70000,1,4464,0,0\n\
+         2,20,140000,2,8928,1,1\n\
+         3,30,210000,3,13392,1,1\n"
+    );
+    // LM/V cannot be traced into a write, but can be read; X8 is refused.
+    let bad = softplc(&["run", &p, "--trace", "X8"]);
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("`X8`: X is numbered in octal"));
+}
+
+/// Several `[[program]]` files form one user program (contract §1.1 item
+/// 10): a global of one file used in another, a subroutine called across
+/// files, errors located in their own file.
+#[test]
+fn multi_file_project() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        &dir,
+        "plc.toml",
+        "[cpu]\nmodel = \"APLC-TCP\"\n\n[[program]]\nfile = \"main.apl\"\n[[program]]\nfile = \"sub.apl\"\n",
+    );
+    write(
+        &dir,
+        "main.apl",
+        "VAR_GLOBAL\n    灯   Y10\nEND_VAR\nPOU MAIN\nLD SM0\nCALL SBR_0 D0\nLD 按钮\nOUT 灯\n",
+    );
+    write(
+        &dir,
+        "sub.apl",
+        "// the subroutine, with a global of its own\nVAR_GLOBAL\n    按钮   X10\nEND_VAR\nPOU SBR_0\nVAR\n    N   IN_OUT INT\nEND_VAR\nLD SM0\nINC #N\nLD M1\nDIV 1 D1 D2\n",
+    );
+    let d = dir.path().display().to_string();
+    // Global names of either file are device names outside the program too.
+    let v = json(&softplc(&[
+        "run", &d, "--scans", "3", "--set", "按钮=1", "--show", "Y10", "--show", "灯", "--show",
+        "D0", "--json",
+    ]));
+    assert_eq!(v["devices"]["Y10"], true);
+    assert_eq!(v["devices"]["灯"], true);
+    assert_eq!(v["devices"]["D0"], 3);
+    assert!(v["error"].is_null());
+    // The divide by zero is in sub.apl line 12, not line 20 of the whole.
+    let v = json(&softplc(&["run", &d, "--set", "M1=1", "--json"]));
+    assert_eq!(v["error"]["code"], 69);
+    assert_eq!(v["error"]["line"], 12);
+    assert!(
+        v["error"]["file"].as_str().unwrap().ends_with("sub.apl"),
+        "{v}"
+    );
+    // Diagnostics name each file: a global and POUs defined twice, with the
+    // first definition's place.
+    write(
+        &dir,
+        "more.apl",
+        "VAR_GLOBAL\n    灯   Y11\nEND_VAR\nPOU MAIN\nLD SM0\nOUT Y0\nPOU SBR_0\nLD SM0\n",
+    );
+    write(
+        &dir,
+        "plc.toml",
+        "[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"main.apl\"\n[[program]]\nfile = \"sub.apl\"\n[[program]]\nfile = \"more.apl\"\n",
+    );
+    let out = softplc(&["check", &d]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let main = dir.path().join("main.apl").display().to_string();
+    let sub = dir.path().join("sub.apl").display().to_string();
+    let more = dir.path().join("more.apl").display().to_string();
+    for line in [
+        format!("{more}:2:5: global variable `灯` defined twice"),
+        format!("{more}:4:5: POU `MAIN` defined twice (first at {main}:4)"),
+        format!("{more}:7:5: POU `SBR_0` defined twice (first at {sub}:5)"),
+    ] {
+        assert!(err.contains(&line), "missing `{line}` in {err}");
+    }
+    // Two files without POU headers are two MAINs; none at all is no MAIN.
+    write(&dir, "a.apl", "LD SM0\nOUT Y0\n");
+    write(&dir, "b.apl", "\nLD X0\nOUT Y1\n");
+    let a = dir.path().join("a.apl").display().to_string();
+    let b = dir.path().join("b.apl").display().to_string();
+    write(
+        &dir,
+        "plc.toml",
+        "[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"a.apl\"\n[[program]]\nfile = \"b.apl\"\n",
+    );
+    let err = String::from_utf8_lossy(&softplc(&["check", &d]).stderr).into_owned();
+    assert!(
+        err.contains(&format!(
+            "{b}:2:1: POU `MAIN` defined twice (first at {a}:1)"
+        )),
+        "{err}"
+    );
+    write(
+        &dir,
+        "plc.toml",
+        "[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"sub.apl\"\n[[program]]\nfile = \"c.apl\"\n",
+    );
+    write(&dir, "c.apl", "LD SM0\nPOU SBR_1\nLD SM0\n");
+    let c = dir.path().join("c.apl").display().to_string();
+    let err = String::from_utf8_lossy(&softplc(&["check", &d]).stderr).into_owned();
+    assert!(
+        err.contains(&format!(
+            "{c}:1:1: `LD` before the first POU header of the file"
+        )),
+        "{err}"
+    );
+    write(&dir, "c.apl", "POU SBR_1\nLD SM0\n");
+    let err = String::from_utf8_lossy(&softplc(&["check", &d]).stderr).into_owned();
+    assert!(
+        err.contains("the program has no `POU MAIN` (L2237)"),
+        "{err}"
+    );
+    assert!(err.contains(&sub), "{err}");
+}
+
+/// APLC-TCP has no MC protocol: `serve --mc` is refused before anything
+/// starts.
+#[test]
+fn serve_refuses_mc_on_an_aplc_cpu() {
+    for flag in ["--mc", "--mc-udp"] {
+        let out = softplc(&["serve", "examples/aplc/conveyor.apl", flag, "127.0.0.1:0"]);
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains(&format!("{flag}: an APLC-TCP has no MC protocol")),
+            "{err}"
+        );
+    }
+}

@@ -232,6 +232,8 @@ fn shipped_examples_pass() {
         "examples/process/autotune.toml",
         "examples/process/ratio.toml",
         "examples/process/fopdt_loop.toml",
+        // The APLC-TCP conveyor (seed 002 dialect, APLC device names).
+        "examples/aplc/conveyor.toml",
         "--plot",
         &svg,
     ]);

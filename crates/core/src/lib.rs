@@ -6,13 +6,15 @@
 //!   (softplc-lang + softplc-melsec);
 //! - [`instructions`]: the MELSEC-Q instruction set (softplc-melsec);
 //! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
-//! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk.
+//! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk;
+//! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC).
 
 pub use softplc_engine as engine;
 pub use softplc_ir::{access, device};
 pub use softplc_melsec as instructions;
 
 pub mod aplc;
+pub mod names;
 pub mod persist;
 pub mod program;
 pub mod project;

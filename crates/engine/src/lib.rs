@@ -227,7 +227,8 @@ impl Runtime {
     #[inline(never)]
     pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
-        self.record(code, Some(&prog.file), step, prog.op_line.get(pc).copied());
+        let (file, line) = prog.source_of(pc);
+        self.record(code, Some(file), step, line);
         if let Some(s) = &self.system {
             return s.code(code).is_some_and(|c| s.stops(c));
         }

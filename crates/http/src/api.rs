@@ -22,7 +22,8 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
 use serde_json::{json, Map, Value as Json_};
-use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::access::Value;
+use softplc_core::names::{DevName, Dialect};
 use softplc_serve::ServeState;
 
 use crate::monitor::{self, Breakpoint, Monitor};
@@ -156,13 +157,19 @@ fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, R
     serde_json::from_slice(bytes).map_err(|e| bad(format!("malformed JSON body ({what}): {e}")))
 }
 
-/// The CPU's error as in contract §2.
+/// The dialect of the served CPU (its device names).
+fn dialect(s: &ServeState) -> Dialect {
+    Dialect::of(&s.cpu)
+}
+
+/// The CPU's error as in contract §2 (the APLC has no step numbers).
 fn error_json(s: &ServeState) -> Json_ {
+    let aplc = dialect(s) == Dialect::Aplc;
     s.cpu.error().map_or(Json_::Null, |e| {
         json!({
             "code": e.code.0,
             "message": e.code.message(),
-            "step": e.step,
+            "step": if aplc { None } else { e.step },
             "file": e.file,
             "line": e.line,
         })
@@ -171,8 +178,9 @@ fn error_json(s: &ServeState) -> Json_ {
 
 fn forced_json(s: &ServeState) -> Json_ {
     let mut m = Map::new();
+    let d = dialect(s);
     for (k, n, on) in s.cpu.forced() {
-        m.insert(io_name(k, n), Json_::Bool(on));
+        m.insert(io_name(k, n, d), Json_::Bool(on));
     }
     Json_::Object(m)
 }
@@ -216,17 +224,17 @@ async fn status(State(app): Shared) -> Response {
 }
 
 /// Reads `specs` now: `{"scan": N, "devices": {...}}`, or the first error.
-fn read_all(s: &ServeState, specs: &[DeviceSpec]) -> Result<Json_, String> {
+fn read_all(s: &ServeState, specs: &[DevName]) -> Result<Json_, String> {
     let mut m = Map::new();
     for d in specs {
-        let v = s.cpu.read_device(d)?;
-        m.insert(d.text.clone(), to_json(&v));
+        let v = d.read(&s.cpu)?;
+        m.insert(d.text().to_string(), to_json(&v));
     }
     Ok(json!({"scan": s.cpu.scans(), "devices": m}))
 }
 
 async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::spec_list(q.get("names").map(String::as_str)) {
+    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
@@ -239,26 +247,26 @@ async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
 
 /// Writes every `(device, value)` or none: on a failure the ones written are
 /// put back before the END ends, so no scan sees a part.
-fn write_all(s: &mut ServeState, writes: &[(DeviceSpec, Value)]) -> Result<u64, String> {
-    let mut done: Vec<(&DeviceSpec, Value)> = Vec::with_capacity(writes.len());
+fn write_all(s: &mut ServeState, writes: &[(DevName, Value)]) -> Result<u64, String> {
+    let mut done: Vec<(&DevName, Value)> = Vec::with_capacity(writes.len());
     let mut fail = None;
     for (d, v) in writes {
-        let old = match s.cpu.read_device(d) {
+        let old = match d.read(&s.cpu) {
             Ok(o) => o,
             Err(e) => {
                 fail = Some(e);
                 break;
             }
         };
-        if let Err(e) = s.cpu.write_value(d, v) {
-            fail = Some(e.to_string());
+        if let Err(e) = d.write_value(&mut s.cpu, v) {
+            fail = Some(e);
             break;
         }
         done.push((d, old));
     }
     if let Some(e) = fail {
         for (d, old) in done.into_iter().rev() {
-            let _ = s.cpu.write_value(d, &old);
+            let _ = d.write_value(&mut s.cpu, &old);
         }
         return Err(e);
     }
@@ -282,7 +290,7 @@ async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> R
     }
     let mut writes = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let d = match values::spec(name) {
+        let d = match values::name(name, &app.names) {
             Ok(d) => d,
             Err(e) => return bad(e),
         };
@@ -315,7 +323,7 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
     };
     let mut forces = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let (k, n) = match io_point(name) {
+        let (k, n) = match io_point(name, &app.names) {
             Ok(p) => p,
             Err(e) => return bad(e),
         };
@@ -337,7 +345,8 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
         }
         for (k, n, _) in &forces {
             if *n >= s.cpu.memory().map.points(*k) {
-                return Err(format!("`{}` is beyond the CPU's points", io_name(*k, *n)));
+                let name = io_name(*k, *n, dialect(s));
+                return Err(format!("`{name}` is beyond the CPU's points"));
             }
         }
         for (k, n, on) in forces {
@@ -364,7 +373,7 @@ async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Respons
     };
     let mut points = Vec::with_capacity(names.len());
     for name in &names {
-        match io_point(name) {
+        match io_point(name, &app.names) {
             Ok(p) => points.push(p),
             Err(e) => return bad(e),
         }
@@ -481,12 +490,12 @@ async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Body) -> 
     let Some(when) = obj.get("when").and_then(Json_::as_str) else {
         return bad("expected {\"when\": \"D0 >= 100\"} (or a bit device: \"M0\")");
     };
-    let bp = match Breakpoint::parse(when) {
+    let bp = match Breakpoint::parse(when, &app.names) {
         Ok(b) => b,
         Err(e) => return bad(e),
     };
     let r = at_end(&app, move |s| {
-        s.cpu.read_device(&bp.device)?;
+        bp.device.read(&s.cpu)?;
         let mut bp = bp;
         // It pauses when the condition *becomes* true: from its value now.
         bp.prev = bp.holds(s);
@@ -543,11 +552,11 @@ impl Drop for Subscription {
 
 /// `events?names=...`: one unnamed event per published snapshot (≤ 10/s).
 async fn events(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::spec_list(q.get("names").map(String::as_str)) {
+    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
-    let mut names: Vec<String> = specs.iter().map(|d| d.text.clone()).collect();
+    let mut names: Vec<String> = specs.iter().map(|d| d.text().to_string()).collect();
     names.dedup();
     if app.streams.fetch_add(1, Ordering::Relaxed) >= crate::MAX_STREAMS {
         app.streams.fetch_sub(1, Ordering::Relaxed);
@@ -567,7 +576,7 @@ async fn events(State(app): Shared, Query(q): Q) -> Response {
         Ok(Err(e)) => return bad(e),
         Err(e) => return e,
     }
-    guard.names = specs.iter().map(|d| d.text.clone()).collect();
+    guard.names = specs.iter().map(|d| d.text().to_string()).collect();
     let mut rx = app.snapshots.clone();
     rx.mark_unchanged();
     let stream =

@@ -43,6 +43,9 @@ pub struct App {
     pub snapshots: tokio::sync::watch::Receiver<Arc<monitor::Snapshot>>,
     /// Open event streams (at most [`MAX_STREAMS`]).
     pub streams: std::sync::atomic::AtomicUsize,
+    /// What device names mean for the served CPU (its dialect and global
+    /// names), read once at start.
+    pub names: softplc_core::names::Names,
 }
 
 /// Most event streams open at once; more are 503.
@@ -65,10 +68,14 @@ pub fn listener(addr: SocketAddr, cfg: HttpConfig) -> Listener {
 pub async fn start(cfg: HttpConfig, engine: EngineHandle) -> Result<Arc<App>, softplc_serve::Busy> {
     let (tx, rx) = tokio::sync::watch::channel(Arc::new(monitor::Snapshot::default()));
     engine.at_end(move |s| monitor::install(s, tx)).await?;
+    let names = engine
+        .at_end(|s| softplc_core::names::Names::of(&s.cpu))
+        .await?;
     Ok(Arc::new(App {
         cfg,
         engine,
         snapshots: rx,
         streams: Default::default(),
+        names,
     }))
 }

@@ -18,8 +18,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use serde_json::Value as Json;
-use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::access::Value;
 use softplc_core::engine::CpuState;
+use softplc_core::names::{DevName, Names};
 use softplc_serve::ServeState;
 use tokio::sync::{oneshot, watch};
 
@@ -78,7 +79,7 @@ impl Cmp {
 /// "Pause at END when `device op value` becomes true".
 #[derive(Clone, Debug)]
 pub struct Breakpoint {
-    pub device: DeviceSpec,
+    pub device: DevName,
     pub cmp: Cmp,
     pub value: Value,
     /// The condition at the previous END (it pauses on the rising edge).
@@ -88,8 +89,9 @@ pub struct Breakpoint {
 }
 
 impl Breakpoint {
-    /// Parses `M0` (ON), `D0 >= 100`, `D10:f32 < 1.5`, `Y0 == false`.
-    pub fn parse(text: &str) -> Result<Breakpoint, String> {
+    /// Parses `M0` (ON), `D0 >= 100`, `D10:f32 < 1.5`, `Y0 == false` with
+    /// the served CPU's device `names`.
+    pub fn parse(text: &str, names: &Names) -> Result<Breakpoint, String> {
         let t = text.trim();
         let ops = [
             ("==", Cmp::Eq),
@@ -109,9 +111,9 @@ impl Breakpoint {
             Some((i, s, c)) => (&t[..i], c, Some(t[i + s.len()..].trim())),
             None => (t, Cmp::Eq, None),
         };
-        let device = crate::values::spec(name)?;
+        let device = crate::values::name(name, names)?;
         let value = match value {
-            None if device.ty == softplc_core::access::ValueType::Bit => Value::Bool(true),
+            None if device.ty() == softplc_core::access::ValueType::Bit => Value::Bool(true),
             None => {
                 return Err(format!(
                     "`{t}`: a word device needs a comparison, e.g. `D0 >= 100`"
@@ -131,12 +133,17 @@ impl Breakpoint {
     }
 
     pub fn text(&self) -> String {
-        format!("{} {} {}", self.device.text, self.cmp.as_str(), self.value)
+        format!(
+            "{} {} {}",
+            self.device.text(),
+            self.cmp.as_str(),
+            self.value
+        )
     }
 
     /// The condition against device memory now (false when unreadable).
     pub(crate) fn holds(&self, s: &ServeState) -> bool {
-        let Ok(v) = s.cpu.read_device(&self.device) else {
+        let Ok(v) = self.device.read(&s.cpu) else {
             return false;
         };
         let ord = match (&v, &self.value) {
@@ -167,7 +174,7 @@ pub struct Monitor {
     step: Option<Step>,
     pub breakpoint: Option<Breakpoint>,
     /// Subscribed names with their subscriber counts.
-    subs: Vec<(DeviceSpec, usize)>,
+    subs: Vec<(DevName, usize)>,
     publish: Option<watch::Sender<Arc<Snapshot>>>,
     last: Option<Instant>,
     seq: u64,
@@ -226,8 +233,8 @@ fn end_hook(s: &mut ServeState) {
             .subs
             .iter()
             .map(|(d, _)| {
-                let v = s.cpu.read_device(d).map_or(Json::Null, |v| to_json(&v));
-                (d.text.clone(), v)
+                let v = d.read(&s.cpu).map_or(Json::Null, |v| to_json(&v));
+                (d.text().to_string(), v)
             })
             .collect();
         if let Some(tx) = &m.publish {
@@ -264,14 +271,14 @@ pub fn start_step(s: &mut ServeState, n: u64) -> Result<oneshot::Receiver<StepDo
 pub const MAX_WATCHED: usize = 4096;
 
 /// Adds subscribers of `specs` (each must be readable now).
-pub fn subscribe(s: &mut ServeState, specs: &[DeviceSpec]) -> Result<(), String> {
+pub fn subscribe(s: &mut ServeState, specs: &[DevName]) -> Result<(), String> {
     for d in specs {
-        s.cpu.read_device(d)?;
+        d.read(&s.cpu)?;
     }
     let m = s.ext::<Monitor>();
     let fresh = specs
         .iter()
-        .filter(|d| !m.subs.iter().any(|(e, _)| e.text == d.text))
+        .filter(|d| !m.subs.iter().any(|(e, _)| e.text() == d.text()))
         .count();
     if m.subs.len() + fresh > MAX_WATCHED {
         return Err(format!(
@@ -280,7 +287,7 @@ pub fn subscribe(s: &mut ServeState, specs: &[DeviceSpec]) -> Result<(), String>
         ));
     }
     for d in specs {
-        match m.subs.iter_mut().find(|(e, _)| e.text == d.text) {
+        match m.subs.iter_mut().find(|(e, _)| e.text() == d.text()) {
             Some((_, n)) => *n += 1,
             None => m.subs.push((d.clone(), 1)),
         }
@@ -294,7 +301,7 @@ pub fn subscribe(s: &mut ServeState, specs: &[DeviceSpec]) -> Result<(), String>
 pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
     let m = s.ext::<Monitor>();
     for name in names {
-        if let Some(i) = m.subs.iter().position(|(e, _)| &e.text == name) {
+        if let Some(i) = m.subs.iter().position(|(e, _)| e.text() == name) {
             m.subs[i].1 -= 1;
             if m.subs[i].1 == 0 {
                 m.subs.swap_remove(i);
@@ -306,23 +313,35 @@ pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use softplc_core::names::Dialect;
 
     #[test]
     fn breakpoint_conditions_parse() {
-        let b = Breakpoint::parse("D0 >= 100").unwrap();
-        assert_eq!((b.device.text.as_str(), b.cmp), ("D0", Cmp::Ge));
+        let b = Breakpoint::parse("D0 >= 100", &Names::plain(Dialect::Melsec)).unwrap();
+        assert_eq!((b.device.text(), b.cmp), ("D0", Cmp::Ge));
         assert_eq!(b.value, Value::Int(100));
-        let b = Breakpoint::parse("M5").unwrap();
+        let b = Breakpoint::parse("M5", &Names::plain(Dialect::Melsec)).unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Eq, Value::Bool(true)));
-        let b = Breakpoint::parse("D10:f32<1.5").unwrap();
+        let b = Breakpoint::parse("D10:f32<1.5", &Names::plain(Dialect::Melsec)).unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Lt, Value::Float(1.5)));
         assert_eq!(
-            Breakpoint::parse("Y0 == false").unwrap().value,
+            Breakpoint::parse("Y0 == false", &Names::plain(Dialect::Melsec))
+                .unwrap()
+                .value,
             Value::Bool(false)
         );
-        assert_eq!(Breakpoint::parse("D1 <> 3").unwrap().cmp, Cmp::Ne);
-        assert!(Breakpoint::parse("D0").unwrap_err().contains("comparison"));
-        assert!(Breakpoint::parse("D0 > x").is_err());
-        assert!(Breakpoint::parse("QQ >= 1").unwrap_err().contains("QQ"));
+        assert_eq!(
+            Breakpoint::parse("D1 <> 3", &Names::plain(Dialect::Melsec))
+                .unwrap()
+                .cmp,
+            Cmp::Ne
+        );
+        assert!(Breakpoint::parse("D0", &Names::plain(Dialect::Melsec))
+            .unwrap_err()
+            .contains("comparison"));
+        assert!(Breakpoint::parse("D0 > x", &Names::plain(Dialect::Melsec)).is_err());
+        assert!(Breakpoint::parse("QQ >= 1", &Names::plain(Dialect::Melsec))
+            .unwrap_err()
+            .contains("QQ"));
     }
 }

@@ -434,6 +434,25 @@ pub struct Program {
     /// every resolved index is below them (checked when a CPU is built).
     pub bit_len: u32,
     pub word_len: u32,
+    /// A program combined from several source files (the `[[program]]`
+    /// files of an APLC-TCP project form one user program): `(first line,
+    /// file)` ascending, `op_line` counting the lines of the files one after
+    /// the other; empty for a program of one file.
+    pub sources: Vec<(u32, String)>,
+    /// Names the source gives devices, for device names from outside the
+    /// program: the APLC's global variables as (upper-case name, device).
+    pub globals: Vec<(String, String)>,
+}
+
+impl Program {
+    /// The file and its own line number of op `pc`'s instruction.
+    pub fn source_of(&self, pc: usize) -> (&str, Option<u32>) {
+        let line = self.op_line.get(pc).copied();
+        match line.and_then(|l| self.sources.iter().rev().find(|(first, _)| l >= *first)) {
+            Some((first, file)) => (file, line.map(|l| l - first + 1)),
+            None => (&self.file, line),
+        }
+    }
 }
 
 #[cfg(test)]

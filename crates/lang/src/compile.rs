@@ -323,6 +323,8 @@ impl<'a> Compiler<'a> {
         }
         Ok(Program {
             file: self.file.to_string(),
+            sources: Vec::new(),
+            globals: Vec::new(),
             ops: self.ops,
             op_step: self.op_step,
             op_line: self.op_line,

@@ -21,14 +21,14 @@
 //! # APLC (seed 002, spec/aplc.md §6.3–§6.5)
 //! | table | addresses | devices | notes |
 //! |---|---|---|---|
-//! | coils | 0–255 | Y0–Y377 (octal; device number = address) | |
-//! | | 1200–1455 | X0–X377 | writes answered normally, ignored |
+//! | coils | 0–255 | Y0–Y377 (octal; device number = address) | Y200–Y377 read OFF, writes ignored (D2) |
+//! | | 1200–1455 | X0–X377 | writes answered normally, ignored; X200–X377 read OFF |
 //! | | 2000–3999 | M0–M1999 | |
 //! | | 4400–4655 | SM0–SM255 | only the R/W SM of §7.1 are written; others ignored |
 //! | | 6000–6991 | S0–S991 | |
 //! | | 8000–8255 | T0–T255 contacts (TS) | |
 //! | | 9200–9455 | C0–C255 contacts (CS) | |
-//! | discrete inputs | 0–255 | X0–X377 | |
+//! | discrete inputs | 0–255 | X0–X377 | X200–X377 read OFF |
 //! | holding registers | 0–7999 | D0–D7999 | |
 //! | | 8000–8255 | SD0–SD255 | only the R/W SD of §7.2 are written; others ignored |
 //! | | 8500–8515 | Z0–Z15 | |
@@ -42,8 +42,11 @@
 //! the start must be even (02) and the quantity even (03); a quantity larger than
 //! the whole range is 03; a range running past its end is 02.
 //!
-//! softplc's core keeps 16-bit counter values, so a C200–C255 pair reads as the
-//! CN value zero-extended (high word 0) and a write stores the low word.
+//! The APLC CPU keeps C200+k as the word pair CN(200+2k) (high), CN(201+2k)
+//! (low) (crates/aplc/src/devices.rs), so the registers 9700–9811 map one to
+//! one onto CN200–CN311 and a pair is a true 32-bit value
+//! ([`Range::pair_words`]). A `pairs = true` entry in plc.toml is a pair per
+//! 16-bit device (a MELSEC counter): high word 0, writes store the low word.
 //!
 //! # plc.toml `[modbus]`
 //! ```toml
@@ -130,9 +133,19 @@ pub struct Range {
     /// even offset (spec/aplc.md §6.4 C200–C255). Pairs are read and written only
     /// whole: FC 6 and 22 are refused (02).
     pub pairs: bool,
+    /// With `pairs`: the device keeps each 32-bit value in two consecutive
+    /// words, high word first (the APLC's C200+k in CN(200+2k), CN(201+2k),
+    /// crates/aplc/src/devices.rs), so registers map one to one onto its
+    /// words. Without: each pair is one 16-bit device, read zero-extended
+    /// (high word 0) and written from the low word (a MELSEC counter).
+    pub pair_words: bool,
     /// `None`: every device is written. `Some(list)`: only device numbers in these
     /// inclusive ranges are written; writes to others are answered and ignored.
     pub writable: Option<Vec<(u32, u32)>>,
+    /// `Some(n)`: only device numbers below `n` exist; the rest of the range
+    /// reads OFF/0 and takes writes without effect (the APLC's 256-point X/Y
+    /// tables over X0-X177/Y0-Y177, spec/aplc.md §11 D2).
+    pub limit: Option<u32>,
 }
 
 impl Range {
@@ -144,12 +157,27 @@ impl Range {
             kind,
             first,
             pairs: false,
+            pair_words: false,
             writable: None,
+            limit: None,
         }
     }
 
     pub fn with_pairs(mut self) -> Range {
         self.pairs = true;
+        self
+    }
+
+    /// Pairs over a device that stores each value in two words, high first.
+    pub fn with_pair_words(mut self) -> Range {
+        self.pairs = true;
+        self.pair_words = true;
+        self
+    }
+
+    /// Devices from number `n` on do not exist (read OFF/0, writes ignored).
+    pub fn with_limit(mut self, n: u32) -> Range {
+        self.limit = Some(n);
         self
     }
 
@@ -169,7 +197,12 @@ impl Range {
 
     /// Device number of the address at `offset` from the start.
     pub fn device(&self, offset: u32) -> u32 {
-        self.first + if self.pairs { offset / 2 } else { offset }
+        self.first
+            + if self.pairs && !self.pair_words {
+                offset / 2
+            } else {
+                offset
+            }
     }
 
     /// Whether a write to device number `n` takes effect.
@@ -252,6 +285,9 @@ pub struct Map {
 pub const Q_FUNCTIONS: [u8; 11] = [1, 2, 3, 4, 5, 6, 8, 15, 16, 22, 23];
 /// Function codes of the APLC dialect (spec/aplc.md §6.3).
 pub const APLC_FUNCTIONS: [u8; 8] = [1, 2, 3, 5, 6, 8, 15, 16];
+
+/// X and Y points of an APLC-TCP (X0-X177, Y0-Y177, table 3-2 L1520).
+pub const APLC_IO_POINTS: u32 = 128;
 
 /// SM writable over Modbus on APLC: the R/W rows of spec/aplc.md §7.1.
 pub const APLC_WRITABLE_SM: [(u32, u32); 15] = [
@@ -346,20 +382,24 @@ impl Map {
             limits: Limits::APLC,
             span: false,
             ranges: vec![
-                Range::new(Coils, 0, 256, Y, 0),
-                Range::new(Coils, 1200, 256, X, 0).with_writable(&[]),
+                // 256 addresses over Y0-Y177 / X0-X177 (decision D2).
+                Range::new(Coils, 0, 256, Y, 0).with_limit(APLC_IO_POINTS),
+                Range::new(Coils, 1200, 256, X, 0)
+                    .with_writable(&[])
+                    .with_limit(APLC_IO_POINTS),
                 Range::new(Coils, 2000, 2000, M, 0),
                 Range::new(Coils, 4400, 256, SM, 0).with_writable(&APLC_WRITABLE_SM),
                 Range::new(Coils, 6000, 992, S, 0),
                 Range::new(Coils, 8000, 256, TS, 0),
                 Range::new(Coils, 9200, 256, CS, 0),
-                Range::new(DiscreteInputs, 0, 256, X, 0),
+                Range::new(DiscreteInputs, 0, 256, X, 0).with_limit(APLC_IO_POINTS),
                 Range::new(HoldingRegisters, 0, 8000, D, 0),
                 Range::new(HoldingRegisters, 8000, 256, SD, 0).with_writable(&APLC_WRITABLE_SD),
                 Range::new(HoldingRegisters, 8500, 16, Z, 0),
                 Range::new(HoldingRegisters, 9000, 256, TN, 0),
                 Range::new(HoldingRegisters, 9500, 200, CN, 0),
-                Range::new(HoldingRegisters, 9700, 112, CN, 200).with_pairs(),
+                // C200+k in CN(200+2k) (high), CN(201+2k) (low).
+                Range::new(HoldingRegisters, 9700, 112, CN, 200).with_pair_words(),
             ],
         }
     }
@@ -502,7 +542,9 @@ impl Map {
     pub fn check_devices(&self, cfg: &DeviceConfig) -> Vec<String> {
         self.ranges
             .iter()
-            .filter(|r| r.device(r.count - 1) >= cfg.points(r.kind))
+            .filter(|r| {
+                r.device(r.count - 1).min(r.limit.unwrap_or(u32::MAX) - 1) >= cfg.points(r.kind)
+            })
             .map(|r| {
                 format!(
                     "{} {}: the CPU has {} {} points",

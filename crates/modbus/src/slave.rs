@@ -84,7 +84,13 @@ impl Slave {
     /// Reads `unit_id` (1-247, default 1), `read_only` (default false) and
     /// `tcp_any_unit` (default true) from the `[modbus]` table.
     pub fn from_toml(table: &toml::Table) -> Result<Slave, String> {
-        let mut s = Slave::default();
+        Slave::from_toml_with(table, 1)
+    }
+
+    /// As [`Slave::from_toml`] with another default unit address (8 on an
+    /// APLC-TCP, L10686, contract §3).
+    pub fn from_toml_with(table: &toml::Table, default_unit: u8) -> Result<Slave, String> {
+        let mut s = Slave::new(default_unit);
         if let Some(v) = table.get("unit_id") {
             match v.as_integer() {
                 Some(n @ 1..=247) => s.unit_id = n as u8,
@@ -397,20 +403,34 @@ fn pack_bits(bits: &[bool]) -> Vec<u8> {
 }
 
 /// The devices a piece reaches, as one access span (R is the block-0 window
-/// R0-R32767 of the map); `None` when the CPU does not have them all.
-fn span(c: &Chunk, cpu: &Cpu) -> Option<Span> {
+/// R0-R32767 of the map): `Ok(None)` when the whole piece lies past the
+/// range's [`Range::limit`](crate::Range::limit) (it reads OFF/0), `Err`
+/// when the CPU does not have them all.
+fn span(c: &Chunk, cpu: &Cpu) -> Result<Option<Span>, ()> {
     let first = c.range.device(c.offset);
-    let last = c.range.device(c.offset + c.len - 1);
+    let mut last = c.range.device(c.offset + c.len - 1);
+    if let Some(limit) = c.range.limit {
+        if first >= limit {
+            return Ok(None);
+        }
+        last = last.min(limit - 1);
+    }
     cpu.span(c.range.kind, first, last - first + 1, RBlock::First)
-        .ok()
+        .map(Some)
+        .map_err(|_| ())
 }
 
 /// Exception 04 when a piece reaches devices the CPU does not have.
 fn present(chunks: &[Chunk], cpu: &Cpu) -> Result<(), Exception> {
     for c in chunks {
-        span(c, cpu).ok_or(Exception::ServerDeviceFailure)?;
+        span(c, cpu).map_err(|_| Exception::ServerDeviceFailure)?;
     }
     Ok(())
+}
+
+/// A write to device `n` of `range` takes effect.
+fn takes_write(range: &crate::Range, n: u32) -> bool {
+    range.is_writable(n) && range.limit.is_none_or(|l| n < l)
 }
 
 /// Every (range, offset) of the pieces, in request order.
@@ -429,7 +449,10 @@ fn read_points<T: Copy + Default>(
     let mut out = Vec::new();
     for c in chunks {
         let first = c.range.device(c.offset);
-        let points = span(c, cpu).and_then(|s| read(&s)).unwrap_or_default();
+        let points = match span(c, cpu) {
+            Ok(Some(s)) => read(&s).unwrap_or_default(),
+            _ => Vec::new(),
+        };
         for o in c.offset..c.offset + c.len {
             let i = (c.range.device(o) - first) as usize;
             out.push(points.get(i).copied().unwrap_or_default());
@@ -445,7 +468,7 @@ fn read_bits(chunks: &[Chunk], cpu: &Cpu) -> Vec<bool> {
 fn write_bits(chunks: &[Chunk], values: &[bool], cpu: &mut Cpu) {
     for ((c, o), &v) in addresses(chunks).zip(values) {
         let n = c.range.device(o);
-        if !c.range.is_writable(n) {
+        if !takes_write(c.range, n) {
             continue;
         }
         // X through the input image, so the value survives the next input refresh.
@@ -459,9 +482,9 @@ fn read_words(chunks: &[Chunk], cpu: &Cpu) -> Vec<u16> {
     let words = read_points(chunks, cpu, |s| cpu.memory().read_span_words(s).ok());
     addresses(chunks)
         .zip(words)
-        // Pairs: the high word (even offset) of a 16-bit value is 0.
+        // Pairs over 16-bit devices: the high word (even offset) is 0.
         .map(|((c, o), v)| {
-            if c.range.pairs && o.is_multiple_of(2) {
+            if c.range.pairs && !c.range.pair_words && o.is_multiple_of(2) {
                 0
             } else {
                 v
@@ -473,7 +496,8 @@ fn read_words(chunks: &[Chunk], cpu: &Cpu) -> Vec<u16> {
 fn write_words(chunks: &[Chunk], values: &[u16], cpu: &mut Cpu) {
     for ((c, o), &v) in addresses(chunks).zip(values) {
         let n = c.range.device(o);
-        if !c.range.is_writable(n) || (c.range.pairs && o.is_multiple_of(2)) {
+        let zero_extended = c.range.pairs && !c.range.pair_words;
+        if !takes_write(c.range, n) || (zero_extended && o.is_multiple_of(2)) {
             continue;
         }
         if let Ok(s) = cpu.span(c.range.kind, n, 1, RBlock::First) {

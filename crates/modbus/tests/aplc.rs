@@ -158,7 +158,8 @@ fn y_octal_addresses() {
         "01 05 00 08 FF 00 0D F8"
     );
     assert!(bit(&cpu, Y, 8));
-    // Y377 = address 255 is the last Y.
+    // Y377 = address 255 is the last Y address; the APLC has Y0-Y177, so the
+    // write is answered and ignored (decision D2).
     assert_eq!(
         pdu(
             &mut cpu,
@@ -169,7 +170,7 @@ fn y_octal_addresses() {
         )[0],
         5
     );
-    assert!(bit(&cpu, Y, 255));
+    assert!(!bit(&cpu, Y, 255));
     assert_eq!(
         pdu(
             &mut cpu,
@@ -358,8 +359,9 @@ fn register_map_spot_checks() {
     assert_eq!(at(9500), Some((CN, 0)));
     assert_eq!(at(9699), Some((CN, 199)));
     assert_eq!(at(9700), Some((CN, 200)));
-    assert_eq!(at(9701), Some((CN, 200)));
-    assert_eq!(at(9811), Some((CN, 255)));
+    // C200+k is CN(200+2k) (high) and CN(201+2k) (low) on an APLC CPU.
+    assert_eq!(at(9701), Some((CN, 201)));
+    assert_eq!(at(9811), Some((CN, 311)));
     assert_eq!(at(9812), None);
 
     let mut cpu = cpu();
@@ -433,25 +435,38 @@ fn register_map_spot_checks() {
 
 #[test]
 fn c200_to_c255_are_register_pairs() {
-    let mut cpu = cpu();
-    set_word(&mut cpu, CN, 200, 5);
+    let mut cpu = aplc_cpu();
+    // C200 = 5: high word CN200 = 0, low word CN201 = 5.
+    set_word(&mut cpu, CN, 201, 5);
     // C200 at 9700 (high word, 0) and 9701 (low word): 01 03 25 E4 00 02 + CRC 8F 30.
     assert_eq!(
         aplc(&mut cpu, "01 03 25 E4 00 02 8F 30").unwrap(),
         "01 03 04 00 00 00 05 3A 30"
     );
-    // FC 16 writes pairs: C201 = 0000 0007, C202 = 0000 0009.
+    // FC 16 writes true 32-bit pairs: C201 = 0001 0007 (65543), C202 =
+    // FFFF FFF7 (-9): C201 in CN202/CN203, C202 in CN204/CN205.
     assert_eq!(
         pdu(
             &mut cpu,
             &WriteMultipleRegisters {
                 address: 9702,
-                values: vec![0, 7, 0, 9]
+                values: vec![1, 7, 0xFFFF, 0xFFF7]
             }
         ),
         [16, 0x25, 0xE6, 0, 4]
     );
-    assert_eq!([word(&cpu, CN, 201), word(&cpu, CN, 202)], [7, 9]);
+    assert_eq!(
+        [202, 203, 204, 205].map(|n| word(&cpu, CN, n)),
+        [1, 7, 0xFFFF, 0xFFF7]
+    );
+    let c = |cpu: &Cpu, s: &str| {
+        softplc_core::names::DevName::parse(s, softplc_core::names::Dialect::Aplc)
+            .unwrap()
+            .read(cpu)
+            .unwrap()
+    };
+    assert_eq!(c(&cpu, "CN201"), softplc_core::access::Value::Int(65543));
+    assert_eq!(c(&cpu, "CN202"), softplc_core::access::Value::Int(-9));
     // C255 is the last pair (9810-9811).
     assert_eq!(
         pdu(
@@ -499,7 +514,7 @@ fn c200_to_c255_are_register_pairs() {
         aplc(&mut cpu, "01 06 25 E4 00 01 03 31").unwrap(),
         "01 86 02 C3 A1"
     );
-    assert_eq!(word(&cpu, CN, 200), 5);
+    assert_eq!(word(&cpu, CN, 200), 0);
 }
 
 #[test]
@@ -561,4 +576,145 @@ fn aplc_limits_and_functions() {
         ),
         [8, 0, 0, 1, 2]
     );
+}
+
+#[test]
+fn io_addresses_past_177_read_off_and_ignore_writes_on_an_aplc_cpu() {
+    // Decision D2: 256 addresses, X0-X177/Y0-Y177 exist (128 points).
+    let mut cpu = aplc_cpu();
+    set_bit(&mut cpu, Y, 127, true);
+    // Y170-Y207 (addresses 120-135): only Y177 (bit 7 of the first byte) is ON.
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &ReadCoils {
+                address: 120,
+                quantity: 16
+            }
+        ),
+        [1, 2, 0x80, 0]
+    );
+    // A write to Y200 (address 128) is answered and changes nothing.
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &WriteSingleCoil {
+                address: 128,
+                value: 0xFF00
+            }
+        ),
+        [5, 0, 128, 0xFF, 0]
+    );
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &ReadCoils {
+                address: 128,
+                quantity: 128
+            }
+        )[2..],
+        [0; 16]
+    );
+    // X0-X377 by FC 02: all 256 readable.
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &ReadDiscreteInputs {
+                address: 0,
+                quantity: 256
+            }
+        )[..2],
+        [2, 32]
+    );
+}
+
+/// Every range of the APLC map reaches the storage its APLC device lives in
+/// on an APLC CPU (crates/aplc/src/devices.rs: T on TS/TN, C on CS/CN,
+/// C200+k on the pair CN(200+2k), CN(201+2k)): a value written by APLC name
+/// through the door is read back over Modbus at the map's address.
+#[test]
+fn map_ranges_land_on_the_aplc_storage() {
+    use softplc_core::names::{DevName, Dialect};
+    let mut cpu = aplc_cpu();
+    let set = |cpu: &mut Cpu, name: &str, v: &str| {
+        DevName::parse(name, Dialect::Aplc)
+            .unwrap()
+            .write(cpu, v)
+            .unwrap()
+    };
+    let coil = |cpu: &mut Cpu, a: u16| {
+        pdu(
+            cpu,
+            &ReadCoils {
+                address: a,
+                quantity: 1,
+            },
+        )[2] & 1
+            == 1
+    };
+    for (name, address) in [
+        ("Y0", 0),
+        ("Y177", 127),
+        ("X0", 1200),
+        ("X177", 1327),
+        ("M0", 2000),
+        ("M1999", 3999),
+        ("SM200", 4600),
+        ("S0", 6000),
+        ("S991", 6991),
+        ("T0", 8000),
+        ("T255", 8255),
+        ("C0", 9200),
+        ("C255", 9455),
+    ] {
+        assert!(!coil(&mut cpu, address), "{name} before");
+        set(&mut cpu, name, "1");
+        assert!(coil(&mut cpu, address), "{name} at coil {address}");
+    }
+    assert_eq!(
+        pdu(
+            &mut cpu,
+            &ReadDiscreteInputs {
+                address: 127,
+                quantity: 1
+            }
+        ),
+        [2, 1, 1]
+    );
+    let reg = |cpu: &mut Cpu, a: u16, n: u16| {
+        let r = pdu(
+            cpu,
+            &ReadHoldingRegisters {
+                address: a,
+                quantity: n,
+            },
+        );
+        r[2..]
+            .chunks(2)
+            .map(|b| u16::from_be_bytes([b[0], b[1]]))
+            .collect::<Vec<_>>()
+    };
+    for (k, (name, address)) in [
+        ("D0", 0u16),
+        ("D7999", 7999),
+        ("SD255", 8255),
+        ("Z0", 8500),
+        ("Z15", 8515),
+        ("TN0", 9000),
+        ("TN255", 9255),
+        ("CN0", 9500),
+        ("CN199", 9699),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let v = 1000 + k as u16;
+        set(&mut cpu, name, &v.to_string());
+        assert_eq!(reg(&mut cpu, address, 1), [v], "{name} at {address}");
+    }
+    // 32-bit counters: C200 = 16#0001_0002 at 9700-9701, C255 = -3 at 9810-9811.
+    set(&mut cpu, "CN200", "16#00010002");
+    set(&mut cpu, "CN255", "-3");
+    assert_eq!(reg(&mut cpu, 9700, 2), [1, 2]);
+    assert_eq!(reg(&mut cpu, 9810, 2), [0xFFFF, 0xFFFD]);
 }

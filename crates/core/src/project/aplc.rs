@@ -64,22 +64,11 @@ pub(crate) fn configure(cx: &mut Ctx, top: &[Entry], config: &mut CpuConfig) {
     }
 }
 
-/// Loads the programs of an APLC-TCP project: scan programs read as `.apl`.
-/// Decision (phase 1): one program file; several files forming one user
-/// program are not implemented yet.
+/// Loads the programs of an APLC-TCP project: every `[[program]]` file is
+/// read as `.apl` and all of them form one user program (contract §1.1
+/// item 10, [`crate::aplc::load_files`]); scan programs only.
 pub(crate) fn load(specs: &[ProgramSpec], manifest: &str) -> Result<Vec<Program>, Vec<Diagnostic>> {
     let mut diags = Vec::new();
-    if specs.len() > 1 {
-        diags.push(Diagnostic {
-            file: manifest.to_string(),
-            line: 1,
-            col: 1,
-            message:
-                "an APLC-TCP project with several program files is not implemented yet in softplc"
-                    .into(),
-        });
-    }
-    let mut out = Vec::new();
     for s in specs {
         if s.exec != ExecType::Scan {
             diags.push(Diagnostic {
@@ -91,16 +80,13 @@ pub(crate) fn load(specs: &[ProgramSpec], manifest: &str) -> Result<Vec<Program>
                     s.file.display()
                 ),
             });
-            continue;
-        }
-        match crate::aplc::load_file(&s.file) {
-            Ok(p) => out.push(p),
-            Err(d) => diags.extend(d.0),
         }
     }
-    if diags.is_empty() {
-        Ok(out)
-    } else {
-        Err(diags)
+    if !diags.is_empty() {
+        return Err(diags);
     }
+    let files: Vec<&std::path::Path> = specs.iter().map(|s| s.file.as_path()).collect();
+    crate::aplc::load_files(&files)
+        .map(|p| vec![p])
+        .map_err(|d| d.0)
 }

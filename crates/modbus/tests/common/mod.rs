@@ -12,6 +12,17 @@ pub fn cpu_with(cfg: CpuConfig) -> Cpu {
     Cpu::new(prog, cfg, Box::new(VirtualClock::new()))
 }
 
+/// An APLC-TCP CPU (its device layout: C200-C255 as CN pairs, 128 X/Y).
+pub fn aplc_cpu() -> Cpu {
+    let prog = softplc_core::aplc::load_bytes("t.apl", b"LD SM0\nOUT M2047\n").unwrap();
+    softplc_core::aplc::single_cpu(
+        prog,
+        softplc_core::aplc::cpu_config(),
+        Box::new(VirtualClock::new()),
+    )
+    .unwrap()
+}
+
 pub fn cpu() -> Cpu {
     cpu_with(CpuConfig::default())
 }

@@ -1,38 +1,44 @@
 //! Devices resolved once at build time and read/written every scan without
 //! allocation or string work.
 
-use softplc_core::access::{DeviceSpec, Value, ValueType};
+use softplc_core::access::{Value, ValueType};
 use softplc_core::device::DeviceMemory;
 use softplc_core::engine::Cpu;
+use softplc_core::names::DevName;
 
 use super::fmt::Kind;
 use super::spec::Scale;
 use crate::model::{from_raw_clamped, to_raw};
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
-/// index-modified device pushed out of range by Z).
+/// index-modified device pushed out of range by Z), named in the CPU's
+/// dialect (`softplc_core::names`).
 #[derive(Clone, Debug)]
 pub struct Probe {
-    pub spec: DeviceSpec,
+    pub dev: DevName,
 }
 
 impl Probe {
-    /// Parses `text` and checks it exists in `mem`.
-    pub fn new(text: &str, mem: &DeviceMemory) -> Result<Probe, String> {
-        let spec = DeviceSpec::parse(text.trim())?;
-        if spec.ty == ValueType::Str {
+    /// Parses `text` in the dialect of `cpu` and checks it exists there.
+    pub fn new(text: &str, cpu: &Cpu) -> Result<Probe, String> {
+        let dev = DevName::parse_for(text.trim(), cpu)?;
+        if dev.ty() == ValueType::Str {
             return Err(format!("`{text}`: strings cannot be bound or checked"));
         }
-        spec.read_raw(mem)?;
-        Ok(Probe { spec })
+        Ok(Probe { dev })
     }
 
     pub fn name(&self) -> &str {
-        &self.spec.text
+        self.dev.text()
+    }
+
+    /// Both probes read the same value (the same storage in the same type).
+    pub fn same(&self, other: &Probe) -> bool {
+        self.dev.spec() == other.dev.spec() && self.dev.ty() == other.dev.ty()
     }
 
     pub fn kind(&self) -> Kind {
-        match self.spec.ty {
+        match self.dev.ty() {
             ValueType::Bit => Kind::Bit,
             ValueType::F32 => Kind::Float,
             _ => Kind::Int,
@@ -41,8 +47,8 @@ impl Probe {
 
     #[inline]
     pub fn read(&self, mem: &DeviceMemory) -> f64 {
-        match self.spec.read_raw(mem) {
-            Ok(raw) => decode(self.spec.ty, raw),
+        match self.dev.raw(mem) {
+            Ok(raw) => decode(self.dev.ty(), raw),
             Err(_) => f64::NAN,
         }
     }
@@ -106,15 +112,17 @@ impl Source {
 /// CPU's door (X reaches the input image, as from an input module).
 #[derive(Clone, Debug)]
 pub struct Sink {
-    spec: DeviceSpec,
+    dev: DevName,
     scale: Scale,
 }
 
 impl Sink {
-    pub fn new(text: &str, scale: Scale, mem: &DeviceMemory) -> Result<Sink, String> {
-        let probe = Probe::new(text, mem)?;
+    pub fn new(text: &str, scale: Scale, cpu: &Cpu) -> Result<Sink, String> {
+        let probe = Probe::new(text, cpu)?;
+        // LM/V are refused here, not silently at every scan.
+        probe.dev.door_value(&Value::Int(0))?;
         Ok(Sink {
-            spec: probe.spec,
+            dev: probe.dev,
             scale,
         })
     }
@@ -129,7 +137,7 @@ impl Sink {
         };
         let x = if x.is_nan() { 0.0 } else { x };
         let int = |lo: f64, hi: f64| Value::Int(x.round().clamp(lo, hi) as i64);
-        let value = match self.spec.ty {
+        let value = match self.dev.ty() {
             ValueType::Bit => Value::Bool(x > 0.5),
             ValueType::I16 => int(-32768.0, 32767.0),
             ValueType::U16 => int(0.0, 65535.0),
@@ -140,6 +148,6 @@ impl Sink {
             ValueType::Str => return,
         };
         // A device pushed out of range by its index register is not written.
-        let _ = cpu.write_value(&self.spec, &value);
+        let _ = self.dev.write_value(cpu, &value);
     }
 }

@@ -4,7 +4,8 @@ use std::time::{Duration, Instant};
 
 use softplc_core::device::DeviceConfig;
 use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::{program, project};
+use softplc_core::names::{Dialect, Names};
+use softplc_core::{aplc, program, project};
 
 use super::bind::{Probe, Sink, Source};
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
@@ -114,10 +115,15 @@ impl Scenario {
                 if let Some(m) = &self.cpu {
                     cfg.model = m.clone();
                 }
-                let dialect = program::dialect_for(&cfg.model, Default::default());
-                let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
-                    .map_err(|d| format!("{d}"))?;
-                Cpu::new(prog, cfg, Box::new(clock.clone()))
+                if self.names.dialect == Dialect::Aplc {
+                    let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
+                    aplc::single_cpu(prog, aplc::cpu_config(), Box::new(clock.clone()))?
+                } else {
+                    let dialect = program::dialect_for(&cfg.model, Default::default());
+                    let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
+                        .map_err(|d| format!("{d}"))?;
+                    Cpu::new(prog, cfg, Box::new(clock.clone()))
+                }
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
@@ -141,17 +147,14 @@ impl Scenario {
                 inputs[*i] = match b {
                     super::InputBinding::Const(v) => Source::Const(*v),
                     super::InputBinding::Device { device, scale } => Source::Device {
-                        probe: Probe::new(device, cpu.memory()).map_err(what)?,
+                        probe: Probe::new(device, &cpu).map_err(what)?,
                         scale: *scale,
                     },
                 };
             }
             let mut outputs = Vec::new();
             for (i, b) in &m.outputs {
-                outputs.push((
-                    *i,
-                    Sink::new(&b.device, b.scale, cpu.memory()).map_err(what)?,
-                ));
+                outputs.push((*i, Sink::new(&b.device, b.scale, &cpu).map_err(what)?));
             }
             let mut bound = Bound {
                 in_buf: vec![0.0; model.inputs().len()],
@@ -169,12 +172,18 @@ impl Scenario {
         // Timeline: check every value on a scratch copy of the memory.
         let mut scratch = cpu.memory().clone();
         let mut writes = Vec::new();
+        let names = Names::of(&cpu);
         for e in &self.timeline {
             for (dev, value) in &e.set {
-                let spec = softplc_core::access::DeviceSpec::parse(dev.trim())?;
                 let at = |err: String| format!("timeline at scan {}: {err}", e.scan);
-                spec.write(&mut scratch, value).map_err(at)?;
-                let value = spec.parse_value(value).map_err(|e| at(e.into()))?;
+                let name = names.parse(dev.trim()).map_err(at)?;
+                let value = name
+                    .parse_value(value)
+                    .and_then(|v| name.door_value(&v))
+                    .map_err(at)?;
+                let spec = name.spec().clone();
+                spec.write_value(&mut scratch, &value)
+                    .map_err(|e| at(e.to_string()))?;
                 writes.push(Write {
                     scan: e.scan,
                     spec,
@@ -187,8 +196,8 @@ impl Scenario {
         // Watched devices and checks.
         let mut probes: Vec<Probe> = Vec::new();
         let mut watch = |text: &str, cpu: &Cpu| -> Result<usize, String> {
-            let p = Probe::new(text, cpu.memory())?;
-            if let Some(i) = probes.iter().position(|q| q.spec == p.spec) {
+            let p = Probe::new(text, cpu)?;
+            if let Some(i) = probes.iter().position(|q| q.same(&p)) {
                 return Ok(i);
             }
             probes.push(p);
@@ -252,7 +261,7 @@ impl Scenario {
         } else {
             let tp = trace_devs
                 .iter()
-                .map(|d| Probe::new(d, cpu.memory()).map_err(|e| format!("trace: {e}")))
+                .map(|d| Probe::new(d, &cpu).map_err(|e| format!("trace: {e}")))
                 .collect::<Result<Vec<_>, _>>()?;
             let every = match self.trace.interval_us {
                 Some(us) => (us / self.scan_us).max(1),
@@ -305,11 +314,15 @@ impl Run {
         self.cpu.scan();
     }
 
-    /// Why the CPU stopped: the error code, message and step.
+    /// Why the CPU stopped: the error code, message and step (the APLC has
+    /// no step numbers: its file and line, contract §2).
     fn stop_detail(&self) -> String {
         match self.cpu.error() {
             Some(e) => {
                 let place = match (&e.file, e.line, e.step) {
+                    (Some(f), Some(l), _) if Dialect::of(&self.cpu) == Dialect::Aplc => {
+                        format!(" at {f}:{l}")
+                    }
                     (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
                     _ => String::new(),
                 };

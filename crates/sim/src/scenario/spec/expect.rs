@@ -1,6 +1,7 @@
 //! The `[[expect]]` tables of a scenario file: keys, checks and their labels.
 
 use softplc_core::access::ValueType;
+use softplc_core::names::Names;
 
 use super::values::{device, number, scan_at, scan_before, time_us};
 use super::{Band, Cond, ExpectKind, ExpectSpec, Setpoint};
@@ -40,7 +41,12 @@ const EXPECT_KEYS: &[&str] = &[
     "max_overshoot",
 ];
 
-pub(super) fn expect_spec(t: &toml::Table, scan_us: u64, scans: u64) -> Result<ExpectSpec, String> {
+pub(super) fn expect_spec(
+    t: &toml::Table,
+    scan_us: u64,
+    scans: u64,
+    names: &Names,
+) -> Result<ExpectSpec, String> {
     for k in t.keys() {
         if !EXPECT_KEYS.contains(&k.as_str()) {
             return Err(format!(
@@ -54,15 +60,15 @@ pub(super) fn expect_spec(t: &toml::Table, scan_us: u64, scans: u64) -> Result<E
         .and_then(|v| v.as_str())
         .ok_or("`device` (a string) is required")?
         .to_string();
-    let spec = device(&dev, "device")?;
-    let is_bit = spec.ty == ValueType::Bit;
+    let spec = device(&dev, "device", names)?;
+    let is_bit = spec.ty() == ValueType::Bit;
     let show = match t.get("show") {
         None => Vec::new(),
         Some(toml::Value::Array(a)) => a
             .iter()
             .map(|v| {
                 let s = v.as_str().ok_or("show: expected device names")?;
-                device(s, "show")?;
+                device(s, "show", names)?;
                 Ok(s.to_string())
             })
             .collect::<Result<Vec<_>, String>>()?,
@@ -150,7 +156,7 @@ pub(super) fn expect_spec(t: &toml::Table, scan_us: u64, scans: u64) -> Result<E
         }
         let setpoint = match sp {
             toml::Value::String(s) => {
-                device(s, "setpoint")?;
+                device(s, "setpoint", names)?;
                 Setpoint::Device(s.clone())
             }
             v => Setpoint::Value(number(v, "setpoint")?),
@@ -261,7 +267,7 @@ pub(super) fn expect_spec(t: &toml::Table, scan_us: u64, scans: u64) -> Result<E
         if tol.is_nan() || tol < 0.0 {
             return Err("tolerance must be ≥ 0".into());
         }
-        let value = if spec.ty == ValueType::F32 && tol == 0.0 {
+        let value = if spec.ty() == ValueType::F32 && tol == 0.0 {
             value as f32 as f64
         } else {
             value

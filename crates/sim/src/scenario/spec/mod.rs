@@ -3,6 +3,7 @@
 //! model types and parameters); device ranges are checked when the scenario is
 //! built against the loaded program.
 
+use softplc_core::names::Names;
 use std::path::PathBuf;
 
 mod expect;
@@ -168,6 +169,10 @@ pub struct Scenario {
     /// "Q06PHCPU" for the process-control instructions). A project sets its
     /// own with `[cpu] model`.
     pub cpu: Option<String>,
+    /// What the file's device names mean: APLC names (and the programs'
+    /// global names) for an `.apl` program, `cpu = "APLC-TCP"` or an
+    /// APLC-TCP project (contract §2), else MELSEC names.
+    pub names: Names,
     /// Virtual time per scan, µs.
     pub scan_us: u64,
     /// Scans to run (the duration rounded up to whole scans).

@@ -1,6 +1,7 @@
 //! The scenario file as TOML deserializes it, and its translation into a
 //! [`Scenario`]: source, times, models and the timeline.
 
+use softplc_core::names::{Dialect, Names};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -128,6 +129,7 @@ impl Scenario {
                     .to_string(),
             ),
         };
+        let dev_names = names_of(&source, cpu.as_deref());
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
         if scan_us == 0 {
             return Err("scan_time: must be at least 1us".into());
@@ -144,7 +146,7 @@ impl Scenario {
 
         let mut models = Vec::new();
         for (i, m) in doc.model.into_iter().enumerate() {
-            models.push(model_spec(m, i)?);
+            models.push(model_spec(m, i, &dev_names)?);
         }
         let mut names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
         names.sort_unstable();
@@ -157,7 +159,7 @@ impl Scenario {
 
         let mut timeline = Vec::new();
         for (i, e) in doc.timeline.into_iter().enumerate() {
-            timeline_entry(e, i, scan_us, scans, &mut timeline)?;
+            timeline_entry(e, i, scan_us, scans, &dev_names, &mut timeline)?;
         }
         if timeline.len() as u64 > MAX_EVENTS {
             return Err(format!("timeline: more than {MAX_EVENTS} writes"));
@@ -167,7 +169,7 @@ impl Scenario {
         let mut expects = Vec::new();
         for (i, t) in doc.expect.iter().enumerate() {
             expects.push(
-                expect_spec(t, scan_us, scans)
+                expect_spec(t, scan_us, scans, &dev_names)
                     .map_err(|e| format!("expect #{} ({}): {e}", i + 1, expect_label(t)))?,
             );
         }
@@ -175,7 +177,7 @@ impl Scenario {
         let mut trace = TraceSpec::default();
         if let Some(t) = doc.trace {
             for d in &t.devices {
-                device(d, "trace")?;
+                device(d, "trace", &dev_names)?;
             }
             trace.devices = t.devices;
             trace.file = t.file.map(|f| base.join(f));
@@ -187,7 +189,7 @@ impl Scenario {
         let plot = match doc.plot {
             Some(p) => {
                 for d in &p.devices {
-                    device(d, "plot")?;
+                    device(d, "plot", &dev_names)?;
                 }
                 Some(PlotSpec {
                     file: base.join(p.file),
@@ -202,6 +204,7 @@ impl Scenario {
             name,
             source,
             cpu,
+            names: dev_names,
             scan_us,
             scans,
             models,
@@ -240,7 +243,37 @@ impl Scenario {
     }
 }
 
-fn model_spec(m: ModelDoc, i: usize) -> Result<ModelSpec, String> {
+/// What the scenario's device names mean: the APLC's for an `.apl` program
+/// (or `cpu = "APLC-TCP"`) or an APLC-TCP project, with the programs'
+/// global names; MELSEC's otherwise. A program or project that does not
+/// load gives plain names here and its errors when the scenario is built.
+fn names_of(source: &Source, cpu: Option<&str>) -> Names {
+    let (dialect, files) = match source {
+        Source::Program(p) => {
+            let d = match cpu {
+                Some(m) => Dialect::of_model(m),
+                None if softplc_core::aplc::is_apl(p) => Dialect::Aplc,
+                None => Dialect::Melsec,
+            };
+            (d, vec![p.clone()])
+        }
+        Source::Project(p) => match softplc_core::project::load_project(p) {
+            Ok(proj) => (
+                Dialect::of_model(&proj.config.model),
+                proj.programs.iter().map(|s| s.file.clone()).collect(),
+            ),
+            Err(_) => (Dialect::Melsec, Vec::new()),
+        },
+    };
+    let mut names = Names::plain(dialect);
+    if dialect == Dialect::Aplc {
+        let paths: Vec<&std::path::Path> = files.iter().map(|f| f.as_path()).collect();
+        names.globals = softplc_core::aplc::globals_of_files(&paths);
+    }
+    names
+}
+
+fn model_spec(m: ModelDoc, i: usize, names: &Names) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     let built = model::build(&m.kind, &m.params).map_err(|e| format!("{what}: {e}"))?;
@@ -260,12 +293,15 @@ fn model_spec(m: ModelDoc, i: usize) -> Result<ModelSpec, String> {
     let mut inputs = Vec::new();
     for (p, v) in &m.inputs {
         let idx = port(built.inputs(), p, "input")?;
-        inputs.push((idx, binding(v, &format!("{what}: input `{p}`"), true)?));
+        inputs.push((
+            idx,
+            binding(v, &format!("{what}: input `{p}`"), true, names)?,
+        ));
     }
     let mut outputs = Vec::new();
     for (p, v) in &m.outputs {
         let idx = port(built.outputs(), p, "output")?;
-        match binding(v, &format!("{what}: output `{p}`"), false)? {
+        match binding(v, &format!("{what}: output `{p}`"), false, names)? {
             InputBinding::Device { device, scale } => {
                 outputs.push((idx, OutputBinding { device, scale }))
             }
@@ -288,6 +324,7 @@ fn timeline_entry(
     i: usize,
     scan_us: u64,
     scans: u64,
+    names: &Names,
     out: &mut Vec<EventSpec>,
 ) -> Result<(), String> {
     let what = format!("timeline #{}", i + 1);
@@ -311,7 +348,7 @@ fn timeline_entry(
     }
     let mut set = Vec::new();
     for (dev, v) in &e.set {
-        device(dev, &what)?;
+        device(dev, &what, names)?;
         set.push((dev.clone(), write_text(v, &format!("{what}: `{dev}`"))?));
     }
     let (every, count) = match (&e.every, e.count) {

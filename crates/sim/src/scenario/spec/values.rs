@@ -1,7 +1,8 @@
 //! TOML values of a scenario file: times, numbers, device names, model port
 //! bindings, device writes and their conversion to scans.
 
-use softplc_core::access::{DeviceSpec, ValueType};
+use softplc_core::access::ValueType;
+use softplc_core::names::{DevName, Names};
 
 use super::{InputBinding, Scale};
 use crate::model;
@@ -52,9 +53,12 @@ fn pair_i32(v: &toml::Value, what: &str) -> Result<(i32, i32), String> {
     }
 }
 
-pub(super) fn device(text: &str, what: &str) -> Result<DeviceSpec, String> {
-    let spec = DeviceSpec::parse(text.trim()).map_err(|e| format!("{what}: {e}"))?;
-    if spec.ty == ValueType::Str {
+/// A device name in the scenario's dialect (checked against the CPU at build).
+pub(super) fn device(text: &str, what: &str, names: &Names) -> Result<DevName, String> {
+    let spec = names
+        .parse(text.trim())
+        .map_err(|e| format!("{what}: {e}"))?;
+    if spec.ty() == ValueType::Str {
         return Err(format!(
             "{what}: `{text}`: strings cannot be bound or checked"
         ));
@@ -64,7 +68,12 @@ pub(super) fn device(text: &str, what: &str) -> Result<DeviceSpec, String> {
 
 /// `PORT = "DEV"`, `PORT = { device = "DEV", raw = [..], eng = [..] }` (and
 /// for inputs a constant number).
-pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputBinding, String> {
+pub(super) fn binding(
+    v: &toml::Value,
+    what: &str,
+    input: bool,
+    names: &Names,
+) -> Result<InputBinding, String> {
     let (dev, scale) = match v {
         toml::Value::String(s) => (s.clone(), Scale::None),
         toml::Value::Integer(_) | toml::Value::Float(_) if input => {
@@ -83,7 +92,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
                 .and_then(|d| d.as_str())
                 .ok_or_else(|| format!("{what}: `device` (a string) is required"))?
                 .to_string();
-            let spec = device(&dev, what)?;
+            let spec = device(&dev, what, names)?;
             let eng = t
                 .get("eng")
                 .map(|e| pair_f64(e, &format!("{what}: eng")))
@@ -92,7 +101,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
                 .get("raw")
                 .map(|r| pair_i32(r, &format!("{what}: raw")))
                 .transpose()?;
-            let scale = match (raw, eng, spec.ty == ValueType::Bit) {
+            let scale = match (raw, eng, spec.ty() == ValueType::Bit) {
                 (None, None, _) => Scale::None,
                 (None, Some((off, on)), true) if input => Scale::Bit { off, on },
                 (Some(raw), Some(eng), false) => {
@@ -126,7 +135,7 @@ pub(super) fn binding(v: &toml::Value, what: &str, input: bool) -> Result<InputB
             ))
         }
     };
-    device(&dev, what)?;
+    device(&dev, what, names)?;
     Ok(InputBinding::Device { device: dev, scale })
 }
 

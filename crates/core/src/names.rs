@@ -1,0 +1,388 @@
+//! Device names given from outside a program — `--set`, `--show`, `--trace`,
+//! scenario files, the HTTP API — in the CPU's dialect (contract §2, §3.1):
+//! MELSEC's names of the shared door, or the APLC's (octal X/Y, Dn the HIGH
+//! word of 32-bit values, `CN200`-`CN255` 32-bit, `LM`/`V` read only,
+//! values `16#1F`, `8#17`, `2#101`).
+//!
+//! A [`DevName`] is parsed once and then read and written through the Cpu
+//! door without parsing: [`DevName::raw`] does no string work or allocation
+//! (the scenario loop samples with it every scan).
+
+use softplc_ir::access::{AccessError, DeviceSpec, Value, ValueType};
+use softplc_ir::device::DeviceMemory;
+
+use crate::engine::Cpu;
+
+/// Whose device names a CPU takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dialect {
+    /// MELSEC-Q (every model but APLC-TCP).
+    Melsec,
+    /// APLC-TCP (seed 002).
+    Aplc,
+}
+
+impl Dialect {
+    /// The dialect of a CPU model name.
+    pub fn of_model(model: &str) -> Dialect {
+        if model.eq_ignore_ascii_case(crate::aplc::MODEL) {
+            Dialect::Aplc
+        } else {
+            Dialect::Melsec
+        }
+    }
+
+    /// The dialect of a running CPU.
+    pub fn of(cpu: &Cpu) -> Dialect {
+        Dialect::of_model(&cpu.config().model)
+    }
+}
+
+/// What names mean for a CPU: its dialect and its programs' global
+/// variables (APLC: `启动` for `X0`, contract §2).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Names {
+    pub dialect: Dialect,
+    /// (upper-case name, device text).
+    pub globals: Vec<(String, String)>,
+}
+
+impl Names {
+    /// The names of a dialect without globals.
+    pub fn plain(dialect: Dialect) -> Names {
+        Names {
+            dialect,
+            globals: Vec::new(),
+        }
+    }
+
+    /// The names of a running CPU.
+    pub fn of(cpu: &Cpu) -> Names {
+        let mut globals: Vec<(String, String)> = (0..cpu.program_count())
+            .flat_map(|i| cpu.program_at(i).globals.iter().cloned())
+            .collect();
+        globals.sort();
+        Names {
+            dialect: Dialect::of(cpu),
+            globals,
+        }
+    }
+
+    /// Parses `DEV[:TYPE]` or, in the APLC dialect, `GLOBAL[:TYPE]` (the
+    /// name as given is the key in reports).
+    pub fn parse(&self, s: &str) -> Result<DevName, String> {
+        if self.dialect == Dialect::Aplc && !self.globals.is_empty() {
+            let (name, ty) = match s.split_once(':') {
+                Some((n, t)) => (n.trim(), Some(t)),
+                None => (s.trim(), None),
+            };
+            let key = name.to_uppercase();
+            if let Some((_, dev)) = self.globals.iter().find(|(n, _)| *n == key) {
+                let text = match ty {
+                    Some(t) => format!("{dev}:{t}"),
+                    None => dev.clone(),
+                };
+                let mut n = DevName::parse(&text, self.dialect)?;
+                n.spec.text = s.trim().to_string();
+                return Ok(n);
+            }
+        }
+        DevName::parse(s, self.dialect)
+    }
+}
+
+/// A device name of a dialect, resolved to the storage it lives in.
+#[derive(Clone, Debug)]
+pub struct DevName {
+    /// The door's spec over the storage; `text` is the name as given.
+    spec: DeviceSpec,
+    /// The type shown and written (the spec's, except for swapped pairs).
+    ty: ValueType,
+    /// Two registers holding one value high word first (APLC): the door
+    /// reads them as a low-word-first `u32`, turned on the way.
+    swap: bool,
+    /// Not writable from outside (APLC LM and V).
+    read_only: bool,
+    dialect: Dialect,
+}
+
+impl DevName {
+    /// Parses `DEV` or `DEV:TYPE` in `dialect`.
+    pub fn parse(s: &str, dialect: Dialect) -> Result<DevName, String> {
+        match dialect {
+            Dialect::Melsec => {
+                let spec = DeviceSpec::parse(s)?;
+                Ok(DevName {
+                    ty: spec.ty,
+                    spec,
+                    swap: false,
+                    read_only: false,
+                    dialect,
+                })
+            }
+            Dialect::Aplc => {
+                let n = crate::aplc::Name::parse(s)?;
+                Ok(DevName {
+                    ty: n.ty,
+                    swap: n.swaps(),
+                    read_only: n.is_local(),
+                    spec: n.spec,
+                    dialect,
+                })
+            }
+        }
+    }
+
+    /// Parses `s` in the dialect of `cpu`, with its programs' global names,
+    /// checking the device exists there.
+    pub fn parse_for(s: &str, cpu: &Cpu) -> Result<DevName, String> {
+        let n = Names::of(cpu).parse(s)?;
+        if n.ty != ValueType::Str {
+            n.raw(cpu.memory()).map_err(|e| e.to_string())?;
+        }
+        Ok(n)
+    }
+
+    /// The name as given, the key in reports.
+    pub fn text(&self) -> &str {
+        &self.spec.text
+    }
+
+    /// The type shown and written.
+    pub fn ty(&self) -> ValueType {
+        self.ty
+    }
+
+    /// The door's spec over the storage (for tools that need a span).
+    pub fn spec(&self) -> &DeviceSpec {
+        &self.spec
+    }
+
+    /// Reads the value.
+    pub fn read(&self, cpu: &Cpu) -> Result<Value, String> {
+        self.read_mem(cpu.memory())
+    }
+
+    /// Reads the value from device memory.
+    pub fn read_mem(&self, mem: &DeviceMemory) -> Result<Value, String> {
+        if self.ty == ValueType::Str {
+            return self.spec.read(mem);
+        }
+        Ok(self.present_raw(self.raw(mem)?))
+    }
+
+    /// The raw bits in this name's type (a high-word-first pair as one `u32`);
+    /// no allocation unless it fails. Not for `:str`.
+    #[inline]
+    pub fn raw(&self, mem: &DeviceMemory) -> Result<u64, AccessError> {
+        let raw = self.spec.raw(mem)?;
+        Ok(if self.swap {
+            (raw as u32).rotate_left(16) as u64
+        } else {
+            raw
+        })
+    }
+
+    /// Presents raw bits of [`Self::raw`] in this name's type.
+    pub fn present_raw(&self, raw: u64) -> Value {
+        match self.ty {
+            ValueType::I16 => Value::Int(raw as u16 as i16 as i64),
+            ValueType::U16 => Value::Int(raw as u16 as i64),
+            ValueType::I32 => Value::Int(raw as u32 as i32 as i64),
+            ValueType::U32 => Value::Int(raw as u32 as i64),
+            ValueType::F32 => Value::Float(f32::from_bits(raw as u32) as f64),
+            ValueType::Bit => Value::Bool(raw & 1 != 0),
+            ValueType::Str => Value::Int(raw as i64),
+        }
+    }
+
+    /// A value the door read with [`Self::spec`] (e.g. a sampling trace's),
+    /// in this name's type.
+    pub fn present(&self, door: &Value) -> Value {
+        match door {
+            Value::Int(raw) if self.swap => self.present_raw((*raw as u32).rotate_left(16) as u64),
+            v => v.clone(),
+        }
+    }
+
+    /// Writes a value given as text (`--set`) in the dialect's syntax:
+    /// MELSEC `H1F`/`0x1F`; APLC `16#1F`, `8#17`, `2#101` (a bit pattern,
+    /// also for `:f32`); decimal, a float for `:f32`, `true`/`false`/`1`/`0`.
+    pub fn write(&self, cpu: &mut Cpu, text: &str) -> Result<(), String> {
+        self.writable()?;
+        match self.dialect {
+            Dialect::Melsec => cpu.write_device(&self.spec, text),
+            Dialect::Aplc => {
+                let v = self.parse_value(text)?;
+                self.write_value(cpu, &v)
+            }
+        }
+    }
+
+    /// A value text in this name's type and dialect (for [`Self::write_value`]).
+    pub fn parse_value(&self, text: &str) -> Result<Value, String> {
+        if self.dialect == Dialect::Melsec {
+            return self.spec.parse_value(text).map_err(|e| e.to_string());
+        }
+        let bad = || format!("`{}`: bad value `{text}`", self.text());
+        let t = text.trim();
+        if self.ty == ValueType::Bit {
+            return match t.to_ascii_lowercase().as_str() {
+                "1" | "true" | "on" => Ok(Value::Bool(true)),
+                "0" | "false" | "off" => Ok(Value::Bool(false)),
+                _ => Err(bad()),
+            };
+        }
+        if self.ty == ValueType::F32 {
+            if let Some(bits) = aplc_int(t).filter(|_| t.contains('#')) {
+                let bits = u32::try_from(bits).map_err(|_| bad())?;
+                return Ok(Value::Float(f32::from_bits(bits) as f64));
+            }
+            return t
+                .parse::<f64>()
+                .ok()
+                .filter(|f| (*f as f32).is_finite())
+                .map(Value::Float)
+                .ok_or_else(bad);
+        }
+        aplc_int(t).map(Value::Int).ok_or_else(bad)
+    }
+
+    /// Writes a typed value in this name's type (the HTTP API, plant models):
+    /// `Int` that fits the type as signed or unsigned, `Float` for `f32`,
+    /// `Bool` for bits. Nothing is written when it does not fit.
+    pub fn write_value(&self, cpu: &mut Cpu, v: &Value) -> Result<(), String> {
+        let door = self.door_value(v)?;
+        cpu.write_value(&self.spec, &door)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The value the door writes (through [`Self::spec`]) for `v` given in
+    /// this name's type; an error for a read-only name.
+    pub fn door_value(&self, v: &Value) -> Result<Value, String> {
+        self.writable()?;
+        if !self.swap {
+            return Ok(v.clone());
+        }
+        let bad = || format!("`{}`: bad value `{v}` for {:?}", self.text(), self.ty);
+        let bits: u32 = match (self.ty, v) {
+            (ValueType::F32, Value::Float(f)) => {
+                let x = *f as f32;
+                if !x.is_finite() {
+                    return Err(bad());
+                }
+                x.to_bits()
+            }
+            (ValueType::F32, Value::Int(i)) => (*i as f32).to_bits(),
+            (ValueType::I32 | ValueType::U32, Value::Int(i)) => u32::try_from(*i)
+                .or_else(|_| i32::try_from(*i).map(|x| x as u32))
+                .map_err(|_| bad())?,
+            _ => return Err(bad()),
+        };
+        Ok(Value::Int(bits.rotate_left(16) as i64))
+    }
+
+    fn writable(&self) -> Result<(), String> {
+        if self.read_only {
+            return Err(format!(
+                "`{}`: LM and V are POU locals and cannot be set",
+                self.text()
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `16#1F`, `8#17`, `2#101`, `+5`, `-5`.
+fn aplc_int(t: &str) -> Option<i64> {
+    for (p, r) in [("16#", 16), ("8#", 8), ("2#", 2)] {
+        if let Some(d) = t.strip_prefix(p) {
+            return i64::from_str_radix(d, r).ok();
+        }
+    }
+    t.strip_prefix('+').unwrap_or(t).parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::engine::{Cpu, VirtualClock};
+
+    fn aplc_cpu() -> Cpu {
+        let p = crate::aplc::load_bytes("t.apl", b"LD SM0\nOUT Y0\n").unwrap();
+        Cpu::new(p, crate::aplc::cpu_config(), Box::new(VirtualClock::new()))
+    }
+
+    #[test]
+    fn aplc_names_reach_their_storage_high_word_first() {
+        let mut cpu = aplc_cpu();
+        assert_eq!(Dialect::of(&cpu), Dialect::Aplc);
+        // D10:i32 = 16#00020001: D10 (high) = 2, D11 (low) = 1.
+        let n = DevName::parse("D10:i32", Dialect::Aplc).unwrap();
+        n.write(&mut cpu, "16#00020001").unwrap();
+        let d = |cpu: &Cpu, s| DevName::parse(s, Dialect::Aplc).unwrap().read(cpu).unwrap();
+        assert_eq!(d(&cpu, "D10"), Value::Int(2));
+        assert_eq!(d(&cpu, "D11"), Value::Int(1));
+        assert_eq!(n.read(&cpu).unwrap(), Value::Int(0x0002_0001));
+        assert_eq!(n.raw(cpu.memory()).unwrap(), 0x0002_0001);
+        // 1.5f32 = 16#3FC00000: D20 = 16#3FC0, D21 = 0.
+        let f = DevName::parse("D20:f32", Dialect::Aplc).unwrap();
+        f.write_value(&mut cpu, &Value::Float(1.5)).unwrap();
+        assert_eq!(d(&cpu, "D20:u16"), Value::Int(0x3FC0));
+        assert_eq!(d(&cpu, "D21"), Value::Int(0));
+        // CN201 is 32-bit: -2 is FFFF FFFE in the CN pair of C201.
+        let c = DevName::parse("CN201", Dialect::Aplc).unwrap();
+        assert_eq!(c.ty(), ValueType::I32);
+        c.write(&mut cpu, "-2").unwrap();
+        assert_eq!(c.read(&cpu).unwrap(), Value::Int(-2));
+        // X10 is input 8; V0 cannot be set.
+        DevName::parse("X10", Dialect::Aplc)
+            .unwrap()
+            .write(&mut cpu, "1")
+            .unwrap();
+        assert_eq!(
+            cpu.memory().get_bit(crate::device::DeviceKind::X, 8),
+            Ok(true)
+        );
+        assert!(DevName::parse("V0", Dialect::Aplc)
+            .unwrap()
+            .write(&mut cpu, "1")
+            .is_err());
+        assert!(DevName::parse("X8", Dialect::Aplc).is_err());
+        // A global name stands for its device, shown as given.
+        let names = Names {
+            dialect: Dialect::Aplc,
+            globals: vec![("流量".into(), "D20".into())],
+        };
+        let g = names.parse("流量:f32").unwrap();
+        assert_eq!(g.text(), "流量:f32");
+        assert_eq!(g.read(&cpu).unwrap(), Value::Float(1.5));
+        assert!(Names::plain(Dialect::Aplc).parse("流量").is_err());
+        // 16# is only APLC's; H is only MELSEC's.
+        assert!(DevName::parse("D0", Dialect::Aplc)
+            .unwrap()
+            .write(&mut cpu, "H10")
+            .is_err());
+    }
+
+    #[test]
+    fn melsec_names_are_the_doors() {
+        let p = crate::program::compile_il(
+            "t.il",
+            "LD SM400\nOUT Y0\nEND\n",
+            &crate::device::DeviceConfig::default(),
+        )
+        .unwrap();
+        let mut cpu = Cpu::new(p, Default::default(), Box::new(VirtualClock::new()));
+        assert_eq!(Dialect::of(&cpu), Dialect::Melsec);
+        let n = DevName::parse_for("D0:i32", &cpu).unwrap();
+        n.write(&mut cpu, "H20001").unwrap();
+        // Low word first on MELSEC: D0 = 1, D1 = 2.
+        assert_eq!(
+            cpu.memory().get_word(crate::device::DeviceKind::D, 0),
+            Ok(1)
+        );
+        assert_eq!(n.read(&cpu).unwrap(), Value::Int(0x0002_0001));
+        assert!(DevName::parse_for("X1F", &cpu).is_ok());
+    }
+}
