@@ -105,7 +105,7 @@ fn svg_has_an_element_per_contact_and_coil() {
     let s = softplc_core::program::il::parse_il("t.il", "LD X0\nANI X1\nOUT T0 K10\nMOV K1 D0\n")
         .unwrap();
     let p = LadderProgram::from_source(&s);
-    let svg = render::svg(&Grid::of(&p.rungs[0]), 0, 0, None, 1);
+    let svg = render::svg(&p.rungs[0], 0, 0);
     assert!(svg.contains(r#"id="e0-0" data-dev="X0""#), "{svg}");
     assert!(svg.contains(r#"class="el k-nc" id="e0-1" data-dev="X1""#));
     assert!(svg.contains(r#"class="el k-coil" id="e0-2" data-dev="T0""#));
