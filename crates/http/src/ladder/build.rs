@@ -316,9 +316,15 @@ impl Builder {
             }
             Class::Connection => match m.as_str() {
                 "ANB" | "ORB" => {
-                    if let (Some(b), Some(n)) = (self.blocks.pop(), self.net.take()) {
-                        self.net = Some(Net::join(Some(b), n, m == "ORB"));
-                    }
+                    let n = self.net.take();
+                    self.net = match (self.blocks.pop(), n) {
+                        (Some(b), Some(n)) => Some(Net::join(Some(b), n, m == "ORB")),
+                        // A block opened at a branch point (LD after MPS/MRD,
+                        // 002 L2185-2208): ANB puts it in series there. An
+                        // ORB there is drawn the same way.
+                        (None, n) => n,
+                        (Some(b), None) => Some(b),
+                    };
                 }
                 "MPS" => {
                     self.fork();
