@@ -163,22 +163,32 @@ def test_aplc_ladder_in_a_browser(aplc_monitor, browser, shots):
     stop = "#e0-0"  # LDI 急停: normally closed X10 (input 8)
     assert page.get_attribute(stop, "data-dev") == "X10"
     assert page.text_content(stop + " text.n") == "急停=X10"
-    # X10 is OFF: power flows through the NC contact into Y0 (coil and the
-    # wire in front of it green), SM0 drives the step S0 on the next rung.
-    motor = "#e0-1"
+    # X10 is OFF: power flows through the NC contact and SM0 into Y0 (the
+    # coil and the right link of the OR block green); the filler wire after
+    # the open M0 (#e0-2) has none. SM1 started the step S0.
+    motor = "#e0-3"
     assert page.get_attribute(motor, "data-dev") == "Y0"
     page.wait_for_selector(motor + ".on.pw", timeout=5000)
-    page.wait_for_selector("line.w.pw[data-into]", timeout=5000)
+    page.wait_for_selector("line.w.link.pw[data-after='1 2']", state="attached", timeout=5000)
+    assert page.eval_on_selector("line.w[data-after='2']", "e => !e.classList.contains('pw')")
     page.wait_for_selector(".el.k-step.on", timeout=5000)
     page.screenshot(path=str(shots / "web-monitor-aplc.png"), full_page=True)
-    # Writing X10 by its APLC name opens the contact and the program drops Y0.
-    # Needs the JSON API's APLC names (contract §3.1 "in the program's
-    # dialect"); a server reading X10 as MELSEC's hexadecimal X10 (input 16)
-    # rejects LM0, which tells the two apart.
+
+
+def test_aplc_ladder_follows_an_octal_write(aplc_monitor, browser):
+    """Writing X10 by its APLC name opens the contact and the program drops
+    Y0. Needs the JSON API's APLC names (contract §3.1 "in the program's
+    dialect"); a server that still reads X10 as MELSEC's hexadecimal X10
+    (input 16) rejects LM0, which tells the two apart."""
+    port = aplc_monitor
     try:
         api(port, "GET", "/api/v1/devices?names=LM0")
     except urllib.error.HTTPError:
         pytest.skip("the JSON API does not take APLC device names yet")
+    page = browser.new_page(viewport={"width": 1200, "height": 800})
+    page.goto(f"http://127.0.0.1:{port}/")
+    motor = "#e0-3"
+    page.wait_for_selector(motor + ".on.pw", timeout=5000)
     api(port, "POST", "/api/v1/devices", {"X10": True})
     page.wait_for_function(f"!document.querySelector('{motor}').classList.contains('on')", timeout=5000)
     assert api(port, "GET", "/api/v1/devices?names=Y0")["devices"]["Y0"] is False

@@ -4,8 +4,10 @@ VAR_GLOBAL
     电机    Y0      // motor
 END_VAR
 POU MAIN
-// The motor runs while the emergency stop is not pressed.
+// The motor runs while the emergency stop is not pressed, or by M0.
 LDI     急停
+AND     SM0
+OR      M0
 OUT     电机
 // An SFC step started at power-on.
 LD      SM1

@@ -146,7 +146,7 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
         Kind::No | Kind::Nc | Kind::Rise | Kind::Fall => {
             let _ = write!(
                 out,
-                r#"<line class="w" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/><line class="w" x1="{}" y1="{mid}" x2="{}" y2="{mid}"/><rect class="sym" x="{}" y="{}" width="16" height="22"/>"#,
+                r#"<line class="w in" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/><line class="w out" x1="{}" y1="{mid}" x2="{}" y2="{mid}"/><rect class="sym" x="{}" y="{}" width="16" height="22"/>"#,
                 cx - 8,
                 cx + 8,
                 x + w,
