@@ -165,6 +165,23 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     frame(&app, "Ladder", "ladder", &names, &body).into_response()
 }
 
+/// `/ladder.txt?prog=I`: the ladder of program I as text, with the device
+/// names of its dialect (what the snapshot tests compare).
+pub async fn ladder_text(State(app): State<Arc<App>>, Query(q): Q) -> Response {
+    let pi: usize = q.get("prog").and_then(|p| p.parse().ok()).unwrap_or(0);
+    match app.cfg.ladder.get(pi) {
+        Some(p) => (
+            [(header::CONTENT_TYPE, "text/plain; charset=utf-8")],
+            render::program_text(p),
+        )
+            .into_response(),
+        None => crate::api::error(
+            StatusCode::NOT_FOUND,
+            format!("no program {pi}: there are {}", app.cfg.ladder.len()),
+        ),
+    }
+}
+
 /// `/overview`: model, state, scan times, error and its history, forces, breakpoint.
 pub async fn overview(State(app): State<Arc<App>>) -> Response {
     let body = r#"<section class="cards">

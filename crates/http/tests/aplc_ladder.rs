@@ -93,6 +93,26 @@ async fn the_ladder_of_an_apl_program_has_aplc_names() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_ladder_text_of_an_apl_program() {
+    let s = start();
+    let r = get(s.addr, "/ladder.txt").await;
+    assert_eq!(r.status, 200);
+    assert!(r.headers.contains("text/plain"), "{}", r.headers);
+    assert_eq!(
+        r.body,
+        "== SBR_1 A IN INT = V0, B OUT INT = V1\n\
+         |--| SM0 |----[MOV #A=V0 #B=V1]\n\
+         == MAIN OK TEMP BOOL = LM0\n\
+         // run while not stopped\n\
+         |--|/X10 |----( LM0 )\n\
+         |--| LM0 |----( Y0 )\n\
+         |---| X0 |----[TON T1 30]\n\
+         |--| SM0 |----[CALL SBR_1 A:=7 B:=D0]\n"
+    );
+    assert_eq!(get(s.addr, "/ladder.txt?prog=1").await.status, 404);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn reset_restarts_the_scan_count() {
     let s = start();
     // Let the CPU count a few hundred scans, then STOP and RESET.

@@ -8,7 +8,7 @@ use std::fmt::Write;
 
 use super::build::{Fan, Item, Net, Rung, RungBody};
 use super::grid::{terminals, Cell, Feed, Grid, Link};
-use super::{Elem, Kind};
+use super::{Elem, Kind, LadderProgram};
 
 /// Characters per cell in the text drawing.
 const TW: usize = 12;
@@ -99,6 +99,30 @@ pub fn text(g: &Grid) -> String {
         s.push('\n');
     }
     s
+}
+
+/// A whole program as text (`GET /ladder.txt`): the file's comment, each
+/// POU's heading with its variables, rung comments, the steps an SFC body
+/// rung is in, and the rungs.
+pub fn program_text(p: &LadderProgram) -> String {
+    let mut out = String::new();
+    for l in &p.comment {
+        let _ = writeln!(out, "/* {l} */");
+    }
+    for (k, r) in p.rungs.iter().enumerate() {
+        for s in p.sections.iter().filter(|s| s.first == k) {
+            let head = format!("== {} {}", s.title, s.vars.join(", "));
+            let _ = writeln!(out, "{}", head.trim_end());
+        }
+        for c in &r.comment {
+            let _ = writeln!(out, "// {c}");
+        }
+        if !r.bus.is_empty() {
+            let _ = writeln!(out, "(in step {})", r.bus.join(" "));
+        }
+        out += &text(&Grid::of(r));
+    }
+    out
 }
 
 /// Cell size in the SVG drawing, px.

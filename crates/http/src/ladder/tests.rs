@@ -135,24 +135,7 @@ fn apl(src: &str) -> String {
 }
 
 fn draw_apl(p: &LadderProgram) -> String {
-    let mut out = String::new();
-    for l in &p.comment {
-        out += &format!("/* {l} */\n");
-    }
-    for (k, r) in p.rungs.iter().enumerate() {
-        for s in p.sections.iter().filter(|s| s.first == k) {
-            out += format!("== {} {}", s.title, s.vars.join(", ")).trim_end();
-            out.push('\n');
-        }
-        for c in &r.comment {
-            out += &format!("// {c}\n");
-        }
-        if !r.bus.is_empty() {
-            out += &format!("(in step {})\n", r.bus.join(" "));
-        }
-        out += &render::text(&Grid::of(r));
-    }
-    out
+    render::program_text(p)
 }
 
 #[test]
