@@ -284,7 +284,13 @@ impl Builder {
         let m = i.mnemonic.text.to_ascii_uppercase();
         match class {
             Class::Contact => {
-                let load = m.starts_with("LD");
+                // APLC word-bit contacts BLD/BLDI/BAND/BANI/BOR/BORI (002
+                // L8833-9076): LD/AND/OR of bit S2 of word S1.
+                let word_bit = m
+                    .strip_prefix('B')
+                    .filter(|r| ["LD", "AND", "OR"].iter().any(|p| r.starts_with(p)));
+                let base = word_bit.unwrap_or(&m);
+                let load = base.starts_with("LD");
                 if load
                     && self.outputs > 0
                     && self.mps.is_empty()
@@ -293,10 +299,10 @@ impl Builder {
                 {
                     self.flush();
                 }
-                let kind = if i.operands.len() >= 2 {
+                let kind = if i.operands.len() >= 2 && word_bit.is_none() {
                     Kind::Compare
                 } else {
-                    match m.as_str() {
+                    match base {
                         "LDI" | "ANI" | "ORI" => Kind::Nc,
                         "LDP" | "ANDP" | "ORP" => Kind::Rise,
                         "LDF" | "ANDF" | "ORF" => Kind::Fall,
@@ -311,7 +317,7 @@ impl Builder {
                     self.net = Some(e);
                 } else {
                     let net = self.net.take();
-                    self.net = Some(Net::join(net, e, m.starts_with("OR")));
+                    self.net = Some(Net::join(net, e, base.starts_with("OR")));
                 }
             }
             Class::Connection => match m.as_str() {

@@ -166,6 +166,14 @@ impl Elem {
         }
     }
 
+    /// The bit number of a word-bit contact (APLC `BLD D0 5`: bit 5 of D0).
+    pub fn word_bit(&self) -> Option<&str> {
+        match self.kind {
+            Kind::No | Kind::Nc if self.operands.len() == 2 => Some(&self.operands[1]),
+            _ => None,
+        }
+    }
+
     /// All operands as shown, separated by blanks.
     pub fn labels(&self) -> String {
         (0..self.operands.len())

@@ -155,16 +155,20 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
     let mid = y + H / 2 + 4;
     let _ = write!(
         out,
-        r#"<g class="el k-{}" id="e{prog}-{}" data-dev="{}" data-ops="{}" data-m="{}"><title>{} {} (line {})</title>"#,
+        r#"<g class="el k-{}" id="e{prog}-{}" data-dev="{}" data-ops="{}" data-m="{}"{}><title>{} {} (line {})</title>"#,
         e.kind.as_str(),
         e.id,
         esc(dev),
         esc(&ops.join(" ")),
         esc(&e.mnemonic),
+        // A word-bit contact: the script reads the bit out of the word.
+        e.word_bit()
+            .map_or(String::new(), |b| format!(r#" data-bit="{}""#, esc(b))),
         esc(&e.mnemonic),
         esc(&e.labels()),
         e.line
     );
+
     let cx = x + w / 2;
     match e.kind {
         Kind::No | Kind::Nc | Kind::Rise | Kind::Fall => {

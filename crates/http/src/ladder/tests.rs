@@ -152,7 +152,8 @@ fn apl_manual_example_1_stacks_and_blocks() {
 fn apl_series_parallel_edges_and_compares() {
     // Example 2 (L2798-2803), EU/ED in series, compare contacts of the three
     // widths (L9320-9337, L9464-9475) with the operator written apart.
-    let s = apl("LD M1\nAND M2\nLD M3\nAND M4\nORB\nOUT Y0\nLD X0\nEU\nLDI X1\nED\nORB\nSET M0\nLD= D0 D1\nANDD< D0 100\nORR < > D4 1.5\nOUT Y1\n");
+    // Word-bit contacts (L8833-9076): BLD opens a rung, BORI is parallel.
+    let s = apl("LD M1\nAND M2\nLD M3\nAND M4\nORB\nOUT Y0\nLD X0\nEU\nLDI X1\nED\nORB\nSET M0\nLD= D0 D1\nANDD< D0 100\nORR < > D4 1.5\nOUT Y1\nBLD D0 5\nBORI D1 15\nOUT Y2\n");
     snap("apl_series_parallel", s);
     let p = super::aplc::from_bytes("t.apl", b"LDD>= D20 500\nOUT M10\nLDR< D4 1.5\nOUT M11\n")
         .unwrap();
@@ -166,6 +167,14 @@ fn apl_series_parallel_edges_and_compares() {
     // The script compares 32-bit and REAL operands read with their type.
     assert_eq!(e(0).values(), ["D20:i32"]);
     assert_eq!(e(1).values(), ["D4:f32"]);
+    let p = super::aplc::from_bytes("t.apl", b"BLDI D0 5\nOUT Y0\n").unwrap();
+    let svg = render::svg(&p.rungs[0], 0, 0);
+    assert!(
+        svg.contains(
+            r#"class="el k-nc" id="e0-0" data-dev="D0" data-ops="D0 5" data-m="BLDI" data-bit="5""#
+        ),
+        "{svg}"
+    );
 }
 
 #[test]

@@ -192,7 +192,9 @@
   function update(dev) {
     Object.assign(values, dev);
     $$(".el").forEach((g) => {
-      const v = values[g.dataset.dev];
+      let v = values[g.dataset.dev];
+      // A word-bit contact (APLC BLD D0 5): bit 5 of D0's value.
+      if (g.dataset.bit !== undefined) v = typeof v === "number" ? ((v >> Number(g.dataset.bit)) & 1) === 1 : undefined;
       const k = g.classList;
       let on;
       if (k.contains("k-cmp")) on = compare(g.dataset.m, g.dataset.ops.split(" "));
