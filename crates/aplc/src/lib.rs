@@ -156,6 +156,31 @@ pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
     compile::compile(name, &unit)
 }
 
+/// An `.apl` file as written, for tools that show it (the web monitor's
+/// ladder): its POUs with operands not substituted ([`pou::parse_as_written`]),
+/// its global table and its comments.
+#[derive(Clone, Debug)]
+pub struct Outline {
+    pub unit: pou::Unit,
+    pub comments: Vec<text::Comment>,
+    /// Lines holding tokens (the comments of other lines stand alone).
+    pub token_lines: Vec<u32>,
+}
+
+/// Reads `.apl` bytes into an [`Outline`]; the same text and structure
+/// errors as [`load_bytes`], without compiling.
+pub fn outline(name: &str, bytes: &[u8]) -> Result<Outline, Diagnostics> {
+    let text = text::decode(bytes);
+    let (lines, comments) =
+        text::lines_and_comments(name, &text).map_err(|d| Diagnostics(vec![d]))?;
+    let unit = pou::parse_as_written(name, &lines, &is_mnemonic).map_err(Diagnostics)?;
+    Ok(Outline {
+        unit,
+        comments,
+        token_lines: lines.iter().map(|l| l[0].line).collect(),
+    })
+}
+
 /// Loads an `.apl` file.
 pub fn load_file(path: &Path) -> Result<Program, Diagnostics> {
     let name = path.display().to_string();

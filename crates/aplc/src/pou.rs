@@ -361,8 +361,31 @@ fn instruction(line: &[Token]) -> SourceInstr {
     }
 }
 
-/// Structures the lines of a file into POUs and variable tables.
+/// Structures the lines of a file into POUs and variable tables, with `#NAME`
+/// and global names replaced by their devices.
 pub fn parse(
+    file: &str,
+    lines: &[Vec<Token>],
+    is_mnemonic: &dyn Fn(&str) -> bool,
+) -> Result<Unit, Vec<Diagnostic>> {
+    let mut unit = parse_as_written(file, lines, is_mnemonic)?;
+    let mut diags = Vec::new();
+    let globals = std::mem::take(&mut unit.globals);
+    for pou in &mut unit.pous {
+        substitute(file, pou, &globals, &mut diags);
+    }
+    unit.globals = globals;
+    if diags.is_empty() {
+        Ok(unit)
+    } else {
+        Err(diags)
+    }
+}
+
+/// [`parse`] without the substitution: operands as the file writes them
+/// (`#RUNOK`, `急停`), for tools that show the program; [`Unit::device_of`]
+/// gives each one's device.
+pub fn parse_as_written(
     file: &str,
     lines: &[Vec<Token>],
     is_mnemonic: &dyn Fn(&str) -> bool,
@@ -511,21 +534,53 @@ pub fn parse(
     if !p.diags.is_empty() {
         return Err(p.diags);
     }
-    for pou in &mut unit.pous {
-        substitute(file, pou, &unit.globals, &mut p.diags);
-    }
-    if p.diags.is_empty() {
-        Ok(unit)
-    } else {
-        Err(p.diags)
-    }
+    Ok(unit)
 }
 
 fn pou_name(u: &Pou) -> String {
-    match u.kind {
-        PouKind::Main => "MAIN".into(),
-        PouKind::Sbr(n) => format!("SBR_{n}"),
-        PouKind::Int { n, .. } => format!("INT_{n}"),
+    u.name()
+}
+
+impl Pou {
+    /// `MAIN`, `SBR_<n>` or `INT_<n>`.
+    pub fn name(&self) -> String {
+        match self.kind {
+            PouKind::Main => "MAIN".into(),
+            PouKind::Sbr(n) => format!("SBR_{n}"),
+            PouKind::Int { n, .. } => format!("INT_{n}"),
+        }
+    }
+
+    /// The device a `#NAME` operand stands for in this POU: `None` when it
+    /// is no `#NAME`, an error when the POU has no such variable.
+    pub fn local_device(&self, operand: &str) -> Option<Result<&str, String>> {
+        local_device(&self.vars, operand)
+    }
+}
+
+fn local_device<'a>(vars: &'a [Var], operand: &str) -> Option<Result<&'a str, String>> {
+    let name = operand.strip_prefix('#')?;
+    let key = name.to_uppercase();
+    Some(match vars.iter().find(|v| v.name == key) {
+        Some(v) => Ok(v.addr.as_str()),
+        None => Err(format!(
+            "`{operand}`: no local variable `{name}` in this POU"
+        )),
+    })
+}
+
+impl Unit {
+    /// The device an operand of `pou` stands for: a `#NAME` its local's
+    /// address, a global name its device, anything else itself (contract
+    /// §1.1 items 8-9).
+    pub fn device_of<'a>(&'a self, pou: &'a Pou, operand: &'a str) -> Result<&'a str, String> {
+        match pou.local_device(operand) {
+            Some(d) => d,
+            None => Ok(self
+                .globals
+                .get(&operand.to_uppercase())
+                .map_or(operand, String::as_str)),
+        }
     }
 }
 
@@ -538,18 +593,14 @@ fn substitute(
 ) {
     for i in &mut pou.body {
         for t in &mut i.operands {
-            if let Some(name) = t.text.strip_prefix('#') {
-                let key = name.to_uppercase();
-                match pou.vars.iter().find(|v| v.name == key) {
-                    Some(v) => t.text = v.addr.clone(),
-                    None => diags.push(Diagnostic::at(
-                        file,
-                        t,
-                        format!("`{}`: no local variable `{name}` in this POU", t.text),
-                    )),
+            match local_device(&pou.vars, &t.text) {
+                Some(Ok(dev)) => t.text = dev.to_string(),
+                Some(Err(e)) => diags.push(Diagnostic::at(file, t, e)),
+                None => {
+                    if let Some(dev) = globals.get(&t.text.to_uppercase()) {
+                        t.text = dev.clone();
+                    }
                 }
-            } else if let Some(dev) = globals.get(&t.text.to_uppercase()) {
-                t.text = dev.clone();
             }
         }
     }

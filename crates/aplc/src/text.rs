@@ -18,10 +18,28 @@ pub fn decode(bytes: &[u8]) -> String {
     }
 }
 
+/// The text of a comment on one line (a block comment over several lines is
+/// one piece per line), for tools that show the program.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Comment {
+    pub line: u32,
+    /// Without the `//`, `/*` and `*/` marks, trimmed.
+    pub text: String,
+}
+
 /// Splits the text into lines of tokens, comments removed. Lines without
 /// tokens are left out. An unterminated block comment is a diagnostic.
 pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
+    lines_and_comments(file, text).map(|(lines, _)| lines)
+}
+
+/// [`lines`], and the comments with their lines.
+pub fn lines_and_comments(
+    file: &str,
+    text: &str,
+) -> Result<(Vec<Vec<Token>>, Vec<Comment>), Diagnostic> {
     let mut out = Vec::new();
+    let mut comments = Vec::new();
     let mut in_block: Option<(u32, u32)> = None;
     for (n, raw) in text.split('\n').enumerate() {
         let line = n as u32 + 1;
@@ -29,6 +47,7 @@ pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
         let mut toks = Vec::new();
         let mut cur: Option<(usize, String)> = None;
         let mut i = 0;
+        let mut note = String::new();
         let flush = |cur: &mut Option<(usize, String)>, toks: &mut Vec<Token>| {
             if let Some((col, text)) = cur.take() {
                 toks.push(Token {
@@ -44,8 +63,10 @@ pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
             if in_block.is_some() {
                 if c == '*' && next == Some('/') {
                     in_block = None;
+                    note.push(' ');
                     i += 2;
                 } else {
+                    note.push(c);
                     i += 1;
                 }
                 continue;
@@ -57,6 +78,7 @@ pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
                 continue;
             }
             if c == '/' && next == Some('/') {
+                note.extend(&chars[i + 2..]);
                 break;
             }
             if c.is_whitespace() || c == '\u{feff}' {
@@ -70,6 +92,13 @@ pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
         if !toks.is_empty() {
             out.push(toks);
         }
+        let note = note.trim();
+        if !note.is_empty() {
+            comments.push(Comment {
+                line,
+                text: note.to_string(),
+            });
+        }
     }
     if let Some((line, col)) = in_block {
         return Err(Diagnostic {
@@ -79,7 +108,7 @@ pub fn lines(file: &str, text: &str) -> Result<Vec<Vec<Token>>, Diagnostic> {
             message: "`/*`: block comment without `*/`".into(),
         });
     }
-    Ok(out)
+    Ok((out, comments))
 }
 
 #[cfg(test)]
@@ -95,6 +124,9 @@ mod tests {
         assert_eq!((l[1][0].line, l[1][0].col), (3, 6));
         assert_eq!(l[2].len(), 3);
         assert_eq!(l[2][2].text, "D0");
+        let (_, notes) = lines_and_comments("f.apl", t).unwrap();
+        let notes: Vec<(u32, &str)> = notes.iter().map(|c| (c.line, c.text.as_str())).collect();
+        assert_eq!(notes, [(1, "c"), (2, "a"), (3, "b"), (5, "x")]);
         let e = lines("f.apl", "LD X0\n  /* open\n").unwrap_err();
         assert_eq!(e.to_string(), "f.apl:2:3: `/*`: block comment without `*/`");
     }

@@ -155,7 +155,11 @@ fn stop_error_needs_reset_which_clears_unlatched_devices() {
     assert!(p.cpu.set_run().is_err());
     assert!(p.bit("SM0"));
     p.set("X0", "0");
+    assert!(p.cpu.scans() >= 2);
     p.cpu.reset().unwrap();
+    // RESET is power-on processing: the scan count restarts (contract §3.1
+    // `scan` "since power-on"; SD420 from 0, 004 L10434).
+    assert_eq!(p.cpu.scans(), 0);
     assert_eq!(p.state(), CpuState::Run);
     assert!(p.cpu.error().is_none());
     assert!(!p.bit("SM0"));
@@ -165,6 +169,7 @@ fn stop_error_needs_reset_which_clears_unlatched_devices() {
     assert!(p.bit("L5"));
     p.scan();
     assert_eq!(p.int("D0"), 1);
+    assert_eq!((p.cpu.scans(), p.int("SD420")), (1, 1));
 }
 
 #[test]

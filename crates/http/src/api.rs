@@ -42,6 +42,7 @@ pub const MAX_STEP: u64 = 10_000;
 pub fn router(app: Arc<App>) -> Router {
     Router::new()
         .route("/", get(crate::pages::ladder))
+        .route("/ladder.txt", get(crate::pages::ladder_text))
         .route("/overview", get(crate::pages::overview))
         .route("/devices", get(crate::pages::devices))
         .route("/trend", get(crate::pages::trend))

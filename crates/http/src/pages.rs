@@ -13,7 +13,6 @@ use axum::extract::{Query, State};
 use axum::http::{header, StatusCode};
 use axum::response::{Html, IntoResponse, Response};
 
-use crate::ladder::grid::Grid;
 use crate::ladder::render;
 use crate::App;
 
@@ -122,6 +121,13 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     }
     let mut names = Vec::new();
     body.push_str(r#"<div id="ladder">"#);
+    if page == 0 && !prog.comment.is_empty() {
+        let _ = write!(
+            body,
+            r#"<pre class="note">{}</pre>"#,
+            esc(&prog.comment.join("\n"))
+        );
+    }
     let first = page * RUNGS_PER_PAGE;
     for (k, r) in prog
         .rungs
@@ -130,39 +136,50 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
         .skip(first)
         .take(RUNGS_PER_PAGE)
     {
-        r.for_each(&mut |e| {
-            for d in e.devices() {
-                names.push(d.to_string());
+        // A POU's heading where it starts (an empty POU's too), and the
+        // current POU's above a page's first rung.
+        let starting: Vec<_> = prog.sections.iter().filter(|s| s.first == k).collect();
+        let carried = prog.sections.iter().rev().find(|s| s.first < k);
+        let headings = match carried {
+            Some(c) if k == first && starting.is_empty() => vec![c],
+            _ => starting,
+        };
+        for s in headings {
+            let _ = write!(body, r#"<h3 class="pou">{}</h3>"#, esc(&s.title));
+            if !s.vars.is_empty() {
+                let _ = write!(
+                    body,
+                    r#"<p class="vars">VAR {}</p>"#,
+                    esc(&s.vars.join(" · "))
+                );
             }
-            if matches!(e.kind, crate::ladder::Kind::Coil) {
-                if let Some(cv) = e.operands.first().and_then(|d| timer_value(d)) {
-                    names.push(cv);
-                }
-            }
-        });
-        body.push_str(&render::svg(
-            &Grid::of(r),
-            pi,
-            k,
-            r.label.as_deref(),
-            r.line,
-        ));
+        }
+        if !r.comment.is_empty() {
+            let _ = write!(body, r#"<p class="note">{}</p>"#, esc(&r.comment.join(" ")));
+        }
+        r.for_each(&mut |e| names.extend(e.watched()));
+        names.extend(r.bus.iter().cloned());
+        body.push_str(&render::svg(r, pi, k));
     }
     body.push_str("</div>");
     frame(&app, "Ladder", "ladder", &names, &body).into_response()
 }
 
-/// `T0` → `TN0`, `C3` → `CN3`, `ST1` → `STN1`.
-fn timer_value(dev: &str) -> Option<String> {
-    let u = dev.to_ascii_uppercase();
-    for (p, n) in [("ST", "STN"), ("T", "TN"), ("C", "CN")] {
-        if let Some(rest) = u.strip_prefix(p) {
-            if !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit()) {
-                return Some(format!("{n}{rest}"));
-            }
-        }
+/// `/ladder.txt?prog=I`: the ladder of program I as text, with the device
+/// names of its dialect (what the snapshot tests compare).
+pub async fn ladder_text(State(app): State<Arc<App>>, Query(q): Q) -> Response {
+    let pi: usize = q.get("prog").and_then(|p| p.parse().ok()).unwrap_or(0);
+    match app.cfg.ladder.get(pi) {
+        Some(p) => (
+            [(header::CONTENT_TYPE, "text/plain; charset=utf-8")],
+            render::program_text(p),
+        )
+            .into_response(),
+        None => crate::api::error(
+            StatusCode::NOT_FOUND,
+            format!("no program {pi}: there are {}", app.cfg.ladder.len()),
+        ),
     }
-    None
 }
 
 /// `/overview`: model, state, scan times, error and its history, forces, breakpoint.

@@ -162,6 +162,9 @@ impl Cpu {
         self.power_on_us = now;
         self.min_scan_us = None;
         self.max_scan_us = None;
+        // "Scans executed since power-on": RESET is power-on processing, and
+        // the scan counter SD420 restarts from 0 with it (004 L10434).
+        self.scans = 0;
         self.system_power_on();
         self.start_run();
     }

@@ -10,7 +10,7 @@
 use softplc_core::program::isa::{Class, Found};
 use softplc_core::program::{Dialect, Source, SourceInstr, SourceItem};
 
-use super::{Elem, Kind};
+use super::{Elem, Kind, Names};
 
 /// Contacts in series and parallel.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -87,6 +87,11 @@ pub struct Rung {
     /// Source line of its first instruction.
     pub line: u32,
     pub body: RungBody,
+    /// The comment lines written just above it.
+    pub comment: Vec<String>,
+    /// The SFC steps whose body it is in (APLC): its rail has power only
+    /// while all of them are ON. Empty: the rail always has power.
+    pub bus: Vec<String>,
 }
 
 impl Rung {
@@ -110,8 +115,19 @@ enum ItemB {
     Fan(usize),
 }
 
+/// What a source instruction adds to its element beyond its tokens.
 #[derive(Default)]
-struct Builder {
+pub(crate) struct Notes {
+    /// See [`Elem::aliases`].
+    pub aliases: Vec<String>,
+    /// See [`Elem::params`].
+    pub params: Vec<String>,
+}
+
+#[derive(Default)]
+pub(crate) struct Builder {
+    names: Names,
+    bus: Vec<String>,
     rungs: Vec<Rung>,
     fans: Vec<FanB>,
     cur: usize,
@@ -125,6 +141,67 @@ struct Builder {
 }
 
 impl Builder {
+    pub(crate) fn new(names: Names) -> Builder {
+        let mut b = Builder {
+            names,
+            ..Builder::default()
+        };
+        b.start();
+        b
+    }
+
+    /// Rungs built so far (the one being built ends first).
+    pub(crate) fn count(&mut self) -> usize {
+        self.flush();
+        self.rungs.len()
+    }
+
+    pub(crate) fn finish(mut self) -> Vec<Rung> {
+        self.flush();
+        self.rungs
+    }
+
+    /// Names of the operands from here on.
+    pub(crate) fn set_names(&mut self, names: Names) {
+        self.flush();
+        self.names = names;
+    }
+
+    /// A pointer label before the next rung.
+    pub(crate) fn label(&mut self, text: &str) {
+        self.flush();
+        self.label = Some(text.to_string());
+    }
+
+    /// An SFC step: a run of STLs (one: a step body, several: a merge) draws
+    /// as one step box on a rung of its own; the rungs after it are the
+    /// step's until [`Self::end_step`].
+    pub(crate) fn step(&mut self, run: &[&SourceInstr]) {
+        let Some(first) = run.first() else { return };
+        self.flush();
+        self.bus.clear();
+        let mut e = self.elem(Kind::Step, first, "STL", Notes::default());
+        e.operands = run
+            .iter()
+            .filter_map(|i| i.operands.first().map(|t| t.text.clone()))
+            .collect();
+        self.bus = e.operands.clone();
+        self.rungs.push(Rung {
+            label: self.label.take(),
+            line: e.line,
+            body: RungBody::Standalone(e),
+            comment: Vec::new(),
+            bus: Vec::new(),
+        });
+        self.line = None;
+    }
+
+    /// The end of an SFC section or POU: rungs go back to the plain rail.
+    pub(crate) fn end_step(&mut self) {
+        self.flush();
+        self.bus.clear();
+    }
+
     fn start(&mut self) {
         self.fans = vec![FanB::default()];
         self.cur = 0;
@@ -148,6 +225,8 @@ impl Builder {
                 label: self.label.take(),
                 line: self.line.unwrap_or(0),
                 body: RungBody::Fan(fan),
+                comment: Vec::new(),
+                bus: self.bus.clone(),
             });
         }
         self.start();
@@ -175,7 +254,7 @@ impl Builder {
         }
     }
 
-    fn elem(&mut self, kind: Kind, i: &SourceInstr, m: &str) -> Elem {
+    fn elem(&mut self, kind: Kind, i: &SourceInstr, m: &str, notes: Notes) -> Elem {
         let id = self.next_id;
         self.next_id += 1;
         self.line.get_or_insert(i.mnemonic.line);
@@ -185,14 +264,33 @@ impl Builder {
             mnemonic: m.to_string(),
             operands: i.operands.iter().map(|t| t.text.clone()).collect(),
             line: i.mnemonic.line,
+            names: self.names,
+            aliases: notes.aliases,
+            params: notes.params,
         }
     }
 
-    fn instr(&mut self, i: &SourceInstr, class: Class) {
+    /// An instruction of `dialect` (an unknown mnemonic draws as an output box).
+    pub(crate) fn item(&mut self, i: &SourceInstr, dialect: &Dialect, notes: Notes) {
+        let m = i.mnemonic.text.to_ascii_uppercase();
+        let class = match dialect.isa.lookup(&m) {
+            Found::Def(d, _) | Found::WrongPulse(d) | Found::NoPulse(d) => d.class,
+            Found::Unknown => Class::Output,
+        };
+        self.instr(i, class, notes);
+    }
+
+    fn instr(&mut self, i: &SourceInstr, class: Class, notes: Notes) {
         let m = i.mnemonic.text.to_ascii_uppercase();
         match class {
             Class::Contact => {
-                let load = m.starts_with("LD");
+                // APLC word-bit contacts BLD/BLDI/BAND/BANI/BOR/BORI (002
+                // L8833-9076): LD/AND/OR of bit S2 of word S1.
+                let word_bit = m
+                    .strip_prefix('B')
+                    .filter(|r| ["LD", "AND", "OR"].iter().any(|p| r.starts_with(p)));
+                let base = word_bit.unwrap_or(&m);
+                let load = base.starts_with("LD");
                 if load
                     && self.outputs > 0
                     && self.mps.is_empty()
@@ -201,17 +299,17 @@ impl Builder {
                 {
                     self.flush();
                 }
-                let kind = if i.operands.len() >= 2 {
+                let kind = if i.operands.len() >= 2 && word_bit.is_none() {
                     Kind::Compare
                 } else {
-                    match m.as_str() {
+                    match base {
                         "LDI" | "ANI" | "ORI" => Kind::Nc,
                         "LDP" | "ANDP" | "ORP" => Kind::Rise,
                         "LDF" | "ANDF" | "ORF" => Kind::Fall,
                         _ => Kind::No,
                     }
                 };
-                let e = Net::Elem(self.elem(kind, i, &m));
+                let e = Net::Elem(self.elem(kind, i, &m, notes));
                 if load {
                     if let Some(n) = self.net.take() {
                         self.blocks.push(n);
@@ -219,14 +317,20 @@ impl Builder {
                     self.net = Some(e);
                 } else {
                     let net = self.net.take();
-                    self.net = Some(Net::join(net, e, m.starts_with("OR")));
+                    self.net = Some(Net::join(net, e, base.starts_with("OR")));
                 }
             }
             Class::Connection => match m.as_str() {
                 "ANB" | "ORB" => {
-                    if let (Some(b), Some(n)) = (self.blocks.pop(), self.net.take()) {
-                        self.net = Some(Net::join(Some(b), n, m == "ORB"));
-                    }
+                    let n = self.net.take();
+                    self.net = match (self.blocks.pop(), n) {
+                        (Some(b), Some(n)) => Some(Net::join(Some(b), n, m == "ORB")),
+                        // A block opened at a branch point (LD after MPS/MRD,
+                        // 002 L2185-2208): ANB puts it in series there. An
+                        // ORB there is drawn the same way.
+                        (None, n) => n,
+                        (Some(b), None) => Some(b),
+                    };
                 }
                 "MPS" => {
                     self.fork();
@@ -244,35 +348,35 @@ impl Builder {
                     }
                 }
                 _ => {
-                    let e = Net::Elem(self.elem(Kind::Modifier, i, &m));
+                    let e = Net::Elem(self.elem(Kind::Modifier, i, &m, notes));
                     let net = self.net.take();
                     self.net = Some(Net::join(net, e, false));
                 }
             },
             Class::Output => {
-                let bit = i
-                    .operands
-                    .first()
-                    .and_then(|o| softplc_core::access::DeviceSpec::parse(&o.text).ok())
-                    .is_some_and(|d| d.ty == softplc_core::access::ValueType::Bit);
+                let bit = i.operands.first().is_some_and(|o| {
+                    self.names.device_type(&o.text) == Some(softplc_core::access::ValueType::Bit)
+                });
                 let kind = match m.as_str() {
                     "OUT" if bit => Kind::Coil,
                     "SET" if bit => Kind::Set,
                     "RST" if bit => Kind::Reset,
                     _ => Kind::Box,
                 };
-                let e = self.elem(kind, i, &m);
+                let e = self.elem(kind, i, &m, notes);
                 self.fork();
                 self.fans[self.cur].items.push(ItemB::Out(e));
                 self.outputs += 1;
             }
             Class::Standalone => {
                 self.flush();
-                let e = self.elem(Kind::Standalone, i, &m);
+                let e = self.elem(Kind::Standalone, i, &m, notes);
                 self.rungs.push(Rung {
                     label: self.label.take(),
                     line: e.line,
                     body: RungBody::Standalone(e),
+                    comment: Vec::new(),
+                    bus: self.bus.clone(),
                 });
                 self.line = None;
             }
@@ -300,24 +404,12 @@ fn take(fans: &mut Vec<FanB>, i: usize) -> Fan {
 /// The rungs of `src`; instruction classes come from `dialect` (an unknown
 /// mnemonic draws as an output box).
 pub fn build(src: &Source, dialect: &Dialect) -> Vec<Rung> {
-    let mut b = Builder::default();
-    b.start();
+    let mut b = Builder::new(Names::Melsec);
     for item in super::items(src) {
         match item {
-            SourceItem::Label(t) => {
-                b.flush();
-                b.label = Some(t.text.clone());
-            }
-            SourceItem::Instr(i) => {
-                let m = i.mnemonic.text.to_ascii_uppercase();
-                let class = match dialect.isa.lookup(&m) {
-                    Found::Def(d, _) | Found::WrongPulse(d) | Found::NoPulse(d) => d.class,
-                    Found::Unknown => Class::Output,
-                };
-                b.instr(i, class);
-            }
+            SourceItem::Label(t) => b.label(&t.text),
+            SourceItem::Instr(i) => b.item(i, dialect, Notes::default()),
         }
     }
-    b.flush();
-    b.rungs
+    b.finish()
 }

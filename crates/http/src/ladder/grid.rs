@@ -8,8 +8,57 @@ use super::Elem;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Cell<'a> {
     Elem(&'a Elem),
-    /// A horizontal wire through the cell.
-    Wire,
+    /// A horizontal wire through the cell, with where its power comes from.
+    Wire(Feed<'a>),
+}
+
+/// Where the power on a wire comes from, for the page's power flow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feed<'a> {
+    /// What flows into element `id` (the wire leading to an output, the left
+    /// side of a parallel block).
+    Into(u32),
+    /// What flows out of a net (the wire after a short parallel branch, the
+    /// right side of a parallel block): the OR of its [`terminals`].
+    After(&'a Net),
+}
+
+/// The elements whose outputs make a net's output: a series ends with its
+/// last part, a parallel block is the OR of its branches.
+pub fn terminals(n: &Net) -> Vec<u32> {
+    match n {
+        Net::Elem(e) => vec![e.id],
+        Net::Series(v) => v.last().map_or_else(Vec::new, terminals),
+        Net::Parallel(v) => v.iter().flat_map(terminals).collect(),
+    }
+}
+
+/// The first element power reaches in a net.
+fn first(n: &Net) -> Option<u32> {
+    match n {
+        Net::Elem(e) => Some(e.id),
+        Net::Series(v) | Net::Parallel(v) => v.first().and_then(first),
+    }
+}
+
+fn first_of_item(i: &Item) -> Option<u32> {
+    match i {
+        Item::Out(e) => Some(e.id),
+        Item::Fan(f) => f
+            .prefix
+            .as_ref()
+            .and_then(first)
+            .or_else(|| f.items.first().and_then(first_of_item)),
+    }
+}
+
+/// A vertical link at the left edge of a column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Link<'a> {
+    pub col: usize,
+    pub top: usize,
+    pub bottom: usize,
+    pub feed: Option<Feed<'a>>,
 }
 
 /// A laid-out rung.
@@ -20,8 +69,8 @@ pub struct Grid<'a> {
     pub rows: usize,
     /// (row, column, cell).
     pub cells: Vec<(usize, usize, Cell<'a>)>,
-    /// Vertical links at the left edge of a column: (column, top row, bottom row).
-    pub links: Vec<(usize, usize, usize)>,
+    /// Vertical links at the left edge of a column.
+    pub links: Vec<Link<'a>>,
     /// A standalone instruction (END, FEND, MCR …) across the rung.
     pub standalone: Option<&'a Elem>,
     /// The rung laid out.
@@ -94,10 +143,19 @@ impl<'a> Grid<'a> {
         }
     }
 
-    fn wires(&mut self, row: usize, from: usize, to: usize) {
+    fn wires(&mut self, row: usize, from: usize, to: usize, feed: Feed<'a>) {
         for c in from..to {
-            self.cells.push((row, c, Cell::Wire));
+            self.cells.push((row, c, Cell::Wire(feed)));
         }
+    }
+
+    fn link(&mut self, col: usize, top: usize, bottom: usize, feed: Option<Feed<'a>>) {
+        self.links.push(Link {
+            col,
+            top,
+            bottom,
+            feed,
+        });
     }
 
     fn net(&mut self, n: &'a Net, row: usize, col: usize) {
@@ -117,13 +175,13 @@ impl<'a> Grid<'a> {
                 for p in v {
                     let (pw, ph) = size(p);
                     self.net(p, r, col);
-                    self.wires(r, col + pw, col + w);
+                    self.wires(r, col + pw, col + w, Feed::After(p));
                     last = r;
                     r += ph;
                 }
                 if last > row {
-                    self.links.push((col, row, last));
-                    self.links.push((col + w, row, last));
+                    self.link(col, row, last, first(n).map(Feed::Into));
+                    self.link(col + w, row, last, Some(Feed::After(n)));
                 }
             }
         }
@@ -140,7 +198,7 @@ impl<'a> Grid<'a> {
             last = r;
             match i {
                 Item::Out(e) => {
-                    self.wires(r, c2, self.cols);
+                    self.wires(r, c2, self.cols, Feed::Into(e.id));
                     self.cells.push((r, self.cols, Cell::Elem(e)));
                     r += 1;
                 }
@@ -151,7 +209,8 @@ impl<'a> Grid<'a> {
             }
         }
         if last > row {
-            self.links.push((c2, row, last));
+            let feed = f.items.first().and_then(first_of_item).map(Feed::Into);
+            self.link(c2, row, last, feed);
         }
     }
 }

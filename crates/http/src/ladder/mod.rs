@@ -13,18 +13,71 @@
 //! - [`render`] draws the grid as text (the snapshot tests) and as SVG with an
 //!   element id per contact and coil and the device names to colour them live.
 //!
+//! - [`aplc`] lays out an APLC `.apl` file the same way: one section per
+//!   POU, operands shown as written and as their devices, SFC steps.
+//!
 //! Malformed lists never panic: a connection without its block is drawn as
 //! it comes.
 
+pub mod aplc;
 pub mod build;
 pub mod grid;
 pub mod render;
 
 use std::path::Path;
 
+use softplc_core::access::{DeviceSpec, ValueType};
 use softplc_core::program::{Dialect, Source, SourceItem};
 
 pub use build::{build, Fan, Item, Net, Rung, RungBody};
+
+/// Whose device names a program's operands are (the names the page shows,
+/// subscribes to and writes, contract §3.1 "in the program's dialect").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Names {
+    /// MELSEC-Q (`--show` names, hexadecimal X/Y).
+    #[default]
+    Melsec,
+    /// APLC-TCP (`softplc_aplc::names`, octal X/Y). `locals`: LM and V are
+    /// read live; only in MAIN, whose frame is the one device memory holds
+    /// at END (a subroutine's or interrupt routine's locals are gone then).
+    Aplc { locals: bool },
+}
+
+impl Names {
+    /// The value type of a device name, `None` for a constant or anything
+    /// that is no device of this dialect.
+    pub fn device_type(self, name: &str) -> Option<ValueType> {
+        match self {
+            Names::Melsec => DeviceSpec::parse(name).ok().map(|d| d.ty),
+            Names::Aplc { locals } => {
+                let u = name.to_ascii_uppercase();
+                if !locals && (u.starts_with('V') || u.contains("LM")) {
+                    return None;
+                }
+                softplc_aplc::names::Name::parse(name).ok().map(|n| n.ty)
+            }
+        }
+    }
+
+    /// The name of a timer's or counter's current value (`T0` → `TN0`,
+    /// `C3` → `CN3`; MELSEC also `ST1` → `STN1`).
+    pub fn current_value(self, dev: &str) -> Option<String> {
+        let u = dev.to_ascii_uppercase();
+        let kinds: &[(&str, &str)] = match self {
+            Names::Melsec => &[("ST", "STN"), ("T", "TN"), ("C", "CN")],
+            Names::Aplc { .. } => &[("T", "TN"), ("C", "CN")],
+        };
+        for (p, n) in kinds {
+            if let Some(rest) = u.strip_prefix(p) {
+                if !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit()) {
+                    return Some(format!("{n}{rest}"));
+                }
+            }
+        }
+        None
+    }
+}
 
 /// What an element draws as.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,6 +98,9 @@ pub enum Kind {
     Reset,
     /// An application instruction (and other outputs) as a box.
     Box,
+    /// An SFC step (APLC `STL Sn`, a run of STLs for a merge): a box on the
+    /// rail, active while all its steps are ON.
+    Step,
     /// END, FEND, MCR, NEXT, RET …: a rung of its own.
     Standalone,
 }
@@ -62,6 +118,7 @@ impl Kind {
             Kind::Set => "set",
             Kind::Reset => "rst",
             Kind::Box => "box",
+            Kind::Step => "step",
             Kind::Standalone => "end",
         }
     }
@@ -77,6 +134,13 @@ pub struct Elem {
     pub operands: Vec<String>,
     /// Source line.
     pub line: u32,
+    /// Whose names the operands are.
+    pub names: Names,
+    /// Per operand, how the source wrote it where that differs from the
+    /// device (`#RUNOK` for LM0, a global's name); empty otherwise.
+    pub aliases: Vec<String>,
+    /// A CALL's parameter names, in operand order from the second operand.
+    pub params: Vec<String>,
 }
 
 impl Elem {
@@ -85,8 +149,96 @@ impl Elem {
         self.operands
             .iter()
             .map(String::as_str)
-            .filter(|o| softplc_core::access::DeviceSpec::parse(o).is_ok())
+            .filter(|o| self.names.device_type(o).is_some())
     }
+
+    /// Operand `k` as shown: `NAME=DEVICE` where the source wrote a name,
+    /// `PARAM=ARG` for a CALL's arguments.
+    pub fn label(&self, k: usize) -> String {
+        let op = self.operands.get(k).map_or("", String::as_str);
+        let shown = match self.aliases.get(k).filter(|a| !a.is_empty()) {
+            Some(a) => format!("{a}={op}"),
+            None => op.to_string(),
+        };
+        match k.checked_sub(1).and_then(|p| self.params.get(p)) {
+            Some(p) => format!("{p}:={shown}"),
+            None => shown,
+        }
+    }
+
+    /// The bit number of a word-bit contact (APLC `BLD D0 5`: bit 5 of D0).
+    pub fn word_bit(&self) -> Option<&str> {
+        match self.kind {
+            Kind::No | Kind::Nc if self.operands.len() == 2 => Some(&self.operands[1]),
+            _ => None,
+        }
+    }
+
+    /// All operands as shown, separated by blanks.
+    pub fn labels(&self) -> String {
+        (0..self.operands.len())
+            .map(|k| self.label(k))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    /// The word values a box, comparison or timer coil shows.
+    pub fn values(&self) -> Vec<String> {
+        (0..self.operands.len())
+            .filter_map(|k| self.word_value(k))
+            .collect()
+    }
+
+    /// Operand `k` read as a word, `None` for a constant: a word device, a
+    /// timer's or counter's current value for T/C, and in a 32-bit or REAL
+    /// comparison (`LDD>=`, `LDR<`, MELSEC `LDD=`, `LDE>`) the typed name
+    /// (`D20:i32`), as the page's script compares them.
+    pub fn word_value(&self, k: usize) -> Option<String> {
+        let d = self.operands.get(k)?;
+        let name = match self.names.device_type(d)? {
+            ValueType::Bit => self.names.current_value(d)?,
+            _ => d.clone(),
+        };
+        Some(match self.compare_type() {
+            Some(t) if !name.contains(':') => format!("{name}:{t}"),
+            _ => name,
+        })
+    }
+
+    /// `i32` or `f32` for a 32-bit or real comparison contact.
+    fn compare_type(&self) -> Option<&'static str> {
+        if self.kind != Kind::Compare {
+            return None;
+        }
+        let m = &self.mnemonic;
+        let rest = ["LD", "AND", "OR"].iter().find_map(|p| m.strip_prefix(p))?;
+        match rest.chars().next()? {
+            'D' => Some("i32"),
+            'E' | 'R' => Some("f32"),
+            _ => None,
+        }
+    }
+
+    /// The names the page subscribes to for this element: its devices, and
+    /// the values it shows.
+    pub fn watched(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.devices().map(str::to_string).collect();
+        if matches!(self.kind, Kind::Coil | Kind::Box | Kind::Compare) {
+            v.extend(self.values());
+        }
+        v
+    }
+}
+
+/// A POU of an APLC program: its rungs from `first` to the next section.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Section {
+    /// `MAIN`, `SBR_1`, `INT_1 EVENT 26`.
+    pub title: String,
+    /// Its local variables, `NAME KIND TYPE = ADDRESS` each.
+    pub vars: Vec<String>,
+    /// Index of its first rung.
+    pub first: usize,
 }
 
 /// A program file as ladder rungs.
@@ -94,6 +246,10 @@ impl Elem {
 pub struct LadderProgram {
     pub file: String,
     pub rungs: Vec<Rung>,
+    /// The POUs (APLC), empty for MELSEC files.
+    pub sections: Vec<Section>,
+    /// Comment lines before the file's first instruction or declaration.
+    pub comment: Vec<String>,
 }
 
 impl LadderProgram {
@@ -107,6 +263,7 @@ impl LadderProgram {
         LadderProgram {
             file: src.file.clone(),
             rungs: build(src, dialect),
+            ..LadderProgram::default()
         }
     }
 
@@ -152,6 +309,11 @@ impl LadderProgram {
                     }
                 }
             });
+            for d in &r.bus {
+                if seen.insert(d.clone()) {
+                    out.push(d.clone());
+                }
+            }
         }
         out
     }
@@ -159,17 +321,25 @@ impl LadderProgram {
 
 /// The ladder of every program file of `cpu`, read again from the files it
 /// was compiled from (a file that cannot be read shows as a note), with the
-/// instruction classes of the CPU model's dialect.
+/// instruction classes of the CPU model's dialect: an APLC-TCP CPU's files
+/// as `.apl`.
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
-    let dialect = softplc_core::program::dialect_for(&cpu.config().model, Default::default());
+    let model = &cpu.config().model;
+    let dialect = softplc_core::program::dialect_for(model, Default::default());
     (0..cpu.program_count())
         .map(|i| {
             let file = &cpu.program_at(i).file;
-            LadderProgram::from_file_in(Path::new(file), &dialect).unwrap_or_else(|e| {
+            let path = Path::new(file);
+            let ladder = if model == softplc_core::aplc::MODEL {
+                aplc::from_file(path)
+            } else {
+                LadderProgram::from_file_in(path, &dialect)
+            };
+            ladder.unwrap_or_else(|e| {
                 eprintln!("softplc: --http: no ladder for {file}: {e}");
                 LadderProgram {
                     file: file.clone(),
-                    rungs: Vec::new(),
+                    ..LadderProgram::default()
                 }
             })
         })

@@ -7,8 +7,8 @@
 use std::fmt::Write;
 
 use super::build::{Fan, Item, Net, Rung, RungBody};
-use super::grid::{Cell, Grid};
-use super::{Elem, Kind};
+use super::grid::{terminals, Cell, Feed, Grid, Link};
+use super::{Elem, Kind, LadderProgram};
 
 /// Characters per cell in the text drawing.
 const TW: usize = 12;
@@ -38,7 +38,10 @@ fn text_of(e: &Elem) -> String {
         Kind::Coil => format!("( {op} )"),
         Kind::Set => format!("(S {op})"),
         Kind::Reset => format!("(R {op})"),
-        Kind::Box | Kind::Standalone => format!("[{} {op}]", e.mnemonic).replace(" ]", "]"),
+        Kind::Box | Kind::Standalone => {
+            format!("[{} {}]", e.mnemonic, e.labels()).replace(" ]", "]")
+        }
+        Kind::Step => format!("[STL {op}]"),
     }
 }
 
@@ -61,7 +64,7 @@ pub fn text(g: &Grid) -> String {
             continue;
         }
         let s = match cell {
-            Cell::Wire => "-".repeat(TW),
+            Cell::Wire(_) => "-".repeat(TW),
             Cell::Elem(e) => {
                 let t = short(&text_of(e), TW - 2);
                 let pad = TW - t.chars().count();
@@ -72,7 +75,13 @@ pub fn text(g: &Grid) -> String {
             rows[*r][1 + c * TW + k] = ch;
         }
     }
-    for &(c, top, bottom) in &g.links {
+    for &Link {
+        col: c,
+        top,
+        bottom,
+        ..
+    } in &g.links
+    {
         let pos = c * TW;
         for (r, row) in rows.iter_mut().enumerate().take(bottom + 1).skip(top) {
             if pos == 0 || pos >= row.len() {
@@ -92,6 +101,30 @@ pub fn text(g: &Grid) -> String {
     s
 }
 
+/// A whole program as text (`GET /ladder.txt`): the file's comment, each
+/// POU's heading with its variables, rung comments, the steps an SFC body
+/// rung is in, and the rungs.
+pub fn program_text(p: &LadderProgram) -> String {
+    let mut out = String::new();
+    for l in &p.comment {
+        let _ = writeln!(out, "/* {l} */");
+    }
+    for (k, r) in p.rungs.iter().enumerate() {
+        for s in p.sections.iter().filter(|s| s.first == k) {
+            let head = format!("== {} {}", s.title, s.vars.join(", "));
+            let _ = writeln!(out, "{}", head.trim_end());
+        }
+        for c in &r.comment {
+            let _ = writeln!(out, "// {c}");
+        }
+        if !r.bus.is_empty() {
+            let _ = writeln!(out, "(in step {})", r.bus.join(" "));
+        }
+        out += &text(&Grid::of(r));
+    }
+    out
+}
+
 /// Cell size in the SVG drawing, px.
 pub const W: usize = 92;
 pub const H: usize = 46;
@@ -105,46 +138,43 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A timer's or counter's current value name for its coil (`T0` → `TN0`).
-fn current_value(dev: &str) -> Option<String> {
-    let u = dev.to_ascii_uppercase();
-    for (p, n) in [("ST", "STN"), ("T", "TN"), ("C", "CN")] {
-        if let Some(rest) = u.strip_prefix(p) {
-            if rest.chars().next().is_some_and(|c| c.is_ascii_digit()) {
-                return Some(format!("{n}{rest}"));
-            }
-        }
-    }
-    None
-}
-
-fn is_word(dev: &str) -> bool {
-    softplc_core::access::DeviceSpec::parse(dev)
-        .is_ok_and(|d| d.ty != softplc_core::access::ValueType::Bit)
-}
-
 /// One element as SVG at cell origin (x, y); `w` is its width.
 fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usize) {
-    let dev = e.operands.first().map_or("", String::as_str);
+    let dev = e
+        .operands
+        .first()
+        .filter(|d| e.names.device_type(d).is_some())
+        .map_or("", String::as_str);
+    // A comparison's operands as the script compares them (typed names).
+    let ops: Vec<String> = (0..e.operands.len())
+        .map(|k| match e.kind {
+            Kind::Compare => e.word_value(k).unwrap_or_else(|| e.operands[k].clone()),
+            _ => e.operands[k].clone(),
+        })
+        .collect();
     let mid = y + H / 2 + 4;
     let _ = write!(
         out,
-        r#"<g class="el k-{}" id="e{prog}-{}" data-dev="{}" data-ops="{}" data-m="{}"><title>{} {} (line {})</title>"#,
+        r#"<g class="el k-{}" id="e{prog}-{}" data-dev="{}" data-ops="{}" data-m="{}"{}><title>{} {} (line {})</title>"#,
         e.kind.as_str(),
         e.id,
         esc(dev),
-        esc(&e.operands.join(" ")),
+        esc(&ops.join(" ")),
         esc(&e.mnemonic),
+        // A word-bit contact: the script reads the bit out of the word.
+        e.word_bit()
+            .map_or(String::new(), |b| format!(r#" data-bit="{}""#, esc(b))),
         esc(&e.mnemonic),
-        esc(&e.operands.join(" ")),
+        esc(&e.labels()),
         e.line
     );
+
     let cx = x + w / 2;
     match e.kind {
         Kind::No | Kind::Nc | Kind::Rise | Kind::Fall => {
             let _ = write!(
                 out,
-                r#"<line class="w" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/><line class="w" x1="{}" y1="{mid}" x2="{}" y2="{mid}"/><rect class="sym" x="{}" y="{}" width="16" height="22"/>"#,
+                r#"<line class="w in" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/><line class="w out" x1="{}" y1="{mid}" x2="{}" y2="{mid}"/><rect class="sym" x="{}" y="{}" width="16" height="22"/>"#,
                 cx - 8,
                 cx + 8,
                 x + w,
@@ -168,7 +198,7 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
                 out,
                 r#"<text class="n" x="{cx}" y="{}">{}</text>"#,
                 mid - 15,
-                esc(&e.operands.join(" "))
+                esc(&short(&e.labels(), 16))
             );
         }
         Kind::Coil | Kind::Set | Kind::Reset => {
@@ -186,9 +216,9 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
                 mid + 4,
                 x + 51,
                 mid - 15,
-                esc(&e.operands.join(" "))
+                esc(&e.labels())
             );
-            if let Some(cv) = e.operands.first().and_then(|d| current_value(d)) {
+            if let Some(cv) = e.operands.first().and_then(|d| e.names.current_value(d)) {
                 let _ = write!(
                     out,
                     r#"<text class="v" x="{}" y="{}" data-v="{}"></text>"#,
@@ -211,17 +241,21 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
                 y + 20,
                 esc(&e.mnemonic),
                 esc(&short(
-                    &e.operands.join(" "),
-                    if e.kind == Kind::Box { 26 } else { 9 }
+                    &e.labels(),
+                    if matches!(e.kind, Kind::Box | Kind::Step) {
+                        26
+                    } else {
+                        9
+                    }
                 ))
             );
             let mut vx = x + 8;
-            for d in e.devices().filter(|d| is_word(d)) {
+            for d in e.values() {
                 let _ = write!(
                     out,
                     r#"<text class="v" x="{vx}" y="{}" data-v="{}"></text>"#,
                     y + 35,
-                    esc(d)
+                    esc(&d)
                 );
                 vx += 60;
             }
@@ -259,8 +293,26 @@ pub fn structure(rung: &Rung) -> serde_json::Value {
     }
 }
 
-/// The rung as SVG (`prog`: program index, for element ids).
-pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) -> String {
+/// Where a wire's power comes from, for the page's script: `data-into="ID"`
+/// (the power into element ID) or `data-after="ID ID"` (the OR of those
+/// elements' outputs).
+fn feed_attr(feed: Option<&Feed>) -> String {
+    match feed {
+        Some(Feed::Into(id)) => format!(r#" data-into="{id}""#),
+        Some(Feed::After(n)) => {
+            let ids: Vec<String> = terminals(n).iter().map(u32::to_string).collect();
+            format!(r#" data-after="{}""#, ids.join(" "))
+        }
+        None => String::new(),
+    }
+}
+
+/// Rung `index` of program `prog` as SVG (the numbers make the element ids).
+/// An SFC step's rung names its steps in `data-bus`: the script gives its
+/// rail power only while they are all ON.
+pub fn svg(rung: &Rung, prog: usize, index: usize) -> String {
+    let g = Grid::of(rung);
+    let (label, line) = (rung.label.as_deref(), rung.line);
     let left = 44;
     let width = left + g.cols * W + OUT_W;
     let height = g.rows * H + 8;
@@ -271,6 +323,9 @@ pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) 
     );
     if let Some(r) = g.rung {
         let _ = write!(s, r#" data-net="{}""#, esc(&structure(r).to_string()));
+    }
+    if !rung.bus.is_empty() {
+        let _ = write!(s, r#" data-bus="{}""#, esc(&rung.bus.join(" ")));
     }
     s.push('>');
     let _ = write!(
@@ -289,11 +344,12 @@ pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) 
         let x = left + c * W;
         let y = r * H;
         match cell {
-            Cell::Wire => {
+            Cell::Wire(feed) => {
                 let mid = y + H / 2 + 4;
                 let _ = write!(
                     s,
-                    r#"<line class="w" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/>"#,
+                    r#"<line class="w"{} x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/>"#,
+                    feed_attr(Some(feed)),
                     x + W
                 );
             }
@@ -301,13 +357,18 @@ pub fn svg(g: &Grid, prog: usize, index: usize, label: Option<&str>, line: u32) 
             Cell::Elem(e) => elem_svg(&mut s, prog, e, x, y, W),
         }
     }
-    for &(c, top, bottom) in &g.links {
-        let x = if c == 0 { left - 2 } else { left + c * W };
+    for l in &g.links {
+        let x = if l.col == 0 {
+            left - 2
+        } else {
+            left + l.col * W
+        };
         let _ = write!(
             s,
-            r#"<line class="w link" x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-            top * H + H / 2 + 4,
-            bottom * H + H / 2 + 4
+            r#"<line class="w link"{} x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
+            feed_attr(l.feed.as_ref()),
+            l.top * H + H / 2 + 4,
+            l.bottom * H + H / 2 + 4
         );
     }
     s.push_str("</svg>");

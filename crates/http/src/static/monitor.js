@@ -126,15 +126,19 @@
   }
 
   // --- live values ---
+  // Constants of both dialects: MELSEC K5, H1F, E1.5; APLC 5, -3, 1.5E3,
+  // 16#1F, 8#17, 2#101 (contract §1 and §1.1 item 5).
   function konst(t) {
     if (t in values) return values[t];
     let m = /^K(-?\d+)$/i.exec(t); if (m) return Number(m[1]);
     m = /^H([0-9A-F]+)$/i.exec(t); if (m) return parseInt(m[1], 16);
     m = /^E(.+)$/i.exec(t); if (m) return parseFloat(m[1]);
+    m = /^(16|8|2)#([0-9A-F]+)$/i.exec(t); if (m) return parseInt(m[2], Number(m[1]));
+    if (/^[+-]?\d+(\.\d*)?(E[+-]?\d+)?$/i.test(t)) return Number(t);
     return undefined;
   }
   function compare(m, ops) {
-    const op = m.replace(/^(LD|AND|OR)/, "").replace(/^[DE]/, "");
+    const op = m.replace(/^(LD|AND|OR)/, "").replace(/^[DER]/, "");
     const a = konst(ops[0]), b = konst(ops[1]);
     if (a === undefined || b === undefined) return undefined;
     return { "=": a === b, "<>": a !== b, ">": a > b, "<": a < b, ">=": a >= b, "<=": a <= b }[op];
@@ -149,16 +153,21 @@
   }
   // Power flow from the left rail: a closed contact passes power, series
   // needs all, parallel any; INV inverts; outputs and boxes with power get "pw".
+  // The rail of an SFC step's rung (data-bus) has power while its steps are
+  // ON. A wire is coloured from what flows into an element (data-into) or
+  // out of the elements ending a branch (data-after).
   function powerFlow() {
     $$("svg.rung[data-net]").forEach((svg) => {
       const prog = svg.id.slice(1).split("-")[0];
       const el = (id) => document.getElementById("e" + prog + "-" + id);
+      const into = {}, outOf = {};
       const net = (n, p) => {
         if (typeof n === "number") {
           const g = el(n); if (!g) return p;
           const k = g.classList;
           const out = k.contains("k-mod") ? (g.dataset.m === "INV" ? !p : p) : p && k.contains("on");
           k.toggle("pw", p);
+          into[n] = p; outOf[n] = out;
           return out;
         }
         if (n.s) return n.s.reduce((q, m) => net(m, q), p);
@@ -167,9 +176,13 @@
       };
       const fan = (f, p) => {
         const q = f.f == null ? p : net(f.f, p);
-        f.i.forEach((i) => { if (typeof i === "number") { const g = el(i); if (g) g.classList.toggle("pw", q); } else fan(i, q); });
+        f.i.forEach((i) => { if (typeof i === "number") { into[i] = q; const g = el(i); if (g) g.classList.toggle("pw", q); } else fan(i, q); });
       };
-      try { fan(JSON.parse(svg.dataset.net), true); } catch (e) {}
+      const bus = svg.dataset.bus;
+      const rail = bus ? bus.split(" ").every((d) => values[d] === true) : true;
+      try { fan(JSON.parse(svg.dataset.net), rail); } catch (e) {}
+      $$("line.w[data-into]", svg).forEach((w) => w.classList.toggle("pw", into[w.dataset.into] === true));
+      $$("line.w[data-after]", svg).forEach((w) => w.classList.toggle("pw", w.dataset.after.split(" ").some((id) => outOf[id] === true)));
     });
   }
   function markForced() {
@@ -179,10 +192,13 @@
   function update(dev) {
     Object.assign(values, dev);
     $$(".el").forEach((g) => {
-      const v = values[g.dataset.dev];
+      let v = values[g.dataset.dev];
+      // A word-bit contact (APLC BLD D0 5): bit 5 of D0's value.
+      if (g.dataset.bit !== undefined) v = typeof v === "number" ? ((v >> Number(g.dataset.bit)) & 1) === 1 : undefined;
       const k = g.classList;
       let on;
       if (k.contains("k-cmp")) on = compare(g.dataset.m, g.dataset.ops.split(" "));
+      else if (k.contains("k-step")) on = g.dataset.ops.split(" ").every((d) => values[d] === true);
       else if (k.contains("k-nc")) on = v === false;
       else if (k.contains("k-box") || k.contains("k-mod") || k.contains("k-end")) on = undefined;
       else on = v === true;

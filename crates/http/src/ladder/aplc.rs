@@ -1,0 +1,165 @@
+//! The ladder of an APLC-TCP `.apl` file (contract §1.1, spec aplc.md §3):
+//! the file is read by the APLC dialect's own reader
+//! ([`softplc_aplc::outline`]: the tokens, POUs and variable tables the
+//! compiler uses, before `#NAME` and global names are substituted) and laid
+//! out by the same rung builder as MELSEC files, with the APLC instruction
+//! classes ([`softplc_aplc::dialect`]) and APLC device names
+//! ([`Names::Aplc`]: octal X/Y, LM/V, TN/CN).
+//!
+//! - One [`Section`] per POU (MAIN, `SBR_<n>`, `INT_<n> EVENT <e>`) with its
+//!   variable table; comment lines above a rung are its comment.
+//! - An operand written as `#NAME` or a global's name is drawn `NAME=DEVICE`
+//!   and the device is what the page reads and writes; a CALL's arguments
+//!   carry the callee's parameter names (`IN1:=3`).
+//! - SFC (002 §5.2 L3019-3101): a run of `STL` draws as one step box on a
+//!   rung of its own, and the step's body rungs take their rail power from
+//!   the step(s) (up to the next STL, `RET` or the end of the POU, as the
+//!   compiler scopes them); `SET Sn`/`OUT Sn` transitions draw as coils.
+//! - `LBL n` and `CJ n` are instructions in this dialect: LBL a rung of its
+//!   own, CJ a box (L3601-3666).
+
+use std::path::Path;
+
+use softplc_aplc::pou::{Pou, PouKind, Unit};
+use softplc_core::program::{SourceInstr, Token};
+
+use super::build::{Builder, Notes};
+use super::{LadderProgram, Names, Section};
+
+/// Reads and lays out an `.apl` file (any file name).
+pub fn from_file(path: &Path) -> Result<LadderProgram, String> {
+    let name = path.display().to_string();
+    let bytes = softplc_core::program::read_limited(
+        path,
+        softplc_core::program::MAX_IL_BYTES,
+        "a program file",
+    )?;
+    from_bytes(&name, &bytes)
+}
+
+/// Lays out `.apl` text (UTF-8 or GB18030 bytes) read from `name`.
+pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
+    let outline = softplc_aplc::outline(name, bytes).map_err(|d| {
+        d.0.first()
+            .map_or_else(|| "cannot parse".to_string(), |d| d.to_string())
+    })?;
+    let unit = &outline.unit;
+    let dialect = softplc_aplc::dialect();
+    let mut b = Builder::new(Names::Aplc { locals: true });
+    let mut sections = Vec::new();
+    for pou in &unit.pous {
+        b.set_names(Names::Aplc {
+            locals: pou.kind == PouKind::Main,
+        });
+        b.end_step();
+        sections.push(Section {
+            title: title(pou),
+            vars: pou
+                .vars
+                .iter()
+                .map(|v| format!("{} {} {} = {}", v.name, v.kind, v.ty, v.addr))
+                .collect(),
+            first: b.count(),
+        });
+        let mut k = 0;
+        while k < pou.body.len() {
+            let i = &pou.body[k];
+            if is(i, "STL") {
+                let run: Vec<SourceInstr> = pou.body[k..]
+                    .iter()
+                    .take_while(|i| is(i, "STL"))
+                    .map(|i| resolve(unit, pou, i).0)
+                    .collect();
+                b.step(&run.iter().collect::<Vec<_>>());
+                k += run.len();
+                continue;
+            }
+            if is(i, "RET") {
+                b.end_step();
+            }
+            let (instr, notes) = resolve(unit, pou, i);
+            b.item(&instr, dialect, notes);
+            k += 1;
+        }
+    }
+    let mut rungs = b.finish();
+    // Comment lines (lines without tokens) between a rung's first line and
+    // the line with tokens before it are the rung's comment.
+    let lines = &outline.token_lines;
+    for r in &mut rungs {
+        let before = lines.partition_point(|&l| l < r.line);
+        let from = before.checked_sub(1).map_or(0, |p| lines[p]);
+        r.comment = outline
+            .comments
+            .iter()
+            .filter(|c| c.line > from && c.line < r.line)
+            .map(|c| c.text.clone())
+            .collect();
+    }
+    let first = lines.first().copied().unwrap_or(u32::MAX);
+    Ok(LadderProgram {
+        file: name.to_string(),
+        rungs,
+        sections,
+        comment: outline
+            .comments
+            .iter()
+            .filter(|c| c.line < first)
+            .map(|c| c.text.clone())
+            .collect(),
+    })
+}
+
+fn is(i: &SourceInstr, m: &str) -> bool {
+    i.mnemonic.text.eq_ignore_ascii_case(m)
+}
+
+/// `MAIN`, `SBR_1`, `INT_1 EVENT 26`.
+fn title(pou: &Pou) -> String {
+    match pou.kind {
+        PouKind::Int { event, .. } => format!("{} EVENT {event}", pou.name()),
+        _ => pou.name(),
+    }
+}
+
+/// The instruction with its operands as devices, and how the source wrote
+/// them; a CALL's parameter names from the callee's variable table (IN,
+/// IN_OUT and OUT in table order, TEMP not passed: L2458-2462).
+fn resolve(unit: &Unit, pou: &Pou, i: &SourceInstr) -> (SourceInstr, Notes) {
+    let mut notes = Notes::default();
+    let operands: Vec<Token> = i
+        .operands
+        .iter()
+        .map(|t| {
+            let dev = unit.device_of(pou, &t.text).unwrap_or(&t.text);
+            if dev == t.text {
+                notes.aliases.push(String::new());
+                t.clone()
+            } else {
+                notes.aliases.push(t.text.clone());
+                Token {
+                    text: dev.to_string(),
+                    ..t.clone()
+                }
+            }
+        })
+        .collect();
+    if is(i, "CALL") {
+        let callee = operands.first().map(|t| t.text.to_ascii_uppercase());
+        if let Some(sbr) = unit.pous.iter().find(|p| Some(p.name()) == callee) {
+            notes.params = sbr
+                .vars
+                .iter()
+                .filter(|v| v.kind != "TEMP")
+                .map(|v| v.name.clone())
+                .collect();
+        }
+    }
+    (
+        SourceInstr {
+            operands,
+            ..i.clone()
+        },
+        notes,
+    )
+}
