@@ -11,6 +11,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 HERE = pathlib.Path(__file__).resolve().parent
+BINARY = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
 
 
 def free_port():
@@ -32,16 +33,42 @@ def wait_port(port, proc, timeout=20.0):
     raise RuntimeError(f"port {port} not open")
 
 
+def stop(proc):
+    """SIGTERM (softplc commits latched data and exits), kill after 10 s."""
+    proc.send_signal(signal.SIGTERM)
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+def pty_pair(tmp_path):
+    """A generator for fixtures: a socat pty pair `(plc, master)` in
+    tmp_path, closed when the fixture ends."""
+    a, b = tmp_path / "plc", tmp_path / "master"
+    socat = subprocess.Popen(
+        ["socat", f"pty,raw,echo=0,link={a}", f"pty,raw,echo=0,link={b}"],
+        stderr=subprocess.DEVNULL,
+    )
+    for _ in range(100):
+        if a.exists() and b.exists():
+            break
+        time.sleep(0.05)
+    yield a, b
+    socat.terminate()
+    socat.wait(timeout=10)
+
+
 @pytest.fixture
 def served():
     """Yields a function starting `softplc serve serve_test.il` with extra
     options; returns (process, {name: port})."""
-    binary = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
     procs = []
 
     def start(*servers, extra=()):
         ports = {name: free_port() for name in servers}
-        cmd = [binary, "serve", str(HERE / "serve_test.il"), "--scan-time", "5ms", *extra]
+        cmd = [BINARY, "serve", str(HERE / "serve_test.il"), "--scan-time", "5ms", *extra]
         for name, port in ports.items():
             cmd += [f"--{name}", f"127.0.0.1:{port}"]
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
@@ -53,9 +80,4 @@ def served():
     yield start
     for p in procs:
         if p.poll() is None:
-            p.send_signal(signal.SIGTERM)
-            try:
-                p.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                p.kill()
-                p.wait()
+            stop(p)

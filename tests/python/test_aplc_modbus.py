@@ -2,9 +2,7 @@
 program (seed 002, spec/aplc.md §6.3-6.5, contract §3): the APLC address map
 over the APLC's device memory, unit address 8, C200-C255 as true 32-bit
 pairs (even address = high word), over TCP and over RTU/ASCII on a pty."""
-import os
 import shutil
-import signal
 import subprocess
 import time
 
@@ -14,7 +12,7 @@ from pymodbus.exceptions import ModbusIOException
 from pymodbus.framer import FramerType
 from pymodbus.pdu import ExceptionResponse
 
-from conftest import ROOT, free_port, wait_port
+from conftest import BINARY, free_port, pty_pair, stop, wait_port
 
 # M0 (coil 2000) drives Y10 (octal: output 8, coil 8); X10 (input 8) drives
 # Y11 (coil 9); C200's 32-bit value goes to D100 (high word) and D101.
@@ -27,21 +25,9 @@ LD SM0
 DMOV C200 D100
 """
 
-BINARY = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
-
-
 def serve(args):
     proc = subprocess.Popen([BINARY, "serve", *args, "--scan-time", "5ms"], stderr=subprocess.PIPE)
     return proc
-
-
-def stop(proc):
-    proc.send_signal(signal.SIGTERM)
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
 
 
 @pytest.fixture
@@ -100,15 +86,8 @@ def test_other_units_get_no_answer_with_tcp_any_unit_off(aplc_project):
 def aplc_serial(request, tmp_path):
     if shutil.which("socat") is None:
         pytest.skip("socat is not installed")
-    a, b = tmp_path / "plc", tmp_path / "master"
-    socat = subprocess.Popen(
-        ["socat", f"pty,raw,echo=0,link={a}", f"pty,raw,echo=0,link={b}"],
-        stderr=subprocess.DEVNULL,
-    )
-    for _ in range(100):
-        if a.exists() and b.exists():
-            break
-        time.sleep(0.05)
+    pair = pty_pair(tmp_path)
+    a, b = next(pair)
     program = tmp_path / "main.apl"
     program.write_text(PROGRAM)
     plc = serve([str(program), f"--modbus-{request.param}", str(a)])
@@ -116,8 +95,7 @@ def aplc_serial(request, tmp_path):
     assert plc.poll() is None, plc.stderr.read().decode()
     yield request.param, str(b)
     stop(plc)
-    socat.terminate()
-    socat.wait(timeout=10)
+    next(pair, None)
 
 
 def test_serial_slave_is_station_8_with_the_aplc_map(aplc_serial):

@@ -1,7 +1,5 @@
 """Modbus RTU and ASCII over a pty pair (socat) with pymodbus's serial client."""
-import os
 import shutil
-import signal
 import subprocess
 import time
 
@@ -9,34 +7,24 @@ import pytest
 from pymodbus.client import ModbusSerialClient
 from pymodbus.framer import FramerType
 
-from conftest import HERE, ROOT
+from conftest import BINARY, HERE, pty_pair, stop
 
 pytestmark = pytest.mark.skipif(shutil.which("socat") is None, reason="socat is not installed")
 
 
 @pytest.fixture(params=["rtu", "ascii"])
 def serial_pair(request, tmp_path):
-    a, b = tmp_path / "plc", tmp_path / "master"
-    socat = subprocess.Popen(
-        ["socat", f"pty,raw,echo=0,link={a}", f"pty,raw,echo=0,link={b}"],
-        stderr=subprocess.DEVNULL,
-    )
-    for _ in range(100):
-        if a.exists() and b.exists():
-            break
-        time.sleep(0.05)
-    binary = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
+    pair = pty_pair(tmp_path)
+    a, b = next(pair)
     plc = subprocess.Popen(
-        [binary, "serve", str(HERE / "serve_test.il"), "--scan-time", "5ms", f"--modbus-{request.param}", str(a)],
+        [BINARY, "serve", str(HERE / "serve_test.il"), "--scan-time", "5ms", f"--modbus-{request.param}", str(a)],
         stderr=subprocess.PIPE,
     )
     time.sleep(0.5)
     assert plc.poll() is None, plc.stderr.read().decode()
     yield request.param, str(b)
-    plc.send_signal(signal.SIGTERM)
-    plc.wait(timeout=10)
-    socat.terminate()
-    socat.wait(timeout=10)
+    stop(plc)
+    next(pair, None)
 
 
 def test_read_write_over_serial(serial_pair):

@@ -5,8 +5,6 @@ whole samples), fitted by `softplc tune --fit-csv`, and the fitted K, tau,
 theta are compared with the plant's and with scipy's own least-squares fit
 of the same data (issue 12 item 5)."""
 import json
-import os
-import pathlib
 import subprocess
 
 import control
@@ -14,8 +12,7 @@ import numpy as np
 import pytest
 from scipy.optimize import curve_fit
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-BINARY = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
+from conftest import BINARY
 
 
 def simulate(gain, tau, dead_time, dt, t_end, t_step, u0, u1, noise=0.0, seed=0):

@@ -9,7 +9,6 @@ import json
 import os
 import pathlib
 import shutil
-import signal
 import subprocess
 import time
 import urllib.error
@@ -17,7 +16,7 @@ import urllib.request
 
 import pytest
 
-from conftest import ROOT, free_port, wait_port
+from conftest import BINARY, ROOT, free_port, stop, wait_port
 
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 TOKEN = "browser-test-token"
@@ -49,20 +48,14 @@ def shots(tmp_path):
 
 
 def serve(program):
-    binary = os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc"))
     port = free_port()
     proc = subprocess.Popen(
-        [binary, "serve", str(program), "--scan-time", "10ms",
+        [BINARY, "serve", str(program), "--scan-time", "10ms",
          "--http", f"127.0.0.1:{port}", "--http-token", TOKEN, "--no-realtime"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     wait_port(port, proc)
     yield port
-    proc.send_signal(signal.SIGTERM)
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
+    stop(proc)
 
 
 @pytest.fixture

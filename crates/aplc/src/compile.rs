@@ -12,8 +12,8 @@ use softplc_ir::device::{DeviceKind, DeviceMap};
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::{Op, Program};
-use softplc_lang::compile::{Args, Compiler};
-use softplc_lang::isa::{Drive, Found, Kind, Use};
+use softplc_lang::compile::Compiler;
+use softplc_lang::isa::{Found, Kind, Use};
 use softplc_lang::{Diagnostic, Diagnostics, Source, SourceInstr, Token};
 
 use crate::call::{self, RET_LABEL};
@@ -228,19 +228,7 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
                 (_, Kind::Rejected(why)) => {
                     c.err(&i.mnemonic, format!("unsupported instruction `{m}`: {why}"))
                 }
-                (_, Kind::Instr(compile)) => {
-                    if c.output(i, &m) {
-                        let mut args = Args::new(c, i, &m);
-                        if let Some(x) = compile(&mut args) {
-                            let at = c.ext.len() as u32;
-                            c.ext.push(x);
-                            c.emit(match def.drive {
-                                Drive::WhenOn => Op::Ext(at),
-                                Drive::Always => Op::ExtAlways(at),
-                            });
-                        }
-                    }
-                }
+                (_, Kind::Instr(compile)) => c.family(i, &m, def.drive, compile, false),
             }
             (def.steps.count(&i.operands), Some(def.class))
         }

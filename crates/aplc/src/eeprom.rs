@@ -12,8 +12,7 @@
 
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::{ExecCtx, Instr, LocalSlot};
-use softplc_ir::local_state;
+use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::WordArg;
 use softplc_lang::compile::Args;
 use softplc_lang::isa::{Def, Doc, Steps};
@@ -33,8 +32,7 @@ static DOC: Doc = Doc {
 pub static DEFS: &[Def] = &[
     // 002 §6.8.8 L6572 EROMWR: 6 steps, 7 with an indexed S2 (L6576).
     Def::app("EROMWR", &DOC, eromwr)
-        .no_pulse()
-        .always()
+        .on_rise()
         .steps(Steps::Rule(steps)),
 ];
 
@@ -47,12 +45,6 @@ fn steps(ops: &[Token]) -> u32 {
     6 + indexed as u32
 }
 
-local_state! {
-    struct Edge {
-        prev: bool,
-    }
-}
-
 #[derive(Debug)]
 struct Eromwr {
     /// S1's number (6000-6999).
@@ -62,7 +54,6 @@ struct Eromwr {
     /// The flat index of S1's image word; its "saved" mark is 1000 words on.
     to: usize,
     count: WordArg,
-    st: LocalSlot<Edge>,
 }
 
 fn eromwr(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
@@ -97,19 +88,12 @@ fn eromwr(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         from: (map.base(DeviceKind::D) + first) as usize,
         to: (map.base(DeviceKind::ZR) + first - EEPROM_FIRST) as usize,
         count,
-        st: a.local(),
     }))
 }
 
-impl Eromwr {
-    fn step(&self, cx: &mut ExecCtx<'_>, pf: bool) -> Result<(), Fault> {
-        let mut st = cx.local(&self.st);
-        let rising = pf && !st.prev;
-        st.prev = pf;
-        cx.set_local(&self.st, st);
-        if !rising {
-            return Ok(());
-        }
+/// Runs on the rising edge of the power flow only (`Drive::OnRise`).
+impl Instr for Eromwr {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let n = num::read16(cx.mem, &self.count)? as i32;
         if !(0..=16).contains(&n) || self.first as i32 + n > (EEPROM_FIRST + EEPROM_WORDS) as i32 {
             return Err(E_VALUE);
@@ -119,14 +103,5 @@ impl Eromwr {
         words.copy_within(self.from..self.from + n, self.to);
         words[self.to + EEPROM_WORDS as usize..][..n].fill(1);
         Ok(())
-    }
-}
-
-impl Instr for Eromwr {
-    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        self.step(cx, true)
-    }
-    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        self.step(cx, false)
     }
 }

@@ -22,6 +22,7 @@ pub mod convert;
 pub mod counters;
 pub mod devices;
 pub mod eeprom;
+pub mod files;
 pub mod flow;
 pub mod interrupt;
 pub mod logic;
@@ -153,7 +154,21 @@ pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Program, Diagnostics> {
     let text = text::decode(bytes);
     let lines = text::lines(name, &text).map_err(|d| Diagnostics(vec![d]))?;
     let unit = pou::parse(name, &lines, &is_mnemonic).map_err(Diagnostics)?;
-    compile::compile(name, &unit)
+    let mut program = compile::compile(name, &unit)?;
+    program.globals = globals_of(&unit);
+    Ok(program)
+}
+
+/// The global table of a parsed unit as (name, device), sorted by name: the
+/// program's [`Program::globals`].
+pub(crate) fn globals_of(unit: &pou::Unit) -> Vec<(String, String)> {
+    let mut g: Vec<(String, String)> = unit
+        .globals
+        .iter()
+        .map(|(n, d)| (n.clone(), d.clone()))
+        .collect();
+    g.sort();
+    g
 }
 
 /// An `.apl` file as written, for tools that show it (the web monitor's

@@ -5,10 +5,9 @@ mod common;
 
 use std::time::Duration;
 
-use common::{get, send, TOKEN};
+use common::{get, send, start_cpu, Server, TOKEN};
 use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_http::HttpConfig;
-use softplc_serve::{Background, EngineConfig, ServeState};
 
 /// A global on octal X10 (input 8), a MAIN TEMP, a timer and a CALL.
 const APL: &str = "VAR_GLOBAL\n  急停 X10 // emergency stop\nEND_VAR\n\
@@ -16,20 +15,7 @@ POU SBR_1\nVAR\n  A IN INT\n  B OUT INT\nEND_VAR\nLD SM0\nMOV #A #B\n\
 POU MAIN\nVAR\n  OK TEMP BOOL\nEND_VAR\n// run while not stopped\nLDI 急停\nOUT #OK\nLD #OK\nOUT Y0\n\
 LD X0\nTON T1 30\nLD SM0\nCALL SBR_1 7 D0\n";
 
-struct Aplc {
-    addr: std::net::SocketAddr,
-    bg: Option<Background>,
-}
-
-impl Drop for Aplc {
-    fn drop(&mut self) {
-        if let Some(bg) = self.bg.take() {
-            let _ = bg.stop();
-        }
-    }
-}
-
-fn start() -> Aplc {
+fn start() -> Server {
     let program = softplc_core::aplc::load_bytes("main.apl", APL.as_bytes()).unwrap();
     let cfg = softplc_core::aplc::cpu_config();
     let cpu = Cpu::new(program, cfg, Box::new(MonotonicClock::default()));
@@ -38,21 +24,7 @@ fn start() -> Aplc {
         model: softplc_core::aplc::MODEL.into(),
         ladder: vec![softplc_http::ladder::aplc::from_bytes("main.apl", APL.as_bytes()).unwrap()],
     };
-    let engine = EngineConfig {
-        period: Duration::from_millis(5),
-        end_budget: Duration::from_millis(2),
-        queue: 256,
-        battery: None,
-        log_every: None,
-        realtime: false,
-        ack_after_commit: true,
-    };
-    let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), http);
-    let bg = Background::start(ServeState::new(cpu), engine, vec![l], vec![]).unwrap();
-    Aplc {
-        addr: bg.addrs[0],
-        bg: Some(bg),
-    }
+    start_cpu(cpu, http)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

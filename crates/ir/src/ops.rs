@@ -448,11 +448,21 @@ impl Program {
     /// The file and its own line number of op `pc`'s instruction.
     pub fn source_of(&self, pc: usize) -> (&str, Option<u32>) {
         let line = self.op_line.get(pc).copied();
-        match line.and_then(|l| self.sources.iter().rev().find(|(first, _)| l >= *first)) {
-            Some((first, file)) => (file, line.map(|l| l - first + 1)),
+        match line.and_then(|l| file_line(&self.sources, l)) {
+            Some((file, own)) => (file, Some(own)),
             None => (&self.file, line),
         }
     }
+}
+
+/// The file and its own line of `line` in the numbering of [`Program::sources`]
+/// (the files' lines counted one after the other); `None` before the first.
+pub fn file_line(sources: &[(u32, String)], line: u32) -> Option<(&str, u32)> {
+    sources
+        .iter()
+        .rev()
+        .find(|(first, _)| line >= *first)
+        .map(|(first, f)| (f.as_str(), line - first + 1))
 }
 
 #[cfg(test)]

@@ -255,20 +255,32 @@ impl<'a> Compiler<'a> {
                     format!("unsupported instruction `{m}`: {reason}"),
                 );
             }
-            Kind::Instr(compile) => {
-                if !self.output(u.instr, u.m) {
-                    return;
-                }
-                let mut args = Args::new(self, u.instr, u.m);
-                if let Some(x) = compile(&mut args) {
-                    let at = self.ext.len() as u32;
-                    self.ext.push(x);
-                    let op = match u.def.drive {
-                        isa::Drive::WhenOn => Op::Ext(at),
-                        isa::Drive::Always => Op::ExtAlways(at),
-                    };
-                    self.pulsed(u.pulse, op);
-                }
+            Kind::Instr(compile) => self.family(u.instr, u.m, u.def.drive, compile, u.pulse),
+        }
+    }
+
+    /// A family instruction (any dialect): the rung's output check, its
+    /// [`Instr`] compiled, and the op its drive and spelling call for (a
+    /// pulse form or [`isa::Drive::OnRise`] behind the pulse gate).
+    pub fn family(
+        &mut self,
+        i: &SourceInstr,
+        m: &str,
+        drive: isa::Drive,
+        compile: isa::CompileFn,
+        pulse: bool,
+    ) {
+        if !self.output(i, m) {
+            return;
+        }
+        let mut args = Args::new(self, i, m);
+        if let Some(x) = compile(&mut args) {
+            let at = self.ext.len() as u32;
+            self.ext.push(x);
+            match drive {
+                isa::Drive::WhenOn => self.pulsed(pulse, Op::Ext(at)),
+                isa::Drive::Always => self.pulsed(pulse, Op::ExtAlways(at)),
+                isa::Drive::OnRise => self.pulsed(true, Op::Ext(at)),
             }
         }
     }

@@ -49,6 +49,10 @@ pub enum Drive {
     /// At every execution: [`Instr::exec`] while the condition is ON,
     /// [`Instr::off`] while it is OFF (STMR, ROTC, tracking instructions).
     Always,
+    /// Only on the rising edge of the condition, whatever the spelling: an
+    /// instruction the manual defines as edge-triggered (APLC EROMWR), on the
+    /// same pulse gate as the pulse forms.
+    OnRise,
 }
 
 /// How many steps an instruction occupies, for error reports of `.il` files
@@ -114,7 +118,7 @@ pub struct Use<'a> {
 #[derive(Clone, Copy)]
 pub enum Kind {
     /// A family instruction: compiled by its function into an [`Instr`], run
-    /// through `Op::Ext` (or `Op::ExtAlways` for [`Drive::Always`]).
+    /// through `Op::Ext` as its [`Drive`] says ([`Compiler::family`]).
     Instr(CompileFn),
     /// Expanded into ladder ops by the compiler.
     Lower(LowerFn),
@@ -213,6 +217,14 @@ impl Def {
     /// Runs at every execution (see [`Drive::Always`]); no pulse form.
     pub const fn always(mut self) -> Def {
         self.drive = Drive::Always;
+        self.pulse = Pulse::None;
+        self
+    }
+
+    /// Runs on the rising edge of its condition (see [`Drive::OnRise`]); no
+    /// pulse form.
+    pub const fn on_rise(mut self) -> Def {
+        self.drive = Drive::OnRise;
         self.pulse = Pulse::None;
         self
     }

@@ -44,6 +44,11 @@ pub fn start_program(src: &str, token: Option<&str>) -> Server {
         model: "Q06HCPU".into(),
         ladder: vec![softplc_http::ladder::LadderProgram::from_source(&source)],
     };
+    start_cpu(cpu, cfg)
+}
+
+/// A server of `cpu` at a 5 ms constant scan with the web monitor of `http`.
+pub fn start_cpu(cpu: Cpu, http: HttpConfig) -> Server {
     let engine = EngineConfig {
         period: Duration::from_millis(5),
         end_budget: Duration::from_millis(2),
@@ -53,7 +58,7 @@ pub fn start_program(src: &str, token: Option<&str>) -> Server {
         realtime: false,
         ack_after_commit: true,
     };
-    let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), cfg);
+    let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), http);
     let bg = Background::start(ServeState::new(cpu), engine, vec![l], vec![]).unwrap();
     Server {
         addr: bg.addrs[0],
