@@ -164,6 +164,8 @@ pub(crate) struct Loaded {
     pub modbus: Option<toml::Table>,
     /// A project's `[http]` table.
     pub http: Option<toml::Table>,
+    /// A project's `[opcua]` table.
+    pub opcua: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
 }
@@ -215,6 +217,7 @@ pub(crate) fn load_with(
             state: None,
             modbus: None,
             http: None,
+            opcua: None,
             on_damage: OnDamage::default(),
         });
     }
@@ -236,6 +239,7 @@ pub(crate) fn load_with(
             state: Some(p.state_dir),
             modbus: p.modbus,
             http: p.http,
+            opcua: p.opcua,
             on_damage: p.state_on_damage,
         });
     }
@@ -262,6 +266,7 @@ pub(crate) fn load_with(
         state: None,
         modbus: None,
         http: None,
+        opcua: None,
         on_damage: OnDamage::default(),
     })
 }
