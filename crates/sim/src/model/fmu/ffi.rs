@@ -109,7 +109,13 @@ unsafe extern "C" fn log_message(
         text.push_str(&category);
         text.push_str(": ");
     }
-    text.push_str(message.to_string_lossy().trim());
+    // One line per message, so that reports stay one line per result.
+    for (i, part) in message.to_string_lossy().lines().enumerate() {
+        if i > 0 {
+            text.push(' ');
+        }
+        text.push_str(part.trim());
+    }
     if text.len() > MAX_LOG_BYTES {
         let cut = text.len() - MAX_LOG_BYTES;
         let cut = (cut..text.len())
