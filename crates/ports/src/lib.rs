@@ -46,6 +46,7 @@ pub use virtual_line::{Peer, VirtualLine};
 pub struct Ports {
     ports: Vec<Port>,
     errors: Vec<String>,
+    serial: bool,
 }
 
 struct Port {
@@ -126,7 +127,8 @@ impl Ports {
     }
 
     /// Opens a [`SerialLine`] for every port with a device: `device` of its
-    /// settings, or `paths[port - 1]` (`--port1`/`--port2`), which wins.
+    /// settings, or `paths[port - 1]` (`--port1`/`--port2`), which wins. A
+    /// port bound to nothing is on a line where nothing answers.
     pub fn open(configs: &[PortConfig], paths: [Option<&str>; 2]) -> Result<Ports, String> {
         let mut ports = Ports::new();
         for (k, path) in paths.iter().enumerate() {
@@ -141,8 +143,12 @@ impl Ports {
         }
         for c in configs {
             let path = paths[c.port as usize - 1].or(c.device.as_deref());
-            if let Some(p) = path {
-                ports.add(c.clone(), Box::new(SerialLine::open(p, c)?));
+            match path {
+                Some(p) => {
+                    ports.add(c.clone(), Box::new(SerialLine::open(p, c)?));
+                    ports.serial = true;
+                }
+                None => ports.add_virtual(c.clone(), Box::new(peers::Silent)),
             }
         }
         Ok(ports)
@@ -150,6 +156,12 @@ impl Ports {
 
     pub fn is_empty(&self) -> bool {
         self.ports.is_empty()
+    }
+
+    /// True when a port is on a real serial line (a batch run then keeps
+    /// virtual time with the wall clock, so the peer sees real timing).
+    pub fn has_serial(&self) -> bool {
+        self.serial
     }
 
     /// Line errors since the last call (a line that fails stays quiet: the

@@ -244,3 +244,13 @@ impl Peer for Bus {
         self.0.iter_mut().find_map(|p| p.poll(now_us))
     }
 }
+
+/// Nothing connected: a port bound to no device hears nothing (the master
+/// times out with 0x10).
+pub struct Silent;
+
+impl Peer for Silent {
+    fn receive(&mut self, _at_us: u64, _bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
+        None
+    }
+}
