@@ -73,6 +73,8 @@ pub struct Project {
     pub http: Option<toml::Table>,
     /// `[process]`: the process CPU's decisions (default: the spec's choices).
     pub process: crate::program::ProcessSettings,
+    /// `[cpu] exec`: the execution tier (`None`: not given, auto).
+    pub exec: Option<crate::tier::Exec>,
 }
 
 /// Largest `plc.toml` read.
@@ -179,8 +181,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     };
 
     let mut common_pointer = None;
+    let mut exec = None;
     if let Some(t) = table(&mut cx, "cpu") {
         common_pointer = settings::cpu(&mut cx, t, &mut config);
+        exec = settings::exec(&mut cx, t);
     }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
@@ -239,6 +243,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         modbus,
         http,
         process,
+        exec,
     })
 }
 
