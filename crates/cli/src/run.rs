@@ -81,6 +81,14 @@ pub struct RunArgs {
     /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub timeout: Option<Duration>,
+    /// APLC PORT1 on a serial device or pty (the project's `[port1]`
+    /// settings); with a serial line, virtual time keeps pace with the wall
+    /// clock.
+    #[arg(long, value_name = "PATH")]
+    pub port1: Option<PathBuf>,
+    /// APLC PORT2 on a serial device or pty (`[port2]`).
+    #[arg(long, value_name = "PATH")]
+    pub port2: Option<PathBuf>,
     /// How a single program file is read: melsec or aplc (default by name:
     /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
     /// of :i32/:u32/:f32, TN5/CN5 current values.
@@ -166,6 +174,20 @@ pub(crate) struct Loaded {
     pub http: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
+    /// An APLC-TCP project's `[port1]`/`[port2]`.
+    pub ports: Vec<softplc_core::aplc::PortConfig>,
+}
+
+/// The APLC ports of a loaded program: `[port1]`/`[port2]` with
+/// `--port1`/`--port2` binding them to a serial device or pty (contract §3.3).
+pub(crate) fn open_ports(
+    ports: &[softplc_core::aplc::PortConfig],
+    port1: Option<&Path>,
+    port2: Option<&Path>,
+) -> Result<softplc_ports::Ports, String> {
+    let p1 = port1.map(|p| p.display().to_string());
+    let p2 = port2.map(|p| p.display().to_string());
+    softplc_ports::Ports::open(ports, [p1.as_deref(), p2.as_deref()])
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -216,6 +238,7 @@ pub(crate) fn load_with(
             modbus: None,
             http: None,
             on_damage: OnDamage::default(),
+            ports: Vec::new(),
         });
     }
     if project::is_project(path) {
@@ -237,6 +260,7 @@ pub(crate) fn load_with(
             modbus: p.modbus,
             http: p.http,
             on_damage: p.state_on_damage,
+            ports: p.ports,
         });
     }
     let mut cfg = CpuConfig::default();
@@ -263,6 +287,7 @@ pub(crate) fn load_with(
         modbus: None,
         http: None,
         on_damage: OnDamage::default(),
+        ports: Vec::new(),
     })
 }
 
@@ -378,6 +403,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         mut cpu,
         state,
         on_damage,
+        ports,
         ..
     } = match load_with(
         &args.program,
@@ -440,6 +466,15 @@ pub fn run(args: RunArgs) -> ExitCode {
             abort.store(true, Ordering::SeqCst);
         });
     }
+    let mut ports = match open_ports(&ports, args.port1.as_deref(), args.port2.as_deref()) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    // With a real serial line, virtual time keeps pace with the wall clock.
+    let paced = ports.has_serial().then(std::time::Instant::now);
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -451,7 +486,16 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
         }
         clock.advance_us(step_us);
+        if let Some(t0) = paced {
+            let due = t0 + Duration::from_micros(clock.now_us());
+            std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
+        }
         cpu.scan();
+        // The communication phase (L914-941).
+        ports.after_end(&mut cpu);
+        for e in ports.take_errors() {
+            eprintln!("softplc: {e}");
+        }
         scans = n;
         // END processing done: commit latched data (at most every 10 ms of wall time).
         if let Some(b) = &mut battery {
