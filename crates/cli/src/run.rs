@@ -172,6 +172,8 @@ pub(crate) struct Loaded {
     pub modbus: Option<toml::Table>,
     /// A project's `[http]` table.
     pub http: Option<toml::Table>,
+    /// A project's `[opcua]` table.
+    pub opcua: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
     /// An APLC-TCP project's `[port1]`/`[port2]`.
@@ -237,6 +239,7 @@ pub(crate) fn load_with(
             state: None,
             modbus: None,
             http: None,
+            opcua: None,
             on_damage: OnDamage::default(),
             ports: Vec::new(),
         });
@@ -259,6 +262,7 @@ pub(crate) fn load_with(
             state: Some(p.state_dir),
             modbus: p.modbus,
             http: p.http,
+            opcua: p.opcua,
             on_damage: p.state_on_damage,
             ports: p.ports,
         });
@@ -286,6 +290,7 @@ pub(crate) fn load_with(
         state: None,
         modbus: None,
         http: None,
+        opcua: None,
         on_damage: OnDamage::default(),
         ports: Vec::new(),
     })
