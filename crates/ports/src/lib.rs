@@ -28,9 +28,9 @@ pub mod virtual_line;
 use std::collections::VecDeque;
 
 use softplc_aplc::comm::{
-    mailbox, Mode, PortConfig, Protocol, Regs, DONE_CHAR_TIMEOUT, DONE_END_CHAR,
-    DONE_FRAME_TIMEOUT, DONE_MAX_COUNT, DONE_USER_ABORT, IDLE, RX_DONE, RX_ENABLE, SD_CODE,
-    SD_COUNT, SD_LAST, SD_TX_CHAR, TX_DONE, TX_ENABLE,
+    mailbox, Protocol, Regs, DONE_CHAR_TIMEOUT, DONE_END_CHAR, DONE_FRAME_TIMEOUT, DONE_MAX_COUNT,
+    DONE_USER_ABORT, IDLE, RX_DONE, RX_ENABLE, SD_CODE, SD_COUNT, SD_LAST, SD_TX_CHAR, TX_DONE,
+    TX_ENABLE,
 };
 use softplc_core::device::DeviceKind::{self, D, SD, SM, SW};
 use softplc_core::engine::{Cpu, CpuState};
@@ -39,6 +39,7 @@ use softplc_modbus::{Map, Proto, Slave};
 use door::{bit, set_bit, set_word, set_words, word};
 pub use line::{Line, Stamped, Timing};
 pub use serial::SerialLine;
+pub use softplc_aplc::comm::{Mode, PortConfig, Val};
 pub use virtual_line::{Peer, VirtualLine};
 
 /// The ports of one CPU.

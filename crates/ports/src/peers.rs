@@ -1,6 +1,8 @@
 //! Simulated peers for a [`crate::VirtualLine`]: a Modbus RTU/ASCII slave
 //! device ([`SimSlave`]) and a scripted free-port device ([`Script`]).
 
+use std::sync::{Arc, Mutex};
+
 use softplc_modbus::{decode, Frame, Proto, Request};
 
 use crate::virtual_line::Peer;
@@ -253,4 +255,23 @@ impl Peer for Silent {
     fn receive(&mut self, _at_us: u64, _bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
         None
     }
+}
+
+/// A peer also held by its owner (a scenario's plant model writes a
+/// simulated slave's registers; a test looks at what a script heard).
+pub struct Shared<P>(pub Arc<Mutex<P>>);
+
+impl<P: Peer> Peer for Shared<P> {
+    fn receive(&mut self, at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
+        self.0.lock().ok()?.receive(at_us, bytes)
+    }
+    fn poll(&mut self, now_us: u64) -> Option<(u64, Vec<u8>)> {
+        self.0.lock().ok()?.poll(now_us)
+    }
+}
+
+/// `p` as a peer, and the handle to it.
+pub fn shared<P: Peer + 'static>(p: P) -> (Arc<Mutex<P>>, Box<dyn Peer>) {
+    let a = Arc::new(Mutex::new(p));
+    (a.clone(), Box::new(Shared(a)))
 }
