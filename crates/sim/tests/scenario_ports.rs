@@ -33,6 +33,22 @@ fn serial_examples_pass_and_repeat_exactly() {
     assert_eq!(trace_of(&bar, &devs), trace_of(&bar, &devs));
 }
 
+/// The programs the Python tests run against pymodbus and pyserial over ptys
+/// (tests/python/test_aplc_ports.py) pass as scenarios in virtual time.
+#[test]
+fn the_pty_test_programs_pass_as_scenarios() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/aplc_ports");
+    for name in ["master.toml", "free.toml"] {
+        let o = Scenario::load(&dir.join(name))
+            .unwrap()
+            .build()
+            .unwrap()
+            .run(&mut |_| {});
+        assert_eq!(o.failed(), 0, "{}", o.report(false));
+        assert!(o.passed() >= 4, "{name}");
+    }
+}
+
 fn parse_err(text: &str) -> String {
     let head = "program = \"p.apl\"\nscan_time = \"10ms\"\nduration = \"1s\"\n";
     match Scenario::parse(&format!("{head}{text}"), Path::new("s.toml")) {
