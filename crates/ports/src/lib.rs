@@ -68,6 +68,8 @@ enum Role {
 struct Pending {
     req: Vec<u8>,
     dest: u32,
+    /// EVRD: the D that takes the register read.
+    value: Option<u32>,
     wire: Vec<u8>,
     deadline: u64,
     tries_left: u16,
@@ -245,6 +247,9 @@ impl Port {
                 .map(|k| word(cpu, SW, base + mailbox::MB_BYTES + k) as u8)
                 .collect();
             let dest = word(cpu, SW, base + mailbox::MB_DEST) as u32;
+            let value = word(cpu, SW, base + mailbox::MB_VALUE)
+                .checked_sub(1)
+                .map(u32::from);
             if req.len() < 6 {
                 return Ok(());
             }
@@ -264,6 +269,7 @@ impl Port {
             *pending = Some(Pending {
                 req,
                 dest,
+                value,
                 wire,
                 deadline: sent_at + timeout,
                 tries_left: word(cpu, SD, r.sd_retries).min(100),
@@ -315,11 +321,17 @@ impl Port {
                 return sent.map(|_| ());
             }
         }
-        let dest = p.dest;
+        let (dest, value) = (p.dest, p.value);
         self.role = Role::Master(None);
         self.rx.clear();
         match &outcome {
-            Ok(reply) => finish(cpu, r, dest, Ok(reply)),
+            Ok(reply) => {
+                // EVRD: the register's value (reply: station, 03, 02, hi, lo).
+                if let (Some(d), [_, 3, 2, hi, lo]) = (value, reply.as_slice()) {
+                    set_word(cpu, D, d, u16::from_be_bytes([*hi, *lo]));
+                }
+                finish(cpu, r, dest, Ok(reply))
+            }
             Err((code, reply)) => finish(cpu, r, dest, Err((*code, reply))),
         }
         Ok(())

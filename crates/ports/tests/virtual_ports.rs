@@ -175,6 +175,26 @@ fn retries_resend_a_missing_reply() {
     assert_eq!(r.words(100, 4), [3, 1, 1, 0x0D]);
 }
 
+#[test]
+fn evrd_reads_and_evwrt_writes_an_inverter_register() {
+    let (slave, peer) = shared(SimSlave::new(4, Proto::Rtu, 16, 2000));
+    slave.lock().unwrap().holding[3] = 4321;
+    let src = "LD X0\nEVRD 1 4 3 D500\nLD X1\nEVWRT 1 4 5 D10\nLD X2\nEVRD 1 4 40 D501\n";
+    let mut r = rig(src, vec![(master(), peer)]);
+    r.set("X0", "1").scans(5);
+    assert_eq!(r.int("D500"), 4321);
+    // The reply in the inverter RX buffer D7970.. (Appendix 3).
+    assert_eq!(r.words(7970, 5), [4, 3, 2, 0x10, 0xE1]);
+    assert!(r.bit("SM135"));
+    r.set("D10", "1500").set("X1", "1").scans(5);
+    assert_eq!(slave.lock().unwrap().holding[5], 1500);
+    // Register 40 is past the inverter's 16: its error 0x2 (Appendix 5).
+    r.set("X2", "1").scans(5);
+    assert!(r.bit("SM136"));
+    assert_eq!(r.int("SD139"), 2);
+    assert_eq!(r.int("D501"), 0);
+}
+
 /// The free-port example of L10403-10422.
 const MANUAL_FREE: &str = "LD SM1\nMOV 16#01 D0\nMOV 16#FF D1\nMOV 0 D2\nMOV 1 D3\nMOV 2 D4\n\
 LD X0\nEU\nRST SM122\nXMT 1 D0 5\n\
