@@ -56,6 +56,11 @@ struct Port {
     line: Box<dyn Line>,
     rx: VecDeque<Stamped>,
     role: Role,
+    /// Modbus RTU: 3.5 characters of silence before a frame (L10446-10459);
+    /// 0 otherwise.
+    gap: u64,
+    /// When the line has been quiet for `gap`: no frame starts earlier.
+    quiet_from: u64,
 }
 
 enum Role {
@@ -114,8 +119,12 @@ impl Ports {
             }),
             Protocol::Free => Role::Free(FreeRun::default()),
         };
+        let timing = Timing::of(&cfg);
+        let rtu = cfg.protocol != Protocol::Free && cfg.mode == Mode::Rtu;
         self.ports.push(Port {
-            timing: Timing::of(&cfg),
+            gap: if rtu { timing.silence_us } else { 0 },
+            quiet_from: 0,
+            timing,
             cfg,
             line,
             rx: VecDeque::new(),
@@ -180,6 +189,9 @@ impl Ports {
         for p in &mut self.ports {
             if let Err(e) = p.line.receive(now, &mut p.rx) {
                 self.errors.push(format!("PORT{}: {e}", p.cfg.port));
+            }
+            if let Some((t, _)) = p.rx.back() {
+                p.quiet_from = p.quiet_from.max(t + p.gap);
             }
             let r = match &mut p.role {
                 Role::Slave(_) => p.slave(cpu, now),
@@ -255,7 +267,7 @@ impl Port {
             }
             self.rx.clear();
             let wire = master::encode(mode, &req);
-            let sent = self.line.send(now, &wire);
+            let sent = send(&mut *self.line, &mut self.quiet_from, self.gap, now, &wire);
             if req[0] == 0 {
                 // A broadcast write: done once sent, no reply (spec §6.5).
                 finish(cpu, r, dest, Ok(&[]));
@@ -314,7 +326,13 @@ impl Port {
                 let Role::Master(Some(p)) = &mut self.role else {
                     return Ok(());
                 };
-                let sent = self.line.send(now, &p.wire);
+                let sent = send(
+                    &mut *self.line,
+                    &mut self.quiet_from,
+                    self.gap,
+                    now,
+                    &p.wire,
+                );
                 let at = *sent.as_ref().unwrap_or(&now);
                 p.deadline = at + timeout;
                 p.last_rx = at;
@@ -382,7 +400,7 @@ impl Port {
             s.buf.clear();
         }
         for r in replies {
-            self.line.send(now, &r)?;
+            send(&mut *self.line, &mut self.quiet_from, self.gap, now, &r)?;
         }
         Ok(())
     }
@@ -508,6 +526,20 @@ impl Port {
         }
         result
     }
+}
+
+/// Sends a frame once the line has been quiet for `gap` (Modbus RTU); a
+/// serial line writes at once (the END period keeps frames apart there).
+fn send(
+    line: &mut dyn Line,
+    quiet_from: &mut u64,
+    gap: u64,
+    now: u64,
+    bytes: &[u8],
+) -> std::io::Result<u64> {
+    let end = line.send(now.max(*quiet_from), bytes)?;
+    *quiet_from = end + gap;
+    Ok(end)
 }
 
 /// Ends a master transaction: the reply to S3, done or error flag and code,

@@ -184,6 +184,8 @@ pub struct Script {
     heard: Vec<u8>,
     /// Everything the PLC sent, in order.
     pub received: Vec<u8>,
+    /// When each of the PLC's frames ended (its last byte arrived), µs.
+    pub frames_at: Vec<u64>,
 }
 
 impl Script {
@@ -196,8 +198,9 @@ impl Script {
 }
 
 impl Peer for Script {
-    fn receive(&mut self, _at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
+    fn receive(&mut self, at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
         self.received.extend_from_slice(bytes);
+        self.frames_at.push(at_us);
         self.heard.extend_from_slice(bytes);
         if let Some(Step::Expect {
             expect,

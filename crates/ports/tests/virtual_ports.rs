@@ -334,6 +334,31 @@ fn slave_on_a_port_answers_with_the_aplc_map() {
     assert!(r.bit("M0"));
 }
 
+#[test]
+fn an_rtu_frame_waits_for_three_and_a_half_characters_of_silence() {
+    // 19200 8E1: 573 µs a character, silence ceil(3.5 × 573) = 2006 µs. The
+    // request (8 bytes from 0.5 ms) ends at 5084 µs; with 1 ms scans the
+    // reply could start at the END of 6 ms, but waits for 5084 + 2006.
+    let read = rtu(&[5, 3, 0, 0, 0, 1]);
+    let (script, peer) = shared(Script::new(vec![Step::Send {
+        at_us: 500,
+        bytes: read,
+    }]));
+    let cfg = port(
+        1,
+        &[
+            ("protocol", Val::Str("modbus-slave")),
+            ("address", Val::Int(5)),
+        ],
+    );
+    let mut r = rig("LD SM0\nMOV 7 D0\n", vec![(cfg, peer)]);
+    r.scan_us = 1000;
+    r.scans(20);
+    let s = script.lock().unwrap();
+    assert_eq!(s.received.len(), 7); // 05 03 02 00 07 + CRC
+    assert_eq!(s.frames_at, [5084 + 2006 + 7 * 573]);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
     /// Whatever arrives, on a master, slave or free port, the scan goes on.
