@@ -308,9 +308,13 @@ impl Port {
                     Err((code, false)) => Err((code, Vec::new())),
                 },
             })
-        } else if !p.buf.is_empty() && now >= p.last_rx + self.timing.silence_us {
+        } else if !p.buf.is_empty()
+            && (now >= p.last_rx + self.timing.silence_us || now >= p.deadline)
+        {
+            // Cut short: the line went silent, or the timeout ran out before
+            // the frame was whole.
             Some(Err((master::E_FRAME, Vec::new())))
-        } else if p.buf.is_empty() && now >= p.deadline {
+        } else if now >= p.deadline {
             Some(Err((master::E_TIMEOUT, Vec::new())))
         } else {
             None
