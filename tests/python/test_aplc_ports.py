@@ -18,30 +18,12 @@ from pymodbus.datastore import (ModbusDeviceContext, ModbusSequentialDataBlock,
 from pymodbus.framer import FramerType
 from pymodbus.server import ModbusSerialServer
 
-from conftest import BINARY, pty_pair, stop
+from conftest import BINARY, HERE, pty_pair, stop
 
 pytestmark = pytest.mark.skipif(shutil.which("socat") is None, reason="socat is not installed")
 
-# Polls station S at X0's rising edge (D0..D5 = station, FC 03, start 0,
-# 2 registers; D26) and again at X1's (start 40: past the slave's block).
-MASTER = """LD SM1
-MOV 3 D0
-MOV 3 D1
-MOV 0 D2
-MOV 0 D3
-MOV 0 D4
-MOV 2 D5
-MOV 3 D10
-MOV 3 D11
-MOV 0 D12
-MOV 40 D13
-MOV 0 D14
-MOV 2 D15
-LD X0
-Modbus 1 D0 D100
-LD X1
-Modbus 1 D10 D200
-"""
+AP = HERE / "aplc_ports"
+MASTER = (AP / "master.apl").read_text()
 
 
 def project(tmp_path, program, port1):
@@ -163,25 +145,7 @@ def test_pymodbus_master_reads_and_writes_the_aplc_slave(tmp_path, pair):
         stop(srv)
 
 
-FREE = """LD SM1
-MOV 16#01 D0
-MOV 16#FF D1
-MOV 0 D2
-MOV 1 D3
-MOV 2 D4
-LD X0
-EU
-RST SM122
-XMT 1 D0 5
-LD SM122
-EU
-RST SM123
-RCV 1 D10 6
-BLD SD125 2
-AND SM123
-EU
-INC D100
-"""
+FREE = (AP / "free.apl").read_text()
 
 
 def test_free_port_exchange_byte_for_byte(tmp_path, pair):
@@ -206,3 +170,11 @@ def test_free_port_exchange_byte_for_byte(tmp_path, pair):
     assert heard == [bytes([0x01, 0xFF, 0x00, 0x01, 0x02])]
     assert [d[f"D{k}"] for k in range(10, 16)] == [0x01, 0xFF, 0x02, 0x03, 0x05, 0xFE]
     assert d["SD125"] == 4 and d["SD127"] == 6 and d["D100"] == 1
+
+
+def test_the_same_programs_pass_as_scenarios():
+    """master.apl and free.apl against simulated peers in virtual time."""
+    out = subprocess.run([BINARY, "test", str(AP / "master.toml"), str(AP / "free.toml")],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert out.stdout.rstrip().endswith(" passed, 0 failed"), out.stdout

@@ -79,6 +79,7 @@ pub static DEFS: &[&[Def]] = &[
     eeprom::DEFS,
     comm::modbus::DEFS,
     comm::freeport::DEFS,
+    comm::inverter::DEFS,
     pid::DEFS,
     compare::DEFS,
     rejected::DEFS,

@@ -6,7 +6,6 @@
 use softplc_lang::isa::Def;
 
 const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (002 §6.10.2-9 L8136-8432 and Appendix 5 give no register map; spec aplc.md §9 item 11); use `Modbus` with the drive's own register map";
-const INVERTER_RW: &str = "not implemented yet in softplc: use `Modbus` with FC 06 (write) or FC 03 (read) of the register, which is what this instruction sends (002 §6.10.8-9 L8380-8432)";
 const CLOCK: &str = "not available on APLC-TCP: no real-time clock; the clock and date/time-compare instructions are unsupported (table 1-1 L682-683, decision D6)";
 const HSIO: &str =
     "not available on APLC-TCP: no high-speed I/O (table 1-1 L686, L10062, decision D7)";
@@ -21,10 +20,8 @@ pub static DEFS: &[Def] = &[
     Def::rejected("EVDREV", INVERTER).no_pulse(),
     Def::rejected("EVSTOP", INVERTER).no_pulse(),
     Def::rejected("EVFRQ", INVERTER).no_pulse(),
-    Def::rejected("EVWRT", INVERTER_RW).no_pulse(),
     Def::rejected("EVRDST", INVERTER).no_pulse(),
     Def::rejected("EVDRST", INVERTER).no_pulse(),
-    Def::rejected("EVRD", INVERTER_RW).no_pulse(),
     Def::rejected("TRD", CLOCK).no_pulse(),
     Def::rejected("TWR", CLOCK).no_pulse(),
     Def::rejected("TADD", CLOCK).no_pulse(),

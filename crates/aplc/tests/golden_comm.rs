@@ -150,3 +150,26 @@ fn load_errors_name_the_operand() {
     let e = common::errors("LD X0\nEVFWD 1 1\n");
     assert!(e.contains("no register map"), "{e}");
 }
+
+#[test]
+fn evwrt_and_evrd_are_fc_06_and_fc_03_through_the_master() {
+    let src = "LD X0\nEVWRT 1 4 16#2000 50\nLD X1\nEVRD 1 4 16#3001 D500\n";
+    let mut p = with_ports(src, vec![port(1, "modbus-master")]);
+    p.set("X0", "1").scan();
+    // FC 06: station 4, register 16#2000, value 50; also in D7940.. (Appendix 3).
+    let bytes: Vec<u16> = (0..6).map(|k| sw(&p, 1, mailbox::MB_BYTES + k)).collect();
+    assert_eq!(bytes, [4, 6, 0x20, 0x00, 0, 50]);
+    assert_eq!(p.int("D7941"), 6);
+    assert_eq!(sw(&p, 1, mailbox::MB_DEST), 7970);
+    assert_eq!(sw(&p, 1, mailbox::MB_VALUE), 0);
+    let mut p = with_ports(src, vec![port(1, "modbus-master")]);
+    p.set("X1", "1").scan();
+    let bytes: Vec<u16> = (0..6).map(|k| sw(&p, 1, mailbox::MB_BYTES + k)).collect();
+    assert_eq!(bytes, [4, 3, 0x30, 0x01, 0, 1]);
+    // The register read goes to D500 (1 + its number in the mailbox).
+    assert_eq!(sw(&p, 1, mailbox::MB_VALUE), 501);
+    // EVRD cannot broadcast: station 0 is 0x12.
+    let mut p = with_ports("LD X1\nEVRD 1 0 1 D500\n", vec![port(1, "modbus-master")]);
+    p.set("X1", "1").scan();
+    assert_eq!(p.int("SD139"), 0x12);
+}

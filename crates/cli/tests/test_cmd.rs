@@ -234,6 +234,10 @@ fn shipped_examples_pass() {
         "examples/process/fopdt_loop.toml",
         // The APLC-TCP conveyor (seed 002 dialect, APLC device names).
         "examples/aplc/conveyor.toml",
+        // APLC ports in virtual time: a Modbus master polling a drive and
+        // a meter on RTU, a free-port barcode reader (issue #14).
+        "examples/aplc/modbus_poll.toml",
+        "examples/aplc/barcode.toml",
         "--plot",
         &svg,
     ]);

@@ -28,9 +28,9 @@ pub mod virtual_line;
 use std::collections::VecDeque;
 
 use softplc_aplc::comm::{
-    mailbox, Mode, PortConfig, Protocol, Regs, DONE_CHAR_TIMEOUT, DONE_END_CHAR,
-    DONE_FRAME_TIMEOUT, DONE_MAX_COUNT, DONE_USER_ABORT, IDLE, RX_DONE, RX_ENABLE, SD_CODE,
-    SD_COUNT, SD_LAST, SD_TX_CHAR, TX_DONE, TX_ENABLE,
+    mailbox, Protocol, Regs, DONE_CHAR_TIMEOUT, DONE_END_CHAR, DONE_FRAME_TIMEOUT, DONE_MAX_COUNT,
+    DONE_USER_ABORT, IDLE, RX_DONE, RX_ENABLE, SD_CODE, SD_COUNT, SD_LAST, SD_TX_CHAR, TX_DONE,
+    TX_ENABLE,
 };
 use softplc_core::device::DeviceKind::{self, D, SD, SM, SW};
 use softplc_core::engine::{Cpu, CpuState};
@@ -39,6 +39,7 @@ use softplc_modbus::{Map, Proto, Slave};
 use door::{bit, set_bit, set_word, set_words, word};
 pub use line::{Line, Stamped, Timing};
 pub use serial::SerialLine;
+pub use softplc_aplc::comm::{Mode, PortConfig, Val};
 pub use virtual_line::{Peer, VirtualLine};
 
 /// The ports of one CPU.
@@ -55,6 +56,11 @@ struct Port {
     line: Box<dyn Line>,
     rx: VecDeque<Stamped>,
     role: Role,
+    /// Modbus RTU: 3.5 characters of silence before a frame (L10446-10459);
+    /// 0 otherwise.
+    gap: u64,
+    /// When the line has been quiet for `gap`: no frame starts earlier.
+    quiet_from: u64,
 }
 
 enum Role {
@@ -67,6 +73,8 @@ enum Role {
 struct Pending {
     req: Vec<u8>,
     dest: u32,
+    /// EVRD: the D that takes the register read.
+    value: Option<u32>,
     wire: Vec<u8>,
     deadline: u64,
     tries_left: u16,
@@ -111,8 +119,12 @@ impl Ports {
             }),
             Protocol::Free => Role::Free(FreeRun::default()),
         };
+        let timing = Timing::of(&cfg);
+        let rtu = cfg.protocol != Protocol::Free && cfg.mode == Mode::Rtu;
         self.ports.push(Port {
-            timing: Timing::of(&cfg),
+            gap: if rtu { timing.silence_us } else { 0 },
+            quiet_from: 0,
+            timing,
             cfg,
             line,
             rx: VecDeque::new(),
@@ -177,6 +189,9 @@ impl Ports {
         for p in &mut self.ports {
             if let Err(e) = p.line.receive(now, &mut p.rx) {
                 self.errors.push(format!("PORT{}: {e}", p.cfg.port));
+            }
+            if let Some((t, _)) = p.rx.back() {
+                p.quiet_from = p.quiet_from.max(t + p.gap);
             }
             let r = match &mut p.role {
                 Role::Slave(_) => p.slave(cpu, now),
@@ -244,12 +259,15 @@ impl Port {
                 .map(|k| word(cpu, SW, base + mailbox::MB_BYTES + k) as u8)
                 .collect();
             let dest = word(cpu, SW, base + mailbox::MB_DEST) as u32;
+            let value = word(cpu, SW, base + mailbox::MB_VALUE)
+                .checked_sub(1)
+                .map(u32::from);
             if req.len() < 6 {
                 return Ok(());
             }
             self.rx.clear();
             let wire = master::encode(mode, &req);
-            let sent = self.line.send(now, &wire);
+            let sent = send(&mut *self.line, &mut self.quiet_from, self.gap, now, &wire);
             if req[0] == 0 {
                 // A broadcast write: done once sent, no reply (spec §6.5).
                 finish(cpu, r, dest, Ok(&[]));
@@ -263,6 +281,7 @@ impl Port {
             *pending = Some(Pending {
                 req,
                 dest,
+                value,
                 wire,
                 deadline: sent_at + timeout,
                 tries_left: word(cpu, SD, r.sd_retries).min(100),
@@ -289,9 +308,13 @@ impl Port {
                     Err((code, false)) => Err((code, Vec::new())),
                 },
             })
-        } else if !p.buf.is_empty() && now >= p.last_rx + self.timing.silence_us {
+        } else if !p.buf.is_empty()
+            && (now >= p.last_rx + self.timing.silence_us || now >= p.deadline)
+        {
+            // Cut short: the line went silent, or the timeout ran out before
+            // the frame was whole.
             Some(Err((master::E_FRAME, Vec::new())))
-        } else if p.buf.is_empty() && now >= p.deadline {
+        } else if now >= p.deadline {
             Some(Err((master::E_TIMEOUT, Vec::new())))
         } else {
             None
@@ -307,18 +330,30 @@ impl Port {
                 let Role::Master(Some(p)) = &mut self.role else {
                     return Ok(());
                 };
-                let sent = self.line.send(now, &p.wire);
+                let sent = send(
+                    &mut *self.line,
+                    &mut self.quiet_from,
+                    self.gap,
+                    now,
+                    &p.wire,
+                );
                 let at = *sent.as_ref().unwrap_or(&now);
                 p.deadline = at + timeout;
                 p.last_rx = at;
                 return sent.map(|_| ());
             }
         }
-        let dest = p.dest;
+        let (dest, value) = (p.dest, p.value);
         self.role = Role::Master(None);
         self.rx.clear();
         match &outcome {
-            Ok(reply) => finish(cpu, r, dest, Ok(reply)),
+            Ok(reply) => {
+                // EVRD: the register's value (reply: station, 03, 02, hi, lo).
+                if let (Some(d), [_, 3, 2, hi, lo]) = (value, reply.as_slice()) {
+                    set_word(cpu, D, d, u16::from_be_bytes([*hi, *lo]));
+                }
+                finish(cpu, r, dest, Ok(reply))
+            }
             Err((code, reply)) => finish(cpu, r, dest, Err((*code, reply))),
         }
         Ok(())
@@ -369,7 +404,7 @@ impl Port {
             s.buf.clear();
         }
         for r in replies {
-            self.line.send(now, &r)?;
+            send(&mut *self.line, &mut self.quiet_from, self.gap, now, &r)?;
         }
         Ok(())
     }
@@ -495,6 +530,20 @@ impl Port {
         }
         result
     }
+}
+
+/// Sends a frame once the line has been quiet for `gap` (Modbus RTU); a
+/// serial line writes at once (the END period keeps frames apart there).
+fn send(
+    line: &mut dyn Line,
+    quiet_from: &mut u64,
+    gap: u64,
+    now: u64,
+    bytes: &[u8],
+) -> std::io::Result<u64> {
+    let end = line.send(now.max(*quiet_from), bytes)?;
+    *quiet_from = end + gap;
+    Ok(end)
 }
 
 /// Ends a master transaction: the reply to S3, done or error flag and code,

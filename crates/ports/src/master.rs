@@ -6,8 +6,9 @@
 //!
 //! Error codes: no reply within the timeout (SD136/SD141 ms, 0 = 1000)
 //! after every retry (SD137/SD142) → 0x10; a reply cut short or malformed
-//! (RTU shorter than its function's length when the line goes silent; ASCII
-//! without `:`…CR LF or with a non-hex character) → 0x11; a bad CRC or LRC →
+//! (shorter than its function's length when the line goes silent or the
+//! timeout runs out; ASCII without `:`…CR LF or with a non-hex character)
+//! → 0x11; a bad CRC or LRC →
 //! 0x1A; another station's address → 0x16; another function code → 0x17; an
 //! echo with another start address → 0x18; a length or byte count that does
 //! not fit the request → 0x19; an exception reply → its exception code (01,

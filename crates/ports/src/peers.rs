@@ -1,6 +1,8 @@
 //! Simulated peers for a [`crate::VirtualLine`]: a Modbus RTU/ASCII slave
 //! device ([`SimSlave`]) and a scripted free-port device ([`Script`]).
 
+use std::sync::{Arc, Mutex};
+
 use softplc_modbus::{decode, Frame, Proto, Request};
 
 use crate::virtual_line::Peer;
@@ -182,6 +184,8 @@ pub struct Script {
     heard: Vec<u8>,
     /// Everything the PLC sent, in order.
     pub received: Vec<u8>,
+    /// When each of the PLC's frames ended (its last byte arrived), µs.
+    pub frames_at: Vec<u64>,
 }
 
 impl Script {
@@ -194,8 +198,9 @@ impl Script {
 }
 
 impl Peer for Script {
-    fn receive(&mut self, _at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
+    fn receive(&mut self, at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
         self.received.extend_from_slice(bytes);
+        self.frames_at.push(at_us);
         self.heard.extend_from_slice(bytes);
         if let Some(Step::Expect {
             expect,
@@ -253,4 +258,23 @@ impl Peer for Silent {
     fn receive(&mut self, _at_us: u64, _bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
         None
     }
+}
+
+/// A peer also held by its owner (a scenario's plant model writes a
+/// simulated slave's registers; a test looks at what a script heard).
+pub struct Shared<P>(pub Arc<Mutex<P>>);
+
+impl<P: Peer> Peer for Shared<P> {
+    fn receive(&mut self, at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
+        self.0.lock().ok()?.receive(at_us, bytes)
+    }
+    fn poll(&mut self, now_us: u64) -> Option<(u64, Vec<u8>)> {
+        self.0.lock().ok()?.poll(now_us)
+    }
+}
+
+/// `p` as a peer, and the handle to it.
+pub fn shared<P: Peer + 'static>(p: P) -> (Arc<Mutex<P>>, Box<dyn Peer>) {
+    let a = Arc::new(Mutex::new(p));
+    (a.clone(), Box::new(Shared(a)))
 }

@@ -175,6 +175,26 @@ fn retries_resend_a_missing_reply() {
     assert_eq!(r.words(100, 4), [3, 1, 1, 0x0D]);
 }
 
+#[test]
+fn evrd_reads_and_evwrt_writes_an_inverter_register() {
+    let (slave, peer) = shared(SimSlave::new(4, Proto::Rtu, 16, 2000));
+    slave.lock().unwrap().holding[3] = 4321;
+    let src = "LD X0\nEVRD 1 4 3 D500\nLD X1\nEVWRT 1 4 5 D10\nLD X2\nEVRD 1 4 40 D501\n";
+    let mut r = rig(src, vec![(master(), peer)]);
+    r.set("X0", "1").scans(5);
+    assert_eq!(r.int("D500"), 4321);
+    // The reply in the inverter RX buffer D7970.. (Appendix 3).
+    assert_eq!(r.words(7970, 5), [4, 3, 2, 0x10, 0xE1]);
+    assert!(r.bit("SM135"));
+    r.set("D10", "1500").set("X1", "1").scans(5);
+    assert_eq!(slave.lock().unwrap().holding[5], 1500);
+    // Register 40 is past the inverter's 16: its error 0x2 (Appendix 5).
+    r.set("X2", "1").scans(5);
+    assert!(r.bit("SM136"));
+    assert_eq!(r.int("SD139"), 2);
+    assert_eq!(r.int("D501"), 0);
+}
+
 /// The free-port example of L10403-10422.
 const MANUAL_FREE: &str = "LD SM1\nMOV 16#01 D0\nMOV 16#FF D1\nMOV 0 D2\nMOV 1 D3\nMOV 2 D4\n\
 LD X0\nEU\nRST SM122\nXMT 1 D0 5\n\
@@ -314,22 +334,58 @@ fn slave_on_a_port_answers_with_the_aplc_map() {
     assert!(r.bit("M0"));
 }
 
+#[test]
+fn an_rtu_frame_waits_for_three_and_a_half_characters_of_silence() {
+    // 19200 8E1: 573 µs a character, silence ceil(3.5 × 573) = 2006 µs. The
+    // request (8 bytes from 0.5 ms) ends at 5084 µs; with 1 ms scans the
+    // reply could start at the END of 6 ms, but waits for 5084 + 2006.
+    let read = rtu(&[5, 3, 0, 0, 0, 1]);
+    let (script, peer) = shared(Script::new(vec![Step::Send {
+        at_us: 500,
+        bytes: read,
+    }]));
+    let cfg = port(
+        1,
+        &[
+            ("protocol", Val::Str("modbus-slave")),
+            ("address", Val::Int(5)),
+        ],
+    );
+    let mut r = rig("LD SM0\nMOV 7 D0\n", vec![(cfg, peer)]);
+    r.scan_us = 1000;
+    r.scans(20);
+    let s = script.lock().unwrap();
+    assert_eq!(s.received.len(), 7); // 05 03 02 00 07 + CRC
+    assert_eq!(s.frames_at, [5084 + 2006 + 7 * 573]);
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
-    /// Whatever arrives, on a master, slave or free port, the scan goes on.
+    #![proptest_config(ProptestConfig::with_cases(96))]
+    /// Whatever arrives, in chunks at any times, on a master (RTU or ASCII),
+    /// slave or free port, the scan goes on and a master always finishes.
     #[test]
-    fn random_bytes_never_stop_the_scan(bytes in proptest::collection::vec(any::<u8>(), 0..300), which in 0..3usize) {
-        let protocol = ["modbus-master", "modbus-slave", "free"][which];
-        let steps = vec![Step::Send { at_us: 21_000, bytes }];
+    fn random_bytes_never_stop_the_scan(
+        chunks in proptest::collection::vec(
+            (0u64..400_000, proptest::collection::vec(any::<u8>(), 0..120)), 0..6),
+        which in 0..4usize,
+    ) {
+        let (protocol, mode) = [("modbus-master", "rtu"), ("modbus-master", "ascii"),
+            ("modbus-slave", "rtu"), ("free", "rtu")][which];
+        let steps = chunks.into_iter().map(|(at_us, bytes)| Step::Send { at_us, bytes }).collect();
         let (_s, peer) = shared(Script::new(steps));
-        let cfg = port(1, &[("protocol", Val::Str(protocol))]);
-        let src = if which == 2 { "LD SM0\nRCV 1 D10 100\n" } else { MANUAL_POLL };
+        let cfg = if protocol == "free" {
+            port(1, &[("protocol", Val::Str(protocol)), ("char_timeout_ms", Val::Int(5))])
+        } else {
+            port(1, &[("protocol", Val::Str(protocol)), ("mode", Val::Str(mode)),
+                ("timeout_ms", Val::Int(100))])
+        };
+        let src = if which == 3 { "LD SM0\nRCV 1 D10 100\n" } else { MANUAL_POLL };
         let mut r = rig(src, vec![(cfg, peer)]);
-        r.scan().set("X0", "1").scans(150);
+        r.scan().set("X0", "1").scans(60);
         prop_assert!(r.cpu.state() == softplc_core::engine::CpuState::Run);
-        if which == 0 {
+        if which < 2 {
             prop_assert!(r.bit("SM124"));
-            prop_assert!(r.bit("SM135") || r.bit("SM136"));
+            prop_assert!(r.bit("SM135") != r.bit("SM136"));
         }
     }
 }

@@ -19,6 +19,8 @@ pub const MB_REQ: u32 = 1;
 pub const MB_DEST: u32 = 2;
 /// Request bytes (address, function, data), at [`MB_BYTES`].
 pub const MB_LEN: u32 = 3;
+/// EVRD: 1 + the D number that takes the register read (0: none).
+pub const MB_VALUE: u32 = 12;
 /// 1 while an `XMT` waits to be sent; its byte count; its bytes at [`TX_BYTES`].
 pub const TX_REQ: u32 = 4;
 pub const TX_LEN: u32 = 5;

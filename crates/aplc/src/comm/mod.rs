@@ -1,6 +1,7 @@
 //! Communication (002 §6.10 L8063-8546, chapter 10 L10312-10694; spec
 //! aplc.md §4.15, §6, decision D26): the `Modbus` master instruction
-//! ([`modbus`]), the free port's `XMT`/`RCV` ([`freeport`]), the port
+//! ([`modbus`]), `EVWRT`/`EVRD` on it ([`inverter`]), the free port's
+//! `XMT`/`RCV` ([`freeport`]), the port
 //! settings ([`config`]) and the numbering of each port's SM/SD registers
 //! ([`Regs`]).
 //!
@@ -12,6 +13,7 @@
 
 pub mod config;
 pub mod freeport;
+pub mod inverter;
 pub mod mailbox;
 pub mod modbus;
 

@@ -14,7 +14,7 @@
 //! framing, and writes the reply. A rising edge while the port is busy
 //! (idle OFF) sends nothing and is run error 64.
 
-use softplc_ir::device::DeviceKind;
+use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::Block;
@@ -100,15 +100,81 @@ pub fn reply_len(req: &[u8]) -> usize {
     }
 }
 
+/// A port's Modbus master as the instructions that start a request see it:
+/// its flags, error code and mailbox (flat indices).
 #[derive(Debug)]
-struct ModbusInstr {
+pub(crate) struct Master {
     port: u8,
-    tx: Block,
-    /// S3's D number.
-    rx: u32,
     sm: usize,
     sd: usize,
     mailbox: usize,
+}
+
+impl Master {
+    pub(crate) fn of(a: &Args<'_, '_>, port: u8) -> Master {
+        let map = a.map();
+        Master {
+            port,
+            sm: map.base(DeviceKind::SM) as usize,
+            sd: map.base(DeviceKind::SD) as usize,
+            mailbox: (map.base(DeviceKind::SW) + mailbox::base(port)) as usize,
+        }
+    }
+
+    fn fail(&self, mem: &mut DeviceMemory, code: u16) {
+        let r = Regs::of(self.port);
+        mem.bits[self.sm + r.sm_error as usize] = true;
+        mem.words[self.sd + r.sd_error as usize] = code;
+    }
+
+    /// Starts a transaction: run error 64 while the port is busy; clears
+    /// the previous outcome (D26); `Ok(false)` (0x12 set) when the port is
+    /// not a Modbus master.
+    pub(crate) fn begin(&self, mem: &mut DeviceMemory) -> Result<bool, Fault> {
+        let r = Regs::of(self.port);
+        if !mem.bits[self.sm + (r.sm_free + IDLE) as usize] {
+            return Err(E_VALUE);
+        }
+        mem.bits[self.sm + r.sm_done as usize] = false;
+        mem.bits[self.sm + r.sm_error as usize] = false;
+        mem.words[self.sd + r.sd_error as usize] = 0;
+        if mem.words[self.mailbox + mailbox::PROTOCOL as usize] != mailbox::MASTER {
+            self.fail(mem, E_PARAMETER);
+            return Ok(false);
+        }
+        Ok(true)
+    }
+
+    /// Checks `req` and leaves it for the communication phase: the reply
+    /// to D`dest`.., and for a read of one register its value to
+    /// D`value` too (EVRD).
+    pub(crate) fn submit(&self, mem: &mut DeviceMemory, req: &[u8], dest: u32, value: Option<u32>) {
+        let r = Regs::of(self.port);
+        let own = mem.words[self.sd + r.sd_station as usize];
+        if let Err(code) = check_request(req, own) {
+            return self.fail(mem, code);
+        }
+        if dest as usize + reply_len(req) > 8000 {
+            return self.fail(mem, E_ADDRESS_OVERFLOW);
+        }
+        let mb = self.mailbox;
+        for (k, b) in req.iter().enumerate() {
+            mem.words[mb + mailbox::MB_BYTES as usize + k] = *b as u16;
+        }
+        mem.words[mb + mailbox::MB_LEN as usize] = req.len() as u16;
+        mem.words[mb + mailbox::MB_DEST as usize] = dest as u16;
+        mem.words[mb + mailbox::MB_VALUE as usize] = value.map_or(0, |d| d as u16 + 1);
+        mem.words[mb + mailbox::MB_REQ as usize] = 1;
+        mem.bits[self.sm + (r.sm_free + IDLE) as usize] = false;
+    }
+}
+
+#[derive(Debug)]
+struct ModbusInstr {
+    master: Master,
+    tx: Block,
+    /// S3's D number.
+    rx: u32,
 }
 
 fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
@@ -129,42 +195,25 @@ fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         }
     };
     let rx = d_buffer(a, 2, "L8071");
-    let map = a.map();
+    let master = Master::of(a, port?);
     Some(Box::new(ModbusInstr {
-        port: port?,
+        master,
         tx: tx?,
         rx: rx?,
-        sm: map.base(DeviceKind::SM) as usize,
-        sd: map.base(DeviceKind::SD) as usize,
-        mailbox: map.base(DeviceKind::SW) as usize,
     }))
 }
 
 impl Instr for ModbusInstr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let r = Regs::of(self.port);
-        let mb = self.mailbox + mailbox::base(self.port) as usize;
         let mem = &mut *cx.mem;
-        if !mem.bits[self.sm + (r.sm_free + IDLE) as usize] {
-            return Err(E_VALUE);
-        }
-        // A new request clears the previous outcome (D26).
-        mem.bits[self.sm + r.sm_done as usize] = false;
-        mem.bits[self.sm + r.sm_error as usize] = false;
-        mem.words[self.sd + r.sd_error as usize] = 0;
-        let fail = |mem: &mut softplc_ir::device::DeviceMemory, code: u16| {
-            mem.bits[self.sm + r.sm_error as usize] = true;
-            mem.words[self.sd + r.sd_error as usize] = code;
-        };
-        if mem.words[mb + mailbox::PROTOCOL as usize] != mailbox::MASTER {
-            fail(mem, E_PARAMETER);
+        if !self.master.begin(mem)? {
             return Ok(());
         }
         let s = mem.block_start(&self.tx, 2)?;
         let fc = mem.words[s + 1] as u8;
         let count = mem.words.get(s + 6).copied().unwrap_or(0) & 0xFF;
         let Some(n) = request_words(fc, count) else {
-            fail(mem, E_FUNCTION);
+            self.master.fail(mem, E_FUNCTION);
             return Ok(());
         };
         let s = mem.block_start(&self.tx, n as u32)?;
@@ -172,23 +221,7 @@ impl Instr for ModbusInstr {
         for (k, w) in mem.words[s..s + n].iter().enumerate() {
             req[k] = *w as u8;
         }
-        let own = mem.words[self.sd + r.sd_station as usize];
-        if let Err(code) = check_request(&req[..n], own) {
-            fail(mem, code);
-            return Ok(());
-        }
-        if self.rx as usize + reply_len(&req[..n]) > 8000 {
-            fail(mem, E_ADDRESS_OVERFLOW);
-            return Ok(());
-        }
-        let bytes = mb + mailbox::MB_BYTES as usize;
-        for (k, b) in req[..n].iter().enumerate() {
-            mem.words[bytes + k] = *b as u16;
-        }
-        mem.words[mb + mailbox::MB_LEN as usize] = n as u16;
-        mem.words[mb + mailbox::MB_DEST as usize] = self.rx as u16;
-        mem.words[mb + mailbox::MB_REQ as usize] = 1;
-        mem.bits[self.sm + (r.sm_free + IDLE) as usize] = false;
+        self.master.submit(mem, &req[..n], self.rx, None);
         Ok(())
     }
 }

@@ -2,7 +2,6 @@
 //! with the communication phase after each END.
 #![allow(dead_code)]
 
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use softplc_aplc::comm::{PortConfig, Val};
@@ -22,22 +21,7 @@ pub fn port(n: u8, items: &[(&str, Val<'_>)]) -> PortConfig {
     PortConfig::build(n, items).unwrap()
 }
 
-/// A peer shared with the test, to look at it afterwards.
-pub struct Shared<P>(pub Arc<Mutex<P>>);
-
-impl<P: Peer> Peer for Shared<P> {
-    fn receive(&mut self, at_us: u64, bytes: &[u8]) -> Option<(u64, Vec<u8>)> {
-        self.0.lock().unwrap().receive(at_us, bytes)
-    }
-    fn poll(&mut self, now_us: u64) -> Option<(u64, Vec<u8>)> {
-        self.0.lock().unwrap().poll(now_us)
-    }
-}
-
-pub fn shared<P: Peer + 'static>(p: P) -> (Arc<Mutex<P>>, Box<dyn Peer>) {
-    let a = Arc::new(Mutex::new(p));
-    (a.clone(), Box::new(Shared(a)))
-}
+pub use softplc_ports::peers::shared;
 
 pub fn rig(src: &str, ports: Vec<(PortConfig, Box<dyn Peer>)>) -> Rig {
     let program = aplc::load_bytes("t.apl", src.as_bytes()).unwrap_or_else(|d| panic!("{d}"));

@@ -58,6 +58,9 @@ pub struct Run {
     /// Scans done and the next timeline write, for [`Run::step`].
     stepped: u64,
     next_step_write: usize,
+    /// The APLC ports and the slave registers following a model.
+    ports: softplc_ports::Ports,
+    follows: Vec<super::ports::Follow>,
 }
 
 /// The result of one assertion.
@@ -110,6 +113,7 @@ impl Scenario {
     /// retained state) and resolves every device of the scenario.
     pub fn build(&self) -> Result<Run, String> {
         let clock = VirtualClock::new();
+        let mut ports = self.ports.clone();
         let cpu = match &self.source {
             super::Source::Program(p) => {
                 let mut cfg = CpuConfig::default();
@@ -118,7 +122,12 @@ impl Scenario {
                 }
                 if self.names.dialect == Dialect::Aplc {
                     let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
-                    aplc::single_cpu(prog, aplc::cpu_config(), Box::new(clock.clone()))?
+                    let cfg = aplc::cpu_config_with_ports(
+                        aplc::cpu_config().watchdog,
+                        None,
+                        self.ports.clone(),
+                    );
+                    aplc::single_cpu(prog, cfg, Box::new(clock.clone()))?
                 } else {
                     let dialect = program::dialect_for(&cfg.model, Default::default());
                     let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
@@ -128,16 +137,27 @@ impl Scenario {
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
+                ports = proj.ports.clone();
                 proj.build_cpu(Box::new(clock.clone()))
                     .map_err(|d| format!("{d}"))?
             }
         };
         let ctx = |e: String| format!("{}: {e}", self.file.display());
-        self.build_with(cpu, clock).map_err(ctx)
+        self.build_with_ports(cpu, clock, &ports).map_err(ctx)
     }
 
     /// [`Scenario::build`] with a CPU built by the caller (it must use `clock`).
-    pub fn build_with(&self, mut cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
+    pub fn build_with(&self, cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
+        self.build_with_ports(cpu, clock, &self.ports)
+    }
+
+    /// [`Scenario::build_with`] with the APLC ports the CPU was configured with.
+    fn build_with_ports(
+        &self,
+        mut cpu: Cpu,
+        clock: VirtualClock,
+        port_configs: &[softplc_ports::PortConfig],
+    ) -> Result<Run, String> {
         // Models.
         let mut models = Vec::new();
         for m in &self.models {
@@ -272,6 +292,13 @@ impl Scenario {
             Some(Recorder::new(tp, every, self.scans))
         };
 
+        let built: Vec<(&super::ModelSpec, &dyn Model)> = self
+            .models
+            .iter()
+            .zip(&models)
+            .map(|(s, b)| (s, b.model.as_ref()))
+            .collect();
+        let (ports, follows) = super::ports::build(port_configs, &self.peers, &built)?;
         let width = probes.len();
         Ok(Run {
             name: self.name.clone(),
@@ -290,6 +317,8 @@ impl Scenario {
             recorder,
             stepped: 0,
             next_step_write: 0,
+            ports,
+            follows,
         })
     }
 }
@@ -312,6 +341,9 @@ impl Run {
             }
             m.write_outputs(&mut self.cpu);
         }
+        for f in &self.follows {
+            f.apply(&self.models[f.model()].out_buf);
+        }
         while let Some(w) = self.writes.get(*next_write).filter(|w| w.scan == n) {
             // Checked on a scratch memory at build: cannot fail.
             let _ = self.cpu.write_value(&w.spec, &w.value);
@@ -319,6 +351,8 @@ impl Run {
         }
         self.clock.advance_us(self.scan_us);
         self.cpu.scan();
+        // The communication phase after END (L914-941).
+        self.ports.after_end(&mut self.cpu);
         Ok(())
     }
 

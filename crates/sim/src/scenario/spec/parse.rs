@@ -34,6 +34,10 @@ struct Doc {
     expect: Vec<toml::Table>,
     trace: Option<TraceDoc>,
     plot: Option<PlotDoc>,
+    port1: Option<toml::Table>,
+    port2: Option<toml::Table>,
+    #[serde(default)]
+    peer: Vec<toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -199,6 +203,25 @@ impl Scenario {
             }
             None => None,
         };
+        let mut ports = Vec::new();
+        for (n, t) in [(1u8, &doc.port1), (2, &doc.port2)] {
+            let Some(t) = t else { continue };
+            if matches!(source, Source::Project(_)) || dev_names.dialect != Dialect::Aplc {
+                return Err(format!(
+                    "[port{n}]: only for an APLC program file (a project sets its ports in plc.toml)"
+                ));
+            }
+            ports.push(super::peer::port_config(n, t)?);
+        }
+        let mut peers = Vec::new();
+        for (i, t) in doc.peer.iter().enumerate() {
+            if dev_names.dialect != Dialect::Aplc {
+                return Err(
+                    "[[peer]]: serial peers need an APLC-TCP program (its PORT1/PORT2)".into(),
+                );
+            }
+            peers.push(super::peer::peer(t, i)?);
+        }
         Ok(Scenario {
             file: path.to_path_buf(),
             name,
@@ -212,6 +235,8 @@ impl Scenario {
             expects,
             trace,
             plot,
+            ports,
+            peers,
         })
     }
 
