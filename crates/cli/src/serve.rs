@@ -108,6 +108,12 @@ pub struct ServeArgs {
     /// Print scan statistics (scan time, overruns, jitter, real-time) this often.
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub stats_every: Option<Duration>,
+    /// Execution tier: auto, jit or interp (as `run --exec`).
+    #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
+    pub exec: Option<softplc_core::tier::Exec>,
+    /// Print the tier and its compile time at load (on stderr).
+    #[arg(long)]
+    pub stats: bool,
 }
 
 /// The web monitor's token: `--http-token`, else `[http] token` (contract §3).
@@ -145,15 +151,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let Loaded {
-        mut cpu,
-        state,
-        modbus,
-        http,
-        opcua,
-        on_damage,
-        ports,
-    } = match load(
+    let mut loaded = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
         Some(start),
@@ -162,6 +160,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = crate::run::use_exec(&mut loaded, args.exec, args.stats) {
+        return code;
+    }
+    let Loaded {
+        mut cpu,
+        state,
+        modbus,
+        http,
+        opcua,
+        on_damage,
+        ports,
+    } = loaded;
     let period = args
         .scan_time
         .or(cpu.config().constant_scan)
