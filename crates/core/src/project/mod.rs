@@ -15,6 +15,7 @@ mod ctx;
 mod devices;
 mod initial;
 mod latch;
+mod ports;
 mod programs;
 mod settings;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
@@ -75,6 +76,10 @@ pub struct Project {
     pub opcua: Option<toml::Table>,
     /// `[process]`: the process CPU's decisions (default: the spec's choices).
     pub process: crate::program::ProcessSettings,
+    /// `[port1]`/`[port2]` of an APLC-TCP project (contract §3.3).
+    pub ports: Vec<softplc_aplc::comm::PortConfig>,
+    /// `[cpu] exec`: the execution tier (`None`: not given, auto).
+    pub exec: Option<crate::tier::Exec>,
 }
 
 /// Largest `plc.toml` read.
@@ -173,6 +178,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         "process",
         // The web monitor's settings (`token`), read by `softplc serve --http`.
         "http",
+        // APLC-TCP serial ports (contract §3.3).
+        "port1",
+        "port2",
         // The OPC UA server's settings, read by `softplc serve --opcua`.
         "opcua",
     ];
@@ -183,8 +191,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     };
 
     let mut common_pointer = None;
+    let mut exec = None;
     if let Some(t) = table(&mut cx, "cpu") {
         common_pointer = settings::cpu(&mut cx, t, &mut config);
+        exec = settings::exec(&mut cx, t);
     }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
@@ -199,8 +209,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "interrupts") {
         settings::interrupts(&mut cx, t, &mut config);
     }
+    let ports = ports::ports(&mut cx, top, config.model == crate::aplc::MODEL, dir);
     if config.model == crate::aplc::MODEL {
-        aplc::configure(&mut cx, top, &mut config);
+        aplc::configure(&mut cx, top, &mut config, &ports);
     }
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);
@@ -247,6 +258,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         http,
         opcua,
         process,
+        ports,
+        exec,
     })
 }
 
