@@ -42,6 +42,8 @@ fn arg(name: &str, default: u64) -> u64 {
 fn main() {
     let items = arg("--items", 1000) as usize;
     let secs = arg("--secs", 10);
+    let publish_ms = arg("--publish-ms", 50);
+    let queue = arg("--queue", 10) as u32;
     let mut src = String::from("LD SM400\n");
     for k in 0..items {
         src.push_str(&format!("INC D{k}\n"));
@@ -123,7 +125,7 @@ fn main() {
         let ns = session.get_namespace_index("urn:softplc").await.unwrap();
         let sub = session
             .create_subscription(
-                Duration::from_millis(50),
+                Duration::from_millis(publish_ms),
                 600,
                 20,
                 0,
@@ -146,20 +148,24 @@ fn main() {
                 requested_parameters: MonitoringParameters {
                     client_handle: k as u32,
                     sampling_interval: SCAN.as_secs_f64() * 1000.0,
-                    queue_size: 10,
+                    queue_size: queue,
                     discard_oldest: true,
                     ..Default::default()
                 },
             })
             .collect();
-        let created = session
-            .create_monitored_items(sub, TimestampsToReturn::Both, requests)
-            .await
-            .unwrap();
-        let good = created
-            .iter()
-            .filter(|r| r.result.status_code.is_good())
-            .count();
+        // In requests of 1000 items, which fit a message.
+        let mut good = 0;
+        for chunk in requests.chunks(1000) {
+            let created = session
+                .create_monitored_items(sub, TimestampsToReturn::Both, chunk.to_vec())
+                .await
+                .unwrap();
+            good += created
+                .iter()
+                .filter(|r| r.result.status_code.is_good())
+                .count();
+        }
         assert_eq!(good, items, "every monitored item is created");
         // Warm up (initial values), then count.
         tokio::time::sleep(Duration::from_secs(1)).await;

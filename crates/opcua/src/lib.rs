@@ -34,6 +34,11 @@ pub use config::{Flags, OpcuaConfig};
 use points::Point;
 use space::{SoftplcNodes, Space, WriteRule};
 
+/// Why an APLC-TCP program is not served (COMPATIBILITY.md).
+pub const APLC_REFUSED: &str = "--opcua: APLC-TCP programs are not served over OPC UA yet: \
+     the APLC driver resolves operands without recording them (Program::used_devices), \
+     so the Devices folder would be empty; use --modbus or --http";
+
 /// The user token id of the configured user.
 const USER_TOKEN_ID: &str = "user";
 
@@ -49,6 +54,9 @@ impl Prepared {
     /// The device variables of `cpu` (an error names a bad `[opcua] nodes`
     /// entry) and its program files for the loops.
     pub fn new(cfg: OpcuaConfig, cpu: &Cpu) -> Result<Prepared, String> {
+        if softplc_core::names::Dialect::of(cpu) == softplc_core::names::Dialect::Aplc {
+            return Err(APLC_REFUSED.to_string());
+        }
         let devices = points::devices(cpu, &cfg.nodes)?;
         Ok(Prepared {
             cfg,
@@ -186,6 +194,10 @@ fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
     limits.subscriptions.min_sampling_interval_ms = scan_ms;
     limits.subscriptions.min_publishing_interval_ms = tick;
     limits.subscriptions.max_monitored_items_per_sub = 100_000;
+    // A publish response carries at most 1000 data changes, the array
+    // length clients decode by default (async-opcua's limit); the rest go in
+    // the next responses.
+    limits.subscriptions.max_notifications_per_publish = 1000;
     limits.operational.max_monitored_items_per_call = 100_000;
     b
 }

@@ -182,3 +182,86 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use softplc_core::device::DeviceConfig;
+    use softplc_core::engine::{CpuConfig, VirtualClock};
+
+    fn cpu(src: &str) -> Cpu {
+        let p = softplc_core::program::compile_il("t.il", src, &DeviceConfig::default()).unwrap();
+        Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()))
+    }
+
+    fn ids(points: &[Point]) -> Vec<(&str, Kind)> {
+        points.iter().map(|p| (p.id.as_str(), p.kind)).collect()
+    }
+
+    #[test]
+    fn operands_give_natural_and_typed_nodes() {
+        let c = cpu("LD X0\nOUT Y0\nDMOV D20 D22\nEMOV D30 D32\nMOV D0Z1 D5\nMOV K4M0 D6\nEND\n");
+        assert_eq!(
+            ids(&devices(&c, &[]).unwrap()),
+            [
+                ("D20", Kind::Int16),
+                ("D20:i32", Kind::Int32),
+                ("D22", Kind::Int16),
+                ("D22:i32", Kind::Int32),
+                ("D30", Kind::Int16),
+                ("D30:f32", Kind::Float),
+                ("D32", Kind::Int16),
+                ("D32:f32", Kind::Float),
+                // D0Z1 and K4M0 move or span devices: no node.
+                ("D5", Kind::Int16),
+                ("D6", Kind::Int16),
+                ("X0", Kind::Boolean),
+                ("Y0", Kind::Boolean),
+            ]
+        );
+    }
+
+    #[test]
+    fn extra_nodes_are_checked_and_spelled_as_show() {
+        let c = cpu("LD X0\nOUT Y0\nEND\n");
+        let extra = ["d100:U16".to_string(), "D200:u32".into(), "Y0".into()];
+        assert_eq!(
+            ids(&devices(&c, &extra).unwrap()),
+            [
+                ("D100:u16", Kind::UInt16),
+                ("D200:u32", Kind::UInt32),
+                ("X0", Kind::Boolean),
+                ("Y0", Kind::Boolean),
+            ]
+        );
+        let e = devices(&c, &["QX9".to_string()]).unwrap_err();
+        assert!(e.contains("[opcua] nodes: `QX9`"), "{e}");
+        let e = devices(&c, &["D99999".to_string()]).unwrap_err();
+        assert!(e.contains("D99999"), "{e}");
+    }
+
+    #[test]
+    fn aplc_programs_are_refused_with_the_reason() {
+        let src = "LD X0\nOUT Y10\n";
+        let p = softplc_core::aplc::load_bytes("t.apl", src.as_bytes()).unwrap();
+        let c = softplc_core::aplc::single_cpu(
+            p,
+            softplc_core::aplc::cpu_config(),
+            Box::new(VirtualClock::new()),
+        )
+        .unwrap();
+        let cfg = crate::OpcuaConfig::new(
+            &crate::Flags {
+                addr: Some("4840".into()),
+                ..Default::default()
+            },
+            None,
+            std::path::Path::new("."),
+            std::time::Duration::from_millis(10),
+        )
+        .unwrap()
+        .unwrap();
+        let e = crate::Prepared::new(cfg, &c).err().unwrap();
+        assert!(e.contains("APLC-TCP programs are not served"), "{e}");
+    }
+}

@@ -234,3 +234,50 @@ pub async fn run(
         feed.applied.send_replace(seq);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn end_times_are_opc_ua_ticks() {
+        // 1601-01-01 to 1970-01-01 is 11 644 473 600 s.
+        assert_eq!(
+            i64::from(ua_time(SystemTime::UNIX_EPOCH)),
+            116_444_736_000_000_000
+        );
+        let t = SystemTime::UNIX_EPOCH + std::time::Duration::from_micros(1_500_001);
+        assert_eq!(i64::from(ua_time(t)), 116_444_736_000_000_000 + 15_000_010);
+    }
+
+    #[test]
+    fn only_changed_points_are_queued_each_once() {
+        use softplc_core::access::Value;
+        use softplc_core::device::DeviceConfig;
+        use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+        let p = softplc_core::program::compile_il(
+            "t.il",
+            "LD X0\nOUT Y0\nMOV D0 D1\nEND\n",
+            &DeviceConfig::default(),
+        )
+        .unwrap();
+        let cpu = Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()));
+        let devices = crate::points::devices(&cpu, &[]).unwrap();
+        let names: Vec<&str> = devices.iter().map(|p| p.id.as_str()).collect();
+        assert_eq!(names, ["D0", "D1", "X0", "Y0"]);
+        let d0 = devices[0].name.clone();
+        let space = Arc::new(Space::new(devices, Vec::new()));
+        let mut s = ServeState::new(cpu);
+        let feed = Feed::new(space, vec![0; 4], Diag::of(&s));
+        assert_eq!(feed.sample(&s), 0, "nothing changed");
+        d0.write_value(&mut s.cpu, &Value::Int(-7)).unwrap();
+        assert_eq!(feed.sample(&s), 1);
+        d0.write_value(&mut s.cpu, &Value::Int(8)).unwrap();
+        assert_eq!(feed.sample(&s), 2);
+        let p = feed.pending.lock().unwrap();
+        // D0 queued once with its latest value.
+        assert_eq!(p.dirty, [0]);
+        assert_eq!(p.values, [8, 0, 0, 0]);
+        assert!(!p.diag_dirty);
+    }
+}

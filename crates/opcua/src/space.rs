@@ -331,3 +331,56 @@ impl InMemoryNodeManagerImpl for SoftplcNodes {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn raw_bits_become_the_node_type() {
+        assert_eq!(variant(Kind::Boolean, 1), Variant::Boolean(true));
+        assert_eq!(variant(Kind::Int16, 0xFFFF), Variant::Int16(-1));
+        assert_eq!(variant(Kind::UInt16, 0xFFFF), Variant::UInt16(65535));
+        assert_eq!(variant(Kind::Int32, 0xFFFF_FFFE), Variant::Int32(-2));
+        assert_eq!(
+            variant(Kind::UInt32, 0xFFFF_FFFE),
+            Variant::UInt32(4294967294)
+        );
+        // 1.5f32 = 0x3FC00000.
+        assert_eq!(variant(Kind::Float, 0x3FC0_0000), Variant::Float(1.5));
+    }
+
+    #[test]
+    fn writes_must_be_of_the_node_type() {
+        assert_eq!(
+            written(Kind::Int16, Some(&Variant::Int16(-5))),
+            Ok(Value::Int(-5))
+        );
+        assert_eq!(
+            written(Kind::UInt32, Some(&Variant::UInt32(70000))),
+            Ok(Value::Int(70000))
+        );
+        assert_eq!(
+            written(Kind::Float, Some(&Variant::Float(2.5))),
+            Ok(Value::Float(2.5))
+        );
+        for (k, v) in [
+            (Kind::Int16, Variant::Int32(5)),
+            (Kind::Int32, Variant::Int16(5)),
+            (Kind::Boolean, Variant::Int16(1)),
+            (Kind::Float, Variant::Double(1.0)),
+            (Kind::UInt16, Variant::from("5")),
+        ] {
+            assert_eq!(
+                written(k, Some(&v)),
+                Err(StatusCode::BadTypeMismatch),
+                "{v:?}"
+            );
+        }
+        assert_eq!(written(Kind::Int16, None), Err(StatusCode::BadTypeMismatch));
+        assert_eq!(
+            written(Kind::Float, Some(&Variant::Float(f32::NAN))),
+            Err(StatusCode::BadOutOfRange)
+        );
+    }
+}
