@@ -1,6 +1,7 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
 mod names;
+mod opcua;
 mod run;
 mod serve;
 mod signal;

@@ -82,6 +82,14 @@ pub struct RunArgs {
     /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub timeout: Option<Duration>,
+    /// APLC PORT1 on a serial device or pty (the project's `[port1]`
+    /// settings); with a serial line, virtual time keeps pace with the wall
+    /// clock.
+    #[arg(long, value_name = "PATH")]
+    pub port1: Option<PathBuf>,
+    /// APLC PORT2 on a serial device or pty (`[port2]`).
+    #[arg(long, value_name = "PATH")]
+    pub port2: Option<PathBuf>,
     /// How a single program file is read: melsec or aplc (default by name:
     /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
     /// of :i32/:u32/:f32, TN5/CN5 current values.
@@ -198,10 +206,26 @@ pub(crate) struct Loaded {
     pub modbus: Option<toml::Table>,
     /// A project's `[http]` table.
     pub http: Option<toml::Table>,
+    /// A project's `[opcua]` table.
+    pub opcua: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
+    /// An APLC-TCP project's `[port1]`/`[port2]`.
+    pub ports: Vec<softplc_core::aplc::PortConfig>,
     /// A project's `[cpu] exec`.
     pub exec: Option<Exec>,
+}
+
+/// The APLC ports of a loaded program: `[port1]`/`[port2]` with
+/// `--port1`/`--port2` binding them to a serial device or pty (contract §3.3).
+pub(crate) fn open_ports(
+    ports: &[softplc_core::aplc::PortConfig],
+    port1: Option<&Path>,
+    port2: Option<&Path>,
+) -> Result<softplc_ports::Ports, String> {
+    let p1 = port1.map(|p| p.display().to_string());
+    let p2 = port2.map(|p| p.display().to_string());
+    softplc_ports::Ports::open(ports, [p1.as_deref(), p2.as_deref()])
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -251,7 +275,9 @@ pub(crate) fn load_with(
             state: None,
             modbus: None,
             http: None,
+            opcua: None,
             on_damage: OnDamage::default(),
+            ports: Vec::new(),
             exec: None,
         });
     }
@@ -273,7 +299,9 @@ pub(crate) fn load_with(
             state: Some(p.state_dir),
             modbus: p.modbus,
             http: p.http,
+            opcua: p.opcua,
             on_damage: p.state_on_damage,
+            ports: p.ports,
             exec: p.exec,
         });
     }
@@ -300,7 +328,9 @@ pub(crate) fn load_with(
         state: None,
         modbus: None,
         http: None,
+        opcua: None,
         on_damage: OnDamage::default(),
+        ports: Vec::new(),
         exec: None,
     })
 }
@@ -443,6 +473,7 @@ pub fn run(args: RunArgs) -> ExitCode {
         mut cpu,
         state,
         on_damage,
+        ports,
         ..
     } = loaded;
     let names = Names::of(&cpu);
@@ -496,6 +527,15 @@ pub fn run(args: RunArgs) -> ExitCode {
             abort.store(true, Ordering::SeqCst);
         });
     }
+    let mut ports = match open_ports(&ports, args.port1.as_deref(), args.port2.as_deref()) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    // With a real serial line, virtual time keeps pace with the wall clock.
+    let paced = ports.has_serial().then(std::time::Instant::now);
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -507,7 +547,16 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
         }
         clock.advance_us(step_us);
+        if let Some(t0) = paced {
+            let due = t0 + Duration::from_micros(clock.now_us());
+            std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
+        }
         cpu.scan();
+        // The communication phase (L914-941).
+        ports.after_end(&mut cpu);
+        for e in ports.take_errors() {
+            eprintln!("softplc: {e}");
+        }
         scans = n;
         // END processing done: commit latched data (at most every 10 ms of wall time).
         if let Some(b) = &mut battery {
