@@ -208,3 +208,58 @@ fn trace_to_csv_file() {
         "scan,time_ms,Y0,TN0\n1,10,0,0\n26,260,0,2\n51,510,1,5\n"
     );
 }
+
+/// `--exec` and `--stats` (issue #17): both tiers give the same report, the
+/// JIT says how much it compiled, `--exec` outranks `SOFTPLC_EXEC`, and a
+/// wrong name is an error naming it.
+#[test]
+fn exec_tiers_report_the_same_and_stats_name_the_tier() {
+    let args = |tier: &'static str| {
+        [
+            "run",
+            "examples/blink.il",
+            "--scans",
+            "100",
+            "--set",
+            "X0=1",
+            "--show",
+            "Y0",
+            "--show",
+            "CN0",
+            "--json",
+            "--stats",
+            "--exec",
+            tier,
+        ]
+    };
+    let (jit, interp) = (softplc(&args("jit")), softplc(&args("interp")));
+    assert_eq!(json(&jit), json(&interp));
+    // blink.il: 12 ops; the timers, the counter, RST C0 and END are interpreted.
+    let stderr = String::from_utf8_lossy(&jit.stderr);
+    assert!(
+        stderr.starts_with("exec: jit, 7 of 12 ops native, compiled in "),
+        "{stderr}"
+    );
+    assert_eq!(String::from_utf8_lossy(&interp.stderr), "exec: interp\n");
+    let env = Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .args(["check", "examples/blink.il", "--stats", "--exec", "interp"])
+        .env("SOFTPLC_EXEC", "jit")
+        .current_dir(workspace())
+        .output()
+        .unwrap();
+    assert!(env.status.success());
+    assert!(String::from_utf8_lossy(&env.stderr).contains("exec: interp"));
+    let bad = Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .args(["check", "examples/blink.il", "--stats"])
+        .env("SOFTPLC_EXEC", "fast")
+        .current_dir(workspace())
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&bad.stderr)
+            .contains("SOFTPLC_EXEC: exec \"fast\" is not one of auto, jit, interp"),
+        "{}",
+        String::from_utf8_lossy(&bad.stderr)
+    );
+}

@@ -16,8 +16,13 @@ use crate::plan::{Piece, Plan};
 /// A chunk function (see `codegen`): regs, bits, words, entry op → next op.
 type ChunkFn = unsafe extern "C" fn(*mut Regs, *mut u8, *mut u16, u32) -> u32;
 
-/// The host's code generator at `opt_level=speed`.
+/// The host's code generator at `opt_level=speed`, built once per process.
 pub(crate) fn isa() -> Result<OwnedTargetIsa, String> {
+    static ISA: std::sync::OnceLock<Result<OwnedTargetIsa, String>> = std::sync::OnceLock::new();
+    ISA.get_or_init(host_isa).clone()
+}
+
+fn host_isa() -> Result<OwnedTargetIsa, String> {
     let mut flags = settings::builder();
     let set = |f: &mut settings::Builder, k: &str, v: &str| {
         f.set(k, v)

@@ -1,0 +1,328 @@
+//! Differential test of the two tiers (issue #17): random well-formed
+//! programs — contacts, ANB/ORB blocks, MPS, coils, MOV/arithmetic/compare,
+//! forward jumps, FOR/NEXT, master control, pulse forms and index modification
+//! that may go out of range — run on the interpreter and on the JIT with the
+//! same inputs; after every scan the device memory, the CPU state and the
+//! error (code and step) must be equal.
+//!
+//! Cases: `PROPTEST_CASES` (default 256 for `cargo test`; `.ci/run` runs
+//! 10,000).
+
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+use proptest::test_runner::TestRunner;
+use softplc_core::access::DeviceSpec;
+use softplc_core::device::DeviceKind;
+use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::program::compile_il;
+use softplc_core::tier::{apply, Exec};
+
+/// Scans per program.
+const SCANS: usize = 4;
+
+fn bit() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0..8u32).prop_map(|n| format!("X{n}")),
+        (0..16u32).prop_map(|n| format!("M{n}")),
+        (0..8u32).prop_map(|n| format!("Y{n}")),
+        (0..16u32).prop_map(|n| format!("D0.{n:X}")),
+        Just("SM400".to_string()),
+        // Index-modified: Z0 may point past the end of M (4101).
+        (0..4u32).prop_map(|n| format!("M{n}Z0")),
+    ]
+}
+
+fn dest_bit() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0..16u32).prop_map(|n| format!("M{n}")),
+        (0..8u32).prop_map(|n| format!("Y{n}")),
+        (0..4u32).prop_map(|n| format!("M{}Z0", 20 + n)),
+    ]
+}
+
+fn word() -> impl Strategy<Value = String> {
+    prop_oneof![
+        4 => (0..16u32).prop_map(|n| format!("D{n}")),
+        1 => (0..4u32).prop_map(|n| format!("D{n}Z0")),
+    ]
+}
+
+fn operand() -> impl Strategy<Value = String> {
+    prop_oneof![
+        word(),
+        (-3i32..40).prop_map(|k| format!("K{k}")),
+        Just("K32767".to_string()),
+    ]
+}
+
+fn contact_chain() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("LD"), Just("LDI")],
+        bit(),
+        prop::collection::vec(
+            (
+                prop_oneof![Just("AND"), Just("ANI"), Just("OR"), Just("ORI")],
+                bit(),
+            ),
+            0..4,
+        ),
+    )
+        .prop_map(|(first, b, rest)| {
+            let mut s = format!("{first} {b}\n");
+            for (m, b) in rest {
+                s += &format!("{m} {b}\n");
+            }
+            s
+        })
+}
+
+fn coil() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("OUT"), Just("SET"), Just("RST"), Just("PLS")],
+        dest_bit(),
+    )
+        .prop_map(|(c, d)| format!("{c} {d}\n"))
+}
+
+fn compare() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("LD"), Just("AND"), Just("OR")],
+        prop_oneof![Just(""), Just("D")],
+        prop_oneof![
+            Just("="),
+            Just("<>"),
+            Just(">"),
+            Just("<="),
+            Just("<"),
+            Just(">=")
+        ],
+        word(),
+        operand(),
+    )
+        .prop_map(|(j, d, op, a, b)| format!("{j}{d}{op} {a} {b}\n"))
+}
+
+/// A comparison contact as the start of a rung or block (`AND=` → `LD=`).
+fn lead(c: &str) -> String {
+    match c.strip_prefix("AND").or_else(|| c.strip_prefix("OR")) {
+        Some(rest) => format!("LD{rest}"),
+        None => c.to_string(),
+    }
+}
+
+/// The condition part of a rung: contacts, a comparison, a block or MPS-free
+/// contact logic.
+fn condition() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => contact_chain(),
+        1 => compare().prop_map(|c| lead(&c)),
+        1 => (contact_chain(), contact_chain(), compare(), prop_oneof![Just("ANB"), Just("ORB")])
+            .prop_map(|(a, b, c, j)| {
+                // LD … opens a block.
+                format!("{a}{b}{j}\n{}ANB\n", lead(&c))
+            }),
+    ]
+}
+
+fn action() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => coil(),
+        2 => (word(), operand()).prop_map(|(d, s)| format!("MOV {s} {d}\n")),
+        1 => (0..8u32, -70000i64..70000).prop_map(|(d, k)| format!("DMOV K{k} D{}\n", 2 * d)),
+        1 => (prop_oneof![Just("+"), Just("-"), Just("*")], word(), operand(), word())
+            .prop_map(|(op, a, b, d)| format!("{op} {a} {b} {d}\n")),
+        1 => word().prop_map(|d| format!("INCP {d}\n")),
+        1 => (word(), word()).prop_map(|(s, d)| format!("MOVP {s} {d}\n")),
+        // Z0 inside M/D, near their ends, or past them.
+        1 => prop_oneof![0..12i32, 8185..8200i32, 12280..12290i32, Just(20000)]
+            .prop_map(|z| format!("MOV K{z} Z0\n")),
+    ]
+}
+
+/// A rung: a condition, then one to three outputs (MPS branches when more).
+fn rung() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => (condition(), action()).prop_map(|(c, a)| c + &a),
+        1 => (condition(), action(), contact_chain(), action(), action()).prop_map(
+            |(c, a1, b, a2, a3)| {
+                let b = b.replacen("LDI", "ANI", 1).replacen("LD", "AND", 1);
+                format!("{c}MPS\n{b}{a1}MRD\n{a2}MPP\n{a3}")
+            }
+        ),
+    ]
+}
+
+/// A program: rungs, forward jumps over rungs, FOR/NEXT and MC blocks.
+fn body(depth: u32) -> BoxedStrategy<Vec<String>> {
+    let leaf = prop::collection::vec(rung(), 1..6);
+    if depth == 0 {
+        return leaf.boxed();
+    }
+    let inner = body(depth - 1);
+    prop::collection::vec(
+        prop_oneof![
+            4 => rung().prop_map(|r| vec![r]),
+            1 => (condition(), inner.clone()).prop_map(|(c, rs)| {
+                let mut v = vec![format!("{c}CJ P@\n")];
+                v.extend(rs);
+                v.push("P@\n".into());
+                v
+            }),
+            1 => (1..4u32, inner.clone()).prop_map(|(n, rs)| {
+                let mut v = vec![format!("FOR K{n}\n")];
+                v.extend(rs);
+                v.push("NEXT\n".into());
+                v
+            }),
+            1 => (contact_chain(), inner).prop_map(|(c, rs)| {
+                let mut v = vec![format!("{c}MC N# M{}\n", 300)];
+                v.extend(rs);
+                v.push("MCR N#\n".into());
+                v
+            }),
+        ],
+        1..6,
+    )
+    .prop_map(|vs| vs.into_iter().flatten().collect())
+    .boxed()
+}
+
+/// Numbers the labels (`P@` pairs, innermost first is not needed: each CJ
+/// opens one and its closing `P@` is the next unmatched one) and MC levels.
+fn render(parts: &[String]) -> String {
+    let mut out = String::new();
+    let mut labels: Vec<u32> = Vec::new();
+    let mut next_label = 0;
+    let mut mc_level = 0;
+    for p in parts {
+        if p.contains("CJ P@") {
+            labels.push(next_label);
+            out += &p.replace("P@", &format!("P{next_label}"));
+            next_label += 1;
+        } else if p == "P@\n" {
+            out += &format!("P{}\n", labels.pop().unwrap_or(0));
+        } else if p.contains("MC N#") {
+            // Nesting levels ascend inward (N0 outermost).
+            out += &p
+                .replace("N#", &format!("N{}", mc_level.min(14)))
+                .replace("M300", &format!("M{}", 300 + mc_level));
+            mc_level += 1;
+        } else if p == "MCR N#\n" {
+            mc_level -= 1;
+            out += &format!("MCR N{}\n", mc_level.min(14));
+        } else {
+            out += p;
+        }
+    }
+    out + "END\n"
+}
+
+fn cpu(src: &str, exec: Exec) -> Option<(Cpu, VirtualClock)> {
+    let mut cfg = CpuConfig::default();
+    // No file registers: the programs do not use them, and a CPU is built
+    // twice per case.
+    cfg.devices.set_points(DeviceKind::ZR, 0);
+    let prog = compile_il("p.il", src, &cfg.devices).ok()?;
+    let clock = VirtualClock::new();
+    let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+    apply(&mut cpu, exec).unwrap();
+    Some((cpu, clock))
+}
+
+fn same(a: &Cpu, b: &Cpu, scan: usize, src: &str) -> Result<(), TestCaseError> {
+    let ctx = || format!("after scan {scan} of\n{src}");
+    prop_assert_eq!(a.state(), b.state(), "{}", ctx());
+    prop_assert_eq!(
+        a.error().map(|e| (e.code, e.step)),
+        b.error().map(|e| (e.code, e.step)),
+        "{}",
+        ctx()
+    );
+    let (ma, mb) = (a.memory(), b.memory());
+    if ma.bits != mb.bits {
+        let i = (0..ma.bits.len()).find(|&i| ma.bits[i] != mb.bits[i]);
+        return Err(TestCaseError::fail(format!("bit {i:?} differs {}", ctx())));
+    }
+    if ma.words != mb.words {
+        let i = (0..ma.words.len()).find(|&i| ma.words[i] != mb.words[i]);
+        return Err(TestCaseError::fail(format!("word {i:?} differs {}", ctx())));
+    }
+    Ok(())
+}
+
+/// One case: `parts` rendered, scanned `SCANS` times with X0-X7 from `inputs`.
+fn case(parts: &[String], inputs: &[u8]) -> Result<(), TestCaseError> {
+    let src = render(parts);
+    let Some((mut a, ca)) = cpu(&src, Exec::Interp) else {
+        // Not every combination is a valid program (e.g. a nesting limit).
+        return Ok(());
+    };
+    let (mut b, cb) = cpu(&src, Exec::Jit).expect("loads on both tiers");
+    let x: Vec<DeviceSpec> = (0..8)
+        .map(|k| DeviceSpec::parse(&format!("X{k}")).unwrap())
+        .collect();
+    for (scan, bits) in inputs.iter().enumerate() {
+        for cpu in [&mut a, &mut b] {
+            for (k, spec) in x.iter().enumerate() {
+                let on = if bits >> k & 1 != 0 { "1" } else { "0" };
+                cpu.write_device(spec, on).unwrap();
+            }
+        }
+        ca.advance_us(10_000);
+        cb.advance_us(10_000);
+        a.scan();
+        b.scan();
+        same(&a, &b, scan + 1, &src)?;
+    }
+    Ok(())
+}
+
+/// Runs `f` on a thread with a large stack: the nested strategies need more
+/// than a test thread has in a debug build.
+fn big_stack(f: impl FnOnce() + Send + 'static) {
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(f)
+        .unwrap()
+        .join()
+        .unwrap_or_else(|e| std::panic::resume_unwind(e));
+}
+
+#[test]
+fn both_tiers_leave_the_same_memory_and_faults() {
+    big_stack(|| {
+        let cases = std::env::var("PROPTEST_CASES")
+            .ok()
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(256);
+        let config = ProptestConfig {
+            cases,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        };
+        let strategy = (body(2), prop::collection::vec(any::<u8>(), SCANS));
+        TestRunner::new(config)
+            .run(&strategy, |(parts, inputs)| case(&parts, &inputs))
+            .unwrap();
+    });
+}
+
+/// The generator makes programs that load: most of them, or the property
+/// above would test little.
+#[test]
+fn most_generated_programs_load() {
+    big_stack(|| {
+        let mut runner = TestRunner::deterministic();
+        let strategy = body(2);
+        let mut loaded = 0;
+        for _ in 0..200 {
+            let parts = strategy.new_tree(&mut runner).unwrap().current();
+            let src = render(&parts);
+            match compile_il("p.il", &src, &CpuConfig::default().devices) {
+                Ok(_) => loaded += 1,
+                Err(d) => eprintln!("{d}\n{src}"),
+            }
+        }
+        assert!(loaded >= 180, "{loaded} of 200 loaded");
+    });
+}
