@@ -16,6 +16,15 @@ extern unsigned long long common_ticktime__;
 void config_init__(void);
 void config_run__(unsigned long tick);
 
+// OpenPLC's headers define the TCP function blocks inline on top of its
+// runtime's socket layer (openplc_networking.h); without optimisation the
+// compiler keeps those bodies, so the linker needs the layer. The workloads
+// use no TCP block: these fail every call, as a runtime without sockets would.
+int connect_to_tcp_server(uint8_t *, uint16_t, int) { return -1; }
+int send_tcp_message(uint8_t *, size_t, int) { return -1; }
+int receive_tcp_message(uint8_t *, size_t, int) { return -1; }
+int close_tcp_connection(int) { return -1; }
+
 int main(int argc, char **argv) {
     if (argc != 2) {
         fprintf(stderr, "usage: %s CYCLES\n", argv[0]);
