@@ -10,7 +10,8 @@
 //! (low word); LM on B, V on W; the timers' hidden timing bits and
 //! remainders on STS/STN; the EEPROM that EROMWR writes on ZR (kept through
 //! power-on like file registers, no APLC name reaches it): ZR0-ZR999 the
-//! image of D6000-D6999, ZR1000-ZR1999 1 where EROMWR wrote that word.
+//! image of D6000-D6999, ZR1000-ZR1999 1 where EROMWR wrote that word;
+//! the communication mailboxes of PORT1/PORT2 on SW (`comm::mailbox`).
 //! Eight hidden bits of kind V hold the MC
 //! levels' state, then the FOR gate, the CALL flow, the SFC step gate and the
 //! interrupt dispatch.
@@ -202,6 +203,8 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::CS, CN_WORDS),
         // Hidden: the EEPROM image of D6000-D6999 and its "saved" marks.
         (DeviceKind::ZR, 2 * EEPROM_WORDS),
+        // Hidden: the ports' mailboxes (comm::mailbox).
+        (DeviceKind::SW, 2 * crate::comm::mailbox::SIZE),
     ] {
         c.set_points(k, n);
     }

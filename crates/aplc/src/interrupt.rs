@@ -8,8 +8,11 @@
 //! enabled by SM66-SM68; enabling restarts the timing, L10151). An event
 //! needs the global enable (EI) too. The 8-deep FIFO holds what one scan
 //! start finds; a ninth event is lost with run error 67 (L10117). Routines
-//! run one at a time, each with fresh LM/V. The serial events 30-37 need the
-//! free port (not implemented yet) and never occur.
+//! run one at a time, each with fresh LM/V. The serial events of PORT1
+//! (34 char TX, 35 char RX, 36 frame TX, 37 frame RX, enabled by SM52-SM55)
+//! are those the communication phase after END recorded in PORT1's mailbox
+//! (`comm::mailbox::EVENTS`), taken after the timed ones; PORT0's 30-33
+//! never occur (softplc has no PORT0, L10341).
 //!
 //! Compiled as a dispatch section at the start of the program: `Scan`
 //! (collect the events), then a loop `Pop` · `Ld(routine bit)` · `Call` … that
@@ -22,12 +25,13 @@ use softplc_ir::ops::Op;
 use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
 
+use crate::comm::mailbox;
 use crate::devices::{EI_BIT, INT_ANY_BIT, INT_BITS, MAX_INT};
 
 static DOC: Doc = Doc {
     family: "interrupts",
     cite: "002 ch. 9 L10064-10310, §6.1 L3699-3733",
-    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial events 30-37 never occur (free port not implemented yet)",
+    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial 34-37 (PORT1, SM52-SM55) from the communication phase; PORT0's 30-33 never occur",
 };
 
 pub static DEFS: &[Def] = &[
@@ -91,6 +95,8 @@ struct Dispatch {
     sm: u32,
     sd: u32,
     v: u32,
+    /// PORT1's mailbox word of serial events.
+    events: u32,
     state: u32,
 }
 
@@ -164,6 +170,14 @@ impl Instr for Scan {
             cx.state[at + 1] = due as u32;
             cx.state[at + 2] = (due >> 32) as u32;
         }
+        // Serial events of PORT1 recorded by the communication phase.
+        let at = d.events as usize;
+        let serial = std::mem::take(&mut cx.mem.words[at]);
+        for k in 0..4u32 {
+            if serial >> k & 1 != 0 && ei && cx.mem.bits[(d.sm + 52 + k) as usize] {
+                d.push(cx, 34 + k as u8, &mut lost);
+            }
+        }
         if lost {
             Err(E_QUEUE)
         } else {
@@ -211,6 +225,7 @@ pub fn dispatch(c: &mut Compiler<'_>, events: &[u8]) -> Vec<usize> {
         sm: map.base(DeviceKind::SM),
         sd: map.base(DeviceKind::SD),
         v: map.base(DeviceKind::V),
+        events: map.base(DeviceKind::SW) + mailbox::base(1) + mailbox::EVENTS,
         state: c.state_words,
     };
     c.state_words += WORDS;

@@ -15,6 +15,7 @@ pub mod blockshift;
 pub mod calc;
 pub mod call;
 pub mod checksum;
+pub mod comm;
 pub mod compare;
 pub mod compile;
 pub mod constant;
@@ -76,6 +77,9 @@ pub static DEFS: &[&[Def]] = &[
     ramp::DEFS,
     ascii::DEFS,
     eeprom::DEFS,
+    comm::modbus::DEFS,
+    comm::freeport::DEFS,
+    comm::inverter::DEFS,
     pid::DEFS,
     compare::DEFS,
     rejected::DEFS,
@@ -138,9 +142,19 @@ pub fn system() -> Arc<dyn softplc_ir::system::System> {
 /// The system devices with the watchdog and constant-scan settings (ms) that
 /// SD34, SD33 and SM8 show.
 pub fn system_with(watchdog_ms: u16, constant_scan_ms: u16) -> Arc<dyn softplc_ir::system::System> {
+    system_with_ports(watchdog_ms, constant_scan_ms, Vec::new())
+}
+
+/// [`system_with`] and the settings of PORT1/PORT2 that SD120-SD154 show.
+pub fn system_with_ports(
+    watchdog_ms: u16,
+    constant_scan_ms: u16,
+    ports: Vec<comm::PortConfig>,
+) -> Arc<dyn softplc_ir::system::System> {
     Arc::new(system::Aplc {
         watchdog_ms,
         constant_scan_ms,
+        ports,
     })
 }
 

@@ -5,7 +5,7 @@
 
 use softplc_lang::isa::Def;
 
-const NOT_YET: &str = "not implemented yet in softplc (issue #13)";
+const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (002 §6.10.2-9 L8136-8432 and Appendix 5 give no register map; spec aplc.md §9 item 11); use `Modbus` with the drive's own register map";
 const CLOCK: &str = "not available on APLC-TCP: no real-time clock; the clock and date/time-compare instructions are unsupported (table 1-1 L682-683, decision D6)";
 const HSIO: &str =
     "not available on APLC-TCP: no high-speed I/O (table 1-1 L686, L10062, decision D7)";
@@ -14,19 +14,14 @@ const NONE: &str =
     "not available on APLC-TCP: the manual defines no body for it (\"无\", decision D7)";
 
 pub static DEFS: &[Def] = &[
-    Def::rejected("MODBUS", NOT_YET).no_pulse(),
-    Def::rejected("EVFWD", NOT_YET).no_pulse(),
-    Def::rejected("EVREV", NOT_YET).no_pulse(),
-    Def::rejected("EVDFWD", NOT_YET).no_pulse(),
-    Def::rejected("EVDREV", NOT_YET).no_pulse(),
-    Def::rejected("EVSTOP", NOT_YET).no_pulse(),
-    Def::rejected("EVFRQ", NOT_YET).no_pulse(),
-    Def::rejected("EVWRT", NOT_YET).no_pulse(),
-    Def::rejected("EVRDST", NOT_YET).no_pulse(),
-    Def::rejected("EVDRST", NOT_YET).no_pulse(),
-    Def::rejected("EVRD", NOT_YET).no_pulse(),
-    Def::rejected("XMT", NOT_YET).no_pulse(),
-    Def::rejected("RCV", NOT_YET).no_pulse(),
+    Def::rejected("EVFWD", INVERTER).no_pulse(),
+    Def::rejected("EVREV", INVERTER).no_pulse(),
+    Def::rejected("EVDFWD", INVERTER).no_pulse(),
+    Def::rejected("EVDREV", INVERTER).no_pulse(),
+    Def::rejected("EVSTOP", INVERTER).no_pulse(),
+    Def::rejected("EVFRQ", INVERTER).no_pulse(),
+    Def::rejected("EVRDST", INVERTER).no_pulse(),
+    Def::rejected("EVDRST", INVERTER).no_pulse(),
     Def::rejected("TRD", CLOCK).no_pulse(),
     Def::rejected("TWR", CLOCK).no_pulse(),
     Def::rejected("TADD", CLOCK).no_pulse(),

@@ -24,7 +24,7 @@ pub enum BitUse {
 
 /// SM relays the program may not write (Appendix 1 R column, L10696-10978).
 fn sm_read_only(n: u32) -> bool {
-    matches!(n, 0..=15 | 20..=22 | 71 | 82 | 83 | 190..=193 | 196)
+    matches!(n, 0..=15 | 20..=22 | 71 | 82 | 83 | 114 | 124 | 134 | 190..=193 | 196)
 }
 
 /// SD registers the program may not write (Appendix 2 R column).

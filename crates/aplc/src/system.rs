@@ -8,6 +8,7 @@ use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::ErrorCode;
 use softplc_ir::system::{ScanTimes, System};
 
+use crate::comm::{mailbox, PortConfig, Regs, IDLE};
 use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
 
 /// The APLC-TCP's system devices, with the system block's times.
@@ -17,6 +18,9 @@ pub struct Aplc {
     pub watchdog_ms: u16,
     /// SD33: the constant scan (0 = off; SM8 ON otherwise).
     pub constant_scan_ms: u16,
+    /// PORT1/PORT2 settings (SD120-SD124, SD135-SD137, SD140-SD142,
+    /// SD150-SD154 and the mailboxes' protocol words).
+    pub ports: Vec<PortConfig>,
 }
 
 fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
@@ -49,6 +53,31 @@ fn load_eeprom(mem: &mut DeviceMemory) {
     }
 }
 
+impl Aplc {
+    /// The system block's port settings into SD (re-applied at STOP→RUN,
+    /// §7.1-§7.2), the ports idle (SM114, SM124, SM134), every mailbox
+    /// empty (a request of the previous RUN is dropped, L10361 "only in
+    /// RUN").
+    fn init_ports(&self, mem: &mut DeviceMemory) {
+        let sw = mem.map.base(DeviceKind::SW) as usize;
+        let n = mem.map.points(DeviceKind::SW) as usize;
+        mem.words[sw..sw + n].fill(0);
+        for sm_n in [114, Regs::of(1).sm_free + IDLE, Regs::of(2).sm_free + IDLE] {
+            sm(mem, sm_n as i64, true);
+        }
+        for p in &self.ports {
+            for (n, v) in p.registers() {
+                sd(mem, n as i64, v);
+            }
+            let _ = mem.set_word(
+                DeviceKind::SW,
+                (mailbox::base(p.port) + mailbox::PROTOCOL) as i64,
+                p.protocol_code(),
+            );
+        }
+    }
+}
+
 impl System for Aplc {
     fn power_on(&self, mem: &mut DeviceMemory) {
         // SM196: EEPROM write idle; SD25/SD26 initial 255 (Appendix 2).
@@ -65,6 +94,7 @@ impl System for Aplc {
     /// the EEPROM back.
     fn initialised(&self, mem: &mut DeviceMemory) {
         load_eeprom(mem);
+        self.init_ports(mem);
     }
 
     /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;

@@ -121,10 +121,13 @@ fn instructions() {
         "t.apl:2:8: `D5999`: EROMWR writes from D6000-D6999, without index",
     );
     one(
-        "LD M0\nModbus 1 D0 D100\n",
-        "unsupported instruction `MODBUS`: not implemented yet",
+        "LD M0\nModbus 0 D0 D100\n",
+        "t.apl:2:8: channel 0 is PORT0, the USB programming port",
     );
-    one("LD M0\nEV RD 1 1 1 D0\n", "unsupported instruction `EVRD`");
+    one(
+        "LD M0\nEV RD 2 1 1 D0\n",
+        "the inverter instructions use channel 1 (PORT1) only",
+    );
     one(
         "LD M0\nMOVP 1 D0\n",
         "t.apl:2:1: unknown instruction `MOVP`",

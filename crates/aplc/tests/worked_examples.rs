@@ -12,16 +12,10 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use softplc_lang::isa::Kind;
-
 /// What covers an example.
 enum Cover {
     /// Golden tests: (file under crates/, test function).
     Tests(&'static [(&'static str, &'static str)]),
-    /// Instructions the communication work (crates/aplc/src/comm/) has not
-    /// landed yet: accepted only while each is still rejected as not
-    /// implemented; once it loads, this row must name its golden test.
-    Pending(&'static [&'static str]),
 }
 use Cover::*;
 
@@ -148,8 +142,16 @@ static EXAMPLES: &[(u32, &str, Cover)] = &[
         "L10533-10596, L11636-11721",
         Tests(&[("modbus/tests/aplc.rs", "seed_002_worked_examples")]),
     ),
-    (76, "L10403-10422", Pending(&["XMT", "RCV"])),
-    (77, "L8108-8121", Pending(&["MODBUS"])),
+    (
+        76,
+        "L10403-10422",
+        Tests(&[("ports/tests/virtual_ports.rs", "manual_free_port_example")]),
+    ),
+    (
+        77,
+        "L8108-8121",
+        Tests(&[("ports/tests/virtual_ports.rs", "manual_modbus_example")]),
+    ),
     (
         78,
         "L10209-10219",
@@ -236,19 +238,6 @@ fn every_example_has_a_golden_test_that_cites_it() {
                         ))
                         }
                         Some(_) => {}
-                    }
-                }
-            }
-            Pending(names) => {
-                for n in *names {
-                    let still_rejected = softplc_aplc::isa().all().any(|d| {
-                        d.name == *n
-                            && matches!(d.kind, Kind::Rejected(why) if why.contains("not implemented yet"))
-                    });
-                    if !still_rejected {
-                        problems.push(format!(
-                            "#{id} ({line}): {n} is implemented now: name its golden test here"
-                        ));
                     }
                 }
             }

@@ -17,6 +17,7 @@ use softplc_core::names::{DevName, Dialect, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
+use softplc_core::tier::{self, Exec};
 
 use crate::names::DialectArg;
 
@@ -81,11 +82,52 @@ pub struct RunArgs {
     /// Ctrl-C and SIGTERM stop a run the same way (exit status 130/143).
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub timeout: Option<Duration>,
+    /// APLC PORT1 on a serial device or pty (the project's `[port1]`
+    /// settings); with a serial line, virtual time keeps pace with the wall
+    /// clock.
+    #[arg(long, value_name = "PATH")]
+    pub port1: Option<PathBuf>,
+    /// APLC PORT2 on a serial device or pty (`[port2]`).
+    #[arg(long, value_name = "PATH")]
+    pub port2: Option<PathBuf>,
     /// How a single program file is read: melsec or aplc (default by name:
     /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
     /// of :i32/:u32/:f32, TN5/CN5 current values.
     #[arg(long, value_name = "D", value_enum)]
     pub dialect: Option<DialectArg>,
+    /// Execution tier: auto (native code where the host has it), jit or
+    /// interp; overrides SOFTPLC_EXEC and a project's `[cpu] exec`.
+    #[arg(long, value_name = "TIER", value_parser = Exec::parse)]
+    pub exec: Option<Exec>,
+    /// Print the tier and its compile time at load (on stderr).
+    #[arg(long)]
+    pub stats: bool,
+}
+
+/// Puts the loaded CPU on its tier (`--exec` > SOFTPLC_EXEC > `[cpu] exec` >
+/// auto); with `stats`, says which on stderr with the compile time.
+pub(crate) fn use_exec(l: &mut Loaded, flag: Option<Exec>, stats: bool) -> Result<(), ExitCode> {
+    let applied = Exec::choose(flag, l.exec).and_then(|e| tier::apply(&mut l.cpu, e));
+    match applied {
+        Ok(s) if stats => {
+            match s {
+                Some(s) => eprintln!(
+                    "exec: {}, {} of {} ops native, compiled in {:.1} ms",
+                    s.tier,
+                    s.native_ops,
+                    s.ops,
+                    s.compile.as_secs_f64() * 1e3
+                ),
+                None => eprintln!("exec: interp"),
+            }
+            Ok(())
+        }
+        Ok(_) => Ok(()),
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            Err(ExitCode::from(2))
+        }
+    }
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -164,8 +206,26 @@ pub(crate) struct Loaded {
     pub modbus: Option<toml::Table>,
     /// A project's `[http]` table.
     pub http: Option<toml::Table>,
+    /// A project's `[opcua]` table.
+    pub opcua: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
+    /// An APLC-TCP project's `[port1]`/`[port2]`.
+    pub ports: Vec<softplc_core::aplc::PortConfig>,
+    /// A project's `[cpu] exec`.
+    pub exec: Option<Exec>,
+}
+
+/// The APLC ports of a loaded program: `[port1]`/`[port2]` with
+/// `--port1`/`--port2` binding them to a serial device or pty (contract §3.3).
+pub(crate) fn open_ports(
+    ports: &[softplc_core::aplc::PortConfig],
+    port1: Option<&Path>,
+    port2: Option<&Path>,
+) -> Result<softplc_ports::Ports, String> {
+    let p1 = port1.map(|p| p.display().to_string());
+    let p2 = port2.map(|p| p.display().to_string());
+    softplc_ports::Ports::open(ports, [p1.as_deref(), p2.as_deref()])
 }
 
 /// Loads a program file or a project into a powered-on CPU.
@@ -215,7 +275,10 @@ pub(crate) fn load_with(
             state: None,
             modbus: None,
             http: None,
+            opcua: None,
             on_damage: OnDamage::default(),
+            ports: Vec::new(),
+            exec: None,
         });
     }
     if project::is_project(path) {
@@ -236,7 +299,10 @@ pub(crate) fn load_with(
             state: Some(p.state_dir),
             modbus: p.modbus,
             http: p.http,
+            opcua: p.opcua,
             on_damage: p.state_on_damage,
+            ports: p.ports,
+            exec: p.exec,
         });
     }
     let mut cfg = CpuConfig::default();
@@ -262,13 +328,29 @@ pub(crate) fn load_with(
         state: None,
         modbus: None,
         http: None,
+        opcua: None,
         on_damage: OnDamage::default(),
+        ports: Vec::new(),
+        exec: None,
     })
 }
 
-pub fn check(path: &Path, model: Option<&str>, dialect: Option<DialectArg>) -> ExitCode {
+/// `softplc check`; `exec`/`stats` compile the program on its tier too
+/// (`--stats` reports the compile time).
+pub fn check(
+    path: &Path,
+    model: Option<&str>,
+    dialect: Option<DialectArg>,
+    exec: Option<Exec>,
+    stats: bool,
+) -> ExitCode {
     match load_with(path, Box::new(VirtualClock::new()), None, dialect, model) {
-        Ok(l) => {
+        Ok(mut l) => {
+            if exec.is_some() || stats {
+                if let Err(code) = use_exec(&mut l, exec, stats) {
+                    return code;
+                }
+            }
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
             println!(
@@ -374,12 +456,7 @@ fn parse_options(args: &RunArgs, names: &Names) -> Result<(Vec<Write>, Vec<DevNa
 
 pub fn run(args: RunArgs) -> ExitCode {
     let clock = VirtualClock::new();
-    let Loaded {
-        mut cpu,
-        state,
-        on_damage,
-        ..
-    } = match load_with(
+    let mut loaded = match load_with(
         &args.program,
         Box::new(clock.clone()),
         args.clock,
@@ -389,6 +466,16 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = use_exec(&mut loaded, args.exec, args.stats) {
+        return code;
+    }
+    let Loaded {
+        mut cpu,
+        state,
+        on_damage,
+        ports,
+        ..
+    } = loaded;
     let names = Names::of(&cpu);
     let dialect = names.dialect;
     let (writes, shows, trace) = match parse_options(&args, &names)
@@ -440,6 +527,15 @@ pub fn run(args: RunArgs) -> ExitCode {
             abort.store(true, Ordering::SeqCst);
         });
     }
+    let mut ports = match open_ports(&ports, args.port1.as_deref(), args.port2.as_deref()) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    // With a real serial line, virtual time keeps pace with the wall clock.
+    let paced = ports.has_serial().then(std::time::Instant::now);
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
@@ -451,7 +547,16 @@ pub fn run(args: RunArgs) -> ExitCode {
             }
         }
         clock.advance_us(step_us);
+        if let Some(t0) = paced {
+            let due = t0 + Duration::from_micros(clock.now_us());
+            std::thread::sleep(due.saturating_duration_since(std::time::Instant::now()));
+        }
         cpu.scan();
+        // The communication phase (L914-941).
+        ports.after_end(&mut cpu);
+        for e in ports.take_errors() {
+            eprintln!("softplc: {e}");
+        }
         scans = n;
         // END processing done: commit latched data (at most every 10 ms of wall time).
         if let Some(b) = &mut battery {

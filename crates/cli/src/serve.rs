@@ -38,6 +38,13 @@ pub struct ServeArgs {
     /// Modbus TCP server, e.g. 127.0.0.1:5020.
     #[arg(long, value_name = "ADDR")]
     pub modbus: Option<String>,
+    /// APLC PORT1 on a serial device or pty (the project's `[port1]`
+    /// settings: Modbus master or slave, or free port).
+    #[arg(long, value_name = "PATH")]
+    pub port1: Option<PathBuf>,
+    /// APLC PORT2 on a serial device or pty (`[port2]`).
+    #[arg(long, value_name = "PATH")]
+    pub port2: Option<PathBuf>,
     /// Modbus RTU slave on a serial device or pty.
     #[arg(long, value_name = "PATH")]
     pub modbus_rtu: Option<PathBuf>,
@@ -86,9 +93,27 @@ pub struct ServeArgs {
     /// it runs at normal priority); --stats-every says which it got.
     #[arg(long)]
     pub no_realtime: bool,
+    /// OPC UA server (contract §3.2), e.g. 127.0.0.1:4840 or 4840 (a bare port
+    /// binds loopback; also `[opcua] address`). Security None only on loopback.
+    /// Needs the `opcua` build feature.
+    #[arg(long, value_name = "ADDR")]
+    pub opcua: Option<String>,
+    /// Refuse OPC UA writes (BadNotWritable; also `[opcua] read_only`).
+    #[arg(long)]
+    pub opcua_read_only: bool,
+    /// OPC UA certificate store (default: `opcua-pki` in the project directory,
+    /// or in the current directory for a program file; also `[opcua] pki`).
+    #[arg(long, value_name = "DIR")]
+    pub opcua_pki: Option<PathBuf>,
     /// Print scan statistics (scan time, overruns, jitter, real-time) this often.
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub stats_every: Option<Duration>,
+    /// Execution tier: auto, jit or interp (as `run --exec`).
+    #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
+    pub exec: Option<softplc_core::tier::Exec>,
+    /// Print the tier and its compile time at load (on stderr).
+    #[arg(long)]
+    pub stats: bool,
 }
 
 /// The web monitor's token: `--http-token`, else `[http] token` (contract §3).
@@ -126,13 +151,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let Loaded {
-        mut cpu,
-        state,
-        modbus,
-        http,
-        on_damage,
-    } = match load(
+    let mut loaded = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
         Some(start),
@@ -141,6 +160,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = crate::run::use_exec(&mut loaded, args.exec, args.stats) {
+        return code;
+    }
+    let Loaded {
+        mut cpu,
+        state,
+        modbus,
+        http,
+        opcua,
+        on_damage,
+        ports,
+    } = loaded;
     let period = args
         .scan_time
         .or(cpu.config().constant_scan)
@@ -216,6 +247,28 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         names.push("web monitor".to_string());
     } else if args.http_token.is_some() {
         eprintln!("softplc: --http-token has no effect without --http");
+    }
+    let base = if softplc_core::project::is_project(&args.program) {
+        if args.program.is_dir() {
+            args.program.clone()
+        } else {
+            args.program.parent().map(PathBuf::from).unwrap_or_default()
+        }
+    } else {
+        PathBuf::from(".")
+    };
+    let opcua_args = crate::opcua::OpcuaArgs {
+        addr: args.opcua.as_deref(),
+        read_only: args.opcua_read_only,
+        pki: args.opcua_pki.as_deref(),
+    };
+    match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &cpu) {
+        Ok(Some(l)) => {
+            listeners.push(l);
+            names.push("OPC UA".to_string());
+        }
+        Ok(None) => {}
+        Err(e) => return fail(e),
     }
     let table = modbus.unwrap_or_default();
     // APLC-TCP: seed 002's map and unit address 8 (L10686, contract §3).
@@ -299,26 +352,39 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));
-    let result = softplc_serve::run(
-        ServeState::new(cpu),
-        cfg,
-        listeners,
-        serial_slaves,
-        stop,
-        |bound| {
-            let mut servers: Vec<String> = names
-                .iter()
-                .zip(bound)
-                .map(|(n, a)| format!("{n} on {a}"))
-                .collect();
-            servers.extend(names.iter().skip(bound.len()).cloned());
-            eprintln!(
-                "softplc: serving {program}, constant scan {period:?}{}{}",
-                if servers.is_empty() { "" } else { "; " },
-                servers.join(", ")
-            );
-        },
-    );
+    let mut state = ServeState::new(cpu);
+    // APLC PORT1/PORT2: the communication phase after every END.
+    let mut ports =
+        match crate::run::open_ports(&ports, args.port1.as_deref(), args.port2.as_deref()) {
+            Ok(p) => p,
+            Err(e) => return fail(e),
+        };
+    for (path, n) in [(&args.port1, 1), (&args.port2, 2)] {
+        if let Some(p) = path {
+            names.push(format!("PORT{n} on {}", p.display()));
+        }
+    }
+    if !ports.is_empty() {
+        state.add_hook(Box::new(move |st: &mut ServeState| {
+            ports.after_end(&mut st.cpu);
+            for e in ports.take_errors() {
+                eprintln!("softplc: {e}");
+            }
+        }));
+    }
+    let result = softplc_serve::run(state, cfg, listeners, serial_slaves, stop, |bound| {
+        let mut servers: Vec<String> = names
+            .iter()
+            .zip(bound)
+            .map(|(n, a)| format!("{n} on {a}"))
+            .collect();
+        servers.extend(names.iter().skip(bound.len()).cloned());
+        eprintln!(
+            "softplc: serving {program}, constant scan {period:?}{}{}",
+            if servers.is_empty() { "" } else { "; " },
+            servers.join(", ")
+        );
+    });
     match result {
         Ok(s) => {
             let st = &s.stats;

@@ -372,3 +372,41 @@ fn serve_refuses_mc_on_an_aplc_cpu() {
         );
     }
 }
+
+/// `run --port1` (contract §3.3): a project's `[port1]` on no device is a
+/// silent line, so the manual's poll times out with 0x10 after SD136 (250 ms)
+/// in virtual time; a port without settings, or a device that is not a
+/// serial line, is refused before the first scan.
+#[test]
+fn ports_on_run() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        &dir,
+        "main.apl",
+        "LD SM1\nMOV 3 D0\nMOV 3 D1\nMOV 0 D2\nMOV 0 D3\nMOV 0 D4\nMOV 1 D5\nLD X0\nModbus 1 D0 D100\n",
+    );
+    write(
+        &dir,
+        "plc.toml",
+        "[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"main.apl\"\n[port1]\nprotocol = \"modbus-master\"\ntimeout_ms = 250\n",
+    );
+    let proj = dir.path().display().to_string();
+    let v = json(&softplc(&[
+        "run", &proj, "--scans", "30", "--at", "2:X0=1", "--show", "SD139", "--show", "SM136",
+        "--show", "SD136", "--json",
+    ]));
+    assert_eq!(v["devices"]["SD136"], 250);
+    assert_eq!(v["devices"]["SD139"], 16);
+    assert_eq!(v["devices"]["SM136"], true);
+    let out = softplc(&["run", &proj, "--port2", "/dev/null"]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("--port2: PORT2 has no settings"), "{e}");
+    let prog = dir.path().join("main.apl").display().to_string();
+    let out = softplc(&["run", &prog, "--port1", "/dev/null"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = softplc(&["run", &proj, "--port1", "/dev/null"]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("PORT1: /dev/null"), "{e}");
+}

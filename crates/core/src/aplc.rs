@@ -8,6 +8,7 @@ use std::time::Duration;
 use crate::engine::CpuConfig;
 use crate::program::{Diagnostics, Program};
 
+pub use softplc_aplc::comm::PortConfig;
 pub use softplc_aplc::names::Name;
 
 /// The model name that selects the APLC dialect (contract §4).
@@ -70,6 +71,16 @@ pub fn cpu_config() -> CpuConfig {
 
 /// [`cpu_config`] with a watchdog and constant scan (shown in SD34, SD33, SM8).
 pub fn cpu_config_with(watchdog: Duration, constant_scan: Option<Duration>) -> CpuConfig {
+    cpu_config_with_ports(watchdog, constant_scan, Vec::new())
+}
+
+/// [`cpu_config_with`] and the PORT1/PORT2 settings the SD registers show
+/// (`[port1]`/`[port2]`, contract §3.3).
+pub fn cpu_config_with_ports(
+    watchdog: Duration,
+    constant_scan: Option<Duration>,
+    ports: Vec<softplc_aplc::comm::PortConfig>,
+) -> CpuConfig {
     let ms = |d: Duration| d.as_millis().min(u16::MAX as u128) as u16;
     CpuConfig {
         model: MODEL.to_string(),
@@ -77,9 +88,10 @@ pub fn cpu_config_with(watchdog: Duration, constant_scan: Option<Duration>) -> C
         watchdog,
         constant_scan,
         latch: Vec::new(),
-        system: Some(softplc_aplc::system_with(
+        system: Some(softplc_aplc::system_with_ports(
             ms(watchdog),
             constant_scan.map_or(0, ms),
+            ports,
         )),
         ..CpuConfig::default()
     }

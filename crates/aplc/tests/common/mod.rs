@@ -24,6 +24,11 @@ pub fn config() -> CpuConfig {
 
 /// Loads `.apl` text (panics with the diagnostics if it does not load).
 pub fn plc(src: &str) -> Plc {
+    plc_with(src, config())
+}
+
+/// [`plc`] on a CPU configured by the caller.
+pub fn plc_with(src: &str, config: CpuConfig) -> Plc {
     let program = softplc_aplc::load_bytes("t.apl", src.as_bytes())
         .unwrap_or_else(|d| panic!("load failed:\n{d}"));
     let clock = VirtualClock::new();
@@ -34,7 +39,7 @@ pub fn plc(src: &str) -> Plc {
             interval: None,
             sim_time: None,
         }],
-        config(),
+        config,
         Box::new(clock.clone()),
     )
     .unwrap();

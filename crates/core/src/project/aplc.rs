@@ -12,7 +12,12 @@ use crate::program::{Diagnostic, Program};
 /// the tables and keys the APLC does not have. The watchdog is at most
 /// 1000 ms and below 100 ms acts as 100 ms; the constant scan is at most the
 /// watchdog (L953, L1103, SD33-SD34, decision D4).
-pub(crate) fn configure(cx: &mut Ctx, top: &[Entry], config: &mut CpuConfig) {
+pub(crate) fn configure(
+    cx: &mut Ctx,
+    top: &[Entry],
+    config: &mut CpuConfig,
+    ports: &[softplc_aplc::comm::PortConfig],
+) {
     let ras = top.iter().find(|e| e.key == "ras");
     let key = |k: &str| match ras.map(|r| &r.item.value) {
         Some(super::tree::Value::Table(t)) => {
@@ -35,7 +40,8 @@ pub(crate) fn configure(cx: &mut Ctx, top: &[Entry], config: &mut CpuConfig) {
             );
         }
     }
-    let base = crate::aplc::cpu_config_with(config.watchdog, config.constant_scan);
+    let base =
+        crate::aplc::cpu_config_with_ports(config.watchdog, config.constant_scan, ports.to_vec());
     config.devices = base.devices;
     config.system = base.system;
     config.latch = Vec::new();

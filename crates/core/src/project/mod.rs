@@ -15,6 +15,7 @@ mod ctx;
 mod devices;
 mod initial;
 mod latch;
+mod ports;
 mod programs;
 mod settings;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
@@ -71,8 +72,14 @@ pub struct Project {
     pub modbus: Option<toml::Table>,
     /// The `[http]` table as written (`token`, read by `softplc serve --http`).
     pub http: Option<toml::Table>,
+    /// The `[opcua]` table as written, read by `softplc serve --opcua`.
+    pub opcua: Option<toml::Table>,
     /// `[process]`: the process CPU's decisions (default: the spec's choices).
     pub process: crate::program::ProcessSettings,
+    /// `[port1]`/`[port2]` of an APLC-TCP project (contract §3.3).
+    pub ports: Vec<softplc_aplc::comm::PortConfig>,
+    /// `[cpu] exec`: the execution tier (`None`: not given, auto).
+    pub exec: Option<crate::tier::Exec>,
 }
 
 /// Largest `plc.toml` read.
@@ -171,6 +178,11 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         "process",
         // The web monitor's settings (`token`), read by `softplc serve --http`.
         "http",
+        // APLC-TCP serial ports (contract §3.3).
+        "port1",
+        "port2",
+        // The OPC UA server's settings, read by `softplc serve --opcua`.
+        "opcua",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -179,8 +191,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     };
 
     let mut common_pointer = None;
+    let mut exec = None;
     if let Some(t) = table(&mut cx, "cpu") {
         common_pointer = settings::cpu(&mut cx, t, &mut config);
+        exec = settings::exec(&mut cx, t);
     }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
@@ -195,8 +209,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "interrupts") {
         settings::interrupts(&mut cx, t, &mut config);
     }
+    let ports = ports::ports(&mut cx, top, config.model == crate::aplc::MODEL, dir);
     if config.model == crate::aplc::MODEL {
-        aplc::configure(&mut cx, top, &mut config);
+        aplc::configure(&mut cx, top, &mut config, &ports);
     }
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);
@@ -227,7 +242,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     let modbus = whole
         .as_ref()
         .and_then(|t| t.get("modbus").and_then(|m| m.as_table()).cloned());
-    let http = whole.and_then(|t| t.get("http").and_then(|m| m.as_table()).cloned());
+    let http = whole
+        .as_ref()
+        .and_then(|t| t.get("http").and_then(|m| m.as_table()).cloned());
+    let opcua = whole.and_then(|t| t.get("opcua").and_then(|m| m.as_table()).cloned());
     Ok(Project {
         dir: dir.to_path_buf(),
         manifest: PathBuf::from(name),
@@ -238,7 +256,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         common_pointer,
         modbus,
         http,
+        opcua,
         process,
+        ports,
+        exec,
     })
 }
 

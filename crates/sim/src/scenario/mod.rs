@@ -23,7 +23,12 @@
 //!    the input image (as an input module), other devices directly;
 //! 2. the timeline writes due at this scan (so a timeline write to a device a
 //!    model also drives wins for that scan);
-//! 3. the clock advances by the scan time and the CPU scans.
+//! 3. the clock advances by the scan time and the CPU scans;
+//! 4. the communication phase of the APLC ports (`[[peer]]` devices on
+//!    virtual lines, registers that follow a model written after step 1).
+//!
+//! A model that reports a fault in step 1 (an FMU call failed) ends the run
+//! there, before the scan, with one more failed result naming it.
 //!
 //! After the scan every watched device is sampled once: the expectations are
 //! evaluated online (O(1) per expectation per scan) and the trace takes its
@@ -34,6 +39,7 @@
 mod bind;
 mod check;
 pub mod fmt;
+mod ports;
 mod run;
 mod spec;
 mod trace;
@@ -42,7 +48,8 @@ pub use check::{Failure, HISTORY_AFTER, HISTORY_BEFORE};
 pub use run::{CheckResult, Outcome, Run, PROGRESS_EVERY};
 pub use spec::{
     Band, Cond, EventSpec, ExpectKind, ExpectSpec, InputBinding, ModelSpec, OutputBinding,
-    PlotSpec, Scale, Scenario, Setpoint, Source, TraceSpec, DEFAULT_MAX_SAMPLES,
+    PeerKind, PeerSpec, PlotSpec, Scale, Scenario, ScriptStep, Setpoint, Source, TraceSpec,
+    DEFAULT_MAX_SAMPLES,
 };
 pub use trace::TraceData;
 

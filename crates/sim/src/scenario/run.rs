@@ -16,6 +16,7 @@ use crate::model::{self, Model};
 
 /// A model with its bindings and pre-sized port buffers.
 struct Bound {
+    name: String,
     model: Box<dyn Model>,
     inputs: Vec<Source>,
     outputs: Vec<(usize, Sink)>,
@@ -57,6 +58,9 @@ pub struct Run {
     /// Scans done and the next timeline write, for [`Run::step`].
     stepped: u64,
     next_step_write: usize,
+    /// The APLC ports and the slave registers following a model.
+    ports: softplc_ports::Ports,
+    follows: Vec<super::ports::Follow>,
 }
 
 /// The result of one assertion.
@@ -108,8 +112,16 @@ impl Scenario {
     /// Loads the program or project, powers on the CPU (in virtual time, no
     /// retained state) and resolves every device of the scenario.
     pub fn build(&self) -> Result<Run, String> {
+        self.build_on(None)
+    }
+
+    /// [`Scenario::build`] on the execution tier `exec` (`--exec`), else
+    /// `SOFTPLC_EXEC`, else the project's `[cpu] exec`, else auto.
+    pub fn build_on(&self, exec: Option<softplc_core::tier::Exec>) -> Result<Run, String> {
         let clock = VirtualClock::new();
-        let cpu = match &self.source {
+        let mut ports = self.ports.clone();
+        let mut project_exec = None;
+        let mut cpu = match &self.source {
             super::Source::Program(p) => {
                 let mut cfg = CpuConfig::default();
                 if let Some(m) = &self.cpu {
@@ -117,7 +129,12 @@ impl Scenario {
                 }
                 if self.names.dialect == Dialect::Aplc {
                     let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
-                    aplc::single_cpu(prog, aplc::cpu_config(), Box::new(clock.clone()))?
+                    let cfg = aplc::cpu_config_with_ports(
+                        aplc::cpu_config().watchdog,
+                        None,
+                        self.ports.clone(),
+                    );
+                    aplc::single_cpu(prog, cfg, Box::new(clock.clone()))?
                 } else {
                     let dialect = program::dialect_for(&cfg.model, Default::default());
                     let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
@@ -127,16 +144,30 @@ impl Scenario {
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
+                ports = proj.ports.clone();
+                project_exec = proj.exec;
                 proj.build_cpu(Box::new(clock.clone()))
                     .map_err(|d| format!("{d}"))?
             }
         };
+        let exec = softplc_core::tier::Exec::choose(exec, project_exec)?;
+        softplc_core::tier::apply(&mut cpu, exec)?;
         let ctx = |e: String| format!("{}: {e}", self.file.display());
-        self.build_with(cpu, clock).map_err(ctx)
+        self.build_with_ports(cpu, clock, &ports).map_err(ctx)
     }
 
     /// [`Scenario::build`] with a CPU built by the caller (it must use `clock`).
-    pub fn build_with(&self, mut cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
+    pub fn build_with(&self, cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
+        self.build_with_ports(cpu, clock, &self.ports)
+    }
+
+    /// [`Scenario::build_with`] with the APLC ports the CPU was configured with.
+    fn build_with_ports(
+        &self,
+        mut cpu: Cpu,
+        clock: VirtualClock,
+        port_configs: &[softplc_ports::PortConfig],
+    ) -> Result<Run, String> {
         // Models.
         let mut models = Vec::new();
         for m in &self.models {
@@ -157,6 +188,7 @@ impl Scenario {
                 outputs.push((*i, Sink::new(&b.device, b.scale, &cpu).map_err(what)?));
             }
             let mut bound = Bound {
+                name: m.name.clone(),
                 in_buf: vec![0.0; model.inputs().len()],
                 out_buf: vec![0.0; model.outputs().len()],
                 model,
@@ -270,6 +302,13 @@ impl Scenario {
             Some(Recorder::new(tp, every, self.scans))
         };
 
+        let built: Vec<(&super::ModelSpec, &dyn Model)> = self
+            .models
+            .iter()
+            .zip(&models)
+            .map(|(s, b)| (s, b.model.as_ref()))
+            .collect();
+        let (ports, follows) = super::ports::build(port_configs, &self.peers, &built)?;
         let width = probes.len();
         Ok(Run {
             name: self.name.clone(),
@@ -288,22 +327,32 @@ impl Scenario {
             recorder,
             stepped: 0,
             next_step_write: 0,
+            ports,
+            follows,
         })
     }
 }
 
 impl Run {
-    /// One scan's input refresh, timeline writes and the scan itself.
-    fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) {
+    /// One scan's input refresh, timeline writes and the scan itself. A
+    /// model that fails (an FMU call) stops the run before the scan: its
+    /// index is returned.
+    fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) -> Result<(), usize> {
         // Input refresh: the plant advances over the scan and the sensors
         // are sampled.
-        for m in &mut self.models {
+        for (i, m) in self.models.iter_mut().enumerate() {
             let mem = self.cpu.memory();
             for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
                 *buf = src.read(mem);
             }
             m.model.step(dt, &m.in_buf, &mut m.out_buf);
+            if m.model.fault().is_some() {
+                return Err(i);
+            }
             m.write_outputs(&mut self.cpu);
+        }
+        for f in &self.follows {
+            f.apply(&self.models[f.model()].out_buf);
         }
         while let Some(w) = self.writes.get(*next_write).filter(|w| w.scan == n) {
             // Checked on a scratch memory at build: cannot fail.
@@ -312,6 +361,19 @@ impl Run {
         }
         self.clock.advance_us(self.scan_us);
         self.cpu.scan();
+        // The communication phase after END (L914-941).
+        self.ports.after_end(&mut self.cpu);
+        Ok(())
+    }
+
+    /// Why model `i` failed, with its name.
+    fn fault_detail(&self, i: usize) -> String {
+        let m = &self.models[i];
+        format!(
+            "model `{}`: {}",
+            m.name,
+            m.model.fault().unwrap_or("failed")
+        )
     }
 
     /// Why the CPU stopped: the error code, message and step (the APLC has
@@ -343,7 +405,13 @@ impl Run {
         }
         let n = self.stepped + 1;
         let mut next = self.next_step_write;
-        self.advance(n, self.scan_us as f64 / 1e6, &mut next);
+        if let Err(i) = self.advance(n, self.scan_us as f64 / 1e6, &mut next) {
+            return Err(format!(
+                "before scan {n} ({}): {}",
+                fmt_time(n * self.scan_us),
+                self.fault_detail(i)
+            ));
+        }
         self.next_step_write = next;
         self.stepped = n;
         if self.cpu.state() == CpuState::Stop {
@@ -392,8 +460,12 @@ impl Run {
         let mut next_write = 0;
         let mut done = 0;
         let mut stopped = None;
+        let mut fault = None;
         for n in 1..=self.total {
-            self.advance(n, dt, &mut next_write);
+            if let Err(i) = self.advance(n, dt, &mut next_write) {
+                fault = Some((n, i));
+                break;
+            }
             done = n;
             let time_us = n * self.scan_us;
             let mem = self.cpu.memory();
@@ -422,9 +494,10 @@ impl Run {
         let wall = start.elapsed();
 
         let mut results = Vec::new();
-        let why = match stopped {
-            Some(_) => "the CPU stopped",
-            None => "the run ended",
+        let why = match (stopped, fault) {
+            (Some(_), _) => "the CPU stopped",
+            (_, Some(_)) => "a model failed",
+            _ => "the run ended",
         };
         for c in &mut self.checks {
             c.unfinished(done, self.scan_us, why);
@@ -444,6 +517,18 @@ impl Run {
                 ),
                 passed: false,
                 detail,
+                failure: None,
+            });
+        }
+        if let Some((n, i)) = fault {
+            results.push(CheckResult {
+                text: format!(
+                    "the plant models keep running (model `{}` failed before scan {n}, at {})",
+                    self.models[i].name,
+                    fmt_time((n - 1) * self.scan_us)
+                ),
+                passed: false,
+                detail: self.fault_detail(i),
                 failure: None,
             });
         }

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 mod expect;
 mod parse;
+mod peer;
 mod values;
 
 /// What the scenario runs: a program file or a project.
@@ -155,6 +156,51 @@ pub struct PlotSpec {
     pub title: Option<String>,
 }
 
+/// A simulated device on an APLC port's line (`[[peer]]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PeerSpec {
+    /// 1 = PORT1, 2 = PORT2.
+    pub port: u8,
+    /// Answer delay after a frame's last byte (default: the RTU silence
+    /// plus 1 ms for a slave).
+    pub delay_us: Option<u64>,
+    pub kind: PeerKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum PeerKind {
+    /// A Modbus slave device: station, framing (`None`: the port's), the
+    /// size of its tables, silent (absent), initial values (address, value)
+    /// and registers following a plant model output (register, model,
+    /// output, gain).
+    Slave {
+        station: u8,
+        ascii: Option<bool>,
+        size: u16,
+        silent: bool,
+        holding: Vec<(u16, i64)>,
+        input_registers: Vec<(u16, i64)>,
+        coils: Vec<(u16, i64)>,
+        inputs: Vec<(u16, i64)>,
+        follow: Vec<(u16, String, String, f64)>,
+    },
+    /// A free-port device: expect bytes → answer bytes, or send at a time.
+    Script(Vec<ScriptStep>),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScriptStep {
+    Expect {
+        expect: Vec<u8>,
+        answer: Vec<u8>,
+        delay_us: u64,
+    },
+    Send {
+        at_us: u64,
+        bytes: Vec<u8>,
+    },
+}
+
 /// Samples a trace keeps by default (the sample period grows for long runs).
 pub const DEFAULT_MAX_SAMPLES: u64 = 10_000;
 
@@ -183,4 +229,9 @@ pub struct Scenario {
     pub expects: Vec<ExpectSpec>,
     pub trace: TraceSpec,
     pub plot: Option<PlotSpec>,
+    /// `[port1]`/`[port2]` of an APLC program file (a project has them in
+    /// plc.toml).
+    pub ports: Vec<softplc_ports::PortConfig>,
+    /// `[[peer]]`: the devices on the ports' lines.
+    pub peers: Vec<PeerSpec>,
 }
