@@ -171,7 +171,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         opcua,
         on_damage,
         ports,
-        exec: _,
+        ..
     } = loaded;
     let period = args
         .scan_time
