@@ -6,7 +6,9 @@ cycles so that two runs (N low and N high) differ only by the cycles run.
 Set AWLSIM_CYTHON=2 to require awlsim's Cython core (aborts if it is absent),
 0 for the pure-Python core.
 
-Usage: python awlsim_run.py PROGRAM.awl CYCLES
+Usage: python awlsim_run.py PROGRAM.awl CYCLES [Dn ...]
+  Dn: after the cycles, print "Dn = value" of DB1.DBW 2n (the MELSEC D n);
+  the pure-Python core only (the Cython core keeps its DBs from Python).
 """
 import sys
 
@@ -15,7 +17,7 @@ from awlsim_loader.core import AwlSim
 from awlsim_loader.awlcompiler import AwlParser
 
 
-def main(path, cycles):
+def main(path, cycles, show):
     project = Project.fromProjectOrRawAwlFile(path)
     sim = AwlSim()
     sim.reset()
@@ -37,9 +39,14 @@ def main(path, cycles):
     sim.startup()
     for _ in range(cycles):
         sim.runCycle()
+    if show:
+        data = cpu.getDB(1).structInstance.memory.getDataBytes()
+        for d in show:
+            n = int(d[1:])
+            print(f"{d} = {int.from_bytes(data[2 * n:2 * n + 2], 'big', signed=True)}")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
+    if len(sys.argv) < 3:
         sys.exit(__doc__)
-    main(sys.argv[1], int(sys.argv[2]))
+    main(sys.argv[1], int(sys.argv[2]), sys.argv[3:])

@@ -275,7 +275,9 @@ def write_all(outdir):
             ("_matiec.st", st_matiec(name)),
         ]:
             path = outdir / f"{name}{suffix}"
-            path.write_text(text)
+            # Unchanged files keep their time, so measure.py --keep can reuse builds.
+            if not path.is_file() or path.read_text() != text:
+                path.write_text(text)
             written.append(path)
     return written
 

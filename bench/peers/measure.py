@@ -20,6 +20,7 @@ Example (every peer):
 import argparse
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 import sys
@@ -71,7 +72,8 @@ def softplc(args, work, name, exec_mode):
             raise Skip(f"{binary} has no --exec option (tier {exec_mode})")
         extra = ["--exec", exec_mode]
     run([binary, "check", program])
-    return lambda n: [binary, "run", program, "--scans", str(n), *extra]
+    show = [a for d in CHECKED for a in ("--show", d)]
+    return lambda n, check=False: [binary, "run", program, "--scans", str(n), *extra, *(show if check else [])]
 
 
 def awlsim(args, work, name, cython):
@@ -85,7 +87,7 @@ def awlsim(args, work, name, cython):
         raise Skip(f"{core} not importable with {args.awlsim_python}: {done.stderr.strip().splitlines()[-1:]}")
     program = work / f"{name}.awl"
     driver = HERE / "awlsim_run.py"
-    return lambda n: ([args.awlsim_python, driver, program, str(n)], env)
+    return lambda n, check=False: ([args.awlsim_python, driver, program, str(n), *(CHECKED if check else [])], env)
 
 
 def ironplc(args, work, name):
@@ -98,7 +100,7 @@ def ironplc(args, work, name):
             raise Skip(f"no {tool}")
     container = work / f"{name}.iplc"
     run([compiler, "compile", work / f"{name}.st", "--output", container])
-    return lambda n: [vm, "run", container, "--scans", str(n)]
+    return lambda n, check=False: [vm, "run", container, "--scans", str(n), *(["--dump-vars", "-"] if check else [])]
 
 
 def matiec(args, work, name, opt):
@@ -119,12 +121,18 @@ def matiec(args, work, name, opt):
         raise Skip("no g++")
     out = work / f"matiec_{name}{opt}"
     out.mkdir(exist_ok=True)
-    run([iec2c, "-f", "-l", "-p", "-r", "-R", "-a", "-I", lib, "-T", out, work / f"{name}_matiec.st"])
-    binary = out / "plc"
+    source, driver, binary = work / f"{name}_matiec.st", HERE / "matiec_main.cpp", out / "plc"
+    # g++ -O2 takes minutes on the bits program: a build newer than its
+    # inputs (--keep) is reused.
+    command = lambda n, check=False: [binary, str(n), *(["show"] if check else [])]  # noqa: E731
+    if binary.is_file() and binary.stat().st_mtime > max(source.stat().st_mtime, driver.stat().st_mtime):
+        return command
+    run([iec2c, "-f", "-l", "-p", "-r", "-R", "-a", "-I", lib, "-T", out, source])
     # OpenPLC passes no -O (so -O0); the row's flag is the one difference.
-    run([cxx, "-std=gnu++11", opt, "-w", "-I", include, "-I", out,
-         out / "Config0.c", out / "Res0.c", HERE / "matiec_main.cpp", "-o", binary])
-    return lambda n: [binary, str(n)]
+    show = ["-DSHOW_MIX"] if name == "mix" else []
+    run([cxx, "-std=gnu++11", opt, "-w", *show, "-I", include, "-I", out,
+         out / "Config0.c", out / "Res0.c", driver, "-o", binary])
+    return command
 
 
 def peers(args):
@@ -139,6 +147,23 @@ def peers(args):
     for opt in args.matiec_opt:
         rows.append((f"matiec + g++ {opt}", lambda w, n, o=opt: matiec(args, w, n, o)))
     return rows
+
+
+# After 150 cycles of mix every peer must hold these (worked out by hand in
+# tests/python/test_bench_peers.py): D0 counts cycles, D1 took D0 in the last
+# odd cycle with D0 > 100, group 999's move never ran.
+CHECKED, CHECK_CYCLES, EXPECTED = ["D0", "D1", "D1999"], 150, {"D0": 150, "D1": 149, "D1999": 0}
+
+
+def check_mix(command):
+    """'ok' when the peer's mix values after CHECK_CYCLES match EXPECTED."""
+    cmd = command(CHECK_CYCLES, check=True)
+    cmd, env = cmd if isinstance(cmd, tuple) else (cmd, None)
+    out = run(cmd, env=env)
+    got = {k: int(v) for k, v in re.findall(r"^(D\d+)\s*[:=]\s*(-?\d+)\s*$", out, re.M) if k in CHECKED}
+    if not got:
+        return "not shown"
+    return "ok" if got == EXPECTED else f"wrong: {got}"
 
 
 def measure(command, low, high, repeat):
@@ -180,7 +205,7 @@ def main():
     work = pathlib.Path(args.keep or tempfile.mkdtemp(prefix="softplc-peers-"))
     gen.write_all(work)
     counts = {n: gen.instructions(n) for n in names}
-    table = []
+    table, checks = [], {}
     for label, prepare in peers(args):
         if only and not any(label.startswith(o) for o in only):
             continue
@@ -190,6 +215,9 @@ def main():
             try:
                 command = prepare(work, n)
                 ns = measure(command, low, high, args.repeat) * 1e9 / counts[n]
+                if n == "mix":
+                    checks[label] = check_mix(command)
+                    print(f"{label} mix values after {CHECK_CYCLES} cycles: {checks[label]}", file=sys.stderr)
                 cells.append(f"{ns:,.2f}" if ns < 100 else f"{ns:,.0f}")
                 print(f"{label} {n}: {ns:.3f} ns/instruction ({low} vs {high} cycles)", file=sys.stderr)
             except Skip as e:
@@ -200,10 +228,10 @@ def main():
                 cells.append("fails")
         else:
             table.append((label, cells))
-    print(f"| peer | {' | '.join(f'{n} ({counts[n]:,})' for n in names)} |")
-    print(f"|---|{'---:|' * len(names)}")
+    print(f"| peer | {' | '.join(f'{n} ({counts[n]:,})' for n in names)} | mix values |")
+    print(f"|---|{'---:|' * len(names)}---|")
     for label, cells in table:
-        print(f"| {label} | {' | '.join(cells)} |")
+        print(f"| {label} | {' | '.join(cells)} | {checks.get(label, '')} |")
     print(f"\nns per MELSEC instruction; programs in {work}")
 
 
