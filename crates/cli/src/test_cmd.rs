@@ -1,6 +1,11 @@
 //! `softplc test`: scenario tests (issue 7). Runs scenario files in parallel,
 //! prints a PASS/FAIL line per assertion (with the history around the first
-//! failing scan) and ends with `N passed, M failed`.
+//! failing scan) and ends with `N passed, M failed`. `--shard I/N` runs one
+//! of N parts of the files, `--jsonl` prints one JSON line per file and
+//! `--merge` sums such lines (issue 16).
+
+mod jsonl;
+mod shard;
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -19,8 +24,23 @@ use crate::run::parse_duration;
 #[derive(Args, Debug)]
 pub struct TestArgs {
     /// Scenario files (TOML), see docs/scenarios.md.
-    #[arg(required = true, value_name = "SCENARIO")]
+    #[arg(required_unless_present = "merge", value_name = "SCENARIO")]
     pub scenarios: Vec<PathBuf>,
+    /// Run only shard I of N (I from 0 to N-1, e.g. Kubernetes'
+    /// JOB_COMPLETION_INDEX): the files ranked by path are dealt out
+    /// round-robin, so N runs given the same files split them exactly.
+    #[arg(long, value_name = "I/N", value_parser = shard::parse_shard)]
+    pub shard: Option<shard::Shard>,
+    /// Print one JSON line per scenario file (file, name, passed, assertion
+    /// counts and results, wall and simulated seconds) instead of the report;
+    /// the `N passed, M failed` summary goes to stderr.
+    #[arg(long)]
+    pub jsonl: bool,
+    /// Sum up --jsonl files (e.g. of the shards): one line per scenario file
+    /// sorted by file, the failed assertions, and `N passed, M failed`; with
+    /// --jsonl the merged lines instead. Exits non-zero when any failed.
+    #[arg(long, num_args = 1.., value_name = "FILE.jsonl", conflicts_with_all = ["scenarios", "shard"])]
+    pub merge: Vec<PathBuf>,
     /// Record these devices (comma-separated, e.g. D610,D611,D612 or
     /// D10:f32,Y0) to CSV, instead of the scenario's [trace] devices.
     #[arg(long, value_name = "DEV,...", value_delimiter = ',')]
@@ -67,11 +87,12 @@ fn per_scenario(path: &Path, scenario: &Path, many: bool) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// The result of one scenario file: its report text and counts.
+/// The result of one scenario file: its report text, counts and JSON line.
 struct Done {
     text: String,
     passed: usize,
     failed: usize,
+    line: jsonl::Line,
 }
 
 /// Applies the command-line trace and plot options to a scenario.
@@ -145,10 +166,12 @@ fn style() -> ProgressStyle {
 
 /// Loads, runs and reports one scenario file.
 fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done {
+    let began = Instant::now();
     let fail = |msg: String| Done {
         text: format!("{}\n  FAIL {msg}\n", path.display()),
         passed: 0,
         failed: 1,
+        line: jsonl::Line::of_error(path, &msg, began.elapsed().as_secs_f64()),
     };
     let mut sc = match Scenario::load(path) {
         Ok(s) => s,
@@ -181,23 +204,68 @@ fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done
     mp.remove(&bar);
     let mut text = outcome.report(args.quiet);
     let mut failed = outcome.failed();
+    let mut extra = Vec::new();
     match artifacts(&sc, &outcome) {
         Ok(notes) => text += &notes,
         Err(e) => {
             text += &format!("  FAIL {e}\n");
             failed += 1;
+            extra.push(e);
         }
     }
+    let line = jsonl::Line::of_outcome(path, &outcome, &extra, began.elapsed().as_secs_f64());
     Done {
         text,
         passed: outcome.passed(),
         failed,
+        line,
+    }
+}
+
+/// `--merge`: sums up JSON-lines files.
+fn merge(args: &TestArgs) -> ExitCode {
+    let lines = match jsonl::merge(&args.merge) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let (text, total) = jsonl::summary(&lines);
+    if args.jsonl {
+        for l in &lines {
+            println!("{}", l.to_json());
+        }
+        eprint!(
+            "{}",
+            text.lines()
+                .last()
+                .map_or(String::new(), |l| format!("{l}\n"))
+        );
+    } else {
+        print!("{text}");
+    }
+    if total.failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
     }
 }
 
 pub fn run(args: TestArgs) -> ExitCode {
-    let files = &args.scenarios;
-    let many = files.len() > 1;
+    if !args.merge.is_empty() {
+        return merge(&args);
+    }
+    let shard_files;
+    let files = match args.shard {
+        Some(s) => {
+            shard_files = s.select(&args.scenarios);
+            &shard_files
+        }
+        None => &args.scenarios,
+    };
+    // Per-file trace names are the same whichever shard a file lands in.
+    let many = args.scenarios.len() > 1;
     let jobs = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -225,7 +293,11 @@ pub fn run(args: TestArgs) -> ExitCode {
                 while g.0 < files.len() {
                     let k = g.0;
                     let Some(d) = g.1[k].take() else { break };
-                    mp.suspend(|| print!("{}", d.text));
+                    if args.jsonl {
+                        mp.suspend(|| println!("{}", d.line.to_json()));
+                    } else {
+                        mp.suspend(|| print!("{}", d.text));
+                    }
                     let mut t = totals.lock().unwrap_or_else(|e| e.into_inner());
                     t.0 += d.passed;
                     t.1 += d.failed;
@@ -235,7 +307,11 @@ pub fn run(args: TestArgs) -> ExitCode {
         }
     });
     let (passed, failed) = *totals.lock().unwrap_or_else(|e| e.into_inner());
-    println!("{passed} passed, {failed} failed");
+    if args.jsonl {
+        eprintln!("{passed} passed, {failed} failed");
+    } else {
+        println!("{passed} passed, {failed} failed");
+    }
     if failed == 0 {
         ExitCode::SUCCESS
     } else {

@@ -265,3 +265,73 @@ fn shipped_examples_pass() {
         "{text}"
     );
 }
+
+/// `--shard`, `--jsonl` and `--merge` (issue 16): two shards split the files,
+/// their JSON lines merge to the totals of the unsharded run.
+#[test]
+fn shards_partition_the_files_and_their_lines_merge_to_the_plain_totals() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = scenario(&dir, "a_good.toml", GOOD);
+    let wrong = scenario(&dir, "b_wrong.toml", WRONG);
+    let good2 = scenario(&dir, "c_good.toml", GOOD);
+    let plain = softplc(&["test", &wrong, &good2, &good]);
+    assert_eq!(
+        stdout(&plain).lines().last(),
+        Some("5 passed, 1 failed"),
+        "{}",
+        stdout(&plain)
+    );
+    // Ranked by path a, b, c: shard 0/2 gets a and c, 1/2 gets b, whatever
+    // the argument order.
+    let mut files = Vec::new();
+    for (i, expected) in [(0, vec![&good2, &good]), (1, vec![&wrong])] {
+        let out = softplc(&[
+            "test",
+            "--jsonl",
+            "--shard",
+            &format!("{i}/2"),
+            &wrong,
+            &good2,
+            &good,
+        ]);
+        let text = stdout(&out);
+        let lines: Vec<serde_json::Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{e}: {l}")))
+            .collect();
+        let got: Vec<&str> = lines.iter().map(|l| l["file"].as_str().unwrap()).collect();
+        assert_eq!(got, expected, "{text}");
+        for l in &lines {
+            assert_eq!(l["scans"], 500, "{l}");
+            assert_eq!(l["simulated_s"], 5.0, "{l}");
+        }
+        let f = dir.path().join(format!("shard{i}.jsonl"));
+        std::fs::write(&f, text).unwrap();
+        files.push(f.display().to_string());
+    }
+    let wrong_line: serde_json::Value =
+        serde_json::from_str(std::fs::read_to_string(&files[1]).unwrap().trim()).unwrap();
+    assert_eq!(wrong_line["passed"], false);
+    assert_eq!(wrong_line["assertions"]["passed"], 1);
+    assert_eq!(wrong_line["assertions"]["failed"], 1);
+    assert_eq!(
+        wrong_line["results"][1]["text"],
+        "Y1 becomes true within 500 ms after 2 s"
+    );
+
+    let merged = softplc(&["test", "--merge", &files[0], &files[1]]);
+    let text = stdout(&merged);
+    assert_eq!(merged.status.code(), Some(1), "{text}");
+    assert_eq!(text.lines().last(), Some("5 passed, 1 failed"), "{text}");
+    let order: Vec<usize> = [&good, &wrong, &good2]
+        .iter()
+        .map(|f| text.find(f.as_str()).unwrap())
+        .collect();
+    assert!(order[0] < order[1] && order[1] < order[2], "{text}");
+    assert!(
+        text.contains(
+            "  FAIL Y1 becomes true within 500 ms after 2 s: still false at 2.5 s (scan 250)"
+        ),
+        "{text}"
+    );
+}

@@ -7,7 +7,8 @@
 //! - [`instructions`]: the MELSEC-Q instruction set (softplc-melsec);
 //! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
 //! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk;
-//! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC).
+//! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC);
+//! - [`tier`]: interpreter or native code (`[cpu] exec`, `--exec`, `SOFTPLC_EXEC`).
 
 pub use softplc_engine as engine;
 pub use softplc_ir::{access, device};
@@ -18,3 +19,4 @@ pub mod names;
 pub mod persist;
 pub mod program;
 pub mod project;
+pub mod tier;

@@ -446,8 +446,9 @@ fn low_speed_cpu(
         })
         .collect();
     let clock = VirtualClock::new();
-    let cpu =
+    let mut cpu =
         softplc_core::engine::Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+    softplc_core::tier::apply_env(&mut cpu);
     (cpu, clock)
 }
 

@@ -30,7 +30,10 @@ fn linked(
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
-    softplc_core::engine::Cpu::with_programs(loaded, cfg, Box::new(VirtualClock::new()))
+    let mut cpu =
+        softplc_core::engine::Cpu::with_programs(loaded, cfg, Box::new(VirtualClock::new()))?;
+    softplc_core::tier::apply_env(&mut cpu);
+    Ok(cpu)
 }
 
 #[test]

@@ -209,6 +209,7 @@ fn pidinit_and_pidcont_in_different_program_files() {
     .collect();
     let clock = VirtualClock::new();
     let mut cpu = Cpu::with_programs(progs, cfg, Box::new(clock.clone())).unwrap();
+    softplc_core::tier::apply_env(&mut cpu);
     // Control data: 1 loop, 1 per scan, reverse action (heating: EV = SV − PV), Ts 1 (10 ms), KP 100 (1.00),
     // TI 10 (1 s), TD 0, α 0, MVLL 0, MVHL 2000, ΔMV/ΔPV alarm limits 0 (off).
     let spec = |d: &str| softplc_core::access::DeviceSpec::parse(d).unwrap();

@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
 use softplc_core::program::compile_il;
+use softplc_core::tier::{apply, Exec};
 
 struct Counting;
 static ALLOCS: AtomicUsize = AtomicUsize::new(0);
@@ -73,8 +74,16 @@ IRET
 END
 ";
 
+/// On both tiers (issue #17: the native regions and the interpreter between
+/// them), one after the other: the counter is global, so no other test may
+/// run in parallel in this binary.
 #[test]
-fn scans_do_not_allocate() {
+fn scans_do_not_allocate_on_either_tier() {
+    scans_do_not_allocate(Exec::Interp);
+    scans_do_not_allocate(Exec::Jit);
+}
+
+fn scans_do_not_allocate(exec: Exec) {
     let cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(1)),
         ..CpuConfig::default()
@@ -111,6 +120,8 @@ fn scans_do_not_allocate() {
         .collect();
     let clock = VirtualClock::new();
     let mut cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+    let native = apply(&mut cpu, exec).unwrap();
+    assert_eq!(native.is_some(), exec == Exec::Jit);
     // Warm-up: first scans may size internal buffers.
     for _ in 0..3 {
         clock.advance_us(10_000);

@@ -267,7 +267,7 @@ fn unknown_keys_are_errors() {
     );
     assert_eq!(
         error(&with_main("[cpu]\ncolour = \"red\"\n")),
-        "2:1: unknown key \"colour\" in [cpu] (expected model, common_pointer)"
+        "2:1: unknown key \"colour\" in [cpu] (expected model, common_pointer, exec)"
     );
     assert_eq!(
         error("[[program]]\nfile = \"main.il\"\nintervall = \"5ms\"\n"),
@@ -302,5 +302,23 @@ fn sections_must_be_tables() {
     assert_eq!(
         error(&with_main("[[cpu]]\nmodel = \"Q06HCPU\"\n")),
         "1:1: [cpu] must be a single table; write [cpu] once"
+    );
+}
+
+#[test]
+fn cpu_exec_chooses_the_tier() {
+    use softplc_core::tier::Exec;
+    assert_eq!(ok(&with_main("")).exec, None);
+    assert_eq!(
+        ok(&with_main("[cpu]\nexec = \"jit\"\n")).exec,
+        Some(Exec::Jit)
+    );
+    assert_eq!(
+        ok(&with_main("[cpu]\nexec = \"interp\"\n")).exec,
+        Some(Exec::Interp)
+    );
+    assert_eq!(
+        error(&with_main("[cpu]\nexec = \"fast\"\n")),
+        "2:8: exec \"fast\" is not one of auto, jit, interp"
     );
 }

@@ -6,6 +6,7 @@
 
 use std::time::Instant;
 
+use super::tier::{NativeProgram, Regs, NO_REGION};
 use super::{ProgState, Runtime};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::kernels::{basic, sequence};
@@ -36,17 +37,42 @@ fn join(acc: &mut bool, j: Join, v: bool) {
     }
 }
 
+/// Native code of the CPU's programs (one per program), or none (interpreter).
+pub(crate) type Natives = [Box<dyn NativeProgram>];
+
 /// Runs the program once from op `start` (0, or an interrupt pointer) to END/FEND
 /// (or IRET). Faults of the "continue" class are recorded through
 /// `rt.record_fault` and execution goes on after the failing op.
+///
+/// With `natives` (a native tier, `tier.rs`), a native region runs wherever
+/// one starts and the interpreter runs the ops in between.
 pub(crate) fn run(
     progs: &[Program],
+    natives: &Natives,
+    locals: &mut [ProgState],
+    rt: &mut Runtime,
+    cur: usize,
+    start: usize,
+) -> Outcome {
+    // Two instances, so the interpreter alone pays nothing for the tier.
+    if natives.is_empty() {
+        run_on::<false>(progs, natives, locals, rt, cur, start)
+    } else {
+        run_on::<true>(progs, natives, locals, rt, cur, start)
+    }
+}
+
+fn run_on<const NATIVE: bool>(
+    progs: &[Program],
+    natives: &Natives,
     locals: &mut [ProgState],
     rt: &mut Runtime,
     cur: usize,
     start: usize,
 ) -> Outcome {
     let prog = &progs[cur];
+    let native = natives.get(cur);
+    let entries: &[u32] = native.map_or(&[], |n| n.entries());
     let ops = &prog.ops[..];
     let mut pc = start;
     let mut acc = false;
@@ -99,6 +125,25 @@ pub(crate) fn run(
     }
 
     loop {
+        if NATIVE {
+            let unit = entries.get(pc).copied().unwrap_or(NO_REGION);
+            if let (true, Some(native)) = (unit != NO_REGION, native) {
+                let mut regs = Regs {
+                    acc: acc as u32,
+                    blocks,
+                    mps,
+                    mc_on: mc_on as u32,
+                };
+                let next = native.run(unit, pc as u32, &mut regs, &mut rt.mem) as usize;
+                acc = regs.acc != 0;
+                blocks = regs.blocks;
+                mps = regs.mps;
+                if next != pc {
+                    pc = next;
+                    continue;
+                }
+            }
+        }
         let op = &ops[pc];
         pc += 1;
         match op {
@@ -288,7 +333,7 @@ pub(crate) fn run(
                     }
                     rt.calls.push((cur as u32, pc as u32));
                     let mc_off = rt.mc_off;
-                    let out = run(progs, locals, rt, *slot as usize, *target as usize);
+                    let out = run(progs, natives, locals, rt, *slot as usize, *target as usize);
                     rt.mc_off = mc_off;
                     match out {
                         Outcome::Return => {}

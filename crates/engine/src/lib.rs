@@ -8,6 +8,7 @@ mod cpu;
 mod exec;
 mod link;
 mod special;
+pub mod tier;
 pub mod trace;
 
 use std::time::Duration;

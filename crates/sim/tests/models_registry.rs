@@ -103,9 +103,11 @@ fn registry_builds_every_kind() {
             "heater",
             "valve",
             "motor",
-            "noise"
+            "noise",
+            "fmu"
         ]
     );
+    // The parameters of each built-in kind (an `fmu` needs a file: fmu.rs).
     let params = [
         "gain = 2\ntau = \"30s\"\ndead_time = \"500ms\"\ninitial = 1.5",
         "gain = 0.5\nleak = 0.01\nmin = 0\nmax = 100",

@@ -76,6 +76,8 @@ pub struct Project {
     pub process: crate::program::ProcessSettings,
     /// `[port1]`/`[port2]` of an APLC-TCP project (contract §3.3).
     pub ports: Vec<softplc_aplc::comm::PortConfig>,
+    /// `[cpu] exec`: the execution tier (`None`: not given, auto).
+    pub exec: Option<crate::tier::Exec>,
 }
 
 /// Largest `plc.toml` read.
@@ -185,8 +187,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     };
 
     let mut common_pointer = None;
+    let mut exec = None;
     if let Some(t) = table(&mut cx, "cpu") {
         common_pointer = settings::cpu(&mut cx, t, &mut config);
+        exec = settings::exec(&mut cx, t);
     }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
@@ -247,6 +251,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         http,
         process,
         ports,
+        exec,
     })
 }
 

@@ -138,7 +138,7 @@ pub(crate) fn max_programs(model: &str) -> usize {
 
 /// `[cpu] model` and `common_pointer`; returns the first common pointer.
 pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u32> {
-    cx.unknown_keys(t, Some("[cpu]"), &["model", "common_pointer"]);
+    cx.unknown_keys(t, Some("[cpu]"), &["model", "common_pointer", "exec"]);
     if let Some(e) = t.iter().find(|e| e.key == "model") {
         model(cx, e, config);
     }
@@ -156,6 +156,12 @@ pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u
         );
     }
     n
+}
+
+/// `[cpu] exec`: "auto", "jit" or "interp" (`crate::tier`).
+pub(crate) fn exec(cx: &mut Ctx, t: &[Entry]) -> Option<crate::tier::Exec> {
+    let e = t.iter().find(|e| e.key == "exec")?;
+    cx.choice(e, &crate::tier::Exec::CHOICES)
 }
 
 fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {

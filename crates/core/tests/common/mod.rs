@@ -13,6 +13,8 @@ pub mod pid;
 pub mod process;
 pub mod project;
 
+/// A CPU on the tier `SOFTPLC_EXEC` names (the interpreter when unset), so
+/// every golden test runs on both tiers (`.ci/run` runs them with `jit`).
 pub struct Plc {
     pub cpu: Cpu,
     clock: VirtualClock,
@@ -37,7 +39,8 @@ impl Plc {
         let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
             .unwrap_or_else(|d| panic!("load failed:\n{d}"));
         let clock = VirtualClock::new();
-        let cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        softplc_core::tier::apply_env(&mut cpu);
         Plc {
             cpu,
             clock,
@@ -54,7 +57,8 @@ impl Plc {
         let prog = compile_il("test.il", src, &cfg.devices)
             .unwrap_or_else(|d| panic!("load failed:\n{d}"));
         let clock = VirtualClock::new();
-        let cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        softplc_core::tier::apply_env(&mut cpu);
         Plc {
             cpu,
             clock,
@@ -76,7 +80,8 @@ impl Plc {
             })
             .collect();
         let clock = VirtualClock::new();
-        let cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+        let mut cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
+        softplc_core::tier::apply_env(&mut cpu);
         Plc {
             cpu,
             clock,

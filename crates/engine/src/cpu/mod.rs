@@ -74,6 +74,9 @@ struct Slot {
 pub struct Cpu {
     /// The program files in parameter order, their hidden state and scheduling.
     programs: Vec<Program>,
+    /// Native code of each program (`use_tier`), or empty: the interpreter.
+    natives: Vec<Box<dyn crate::tier::NativeProgram>>,
+    tier_stats: Option<crate::tier::TierStats>,
     locals: Vec<ProgState>,
     slots: Vec<Slot>,
     rt: Runtime,
@@ -224,6 +227,8 @@ impl Cpu {
         };
         let mut cpu = Cpu {
             programs,
+            natives: Vec::new(),
+            tier_stats: None,
             locals,
             slots,
             rt,
@@ -260,6 +265,40 @@ impl Cpu {
         };
         cpu.power_on();
         Ok(cpu)
+    }
+
+    /// Runs the programs on `tier` from the next scan: each program is
+    /// compiled now (the interpreter still runs whatever the tier leaves to
+    /// it). On an error the CPU keeps the interpreter.
+    pub fn use_tier(
+        &mut self,
+        tier: &dyn crate::tier::ExecTier,
+    ) -> Result<&crate::tier::TierStats, String> {
+        let t = std::time::Instant::now();
+        let natives = self
+            .programs
+            .iter()
+            .map(|p| tier.compile(p).map_err(|e| format!("{}: {e}", p.file)))
+            .collect::<Result<Vec<_>, _>>()?;
+        let stats = crate::tier::TierStats {
+            tier: tier.name(),
+            compile: t.elapsed(),
+            ops: self.programs.iter().map(|p| p.ops.len()).sum(),
+            native_ops: natives.iter().map(|n| n.native_ops()).sum(),
+        };
+        self.natives = natives;
+        Ok(self.tier_stats.insert(stats))
+    }
+
+    /// Back to the interpreter alone.
+    pub fn use_interpreter(&mut self) {
+        self.natives.clear();
+        self.tier_stats = None;
+    }
+
+    /// The tier in use and its compile time; `None` for the interpreter.
+    pub fn tier_stats(&self) -> Option<&crate::tier::TierStats> {
+        self.tier_stats.as_ref()
     }
 
     pub fn program_count(&self) -> usize {

@@ -325,6 +325,7 @@ impl Cpu {
         self.int_counts[n] = self.int_counts[n].wrapping_add(1);
         let out = exec::run(
             &self.programs,
+            &self.natives,
             &mut self.locals,
             &mut self.rt,
             i,
@@ -352,7 +353,14 @@ impl Cpu {
     pub(super) fn run_slot(&mut self, i: usize) -> bool {
         self.busy_us += self.slots[i].cost_us;
         let t = std::time::Instant::now();
-        let out = exec::run(&self.programs, &mut self.locals, &mut self.rt, i, 0);
+        let out = exec::run(
+            &self.programs,
+            &self.natives,
+            &mut self.locals,
+            &mut self.rt,
+            i,
+            0,
+        );
         let ns = t.elapsed().as_nanos() as u64;
         let s = &mut self.slots[i];
         s.count = s.count.wrapping_add(1);

@@ -3,7 +3,7 @@
 use std::collections::VecDeque;
 
 use super::params::{ctx, Params};
-use super::{analog, approach, lag_fraction, ExpCache, Model};
+use super::{analog, approach, lag_fraction, ExpCache, Model, Port};
 
 /// Parameters of [`Fopdt`].
 #[derive(Clone, Debug, PartialEq)]
@@ -182,15 +182,15 @@ impl Fopdt {
     }
 }
 
-const INPUTS: &[&str] = &["u"];
-const OUTPUTS: &[&str] = &["y"];
+const INPUTS: &[Port] = &[Port::Borrowed("u")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("y")];
 
 impl Model for Fopdt {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

@@ -1,7 +1,7 @@
 //! Heater with loss to ambient.
 
 use super::params::{ctx, Params};
-use super::{analog, approach, binary, ExpCache, Model};
+use super::{analog, approach, binary, ExpCache, Model, Port};
 
 /// Parameters of [`Heater`].
 #[derive(Clone, Debug, PartialEq)]
@@ -141,15 +141,15 @@ impl Heater {
     }
 }
 
-const INPUTS: &[&str] = &["u"];
-const OUTPUTS: &[&str] = &["temperature"];
+const INPUTS: &[Port] = &[Port::Borrowed("u")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("temperature")];
 
 impl Model for Heater {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

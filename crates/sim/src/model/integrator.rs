@@ -1,7 +1,7 @@
 //! Integrating process.
 
 use super::params::{ctx, Params};
-use super::{analog, approach, ExpCache, Model};
+use super::{analog, approach, ExpCache, Model, Port};
 
 /// Parameters of [`Integrator`].
 #[derive(Clone, Debug, PartialEq)]
@@ -119,15 +119,15 @@ impl Integrator {
     }
 }
 
-const INPUTS: &[&str] = &["u"];
-const OUTPUTS: &[&str] = &["y"];
+const INPUTS: &[Port] = &[Port::Borrowed("u")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("y")];
 
 impl Model for Integrator {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

@@ -14,6 +14,7 @@
 //! | `valve` | [`Valve`] | `open` | `position`, `opened`, `closed` |
 //! | `motor` | [`Motor`] | `run` | `speed`, `running` |
 //! | `noise` | [`Noise`] | none, or `u` with `input = true` | `y` |
+//! | `fmu` | [`Fmu`] | the FMU's `input` variables | its `output` variables |
 //!
 //! Each model is built either directly (`Fopdt::new(FopdtConfig { .. })`) or by
 //! type name from a TOML table with [`build`] (the scenario runner's entry
@@ -45,6 +46,7 @@
 //! `"30s"`, `"500ms"`, `"2min"`, `"1h30min"`, `"250us"` (see [`parse_duration`]).
 //! Unknown keys are errors (so a typo does not silently fall back to a default).
 
+mod fmu;
 mod fopdt;
 mod heater;
 mod integrator;
@@ -56,6 +58,7 @@ mod second_order;
 mod tank;
 mod valve;
 
+pub use fmu::Fmu;
 pub use fopdt::{Fopdt, FopdtConfig};
 pub use heater::{Heater, HeaterConfig};
 pub use integrator::{Integrator, IntegratorConfig};
@@ -67,17 +70,27 @@ pub use second_order::{SecondOrder, SecondOrderConfig};
 pub use tank::{Tank, TankConfig};
 pub use valve::{Valve, ValveConfig};
 
+/// The name of a model port: static for the built-in models, from the
+/// model description for an FMU.
+pub type Port = std::borrow::Cow<'static, str>;
+
 /// A plant model.
 pub trait Model: Send {
     /// Names of the inputs it reads (actuators driven by the PLC), in order.
-    fn inputs(&self) -> &[&'static str];
+    fn inputs(&self) -> &[Port];
     /// Names of the outputs it produces (sensors read by the PLC), in order.
-    fn outputs(&self) -> &[&'static str];
+    fn outputs(&self) -> &[Port];
     /// Advances the model by `dt` seconds with `inputs` held constant over the
     /// step, then writes the outputs at the end of the step.
     fn step(&mut self, dt: f64, inputs: &[f64], outputs: &mut [f64]);
     /// The outputs in the current state, without advancing.
     fn outputs_now(&self, outputs: &mut [f64]);
+    /// Why the model cannot go on (an FMU call failed): it then holds its
+    /// outputs and the scenario stops with this error. The built-in models
+    /// never fail.
+    fn fault(&self) -> Option<&str> {
+        None
+    }
 }
 
 /// The type names accepted by [`build`].
@@ -90,6 +103,7 @@ const KINDS: &[&str] = &[
     "valve",
     "motor",
     "noise",
+    "fmu",
 ];
 
 /// The model type names [`build`] knows, in documentation order.
@@ -102,7 +116,7 @@ pub fn kinds() -> &'static [&'static str] {
 ///
 /// The parameters of each type are documented on its struct ([`Fopdt`],
 /// [`Integrator`], [`SecondOrder`], [`Tank`], [`Heater`], [`Valve`], [`Motor`],
-/// [`Noise`]). Errors name the model type and the parameter.
+/// [`Noise`], [`Fmu`]). Errors name the model type and the parameter.
 pub fn build(kind: &str, params: &toml::Table) -> Result<Box<dyn Model>, String> {
     Ok(match kind {
         "fopdt" => Box::new(Fopdt::from_table(params)?),
@@ -113,6 +127,7 @@ pub fn build(kind: &str, params: &toml::Table) -> Result<Box<dyn Model>, String>
         "valve" => Box::new(Valve::from_table(params)?),
         "motor" => Box::new(Motor::from_table(params)?),
         "noise" => Box::new(Noise::from_table(params)?),
+        "fmu" => Box::new(Fmu::from_table(params)?),
         _ => {
             return Err(format!(
                 "unknown model type `{kind}` (known: {})",
@@ -120,6 +135,17 @@ pub fn build(kind: &str, params: &toml::Table) -> Result<Box<dyn Model>, String>
             ))
         }
     })
+}
+
+/// The input and output ports of a model, checking its parameters: an FMU's
+/// from its model description only (it is not loaded), a built-in model's
+/// by building it.
+pub fn ports(kind: &str, params: &toml::Table) -> Result<(Vec<Port>, Vec<Port>), String> {
+    if kind == "fmu" {
+        return fmu::ports(params);
+    }
+    let m = build(kind, params)?;
+    Ok((m.inputs().to_vec(), m.outputs().to_vec()))
 }
 
 /// An analog input as the models read it: NaN and ±inf become 0.
@@ -237,6 +263,11 @@ mod tests {
                     t.insert("capacity".into(), 1000.0.into());
                     t.insert("power".into(), 100.0.into());
                     t.insert("resistance".into(), 0.5.into());
+                }
+                "fmu" => {
+                    let err = build(kind, &t).err().unwrap();
+                    assert_eq!(err, "fmu: parameter `file`: required (the .fmu file)");
+                    continue;
                 }
                 _ => unreachable!(),
             }

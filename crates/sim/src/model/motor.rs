@@ -1,7 +1,7 @@
 //! Motor with speed ramp and a running feedback contact.
 
 use super::params::{ctx, Params};
-use super::{binary, bit, ramp, Model};
+use super::{binary, bit, ramp, Model, Port};
 
 /// Parameters of [`Motor`].
 #[derive(Clone, Debug, PartialEq)]
@@ -125,15 +125,15 @@ impl Motor {
     }
 }
 
-const INPUTS: &[&str] = &["run"];
-const OUTPUTS: &[&str] = &["speed", "running"];
+const INPUTS: &[Port] = &[Port::Borrowed("run")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("speed"), Port::Borrowed("running")];
 
 impl Model for Motor {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

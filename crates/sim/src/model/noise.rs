@@ -3,7 +3,7 @@
 use std::f64::consts::TAU;
 
 use super::params::{ctx, Params};
-use super::{analog, Model};
+use super::{analog, Model, Port};
 
 /// The distribution of [`Noise`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,12 +225,12 @@ impl Noise {
     }
 }
 
-const NO_INPUTS: &[&str] = &[];
-const INPUTS: &[&str] = &["u"];
-const OUTPUTS: &[&str] = &["y"];
+const NO_INPUTS: &[Port] = &[];
+const INPUTS: &[Port] = &[Port::Borrowed("u")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("y")];
 
 impl Model for Noise {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         if self.has_input {
             INPUTS
         } else {
@@ -238,7 +238,7 @@ impl Model for Noise {
         }
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

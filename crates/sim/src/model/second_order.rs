@@ -3,7 +3,7 @@
 use std::f64::consts::TAU;
 
 use super::params::{ctx, Params};
-use super::{analog, Model};
+use super::{analog, Model, Port};
 
 /// Parameters of [`SecondOrder`].
 #[derive(Clone, Debug, PartialEq)]
@@ -152,15 +152,15 @@ impl SecondOrder {
     }
 }
 
-const INPUTS: &[&str] = &["u"];
-const OUTPUTS: &[&str] = &["y", "rate"];
+const INPUTS: &[Port] = &[Port::Borrowed("u")];
+const OUTPUTS: &[Port] = &[Port::Borrowed("y"), Port::Borrowed("rate")];
 
 impl Model for SecondOrder {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

@@ -1,7 +1,7 @@
 //! Tank level with inflow and a draining valve.
 
 use super::params::{ctx, Params};
-use super::{analog, bit, Model};
+use super::{analog, bit, Model, Port};
 
 /// Parameters of [`Tank`].
 #[derive(Clone, Debug, PartialEq)]
@@ -208,15 +208,19 @@ fn expm1_plus(r: f64) -> f64 {
     }
 }
 
-const INPUTS: &[&str] = &["q_in", "valve"];
-const OUTPUTS: &[&str] = &["level", "overflow", "q_out"];
+const INPUTS: &[Port] = &[Port::Borrowed("q_in"), Port::Borrowed("valve")];
+const OUTPUTS: &[Port] = &[
+    Port::Borrowed("level"),
+    Port::Borrowed("overflow"),
+    Port::Borrowed("q_out"),
+];
 
 impl Model for Tank {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

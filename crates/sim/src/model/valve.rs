@@ -1,7 +1,7 @@
 //! On/off valve with travel time.
 
 use super::params::{ctx, Params};
-use super::{binary, bit, ramp, Model};
+use super::{binary, bit, ramp, Model, Port};
 
 /// Parameters of [`Valve`].
 #[derive(Clone, Debug, PartialEq)]
@@ -92,15 +92,19 @@ impl Valve {
     }
 }
 
-const INPUTS: &[&str] = &["open"];
-const OUTPUTS: &[&str] = &["position", "opened", "closed"];
+const INPUTS: &[Port] = &[Port::Borrowed("open")];
+const OUTPUTS: &[Port] = &[
+    Port::Borrowed("position"),
+    Port::Borrowed("opened"),
+    Port::Borrowed("closed"),
+];
 
 impl Model for Valve {
-    fn inputs(&self) -> &[&'static str] {
+    fn inputs(&self) -> &[Port] {
         INPUTS
     }
 
-    fn outputs(&self) -> &[&'static str] {
+    fn outputs(&self) -> &[Port] {
         OUTPUTS
     }
 

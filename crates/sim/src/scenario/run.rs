@@ -16,6 +16,7 @@ use crate::model::{self, Model};
 
 /// A model with its bindings and pre-sized port buffers.
 struct Bound {
+    name: String,
     model: Box<dyn Model>,
     inputs: Vec<Source>,
     outputs: Vec<(usize, Sink)>,
@@ -177,6 +178,7 @@ impl Scenario {
                 outputs.push((*i, Sink::new(&b.device, b.scale, &cpu).map_err(what)?));
             }
             let mut bound = Bound {
+                name: m.name.clone(),
                 in_buf: vec![0.0; model.inputs().len()],
                 out_buf: vec![0.0; model.outputs().len()],
                 model,
@@ -322,16 +324,21 @@ impl Scenario {
 }
 
 impl Run {
-    /// One scan's input refresh, timeline writes and the scan itself.
-    fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) {
+    /// One scan's input refresh, timeline writes and the scan itself. A
+    /// model that fails (an FMU call) stops the run before the scan: its
+    /// index is returned.
+    fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) -> Result<(), usize> {
         // Input refresh: the plant advances over the scan and the sensors
         // are sampled.
-        for m in &mut self.models {
+        for (i, m) in self.models.iter_mut().enumerate() {
             let mem = self.cpu.memory();
             for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
                 *buf = src.read(mem);
             }
             m.model.step(dt, &m.in_buf, &mut m.out_buf);
+            if m.model.fault().is_some() {
+                return Err(i);
+            }
             m.write_outputs(&mut self.cpu);
         }
         for f in &self.follows {
@@ -346,6 +353,17 @@ impl Run {
         self.cpu.scan();
         // The communication phase after END (L914-941).
         self.ports.after_end(&mut self.cpu);
+        Ok(())
+    }
+
+    /// Why model `i` failed, with its name.
+    fn fault_detail(&self, i: usize) -> String {
+        let m = &self.models[i];
+        format!(
+            "model `{}`: {}",
+            m.name,
+            m.model.fault().unwrap_or("failed")
+        )
     }
 
     /// Why the CPU stopped: the error code, message and step (the APLC has
@@ -377,7 +395,13 @@ impl Run {
         }
         let n = self.stepped + 1;
         let mut next = self.next_step_write;
-        self.advance(n, self.scan_us as f64 / 1e6, &mut next);
+        if let Err(i) = self.advance(n, self.scan_us as f64 / 1e6, &mut next) {
+            return Err(format!(
+                "before scan {n} ({}): {}",
+                fmt_time(n * self.scan_us),
+                self.fault_detail(i)
+            ));
+        }
         self.next_step_write = next;
         self.stepped = n;
         if self.cpu.state() == CpuState::Stop {
@@ -426,8 +450,12 @@ impl Run {
         let mut next_write = 0;
         let mut done = 0;
         let mut stopped = None;
+        let mut fault = None;
         for n in 1..=self.total {
-            self.advance(n, dt, &mut next_write);
+            if let Err(i) = self.advance(n, dt, &mut next_write) {
+                fault = Some((n, i));
+                break;
+            }
             done = n;
             let time_us = n * self.scan_us;
             let mem = self.cpu.memory();
@@ -456,9 +484,10 @@ impl Run {
         let wall = start.elapsed();
 
         let mut results = Vec::new();
-        let why = match stopped {
-            Some(_) => "the CPU stopped",
-            None => "the run ended",
+        let why = match (stopped, fault) {
+            (Some(_), _) => "the CPU stopped",
+            (_, Some(_)) => "a model failed",
+            _ => "the run ended",
         };
         for c in &mut self.checks {
             c.unfinished(done, self.scan_us, why);
@@ -478,6 +507,18 @@ impl Run {
                 ),
                 passed: false,
                 detail,
+                failure: None,
+            });
+        }
+        if let Some((n, i)) = fault {
+            results.push(CheckResult {
+                text: format!(
+                    "the plant models keep running (model `{}` failed before scan {n}, at {})",
+                    self.models[i].name,
+                    fmt_time((n - 1) * self.scan_us)
+                ),
+                passed: false,
+                detail: self.fault_detail(i),
                 failure: None,
             });
         }

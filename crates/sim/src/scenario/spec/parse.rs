@@ -150,7 +150,7 @@ impl Scenario {
 
         let mut models = Vec::new();
         for (i, m) in doc.model.into_iter().enumerate() {
-            models.push(model_spec(m, i, &dev_names)?);
+            models.push(model_spec(m, i, &base, &dev_names)?);
         }
         let mut names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
         names.sort_unstable();
@@ -298,12 +298,18 @@ fn names_of(source: &Source, cpu: Option<&str>) -> Names {
     names
 }
 
-fn model_spec(m: ModelDoc, i: usize, names: &Names) -> Result<ModelSpec, String> {
+fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Names) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
-    let built = model::build(&m.kind, &m.params).map_err(|e| format!("{what}: {e}"))?;
-    let port = |ports: &[&'static str], p: &str, dir: &str| {
-        ports.iter().position(|q| *q == p).ok_or_else(|| {
+    // An FMU's file is relative to the scenario file.
+    if m.kind == "fmu" {
+        if let Some(toml::Value::String(f)) = m.params.get_mut("file") {
+            *f = base.join(&*f).display().to_string();
+        }
+    }
+    let (ins, outs) = model::ports(&m.kind, &m.params).map_err(|e| format!("{what}: {e}"))?;
+    let port = |ports: &[model::Port], p: &str, dir: &str| {
+        ports.iter().position(|q| q == p).ok_or_else(|| {
             format!(
                 "{what}: `{}` has no {dir} `{p}` ({dir}s: {})",
                 m.kind,
@@ -317,7 +323,7 @@ fn model_spec(m: ModelDoc, i: usize, names: &Names) -> Result<ModelSpec, String>
     };
     let mut inputs = Vec::new();
     for (p, v) in &m.inputs {
-        let idx = port(built.inputs(), p, "input")?;
+        let idx = port(&ins, p, "input")?;
         inputs.push((
             idx,
             binding(v, &format!("{what}: input `{p}`"), true, names)?,
@@ -325,7 +331,7 @@ fn model_spec(m: ModelDoc, i: usize, names: &Names) -> Result<ModelSpec, String>
     }
     let mut outputs = Vec::new();
     for (p, v) in &m.outputs {
-        let idx = port(built.outputs(), p, "output")?;
+        let idx = port(&outs, p, "output")?;
         match binding(v, &format!("{what}: output `{p}`"), false, names)? {
             InputBinding::Device { device, scale } => {
                 outputs.push((idx, OutputBinding { device, scale }))

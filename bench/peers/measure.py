@@ -1,0 +1,203 @@
+#!/usr/bin/env python3
+"""Side-by-side scan speed of softplc and peer soft PLCs (bench/peers/README.md).
+
+Each peer runs each workload of gen.py for LOW and HIGH cycles as a whole
+process; the per-instruction time is
+
+    (t(HIGH) - t(LOW)) / ((HIGH - LOW) * MELSEC instructions of the workload)
+
+so loading, parsing and compiling cancel. Each time is the minimum over
+--repeat runs. A peer whose program or tool is not given is skipped with a
+message; nothing is downloaded or built here except the C that matiec
+generates from the workload and the driver matiec_main.cpp beside this file.
+
+Example (every peer):
+    python3 bench/peers/measure.py --softplc target/release/softplc \\
+        --awlsim-python /opt/awlsim/bin/python --ironplc /opt/ironplc/bin \\
+        --openplc /opt/OpenPLC_v3
+"""
+import argparse
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+sys.path.insert(0, str(HERE))
+import gen  # noqa: E402
+
+
+class Skip(Exception):
+    """A peer that cannot run here; the message says why."""
+
+
+def run(cmd, cwd=None, env=None):
+    """Runs `cmd`; raises with its output when it fails."""
+    done = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({done.returncode}):\n{done.stdout}{done.stderr}")
+    return done.stdout
+
+
+def timed(cmd, env=None):
+    start = time.perf_counter()
+    run(cmd, env=env)
+    return time.perf_counter() - start
+
+
+# --- peers: each returns a function cycles -> command for one workload ------
+
+
+def softplc(args, work, name, exec_mode):
+    binary = pathlib.Path(args.softplc)
+    if not binary.is_file():
+        raise Skip(f"no softplc binary at {binary} (cargo build --release -p softplc)")
+    program = work / f"{name}.il"
+    extra = []
+    if exec_mode:
+        if "--exec" not in run([binary, "run", "--help"]):
+            raise Skip(f"{binary} has no --exec option (tier {exec_mode})")
+        extra = ["--exec", exec_mode]
+    run([binary, "check", program])
+    return lambda n: [binary, "run", program, "--scans", str(n), *extra]
+
+
+def awlsim(args, work, name, cython):
+    if not args.awlsim_python:
+        raise Skip("no --awlsim-python (a Python with the awlsim package installed)")
+    env = dict(os.environ, AWLSIM_CYTHON="2" if cython else "0")
+    probe = "import awlsim_loader.core"
+    done = subprocess.run([args.awlsim_python, "-c", probe], env=env, capture_output=True, text=True)
+    if done.returncode != 0:
+        core = "Cython core" if cython else "awlsim"
+        raise Skip(f"{core} not importable with {args.awlsim_python}: {done.stderr.strip().splitlines()[-1:]}")
+    program = work / f"{name}.awl"
+    driver = HERE / "awlsim_run.py"
+    return lambda n: ([args.awlsim_python, driver, program, str(n)], env)
+
+
+def ironplc(args, work, name):
+    if not args.ironplc:
+        raise Skip("no --ironplc (the directory holding ironplcc and ironplcvm)")
+    bindir = pathlib.Path(args.ironplc)
+    compiler, vm = bindir / "ironplcc", bindir / "ironplcvm"
+    for tool in (compiler, vm):
+        if not tool.is_file():
+            raise Skip(f"no {tool}")
+    container = work / f"{name}.iplc"
+    run([compiler, "compile", work / f"{name}.st", "--output", container])
+    return lambda n: [vm, "run", container, "--scans", str(n)]
+
+
+def matiec(args, work, name, opt):
+    """iec2c as OpenPLC's compile_program.sh calls it, then g++ on the
+    generated Config0.c and Res0.c (which includes POUS.c) with OpenPLC's
+    runtime headers and the driver matiec_main.cpp."""
+    if not args.openplc:
+        raise Skip("no --openplc (an OpenPLC_v3 tree with utils/matiec_src built)")
+    tree = pathlib.Path(args.openplc)
+    iec2c = next((p for p in (tree / "webserver" / "iec2c", tree / "utils" / "matiec_src" / "iec2c") if p.is_file()),
+                 None)
+    lib, include = tree / "utils" / "matiec_src" / "lib", tree / "webserver" / "core" / "lib"
+    if iec2c is None or not (lib / "ieclib.txt").is_file() or not (include / "iec_std_lib.h").is_file():
+        raise Skip(f"{tree} lacks webserver/iec2c or utils/matiec_src/iec2c, utils/matiec_src/lib/ieclib.txt "
+                   "or webserver/core/lib/iec_std_lib.h")
+    cxx = shutil.which("g++")
+    if not cxx:
+        raise Skip("no g++")
+    out = work / f"matiec_{name}{opt}"
+    out.mkdir(exist_ok=True)
+    run([iec2c, "-f", "-l", "-p", "-r", "-R", "-a", "-I", lib, "-T", out, work / f"{name}_matiec.st"])
+    binary = out / "plc"
+    # OpenPLC passes no -O (so -O0); the row's flag is the one difference.
+    run([cxx, "-std=gnu++11", opt, "-w", "-I", include, "-I", out,
+         out / "Config0.c", out / "Res0.c", HERE / "matiec_main.cpp", "-o", binary])
+    return lambda n: [binary, str(n)]
+
+
+def peers(args):
+    """(label, prepare(work, name) -> cycles -> command)"""
+    rows = []
+    for mode in args.softplc_exec:
+        label = f"softplc ({mode})" if mode else "softplc"
+        rows.append((label, lambda w, n, m=mode: softplc(args, w, n, m)))
+    rows.append(("awlsim 0.77 Cython core", lambda w, n: awlsim(args, w, n, True)))
+    rows.append(("awlsim 0.77 pure Python", lambda w, n: awlsim(args, w, n, False)))
+    rows.append(("IronPLC VM", lambda w, n: ironplc(args, w, n)))
+    for opt in args.matiec_opt:
+        rows.append((f"matiec + g++ {opt}", lambda w, n, o=opt: matiec(args, w, n, o)))
+    return rows
+
+
+def measure(command, low, high, repeat):
+    """Seconds per cycle: min-of-repeat time of HIGH minus that of LOW."""
+    def best(n):
+        cmd = command(n)
+        cmd, env = cmd if isinstance(cmd, tuple) else (cmd, None)
+        return min(timed(cmd, env) for _ in range(repeat))
+
+    return (best(high) - best(low)) / (high - low)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    default_bin = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target")) / "release" / "softplc"
+    p.add_argument("--softplc", default=str(default_bin), help="softplc binary (default: %(default)s)")
+    p.add_argument("--softplc-exec", default="", help="comma list of --exec tiers to measure, e.g. interp,jit "
+                   "(default: the CLI's default tier)")
+    p.add_argument("--awlsim-python", help="Python interpreter with awlsim 0.77 installed")
+    p.add_argument("--ironplc", help="directory holding ironplcc and ironplcvm")
+    p.add_argument("--openplc", help="OpenPLC_v3 tree with its matiec (utils/matiec_src) built")
+    p.add_argument("--matiec-opt", default="-O2", help="comma list of g++ optimisation flags (default: %(default)s; "
+                   "OpenPLC itself passes none, i.e. -O0)")
+    p.add_argument("--workloads", default=",".join(gen.WORKLOADS), help="comma list (default: %(default)s)")
+    p.add_argument("--only", default="", help="comma list of label prefixes to run, e.g. softplc,matiec")
+    p.add_argument("--scans", default="10,510", help="LOW,HIGH cycles (default: %(default)s)")
+    p.add_argument("--slow-scans", default="10,60", help="LOW,HIGH for awlsim (default: %(default)s)")
+    p.add_argument("--repeat", type=int, default=5, help="runs per count; the minimum is kept (default: %(default)s)")
+    p.add_argument("--keep", help="write the generated programs and peer builds here (default: a temporary dir)")
+    args = p.parse_args()
+    args.softplc_exec = args.softplc_exec.split(",") if args.softplc_exec else [""]
+    args.matiec_opt = [o for o in args.matiec_opt.split(",") if o]
+    names = [n for n in args.workloads.split(",") if n]
+    for n in names:
+        if n not in gen.WORKLOADS:
+            p.error(f"unknown workload {n!r} (known: {', '.join(gen.WORKLOADS)})")
+    only = [o for o in args.only.split(",") if o]
+
+    work = pathlib.Path(args.keep or tempfile.mkdtemp(prefix="softplc-peers-"))
+    gen.write_all(work)
+    counts = {n: gen.instructions(n) for n in names}
+    table = []
+    for label, prepare in peers(args):
+        if only and not any(label.startswith(o) for o in only):
+            continue
+        low, high = map(int, (args.slow_scans if label.startswith("awlsim") else args.scans).split(","))
+        cells = []
+        for n in names:
+            try:
+                command = prepare(work, n)
+                ns = measure(command, low, high, args.repeat) * 1e9 / counts[n]
+                cells.append(f"{ns:,.2f}" if ns < 100 else f"{ns:,.0f}")
+                print(f"{label} {n}: {ns:.3f} ns/instruction ({low} vs {high} cycles)", file=sys.stderr)
+            except Skip as e:
+                print(f"skipped {label}: {e}", file=sys.stderr)
+                break
+            except RuntimeError as e:
+                print(f"{label} {n} failed: {e}", file=sys.stderr)
+                cells.append("fails")
+        else:
+            table.append((label, cells))
+    print(f"| peer | {' | '.join(f'{n} ({counts[n]:,})' for n in names)} |")
+    print(f"|---|{'---:|' * len(names)}")
+    for label, cells in table:
+        print(f"| {label} | {' | '.join(cells)} |")
+    print(f"\nns per MELSEC instruction; programs in {work}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,66 @@
+//! Execution tiers: native code next to the interpreter (issue #17).
+//!
+//! A tier compiles a [`Program`] into a [`NativeProgram`]: native regions of
+//! straight-line ops (contacts, coils, block and MPS stacks, MOV and
+//! comparisons on plain devices). The interpreter (`exec.rs`) stays the one
+//! driver: whenever it reaches an op where a region starts it runs the region,
+//! which returns the op index after it; every other op (application
+//! instructions, timers, jumps, calls, FOR/NEXT, anything that can fault) runs
+//! in the interpreter as always. So there is one semantics, and faults,
+//! their step numbers, the watchdog and interrupts are the interpreter's.
+//!
+//! The engine knows only these traits: `softplc-jit` implements them and
+//! `softplc-core` (or a test) hands one to [`crate::Cpu::use_tier`], so the
+//! dependency points from the JIT to the engine.
+
+use std::time::Duration;
+
+use softplc_ir::device::DeviceMemory;
+use softplc_ir::ops::Program;
+
+/// The rung registers the interpreter keeps in locals, as a native region
+/// reads and writes them: the operation result, the ANB/ORB block stack and
+/// the MPS stack (bit stacks, newest in bit 0), and whether no master control
+/// or POFF forces conditions OFF. Booleans are 0 or 1.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Regs {
+    pub acc: u32,
+    pub blocks: u32,
+    pub mps: u32,
+    pub mc_on: u32,
+}
+
+/// Marks an op where no native region starts ([`NativeProgram::entries`]).
+pub const NO_REGION: u32 = u32::MAX;
+
+/// A program's native code.
+pub trait NativeProgram: Send {
+    /// For every op of the program: the code unit whose region starts at that
+    /// op, or [`NO_REGION`].
+    fn entries(&self) -> &[u32];
+    /// Runs the region of `unit` that starts at op `pc` on `regs` and `mem`
+    /// and returns the op index after it (where the interpreter goes on).
+    /// Returns `pc` unchanged when it cannot run (memory of another size).
+    fn run(&self, unit: u32, pc: u32, regs: &mut Regs, mem: &mut DeviceMemory) -> u32;
+    /// Ops of the program that run as native code.
+    fn native_ops(&self) -> usize;
+}
+
+/// A way of executing programs other than the interpreter.
+pub trait ExecTier {
+    /// Short name for reports (`jit`).
+    fn name(&self) -> &'static str;
+    /// Compiles `prog`; an error names why (the host or the program).
+    fn compile(&self, prog: &Program) -> Result<Box<dyn NativeProgram>, String>;
+}
+
+/// What [`crate::Cpu::use_tier`] did: reported by `--stats`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TierStats {
+    pub tier: &'static str,
+    /// Wall-clock time compiling every program of the CPU.
+    pub compile: Duration,
+    pub ops: usize,
+    pub native_ops: usize,
+}

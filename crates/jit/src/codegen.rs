@@ -1,0 +1,324 @@
+//! A chunk's plan → one Cranelift function.
+//!
+//! The function is `fn(regs: *mut Regs, bits: *mut u8, words: *mut u16, pc:
+//! u32) -> u32`: it loads the rung registers, jumps to the region entered at
+//! `pc`, runs it keeping the registers in machine registers, stores them back
+//! at the region's exit and returns the op index where the interpreter goes
+//! on. An unknown `pc` returns `pc` (nothing ran). Every device index was
+//! checked against the program's memory size by the plan.
+
+use std::collections::HashMap;
+
+use cranelift_codegen::ir::condcodes::IntCC;
+use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlagsData, Signature, Value};
+use cranelift_frontend::{FunctionBuilder, Switch, Variable};
+use softplc_ir::ops::{CmpOp, Join};
+
+use crate::plan::{BitSrc, Chunk, Move, Piece, Step, Store, WordSrc};
+
+/// Offsets of the fields of `softplc_engine::tier::Regs` (`repr(C)`, u32s).
+const ACC: i32 = 0;
+const BLOCKS: i32 = 4;
+const MPS: i32 = 8;
+const MC_ON: i32 = 12;
+
+/// The signature of every chunk function on the host's calling convention.
+pub fn signature(call_conv: cranelift_codegen::isa::CallConv, ptr: types::Type) -> Signature {
+    let mut sig = Signature::new(call_conv);
+    sig.params.push(AbiParam::new(ptr)); // regs
+    sig.params.push(AbiParam::new(ptr)); // bits
+    sig.params.push(AbiParam::new(ptr)); // words
+    sig.params.push(AbiParam::new(types::I32)); // pc
+    sig.returns.push(AbiParam::new(types::I32));
+    sig
+}
+
+/// The rung registers as SSA variables, and the function's pointers.
+struct Gen<'a, 'b> {
+    b: &'a mut FunctionBuilder<'b>,
+    bits: Value,
+    words: Value,
+    regs: Value,
+    acc: Variable,
+    blocks: Variable,
+    mps: Variable,
+    mc_on: Variable,
+}
+
+/// Device memory is only reached through indices the plan checked, and
+/// native code runs with no other access to it.
+fn flags() -> MemFlagsData {
+    MemFlagsData::trusted()
+}
+
+/// Emits the body of `chunk`'s function into `b` (an empty function of
+/// [`signature`]).
+pub fn build(b: &mut FunctionBuilder, chunk: &Chunk) {
+    let start = b.create_block();
+    b.append_block_params_for_function_params(start);
+    b.switch_to_block(start);
+    let p = b.block_params(start).to_vec();
+    let (regs, bits, words, pc) = (p[0], p[1], p[2], p[3]);
+    let acc = b.declare_var(types::I32);
+    let blocks = b.declare_var(types::I32);
+    let mps = b.declare_var(types::I32);
+    let mc_on = b.declare_var(types::I32);
+    let mut g = Gen {
+        b,
+        bits,
+        words,
+        regs,
+        acc,
+        blocks,
+        mps,
+        mc_on,
+    };
+    for (var, off) in [(acc, ACC), (blocks, BLOCKS), (mps, MPS), (mc_on, MC_ON)] {
+        let v = g.b.ins().load(types::I32, flags(), regs, off);
+        g.b.def_var(var, v);
+    }
+    // One block per entry, reached through a jump table on `pc`.
+    let mut entry_blocks = HashMap::new();
+    let mut sw = Switch::new();
+    for piece in &chunk.pieces {
+        if let Piece::Entry(at) = piece {
+            let blk = g.b.create_block();
+            entry_blocks.insert(*at, blk);
+            sw.set_entry(u128::from(*at), blk);
+        }
+    }
+    let unknown = g.b.create_block();
+    sw.emit(g.b, pc, unknown);
+    g.b.switch_to_block(unknown);
+    g.b.ins().return_(&[pc]);
+
+    let mut open = false;
+    for piece in &chunk.pieces {
+        match piece {
+            Piece::Entry(at) => {
+                let blk = entry_blocks[at];
+                if open {
+                    g.b.ins().jump(blk, &[]);
+                }
+                g.b.switch_to_block(blk);
+                open = true;
+            }
+            Piece::Step(s) if open => g.step(s),
+            Piece::Step(_) => {}
+            Piece::Exit(at) if open => {
+                g.exit(*at);
+                open = false;
+            }
+            Piece::Exit(_) => {}
+        }
+    }
+    g.b.seal_all_blocks();
+}
+
+impl Gen<'_, '_> {
+    fn exit(&mut self, at: u32) {
+        for (var, off) in [(self.acc, ACC), (self.blocks, BLOCKS), (self.mps, MPS)] {
+            let v = self.b.use_var(var);
+            self.b.ins().store(flags(), v, self.regs, off);
+        }
+        let at = self.b.ins().iconst(types::I32, i64::from(at));
+        self.b.ins().return_(&[at]);
+    }
+
+    /// The address of `base[index]` with elements of `size` bytes.
+    fn addr(&mut self, base: Value, index: u32, size: u32) -> (Value, i32) {
+        let off = u64::from(index) * u64::from(size);
+        match i32::try_from(off) {
+            Ok(off) => (base, off),
+            Err(_) => {
+                let a = self.b.ins().iadd_imm_s(base, off as i64);
+                (a, 0)
+            }
+        }
+    }
+
+    fn bit(&mut self, i: u32) -> Value {
+        let (base, off) = self.addr(self.bits, i, 1);
+        self.b.ins().uload8(types::I32, flags(), base, off)
+    }
+
+    fn word(&mut self, i: u32) -> Value {
+        let (base, off) = self.addr(self.words, i, 2);
+        self.b.ins().uload16(types::I32, flags(), base, off)
+    }
+
+    fn store_word(&mut self, i: u32, v: Value) {
+        let (base, off) = self.addr(self.words, i, 2);
+        self.b.ins().istore16(flags(), v, base, off);
+    }
+
+    /// A word operand: 16-bit sign-extended, or 32-bit low word first.
+    fn value(&mut self, s: WordSrc, wide: bool) -> Value {
+        match (s, wide) {
+            (WordSrc::Const(k), false) => {
+                self.b.ins().iconst(types::I32, i64::from(k as u16 as i16))
+            }
+            (WordSrc::Const(k), true) => self.b.ins().iconst(types::I32, i64::from(k as i32)),
+            (WordSrc::Word(i), false) => {
+                let (base, off) = self.addr(self.words, i, 2);
+                self.b.ins().sload16(types::I32, flags(), base, off)
+            }
+            (WordSrc::Word(i), true) => {
+                let lo = self.word(i);
+                let hi = self.word(i + 1);
+                let hi = self.b.ins().ishl_imm_s(hi, 16);
+                self.b.ins().bor(lo, hi)
+            }
+        }
+    }
+
+    fn join(&mut self, join: Join, v: Value) {
+        let r = match join {
+            Join::Load => v,
+            Join::And => {
+                let a = self.b.use_var(self.acc);
+                self.b.ins().band(a, v)
+            }
+            Join::Or => {
+                let a = self.b.use_var(self.acc);
+                self.b.ins().bor(a, v)
+            }
+        };
+        self.b.def_var(self.acc, r);
+    }
+
+    /// `acc & mc_on`: the condition of coils and instructions.
+    fn cond(&mut self) -> Value {
+        let a = self.b.use_var(self.acc);
+        let m = self.b.use_var(self.mc_on);
+        self.b.ins().band(a, m)
+    }
+
+    /// Pushes `acc` on the bit stack `var`.
+    fn push(&mut self, var: Variable) {
+        let s = self.b.use_var(var);
+        let a = self.b.use_var(self.acc);
+        let s = self.b.ins().ishl_imm_s(s, 1);
+        let s = self.b.ins().bor(s, a);
+        self.b.def_var(var, s);
+    }
+
+    /// The newest bit of stack `var`, popped or not.
+    fn top(&mut self, var: Variable, pop: bool) -> Value {
+        let s = self.b.use_var(var);
+        let top = self.b.ins().band_imm_s(s, 1);
+        if pop {
+            let rest = self.b.ins().ushr_imm_s(s, 1);
+            self.b.def_var(var, rest);
+        }
+        top
+    }
+
+    fn step(&mut self, s: &Step) {
+        match s {
+            Step::Contact { join, negate, src } => {
+                let v = match *src {
+                    BitSrc::Bit(i) => self.bit(i),
+                    BitSrc::WordBit(w, bit) => {
+                        let v = self.word(w);
+                        let v = self.b.ins().ushr_imm_s(v, i64::from(bit));
+                        self.b.ins().band_imm_s(v, 1)
+                    }
+                };
+                let v = if *negate {
+                    self.b.ins().bxor_imm_s(v, 1)
+                } else {
+                    v
+                };
+                self.join(*join, v);
+            }
+            Step::Compare {
+                join,
+                op,
+                wide,
+                a,
+                b,
+            } => {
+                let a = self.value(*a, *wide);
+                let b = self.value(*b, *wide);
+                let cc = match op {
+                    CmpOp::Eq => IntCC::Equal,
+                    CmpOp::Ne => IntCC::NotEqual,
+                    CmpOp::Gt => IntCC::SignedGreaterThan,
+                    CmpOp::Le => IntCC::SignedLessThanOrEqual,
+                    CmpOp::Lt => IntCC::SignedLessThan,
+                    CmpOp::Ge => IntCC::SignedGreaterThanOrEqual,
+                };
+                let c = self.b.ins().icmp(cc, a, b);
+                let c = self.b.ins().uextend(types::I32, c);
+                self.join(*join, c);
+            }
+            Step::Push => self.push(self.blocks),
+            Step::Mps => self.push(self.mps),
+            Step::Anb | Step::Orb => {
+                let top = self.top(self.blocks, true);
+                let j = if *s == Step::Anb { Join::And } else { Join::Or };
+                self.join(j, top);
+            }
+            Step::Mrd | Step::Mpp => {
+                let top = self.top(self.mps, *s == Step::Mpp);
+                self.b.def_var(self.acc, top);
+            }
+            Step::Inv => {
+                let a = self.b.use_var(self.acc);
+                let a = self.b.ins().bxor_imm_s(a, 1);
+                self.b.def_var(self.acc, a);
+            }
+            Step::Coil { store, bit } => {
+                let c = self.cond();
+                // SET/RST write the value they leave (unchanged when OFF):
+                // no branch, same memory as the interpreter's.
+                let v = match store {
+                    Store::Out => c,
+                    Store::Set => {
+                        let old = self.bit(*bit);
+                        self.b.ins().bor(old, c)
+                    }
+                    Store::Rst => {
+                        let old = self.bit(*bit);
+                        let keep = self.b.ins().bxor_imm_s(c, 1);
+                        self.b.ins().band(old, keep)
+                    }
+                };
+                let (base, off) = self.addr(self.bits, *bit, 1);
+                self.b.ins().istore8(flags(), v, base, off);
+            }
+            Step::Movs(run) => self.movs(run),
+        }
+    }
+
+    /// A run of MOVs under one test of the condition.
+    fn movs(&mut self, run: &[Move]) {
+        let c = self.cond();
+        let then = self.b.create_block();
+        let after = self.b.create_block();
+        self.b.ins().brif(c, then, &[], after, &[]);
+        self.b.switch_to_block(then);
+        for m in run {
+            // DMOV reads both words before writing (DMOV D0 D1 overlaps).
+            let mut v = [None; 2];
+            for (k, slot) in v.iter_mut().enumerate().take(usize::from(m.words)) {
+                let k = k as u32;
+                *slot = Some(match m.s {
+                    WordSrc::Word(i) => self.word(i + k),
+                    WordSrc::Const(c) => {
+                        let half = (c >> (16 * k)) & 0xFFFF;
+                        self.b.ins().iconst(types::I32, i64::from(half))
+                    }
+                });
+            }
+            for (k, val) in v.into_iter().enumerate() {
+                if let Some(val) = val {
+                    self.store_word(m.d + k as u32, val);
+                }
+            }
+        }
+        self.b.ins().jump(after, &[]);
+        self.b.switch_to_block(after);
+    }
+}

@@ -1,0 +1,35 @@
+//! softplc-jit: the native-code tier of the scan engine (issue #17), on
+//! Cranelift at `opt_level=speed`.
+//!
+//! [`plan`] splits a program into chunks of at most [`plan::CHUNK_OPS`] ops
+//! and picks the ops that run as native code, [`codegen`] turns a chunk into
+//! one function, and [`native`] owns the compiled code and the one place that
+//! calls it. The interpreter runs every other op with the shared
+//! implementations (`softplc_engine::tier`), so both tiers have one semantics.
+
+pub mod codegen;
+mod native;
+pub mod plan;
+
+use softplc_engine::tier::{ExecTier, NativeProgram};
+use softplc_ir::ops::Program;
+
+/// The Cranelift tier. `Cpu::use_tier(&Jit)` compiles the CPU's programs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Jit;
+
+impl ExecTier for Jit {
+    fn name(&self) -> &'static str {
+        "jit"
+    }
+
+    fn compile(&self, prog: &Program) -> Result<Box<dyn NativeProgram>, String> {
+        let plan = plan::plan(prog);
+        Ok(Box::new(native::Compiled::new(prog, &plan)?))
+    }
+}
+
+/// Whether Cranelift generates code for this host; the reason when not.
+pub fn available() -> Result<(), String> {
+    native::isa().map(|_| ())
+}
