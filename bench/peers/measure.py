@@ -6,7 +6,8 @@ process; the per-instruction time is
 
     (t(HIGH) - t(LOW)) / ((HIGH - LOW) * MELSEC instructions of the workload)
 
-so loading, parsing and compiling cancel. Each time is the minimum over
+so loading, parsing and compiling cancel. t is the process's user + system
+CPU time (so other load on the machine does not count), the minimum over
 --repeat runs. A peer whose program or tool is not given is skipped with a
 message; nothing is downloaded or built here except the C that matiec
 generates from the workload and the driver matiec_main.cpp beside this file.
@@ -43,10 +44,17 @@ def run(cmd, cwd=None, env=None):
     return done.stdout
 
 
-def timed(cmd, env=None):
-    start = time.perf_counter()
-    run(cmd, env=env)
-    return time.perf_counter() - start
+def cpu_seconds(cmd, env=None):
+    """User + system CPU time of one run of `cmd`: unlike wall time, it does
+    not count the time other processes on the machine hold the cores."""
+    with tempfile.TemporaryFile() as err:
+        proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=err)
+        _, status, usage = os.wait4(proc.pid, 0)
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        if proc.returncode != 0:
+            err.seek(0)
+            raise RuntimeError(f"{' '.join(map(str, cmd))} failed ({proc.returncode}):\n{err.read().decode()}")
+    return usage.ru_utime + usage.ru_stime
 
 
 # --- peers: each returns a function cycles -> command for one workload ------
@@ -134,11 +142,11 @@ def peers(args):
 
 
 def measure(command, low, high, repeat):
-    """Seconds per cycle: min-of-repeat time of HIGH minus that of LOW."""
+    """CPU seconds per cycle: min-of-repeat time of HIGH minus that of LOW."""
     def best(n):
         cmd = command(n)
         cmd, env = cmd if isinstance(cmd, tuple) else (cmd, None)
-        return min(timed(cmd, env) for _ in range(repeat))
+        return min(cpu_seconds(cmd, env) for _ in range(repeat))
 
     return (best(high) - best(low)) / (high - low)
 

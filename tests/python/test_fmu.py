@@ -94,3 +94,20 @@ def test_an_fmu_that_raises_stops_the_scenario_with_its_error(tmp_path):
     assert ("model `plant`: at t = 0.5 s (step 0.1 s): fmi3DoStep returned fmi3Fatal: "
             in text), text
     assert "RuntimeError('the plant broke at half a second')" in text, text
+
+
+def test_parallel_scenarios_start_python_fmus_one_at_a_time(heater_fmu, tmp_path):
+    """Each scenario unpacks its own copy of the FMU; started in parallel,
+    the copies must not start Python twice at once (which aborts)."""
+    text = (FMU_DIR / "heated_tank_fmu.toml").read_text()
+    text = text.replace('program = "../../examples', f'program = "{ROOT}/examples')
+    text = text.replace('file = "build/Heater.fmu"', f'file = "{heater_fmu}"')
+    files = []
+    for i in range(3):
+        f = tmp_path / f"copy{i}.toml"
+        f.write_text(text)
+        files.append(str(f))
+    out = subprocess.run([BINARY, "test", "-j", "3", "-q", *files],
+                         capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "12 passed, 0 failed"

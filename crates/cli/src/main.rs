@@ -1,6 +1,7 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
 mod names;
+mod opcua;
 mod run;
 mod serve;
 mod signal;
@@ -52,6 +53,12 @@ enum Command {
         /// name: `.apl` is aplc).
         #[arg(long, value_name = "D", value_enum)]
         dialect: Option<names::DialectArg>,
+        /// Also compile for this tier (auto, jit, interp; as `run --exec`).
+        #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
+        exec: Option<softplc_core::tier::Exec>,
+        /// Compile on the tier and print its compile time (on stderr).
+        #[arg(long)]
+        stats: bool,
     },
     /// Run scenario tests: a program against plant models in virtual time,
     /// with a timeline of inputs and assertions (docs/scenarios.md).
@@ -96,7 +103,9 @@ fn main() -> ExitCode {
             program,
             model,
             dialect,
-        } => run::check(&program, model.as_deref(), dialect),
+            exec,
+            stats,
+        } => run::check(&program, model.as_deref(), dialect, exec, stats),
         Command::Test(args) => test_cmd::run(*args),
         Command::Tune(args) => tune_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),

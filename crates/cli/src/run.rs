@@ -17,6 +17,7 @@ use softplc_core::names::{DevName, Dialect, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
+use softplc_core::tier::{self, Exec};
 
 use crate::names::DialectArg;
 
@@ -94,6 +95,39 @@ pub struct RunArgs {
     /// of :i32/:u32/:f32, TN5/CN5 current values.
     #[arg(long, value_name = "D", value_enum)]
     pub dialect: Option<DialectArg>,
+    /// Execution tier: auto (native code where the host has it), jit or
+    /// interp; overrides SOFTPLC_EXEC and a project's `[cpu] exec`.
+    #[arg(long, value_name = "TIER", value_parser = Exec::parse)]
+    pub exec: Option<Exec>,
+    /// Print the tier and its compile time at load (on stderr).
+    #[arg(long)]
+    pub stats: bool,
+}
+
+/// Puts the loaded CPU on its tier (`--exec` > SOFTPLC_EXEC > `[cpu] exec` >
+/// auto); with `stats`, says which on stderr with the compile time.
+pub(crate) fn use_exec(l: &mut Loaded, flag: Option<Exec>, stats: bool) -> Result<(), ExitCode> {
+    let applied = Exec::choose(flag, l.exec).and_then(|e| tier::apply(&mut l.cpu, e));
+    match applied {
+        Ok(s) if stats => {
+            match s {
+                Some(s) => eprintln!(
+                    "exec: {}, {} of {} ops native, compiled in {:.1} ms",
+                    s.tier,
+                    s.native_ops,
+                    s.ops,
+                    s.compile.as_secs_f64() * 1e3
+                ),
+                None => eprintln!("exec: interp"),
+            }
+            Ok(())
+        }
+        Ok(_) => Ok(()),
+        Err(e) => {
+            eprintln!("softplc: {e}");
+            Err(ExitCode::from(2))
+        }
+    }
 }
 
 /// Parses `10ms`, `500us`, `1.5s`, `250ns` (the plc.toml duration syntax).
@@ -172,10 +206,14 @@ pub(crate) struct Loaded {
     pub modbus: Option<toml::Table>,
     /// A project's `[http]` table.
     pub http: Option<toml::Table>,
+    /// A project's `[opcua]` table.
+    pub opcua: Option<toml::Table>,
     /// A project's `[state] on_damage`.
     pub on_damage: OnDamage,
     /// An APLC-TCP project's `[port1]`/`[port2]`.
     pub ports: Vec<softplc_core::aplc::PortConfig>,
+    /// A project's `[cpu] exec`.
+    pub exec: Option<Exec>,
 }
 
 /// The APLC ports of a loaded program: `[port1]`/`[port2]` with
@@ -237,8 +275,10 @@ pub(crate) fn load_with(
             state: None,
             modbus: None,
             http: None,
+            opcua: None,
             on_damage: OnDamage::default(),
             ports: Vec::new(),
+            exec: None,
         });
     }
     if project::is_project(path) {
@@ -259,8 +299,10 @@ pub(crate) fn load_with(
             state: Some(p.state_dir),
             modbus: p.modbus,
             http: p.http,
+            opcua: p.opcua,
             on_damage: p.state_on_damage,
             ports: p.ports,
+            exec: p.exec,
         });
     }
     let mut cfg = CpuConfig::default();
@@ -286,14 +328,29 @@ pub(crate) fn load_with(
         state: None,
         modbus: None,
         http: None,
+        opcua: None,
         on_damage: OnDamage::default(),
         ports: Vec::new(),
+        exec: None,
     })
 }
 
-pub fn check(path: &Path, model: Option<&str>, dialect: Option<DialectArg>) -> ExitCode {
+/// `softplc check`; `exec`/`stats` compile the program on its tier too
+/// (`--stats` reports the compile time).
+pub fn check(
+    path: &Path,
+    model: Option<&str>,
+    dialect: Option<DialectArg>,
+    exec: Option<Exec>,
+    stats: bool,
+) -> ExitCode {
     match load_with(path, Box::new(VirtualClock::new()), None, dialect, model) {
-        Ok(l) => {
+        Ok(mut l) => {
+            if exec.is_some() || stats {
+                if let Err(code) = use_exec(&mut l, exec, stats) {
+                    return code;
+                }
+            }
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
             println!(
@@ -399,13 +456,7 @@ fn parse_options(args: &RunArgs, names: &Names) -> Result<(Vec<Write>, Vec<DevNa
 
 pub fn run(args: RunArgs) -> ExitCode {
     let clock = VirtualClock::new();
-    let Loaded {
-        mut cpu,
-        state,
-        on_damage,
-        ports,
-        ..
-    } = match load_with(
+    let mut loaded = match load_with(
         &args.program,
         Box::new(clock.clone()),
         args.clock,
@@ -415,6 +466,16 @@ pub fn run(args: RunArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = use_exec(&mut loaded, args.exec, args.stats) {
+        return code;
+    }
+    let Loaded {
+        mut cpu,
+        state,
+        on_damage,
+        ports,
+        ..
+    } = loaded;
     let names = Names::of(&cpu);
     let dialect = names.dialect;
     let (writes, shows, trace) = match parse_options(&args, &names)

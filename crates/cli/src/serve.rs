@@ -93,9 +93,27 @@ pub struct ServeArgs {
     /// it runs at normal priority); --stats-every says which it got.
     #[arg(long)]
     pub no_realtime: bool,
+    /// OPC UA server (contract §3.2), e.g. 127.0.0.1:4840 or 4840 (a bare port
+    /// binds loopback; also `[opcua] address`). Security None only on loopback.
+    /// Needs the `opcua` build feature.
+    #[arg(long, value_name = "ADDR")]
+    pub opcua: Option<String>,
+    /// Refuse OPC UA writes (BadNotWritable; also `[opcua] read_only`).
+    #[arg(long)]
+    pub opcua_read_only: bool,
+    /// OPC UA certificate store (default: `opcua-pki` in the project directory,
+    /// or in the current directory for a program file; also `[opcua] pki`).
+    #[arg(long, value_name = "DIR")]
+    pub opcua_pki: Option<PathBuf>,
     /// Print scan statistics (scan time, overruns, jitter, real-time) this often.
     #[arg(long, value_name = "DUR", value_parser = parse_duration)]
     pub stats_every: Option<Duration>,
+    /// Execution tier: auto, jit or interp (as `run --exec`).
+    #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
+    pub exec: Option<softplc_core::tier::Exec>,
+    /// Print the tier and its compile time at load (on stderr).
+    #[arg(long)]
+    pub stats: bool,
 }
 
 /// The web monitor's token: `--http-token`, else `[http] token` (contract §3).
@@ -133,14 +151,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let Loaded {
-        mut cpu,
-        state,
-        modbus,
-        http,
-        on_damage,
-        ports,
-    } = match load(
+    let mut loaded = match load(
         &args.program,
         Box::new(MonotonicClock::default()),
         Some(start),
@@ -149,6 +160,19 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         Ok(l) => l,
         Err(code) => return code,
     };
+    if let Err(code) = crate::run::use_exec(&mut loaded, args.exec, args.stats) {
+        return code;
+    }
+    let Loaded {
+        mut cpu,
+        state,
+        modbus,
+        http,
+        opcua,
+        on_damage,
+        ports,
+        ..
+    } = loaded;
     let period = args
         .scan_time
         .or(cpu.config().constant_scan)
@@ -224,6 +248,28 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         names.push("web monitor".to_string());
     } else if args.http_token.is_some() {
         eprintln!("softplc: --http-token has no effect without --http");
+    }
+    let base = if softplc_core::project::is_project(&args.program) {
+        if args.program.is_dir() {
+            args.program.clone()
+        } else {
+            args.program.parent().map(PathBuf::from).unwrap_or_default()
+        }
+    } else {
+        PathBuf::from(".")
+    };
+    let opcua_args = crate::opcua::OpcuaArgs {
+        addr: args.opcua.as_deref(),
+        read_only: args.opcua_read_only,
+        pki: args.opcua_pki.as_deref(),
+    };
+    match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &cpu) {
+        Ok(Some(l)) => {
+            listeners.push(l);
+            names.push("OPC UA".to_string());
+        }
+        Ok(None) => {}
+        Err(e) => return fail(e),
     }
     let table = modbus.unwrap_or_default();
     // APLC-TCP: seed 002's map and unit address 8 (L10686, contract §3).

@@ -69,6 +69,9 @@ pub struct TestArgs {
     /// No progress bar (it is shown only when stdout is a terminal anyway).
     #[arg(long)]
     pub no_progress: bool,
+    /// Execution tier: auto, jit or interp (as `run --exec`).
+    #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
+    pub exec: Option<softplc_core::tier::Exec>,
 }
 
 /// `dir/name.ext` → `dir/name-STEM.ext` when several scenarios share a file.
@@ -178,7 +181,7 @@ fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done
         Err(e) => return fail(e),
     };
     configure(&mut sc, args, many);
-    let run = match sc.build() {
+    let run = match sc.build_on(args.exec) {
         Ok(r) => r,
         Err(e) => return fail(e),
     };

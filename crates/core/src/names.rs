@@ -282,6 +282,11 @@ impl DevName {
         Ok(Value::Int(bits.rotate_left(16) as i64))
     }
 
+    /// Not writable from outside (APLC LM and V).
+    pub fn is_read_only(&self) -> bool {
+        self.read_only
+    }
+
     fn writable(&self) -> Result<(), String> {
         if self.read_only {
             return Err(format!(

@@ -6,7 +6,7 @@
 //! behind a `Box` so that `Op` stays 16 bytes and the program stays cache-dense.
 
 /// Width and type of the numbers an instruction works on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Num {
     /// 16-bit signed BIN.
     I16,
@@ -403,6 +403,16 @@ pub struct BitBlock {
     pub limit: u32,
 }
 
+/// How a program uses a device operand written without index or digit
+/// specification: as a bit, or as a word operand of a width (a `D`
+/// instruction's 32-bit pair, an `E` instruction's real). Servers that show
+/// the devices a program uses (OPC UA, contract §3.2) read it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum DeviceUse {
+    Bit,
+    Word(Num),
+}
+
 /// A compiled program with the source map needed for error reports.
 #[derive(Debug)]
 pub struct Program {
@@ -442,6 +452,9 @@ pub struct Program {
     /// Names the source gives devices, for device names from outside the
     /// program: the APLC's global variables as (upper-case name, device).
     pub globals: Vec<(String, String)>,
+    /// The device operands as written (upper case) and how they are used,
+    /// sorted, each pair once (see [`DeviceUse`]).
+    pub used_devices: Vec<(String, DeviceUse)>,
 }
 
 impl Program {

@@ -356,6 +356,7 @@ mod tests {
             word_len: 100,
             sources: vec![],
             globals: vec![],
+            used_devices: vec![],
         }
     }
 

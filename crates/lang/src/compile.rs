@@ -81,6 +81,8 @@ pub struct Compiler<'a> {
     pub common_from: u32,
     /// Interrupt pointers: number → (op index, line).
     pub interrupts: HashMap<u32, (u32, u32)>,
+    /// Device operands resolved so far (`Program::used_devices`).
+    pub used_devices: Vec<(String, softplc_ir::ops::DeviceUse)>,
 }
 
 impl<'a> Compiler<'a> {
@@ -114,6 +116,7 @@ impl<'a> Compiler<'a> {
             prog_names: Vec::new(),
             common_from: u32::MAX,
             interrupts: HashMap::new(),
+            used_devices: Vec::new(),
         }
     }
 
@@ -337,6 +340,12 @@ impl<'a> Compiler<'a> {
             file: self.file.to_string(),
             sources: Vec::new(),
             globals: Vec::new(),
+            used_devices: {
+                let mut u = self.used_devices;
+                u.sort();
+                u.dedup();
+                u
+            },
             ops: self.ops,
             op_step: self.op_step,
             op_line: self.op_line,

@@ -91,6 +91,9 @@ impl Compiler<'_> {
                     self.range_err(tok, dev.kind, dev.number, &tok.text);
                     return None;
                 }
+                if index.is_none() {
+                    self.note_use(tok, DeviceUse::Bit);
+                }
                 Some(match index {
                     None => BitArg::Bit(self.map.base(dev.kind) + dev.number),
                     Some(z) => {
@@ -107,6 +110,9 @@ impl Compiler<'_> {
                 if dev.number >= self.map.points(dev.kind) {
                     self.range_err(tok, dev.kind, dev.number, &tok.text);
                     return None;
+                }
+                if index.is_none() {
+                    self.note_use(tok, DeviceUse::Bit);
                 }
                 Some(match index {
                     None if dev.kind == DeviceKind::R => BitArg::Indexed(self.computed(
@@ -398,6 +404,9 @@ impl Compiler<'_> {
             );
             return None;
         }
+        if index.is_none() {
+            self.note_use(tok, DeviceUse::Word(num));
+        }
         Some(match index {
             None if kind == DeviceKind::R => {
                 WordArg::Indexed(self.computed(IndexedKind::Word, kind, dev.number, None))
@@ -405,6 +414,11 @@ impl Compiler<'_> {
             None => WordArg::Word(self.map.base(kind) + dev.number),
             Some(z) => WordArg::Indexed(self.indexed(IndexedKind::Word, kind, dev.number, z)),
         })
+    }
+
+    /// Records a resolved device operand for `Program::used_devices`.
+    fn note_use(&mut self, tok: &Token, how: DeviceUse) {
+        self.used_devices.push((tok.text.to_uppercase(), how));
     }
 
     pub fn pointer(&mut self, tok: &Token) -> Option<u32> {

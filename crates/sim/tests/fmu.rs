@@ -55,6 +55,26 @@ fn heater_fmu_follows_the_built_in_heater() {
     assert!(max_diff(&a, &b, "D900:f32") <= 1e-3);
     assert!(max_diff(&a, &b, "D800") <= 1.0);
     assert!(max_diff(&a, &b, "D820") <= 1.0);
+    // Start values must name a parameter or input of the right type.
+    let fmu_params = |start: &str| {
+        let t: toml::Table = toml::from_str(&format!(
+            "file = {:?}\nstart = {{ {start} }}",
+            fmu.display()
+        ))
+        .unwrap();
+        softplc_sim::model::build("fmu", &t).err().unwrap()
+    };
+    assert!(
+        fmu_params("nope = 1").ends_with(
+            "start: no variable `nope`, not a parameter or input \
+             (parameters and inputs: capacity, power, resistance, ambient, u)"
+        ),
+        "{}",
+        fmu_params("nope = 1")
+    );
+    assert!(fmu_params("temperature = 1")
+        .ends_with("start: `temperature` is an output, not a parameter or input (parameters and inputs: capacity, power, resistance, ambient, u)"));
+    assert!(fmu_params("power = true").ends_with("start: `power`: expected a number"));
     // The trajectory moved: 20 °C at rest to ~104 °C at 5 min.
     let t = a.trace.as_ref().unwrap();
     let j = t.column_of("D900:f32").unwrap();

@@ -72,6 +72,8 @@ pub struct Project {
     pub modbus: Option<toml::Table>,
     /// The `[http]` table as written (`token`, read by `softplc serve --http`).
     pub http: Option<toml::Table>,
+    /// The `[opcua]` table as written, read by `softplc serve --opcua`.
+    pub opcua: Option<toml::Table>,
     /// `[process]`: the process CPU's decisions (default: the spec's choices).
     pub process: crate::program::ProcessSettings,
     /// `[port1]`/`[port2]` of an APLC-TCP project (contract §3.3).
@@ -179,6 +181,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         // APLC-TCP serial ports (contract §3.3).
         "port1",
         "port2",
+        // The OPC UA server's settings, read by `softplc serve --opcua`.
+        "opcua",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -238,7 +242,10 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     let modbus = whole
         .as_ref()
         .and_then(|t| t.get("modbus").and_then(|m| m.as_table()).cloned());
-    let http = whole.and_then(|t| t.get("http").and_then(|m| m.as_table()).cloned());
+    let http = whole
+        .as_ref()
+        .and_then(|t| t.get("http").and_then(|m| m.as_table()).cloned());
+    let opcua = whole.and_then(|t| t.get("opcua").and_then(|m| m.as_table()).cloned());
     Ok(Project {
         dir: dir.to_path_buf(),
         manifest: PathBuf::from(name),
@@ -249,6 +256,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         common_pointer,
         modbus,
         http,
+        opcua,
         process,
         ports,
         exec,

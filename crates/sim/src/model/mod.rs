@@ -37,7 +37,9 @@
 //!   ring buffer on the first step and only grows if the step size shrinks) and
 //!   is O(1), except the `fopdt` delay line (O(number of input changes leaving
 //!   the line in the step)) and `noise` with an `interval` shorter than `dt`.
-//!   Transcendental functions of `dt` are cached for the last `dt`.
+//!   Transcendental functions of `dt` are cached for the last `dt`. An
+//!   `fmu` step costs what the FMU's `fmi3DoStep` costs (softplc itself
+//!   allocates nothing in it).
 //!
 //! # Parameters in TOML
 //!

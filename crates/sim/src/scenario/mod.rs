@@ -27,6 +27,9 @@
 //! 4. the communication phase of the APLC ports (`[[peer]]` devices on
 //!    virtual lines, registers that follow a model written after step 1).
 //!
+//! A model that reports a fault in step 1 (an FMU call failed) ends the run
+//! there, before the scan, with one more failed result naming it.
+//!
 //! After the scan every watched device is sampled once: the expectations are
 //! evaluated online (O(1) per expectation per scan) and the trace takes its
 //! sample when due. Nothing in the loop allocates or parses: devices are

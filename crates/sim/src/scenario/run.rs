@@ -112,9 +112,16 @@ impl Scenario {
     /// Loads the program or project, powers on the CPU (in virtual time, no
     /// retained state) and resolves every device of the scenario.
     pub fn build(&self) -> Result<Run, String> {
+        self.build_on(None)
+    }
+
+    /// [`Scenario::build`] on the execution tier `exec` (`--exec`), else
+    /// `SOFTPLC_EXEC`, else the project's `[cpu] exec`, else auto.
+    pub fn build_on(&self, exec: Option<softplc_core::tier::Exec>) -> Result<Run, String> {
         let clock = VirtualClock::new();
         let mut ports = self.ports.clone();
-        let cpu = match &self.source {
+        let mut project_exec = None;
+        let mut cpu = match &self.source {
             super::Source::Program(p) => {
                 let mut cfg = CpuConfig::default();
                 if let Some(m) = &self.cpu {
@@ -138,10 +145,13 @@ impl Scenario {
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
                 ports = proj.ports.clone();
+                project_exec = proj.exec;
                 proj.build_cpu(Box::new(clock.clone()))
                     .map_err(|d| format!("{d}"))?
             }
         };
+        let exec = softplc_core::tier::Exec::choose(exec, project_exec)?;
+        softplc_core::tier::apply(&mut cpu, exec)?;
         let ctx = |e: String| format!("{}: {e}", self.file.display());
         self.build_with_ports(cpu, clock, &ports).map_err(ctx)
     }

@@ -288,6 +288,12 @@ impl Instance {
                 lib_path.strip_prefix(dir).unwrap_or(&lib_path).display()
             ));
         }
+        // Loading and instantiation happen one at a time in the process:
+        // each copy of a pythonfmu library starts Python on its first
+        // instantiation unless it is running, and two starting it at once
+        // (parallel scenarios) abort the process.
+        static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+        let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
         let lib = open_library(&lib_path)?;
         let api = api(lib, &lib_path)?;
         let cstr = |s: &str, what: &str| {

@@ -93,17 +93,25 @@ pub struct Fmu {
 
 const KIND: &str = "fmu";
 
-/// The model description of the FMU at `params.file`, with its files.
-fn open(params: &toml::Table) -> Result<(unpack::Unpacked, Description), String> {
+/// The `file` parameter (the other keys are checked too).
+fn file_of(params: &toml::Table) -> Result<&str, String> {
     let p = Params::new(KIND, params, &["file", "start"])?;
-    let file = p
-        .str("file")?
-        .ok_or("fmu: parameter `file`: required (the .fmu file)")?;
+    p.str("file")?
+        .ok_or_else(|| "fmu: parameter `file`: required (the .fmu file)".into())
+}
+
+fn parse_description(text: &str) -> Result<Description, String> {
+    description::parse(text).map_err(|e| format!("modelDescription.xml: {e}"))
+}
+
+/// The FMU at `params.file`, unpacked, and its model description.
+fn open(params: &toml::Table) -> Result<(unpack::Unpacked, Description), String> {
+    let file = file_of(params)?;
     let at = |e: String| format!("fmu {file}: {e}");
     let files = unpack::open(Path::new(file)).map_err(at)?;
     let desc = files
         .model_description()
-        .and_then(|t| description::parse(&t).map_err(|e| format!("modelDescription.xml: {e}")))
+        .and_then(|t| parse_description(&t))
         .map_err(at)?;
     Ok((files, desc))
 }
@@ -118,7 +126,10 @@ fn ports_of(desc: &Description, causality: Causality) -> Vec<&Variable> {
 /// The input and output ports of the FMU at `params.file`, from its model
 /// description only (nothing is loaded): for checking a scenario's bindings.
 pub fn ports(params: &toml::Table) -> Result<(Vec<Port>, Vec<Port>), String> {
-    let (_, desc) = open(params)?;
+    let file = file_of(params)?;
+    let desc = unpack::model_description(Path::new(file))
+        .and_then(|t| parse_description(&t))
+        .map_err(|e| format!("fmu {file}: {e}"))?;
     let names = |c| {
         ports_of(&desc, c)
             .iter()
@@ -271,7 +282,10 @@ fn set_start(
             .map(|v| v.name.as_str())
             .collect();
         let what = match desc.variables.iter().find(|v| v.name == name) {
-            Some(v) => format!("`{name}` is a {}", causality_name(v.causality)),
+            Some(v) => match v.causality {
+                Causality::Output => format!("`{name}` is an output"),
+                c => format!("`{name}` is a {}", causality_name(c)),
+            },
             None => format!("no variable `{name}`"),
         };
         return Err(format!(

@@ -26,6 +26,35 @@ impl Unpacked {
     }
 }
 
+/// The text of `modelDescription.xml` of the FMU at `path` (an archive or a
+/// directory), without unpacking anything else.
+pub fn model_description(path: &Path) -> Result<String, String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot open the FMU: {e}"))?;
+    if meta.is_dir() {
+        return Unpacked {
+            dir: path.to_path_buf(),
+            _temp: None,
+        }
+        .model_description();
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot open the FMU: {e}"))?;
+    let mut zip =
+        zip::ZipArchive::new(file).map_err(|e| format!("not an FMU (a ZIP archive): {e}"))?;
+    let mut entry = zip
+        .by_name("modelDescription.xml")
+        .map_err(|e| format!("the archive has no modelDescription.xml: {e}"))?;
+    let mut text = String::new();
+    (&mut entry)
+        .take(MAX_DESCRIPTION_BYTES)
+        .read_to_string(&mut text)
+        .map_err(|e| format!("modelDescription.xml: {e}"))?;
+    Ok(text)
+}
+
+/// Bytes of `modelDescription.xml` read from an archive (FMUs with
+/// thousands of variables have descriptions of a few MB).
+const MAX_DESCRIPTION_BYTES: u64 = 64 << 20;
+
 /// Opens `path`: a directory is used in place; a file is unpacked as a ZIP
 /// archive into a fresh temporary directory. Entries that would land outside
 /// it (absolute paths, `..`) are errors.
@@ -104,6 +133,7 @@ mod tests {
             ("modelDescription.xml", b"<fmiModelDescription/>"),
             ("binaries/x86_64-linux/m.so", b"\x7fELF"),
         ]);
+        assert_eq!(model_description(&p).unwrap(), "<fmiModelDescription/>");
         let u = open(&p).unwrap();
         let dir = u.dir().to_path_buf();
         assert_eq!(u.model_description().unwrap(), "<fmiModelDescription/>");

@@ -1,0 +1,62 @@
+//! `serve --opcua` (contract §3.2): the OPC UA server of softplc-opcua,
+//! built in with the cargo feature `opcua` (README); without it the options
+//! are refused with the way to build it.
+
+use std::path::Path;
+use std::time::Duration;
+
+use softplc_core::engine::Cpu;
+use softplc_serve::Listener;
+
+/// The command line's OPC UA options.
+pub struct OpcuaArgs<'a> {
+    pub addr: Option<&'a str>,
+    pub read_only: bool,
+    pub pki: Option<&'a Path>,
+}
+
+/// The OPC UA listener when `--opcua` or `[opcua] address` asks for one.
+/// `base` is where a relative `[opcua] pki` (default `opcua-pki`) lives.
+#[cfg(feature = "opcua")]
+pub fn listener(
+    args: &OpcuaArgs,
+    table: Option<&toml::Table>,
+    base: &Path,
+    scan: Duration,
+    cpu: &Cpu,
+) -> Result<Option<Listener>, String> {
+    let flags = softplc_opcua::Flags {
+        addr: args.addr.map(str::to_string),
+        read_only: args.read_only,
+        pki: args.pki.map(Path::to_path_buf),
+    };
+    let Some(cfg) = softplc_opcua::OpcuaConfig::new(&flags, table, base, scan)? else {
+        if args.read_only || args.pki.is_some() {
+            eprintln!("softplc: --opcua-read-only/--opcua-pki have no effect without --opcua");
+        }
+        return Ok(None);
+    };
+    Ok(Some(softplc_opcua::Prepared::new(cfg, cpu)?.listener()))
+}
+
+#[cfg(not(feature = "opcua"))]
+pub fn listener(
+    args: &OpcuaArgs,
+    table: Option<&toml::Table>,
+    _base: &Path,
+    _scan: Duration,
+    _cpu: &Cpu,
+) -> Result<Option<Listener>, String> {
+    let asked = args.addr.is_some()
+        || args.read_only
+        || args.pki.is_some()
+        || table.is_some_and(|t| t.contains_key("address"));
+    if asked {
+        return Err(
+            "--opcua: this softplc is built without the OPC UA server; build it with \
+             `cargo build --release -p softplc --features opcua` (README)"
+                .to_string(),
+        );
+    }
+    Ok(None)
+}

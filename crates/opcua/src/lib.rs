@@ -1,0 +1,191 @@
+//! softplc-opcua: `softplc serve --opcua ADDR`, the OPC UA server of
+//! contract §3.2 on async-opcua.
+//!
+//! - [`points`]: which devices the program uses and their typed nodes, and
+//!   the control loops' fields;
+//! - [`space`]: the address space (`Objects/softplc/Devices`, `Diagnostics`,
+//!   `Loops`) and its node manager, which checks writes and applies them at
+//!   END through `softplc-serve`'s queue;
+//! - [`publish`]: values published at END, changed points only;
+//! - [`config`]: the `[opcua]` table and the command line.
+//!
+//! Security None is offered only on a loopback address; every endpoint also
+//! offers Basic256Sha256 (Sign, SignAndEncrypt) with a self-signed
+//! certificate made in the pki directory on first start.
+
+pub mod config;
+pub mod points;
+pub mod publish;
+pub mod space;
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+
+use opcua::crypto::SecurityPolicy;
+use opcua::server::node_manager::memory::{InMemoryNodeManager, InMemoryNodeManagerBuilder};
+use opcua::server::{ServerBuilder, ServerUserToken, ANONYMOUS_USER_TOKEN_ID};
+use opcua::types::MessageSecurityMode;
+use softplc_core::engine::Cpu;
+use softplc_http::ladder::LadderProgram;
+use softplc_serve::{EngineHandle, Listener};
+
+pub use config::{Flags, OpcuaConfig};
+
+use points::Point;
+use space::{SoftplcNodes, Space, WriteRule};
+
+/// The user token id of the configured user.
+const USER_TOKEN_ID: &str = "user";
+
+/// Everything the server needs from the loaded CPU, taken before it runs.
+pub struct Prepared {
+    pub cfg: OpcuaConfig,
+    pub devices: Vec<Point>,
+    /// The program files as rungs, where the loops are found.
+    pub ladder: Vec<LadderProgram>,
+}
+
+impl Prepared {
+    /// The device variables of `cpu` (an error names a bad `[opcua] nodes`
+    /// entry) and its program files for the loops.
+    pub fn new(cfg: OpcuaConfig, cpu: &Cpu) -> Result<Prepared, String> {
+        let devices = points::devices(cpu, &cfg.nodes)?;
+        Ok(Prepared {
+            cfg,
+            devices,
+            ladder: softplc_http::ladder::load_programs(cpu),
+        })
+    }
+
+    /// The OPC UA server as a `softplc-serve` listener.
+    pub fn listener(self) -> Listener {
+        Listener::tcp_with(self.cfg.addr, move |tcp, engine| {
+            tokio::spawn(async move {
+                if let Err(e) = serve(self, tcp, engine).await {
+                    eprintln!("softplc: --opcua: {e}");
+                }
+            })
+        })
+    }
+}
+
+/// Builds the address space at one END (after the first scan, so PIDINIT
+/// has set its loop counts), installs the publisher and runs the server on
+/// `tcp` until the runtime stops.
+pub async fn serve(
+    p: Prepared,
+    tcp: tokio::net::TcpListener,
+    engine: EngineHandle,
+) -> Result<(), String> {
+    let addr = tcp.local_addr().map_err(|e| e.to_string())?;
+    let Prepared {
+        cfg,
+        devices,
+        ladder,
+    } = p;
+    let feed = engine
+        .at_end(move |s| {
+            let loops = points::loops(&s.cpu, &ladder);
+            let space = Arc::new(Space::new(devices, loops));
+            let mem = s.cpu.memory();
+            let raw: Vec<u64> = space
+                .points
+                .iter()
+                .map(|p| p.name.raw(mem).unwrap_or(0))
+                .collect();
+            let feed = publish::Feed::new(space, raw, publish::Diag::of(s));
+            publish::install(s, feed.clone());
+            feed
+        })
+        .await
+        .map_err(|_| "the engine stopped before the OPC UA server started".to_string())?;
+    let rule = WriteRule {
+        read_only: cfg.read_only,
+        needs_user: cfg.user.is_some(),
+    };
+    let nm_feed = feed.clone();
+    // Making the certificate on first start is CPU work: off the runtime's
+    // worker threads.
+    let (server, handle) = tokio::task::spawn_blocking(move || {
+        let nodes = InMemoryNodeManagerBuilder::new(move |ctx, asp: &mut _| {
+            SoftplcNodes::build(&ctx, asp, engine, rule, nm_feed)
+        });
+        server_builder(&cfg, addr).with_node_manager(nodes).build()
+    })
+    .await
+    .map_err(|e| e.to_string())??;
+    let nm = handle
+        .node_managers()
+        .get_of_type::<InMemoryNodeManager<SoftplcNodes>>()
+        .ok_or("the softplc node manager is missing")?;
+    let ns = nm.inner().namespace();
+    tokio::spawn(publish::run(feed, nm, handle.subscriptions().clone(), ns));
+    server.run_with(tcp).await
+}
+
+/// The endpoint `opc.tcp://ADDR/` with its security and limits.
+fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
+    let host = if addr.ip().is_unspecified() {
+        opcua::crypto::X509Data::computer_hostnames()
+            .into_iter()
+            .next()
+            .unwrap_or_else(|| "localhost".to_string())
+    } else {
+        addr.ip().to_string()
+    };
+    let mut users = vec![ANONYMOUS_USER_TOKEN_ID];
+    let mut b = ServerBuilder::new()
+        .application_name("softplc")
+        .application_uri("urn:softplc:server")
+        .product_uri("urn:softplc")
+        .host(host.clone())
+        .port(addr.port())
+        .discovery_urls(vec![format!("opc.tcp://{host}:{}/", addr.port())])
+        .pki_dir(cfg.pki.clone())
+        .certificate_path("own/cert.der")
+        .private_key_path("private/private.pem")
+        .create_sample_keypair(true)
+        .trust_client_certs(cfg.trust_client_certs)
+        .diagnostics_enabled(false);
+    if let Some((user, pass)) = &cfg.user {
+        b = b.add_user_token(
+            USER_TOKEN_ID,
+            ServerUserToken::user_pass(user.as_str(), pass.as_str()),
+        );
+        users.push(USER_TOKEN_ID);
+    }
+    if cfg.allows_none() {
+        b = b.add_endpoint(
+            "none",
+            (
+                "/",
+                SecurityPolicy::None,
+                MessageSecurityMode::None,
+                &users as &[&str],
+            ),
+        );
+    }
+    for (id, mode) in [
+        ("basic256sha256_sign", MessageSecurityMode::Sign),
+        (
+            "basic256sha256_sign_encrypt",
+            MessageSecurityMode::SignAndEncrypt,
+        ),
+    ] {
+        b = b.add_endpoint(
+            id,
+            ("/", SecurityPolicy::Basic256Sha256, mode, &users as &[&str]),
+        );
+    }
+    // Every END can change a value: sample as fast as the scan, publish as
+    // often as a client asks down to one scan (at least 10 ms).
+    let scan_ms = (cfg.scan.as_secs_f64() * 1000.0).max(1.0);
+    let tick = scan_ms.clamp(10.0, 100.0);
+    b = b.subscription_poll_interval_ms(tick as u64);
+    let limits = b.limits_mut();
+    limits.subscriptions.min_sampling_interval_ms = scan_ms;
+    limits.subscriptions.min_publishing_interval_ms = tick;
+    limits.subscriptions.max_monitored_items_per_sub = 100_000;
+    limits.operational.max_monitored_items_per_call = 100_000;
+    b
+}

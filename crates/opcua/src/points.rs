@@ -1,0 +1,184 @@
+//! The variables of the address space (contract §3.2): every device the
+//! program uses, with its natural node (`D100` Int16, `Y0` Boolean) and, where
+//! an instruction uses it as a 32-bit or real operand, its typed node
+//! (`D10:i32` Int32, `D10:f32` Float), plus the names `[opcua] nodes` adds
+//! (`D100:u16`, `D200:u32`); and the control loops with their named fields.
+//!
+//! Which devices a program uses comes from the compiler
+//! (`Program::used_devices`); the loops from the web monitor's faceplate
+//! finders (`softplc_http::loops`, `softplc_http::process_loops`), so both
+//! doors show the same words.
+
+use softplc_core::access::ValueType;
+use softplc_core::engine::Cpu;
+use softplc_core::names::{DevName, Names};
+use softplc_http::ladder::LadderProgram;
+use softplc_ir::ops::{DeviceUse, Num};
+
+/// The OPC UA built-in type of a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Boolean,
+    Int16,
+    UInt16,
+    Int32,
+    UInt32,
+    Float,
+}
+
+impl Kind {
+    /// The type a device name is shown in; `None` for strings (`:str`),
+    /// which contract §3.2 does not list.
+    pub fn of(ty: ValueType) -> Option<Kind> {
+        Some(match ty {
+            ValueType::Bit => Kind::Boolean,
+            ValueType::I16 => Kind::Int16,
+            ValueType::U16 => Kind::UInt16,
+            ValueType::I32 => Kind::Int32,
+            ValueType::U32 => Kind::UInt32,
+            ValueType::F32 => Kind::Float,
+            ValueType::Str => return None,
+        })
+    }
+}
+
+/// One variable: its string NodeId, the device it shows and its type.
+#[derive(Clone, Debug)]
+pub struct Point {
+    /// The string NodeId (`D10:f32`; a loop field `/softplc/Loops/…/SV`).
+    pub id: String,
+    /// The browse and display name (`D10:f32`; `SV`).
+    pub browse: String,
+    pub name: DevName,
+    pub kind: Kind,
+}
+
+impl Point {
+    fn new(id: String, browse: String, name: DevName) -> Option<Point> {
+        let kind = Kind::of(name.ty())?;
+        Some(Point {
+            id,
+            browse,
+            name,
+            kind,
+        })
+    }
+}
+
+/// A control loop's folder and its fields.
+#[derive(Clone, Debug)]
+pub struct LoopFolder {
+    /// The folder's browse name (`PIDCONT D600 loop 1`, `loop tag R1000`).
+    pub browse: String,
+    pub fields: Vec<Point>,
+}
+
+/// The device variables of `cpu`'s programs and of `extra` (`[opcua] nodes`),
+/// sorted by name, each once. An `extra` name that is not a device of this
+/// CPU is an error naming it.
+pub fn devices(cpu: &Cpu, extra: &[String]) -> Result<Vec<Point>, String> {
+    let names = Names::of(cpu);
+    let mut texts: Vec<String> = Vec::new();
+    for i in 0..cpu.program_count() {
+        for (text, how) in &cpu.program_at(i).used_devices {
+            texts.push(text.clone());
+            match how {
+                DeviceUse::Word(Num::I32) => texts.push(format!("{text}:i32")),
+                DeviceUse::Word(Num::F32) => texts.push(format!("{text}:f32")),
+                DeviceUse::Bit | DeviceUse::Word(Num::I16) => {}
+            }
+        }
+    }
+    texts.sort();
+    texts.dedup();
+    let mut out = Vec::new();
+    for t in &texts {
+        // An operand the names layer does not take from outside (a program's
+        // local label, a string) has no node.
+        let Ok(n) = names.parse(t) else { continue };
+        if n.raw(cpu.memory()).is_err() {
+            continue;
+        }
+        out.extend(Point::new(t.clone(), t.clone(), n));
+    }
+    for t in extra {
+        // `d100:U16` is `D100:u16`, the `--show` spelling.
+        let key = match t.trim().split_once(':') {
+            Some((d, ty)) => format!("{}:{}", d.to_uppercase(), ty.to_lowercase()),
+            None => t.trim().to_uppercase(),
+        };
+        let n = names
+            .parse(&key)
+            .map_err(|e| format!("[opcua] nodes: `{t}`: {e}"))?;
+        n.raw(cpu.memory())
+            .map_err(|e| format!("[opcua] nodes: `{t}`: {e}"))?;
+        let p = Point::new(key.clone(), key, n)
+            .ok_or_else(|| format!("[opcua] nodes: `{t}`: strings have no OPC UA node"))?;
+        if !out.iter().any(|q| q.id == p.id) {
+            out.push(p);
+        }
+    }
+    out.sort_by(|a, b| a.id.cmp(&b.id));
+    Ok(out)
+}
+
+/// The PID loops (PIDCONT/S.PIDCONT, 001 §5.2) and process-control loop tags
+/// (000 §3.3.5) of `ladder`, with SV, PV, MV, MODE and ALARM (and MVMAN for
+/// PID). A PID set has as many loops as its PIDINIT head's first word says at
+/// the END the address space is built (1 when unreadable, at most 32).
+pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
+    use softplc_core::instructions::process::tag::LoopTag;
+    let names = Names::of(cpu);
+    let point = |folder: &str, field: &str, device: &str| {
+        let n = names.parse(device).ok()?;
+        n.raw(cpu.memory()).ok()?;
+        Point::new(
+            format!("{}/{folder}/{field}", crate::space::LOOPS_ID),
+            field.to_string(),
+            n,
+        )
+    };
+    let mut out = Vec::new();
+    for set in softplc_http::loops::find(ladder) {
+        let count = set
+            .init
+            .as_ref()
+            .and_then(|h| names.parse(h).ok())
+            .and_then(|d| d.raw(cpu.memory()).ok())
+            .map_or(1, |n| (n as u16 as i16).clamp(1, 32) as u32);
+        for k in 0..count {
+            let Some(l) = set.loop_at(k) else { continue };
+            let browse = l.title.clone();
+            let fields = [
+                ("SV", &l.sv),
+                ("PV", &l.pv),
+                ("MV", &l.mv),
+                ("MVMAN", &l.mvman),
+                ("MODE", &l.mode),
+                ("ALARM", &l.alarm),
+            ]
+            .iter()
+            .filter_map(|(f, d)| point(&browse, f, d))
+            .collect();
+            out.push(LoopFolder { browse, fields });
+        }
+    }
+    for l in softplc_http::process_loops::find(ladder) {
+        let browse = format!("loop tag {}", l.tag);
+        let fields = [
+            ("SV", "sv"),
+            ("PV", "pv"),
+            ("MV", "mv"),
+            ("MODE", "mode"),
+            ("ALARM", "alm"),
+        ]
+        .iter()
+        .filter_map(|(label, field)| {
+            let f = LoopTag::FIELDS.iter().find(|f| f.name == *field)?;
+            point(&browse, label, &l.field(f)?)
+        })
+        .collect();
+        out.push(LoopFolder { browse, fields });
+    }
+    out
+}
