@@ -39,6 +39,7 @@ use softplc_modbus::{Map, Proto, Slave};
 use door::{bit, set_bit, set_word, set_words, word};
 pub use line::{Line, Stamped, Timing};
 pub use serial::SerialLine;
+use softplc_aplc::comm::modbus::E_PARAMETER;
 pub use softplc_aplc::comm::{Mode, PortConfig, Val};
 pub use virtual_line::{Peer, VirtualLine};
 
@@ -244,15 +245,16 @@ impl Port {
     fn master(&mut self, cpu: &mut Cpu, now: u64) -> std::io::Result<()> {
         let r = self.regs();
         let mode = self.cfg.mode;
+        let timeout = self.timeout_us(cpu);
+        let base = self.mb(0);
         let Role::Master(pending) = &mut self.role else {
             return Ok(());
         };
         if pending.is_none() {
-            if word(cpu, SW, mailbox::base(self.cfg.port) + mailbox::MB_REQ) != 1 {
+            if word(cpu, SW, base + mailbox::MB_REQ) != 1 {
                 self.rx.clear();
                 return Ok(());
             }
-            let base = mailbox::base(self.cfg.port);
             set_word(cpu, SW, base + mailbox::MB_REQ, 0);
             let len = word(cpu, SW, base + mailbox::MB_LEN).min(256) as u32;
             let req: Vec<u8> = (0..len)
@@ -263,6 +265,8 @@ impl Port {
                 .checked_sub(1)
                 .map(u32::from);
             if req.len() < 6 {
+                // Not a request the instructions leave: a parameter error.
+                finish(cpu, r, dest, Err((E_PARAMETER, &[])));
                 return Ok(());
             }
             self.rx.clear();
@@ -273,10 +277,6 @@ impl Port {
                 finish(cpu, r, dest, Ok(&[]));
                 return sent.map(|_| ());
             }
-            let timeout = match word(cpu, SD, r.sd_timeout) {
-                0 => 1_000_000,
-                ms => ms as u64 * 1000,
-            };
             let sent_at = *sent.as_ref().unwrap_or(&now);
             *pending = Some(Pending {
                 req,
@@ -326,10 +326,6 @@ impl Port {
             if retried(*code) && p.tries_left > 0 {
                 p.tries_left -= 1;
                 p.buf.clear();
-                let timeout = self.timeout_us(cpu);
-                let Role::Master(Some(p)) = &mut self.role else {
-                    return Ok(());
-                };
                 let sent = send(
                     &mut *self.line,
                     &mut self.quiet_from,
