@@ -238,6 +238,12 @@ fn shipped_examples_pass() {
         // a meter on RTU, a free-port barcode reader (issue #14).
         "examples/aplc/modbus_poll.toml",
         "examples/aplc/barcode.toml",
+        // The APLC examples of seed 002 §8: subroutines, SFC branches,
+        // PID set-up, a batch mixer (`cpu = "APLC-TCP"`).
+        "examples/aplc/subroutine.toml",
+        "examples/aplc/sfc.toml",
+        "examples/aplc/pid_setup.toml",
+        "examples/aplc/batch_mix.toml",
         "--plot",
         &svg,
     ]);

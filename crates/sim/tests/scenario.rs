@@ -52,6 +52,38 @@ const HEAD: &str = "scan_time = \"10ms\"\nduration = \"2s\"\n";
 
 // ---------------------------------------------------------------- format
 
+/// `cpu` names a MELSEC model or the APLC-TCP, and must fit the program's
+/// dialect: the APLC-TCP runs `.apl` files only.
+#[test]
+fn the_cpu_model_must_run_the_program_file() {
+    assert!(parse(&format!("{HEAD}cpu = \"Q06HCPU\"\n")).is_ok());
+    let e = parse_err(&format!("{HEAD}cpu = \"aplc-tcp\"\n"));
+    assert!(
+        e.contains("cpu: APLC-TCP does not run") && e.contains("inline.il"),
+        "{e}"
+    );
+    let e = parse_err(&format!("{HEAD}cpu = \"Q99CPU\"\n"));
+    assert!(
+        e.contains("unknown CPU model \"Q99CPU\"") && e.contains("or APLC-TCP"),
+        "{e}"
+    );
+    let apl = Scenario::parse(
+        &format!("program = \"a.apl\"\n{HEAD}cpu = \"APLC-TCP\"\n"),
+        Path::new("a.toml"),
+    );
+    assert!(apl.is_ok(), "{:?}", apl.err());
+    let e = Scenario::parse(
+        &format!("program = \"a.apl\"\n{HEAD}cpu = \"Q06HCPU\"\n"),
+        Path::new("a.toml"),
+    )
+    .err()
+    .unwrap_or_default();
+    assert!(
+        e.contains("cpu: Q06HCPU does not run") && e.contains("a.apl"),
+        "{e}"
+    );
+}
+
 #[test]
 fn parses_times_models_timeline_and_expectations() {
     let sc = parse(&format!(

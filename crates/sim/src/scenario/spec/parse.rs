@@ -127,11 +127,7 @@ impl Scenario {
             (Some(_), Source::Project(_)) => {
                 return Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
             }
-            (Some(m), Source::Program(_)) => Some(
-                softplc_core::project::known_model(m)
-                    .map_err(|e| format!("cpu: {e}"))?
-                    .to_string(),
-            ),
+            (Some(m), Source::Program(p)) => Some(program_model(m, p)?.to_string()),
         };
         let dev_names = names_of(&source, cpu.as_deref());
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
@@ -272,6 +268,26 @@ impl Scenario {
 /// (or `cpu = "APLC-TCP"`) or an APLC-TCP project, with the programs'
 /// global names; MELSEC's otherwise. A program or project that does not
 /// load gives plain names here and its errors when the scenario is built.
+/// The `cpu` of a scenario that runs one program file: a MELSEC model, or
+/// the APLC-TCP, which runs `.apl` files only (and only it runs them).
+fn program_model(model: &str, program: &std::path::Path) -> Result<&'static str, String> {
+    use softplc_core::aplc;
+    let model = if model.trim().eq_ignore_ascii_case(aplc::MODEL) {
+        aplc::MODEL
+    } else {
+        softplc_core::project::known_model(model)
+            .map_err(|e| format!("cpu: {e}, or {}", aplc::MODEL))?
+    };
+    let apl = aplc::is_apl(program);
+    if (model == aplc::MODEL) != apl {
+        return Err(format!(
+            "cpu: {model} does not run {} (the APLC-TCP runs .apl programs, a MELSEC model .il/.csv)",
+            program.display()
+        ));
+    }
+    Ok(model)
+}
+
 fn names_of(source: &Source, cpu: Option<&str>) -> Names {
     let (dialect, files) = match source {
         Source::Program(p) => {
