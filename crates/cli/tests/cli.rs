@@ -263,3 +263,18 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
         String::from_utf8_lossy(&bad.stderr)
     );
 }
+
+#[test]
+fn the_text_report_gives_the_virtual_time_exactly() {
+    // 510 scans of 10 ms: 5100 ms, without the float noise of 510 × 0.01 s.
+    let out = softplc(&["run", "examples/blink.il", "--scans", "510"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.lines()
+            .next()
+            .is_some_and(|l| l.starts_with("scans: 510  time: 5100 ms  ")),
+        "{text}"
+    );
+    let out = softplc(&["run", "examples/blink.il", "--scans", "3", "--json"]);
+    assert_eq!(json(&out)["time_ms"], 30.0);
+}
