@@ -4,6 +4,7 @@
 
 use crate::engine::tier::TierStats;
 use crate::engine::Cpu;
+pub use softplc_jit::Jit;
 
 /// The environment variable that chooses the tier for harnesses and runs.
 pub const ENV: &str = "SOFTPLC_EXEC";
@@ -67,19 +68,34 @@ pub fn apply(cpu: &mut Cpu, exec: Exec) -> Result<Option<TierStats>, String> {
         Exec::Auto if softplc_jit::available().is_err() => Ok(None),
         Exec::Auto | Exec::Jit => {
             softplc_jit::available().map_err(|e| format!("exec = \"jit\": {e}"))?;
-            cpu.use_tier(&softplc_jit::Jit).cloned().map(Some)
+            cpu.use_tier(&Jit::default()).cloned().map(Some)
         }
     }
 }
 
 /// For test harnesses: the tier `SOFTPLC_EXEC` names, the interpreter when
-/// it is unset. Panics on an invalid value or a failed compile (a test
+/// it is unset; on the JIT, `SOFTPLC_JIT_MIN_RUN` (a number) sets
+/// [`Jit::with_min_run`] (`.ci/run` runs the golden tests with 1, the most
+/// native code). Panics on an invalid value or a failed compile (a test
 /// failure, with the reason).
 pub fn apply_env(cpu: &mut Cpu) {
     let exec = Exec::from_env()
         .unwrap_or_else(|e| panic!("{e}"))
         .unwrap_or(Exec::Interp);
-    apply(cpu, exec).unwrap_or_else(|e| panic!("{e}"));
+    let min_run = std::env::var("SOFTPLC_JIT_MIN_RUN").ok().map(|v| {
+        v.trim()
+            .parse::<usize>()
+            .unwrap_or_else(|_| panic!("SOFTPLC_JIT_MIN_RUN={v}: not a number"))
+    });
+    match (exec, min_run) {
+        (Exec::Jit, Some(n)) => {
+            cpu.use_tier(&Jit::with_min_run(n))
+                .unwrap_or_else(|e| panic!("{e}"));
+        }
+        _ => {
+            apply(cpu, exec).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
 }
 
 #[cfg(test)]

@@ -15,7 +15,8 @@ use softplc_core::access::DeviceSpec;
 use softplc_core::device::DeviceKind;
 use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
 use softplc_core::program::compile_il;
-use softplc_core::tier::{apply, Exec};
+use softplc_core::tier::{apply, Exec, Jit};
+use softplc_jit::plan::MIN_RUN;
 
 /// Scans per program.
 const SCANS: usize = 4;
@@ -217,7 +218,16 @@ fn render(parts: &[String]) -> String {
     out + "END\n"
 }
 
-fn cpu(src: &str, exec: Exec) -> Option<(Cpu, VirtualClock)> {
+/// How a case's CPU runs: the interpreter, or the JIT with native runs of at
+/// least this many ops (1: every op that can be native is, so the most calls
+/// between native code and the interpreter; the default: as shipped).
+#[derive(Clone, Copy)]
+enum Tier {
+    Interp,
+    Jit(usize),
+}
+
+fn cpu(src: &str, tier: Tier) -> Option<(Cpu, VirtualClock)> {
     let mut cfg = CpuConfig::default();
     // No file registers: the programs do not use them, and a CPU is built
     // twice per case.
@@ -225,7 +235,14 @@ fn cpu(src: &str, exec: Exec) -> Option<(Cpu, VirtualClock)> {
     let prog = compile_il("p.il", src, &cfg.devices).ok()?;
     let clock = VirtualClock::new();
     let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
-    apply(&mut cpu, exec).unwrap();
+    match tier {
+        Tier::Interp => {
+            apply(&mut cpu, Exec::Interp).unwrap();
+        }
+        Tier::Jit(n) => {
+            cpu.use_tier(&Jit::with_min_run(n)).unwrap();
+        }
+    }
     Some((cpu, clock))
 }
 
@@ -253,26 +270,28 @@ fn same(a: &Cpu, b: &Cpu, scan: usize, src: &str) -> Result<(), TestCaseError> {
 /// One case: `parts` rendered, scanned `SCANS` times with X0-X7 from `inputs`.
 fn case(parts: &[String], inputs: &[u8]) -> Result<(), TestCaseError> {
     let src = render(parts);
-    let Some((mut a, ca)) = cpu(&src, Exec::Interp) else {
+    let Some((mut a, ca)) = cpu(&src, Tier::Interp) else {
         // Not every combination is a valid program (e.g. a nesting limit).
         return Ok(());
     };
-    let (mut b, cb) = cpu(&src, Exec::Jit).expect("loads on both tiers");
+    let (mut b, cb) = cpu(&src, Tier::Jit(1)).expect("loads on both tiers");
+    let (mut c, cc) = cpu(&src, Tier::Jit(MIN_RUN)).expect("loads on both tiers");
     let x: Vec<DeviceSpec> = (0..8)
         .map(|k| DeviceSpec::parse(&format!("X{k}")).unwrap())
         .collect();
     for (scan, bits) in inputs.iter().enumerate() {
-        for cpu in [&mut a, &mut b] {
+        for cpu in [&mut a, &mut b, &mut c] {
             for (k, spec) in x.iter().enumerate() {
                 let on = if bits >> k & 1 != 0 { "1" } else { "0" };
                 cpu.write_device(spec, on).unwrap();
             }
         }
-        ca.advance_us(10_000);
-        cb.advance_us(10_000);
-        a.scan();
-        b.scan();
+        for (cpu, clock) in [(&mut a, &ca), (&mut b, &cb), (&mut c, &cc)] {
+            clock.advance_us(10_000);
+            cpu.scan();
+        }
         same(&a, &b, scan + 1, &src)?;
+        same(&a, &c, scan + 1, &src)?;
     }
     Ok(())
 }
@@ -307,22 +326,35 @@ fn both_tiers_leave_the_same_memory_and_faults() {
     });
 }
 
-/// The generator makes programs that load: most of them, or the property
-/// above would test little.
+/// The generator makes programs that load, and native code runs in them:
+/// most of them, or the property above would test little.
 #[test]
-fn most_generated_programs_load() {
+fn most_generated_programs_load_and_run_native_code() {
     big_stack(|| {
         let mut runner = TestRunner::deterministic();
         let strategy = body(2);
-        let mut loaded = 0;
+        let (mut loaded, mut native, mut ops, mut native_ops) = (0, 0, 0, 0);
         for _ in 0..200 {
             let parts = strategy.new_tree(&mut runner).unwrap().current();
             let src = render(&parts);
             match compile_il("p.il", &src, &CpuConfig::default().devices) {
                 Ok(_) => loaded += 1,
-                Err(d) => eprintln!("{d}\n{src}"),
+                Err(d) => {
+                    eprintln!("{d}\n{src}");
+                    continue;
+                }
             }
+            let (mut cpu, _) = cpu(&src, Tier::Interp).unwrap();
+            let stats = cpu.use_tier(&Jit::with_min_run(1)).unwrap().clone();
+            native += usize::from(stats.native_ops > 0);
+            ops += stats.ops;
+            native_ops += stats.native_ops;
         }
         assert!(loaded >= 180, "{loaded} of 200 loaded");
+        assert!(native >= 170, "{native} of {loaded} have native code");
+        assert!(
+            native_ops * 2 >= ops,
+            "{native_ops} of {ops} ops run as native code"
+        );
     });
 }

@@ -11,14 +11,17 @@ use std::time::Duration;
 
 use common::{assert_stopped, Plc};
 use softplc_core::engine::{CpuConfig, CpuState};
-use softplc_core::tier::{apply, Exec};
+use softplc_core::tier::{apply, Exec, Jit};
 
-/// `src` on the interpreter and on the JIT (which must compile some of it).
+/// `src` on the interpreter and on the JIT (which must compile some of it),
+/// with native code for every op that can have it, however short the run
+/// (`Jit::with_min_run(1)`), so these short programs cross between native
+/// code and the interpreter as often as they can.
 fn both(src: &str, cfg: CpuConfig) -> [Plc; 2] {
     let mut interp = Plc::with_config(src, cfg.clone());
     apply(&mut interp.cpu, Exec::Interp).unwrap();
     let mut jit = Plc::with_config(src, cfg);
-    let stats = apply(&mut jit.cpu, Exec::Jit).unwrap().expect("JIT in use");
+    let stats = jit.cpu.use_tier(&Jit::with_min_run(1)).unwrap().clone();
     assert_eq!(stats.tier, "jit");
     assert!(stats.native_ops > 0, "{stats:?}");
     [interp, jit]
@@ -227,11 +230,17 @@ END
 
 #[test]
 fn exec_choice_interp_leaves_no_native_code() {
-    let mut p = Plc::new("LD X0\nOUT Y0\nEND\n");
+    let rungs = "LD X0\nAND X1\nOR X2\nANI X3\nOUT Y0\nLD X4\nOUT Y1\nOUT Y2\n";
+    let mut p = Plc::new(&format!("{rungs}END\n"));
     assert_eq!(apply(&mut p.cpu, Exec::Interp).unwrap(), None);
     assert!(p.cpu.tier_stats().is_none());
     let s = apply(&mut p.cpu, Exec::Jit).unwrap().unwrap();
-    // LD, OUT native; END interpreted.
-    assert_eq!((s.ops, s.native_ops), (3, 2));
+    // Eight contacts and coils native; END interpreted.
+    assert_eq!((s.ops, s.native_ops), (9, 8));
     assert_eq!(p.cpu.tier_stats(), Some(&s));
+    // Two native ops between interpreted ones do not pay for the call
+    // between them: the interpreter runs them.
+    let mut p = Plc::new("LD X0\nOUT Y0\nLDP X1\nOUT Y1\nEND\n");
+    let s = apply(&mut p.cpu, Exec::Jit).unwrap().unwrap();
+    assert_eq!((s.ops, s.native_ops), (5, 0));
 }

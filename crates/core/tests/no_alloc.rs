@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
 use softplc_core::program::compile_il;
-use softplc_core::tier::{apply, Exec};
+use softplc_core::tier::{apply, Exec, Jit};
 
 struct Counting;
 static ALLOCS: AtomicUsize = AtomicUsize::new(0);
@@ -120,8 +120,17 @@ fn scans_do_not_allocate(exec: Exec) {
         .collect();
     let clock = VirtualClock::new();
     let mut cpu = Cpu::with_programs(loaded, cfg, Box::new(clock.clone())).unwrap();
-    let native = apply(&mut cpu, exec).unwrap();
+    // On the JIT: native code for every op that can have it, so the scans
+    // cross between it and the interpreter as often as they can.
+    let native = match exec {
+        Exec::Jit => Some(cpu.use_tier(&Jit::with_min_run(1)).unwrap().clone()),
+        _ => apply(&mut cpu, exec).unwrap(),
+    };
     assert_eq!(native.is_some(), exec == Exec::Jit);
+    assert!(
+        !matches!(&native, Some(s) if s.native_ops == 0),
+        "{native:?}"
+    );
     // Warm-up: first scans may size internal buffers.
     for _ in 0..3 {
         clock.advance_us(10_000);

@@ -1,12 +1,13 @@
 //! Execution tiers: native code next to the interpreter (issue #17).
 //!
-//! A tier compiles a [`Program`] into a [`NativeProgram`]: native regions of
-//! straight-line ops (contacts, coils, block and MPS stacks, MOV and
-//! comparisons on plain devices). The interpreter (`exec.rs`) stays the one
-//! driver: whenever it reaches an op where a region starts it runs the region,
-//! which returns the op index after it; every other op (application
-//! instructions, timers, jumps, calls, FOR/NEXT, anything that can fault) runs
-//! in the interpreter as always. So there is one semantics, and faults,
+//! A tier compiles a [`Program`] into a [`NativeProgram`]: regions of native
+//! code for straight-line ops (contacts, coils, block and MPS stacks, MOV and
+//! comparisons on plain devices). The interpreter (`exec.rs`) stays the
+//! driver: whenever it reaches an op where a region starts it runs the
+//! region. The region calls back into the interpreter ([`Host::exec`]) for
+//! every other op (application instructions, timers, anything that can
+//! fault) and returns when control goes elsewhere than the next op (a taken
+//! jump, CALL, END, a stopping fault). So there is one semantics, and faults,
 //! their step numbers, the watchdog and interrupts are the interpreter's.
 //!
 //! The engine knows only these traits: `softplc-jit` implements them and
@@ -34,15 +35,33 @@ pub struct Regs {
 /// Marks an op where no native region starts ([`NativeProgram::entries`]).
 pub const NO_REGION: u32 = u32::MAX;
 
+/// What [`Host::exec`] and [`NativeProgram::run`] return when an op ended
+/// the pass (END, a fault that stops the CPU, RET to another file, an abort):
+/// the host holds the outcome.
+pub const LEAVE: u32 = u32::MAX;
+
+/// The interpreter as native code sees it while a region runs.
+pub trait Host {
+    /// Device memory. Native code re-reads its address after every [`exec`](Host::exec).
+    fn mem(&mut self) -> &mut DeviceMemory;
+    /// Runs ops from `from` with the interpreter's own implementation on
+    /// `regs` (updated in place) for as long as control stays in `from..to`,
+    /// and returns the op to go on at: `to`, a jump's target outside the
+    /// stretch, or [`LEAVE`].
+    fn exec(&mut self, from: u32, to: u32, regs: &mut Regs) -> u32;
+}
+
 /// A program's native code.
 pub trait NativeProgram: Send {
     /// For every op of the program: the code unit whose region starts at that
     /// op, or [`NO_REGION`].
     fn entries(&self) -> &[u32];
-    /// Runs the region of `unit` that starts at op `pc` on `regs` and `mem`
-    /// and returns the op index after it (where the interpreter goes on).
-    /// Returns `pc` unchanged when it cannot run (memory of another size).
-    fn run(&self, unit: u32, pc: u32, regs: &mut Regs, mem: &mut DeviceMemory) -> u32;
+    /// Runs the region of `unit` that starts at op `pc` on `regs` and the
+    /// host's memory, calling [`Host::exec`] for the ops without native
+    /// code, and returns the op index where the interpreter goes on, or
+    /// [`LEAVE`]. Returns `pc` unchanged when it cannot run (memory of
+    /// another size).
+    fn run(&self, unit: u32, pc: u32, regs: &mut Regs, host: &mut dyn Host) -> u32;
     /// Ops of the program that run as native code.
     fn native_ops(&self) -> usize;
 }

@@ -1,44 +1,51 @@
 //! A chunk's plan → one Cranelift function.
 //!
-//! The function is `fn(regs: *mut Regs, bits: *mut u8, words: *mut u16, pc:
-//! u32) -> u32`: it loads the rung registers, jumps to the region entered at
-//! `pc`, runs it keeping the registers in machine registers, stores them back
-//! at the region's exit and returns the op index where the interpreter goes
-//! on. An unknown `pc` returns `pc` (nothing ran). Every device index was
-//! checked against the program's memory size by the plan.
+//! The function is `fn(cx: *mut Ctx, pc: u32) -> u32` (`native::Ctx`: the
+//! rung registers, then the addresses of device bits and words). It loads the
+//! registers into SSA variables, dispatches on `pc` to the entry there, runs
+//! straight on, and stores the registers back where it returns the op where
+//! the interpreter goes on (the plan's exit, or an op where the chunk has no
+//! entry). A run of the plan has the interpreter run a stretch of ops
+//! (`native::exec_op`, through `Host::exec`) with the registers stored before
+//! and reloaded after; when it returns another op than the stretch's end,
+//! the function dispatches on that op (a jump within the chunk stays in
+//! native code).
+//! Every device index was checked against the program's memory size by the
+//! plan.
 
 use std::collections::HashMap;
 
 use cranelift_codegen::ir::condcodes::IntCC;
-use cranelift_codegen::ir::{types, AbiParam, InstBuilder, MemFlagsData, Signature, Value};
+use cranelift_codegen::ir::{
+    types, AbiParam, Block, FuncRef, InstBuilder, MemFlagsData, Signature, Type, Value,
+};
 use cranelift_frontend::{FunctionBuilder, Switch, Variable};
 use softplc_ir::ops::{CmpOp, Join};
 
+use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_WORDS};
 use crate::plan::{BitSrc, Chunk, Move, Piece, Step, Store, WordSrc};
 
-/// Offsets of the fields of `softplc_engine::tier::Regs` (`repr(C)`, u32s).
-const ACC: i32 = 0;
-const BLOCKS: i32 = 4;
-const MPS: i32 = 8;
-const MC_ON: i32 = 12;
-
-/// The signature of every chunk function on the host's calling convention.
-pub fn signature(call_conv: cranelift_codegen::isa::CallConv, ptr: types::Type) -> Signature {
+/// The signature of every chunk function on the host's calling convention:
+/// (cx, pc) → next op.
+pub fn signature(call_conv: cranelift_codegen::isa::CallConv, ptr: Type) -> Signature {
     let mut sig = Signature::new(call_conv);
-    sig.params.push(AbiParam::new(ptr)); // regs
-    sig.params.push(AbiParam::new(ptr)); // bits
-    sig.params.push(AbiParam::new(ptr)); // words
+    sig.params.push(AbiParam::new(ptr)); // cx
     sig.params.push(AbiParam::new(types::I32)); // pc
     sig.returns.push(AbiParam::new(types::I32));
     sig
 }
 
-/// The rung registers as SSA variables, and the function's pointers.
+/// The rung registers and device addresses as SSA variables.
 struct Gen<'a, 'b> {
     b: &'a mut FunctionBuilder<'b>,
-    bits: Value,
-    words: Value,
-    regs: Value,
+    cx: Value,
+    ptr: Type,
+    /// `native::exec_op`, imported into the function.
+    exec_op: FuncRef,
+    /// Dispatches on its parameter (an op index) to the entry there.
+    dispatch: Block,
+    bits: Variable,
+    words: Variable,
     acc: Variable,
     blocks: Variable,
     mps: Variable,
@@ -51,33 +58,51 @@ fn flags() -> MemFlagsData {
     MemFlagsData::trusted()
 }
 
-/// Emits the body of `chunk`'s function into `b` (an empty function of
-/// [`signature`]).
-pub fn build(b: &mut FunctionBuilder, chunk: &Chunk) {
+/// The body of the trampoline every chunk calls for an op in the
+/// interpreter: it calls `exec_op` (the host's function, far from JIT code)
+/// from this one place, so each op's call is a direct call near it and the
+/// processor predicts one indirect call instead of one per op.
+pub fn trampoline(b: &mut FunctionBuilder, exec_op: FuncRef) {
     let start = b.create_block();
     b.append_block_params_for_function_params(start);
     b.switch_to_block(start);
     let p = b.block_params(start).to_vec();
-    let (regs, bits, words, pc) = (p[0], p[1], p[2], p[3]);
-    let acc = b.declare_var(types::I32);
-    let blocks = b.declare_var(types::I32);
-    let mps = b.declare_var(types::I32);
-    let mc_on = b.declare_var(types::I32);
+    let call = b.ins().call(exec_op, &p);
+    let next = b.inst_results(call)[0];
+    b.ins().return_(&[next]);
+    b.seal_all_blocks();
+}
+
+/// Emits the body of `chunk`'s function into `b` (an empty function of
+/// [`signature`]); `exec_op` calls the interpreter for one op (the
+/// trampoline).
+pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef) {
+    let start = b.create_block();
+    b.append_block_params_for_function_params(start);
+    b.switch_to_block(start);
+    let p = b.block_params(start).to_vec();
+    let (cx, pc) = (p[0], p[1]);
+    let dispatch = b.create_block();
+    let target = b.append_block_param(dispatch, types::I32);
     let mut g = Gen {
+        cx,
+        ptr,
+        exec_op,
+        dispatch,
+        bits: b.declare_var(ptr),
+        words: b.declare_var(ptr),
+        acc: b.declare_var(types::I32),
+        blocks: b.declare_var(types::I32),
+        mps: b.declare_var(types::I32),
+        mc_on: b.declare_var(types::I32),
         b,
-        bits,
-        words,
-        regs,
-        acc,
-        blocks,
-        mps,
-        mc_on,
     };
-    for (var, off) in [(acc, ACC), (blocks, BLOCKS), (mps, MPS), (mc_on, MC_ON)] {
-        let v = g.b.ins().load(types::I32, flags(), regs, off);
-        g.b.def_var(var, v);
-    }
-    // One block per entry, reached through a jump table on `pc`.
+    g.load_regs();
+    g.b.ins().jump(dispatch, &[pc.into()]);
+
+    // One block per entry, reached through a switch on the op index (a
+    // chunk has few entries: its first native op and jump targets).
+    g.b.switch_to_block(dispatch);
     let mut entry_blocks = HashMap::new();
     let mut sw = Switch::new();
     for piece in &chunk.pieces {
@@ -87,11 +112,13 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk) {
             sw.set_entry(u128::from(*at), blk);
         }
     }
-    let unknown = g.b.create_block();
-    sw.emit(g.b, pc, unknown);
-    g.b.switch_to_block(unknown);
-    g.b.ins().return_(&[pc]);
+    let elsewhere = g.b.create_block();
+    sw.emit(g.b, target, elsewhere);
+    g.b.switch_to_block(elsewhere);
+    g.leave(target);
 
+    // Whether the current block falls through into the next piece (every
+    // chunk starts with an entry and ends with its exit).
     let mut open = false;
     for piece in &chunk.pieces {
         match piece {
@@ -103,26 +130,70 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk) {
                 g.b.switch_to_block(blk);
                 open = true;
             }
-            Piece::Step(s) if open => g.step(s),
-            Piece::Step(_) => {}
-            Piece::Exit(at) if open => {
-                g.exit(*at);
+            Piece::Step(s) => g.step(s),
+            Piece::Run { from, to } => g.run(*from, *to),
+            Piece::Exit(at) => {
+                let at = g.b.ins().iconst(types::I32, i64::from(*at));
+                g.leave(at);
                 open = false;
             }
-            Piece::Exit(_) => {}
         }
     }
     g.b.seal_all_blocks();
 }
 
 impl Gen<'_, '_> {
-    fn exit(&mut self, at: u32) {
-        for (var, off) in [(self.acc, ACC), (self.blocks, BLOCKS), (self.mps, MPS)] {
-            let v = self.b.use_var(var);
-            self.b.ins().store(flags(), v, self.regs, off);
+    /// The registers from `cx`: at the start and after every call.
+    fn load_regs(&mut self) {
+        for (var, off) in [
+            (self.acc, CX_ACC),
+            (self.blocks, CX_BLOCKS),
+            (self.mps, CX_MPS),
+            (self.mc_on, CX_MC_ON),
+        ] {
+            let v = self.b.ins().load(types::I32, flags(), self.cx, off);
+            self.b.def_var(var, v);
         }
-        let at = self.b.ins().iconst(types::I32, i64::from(at));
+        for (var, off) in [(self.bits, CX_BITS), (self.words, CX_WORDS)] {
+            let v = self.b.ins().load(self.ptr, flags(), self.cx, off);
+            self.b.def_var(var, v);
+        }
+    }
+
+    /// The registers native code changes back into `cx` (`mc_on` changes
+    /// only in the interpreter, which stores it there itself).
+    fn store_regs(&mut self) {
+        for (var, off) in [
+            (self.acc, CX_ACC),
+            (self.blocks, CX_BLOCKS),
+            (self.mps, CX_MPS),
+        ] {
+            let v = self.b.use_var(var);
+            self.b.ins().store(flags(), v, self.cx, off);
+        }
+    }
+
+    /// Returns op `at` to the interpreter.
+    fn leave(&mut self, at: Value) {
+        self.store_regs();
         self.b.ins().return_(&[at]);
+    }
+
+    /// The interpreter runs ops `from..to`; on natively when it returns
+    /// `to`, else dispatch on the op it returned.
+    fn run(&mut self, from: u32, to: u32) {
+        self.store_regs();
+        let from = self.b.ins().iconst(types::I32, i64::from(from));
+        let to_v = self.b.ins().iconst(types::I32, i64::from(to));
+        let call = self.b.ins().call(self.exec_op, &[self.cx, from, to_v]);
+        let next = self.b.inst_results(call)[0];
+        self.load_regs();
+        let on = self.b.create_block();
+        let straight = self.b.ins().icmp_imm_u(IntCC::Equal, next, i64::from(to));
+        self.b
+            .ins()
+            .brif(straight, on, &[], self.dispatch, &[next.into()]);
+        self.b.switch_to_block(on);
     }
 
     /// The address of `base[index]` with elements of `size` bytes.
@@ -138,17 +209,20 @@ impl Gen<'_, '_> {
     }
 
     fn bit(&mut self, i: u32) -> Value {
-        let (base, off) = self.addr(self.bits, i, 1);
+        let bits = self.b.use_var(self.bits);
+        let (base, off) = self.addr(bits, i, 1);
         self.b.ins().uload8(types::I32, flags(), base, off)
     }
 
     fn word(&mut self, i: u32) -> Value {
-        let (base, off) = self.addr(self.words, i, 2);
+        let words = self.b.use_var(self.words);
+        let (base, off) = self.addr(words, i, 2);
         self.b.ins().uload16(types::I32, flags(), base, off)
     }
 
     fn store_word(&mut self, i: u32, v: Value) {
-        let (base, off) = self.addr(self.words, i, 2);
+        let words = self.b.use_var(self.words);
+        let (base, off) = self.addr(words, i, 2);
         self.b.ins().istore16(flags(), v, base, off);
     }
 
@@ -160,7 +234,8 @@ impl Gen<'_, '_> {
             }
             (WordSrc::Const(k), true) => self.b.ins().iconst(types::I32, i64::from(k as i32)),
             (WordSrc::Word(i), false) => {
-                let (base, off) = self.addr(self.words, i, 2);
+                let words = self.b.use_var(self.words);
+                let (base, off) = self.addr(words, i, 2);
                 self.b.ins().sload16(types::I32, flags(), base, off)
             }
             (WordSrc::Word(i), true) => {
@@ -285,7 +360,8 @@ impl Gen<'_, '_> {
                         self.b.ins().band(old, keep)
                     }
                 };
-                let (base, off) = self.addr(self.bits, *bit, 1);
+                let bits = self.b.use_var(self.bits);
+                let (base, off) = self.addr(bits, *bit, 1);
                 self.b.ins().istore8(flags(), v, base, off);
             }
             Step::Movs(run) => self.movs(run),

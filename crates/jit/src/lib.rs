@@ -14,9 +14,29 @@ pub mod plan;
 use softplc_engine::tier::{ExecTier, NativeProgram};
 use softplc_ir::ops::Program;
 
-/// The Cranelift tier. `Cpu::use_tier(&Jit)` compiles the CPU's programs.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Jit;
+/// The Cranelift tier. `Cpu::use_tier(&Jit::default())` compiles the CPU's
+/// programs.
+#[derive(Clone, Copy, Debug)]
+pub struct Jit {
+    min_run: usize,
+}
+
+impl Default for Jit {
+    fn default() -> Jit {
+        Jit {
+            min_run: plan::MIN_RUN,
+        }
+    }
+}
+
+impl Jit {
+    /// Native code for runs of at least `n` native ops (1: every op that can
+    /// be native is; tests use it to run the most native code, with the most
+    /// calls between it and the interpreter).
+    pub fn with_min_run(n: usize) -> Jit {
+        Jit { min_run: n.max(1) }
+    }
+}
 
 impl ExecTier for Jit {
     fn name(&self) -> &'static str {
@@ -24,7 +44,7 @@ impl ExecTier for Jit {
     }
 
     fn compile(&self, prog: &Program) -> Result<Box<dyn NativeProgram>, String> {
-        let plan = plan::plan(prog);
+        let plan = plan::plan(prog, self.min_run);
         Ok(Box::new(native::Compiled::new(prog, &plan)?))
     }
 }

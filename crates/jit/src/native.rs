@@ -4,17 +4,76 @@
 use cranelift_codegen::isa::OwnedTargetIsa;
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
-use cranelift_jit::{JITBuilder, JITModule};
-use cranelift_module::{default_libcall_names, Module};
-use softplc_engine::tier::{NativeProgram, Regs, NO_REGION};
-use softplc_ir::device::DeviceMemory;
+use std::mem::offset_of;
+
+use cranelift_codegen::ir::{types, AbiParam, Signature};
+use cranelift_jit::{ArenaMemoryProvider, JITBuilder, JITModule};
+use cranelift_module::{default_libcall_names, Linkage, Module};
+use softplc_engine::tier::{Host, NativeProgram, Regs, NO_REGION};
 use softplc_ir::ops::Program;
 
 use crate::codegen;
 use crate::plan::{Piece, Plan};
 
-/// A chunk function (see `codegen`): regs, bits, words, entry op → next op.
-type ChunkFn = unsafe extern "C" fn(*mut Regs, *mut u8, *mut u16, u32) -> u32;
+/// What a chunk function works on: the rung registers, the addresses of
+/// device bits (`bool`s) and words, and the interpreter to call back.
+#[repr(C)]
+pub(crate) struct Ctx<'h> {
+    regs: Regs,
+    bits: *mut u8,
+    words: *mut u16,
+    host: *mut (dyn Host + 'h),
+}
+
+/// Offsets in [`Ctx`] of what native code reads and writes.
+pub(crate) const CX_ACC: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, acc)) as i32;
+pub(crate) const CX_BLOCKS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, blocks)) as i32;
+pub(crate) const CX_MPS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mps)) as i32;
+pub(crate) const CX_MC_ON: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mc_on)) as i32;
+pub(crate) const CX_BITS: i32 = offset_of!(Ctx, bits) as i32;
+pub(crate) const CX_WORDS: i32 = offset_of!(Ctx, words) as i32;
+
+/// A chunk function (see `codegen`): context, entry op → next op.
+type ChunkFn = unsafe extern "C" fn(*mut Ctx, u32) -> u32;
+
+/// The name native code calls [`exec_op`] by.
+const EXEC_OP: &str = "softplc_exec_op";
+/// The JIT function that calls [`exec_op`] for every chunk (`codegen::trampoline`).
+const TRAMPOLINE: &str = "softplc_exec_trampoline";
+
+/// Address space reserved for a program's code: a base and an allowance per
+/// op (a call of the interpreter takes about 60 bytes, a jump-table entry 4),
+/// committed only as far as used.
+const ARENA_BYTES: usize = 1 << 20;
+const ARENA_BYTES_PER_OP: usize = 256;
+
+/// Runs ops `from..to` in the interpreter for native code (`codegen`'s runs)
+/// and returns the op to go on at.
+extern "C" fn exec_op(cx: *mut Ctx, from: u32, to: u32) -> u32 {
+    // SAFETY: native code passes on the `cx` that `Compiled::run` gave it:
+    // a live, exclusive `Ctx` whose `host` is the `&mut dyn Host` borrowed
+    // for that run. Native code does not touch `cx` while this runs.
+    let cx = unsafe { &mut *cx };
+    // SAFETY: as above; nothing else uses the host during the call.
+    let host = unsafe { &mut *cx.host };
+    let next = host.exec(from, to, &mut cx.regs);
+    // The interpreter had the memory mutably: native code goes on with its
+    // addresses as of now (the slices never change size).
+    let mem = host.mem();
+    cx.bits = mem.bits.as_mut_ptr().cast::<u8>();
+    cx.words = mem.words.as_mut_ptr();
+    next
+}
+
+/// [`exec_op`]'s signature on the host's calling convention.
+fn exec_op_signature(call_conv: cranelift_codegen::isa::CallConv, ptr: types::Type) -> Signature {
+    let mut sig = Signature::new(call_conv);
+    sig.params.push(AbiParam::new(ptr));
+    sig.params.push(AbiParam::new(types::I32));
+    sig.params.push(AbiParam::new(types::I32));
+    sig.returns.push(AbiParam::new(types::I32));
+    sig
+}
 
 /// The host's code generator at `opt_level=speed`, built once per process.
 pub(crate) fn isa() -> Result<OwnedTargetIsa, String> {
@@ -29,6 +88,14 @@ fn host_isa() -> Result<OwnedTargetIsa, String> {
             .map_err(|e| format!("cranelift setting {k}={v}: {e}"))
     };
     set(&mut flags, "opt_level", "speed")?;
+    // Debug builds (the tests) verify the IR; in release the verifier took
+    // a tenth of the compile time.
+    let verify = if cfg!(debug_assertions) {
+        "true"
+    } else {
+        "false"
+    };
+    set(&mut flags, "enable_verifier", verify)?;
     // The JIT's code is placed anywhere in memory (cranelift-jit's own
     // settings for native code).
     set(&mut flags, "use_colocated_libcalls", "false")?;
@@ -58,10 +125,33 @@ impl Compiled {
         let isa = isa()?;
         let call_conv = isa.default_call_conv();
         let ptr = isa.pointer_type();
-        let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
+        let mut builder = JITBuilder::with_isa(isa, default_libcall_names());
+        builder.symbol(EXEC_OP, exec_op as *const u8);
+        // One reserved region, so that the chunks' direct calls of the
+        // trampoline reach it (within ±2 GiB).
+        let reserve = ARENA_BYTES + prog.ops.len() * ARENA_BYTES_PER_OP;
+        let arena = ArenaMemoryProvider::new_with_size(reserve).map_err(|e| err(&e))?;
+        builder.memory_provider(Box::new(arena));
+        let mut module = JITModule::new(builder);
         let sig = codegen::signature(call_conv, ptr);
+        let exec_sig = exec_op_signature(call_conv, ptr);
+        let exec_id = module
+            .declare_function(EXEC_OP, Linkage::Import, &exec_sig)
+            .map_err(|e| err(&e))?;
         let mut ctx = module.make_context();
         let mut fctx = FunctionBuilderContext::new();
+        let tramp_id = module
+            .declare_function(TRAMPOLINE, Linkage::Local, &exec_sig)
+            .map_err(|e| err(&e))?;
+        ctx.func.signature = exec_sig.clone();
+        let exec_ref = module.declare_func_in_func(exec_id, &mut ctx.func);
+        let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+        codegen::trampoline(&mut b, exec_ref);
+        b.finalize(module.target_config());
+        module
+            .define_function(tramp_id, &mut ctx)
+            .map_err(|e| err(&format!("{e:?}")))?;
+        module.clear_context(&mut ctx);
         let mut ids = Vec::new();
         let mut entries = vec![NO_REGION; prog.ops.len()];
         for chunk in &plan.chunks {
@@ -78,8 +168,9 @@ impl Compiled {
                 .declare_anonymous_function(&sig)
                 .map_err(|e| err(&e))?;
             ctx.func.signature = sig.clone();
+            let tramp_ref = module.declare_func_in_func(tramp_id, &mut ctx.func);
             let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-            codegen::build(&mut b, chunk);
+            codegen::build(&mut b, chunk, ptr, tramp_ref);
             b.finalize(module.target_config());
             module
                 .define_function(id, &mut ctx)
@@ -93,8 +184,8 @@ impl Compiled {
             .map(|id| {
                 let code = module.get_finalized_function(*id);
                 // SAFETY: `code` is a function just compiled with `sig`, the
-                // host's default calling convention with (ptr, ptr, ptr, i32)
-                // → i32, which is `ChunkFn`'s `extern "C"` ABI on the host;
+                // host's default calling convention with (ptr, i32) → i32,
+                // which is `ChunkFn`'s `extern "C"` ABI on the host;
                 // `module` keeps it alive for as long as `fns`.
                 unsafe { std::mem::transmute::<*const u8, ChunkFn>(code) }
             })
@@ -115,32 +206,36 @@ impl NativeProgram for Compiled {
         &self.entries
     }
 
-    fn run(&self, unit: u32, pc: u32, regs: &mut Regs, mem: &mut DeviceMemory) -> u32 {
+    fn run(&self, unit: u32, pc: u32, regs: &mut Regs, host: &mut dyn Host) -> u32 {
         let Some(f) = self.fns.get(unit as usize) else {
             return pc;
         };
+        let mem = host.mem();
         if mem.bits.len() != self.bit_len || mem.words.len() != self.word_len {
             return pc;
         }
+        let (bits, words) = (mem.bits.as_mut_ptr().cast::<u8>(), mem.words.as_mut_ptr());
         // Booleans stay 0/1 whatever the caller passed (they are stored into `bool`s).
         regs.acc = u32::from(regs.acc != 0);
         regs.mc_on = u32::from(regs.mc_on != 0);
+        let mut cx = Ctx {
+            regs: *regs,
+            bits,
+            words,
+            host,
+        };
         // SAFETY: `f` is this program's code (`new`) and follows `ChunkFn`.
-        // It reads and writes `regs` (a `repr(C)` struct of four u32) and
-        // only elements of `bits`/`words` whose indices the plan checked
-        // against `bit_len`/`word_len`, the lengths of these very slices
-        // (tested above); nothing else can touch them while `mem` is borrowed
-        // mutably. Every value it stores into a `bool` is 0 or 1: loaded
-        // bools, `acc`/`mc_on` (0/1 above) and their and/or/xor-with-1 and
-        // comparison results, and the low bit of the stacks.
-        unsafe {
-            f(
-                regs,
-                mem.bits.as_mut_ptr().cast::<u8>(),
-                mem.words.as_mut_ptr(),
-                pc,
-            )
-        }
+        // It reads and writes `cx.regs` and only elements of `bits`/`words`
+        // whose indices the plan checked against `bit_len`/`word_len`, the
+        // lengths of the host's slices (tested above; they never change
+        // size), through the addresses in `cx`, which `exec_op` renews after
+        // every call into the host. Every value it stores into a `bool` is 0
+        // or 1: loaded bools, `acc`/`mc_on` (0/1 above, and as the host
+        // leaves them) and their and/or/xor-with-1 and comparison results,
+        // and the low bit of the stacks.
+        let next = unsafe { f(&mut cx, pc) };
+        *regs = cx.regs;
+        next
     }
 
     fn native_ops(&self) -> usize {

@@ -1,14 +1,20 @@
-//! Ops → a straight-line plan per chunk: which ops run as native code, where
-//! a native region may be entered, and where it hands back to the interpreter.
+//! Ops → a straight-line plan per chunk: which ops run as native code,
+//! which the native code hands to the interpreter one at a time, and which
+//! the interpreter runs between native regions.
 //!
-//! Native are only ops that cannot fault and touch nothing but the rung
+//! Native can be only ops that cannot fault and touch nothing but the rung
 //! registers and plain device indices: contacts and coils on plain bits (or a
 //! word's bit), the ANB/ORB block stack and MPS stack, MOV/DMOV on plain
 //! words and constants, and 16/32-bit comparison contacts on plain words and
-//! constants. Everything else (edges, pulse forms, timers, counters,
+//! constants. Every other op (edges, pulse forms, timers, counters,
 //! application instructions, index modification, jumps, calls, FOR/NEXT,
-//! master control) is an exit: the region returns that op's index and the
-//! interpreter runs it with the shared implementation.
+//! master control, END) runs in the interpreter with its one implementation.
+//!
+//! Between native ops, a stretch of interpreted ops is one call of the
+//! interpreter (`Host::exec`), which runs the stretch and returns to the
+//! call site. A call costs about as much as interpreting a few contacts, so
+//! native ops fewer than [`MIN_RUN`] in a row between interpreted ones are
+//! interpreted with them, and a chunk without such a run has no native code.
 
 use softplc_ir::ops::{
     Apply, BitArg, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg,
@@ -18,6 +24,12 @@ use softplc_ir::ops::{
 /// program's length (Cranelift's register allocation is superlinear in a
 /// function's size).
 pub const CHUNK_OPS: usize = 4096;
+
+/// Fewest native ops in a row, between interpreted ones, worth running
+/// natively: a call of the interpreter from native code costs about what the
+/// interpreter spends on this many contacts once the program's code no longer
+/// fits the instruction cache (docs/performance.md, "Tiers").
+pub const MIN_RUN: usize = 8;
 
 /// A bit a contact reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,9 +101,15 @@ pub enum Step {
 /// An element of a chunk's plan, in op order.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Piece {
-    /// A region may be entered at op `pc` (the interpreter calls in here).
+    /// Native code may be entered at op `pc` (the interpreter calls in here,
+    /// or a jump went here).
     Entry(u32),
     Step(Step),
+    /// The interpreter runs the ops `from..to` (`Host::exec`).
+    Run {
+        from: u32,
+        to: u32,
+    },
     /// Leave native code: the interpreter goes on at op `pc`.
     Exit(u32),
 }
@@ -110,28 +128,30 @@ pub struct Plan {
     pub chunks: Vec<Chunk>,
     /// For every op, whether it runs as native code.
     pub native: Vec<bool>,
-    /// For every op, whether a region starts there.
+    /// For every op, whether native code may be entered there.
     pub entry: Vec<bool>,
 }
 
-/// Plans `prog`, checking every device index against the memory size it was
-/// compiled for (an op with an index outside is left to the interpreter).
-pub fn plan(prog: &Program) -> Plan {
+/// Plans `prog` with native runs of at least `min_run` ops, checking every
+/// device index against the memory size it was compiled for (an op with an
+/// index outside is left to the interpreter).
+pub fn plan(prog: &Program, min_run: usize) -> Plan {
     let lim = Limits {
         bits: prog.bit_len,
         words: prog.word_len,
     };
-    let steps: Vec<Option<Step>> = prog.ops.iter().map(|op| step(op, lim)).collect();
+    let mut steps: Vec<Option<Step>> = prog.ops.iter().map(|op| step(op, lim)).collect();
+    let n = prog.ops.len();
+    for start in (0..n).step_by(CHUNK_OPS) {
+        drop_short_runs(&mut steps[start..(start + CHUNK_OPS).min(n)], min_run);
+    }
     let native: Vec<bool> = steps.iter().map(Option::is_some).collect();
     let targets = targets(prog);
-    let n = prog.ops.len();
-    let entry: Vec<bool> = (0..n)
-        .map(|pc| native[pc] && (pc % CHUNK_OPS == 0 || !native[pc - 1] || targets[pc]))
-        .collect();
+    let mut entry = vec![false; n];
     let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK_OPS));
     for start in (0..n).step_by(CHUNK_OPS) {
         let end = (start + CHUNK_OPS).min(n);
-        chunks.push(chunk(start, end, &steps, &entry));
+        chunks.push(chunk(start, end, &steps, &targets, &mut entry));
     }
     Plan {
         chunks,
@@ -140,39 +160,67 @@ pub fn plan(prog: &Program) -> Plan {
     }
 }
 
-fn chunk(start: usize, end: usize, steps: &[Option<Step>], entry: &[bool]) -> Chunk {
+/// Leaves to the interpreter native runs of one chunk that are too short to
+/// pay for the calls around them (not a chunk that is one short run).
+fn drop_short_runs(steps: &mut [Option<Step>], min_run: usize) {
+    let n = steps.len();
+    let mut pc = 0;
+    while pc < n {
+        let run = steps[pc..].iter().take_while(|s| s.is_some()).count();
+        if run == 0 {
+            pc += 1;
+            continue;
+        }
+        if run < min_run && run < n {
+            steps[pc..pc + run].fill(None);
+        }
+        pc += run;
+    }
+}
+
+/// The pieces of ops `start..end`: native code from the chunk's first native
+/// op to its last, the interpreted stretches between them as calls. Marks in
+/// `entry` where it may be entered: at the first native op and wherever
+/// control can arrive other than from the op before.
+fn chunk(
+    start: usize,
+    end: usize,
+    steps: &[Option<Step>],
+    targets: &[bool],
+    entry: &mut [bool],
+) -> Chunk {
     let mut pieces = Vec::new();
-    // Inside a region (native code is being emitted)?
-    let mut inside = false;
-    for pc in start..end {
-        match &steps[pc] {
-            Some(s) => {
-                if entry[pc] {
-                    pieces.push(Piece::Entry(pc as u32));
-                    inside = true;
+    let first = (start..end).find(|pc| steps[*pc].is_some());
+    let last = (start..end).rev().find(|pc| steps[*pc].is_some());
+    if let (Some(first), Some(last)) = (first, last) {
+        // The interpreted stretch open since this op.
+        let mut stretch: Option<usize> = None;
+        for pc in first..=last {
+            if pc == first || targets[pc] {
+                if let Some(from) = stretch.take() {
+                    pieces.push(run(from, pc));
                 }
-                if !inside {
-                    // Reached only through the interpreter (mid-region target
-                    // that is not an entry cannot occur: entries cover them).
-                    continue;
-                }
-                match (s, pieces.last_mut()) {
-                    (Step::Movs(m), Some(Piece::Step(Step::Movs(run)))) if !entry[pc] => {
-                        run.extend_from_slice(m)
-                    }
-                    _ => pieces.push(Piece::Step(s.clone())),
-                }
+                entry[pc] = true;
+                pieces.push(Piece::Entry(pc as u32));
             }
-            None => {
-                if inside {
-                    pieces.push(Piece::Exit(pc as u32));
-                    inside = false;
+            match &steps[pc] {
+                Some(s) => {
+                    if let Some(from) = stretch.take() {
+                        pieces.push(run(from, pc));
+                    }
+                    match (s, pieces.last_mut()) {
+                        (Step::Movs(m), Some(Piece::Step(Step::Movs(moves)))) => {
+                            moves.extend_from_slice(m)
+                        }
+                        _ => pieces.push(Piece::Step(s.clone())),
+                    }
+                }
+                None => {
+                    stretch.get_or_insert(pc);
                 }
             }
         }
-    }
-    if inside {
-        pieces.push(Piece::Exit(end as u32));
+        pieces.push(Piece::Exit(last as u32 + 1));
     }
     Chunk {
         start: start as u32,
@@ -181,17 +229,27 @@ fn chunk(start: usize, end: usize, steps: &[Option<Step>], entry: &[bool]) -> Ch
     }
 }
 
+fn run(from: usize, to: usize) -> Piece {
+    Piece::Run {
+        from: from as u32,
+        to: to as u32,
+    }
+}
+
 /// Ops where execution can arrive other than from the op before: jump, CALL
-/// and BREAK targets, common and interrupt pointers, and the op after the one
-/// a pulse gate skips.
+/// and BREAK targets, common and interrupt pointers, the op after the one a
+/// pulse gate skips, and the ops RET and NEXT return to (after CALL, FOR).
 fn targets(prog: &Program) -> Vec<bool> {
     let n = prog.ops.len();
     let mut t = vec![false; n + 2];
     for (pc, op) in prog.ops.iter().enumerate() {
         match op {
-            Op::Cj { target, .. } | Op::Scj { target, .. } | Op::Call(target) => {
-                t[(*target as usize).min(n)] = true
+            Op::Cj { target, .. } | Op::Scj { target, .. } => t[(*target as usize).min(n)] = true,
+            Op::Call(target) => {
+                t[(*target as usize).min(n)] = true;
+                t[pc + 1] = true;
             }
+            Op::For(_) => t[pc + 1] = true,
             Op::Break(b) => t[(b.1 as usize).min(n)] = true,
             Op::Pulse(_) => t[pc + 2] = true,
             _ => {}
@@ -360,52 +418,117 @@ mod tests {
         }
     }
 
-    #[test]
-    fn regions_exit_at_interpreted_ops_and_reenter_after_them() {
-        // LD M0, OUT M1, CJ → 4, MOV, MOV, END
-        let p = program(vec![
-            Op::Ld(0),
-            Op::Out(1),
-            Op::Cj {
-                target: 5,
-                always: false,
-            },
-            Op::MovK { k: 7, d: 0 },
-            Op::MovW { s: 0, d: 1 },
-            Op::Ld(200), // outside the 100 bits: interpreted
-            Op::End,
-        ]);
-        let plan = plan(&p);
-        assert_eq!(plan.native, [true, true, false, true, true, false, false]);
-        assert_eq!(plan.entry, [true, false, false, true, false, false, false]);
-        let pieces = &plan.chunks[0].pieces;
-        assert_eq!(pieces.len(), 7);
-        assert_eq!(pieces[0], Piece::Entry(0));
-        assert_eq!(pieces[3], Piece::Exit(2));
-        assert_eq!(pieces[4], Piece::Entry(3));
-        // The two MOVs under one condition.
-        let Piece::Step(Step::Movs(run)) = &pieces[5] else {
-            panic!("{pieces:?}")
-        };
-        assert_eq!(run.len(), 2);
-        assert_eq!(pieces[6], Piece::Exit(5));
+    /// `k` contacts and coils on bits 0-9.
+    fn contacts(k: u32) -> Vec<Op> {
+        (0..k)
+            .map(|i| {
+                if i % 2 == 0 {
+                    Op::Ld(i % 10)
+                } else {
+                    Op::Out(i % 10)
+                }
+            })
+            .collect()
+    }
+
+    fn entries(plan: &Plan) -> Vec<usize> {
+        (0..plan.entry.len()).filter(|pc| plan.entry[*pc]).collect()
     }
 
     #[test]
-    fn jump_targets_and_pulse_skips_are_entries() {
+    fn interpreted_stretches_are_runs_between_native_ops() {
+        let k = MIN_RUN as u32;
+        let mut ops = contacts(k);
+        ops.push(Op::Cj {
+            target: 2 * k + 3,
+            always: false,
+        });
+        ops.extend(contacts(k - 2));
+        ops.push(Op::MovK { k: 7, d: 0 });
+        ops.push(Op::MovW { s: 0, d: 1 });
+        ops.push(Op::Ld(200)); // outside the 100 bits: interpreted
+        ops.push(Op::End);
+        let n = ops.len();
+        let plan = plan(&program(ops), MIN_RUN);
+        let mut native = vec![true; n];
+        for pc in [k, 2 * k + 1, 2 * k + 2] {
+            native[pc as usize] = false;
+        }
+        assert_eq!(plan.native, native);
+        // CJ's target is interpreted: no entry there.
+        assert_eq!(entries(&plan), [0]);
+        let pieces = &plan.chunks[0].pieces;
+        let k = k as usize;
+        assert_eq!(pieces.len(), 1 + k + 1 + (k - 2) + 1 + 1, "{pieces:?}");
+        assert_eq!(pieces[0], Piece::Entry(0));
+        assert_eq!(
+            pieces[k + 1],
+            Piece::Run {
+                from: k as u32,
+                to: k as u32 + 1
+            }
+        );
+        // The two MOVs under one condition.
+        let Piece::Step(Step::Movs(run)) = &pieces[2 * k] else {
+            panic!("{pieces:?}")
+        };
+        assert_eq!(run.len(), 2);
+        assert_eq!(pieces[2 * k + 1], Piece::Exit(2 * k as u32 + 1));
+    }
+
+    #[test]
+    fn short_native_runs_between_interpreted_ops_are_interpreted() {
         let p = program(vec![
             Op::Ld(0),
-            Op::Pulse(0),
-            Op::MovK { k: 1, d: 0 },
-            Op::MovK { k: 2, d: 1 },
-            Op::Out(3),
-            Op::Cj {
-                target: 4,
-                always: true,
-            },
+            Op::Out(1),
+            Op::Ld(200),
+            Op::Out(2),
             Op::End,
         ]);
-        let plan = plan(&p);
-        assert_eq!(plan.entry, [true, false, true, true, true, false, false]);
+        let plan = plan(&p, MIN_RUN);
+        assert_eq!(plan.native, [false; 5]);
+        assert!(plan.chunks[0].pieces.is_empty());
+        // A whole program of two native ops is native.
+        let plan = super::plan(&program(contacts(2)), MIN_RUN);
+        assert_eq!(plan.native, [true, true]);
+        assert_eq!(
+            plan.chunks[0].pieces.last(),
+            Some(&Piece::Exit(2)),
+            "{:?}",
+            plan.chunks[0].pieces
+        );
+    }
+
+    #[test]
+    fn jump_targets_pulse_skips_and_returns_are_entries() {
+        let k = MIN_RUN as u32;
+        let mut ops = contacts(k);
+        ops.push(Op::Pulse(0)); // k: skips to k + 2
+        ops.extend(contacts(k));
+        ops.push(Op::For(Box::new(WordArg::Const(3)))); // 2k + 1: NEXT returns after it
+        ops.extend(contacts(k));
+        ops.push(Op::Cj {
+            target: k + 3,
+            always: true,
+        }); // 3k + 2
+        ops.extend(contacts(k));
+        ops.push(Op::End);
+        let plan = plan(&program(ops), MIN_RUN);
+        let k = k as usize;
+        assert_eq!(entries(&plan), [0, k + 2, k + 3, 2 * k + 2]);
+        let runs: Vec<&Piece> = plan.chunks[0]
+            .pieces
+            .iter()
+            .filter(|p| matches!(p, Piece::Run { .. }))
+            .collect();
+        let run = |from: usize| Piece::Run {
+            from: from as u32,
+            to: from as u32 + 1,
+        };
+        assert_eq!(runs, [&run(k), &run(2 * k + 1), &run(3 * k + 2)]);
+        assert_eq!(
+            plan.chunks[0].pieces.last(),
+            Some(&Piece::Exit(4 * k as u32 + 3))
+        );
     }
 }
