@@ -8,8 +8,10 @@ use std::time::Duration;
 use libfuzzer_sys::fuzz_target;
 use softplc_core::engine::{Cpu, CpuConfig, ErrorCode, VirtualClock};
 use softplc_core::program::load_bytes;
-use softplc_core::tier::{apply, Exec};
+use softplc_core::tier::{apply, Exec, Jit};
 
+/// `exec` Jit: native code for every op that can have it, however short its
+/// run, so the most crossings between native code and the interpreter.
 fn cpu(data: &[u8], exec: Exec) -> Option<(Cpu, VirtualClock)> {
     let cfg = CpuConfig {
         watchdog: Duration::from_millis(20),
@@ -18,7 +20,15 @@ fn cpu(data: &[u8], exec: Exec) -> Option<(Cpu, VirtualClock)> {
     let prog = load_bytes("fuzz.il", data, &cfg.devices).ok()?;
     let clock = VirtualClock::new();
     let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
-    apply(&mut cpu, exec).expect("the tier compiles every program that loads");
+    match exec {
+        Exec::Jit => {
+            cpu.use_tier(&Jit::with_min_run(1))
+                .expect("the tier compiles every program that loads");
+        }
+        _ => {
+            apply(&mut cpu, exec).expect("the tier compiles every program that loads");
+        }
+    }
     Some((cpu, clock))
 }
 

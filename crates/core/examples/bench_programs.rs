@@ -6,7 +6,9 @@
 //! ```
 //!
 //! `DIR/bits_50k.il` (50,000 LD/AND/OR/ANI/OUT), `DIR/mov_20k.il` (20,000 MOV
-//! on one rung) and `DIR/tcc_mix.il` (timers, counters, comparisons).
+//! on one rung), `DIR/tcc_mix.il` (timers, counters, comparisons) and
+//! `DIR/mixed.il` (1,000 rungs of interlocks, timers, counters, arithmetic,
+//! conversions and moves).
 
 #[path = "../benches/programs/mod.rs"]
 mod programs;
@@ -23,6 +25,7 @@ fn main() -> ExitCode {
         ("bits_50k.il", programs::contacts()),
         ("mov_20k.il", programs::movs()),
         ("tcc_mix.il", programs::timers_counters_compare()),
+        ("mixed.il", programs::mixed()),
     ];
     if let Err(e) = std::fs::create_dir_all(&dir) {
         eprintln!("{}: {e}", dir.display());

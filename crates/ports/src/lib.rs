@@ -47,8 +47,40 @@ pub use virtual_line::{Peer, VirtualLine};
 #[derive(Default)]
 pub struct Ports {
     ports: Vec<Port>,
-    errors: Vec<String>,
+    errors: Errors,
     serial: bool,
+}
+
+/// Line errors waiting for [`Ports::take_errors`]: at most [`Errors::KEPT`],
+/// then only counted, so a line that keeps failing while nobody asks (a run
+/// that never drains them) does not grow memory scan by scan.
+#[derive(Default)]
+struct Errors {
+    kept: Vec<String>,
+    more: usize,
+}
+
+impl Errors {
+    const KEPT: usize = 64;
+
+    fn push(&mut self, port: u8, e: impl std::fmt::Display) {
+        if self.kept.len() < Self::KEPT {
+            self.kept.push(format!("PORT{port}: {e}"));
+        } else {
+            self.more += 1;
+        }
+    }
+
+    fn take(&mut self) -> Vec<String> {
+        let mut out = std::mem::take(&mut self.kept);
+        if self.more > 0 {
+            out.push(format!(
+                "{} more line errors",
+                std::mem::take(&mut self.more)
+            ));
+        }
+        out
+    }
 }
 
 struct Port {
@@ -180,7 +212,7 @@ impl Ports {
     /// Line errors since the last call (a line that fails stays quiet: the
     /// master times out, the scan goes on).
     pub fn take_errors(&mut self) -> Vec<String> {
-        std::mem::take(&mut self.errors)
+        self.errors.take()
     }
 
     /// The communication phase: run after each scan's END.
@@ -189,7 +221,7 @@ impl Ports {
         let running = cpu.state() == CpuState::Run;
         for p in &mut self.ports {
             if let Err(e) = p.line.receive(now, &mut p.rx) {
-                self.errors.push(format!("PORT{}: {e}", p.cfg.port));
+                self.errors.push(p.cfg.port, e);
             }
             if let Some((t, _)) = p.rx.back() {
                 p.quiet_from = p.quiet_from.max(t + p.gap);
@@ -210,7 +242,7 @@ impl Ports {
                 Role::Free(_) => p.free(cpu, now),
             };
             if let Err(e) = r {
-                self.errors.push(format!("PORT{}: {e}", p.cfg.port));
+                self.errors.push(p.cfg.port, e);
             }
         }
     }
@@ -562,3 +594,24 @@ fn finish(cpu: &mut Cpu, r: Regs, dest: u32, outcome: Result<&[u8], (u16, &[u8])
 
 /// The storage kind of the mailboxes (for tests and tools).
 pub const MAILBOX_KIND: DeviceKind = SW;
+
+#[cfg(test)]
+mod tests {
+    use super::Errors;
+
+    #[test]
+    fn line_errors_are_kept_up_to_a_bound_then_counted() {
+        let mut e = Errors::default();
+        for k in 0..Errors::KEPT + 10 {
+            e.push(1, format!("error {k}"));
+        }
+        assert_eq!(e.kept.len(), Errors::KEPT);
+        let out = e.take();
+        assert_eq!(out.len(), Errors::KEPT + 1);
+        assert_eq!(out[0], "PORT1: error 0");
+        assert_eq!(out[Errors::KEPT], "10 more line errors");
+        // Taken: empty again, and counting starts over.
+        e.push(2, "late");
+        assert_eq!(e.take(), ["PORT2: late"]);
+    }
+}
