@@ -5,6 +5,7 @@ mod opcua;
 mod run;
 mod serve;
 mod signal;
+mod stdout;
 mod test_cmd;
 mod tune_cmd;
 

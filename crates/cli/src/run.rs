@@ -20,6 +20,7 @@ use softplc_core::project;
 use softplc_core::tier::{self, Exec};
 
 use crate::names::DialectArg;
+use crate::stdout::{out, outln};
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
@@ -353,7 +354,7 @@ pub fn check(
             }
             let n = l.cpu.program_count();
             let steps: u32 = (0..n).map(|i| l.cpu.program_at(i).steps).sum();
-            println!(
+            outln!(
                 "{}: OK, {n} program{}, {steps} steps",
                 path.display(),
                 if n == 1 { "" } else { "s" },
@@ -598,7 +599,7 @@ pub fn run(args: RunArgs) -> ExitCode {
                     return ExitCode::from(2);
                 }
             }
-            None if !args.json => print!("{csv}"),
+            None if !args.json => out!("{csv}"),
             None => {}
         }
     }
@@ -640,24 +641,24 @@ pub fn run(args: RunArgs) -> ExitCode {
         if let Some(why) = stopped {
             out["stopped"] = json!(why);
         }
-        println!("{out}");
+        outln!("{out}");
     } else {
-        println!(
+        outln!(
             "scans: {scans}  time: {time_ms} ms  state: {}",
             cpu.state().as_str()
         );
         match cpu.error() {
-            None => println!("error: none"),
+            None => outln!("error: none"),
             Some(e) => {
                 let place = match (&e.file, e.line, e.step) {
                     (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
                     _ => String::new(),
                 };
-                println!("error: {} {}{place}", e.code.0, e.code.message());
+                outln!("error: {} {}{place}", e.code.0, e.code.message());
             }
         }
         for line in text {
-            println!("{line}");
+            outln!("{line}");
         }
     }
     match signal {

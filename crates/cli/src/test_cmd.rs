@@ -20,6 +20,7 @@ use softplc_sim::plot;
 use softplc_sim::scenario::{Outcome, PlotSpec, Scenario};
 
 use crate::run::parse_duration;
+use crate::stdout::{out, outln};
 
 #[derive(Args, Debug)]
 pub struct TestArgs {
@@ -237,7 +238,7 @@ fn merge(args: &TestArgs) -> ExitCode {
     let (text, total) = jsonl::summary(&lines);
     if args.jsonl {
         for l in &lines {
-            println!("{}", l.to_json());
+            outln!("{}", l.to_json());
         }
         eprint!(
             "{}",
@@ -246,7 +247,7 @@ fn merge(args: &TestArgs) -> ExitCode {
                 .map_or(String::new(), |l| format!("{l}\n"))
         );
     } else {
-        print!("{text}");
+        out!("{text}");
     }
     if total.failed == 0 {
         ExitCode::SUCCESS
@@ -297,9 +298,9 @@ pub fn run(args: TestArgs) -> ExitCode {
                     let k = g.0;
                     let Some(d) = g.1[k].take() else { break };
                     if args.jsonl {
-                        mp.suspend(|| println!("{}", d.line.to_json()));
+                        mp.suspend(|| outln!("{}", d.line.to_json()));
                     } else {
-                        mp.suspend(|| print!("{}", d.text));
+                        mp.suspend(|| out!("{}", d.text));
                     }
                     let mut t = totals.lock().unwrap_or_else(|e| e.into_inner());
                     t.0 += d.passed;
@@ -313,7 +314,7 @@ pub fn run(args: TestArgs) -> ExitCode {
     if args.jsonl {
         eprintln!("{passed} passed, {failed} failed");
     } else {
-        println!("{passed} passed, {failed} failed");
+        outln!("{passed} passed, {failed} failed");
     }
     if failed == 0 {
         ExitCode::SUCCESS

@@ -14,6 +14,7 @@ use softplc_tune::report::num;
 use softplc_tune::rules::{Rule, RuleOptions};
 
 use crate::run::parse_duration;
+use crate::stdout::{out, outln};
 
 #[derive(Args, Debug)]
 pub struct TuneArgs {
@@ -106,11 +107,11 @@ pub fn run(args: TuneArgs) -> ExitCode {
     if let Some(csv) = &args.fit_csv {
         return match fit_csv_file(csv) {
             Ok(f) if args.json => {
-                println!("{}", serde_json::to_string_pretty(&f).unwrap_or_default());
+                outln!("{}", serde_json::to_string_pretty(&f).unwrap_or_default());
                 ExitCode::SUCCESS
             }
             Ok(f) => {
-                println!(
+                outln!(
                     "{}: step {} → {} at t = {} s; FOPDT K = {}, τ = {} s, θ = {} s; \
                      RMS error {}, R² = {:.6} ({} samples)",
                     f.file,
@@ -176,9 +177,9 @@ pub fn run(args: TuneArgs) -> ExitCode {
         notes = format!("trend: {}\n", svg.display());
     }
     if args.json {
-        println!("{}", report.json());
+        outln!("{}", report.json());
     } else {
-        print!("{}{notes}", report.text());
+        out!("{}{notes}", report.text());
     }
     match &report.verification {
         Some(v) if !v.settled => ExitCode::from(1),

@@ -305,3 +305,23 @@ fn the_text_report_gives_the_virtual_time_exactly() {
     let out = softplc(&["run", "examples/blink.il", "--scans", "3", "--json"]);
     assert_eq!(json(&out)["time_ms"], 30.0);
 }
+
+#[test]
+fn a_reader_that_goes_away_ends_the_run_quietly() {
+    // `softplc run … --trace Y0 | head -1`: stdout is closed before the trace
+    // is printed; the run stops with a shell's broken-pipe status (141), not
+    // a panic.
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .args(["run", "examples/blink.il", "--scans", "2000", "--trace", "Y0"])
+        .current_dir(workspace())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("softplc runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(141), "stderr: {stderr}");
+    assert!(!stderr.contains("panicked"), "stderr: {stderr}");
+}
