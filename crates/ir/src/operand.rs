@@ -54,9 +54,19 @@ impl DeviceMemory {
         }
     }
 
-    /// Reads a 16-bit operand.
-    #[inline]
+    /// Reads a 16-bit operand. Plain words and constants inline at the call;
+    /// the rest out of line, so the common case costs no call.
+    #[inline(always)]
     pub fn read16(&self, a: &WordArg) -> Result<u16, Fault> {
+        match a {
+            WordArg::Word(i) => Ok(self.words[*i as usize]),
+            WordArg::Const(k) => Ok(*k as u16),
+            _ => self.read16_general(a),
+        }
+    }
+
+    #[inline(never)]
+    fn read16_general(&self, a: &WordArg) -> Result<u16, Fault> {
         Ok(match a {
             WordArg::Word(i) => self.words[*i as usize],
             WordArg::Const(k) => *k as u16,
@@ -104,9 +114,21 @@ impl DeviceMemory {
         }
     }
 
-    /// Writes a 16-bit operand; a digit-specified destination takes the low 4·n bits.
-    #[inline]
+    /// Writes a 16-bit operand; a digit-specified destination takes the low 4·n
+    /// bits. A plain word inline at the call, the rest out of line.
+    #[inline(always)]
     pub fn write16(&mut self, a: &WordArg, v: u16) -> Result<(), Fault> {
+        match a {
+            WordArg::Word(i) => {
+                self.words[*i as usize] = v;
+                Ok(())
+            }
+            _ => self.write16_general(a, v),
+        }
+    }
+
+    #[inline(never)]
+    fn write16_general(&mut self, a: &WordArg, v: u16) -> Result<(), Fault> {
         match a {
             WordArg::Word(i) => self.words[*i as usize] = v,
             WordArg::Const(_) => {}

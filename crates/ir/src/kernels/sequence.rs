@@ -81,9 +81,15 @@ pub fn timer(
     let mut cur = mem.words[value] as i16 as i32;
     if was_on {
         let total = rem[slot] as u64 + scan_us as u64;
-        let units = total / base_us as u64;
-        rem[slot] = (total % base_us as u64) as u32;
-        cur = (cur as i64 + units as i64).min(32767) as i32;
+        if total < base_us as u64 {
+            // Less than one unit so far (a 100 ms timer in 10 ms scans): no
+            // division, which costs more than the rest of the timer.
+            rem[slot] = total as u32;
+        } else {
+            let units = total / base_us as u64;
+            rem[slot] = (total % base_us as u64) as u32;
+            cur = (cur as i64 + units as i64).min(32767) as i32;
+        }
     }
     if cur >= set as i32 {
         cur = set as i32;
