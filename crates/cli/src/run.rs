@@ -100,7 +100,8 @@ pub struct RunArgs {
     /// interp; overrides SOFTPLC_EXEC and a project's `[cpu] exec`.
     #[arg(long, value_name = "TIER", value_parser = Exec::parse)]
     pub exec: Option<Exec>,
-    /// Print the tier and its compile time at load (on stderr).
+    /// Print the tier and its compile time at load, and the wall time of the
+    /// scans at the end (on stderr).
     #[arg(long)]
     pub stats: bool,
 }
@@ -540,6 +541,8 @@ pub fn run(args: RunArgs) -> ExitCode {
     let step_us = args.scan_time.as_micros() as u64;
     let mut pending = writes.iter().peekable();
     let mut scans = 0u64;
+    // --stats: the wall time of the scans themselves (load and compile excluded).
+    let started = std::time::Instant::now();
     for n in 1..=args.scans {
         while let Some(w) = pending.next_if(|w| w.scan == n) {
             if let Err(e) = w.spec.write(&mut cpu, &w.value) {
@@ -569,6 +572,14 @@ pub fn run(args: RunArgs) -> ExitCode {
         if cpu.state() == CpuState::Stop || cpu.aborted() {
             break;
         }
+    }
+    if args.stats && scans > 0 {
+        let secs = started.elapsed().as_secs_f64();
+        eprintln!(
+            "run: {scans} scans in {:.1} ms of wall time, {:.2} µs per scan",
+            secs * 1e3,
+            secs * 1e6 / scans as f64
+        );
     }
     let signal = crate::signal::received();
     let stopped = if signal.is_some() {

@@ -267,7 +267,17 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
         stderr.starts_with("exec: jit, 10 of 11 ops native, compiled in "),
         "{stderr}"
     );
-    assert_eq!(String::from_utf8_lossy(&interp.stderr), "exec: interp\n");
+    // At the end, the wall time of the scans alone.
+    let interp_err = String::from_utf8_lossy(&interp.stderr);
+    let lines: Vec<&str> = interp_err.lines().collect();
+    assert_eq!(lines.len(), 2, "{interp_err}");
+    assert_eq!(lines[0], "exec: interp");
+    for last in [lines[1], stderr.lines().last().unwrap()] {
+        assert!(
+            last.starts_with("run: 2 scans in ") && last.ends_with(" µs per scan"),
+            "{last}"
+        );
+    }
     let env = Command::new(env!("CARGO_BIN_EXE_softplc"))
         .args(["check", "examples/blink.il", "--stats", "--exec", "interp"])
         .env("SOFTPLC_EXEC", "jit")
@@ -288,6 +298,30 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
             .contains("SOFTPLC_EXEC: exec \"fast\" is not one of auto, jit, interp"),
         "{}",
         String::from_utf8_lossy(&bad.stderr)
+    );
+    // SOFTPLC_JIT_MIN_RUN=1: every native-capable op of blink is native
+    // (LD X0, ANI T1, LD T0, LD T0, OUT Y0, LD Y0, LD X1); 0 is refused.
+    let min_run = |n: &str| {
+        Command::new(env!("CARGO_BIN_EXE_softplc"))
+            .args(["check", "examples/blink.il", "--stats", "--exec", "jit"])
+            .env("SOFTPLC_JIT_MIN_RUN", n)
+            .current_dir(workspace())
+            .output()
+            .unwrap()
+    };
+    let one = min_run("1");
+    let stderr = String::from_utf8_lossy(&one.stderr);
+    assert!(
+        stderr.starts_with("exec: jit, 7 of 12 ops native, compiled in "),
+        "{stderr}"
+    );
+    let zero = min_run("0");
+    assert_eq!(zero.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&zero.stderr)
+            .contains("SOFTPLC_JIT_MIN_RUN=0: not a number from 1"),
+        "{}",
+        String::from_utf8_lossy(&zero.stderr)
     );
 }
 
@@ -313,7 +347,14 @@ fn a_reader_that_goes_away_ends_the_run_quietly() {
     // a panic.
     use std::process::Stdio;
     let mut child = Command::new(env!("CARGO_BIN_EXE_softplc"))
-        .args(["run", "examples/blink.il", "--scans", "2000", "--trace", "Y0"])
+        .args([
+            "run",
+            "examples/blink.il",
+            "--scans",
+            "2000",
+            "--trace",
+            "Y0",
+        ])
         .current_dir(workspace())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

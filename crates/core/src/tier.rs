@@ -9,6 +9,29 @@ pub use softplc_jit::Jit;
 /// The environment variable that chooses the tier for harnesses and runs.
 pub const ENV: &str = "SOFTPLC_EXEC";
 
+/// The environment variable that sets the JIT's shortest native run
+/// ([`Jit::with_min_run`]; default `plan::MIN_RUN`): for measuring the
+/// trade-off (docs/performance.md) and for tests that want the most native
+/// code (1).
+pub const MIN_RUN_ENV: &str = "SOFTPLC_JIT_MIN_RUN";
+
+/// `SOFTPLC_JIT_MIN_RUN`, if set: a number from 1 (an invalid value is an
+/// error naming it).
+pub fn min_run_from_env() -> Result<Option<usize>, String> {
+    match std::env::var(MIN_RUN_ENV) {
+        Ok(v) => match v.trim().parse::<usize>() {
+            Ok(n) if n >= 1 => Ok(Some(n)),
+            _ => Err(format!("{MIN_RUN_ENV}={v}: not a number from 1")),
+        },
+        Err(_) => Ok(None),
+    }
+}
+
+/// The JIT with `SOFTPLC_JIT_MIN_RUN` applied.
+fn jit_from_env() -> Result<Jit, String> {
+    Ok(min_run_from_env()?.map_or_else(Jit::default, Jit::with_min_run))
+}
+
 /// An execution tier choice.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Exec {
@@ -68,34 +91,20 @@ pub fn apply(cpu: &mut Cpu, exec: Exec) -> Result<Option<TierStats>, String> {
         Exec::Auto if softplc_jit::available().is_err() => Ok(None),
         Exec::Auto | Exec::Jit => {
             softplc_jit::available().map_err(|e| format!("exec = \"jit\": {e}"))?;
-            cpu.use_tier(&Jit::default()).cloned().map(Some)
+            cpu.use_tier(&jit_from_env()?).cloned().map(Some)
         }
     }
 }
 
 /// For test harnesses: the tier `SOFTPLC_EXEC` names, the interpreter when
-/// it is unset; on the JIT, `SOFTPLC_JIT_MIN_RUN` (a number) sets
-/// [`Jit::with_min_run`] (`.ci/run` runs the golden tests with 1, the most
-/// native code). Panics on an invalid value or a failed compile (a test
-/// failure, with the reason).
+/// it is unset, with `SOFTPLC_JIT_MIN_RUN` on the JIT (`.ci/run` runs the
+/// golden tests with 1, the most native code). Panics on an invalid value or
+/// a failed compile (a test failure, with the reason).
 pub fn apply_env(cpu: &mut Cpu) {
     let exec = Exec::from_env()
         .unwrap_or_else(|e| panic!("{e}"))
         .unwrap_or(Exec::Interp);
-    let min_run = std::env::var("SOFTPLC_JIT_MIN_RUN").ok().map(|v| {
-        v.trim()
-            .parse::<usize>()
-            .unwrap_or_else(|_| panic!("SOFTPLC_JIT_MIN_RUN={v}: not a number"))
-    });
-    match (exec, min_run) {
-        (Exec::Jit, Some(n)) => {
-            cpu.use_tier(&Jit::with_min_run(n))
-                .unwrap_or_else(|e| panic!("{e}"));
-        }
-        _ => {
-            apply(cpu, exec).unwrap_or_else(|e| panic!("{e}"));
-        }
-    }
+    apply(cpu, exec).unwrap_or_else(|e| panic!("{e}"));
 }
 
 #[cfg(test)]

@@ -28,6 +28,9 @@ fn bit() -> impl Strategy<Value = String> {
         (0..8u32).prop_map(|n| format!("Y{n}")),
         (0..16u32).prop_map(|n| format!("D0.{n:X}")),
         Just("SM400".to_string()),
+        // The last bits of memory (FY is last): native code reads a bit with
+        // the three bytes after it only where they are still memory.
+        (12..16u32).prop_map(|n| format!("FY{n:X}")),
         // Index-modified: Z0 may point past the end of M (4101).
         (0..4u32).prop_map(|n| format!("M{n}Z0")),
     ]
@@ -37,6 +40,7 @@ fn dest_bit() -> impl Strategy<Value = String> {
     prop_oneof![
         (0..16u32).prop_map(|n| format!("M{n}")),
         (0..8u32).prop_map(|n| format!("Y{n}")),
+        (12..16u32).prop_map(|n| format!("FY{n:X}")),
         (0..4u32).prop_map(|n| format!("M{}Z0", 20 + n)),
     ]
 }

@@ -244,3 +244,69 @@ fn exec_choice_interp_leaves_no_native_code() {
     let s = apply(&mut p.cpu, Exec::Jit).unwrap().unwrap();
     assert_eq!((s.ops, s.native_ops), (5, 0));
 }
+
+#[test]
+fn master_control_off_hands_the_rest_to_the_interpreter_until_mcr() {
+    // Long native runs (the shipped minimum run) before, inside and after an
+    // MC: while N0 is OFF the interpreter runs everything up to MCR (native
+    // code runs only while no MC forces conditions OFF), then native code
+    // takes over again after MCR.
+    let run = |coils: &[&str]| -> String {
+        coils
+            .iter()
+            .map(|c| format!("LD X1\nAND SM400\nOR M50\nANI M51\nOUT {c}\n"))
+            .collect()
+    };
+    let src = format!(
+        "{}LD X0\nMC N0 M100\n{}MCR N0\n{}END\n",
+        run(&["M0", "M1"]),
+        run(&["Y0", "Y1"]),
+        run(&["Y2", "Y3"])
+    );
+    let mut interp = Plc::new(&src);
+    apply(&mut interp.cpu, Exec::Interp).unwrap();
+    let mut jit = Plc::new(&src);
+    let stats = jit.cpu.use_tier(&Jit::default()).unwrap().clone();
+    // Runs of 11 (with MC's LD X0), 10 and 10; MC, MCR and END are
+    // interpreted.
+    assert_eq!((stats.native_ops, stats.ops), (31, 34), "{stats:?}");
+    for p in [&mut interp, &mut jit] {
+        p.set("Y0", "1").set("X1", "1").scan();
+        // N0 OFF: Y0/Y1 OFF (were ON), M and Y2/Y3 follow X1.
+        assert_eq!(common::outputs(p, 4), "0011");
+        assert!(p.bit("M0") && p.bit("M1") && !p.bit("M100"));
+        p.set("X0", "1").scan();
+        assert_eq!(common::outputs(p, 4), "1111");
+        p.set("X1", "0").scan();
+        assert_eq!(common::outputs(p, 4), "0000");
+        assert!(!p.bit("M0") && p.bit("M100"));
+    }
+}
+
+#[test]
+fn the_last_bits_of_memory_on_native_code() {
+    // FY is the last bit device: native code reads a bit four bytes wide
+    // only where the three bytes after it are still memory.
+    let src = "\
+LD X0
+OR FY0F
+ANI FY0D
+OUT FY0E
+LD FY0E
+SET FY0F
+LD X1
+RST FY0F
+LD FY0F
+OUT Y0
+END
+";
+    each(src, |p| {
+        p.set("X0", "1").scan();
+        assert!(p.bit("FY0E") && p.bit("FY0F") && p.bit("Y0"));
+        p.set("X0", "0").set("X1", "1").scan();
+        // FY0E from FY0F (still ON); FY0F SET, then RST; Y0 from FY0F.
+        assert!(p.bit("FY0E") && !p.bit("FY0F") && !p.bit("Y0"));
+        p.set("X1", "0").scan();
+        assert!(!p.bit("FY0E") && !p.bit("FY0F") && !p.bit("Y0"));
+    });
+}

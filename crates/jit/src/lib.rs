@@ -1,5 +1,5 @@
 //! softplc-jit: the native-code tier of the scan engine (issue #17), on
-//! Cranelift at `opt_level=speed`.
+//! Cranelift (`opt_level=none`: the code is shaped by `codegen` itself).
 //!
 //! [`plan`] splits a program into chunks of at most [`plan::CHUNK_OPS`] ops
 //! and picks the ops that run as native code, [`codegen`] turns a chunk into

@@ -75,7 +75,7 @@ fn exec_op_signature(call_conv: cranelift_codegen::isa::CallConv, ptr: types::Ty
     sig
 }
 
-/// The host's code generator at `opt_level=speed`, built once per process.
+/// The host's code generator, built once per process.
 pub(crate) fn isa() -> Result<OwnedTargetIsa, String> {
     static ISA: std::sync::OnceLock<Result<OwnedTargetIsa, String>> = std::sync::OnceLock::new();
     ISA.get_or_init(host_isa).clone()
@@ -87,7 +87,13 @@ fn host_isa() -> Result<OwnedTargetIsa, String> {
         f.set(k, v)
             .map_err(|e| format!("cranelift setting {k}={v}: {e}"))
     };
-    set(&mut flags, "opt_level", "speed")?;
+    // No e-graph optimisation: `codegen` emits the code it wants (it keeps
+    // the bits it knows in registers itself), and the e-graph would move each
+    // and/or away from its load, so that x86 could no longer take the bit
+    // from memory in the same instruction: the bit mix ran at 0.27 instead of
+    // 0.22 ns per instruction, and compiling took twice as long
+    // (docs/performance.md, "Code shape").
+    set(&mut flags, "opt_level", "none")?;
     // Debug builds (the tests) verify the IR; in release the verifier took
     // a tenth of the compile time.
     let verify = if cfg!(debug_assertions) {
@@ -170,7 +176,7 @@ impl Compiled {
             ctx.func.signature = sig.clone();
             let tramp_ref = module.declare_func_in_func(tramp_id, &mut ctx.func);
             let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-            codegen::build(&mut b, chunk, ptr, tramp_ref);
+            codegen::build(&mut b, chunk, ptr, tramp_ref, prog.bit_len);
             b.finalize(module.target_config());
             module
                 .define_function(id, &mut ctx)
@@ -214,10 +220,15 @@ impl NativeProgram for Compiled {
         if mem.bits.len() != self.bit_len || mem.words.len() != self.word_len {
             return pc;
         }
+        // Native code runs only while no master control (or POFF) forces
+        // conditions OFF: it has no code for that case, the interpreter runs
+        // the ops instead (`codegen`: a stretch that turns them OFF returns).
+        if regs.mc_on == 0 {
+            return pc;
+        }
         let (bits, words) = (mem.bits.as_mut_ptr().cast::<u8>(), mem.words.as_mut_ptr());
         // Booleans stay 0/1 whatever the caller passed (they are stored into `bool`s).
         regs.acc = u32::from(regs.acc != 0);
-        regs.mc_on = u32::from(regs.mc_on != 0);
         let mut cx = Ctx {
             regs: *regs,
             bits,
@@ -229,10 +240,13 @@ impl NativeProgram for Compiled {
         // whose indices the plan checked against `bit_len`/`word_len`, the
         // lengths of the host's slices (tested above; they never change
         // size), through the addresses in `cx`, which `exec_op` renews after
-        // every call into the host. Every value it stores into a `bool` is 0
-        // or 1: loaded bools, `acc`/`mc_on` (0/1 above, and as the host
-        // leaves them) and their and/or/xor-with-1 and comparison results,
-        // and the low bit of the stacks.
+        // every call into the host; a bit below `bit_len - 3` may be read
+        // together with the three bytes after it (`codegen::Gen::bit`), still
+        // inside the slice. Every value it stores into a `bool` is 0 or 1:
+        // the low byte of loaded bools, `acc` (0/1 above, and as the host
+        // leaves it) and their and/or/xor-with-1/and-not and comparison
+        // results, whose low byte is 0 or 1 whatever bits 8-31 hold, and the
+        // low bit of the stacks.
         let next = unsafe { f(&mut cx, pc) };
         *regs = cx.regs;
         next

@@ -49,7 +49,7 @@ pub enum WordSrc {
     Const(u32),
 }
 
-/// What a coil does with the condition (`acc & mc_on`).
+/// What a coil does with the condition.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Store {
     Out,
@@ -207,6 +207,11 @@ fn chunk(
                 Some(s) => {
                     if let Some(from) = stretch.take() {
                         pieces.push(run(from, pc));
+                        // Where the interpreter comes back to native code
+                        // when the stretch left it (an MC turned conditions
+                        // OFF: native code runs only while they are not).
+                        entry[pc] = true;
+                        pieces.push(Piece::Entry(pc as u32));
                     }
                     match (s, pieces.last_mut()) {
                         (Step::Movs(m), Some(Piece::Step(Step::Movs(moves)))) => {
@@ -455,11 +460,12 @@ mod tests {
             native[pc as usize] = false;
         }
         assert_eq!(plan.native, native);
-        // CJ's target is interpreted: no entry there.
-        assert_eq!(entries(&plan), [0]);
+        // CJ's target is interpreted: no entry there; native code may be
+        // entered again after the interpreted CJ.
+        assert_eq!(entries(&plan), [0, k as usize + 1]);
         let pieces = &plan.chunks[0].pieces;
         let k = k as usize;
-        assert_eq!(pieces.len(), 1 + k + 1 + (k - 2) + 1 + 1, "{pieces:?}");
+        assert_eq!(pieces.len(), 1 + k + 2 + (k - 2) + 1 + 1, "{pieces:?}");
         assert_eq!(pieces[0], Piece::Entry(0));
         assert_eq!(
             pieces[k + 1],
@@ -468,12 +474,13 @@ mod tests {
                 to: k as u32 + 1
             }
         );
+        assert_eq!(pieces[k + 2], Piece::Entry(k as u32 + 1));
         // The two MOVs under one condition.
-        let Piece::Step(Step::Movs(run)) = &pieces[2 * k] else {
+        let Piece::Step(Step::Movs(run)) = &pieces[2 * k + 1] else {
             panic!("{pieces:?}")
         };
         assert_eq!(run.len(), 2);
-        assert_eq!(pieces[2 * k + 1], Piece::Exit(2 * k as u32 + 1));
+        assert_eq!(pieces[2 * k + 2], Piece::Exit(2 * k as u32 + 1));
     }
 
     #[test]
@@ -515,7 +522,11 @@ mod tests {
         ops.push(Op::End);
         let plan = plan(&program(ops), MIN_RUN);
         let k = k as usize;
-        assert_eq!(entries(&plan), [0, k + 2, k + 3, 2 * k + 2]);
+        // Also after each interpreted op (k, 2k + 1, 3k + 2).
+        assert_eq!(
+            entries(&plan),
+            [0, k + 1, k + 2, k + 3, 2 * k + 2, 3 * k + 3]
+        );
         let runs: Vec<&Piece> = plan.chunks[0]
             .pieces
             .iter()
