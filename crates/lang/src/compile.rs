@@ -276,15 +276,27 @@ impl<'a> Compiler<'a> {
         if !self.output(i, m) {
             return;
         }
+        let errors = self.diags.len();
         let mut args = Args::new(self, i, m);
-        if let Some(x) = compile(&mut args) {
-            let at = self.ext.len() as u32;
-            self.ext.push(x);
-            match drive {
-                isa::Drive::WhenOn => self.pulsed(pulse, Op::Ext(at)),
-                isa::Drive::Always => self.pulsed(pulse, Op::ExtAlways(at)),
-                isa::Drive::OnRise => self.pulsed(true, Op::Ext(at)),
+        match compile(&mut args) {
+            Some(x) => {
+                let at = self.ext.len() as u32;
+                self.ext.push(x);
+                match drive {
+                    isa::Drive::WhenOn => self.pulsed(pulse, Op::Ext(at)),
+                    isa::Drive::Always => self.pulsed(pulse, Op::ExtAlways(at)),
+                    isa::Drive::OnRise => self.pulsed(true, Op::Ext(at)),
+                }
             }
+            // An instruction is never dropped in silence: a compile function
+            // that gives no instruction has said why, or the load fails here.
+            None if self.diags.len() == errors => self.err(
+                &i.mnemonic,
+                format!(
+                    "`{m}` compiled to nothing without a reason (a softplc bug: please report it)"
+                ),
+            ),
+            None => {}
         }
     }
 
