@@ -278,20 +278,20 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
             "{last}"
         );
     }
-    let env = Command::new(env!("CARGO_BIN_EXE_softplc"))
-        .args(["check", "examples/blink.il", "--stats", "--exec", "interp"])
-        .env("SOFTPLC_EXEC", "jit")
-        .current_dir(workspace())
-        .output()
-        .unwrap();
+    // `softplc check examples/blink.il --stats EXTRA…` with one variable set.
+    let check_with = |extra: &[&str], var: &str, value: &str| {
+        Command::new(env!("CARGO_BIN_EXE_softplc"))
+            .args(["check", "examples/blink.il", "--stats"])
+            .args(extra)
+            .env(var, value)
+            .current_dir(workspace())
+            .output()
+            .unwrap()
+    };
+    let env = check_with(&["--exec", "interp"], "SOFTPLC_EXEC", "jit");
     assert!(env.status.success());
     assert!(String::from_utf8_lossy(&env.stderr).contains("exec: interp"));
-    let bad = Command::new(env!("CARGO_BIN_EXE_softplc"))
-        .args(["check", "examples/blink.il", "--stats"])
-        .env("SOFTPLC_EXEC", "fast")
-        .current_dir(workspace())
-        .output()
-        .unwrap();
+    let bad = check_with(&[], "SOFTPLC_EXEC", "fast");
     assert_eq!(bad.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&bad.stderr)
@@ -301,14 +301,7 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
     );
     // SOFTPLC_JIT_MIN_RUN=1: every native-capable op of blink is native
     // (LD X0, ANI T1, LD T0, LD T0, OUT Y0, LD Y0, LD X1); 0 is refused.
-    let min_run = |n: &str| {
-        Command::new(env!("CARGO_BIN_EXE_softplc"))
-            .args(["check", "examples/blink.il", "--stats", "--exec", "jit"])
-            .env("SOFTPLC_JIT_MIN_RUN", n)
-            .current_dir(workspace())
-            .output()
-            .unwrap()
-    };
+    let min_run = |n: &str| check_with(&["--exec", "jit"], "SOFTPLC_JIT_MIN_RUN", n);
     let one = min_run("1");
     let stderr = String::from_utf8_lossy(&one.stderr);
     assert!(

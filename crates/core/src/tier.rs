@@ -15,21 +15,16 @@ pub const ENV: &str = "SOFTPLC_EXEC";
 /// code (1).
 pub const MIN_RUN_ENV: &str = "SOFTPLC_JIT_MIN_RUN";
 
-/// `SOFTPLC_JIT_MIN_RUN`, if set: a number from 1 (an invalid value is an
-/// error naming it).
-pub fn min_run_from_env() -> Result<Option<usize>, String> {
-    match std::env::var(MIN_RUN_ENV) {
-        Ok(v) => match v.trim().parse::<usize>() {
-            Ok(n) if n >= 1 => Ok(Some(n)),
-            _ => Err(format!("{MIN_RUN_ENV}={v}: not a number from 1")),
-        },
-        Err(_) => Ok(None),
-    }
-}
-
-/// The JIT with `SOFTPLC_JIT_MIN_RUN` applied.
+/// The JIT, with `SOFTPLC_JIT_MIN_RUN` if set: a number from 1 (an invalid
+/// value is an error naming it).
 fn jit_from_env() -> Result<Jit, String> {
-    Ok(min_run_from_env()?.map_or_else(Jit::default, Jit::with_min_run))
+    let Ok(v) = std::env::var(MIN_RUN_ENV) else {
+        return Ok(Jit::default());
+    };
+    match v.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(Jit::with_min_run(n)),
+        _ => Err(format!("{MIN_RUN_ENV}={v}: not a number from 1")),
+    }
 }
 
 /// An execution tier choice.

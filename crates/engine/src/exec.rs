@@ -158,7 +158,9 @@ fn interpret<const NATIVE: bool>(
     loop {
         if NATIVE {
             let unit = entries.get(pc).copied().unwrap_or(NO_REGION);
-            if let (true, Some(native)) = (unit != NO_REGION, native) {
+            // Native code only while no MC/POFF forces conditions OFF
+            // (`NativeProgram::run`); the interpreter runs those ops.
+            if let (true, Some(native)) = (unit != NO_REGION && r.mc_on, native) {
                 let mut ended = None;
                 let (next, regs) = enter(
                     k,

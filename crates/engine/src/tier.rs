@@ -60,7 +60,10 @@ pub trait NativeProgram: Send {
     /// host's memory, calling [`Host::exec`] for the ops without native
     /// code, and returns the op index where the interpreter goes on, or
     /// [`LEAVE`]. Returns `pc` unchanged when it cannot run (memory of
-    /// another size).
+    /// another size). The interpreter calls it only while `regs.mc_on` is 1
+    /// (no master control or POFF forces conditions OFF; the ops in between
+    /// it runs itself), and native code returns when a stretch of
+    /// [`Host::exec`] turned it 0.
     fn run(&self, unit: u32, pc: u32, regs: &mut Regs, host: &mut dyn Host) -> u32;
     /// Ops of the program that run as native code.
     fn native_ops(&self) -> usize;

@@ -199,7 +199,7 @@ impl Gen<'_, '_> {
     /// The interpreter runs ops `from..to`; on natively when it returns
     /// `to`, else dispatch on the op it returned, but return to the
     /// interpreter at once when the stretch turned conditions OFF (an MC):
-    /// native code runs only while they are not (`native::Compiled::run`).
+    /// native code runs only while they are not (`NativeProgram::run`).
     fn run(&mut self, from: u32, to: u32) {
         self.store_regs();
         let from = self.b.ins().iconst(types::I32, i64::from(from));
@@ -320,12 +320,6 @@ impl Gen<'_, '_> {
         self.b.def_var(self.acc, r);
     }
 
-    /// The condition of coils and MOVs: `acc`, as no master control forces
-    /// it OFF while native code runs.
-    fn cond(&mut self) -> Value {
-        self.b.use_var(self.acc)
-    }
-
     /// Pushes `acc` on the bit stack `var`.
     fn push(&mut self, var: Variable) {
         let s = self.b.use_var(var);
@@ -412,7 +406,9 @@ impl Gen<'_, '_> {
                 self.b.def_var(self.acc, a);
             }
             Step::Coil { store, bit } => {
-                let c = self.cond();
+                // The condition is `acc` itself: no master control forces it
+                // OFF while native code runs.
+                let c = self.b.use_var(self.acc);
                 // SET/RST write the value they leave (unchanged when OFF):
                 // no branch, same memory as the interpreter's.
                 let v = match store {
@@ -438,8 +434,8 @@ impl Gen<'_, '_> {
 
     /// A run of MOVs under one test of the condition.
     fn movs(&mut self, run: &[Move]) {
-        let c = self.cond();
-        let c = self.b.ins().band_imm_s(c, 1);
+        // The condition, as for coils (bit 0: brif tests the whole value).
+        let c = self.acc_bit();
         let then = self.b.create_block();
         let after = self.b.create_block();
         self.b.ins().brif(c, then, &[], after, &[]);

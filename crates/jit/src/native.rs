@@ -220,12 +220,10 @@ impl NativeProgram for Compiled {
         if mem.bits.len() != self.bit_len || mem.words.len() != self.word_len {
             return pc;
         }
-        // Native code runs only while no master control (or POFF) forces
-        // conditions OFF: it has no code for that case, the interpreter runs
-        // the ops instead (`codegen`: a stretch that turns them OFF returns).
-        if regs.mc_on == 0 {
-            return pc;
-        }
+        // The interpreter enters only while no master control (or POFF)
+        // forces conditions OFF (`NativeProgram::run`): the code has no
+        // case for it (`codegen`: a stretch that turns them OFF returns).
+        debug_assert!(regs.mc_on != 0, "native code entered under an OFF MC");
         let (bits, words) = (mem.bits.as_mut_ptr().cast::<u8>(), mem.words.as_mut_ptr());
         // Booleans stay 0/1 whatever the caller passed (they are stored into `bool`s).
         regs.acc = u32::from(regs.acc != 0);
