@@ -132,6 +132,14 @@ impl<T: WordValue> At<T> {
         self.offset
     }
 
+    /// The `k`-th of a run of fields of this type that begins with this one
+    /// (a table a layout declares by its first element, e.g. the n inputs of
+    /// an instruction whose count is data): element 0 is the field itself.
+    #[inline]
+    pub fn nth(self, k: usize) -> Self {
+        At::new(self.offset + k * T::TYPE.words())
+    }
+
     /// The field's value in block `w` (which starts at the layout's word 0).
     #[inline]
     pub fn get(self, w: &[u16]) -> T {

@@ -7,8 +7,9 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, count_word, def, dummy, only_default, put_bits, real, result, set_f, Areas, PcError, Sys,
+    area, count_word, def, dummy, only_default, result, Area, Areas, BlockMemory, Input, InputList, PcError, Sys,
 };
+use super::tag::bb;
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
 
@@ -42,6 +43,55 @@ pub static DEFS: &[Def] = &[
     def("S.SQR", 4, &SQR, Sqr::compile),
     def("S.ABS", 4, &ABS, Abs::compile),
 ];
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.ADD, S.SUB and S.MUL: n, K1 … Kn,
+    /// then B.
+    pub struct TermConsts[13] {
+        /// n: the number of coefficients (BIN16, 0..5).
+        n: i16 @ 0,
+        /// K1, the first of the n coefficients; B follows Kn.
+        k: f32 @ 1,
+    }
+}
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.DIV.
+    pub struct DivInputs[4] {
+        /// E1: the numerator input.
+        e1: f32 @ 0,
+        /// E2: the denominator input.
+        e2: f32 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.DIV.
+    pub struct DivConsts[12] {
+        /// A: the gain of the quotient.
+        a: f32 @ 0,
+        /// K1: the numerator coefficient.
+        k1: f32 @ 2,
+        /// K2: the denominator coefficient.
+        k2: f32 @ 4,
+        /// B1: the numerator bias.
+        b1: f32 @ 6,
+        /// B2: the denominator bias.
+        b2: f32 @ 8,
+        /// B3: the output bias.
+        b3: f32 @ 10,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.SQR.
+    pub struct SqrConsts[4] {
+        /// OLC: the output low cut.
+        olc: f32 @ 0,
+        /// K: the gain.
+        k: f32 @ 2,
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Op {
@@ -114,16 +164,16 @@ impl Terms {
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        s2: usize,
+        s1: Area,
+        d1: Area,
+        s2: Area,
         n: usize,
         kn: usize,
     ) -> Result<(), PcError> {
         let mut acc = 0f32;
         for i in 0..n {
-            let e = real(m, s1 + 1 + 2 * i, 1)?;
-            let k = real(m, s2 + 1 + 2 * i, 1)?;
+            let e = s1.real(m, InputList::e.nth(i), 1)?;
+            let k = s2.real(m, TermConsts::k.nth(i), 1)?;
             let term = result(k * e, 1)?;
             acc = if i == 0 {
                 term
@@ -136,28 +186,28 @@ impl Terms {
             };
             acc = result(acc, 1)?;
         }
-        let b = real(m, s2 + 1 + 2 * kn, 1)?;
+        let b = s2.real(m, TermConsts::k.nth(kn), 1)?;
         let bw = if self.bias_added { acc + b } else { acc - b };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         Ok(())
     }
 }
 
 impl Instr for Terms {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 1)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 1)?;
-        let counts =
-            count_word(cx.mem, s1, 0, 5, 1).and_then(|n| Ok((n, count_word(cx.mem, s2, 0, 5, 1)?)));
+        let s1 = Area::of(cx.mem, &self.s1, 1)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let s2 = Area::of(cx.mem, &self.s2, 1)?;
+        let counts = count_word(cx.mem, s1, InputList::n, 0, 5, 1)
+            .and_then(|n| Ok((n, count_word(cx.mem, s2, TermConsts::n, 0, 5, 1)?)));
         let (n, kn) = match counts {
             Ok(c) => c,
             Err(e) => return Err(self.sys.fail(cx.mem, e)),
         };
-        let s1 = cx.mem.block_start(&self.s1, 1 + 2 * n as u32)?;
-        let s2 = cx
-            .mem
-            .block_start(&self.s2, (1 + 2 * n as u32).max(3 + 2 * kn as u32))?;
+        // The words up to En, Kn and B.
+        let end = |f: softplc_ir::layout::At<f32>, k: usize| f.nth(k).offset() as u32;
+        let s1 = Area::of(cx.mem, &self.s1, end(InputList::e, n))?;
+        let s2 = Area::of(cx.mem, &self.s2, end(TermConsts::k, n).max(end(TermConsts::k, kn + 1)))?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, n, kn))
     }
 }
@@ -184,11 +234,13 @@ impl Div {
         Some(Box::new(Div { sys, areas: areas? }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let e2 = real(m, s1 + 2, 1)?;
-        let c = |k: usize| real(m, s2 + 2 * k, 1);
-        let (a, k1, k2, b1, b2, b3) = (c(0)?, c(1)?, c(2)?, c(3)?, c(4)?, c(5)?);
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let e1 = s1.real(m, DivInputs::e1, 1)?;
+        let e2 = s1.real(m, DivInputs::e2, 1)?;
+        let c = |f| s2.real(m, f, 1);
+        let a = c(DivConsts::a)?;
+        let (k1, k2) = (c(DivConsts::k1)?, c(DivConsts::k2)?);
+        let (b1, b2, b3) = (c(DivConsts::b1)?, c(DivConsts::b2)?, c(DivConsts::b3)?);
         let num = result(k1 * e1 + b1, 1)?;
         let den = result(k2 * e2 + b2, 1)?;
         let bw = if den == 0.0 {
@@ -196,7 +248,7 @@ impl Div {
         } else {
             a * result(num / den, 1)? + b3
         };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         Ok(())
     }
 }
@@ -234,15 +286,15 @@ impl Instr for Sqr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| {
-            let e1 = real(m, s1, 1)?;
-            let olc = real(m, s2, 1)?;
-            let k = real(m, s2 + 2, 1)?;
+            let e1 = s1.real(m, Input::e1, 1)?;
+            let olc = s2.real(m, SqrConsts::olc, 1)?;
+            let k = s2.real(m, SqrConsts::k, 1)?;
             let v = if e1 < 0.0 {
                 0.0
             } else {
                 result(k * e1.sqrt(), 1)?
             };
-            set_f(m, d1, if v <= olc { 0.0 } else { v });
+            d1.set(m, BlockMemory::bw, if v <= olc { 0.0 } else { v });
             Ok(())
         })
     }
@@ -280,13 +332,13 @@ impl Abs {
 
 impl Instr for Abs {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
         self.sys.run(cx.mem, |m| {
-            let e1 = real(m, s1, 1)?;
-            set_f(m, d1, e1.abs());
-            let bb = (e1 > 0.0) as u16 | ((e1 < 0.0) as u16) << 1;
-            put_bits(m, d1 + 2, 3, bb);
+            let e1 = s1.real(m, Input::e1, 1)?;
+            d1.set(m, BlockMemory::bw, e1.abs());
+            d1.set_bits(m, BlockMemory::bb, bb::BB1, e1 > 0.0);
+            d1.set_bits(m, BlockMemory::bb, bb::BB2, e1 < 0.0);
             Ok(())
         })
     }

@@ -6,6 +6,7 @@
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::layout::{At, WordValue};
 use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::isa::{CompileFn, Def, Doc, Pulse, Steps};
 
@@ -137,6 +138,115 @@ impl Sys {
     }
 }
 
+softplc_ir::layout! {
+    /// The block memory (D1) of most process instructions (000 §3.3.2):
+    /// the output and, where the instruction has them, its BB bits.
+    pub struct BlockMemory[3] {
+        /// BW: the output value.
+        bw: f32 @ 0,
+        /// BB: alarm and state bits (BB1 … BB16 = b0 … b15, see
+        /// [`super::tag::bb`]); each instruction says which it writes.
+        bb: u16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// Input data (S1) that is one value E1 (000 §3.3.2).
+    pub struct Input[2] {
+        /// E1: the input value.
+        e1: f32 @ 0,
+    }
+}
+
+softplc_ir::layout! {
+    /// Input data (S1) that is a value E1 and control bits (000 §3.3.2).
+    pub struct InputCtl[3] {
+        /// E1: the input value.
+        e1: f32 @ 0,
+        /// The control bits e1 = b0, e2 = b1, … (each instruction says which).
+        ctl: u16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// Input data (S1) that is a count n and n values (S.ADD … S.MUL: n =
+    /// 0..5; S.HS … S.AVE: 1..16).
+    pub struct InputList[33] {
+        /// n: the number of inputs (BIN16).
+        n: i16 @ 0,
+        /// E1, the first input; Ei is `e.nth(i − 1)`.
+        e: f32 @ 1,
+    }
+}
+
+/// An operand area resolved for one execution: the flat index of its first
+/// word, read and written through the fields of the area's declared layout
+/// (`softplc_ir::layout!`) so that no word offset is computed by hand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Area(pub usize);
+
+impl Area {
+    /// The area of `words` words at operand `b` (4101 when an index-modified
+    /// area runs past its device).
+    #[inline]
+    pub fn of(m: &DeviceMemory, b: &Block, words: u32) -> Result<Area, Fault> {
+        m.block_start(b, words).map(Area)
+    }
+
+    /// Field `f`.
+    #[inline]
+    pub fn get<T: WordValue>(self, m: &DeviceMemory, f: At<T>) -> T {
+        f.get(&m.words[self.0..])
+    }
+
+    /// Writes field `f`.
+    #[inline]
+    pub fn set<T: WordValue>(self, m: &mut DeviceMemory, f: At<T>, v: T) {
+        f.set(&mut m.words[self.0..], v)
+    }
+
+    /// A float field, checked as [`real`] checks (detail 1 at `step`).
+    #[inline]
+    pub fn real(self, m: &DeviceMemory, f: At<f32>, step: u16) -> Result<f32, PcError> {
+        real(m, self.index(f), step)
+    }
+
+    /// The flat index of field `f` (for the period counters, which count in
+    /// place).
+    #[inline]
+    pub fn index<T: WordValue>(self, f: At<T>) -> usize {
+        self.0 + f.offset()
+    }
+
+    /// Bit `b` of word field `f` (a control bit e1 …, a BB bit).
+    #[inline]
+    pub fn bit(self, m: &DeviceMemory, f: At<u16>, b: u32) -> bool {
+        self.get(m, f) >> b & 1 != 0
+    }
+
+    /// Sets (`on`) or clears `bits` of word field `f`.
+    #[inline]
+    pub fn set_bits(self, m: &mut DeviceMemory, f: At<u16>, bits: u16, on: bool) {
+        let w = self.get(m, f);
+        self.set(m, f, if on { w | bits } else { w & !bits });
+    }
+
+    /// The `k`-th of a run of blocks of `words` words that begins with this
+    /// area (a table of records, e.g. S.FG's points of one layout each).
+    #[inline]
+    pub fn row(self, k: usize, words: usize) -> Area {
+        Area(self.0 + k * words)
+    }
+
+    /// Writes the bits of `mask` in word field `f` from `value`, the others
+    /// kept (BB bits an instruction does not define are left as found).
+    #[inline]
+    pub fn put_bits(self, m: &mut DeviceMemory, f: At<u16>, mask: u16, value: u16) {
+        let w = self.get(m, f);
+        self.set(m, f, w & !mask | value & mask);
+    }
+}
+
 /// An operand area of `words` words: a word device (index modification
 /// allowed), not a constant, bit or digit-specified device (the CPU's 4302),
 /// and, when its start is known at load, one that fits its device.
@@ -182,15 +292,15 @@ impl Areas {
         })
     }
 
-    /// Flat word indices of S1, D1 and S2 (4101 when an index-modified area
+    /// S1, D1 and S2 for one execution (4101 when an index-modified area
     /// runs past its device).
     #[inline]
-    pub fn starts(&self, m: &DeviceMemory) -> Result<(usize, usize, usize), Fault> {
+    pub fn starts(&self, m: &DeviceMemory) -> Result<(Area, Area, Area), Fault> {
         let [w1, w2, w3] = self.words;
         Ok((
-            m.block_start(&self.s1, w1)?,
-            m.block_start(&self.d1, w2)?,
-            m.block_start(&self.s2, w3)?,
+            Area::of(m, &self.s1, w1)?,
+            Area::of(m, &self.d1, w2)?,
+            Area::of(m, &self.s2, w3)?,
         ))
     }
 }
@@ -513,12 +623,13 @@ pub fn put_bits(m: &mut DeviceMemory, i: usize, mask: u16, value: u16) {
 #[inline]
 pub fn count_word(
     m: &DeviceMemory,
-    i: usize,
+    area: Area,
+    f: At<i16>,
     lo: i16,
     hi: i16,
     step: u16,
 ) -> Result<usize, PcError> {
-    let n = m.words[i] as i16;
+    let n = area.get(m, f);
     if (lo..=hi).contains(&n) {
         Ok(n as usize)
     } else {

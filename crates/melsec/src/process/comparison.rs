@@ -7,9 +7,10 @@ use softplc_ir::fault::Fault;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    def, history_in_block_memory, put_bits, real, result, set_f, Areas, PcError, Sys,
+    def, history_in_block_memory, result, Area, Areas, BlockMemory, PcError, Sys,
 };
 use super::settings::ProcessSettings;
+use super::tag::bb;
 use crate::{Args, ExecCtx, Instr};
 
 static CMP: Doc = Doc {
@@ -27,6 +28,26 @@ pub static DEFS: &[Def] = &[
     def("S.>=", 4, &CMP, Cmp::compile_ge),
     def("S.<=", 4, &CMP, Cmp::compile_le),
 ];
+
+softplc_ir::layout! {
+    /// The input data (S1) of the comparisons.
+    pub struct CmpInput[4] {
+        /// E1: the value compared (and output as BW).
+        e1: f32 @ 0,
+        /// E2: the value compared with.
+        e2: f32 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of the comparisons (S.=: K only).
+    pub struct CmpConsts[4] {
+        /// K: the set value added to E2.
+        k: f32 @ 0,
+        /// HS: the hysteresis (not S.=).
+        hs: f32 @ 2,
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Rel {
@@ -110,15 +131,15 @@ impl Cmp {
         }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let e2 = real(m, s1 + 2, 1)?;
-        let k = real(m, s2, 1)?;
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let e1 = s1.real(m, CmpInput::e1, 1)?;
+        let e2 = s1.real(m, CmpInput::e2, 1)?;
+        let k = s2.real(m, CmpConsts::k, 1)?;
         let x = result(e2 + k, 1)?;
         let hs = if self.rel == Rel::Eq {
             0.0
         } else {
-            let hs = real(m, s2 + 2, 1)?;
+            let hs = s2.real(m, CmpConsts::hs, 1)?;
             if hs < 0.0 {
                 return Err(PcError::negative(1));
             }
@@ -145,11 +166,9 @@ impl Cmp {
             }
             Rel::Eq => (e1 == x, e1 != x),
         };
-        set_f(m, d1, e1);
-        if set {
-            put_bits(m, d1 + 2, 1, 1);
-        } else if reset {
-            put_bits(m, d1 + 2, 1, 0);
+        d1.set(m, BlockMemory::bw, e1);
+        if set || reset {
+            d1.set_bits(m, BlockMemory::bb, bb::BB1, set);
         }
         Ok(())
     }

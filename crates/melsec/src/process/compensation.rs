@@ -7,10 +7,11 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, count, count_word, def, get_u32, history_in_block_memory, only_default, put_bits,
-    real, result, set_f, set_u32, tick_started, Areas, PcError, Sys,
+    area, count, count_word, def, history_in_block_memory, only_default, result, tick_started,
+    Area, Areas, BlockMemory, Input, InputCtl, PcError, Sys,
 };
 use super::settings::ProcessSettings;
+use super::tag::bb;
 use crate::{Args, ExecCtx, Instr};
 
 static FG: Doc = Doc {
@@ -52,6 +53,16 @@ pub static DEFS: &[Def] = &[
     def("S.ENG", 4, &ENG, Eng::compile_eng),
     def("S.IENG", 4, &ENG, Eng::compile_ieng),
 ];
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.ENG and S.IENG.
+    pub struct EngConsts[4] {
+        /// RH: the engineering high value.
+        rh: f32 @ 0,
+        /// RL: the engineering low value.
+        rl: f32 @ 2,
+    }
+}
 
 /// 000 §10.6 S.ENG `S.ENG S1 D1 S2 D2(dmy)`: BW = (RH − RL)/100 × E1 + RL;
 /// 000 §10.7 S.IENG: BW = 100/(RH − RL) × (E1 − RL) %, 0 when RH = RL
@@ -95,9 +106,9 @@ impl Instr for Eng {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| {
-            let e1 = real(m, s1, 1)?;
-            let rh = real(m, s2, 1)?;
-            let rl = real(m, s2 + 2, 1)?;
+            let e1 = s1.real(m, Input::e1, 1)?;
+            let rh = s2.real(m, EngConsts::rh, 1)?;
+            let rl = s2.real(m, EngConsts::rl, 1)?;
             let bw = if !self.inverse {
                 (rh - rl) / 100.0 * e1 + rl
             } else if rh == rl {
@@ -107,9 +118,27 @@ impl Instr for Eng {
             } else {
                 100.0 / (rh - rl) * (e1 - rl)
             };
-            set_f(m, d1, result(bw, 1)?);
+            d1.set(m, BlockMemory::bw, result(bw, 1)?);
             Ok(())
         })
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.FG and S.IFG.
+    pub struct FgConsts[1] {
+        /// SN: the number of points (BIN16, 0..48).
+        sn: i16 @ 0,
+    }
+}
+
+softplc_ir::layout! {
+    /// One point of the S.FG/S.IFG table (D2 holds SN of them).
+    pub struct FgPoint[4] {
+        /// Xi.
+        x: f32 @ 0,
+        /// Yi.
+        y: f32 @ 2,
     }
 }
 
@@ -163,16 +192,20 @@ impl Fg {
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        d2: usize,
+        s1: Area,
+        d1: Area,
+        d2: Area,
         n: usize,
     ) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
+        let e1 = s1.real(m, Input::e1, 1)?;
         // The compared and the interpolated coordinate of point i.
-        let (cx, cy) = if self.inverse { (2, 0) } else { (0, 2) };
-        let x = |m: &DeviceMemory, i: usize| real(m, d2 + 4 * i + cx, 1);
-        let y = |m: &DeviceMemory, i: usize| real(m, d2 + 4 * i + cy, 1);
+        let (cx, cy) = if self.inverse {
+            (FgPoint::y, FgPoint::x)
+        } else {
+            (FgPoint::x, FgPoint::y)
+        };
+        let x = |m: &DeviceMemory, i: usize| d2.row(i, FgPoint::WORDS).real(m, cx, 1);
+        let y = |m: &DeviceMemory, i: usize| d2.row(i, FgPoint::WORDS).real(m, cy, 1);
         let mut xp = x(m, 0)?;
         let mut bw = None;
         if e1 <= xp {
@@ -196,23 +229,57 @@ impl Fg {
             Some(v) => v,
             None => y(m, n - 1)?,
         };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         Ok(())
     }
 }
 
 impl Instr for Fg {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 1)?;
-        let n = match count_word(cx.mem, s2, 0, 48, 1) {
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let s2 = Area::of(cx.mem, &self.s2, 1)?;
+        let n = match count_word(cx.mem, s2, FgConsts::sn, 0, 48, 1) {
             Ok(0) => return Ok(()),
             Ok(n) => n,
             Err(e) => return Err(self.sys.fail(cx.mem, e)),
         };
-        let d2 = cx.mem.block_start(&self.d2, 4 * n as u32)?;
+        let d2 = Area::of(cx.mem, &self.d2, (n * FgPoint::WORDS) as u32)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, d2, n))
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.FLT.
+    pub struct FltConsts[3] {
+        /// ST: the sampling period, s.
+        st: f32 @ 0,
+        /// SN: the number of samples (BIN16, 0..48).
+        sn: i16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The local work memory (D2) of S.FLT: 8 words, then the SN samples.
+    pub struct FltWork[8] {
+        /// ST′: the ST of the last start.
+        st: f32 @ 0,
+        /// SN′: the SN of the last start.
+        sn: u16 @ 2,
+        /// i: the sampling-period counter.
+        count: u16 @ 3,
+        /// n1: the samples stored.
+        stored: u16 @ 4,
+        /// n2: the next table slot.
+        next: u16 @ 5,
+    }
+}
+
+softplc_ir::layout! {
+    /// The sample table of S.FLT, after [`FltWork`] in D2.
+    pub struct FltTable[2] {
+        /// The first sample; sample k is `sample.nth(k)`.
+        sample: f32 @ 0,
     }
 }
 
@@ -271,66 +338,82 @@ impl Flt {
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        s2: usize,
-        d2: usize,
+        s1: Area,
+        d1: Area,
+        s2: Area,
+        d2: Area,
         sn: usize,
     ) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let st = real(m, s2, 1)?;
+        let e1 = s1.real(m, Input::e1, 1)?;
+        let st = s2.real(m, FltConsts::st, 1)?;
         let dt = self.sys.dt(m, 1)?;
-        let changed = get_u32(m, d2) != st.to_bits() || m.words[d2 + 2] as usize != sn;
+        let changed = d2.get(m, FltWork::st).to_bits() != st.to_bits()
+            || d2.get(m, FltWork::sn) as usize != sn;
         if sn == 0 {
-            set_f(m, d1, 0.0);
-            m.words[d1 + 2] = 0;
-            set_u32(m, d2, st.to_bits());
-            m.words[d2 + 2] = 0;
-            m.words[d2 + 4] = 0;
+            d1.set(m, BlockMemory::bw, 0.0);
+            d1.set(m, BlockMemory::bb, 0);
+            d2.set(m, FltWork::st, st);
+            d2.set(m, FltWork::sn, 0);
+            d2.set(m, FltWork::stored, 0);
             return Ok(());
         }
         let s = &self.s;
-        let t = tick_started(m, d2 + 3, changed, s, || count(st, dt, false, s, 1))?;
+        let counter = d2.index(FltWork::count);
+        let t = tick_started(m, counter, changed, s, || count(st, dt, false, s, 1))?;
         if t.start {
-            set_u32(m, d2, st.to_bits());
-            m.words[d2 + 2] = sn as u16;
-            m.words[d2 + 4] = 0;
-            m.words[d2 + 5] = 0;
+            d2.set(m, FltWork::st, st);
+            d2.set(m, FltWork::sn, sn as u16);
+            d2.set(m, FltWork::stored, 0);
+            d2.set(m, FltWork::next, 0);
         }
         if !t.begins() {
             return Ok(());
         }
+        let table = d2.row(1, FltWork::WORDS);
         // Stale or foreign counts are taken modulo the table (no panic).
-        let next = m.words[d2 + 5] as usize % sn;
-        set_f(m, d2 + 8 + 2 * next, e1);
-        let stored = (m.words[d2 + 4] as usize + 1).min(sn);
-        m.words[d2 + 4] = stored as u16;
-        m.words[d2 + 5] = ((next + 1) % sn) as u16;
+        let next = d2.get(m, FltWork::next) as usize % sn;
+        table.set(m, FltTable::sample.nth(next), e1);
+        let stored = (d2.get(m, FltWork::stored) as usize + 1).min(sn);
+        d2.set(m, FltWork::stored, stored as u16);
+        d2.set(m, FltWork::next, ((next + 1) % sn) as u16);
         if stored < sn {
-            put_bits(m, d1 + 2, 1, 1);
+            d1.set_bits(m, BlockMemory::bb, bb::BB1, true);
             return Ok(());
         }
         let mut sum = 0f32;
         for k in 0..sn {
-            sum += real(m, d2 + 8 + 2 * ((next + 1 + k) % sn), 1)?;
+            sum += table.real(m, FltTable::sample.nth((next + 1 + k) % sn), 1)?;
         }
-        set_f(m, d1, result(sum / sn as f32, 1)?);
-        put_bits(m, d1 + 2, 1, 0);
+        d1.set(m, BlockMemory::bw, result(sum / sn as f32, 1)?);
+        d1.set_bits(m, BlockMemory::bb, bb::BB1, false);
         Ok(())
     }
 }
 
 impl Instr for Flt {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, 3)?;
-        let sn = match count_word(cx.mem, s2 + 2, 0, 48, 1) {
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let s2 = Area::of(cx.mem, &self.s2, 3)?;
+        let sn = match count_word(cx.mem, s2, FltConsts::sn, 0, 48, 1) {
             Ok(n) => n,
             Err(e) => return Err(self.sys.fail(cx.mem, e)),
         };
-        let d2 = cx.mem.block_start(&self.d2, 8 + 2 * sn as u32)?;
+        let words = FltWork::WORDS + FltTable::sample.nth(sn).offset();
+        let d2 = Area::of(cx.mem, &self.d2, words as u32)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, d2, sn))
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.SUM.
+    pub struct SumConsts[5] {
+        /// ILC: the input low cut.
+        ilc: f32 @ 0,
+        /// A: the initial value.
+        init: f32 @ 2,
+        /// RANGE: 1 per s, 2 per min, 3 per h (BIN16).
+        range: u16 @ 4,
     }
 }
 
@@ -358,25 +441,25 @@ impl Sum {
         Some(Box::new(Sum { sys, areas: areas? }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let t = match m.words[s2 + 4] {
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let t = match s2.get(m, SumConsts::range) {
             1 => 1.0,
             2 => 60.0,
             3 => 3600.0,
             _ => return Err(PcError::range(1)),
         };
-        let e1 = real(m, s1, 1)?;
-        let ilc = real(m, s2, 1)?;
-        let init = real(m, s2 + 2, 1)?;
+        let e1 = s1.real(m, InputCtl::e1, 1)?;
+        let ilc = s2.real(m, SumConsts::ilc, 1)?;
+        let init = s2.real(m, SumConsts::init, 1)?;
         let dt = self.sys.dt(m, 1)?;
-        let bw = if !bit(m, s1 + 2, 0) {
+        let bw = if !s1.bit(m, InputCtl::ctl, 0) {
             init
         } else if e1 <= ilc {
             return Ok(());
         } else {
-            real(m, d1, 1)? + e1 * dt / t
+            d1.real(m, BlockMemory::bw, 1)? + e1 * dt / t
         };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         Ok(())
     }
 }
@@ -385,6 +468,34 @@ impl Instr for Sum {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let (s1, d1, s2) = self.areas.starts(cx.mem)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2))
+    }
+}
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.TPC.
+    pub struct TpcInput[7] {
+        /// E1: the differential pressure.
+        e1: f32 @ 0,
+        /// E2: the temperature.
+        e2: f32 @ 2,
+        /// E3: the pressure.
+        e3: f32 @ 4,
+        /// e1 = b0: E2 used; e2 = b1: E3 used.
+        ctl: u16 @ 6,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.TPC.
+    pub struct TpcConsts[8] {
+        /// T′: the design temperature.
+        t: f32 @ 0,
+        /// B1: the temperature offset (273.15).
+        b1: f32 @ 2,
+        /// P′: the design pressure.
+        p: f32 @ 4,
+        /// B2: the pressure offset (10332).
+        b2: f32 @ 6,
     }
 }
 
@@ -440,25 +551,25 @@ impl Tpc {
         result(num / den, 1)
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let e2 = real(m, s1 + 2, 1)?;
-        let e3 = real(m, s1 + 4, 1)?;
-        let t = real(m, s2, 1)?;
-        let b1 = real(m, s2 + 2, 1)?;
-        let p = real(m, s2 + 4, 1)?;
-        let b2 = real(m, s2 + 6, 1)?;
-        let a1 = if bit(m, s1 + 6, 0) {
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let e1 = s1.real(m, TpcInput::e1, 1)?;
+        let e2 = s1.real(m, TpcInput::e2, 1)?;
+        let e3 = s1.real(m, TpcInput::e3, 1)?;
+        let t = s2.real(m, TpcConsts::t, 1)?;
+        let b1 = s2.real(m, TpcConsts::b1, 1)?;
+        let p = s2.real(m, TpcConsts::p, 1)?;
+        let b2 = s2.real(m, TpcConsts::b2, 1)?;
+        let a1 = if s1.bit(m, TpcInput::ctl, 0) {
             self.ratio(t, e2, b1, false)?
         } else {
             1.0
         };
-        let a2 = if bit(m, s1 + 6, 1) {
+        let a2 = if s1.bit(m, TpcInput::ctl, 1) {
             self.ratio(p, e3, b2, true)?
         } else {
             1.0
         };
-        set_f(m, d1, result(e1 * a1 * a2, 1)?);
+        d1.set(m, BlockMemory::bw, result(e1 * a1 * a2, 1)?);
         Ok(())
     }
 }

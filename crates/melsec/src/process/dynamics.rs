@@ -10,10 +10,11 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, count, count_word, def, dummy, history_in_block_memory, only_default, put_bits,
-    real, result, set_f, tick_started, PcError, Sys,
+    area, count, count_word, def, dummy, history_in_block_memory, only_default, result,
+    tick_started, Area, BlockMemory, InputCtl, PcError, Sys,
 };
 use super::settings::ProcessSettings;
+use super::tag::bb;
 use crate::{Args, ExecCtx, Instr};
 
 static LLAG: Doc = Doc {
@@ -45,6 +46,24 @@ pub static DEFS: &[Def] = &[
     def("S.D", 4, &D, Lag::compile_d),
     def("S.DED", 4, &DED, Ded::compile),
 ];
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.LLAG, S.I and S.D.
+    pub struct LagConsts[4] {
+        /// S.LLAG: T1, the lag time; S.I, S.D: T.
+        t1: f32 @ 0,
+        /// S.LLAG: T2, the lead time; S.I, S.D: Ys, the preset value.
+        t2: f32 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The local work memory (D2) of S.LLAG and S.D.
+    pub struct LagWork[2] {
+        /// E1n-1: the previous input.
+        e1: f32 @ 0,
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum LagKind {
@@ -122,21 +141,21 @@ impl Lag {
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        s2: usize,
-        d2: usize,
+        s1: Area,
+        d1: Area,
+        s2: Area,
+        d2: Area,
     ) -> Result<(), PcError> {
         let dt = self.sys.dt(m, 1)?;
-        let e1 = real(m, s1, 1)?;
-        let on = bit(m, s1 + 2, 0);
-        let c0 = real(m, s2, 1)?;
-        let c1 = real(m, s2 + 2, 1)?;
-        let y = real(m, d1, 1)?;
+        let e1 = s1.real(m, InputCtl::e1, 1)?;
+        let on = s1.bit(m, InputCtl::ctl, 0);
+        let c0 = s2.real(m, LagConsts::t1, 1)?;
+        let c1 = s2.real(m, LagConsts::t2, 1)?;
+        let y = d1.real(m, BlockMemory::bw, 1)?;
         let e1p = if self.kind == LagKind::Integral {
             0.0
         } else {
-            real(m, d2, 1)?
+            d2.real(m, LagWork::e1, 1)?
         };
         let bw = match (self.kind, on) {
             (LagKind::LeadLag, true) => e1,
@@ -166,9 +185,9 @@ impl Lag {
             }
             (_, true) => c1,
         };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         if self.kind != LagKind::Integral && (self.always || !on) {
-            set_f(m, d2, e1);
+            d2.set(m, LagWork::e1, e1);
         }
         Ok(())
     }
@@ -176,14 +195,48 @@ impl Lag {
 
 impl Instr for Lag {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 3)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
+        let s1 = Area::of(cx.mem, &self.s1, 3)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let s2 = Area::of(cx.mem, &self.s2, 4)?;
         let d2 = match &self.d2 {
-            Some(b) => cx.mem.block_start(b, 2)?,
-            None => 0,
+            Some(b) => Area::of(cx.mem, b, 2)?,
+            None => Area(0),
         };
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, d2))
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.DED.
+    pub struct DedConsts[6] {
+        /// ST: the sampling period, s.
+        st: f32 @ 0,
+        /// SN: the number of samples (BIN16, 0..48).
+        sn: i16 @ 2,
+        /// Ys: the fill value with OCHG = 1.
+        ys: f32 @ 3,
+        /// OCHG = b0: the fill value at the start (0: E1, 1: Ys).
+        ochg: u16 @ 5,
+    }
+}
+
+softplc_ir::layout! {
+    /// The local work memory (D2) of S.DED: 3 words, then the SN samples.
+    pub struct DedWork[3] {
+        /// e1′: the previous e1 (b0).
+        e1: u16 @ 0,
+        /// The sampling-period counter.
+        count: u16 @ 1,
+        /// The samples stored.
+        stored: u16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The dead-time table of S.DED (oldest first), after [`DedWork`] in D2.
+    pub struct DedTable[2] {
+        /// The oldest sample; sample k is `sample.nth(k)`.
+        sample: f32 @ 0,
     }
 }
 
@@ -247,86 +300,89 @@ impl Ded {
     /// Outputs the oldest of the `stored` samples once the table holds `sn`.
     fn output(
         m: &mut DeviceMemory,
-        d1: usize,
-        d2: usize,
+        d1: Area,
+        table: Area,
         stored: usize,
         sn: usize,
     ) -> Result<(), PcError> {
         if stored >= sn {
-            let oldest = real(m, d2 + 3, 1)?;
-            set_f(m, d1, oldest);
-            put_bits(m, d1 + 2, 1, 0);
-        } else {
-            put_bits(m, d1 + 2, 1, 1);
+            let oldest = table.real(m, DedTable::sample, 1)?;
+            d1.set(m, BlockMemory::bw, oldest);
         }
+        d1.set_bits(m, BlockMemory::bb, bb::BB1, stored < sn);
         Ok(())
     }
 
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        s2: usize,
-        d2: usize,
+        s1: Area,
+        d1: Area,
+        s2: Area,
+        d2: Area,
         sn: usize,
     ) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let on = bit(m, s1 + 2, 0);
-        let st = real(m, s2, 1)?;
-        let ys = real(m, s2 + 3, 1)?;
+        let e1 = s1.real(m, InputCtl::e1, 1)?;
+        let on = s1.bit(m, InputCtl::ctl, 0);
+        let st = s2.real(m, DedConsts::st, 1)?;
+        let ys = s2.real(m, DedConsts::ys, 1)?;
         let dt = self.sys.dt(m, 1)?;
-        let edge = m.words[d2] & 1 != 0;
+        let edge = d2.bit(m, DedWork::e1, 0);
         if on || sn == 0 {
-            set_f(m, d1, e1);
-            put_bits(m, d1 + 2, 1, 0);
-            m.words[d2 + 2] = 0;
-            m.words[d2] = on as u16;
+            d1.set(m, BlockMemory::bw, e1);
+            d1.set_bits(m, BlockMemory::bb, bb::BB1, false);
+            d2.set(m, DedWork::stored, 0);
+            d2.set(m, DedWork::e1, on as u16);
             return Ok(());
         }
+        let table = d2.row(1, DedWork::WORDS);
         // A count above SN (SN lowered, a stale area) counts as SN.
-        let mut stored = (m.words[d2 + 2] as usize).min(sn);
+        let mut stored = (d2.get(m, DedWork::stored) as usize).min(sn);
         let start = edge || stored == 0;
         let s = &self.s;
-        let t = tick_started(m, d2 + 1, start, s, || count(st, dt, false, s, 1))?;
+        let counter = d2.index(DedWork::count);
+        let t = tick_started(m, counter, start, s, || count(st, dt, false, s, 1))?;
         if t.start {
             stored = 0;
             if edge {
-                let fill_e1 = (m.words[s2 + 5] & 1 == 0) == s.ded_ochg_fill;
-                set_f(m, d1, if fill_e1 { e1 } else { ys });
+                let fill_e1 = !s2.bit(m, DedConsts::ochg, 0) == s.ded_ochg_fill;
+                d1.set(m, BlockMemory::bw, if fill_e1 { e1 } else { ys });
             }
-            put_bits(m, d1 + 2, 1, 1);
+            d1.set_bits(m, BlockMemory::bb, bb::BB1, true);
         }
         if t.reached && s.ded_output_before_push {
-            Ded::output(m, d1, d2, stored, sn)?;
+            Ded::output(m, d1, table, stored, sn)?;
         }
         if t.begins() {
             if stored == sn {
-                m.words.copy_within(d2 + 5..d2 + 3 + 2 * sn, d2 + 3);
+                // Drop the oldest: samples 1 … SN−1 move down by one.
+                let at = |k: usize| table.index(DedTable::sample.nth(k));
+                m.words.copy_within(at(1)..at(sn), at(0));
                 stored -= 1;
             }
-            set_f(m, d2 + 3 + 2 * stored, e1);
+            table.set(m, DedTable::sample.nth(stored), e1);
             stored += 1;
-            m.words[d2 + 2] = stored as u16;
+            d2.set(m, DedWork::stored, stored as u16);
             if !s.ded_output_before_push {
-                Ded::output(m, d1, d2, stored, sn)?;
+                Ded::output(m, d1, table, stored, sn)?;
             }
         }
-        m.words[d2] = 0;
+        d2.set(m, DedWork::e1, 0);
         Ok(())
     }
 }
 
 impl Instr for Ded {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 3)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, 6)?;
-        let sn = match count_word(cx.mem, s2 + 2, 0, 48, 1) {
+        let s1 = Area::of(cx.mem, &self.s1, 3)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let s2 = Area::of(cx.mem, &self.s2, 6)?;
+        let sn = match count_word(cx.mem, s2, DedConsts::sn, 0, 48, 1) {
             Ok(n) => n,
             Err(e) => return Err(self.sys.fail(cx.mem, e)),
         };
-        let d2 = cx.mem.block_start(&self.d2, 3 + 2 * sn as u32)?;
+        let words = DedWork::WORDS + DedTable::sample.nth(sn).offset();
+        let d2 = Area::of(cx.mem, &self.d2, words as u32)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, d2, sn))
     }
 }

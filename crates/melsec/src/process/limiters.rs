@@ -9,7 +9,7 @@ use softplc_ir::fault::Fault;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    def, history_in_block_memory, put_bits, real, result, set_f, Areas, PcError, Sys,
+    def, history_in_block_memory, result, Area, Areas, BlockMemory, Input, PcError, Sys,
 };
 use super::settings::ProcessSettings;
 use crate::{Args, ExecCtx, Instr};
@@ -37,6 +37,23 @@ pub static DEFS: &[Def] = &[
     def("S.VLMT2", 4, &VLMT, Limit::compile_vlmt2),
     def("S.DBND", 4, &DBND, Limit::compile_dbnd),
 ];
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.LIMT, S.VLMT1 and S.VLMT2 (S.DBND:
+    /// its two limits only).
+    pub struct LimitConsts[8] {
+        /// S.LIMT: HILMT; S.VLMT1/2: V1, the rising rate (%/s); S.DBND: D1,
+        /// the upper limit.
+        c0: f32 @ 0,
+        /// S.LIMT: LOLMT; S.VLMT1/2: V2, the falling rate (%/s); S.DBND: D2,
+        /// the lower limit.
+        c1: f32 @ 2,
+        /// HS1: the hysteresis of the upper (rising) row.
+        hs1: f32 @ 4,
+        /// HS2: the hysteresis of the lower (falling) row.
+        hs2: f32 @ 6,
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
@@ -122,10 +139,10 @@ impl Limit {
         }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let c0 = real(m, s2, 1)?;
-        let c1 = real(m, s2 + 2, 1)?;
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let e1 = s1.real(m, Input::e1, 1)?;
+        let c0 = s2.real(m, LimitConsts::c0, 1)?;
+        let c1 = s2.real(m, LimitConsts::c1, 1)?;
         // (BW, BB1/BB2 as b0/b1, or None to hold them).
         let (bw, bb) = match self.kind {
             Kind::DeadBand => {
@@ -151,7 +168,7 @@ impl Limit {
             Kind::Rate | Kind::RateHold => {
                 let (v1, v2, hs1, hs2) = self.hysteresis(m, s2, c0, c1)?;
                 let dt = self.sys.dt(m, 1)?;
-                let bw = real(m, d1, 1)?;
+                let bw = d1.real(m, BlockMemory::bw, 1)?;
                 let hold = self.kind == Kind::RateHold;
                 if e1 >= bw {
                     let lim = v1 * dt;
@@ -174,24 +191,24 @@ impl Limit {
                 }
             }
         };
-        set_f(m, d1, result(bw, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
         if let Some(bb) = bb {
             let mask = if self.kind == Kind::DeadBand { 1 } else { 3 };
-            put_bits(m, d1 + 2, mask, bb);
+            d1.put_bits(m, BlockMemory::bb, mask, bb);
         }
         Ok(())
     }
 
-    /// The two limits and HS1/HS2 (S2 +4, +6), which must not be negative.
+    /// The two limits and HS1/HS2, which must not be negative.
     fn hysteresis(
         &self,
         m: &DeviceMemory,
-        s2: usize,
+        s2: Area,
         c0: f32,
         c1: f32,
     ) -> Result<(f32, f32, f32, f32), PcError> {
-        let hs1 = real(m, s2 + 4, 1)?;
-        let hs2 = real(m, s2 + 6, 1)?;
+        let hs1 = s2.real(m, LimitConsts::hs1, 1)?;
+        let hs2 = s2.real(m, LimitConsts::hs2, 1)?;
         if hs1 < 0.0 || hs2 < 0.0 {
             return Err(PcError::negative(1));
         }

@@ -7,7 +7,7 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, bit, def, history_in_block_memory, real, result, set_f, Areas, PcError, Sys,
+    area, def, history_in_block_memory, result, Area, Areas, BlockMemory, PcError, Sys,
 };
 use crate::{Args, ExecCtx, Instr};
 
@@ -28,6 +28,38 @@ pub static DEFS: &[Def] = &[
     def("S.BUMP", 4, &BUMP, Bump::compile),
     def("S.AMR", 4, &AMR, Amr::compile),
 ];
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.BUMP.
+    pub struct BumpInput[5] {
+        /// E1: the output setting value (auto).
+        e1: f32 @ 0,
+        /// E2: the output control value (manual).
+        e2: f32 @ 2,
+        /// e1 = b0: 0 manual, 1 auto.
+        ctl: u16 @ 4,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.BUMP.
+    pub struct BumpConsts[4] {
+        /// T: the delay time, s.
+        t: f32 @ 0,
+        /// a: the delay zone, %.
+        zone: f32 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The local work memory (D2) of S.BUMP.
+    pub struct BumpWork[4] {
+        /// Xq: the initial deviation.
+        xq: f32 @ 0,
+        /// Xp: the deviation.
+        xp: f32 @ 2,
+    }
+}
 
 /// 000 §9.25 S.BUMP L18570-18786.
 ///
@@ -73,26 +105,26 @@ impl Bump {
     fn body(
         &self,
         m: &mut DeviceMemory,
-        s1: usize,
-        d1: usize,
-        s2: usize,
-        d2: usize,
+        s1: Area,
+        d1: Area,
+        s2: Area,
+        d2: Area,
     ) -> Result<(), PcError> {
-        let e1 = real(m, s1, 1)?;
-        let e2 = real(m, s1 + 2, 1)?;
-        let auto = bit(m, s1 + 4, 0);
-        let t = real(m, s2, 1)?;
-        let zone = real(m, s2 + 2, 1)?;
+        let e1 = s1.real(m, BumpInput::e1, 1)?;
+        let e2 = s1.real(m, BumpInput::e2, 1)?;
+        let auto = s1.bit(m, BumpInput::ctl, 0);
+        let t = s2.real(m, BumpConsts::t, 1)?;
+        let zone = s2.real(m, BumpConsts::zone, 1)?;
         let dt = self.sys.dt(m, 1)?;
         if !auto {
             let x = result(e2 - e1, 1)?;
-            set_f(m, d1, e2);
-            set_f(m, d2, x);
-            set_f(m, d2 + 2, x);
+            d1.set(m, BlockMemory::bw, e2);
+            d2.set(m, BumpWork::xq, x);
+            d2.set(m, BumpWork::xp, x);
             return Ok(());
         }
-        let xq = real(m, d2, 1)?;
-        let xp = real(m, d2 + 2, 1)?;
+        let xq = d2.real(m, BumpWork::xq, 1)?;
+        let xp = d2.real(m, BumpWork::xp, 1)?;
         let (xn, bw) = if xp.abs() > zone {
             let step = dt / t * xq;
             let xn = xp - step;
@@ -107,19 +139,43 @@ impl Bump {
         } else {
             (xn, bw)
         };
-        set_f(m, d1, result(bw, 1)?);
-        set_f(m, d2 + 2, result(xn, 1)?);
+        d1.set(m, BlockMemory::bw, result(bw, 1)?);
+        d2.set(m, BumpWork::xp, result(xn, 1)?);
         Ok(())
     }
 }
 
 impl Instr for Bump {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 5)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
-        let d2 = cx.mem.block_start(&self.d2, 4)?;
+        let s1 = Area::of(cx.mem, &self.s1, 5)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let s2 = Area::of(cx.mem, &self.s2, 4)?;
+        let d2 = Area::of(cx.mem, &self.d2, 4)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, d2))
+    }
+}
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.AMR.
+    pub struct AmrInput[7] {
+        /// E1: the increase rate.
+        up: f32 @ 0,
+        /// E2: the decrease rate.
+        down: f32 @ 2,
+        /// E3: the output setting value.
+        e3: f32 @ 4,
+        /// e1 = b0 (0 manual, 1 auto), e2 = b1 (increase), e3 = b2 (decrease).
+        ctl: u16 @ 6,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.AMR.
+    pub struct AmrConsts[4] {
+        /// d1: the upper limit.
+        hi: f32 @ 0,
+        /// d2: the lower limit.
+        lo: f32 @ 2,
     }
 }
 
@@ -150,18 +206,18 @@ impl Amr {
         Some(Box::new(Amr { sys, areas: areas? }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, s2: usize) -> Result<(), PcError> {
-        let up = real(m, s1, 1)?;
-        let down = real(m, s1 + 2, 1)?;
-        let e3 = real(m, s1 + 4, 1)?;
-        let hi = real(m, s2, 1)?;
-        let lo = real(m, s2 + 2, 1)?;
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, s2: Area) -> Result<(), PcError> {
+        let up = s1.real(m, AmrInput::up, 1)?;
+        let down = s1.real(m, AmrInput::down, 1)?;
+        let e3 = s1.real(m, AmrInput::e3, 1)?;
+        let hi = s2.real(m, AmrConsts::hi, 1)?;
+        let lo = s2.real(m, AmrConsts::lo, 1)?;
         let dt = self.sys.dt(m, 1)?;
-        let bits = m.words[s1 + 6];
+        let bits = s1.get(m, AmrInput::ctl);
         let bw = if bits & 1 == 0 {
             e3
         } else {
-            let bw = real(m, d1, 1)?;
+            let bw = d1.real(m, BlockMemory::bw, 1)?;
             match (bits >> 1 & 1, bits >> 2 & 1) {
                 (1, 0) => {
                     let v = result(bw + up.abs() * dt, 1)?;
@@ -182,7 +238,7 @@ impl Amr {
                 _ => bw,
             }
         };
-        set_f(m, d1, bw);
+        d1.set(m, BlockMemory::bw, bw);
         Ok(())
     }
 }

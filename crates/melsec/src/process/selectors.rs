@@ -6,7 +6,9 @@ use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, count_word, def, dummy, real, result, set_f, PcError, Sys};
+use super::common::{
+    area, count_word, def, dummy, result, Area, BlockMemory, InputList, PcError, Sys,
+};
 use crate::{Args, ExecCtx, Instr};
 
 static SEL: Doc = Doc {
@@ -91,10 +93,10 @@ impl Select {
         }))
     }
 
-    fn body(&self, m: &mut DeviceMemory, s1: usize, d1: usize, n: usize) -> Result<(), PcError> {
+    fn body(&self, m: &mut DeviceMemory, s1: Area, d1: Area, n: usize) -> Result<(), PcError> {
         let mut e = [0f32; 16];
         for (i, v) in e[..n].iter_mut().enumerate() {
-            *v = real(m, s1 + 1 + 2 * i, 1)?;
+            *v = s1.real(m, InputList::e.nth(i), 1)?;
         }
         let e = &e[..n];
         let bw = match self.pick {
@@ -115,7 +117,7 @@ impl Select {
             }
             Pick::Average => {
                 let sum = e.iter().fold(0f32, |s, &v| s + v);
-                set_f(m, d1, result(sum / n as f32, 1)?);
+                d1.set(m, BlockMemory::bw, result(sum / n as f32, 1)?);
                 return Ok(());
             }
         };
@@ -123,8 +125,8 @@ impl Select {
             .iter()
             .enumerate()
             .fold(0u16, |bb, (i, &v)| bb | ((v == bw) as u16) << i);
-        set_f(m, d1, bw);
-        m.words[d1 + 2] = bb;
+        d1.set(m, BlockMemory::bw, bw);
+        d1.set(m, BlockMemory::bb, bb);
         Ok(())
     }
 }
@@ -132,13 +134,13 @@ impl Select {
 impl Instr for Select {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let words = if self.pick == Pick::Average { 2 } else { 3 };
-        let s1 = cx.mem.block_start(&self.s1, 1)?;
-        let d1 = cx.mem.block_start(&self.d1, words)?;
-        let n = match count_word(cx.mem, s1, 1, 16, 1) {
+        let s1 = Area::of(cx.mem, &self.s1, 1)?;
+        let d1 = Area::of(cx.mem, &self.d1, words)?;
+        let n = match count_word(cx.mem, s1, InputList::n, 1, 16, 1) {
             Ok(n) => n,
             Err(e) => return Err(self.sys.fail(cx.mem, e)),
         };
-        let s1 = cx.mem.block_start(&self.s1, 1 + 2 * n as u32)?;
+        let s1 = Area::of(cx.mem, &self.s1, InputList::e.nth(n).offset() as u32)?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, n))
     }
 }
