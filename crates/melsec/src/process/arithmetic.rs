@@ -7,10 +7,11 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, count_word, def, dummy, only_default, result, Area, Areas, BlockMemory, Input, InputList, PcError, Sys,
+    area, count_word, def, dummy, only_default, result, Area, Areas, BlockMemory, Input, InputList,
+    PcError, Sys,
 };
-use super::tag::bb;
 use super::settings::ProcessSettings;
+use super::tag::bb;
 use crate::{Args, ExecCtx, Instr};
 
 static TERMS: Doc = Doc {
@@ -207,7 +208,11 @@ impl Instr for Terms {
         // The words up to En, Kn and B.
         let end = |f: softplc_ir::layout::At<f32>, k: usize| f.nth(k).offset() as u32;
         let s1 = Area::of(cx.mem, &self.s1, end(InputList::e, n))?;
-        let s2 = Area::of(cx.mem, &self.s2, end(TermConsts::k, n).max(end(TermConsts::k, kn + 1)))?;
+        let s2 = Area::of(
+            cx.mem,
+            &self.s2,
+            end(TermConsts::k, n).max(end(TermConsts::k, kn + 1)),
+        )?;
         self.sys.run(cx.mem, |m| self.body(m, s1, d1, s2, n, kn))
     }
 }

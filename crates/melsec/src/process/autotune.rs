@@ -34,8 +34,9 @@ use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, count, def, real, result, set_f, tick, PcError, Sys};
-use super::pid::front::{put, set_bits, tag, word};
+use softplc_ir::layout::At;
+
+use super::common::{area, count, def, result, tick, Area, InputCtl, PcError, Sys};
 use super::settings::ProcessSettings;
 use super::tag::{alm, LoopTag, Mode};
 use crate::{Args, ExecCtx, Instr};
@@ -59,23 +60,58 @@ const BB8: u16 = 1 << 7;
 const BB16: u16 = 1 << 15;
 const ALARMS: u16 = BB2 | BB3 | BB4 | BB5 | BB6 | BB7 | BB8;
 
-/// D3 offsets.
-mod local {
-    pub const SAMPLE_FLAG: usize = 0;
-    pub const SAMPLE: usize = 1;
-    pub const TOUT_FLAG: usize = 2;
-    pub const TOUT: usize = 3;
-    pub const POST_FLAG: usize = 4;
-    pub const POST: usize = 5;
-    pub const STEPPED: usize = 6;
-    pub const COUNT: usize = 7;
-    pub const PV0: usize = 8;
-    pub const PV1: usize = 10;
-    pub const MAX: usize = 12;
-    pub const MAX_COUNT: usize = 14;
-    pub const MAX_PV: usize = 16;
-    pub const R: usize = 18;
-    pub const L: usize = 20;
+softplc_ir::layout! {
+    /// The block memory (D1) of S.AT1: BB only.
+    pub struct At1Block[1] {
+        /// BB1 alarm (b0), BB2 input high, BB3 input low, BB4 output high,
+        /// BB5 output low, BB6 timeout, BB7 operation mode, BB8
+        /// identification, BB16 (b15) AT complete.
+        bb: u16 @ 0,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.AT1.
+    pub struct At1Consts[1] {
+        /// PN: 0 reverse, 1 forward action.
+        pn: u16 @ 0,
+    }
+}
+
+softplc_ir::layout! {
+    /// The local work memory (D3) of S.AT1.
+    pub struct At1Work[22] {
+        /// The sampling counter's preset flag.
+        sample_flag: u16 @ 0,
+        /// The sampling counter.
+        sample: u16 @ 1,
+        /// The AT1TOUT1 counter's preset flag.
+        tout_flag: u16 @ 2,
+        /// The AT1TOUT1 counter.
+        tout: u16 @ 3,
+        /// The post-max-slope (AT1TOUT2) counter's preset flag.
+        post_flag: u16 @ 4,
+        /// The post-max-slope counter.
+        post: u16 @ 5,
+        /// 1 when the MV step was made.
+        stepped: u16 @ 6,
+        /// The samples since the step.
+        count: u16 @ 7,
+        /// PV0: PV at the step.
+        pv0: f32 @ 8,
+        /// PVn-1.
+        pv1: f32 @ 10,
+        /// The maximum slope (per sample, signed).
+        max: f32 @ 12,
+        /// The sample count at the maximum.
+        max_count: f32 @ 14,
+        /// PV at the maximum.
+        max_pv: f32 @ 16,
+        /// R (DEC-33).
+        r: f32 @ 18,
+        /// L.
+        l: f32 @ 20,
+    }
 }
 
 #[derive(Debug)]
@@ -92,11 +128,11 @@ struct At1 {
 
 #[derive(Clone, Copy)]
 struct Areas {
-    s1: usize,
-    d1: usize,
-    s2: usize,
-    d2: usize,
-    d3: usize,
+    s1: Area,
+    d1: Area,
+    s2: Area,
+    d2: Area,
+    d3: Area,
 }
 
 impl At1 {
@@ -134,12 +170,12 @@ impl At1 {
     /// MV := MV − AT1STEPMV when the step was made; the step flag := 0
     /// (DEC-34).
     fn restore(&self, m: &mut DeviceMemory, a: &Areas, step: u16) -> Result<(), PcError> {
-        if m.words[a.d3 + local::STEPPED] == 1 {
-            let mv = tag(m, a.d2, LoopTag::mv, step)?;
-            let st = tag(m, a.d2, LoopTag::at1_step_mv, step)?;
-            put(m, a.d2, LoopTag::mv, result(mv - st, step)?);
+        if a.d3.get(m, At1Work::stepped) == 1 {
+            let mv = a.d2.real(m, LoopTag::mv, step)?;
+            let st = a.d2.real(m, LoopTag::at1_step_mv, step)?;
+            a.d2.set(m, LoopTag::mv, result(mv - st, step)?);
             if self.s.at1_restore_clears_flags {
-                m.words[a.d3 + local::STEPPED] = 0;
+                a.d3.set(m, At1Work::stepped, 0);
             }
         }
         Ok(())
@@ -148,61 +184,62 @@ impl At1 {
     /// An ending: the bits `bits` and BB16 := 1, the counter flags cleared
     /// (DEC-34).
     fn end(&self, m: &mut DeviceMemory, a: &Areas, bits: u16) {
-        m.words[a.d1] |= bits | BB16;
+        a.d1.set_bits(m, At1Block::bb, bits | BB16, true);
         self.clear_flags(m, a);
     }
 
     fn clear_flags(&self, m: &mut DeviceMemory, a: &Areas) {
         if self.s.at1_restore_clears_flags {
-            for k in [local::SAMPLE_FLAG, local::TOUT_FLAG, local::POST_FLAG] {
-                m.words[a.d3 + k] = 0;
+            for k in [At1Work::sample_flag, At1Work::tout_flag, At1Work::post_flag] {
+                a.d3.set(m, k, 0);
             }
         }
     }
 
-    /// Starts (or restarts) the counter whose flag is at D3 + `flag`.
+    /// Starts (or restarts) the counter of D3 whose preset flag and count
+    /// are `flag` and `counter`.
     fn start(
         &self,
         m: &mut DeviceMemory,
         a: &Areas,
-        flag: usize,
+        (flag, counter): (At<u16>, At<u16>),
         p: f32,
         dt: f32,
         step: u16,
     ) -> Result<(), PcError> {
         let s = self.s;
-        m.words[a.d3 + flag] = 0;
-        tick(m, a.d3 + flag, a.d3 + flag + 1, &s, || {
+        a.d3.set(m, flag, 0);
+        tick(m, a.d3.index(flag), a.d3.index(counter), &s, || {
             count(p, dt, false, &s, step)
         })?;
         Ok(())
     }
 
     fn body(&self, m: &mut DeviceMemory, a: &Areas) -> Result<(), PcError> {
-        let e1_on = m.words[a.s1 + 2] & 1 != 0;
-        let done = m.words[a.d1] & BB16 != 0;
+        let e1_on = a.s1.bit(m, InputCtl::ctl, 0);
+        let done = a.d1.get(m, At1Block::bb) & BB16 != 0;
         match (e1_on, done) {
             (false, false) => {
-                set_bits(m, a.d1, ALARMS, false);
+                a.d1.set_bits(m, At1Block::bb, ALARMS, false);
                 self.restore(m, a, 1)?;
                 self.clear_flags(m, a);
                 return Ok(());
             }
             (false, true) => {
-                set_bits(m, a.d1, BB16, false);
+                a.d1.set_bits(m, At1Block::bb, BB16, false);
                 return Ok(());
             }
             (true, true) => return Ok(()),
             (true, false) => {}
         }
         let d2 = a.d2;
-        let al = word(m, d2, LoopTag::alm);
+        let al = d2.get(m, LoopTag::alm);
         if al & alm::SPA != 0 {
             self.restore(m, a, 1)?;
             self.end(m, a, 0);
             return Ok(());
         }
-        if !self.mode.manual(word(m, d2, LoopTag::mode)) {
+        if !self.mode.manual(d2.get(m, LoopTag::mode)) {
             self.restore(m, a, 1)?;
             self.end(m, a, BB7);
             return Ok(());
@@ -217,32 +254,30 @@ impl At1 {
         }
         let s = self.s;
         let dt = self.sys.dt(m, 2)?;
-        let tout1 = tag(m, d2, LoopTag::at1_tout1, 2)?;
+        let tout1 = d2.real(m, LoopTag::at1_tout1, 2)?;
         let d3 = a.d3;
-        let t = tick(m, d3 + local::TOUT_FLAG, d3 + local::TOUT, &s, || {
-            count(tout1, dt, false, &s, 2)
-        })?;
+        let (flag, counter) = (d3.index(At1Work::tout_flag), d3.index(At1Work::tout));
+        let t = tick(m, flag, counter, &s, || count(tout1, dt, false, &s, 2))?;
         if t.reached {
             self.end(m, a, BB6);
             return Ok(());
         }
-        if m.words[d3 + local::POST_FLAG] != 0 {
+        if d3.get(m, At1Work::post_flag) != 0 {
             let dt = self.sys.dt(m, 3)?;
-            let tout2 = tag(m, d2, LoopTag::at1_tout2, 3)?;
-            let t = tick(m, d3 + local::POST_FLAG, d3 + local::POST, &s, || {
-                count(tout2, dt, false, &s, 3)
-            })?;
+            let tout2 = d2.real(m, LoopTag::at1_tout2, 3)?;
+            let (flag, counter) = (d3.index(At1Work::post_flag), d3.index(At1Work::post));
+            let t = tick(m, flag, counter, &s, || count(tout2, dt, false, &s, 3))?;
             if t.reached {
                 return self.identify(m, a);
             }
         }
-        let ast = tag(m, d2, LoopTag::at1_st, 5)?;
-        if m.words[d3 + local::STEPPED] != 1 {
-            let mv = tag(m, d2, LoopTag::mv, 4)?;
-            let step = tag(m, d2, LoopTag::at1_step_mv, 4)?;
-            let mh = tag(m, d2, LoopTag::mh, 4)?;
-            let ml = tag(m, d2, LoopTag::ml, 4)?;
-            let e1 = real(m, a.s1, 4)?;
+        let ast = d2.real(m, LoopTag::at1_st, 5)?;
+        if d3.get(m, At1Work::stepped) != 1 {
+            let mv = d2.real(m, LoopTag::mv, 4)?;
+            let step = d2.real(m, LoopTag::at1_step_mv, 4)?;
+            let mh = d2.real(m, LoopTag::mh, 4)?;
+            let ml = d2.real(m, LoopTag::ml, 4)?;
+            let e1 = a.s1.real(m, InputCtl::e1, 4)?;
             let t1 = result(mv + step, 4)?;
             if t1 > mh {
                 self.end(m, a, BB4);
@@ -252,52 +287,53 @@ impl At1 {
                 self.end(m, a, BB5);
                 return Ok(());
             }
-            put(m, d2, LoopTag::mv, t1);
-            m.words[d3 + local::STEPPED] = 1;
-            m.words[d3 + local::COUNT] = 0;
-            set_f(m, d3 + local::PV0, e1);
-            set_f(m, d3 + local::PV1, e1);
+            d2.set(m, LoopTag::mv, t1);
+            d3.set(m, At1Work::stepped, 1);
+            d3.set(m, At1Work::count, 0);
+            d3.set(m, At1Work::pv0, e1);
+            d3.set(m, At1Work::pv1, e1);
             for k in [
-                local::MAX,
-                local::MAX_COUNT,
-                local::MAX_PV,
-                local::R,
-                local::L,
+                At1Work::max,
+                At1Work::max_count,
+                At1Work::max_pv,
+                At1Work::r,
+                At1Work::l,
             ] {
-                set_f(m, d3 + k, 0.0);
+                d3.set(m, k, 0.0);
             }
             if s.at1_step_starts_sampling {
-                self.start(m, a, local::SAMPLE_FLAG, ast, dt, 5)?;
+                let sampling = (At1Work::sample_flag, At1Work::sample);
+                self.start(m, a, sampling, ast, dt, 5)?;
             }
             return Ok(());
         }
-        let t = tick(m, d3 + local::SAMPLE_FLAG, d3 + local::SAMPLE, &s, || {
-            count(ast, dt, false, &s, 5)
-        })?;
+        let (flag, counter) = (d3.index(At1Work::sample_flag), d3.index(At1Work::sample));
+        let t = tick(m, flag, counter, &s, || count(ast, dt, false, &s, 5))?;
         if !t.reached {
             return Ok(());
         }
         // (9) observation.
-        let n = m.words[d3 + local::COUNT].saturating_add(1);
-        m.words[d3 + local::COUNT] = n;
-        let e1 = real(m, a.s1, 6)?;
-        let pv1 = real(m, d3 + local::PV1, 6)?;
+        let n = d3.get(m, At1Work::count).saturating_add(1);
+        d3.set(m, At1Work::count, n);
+        let e1 = a.s1.real(m, InputCtl::e1, 6)?;
+        let pv1 = d3.real(m, At1Work::pv1, 6)?;
         let t2 = result(e1 - pv1, 6)?;
-        set_f(m, d3 + local::PV1, e1);
-        let step = tag(m, d2, LoopTag::at1_step_mv, 6)?;
-        let pn = m.words[a.s2];
+        d3.set(m, At1Work::pv1, e1);
+        let step = d2.real(m, LoopTag::at1_step_mv, 6)?;
+        let pn = a.s2.get(m, At1Consts::pn);
         if pn > 1 {
             return Err(PcError::range(6));
         }
         let forward = pn == 1;
         let rising = (!forward && step > 0.0) || (forward && step < 0.0);
-        let max = real(m, d3 + local::MAX, 6)?;
+        let max = d3.real(m, At1Work::max, 6)?;
         if (rising && t2 > max) || (!rising && t2 < max) {
-            set_f(m, d3 + local::MAX, t2);
-            set_f(m, d3 + local::MAX_COUNT, n as f32);
-            set_f(m, d3 + local::MAX_PV, e1);
-            let tout2 = tag(m, d2, LoopTag::at1_tout2, 3)?;
-            self.start(m, a, local::POST_FLAG, tout2, dt, 3)?;
+            d3.set(m, At1Work::max, t2);
+            d3.set(m, At1Work::max_count, n as f32);
+            d3.set(m, At1Work::max_pv, e1);
+            let tout2 = d2.real(m, LoopTag::at1_tout2, 3)?;
+            let post = (At1Work::post_flag, At1Work::post);
+            self.start(m, a, post, tout2, dt, 3)?;
         }
         Ok(())
     }
@@ -305,33 +341,33 @@ impl At1 {
     /// (10) identification and (11) the PID constants.
     fn identify(&self, m: &mut DeviceMemory, a: &Areas) -> Result<(), PcError> {
         let (d2, d3) = (a.d2, a.d3);
-        let ast = tag(m, d2, LoopTag::at1_st, 7)?;
+        let ast = d2.real(m, LoopTag::at1_st, 7)?;
         if ast == 0.0 {
             return Err(PcError::divide(7));
         }
-        let max = real(m, d3 + local::MAX, 7)?;
+        let max = d3.real(m, At1Work::max, 7)?;
         let r1 = result(max / ast, 7)?;
         let r = r1.abs() / 100.0;
-        set_f(m, d3 + local::R, if self.s.at1_stores_r { r } else { r1 });
+        d3.set(m, At1Work::r, if self.s.at1_stores_r { r } else { r1 });
         if r == 0.0 {
             self.restore(m, a, 7)?;
             self.end(m, a, BB8);
             return Ok(());
         }
-        let pv0 = real(m, d3 + local::PV0, 7)?;
-        let pvm = real(m, d3 + local::MAX_PV, 7)?;
-        let cnt = real(m, d3 + local::MAX_COUNT, 7)?;
+        let pv0 = d3.real(m, At1Work::pv0, 7)?;
+        let pvm = d3.real(m, At1Work::max_pv, 7)?;
+        let cnt = d3.real(m, At1Work::max_count, 7)?;
         let b = result(pvm - r1 * (cnt * ast), 7)?;
         let l = result((pv0 - b) / r1, 7)?;
-        set_f(m, d3 + local::L, l);
+        d3.set(m, At1Work::l, l);
         if l <= 0.0 {
             self.restore(m, a, 7)?;
             self.end(m, a, BB8);
             return Ok(());
         }
-        let ti = tag(m, d2, LoopTag::i, 8)?;
-        let td = tag(m, d2, LoopTag::d, 8)?;
-        let step = tag(m, d2, LoopTag::at1_step_mv, 8)?;
+        let ti = d2.real(m, LoopTag::i, 8)?;
+        let td = d2.real(m, LoopTag::d, 8)?;
+        let step = d2.real(m, LoopTag::at1_step_mv, 8)?;
         let (c, ti, td) = if ti == 0.0 {
             (1.0, 0.0, 0.0)
         } else if td == 0.0 {
@@ -340,9 +376,9 @@ impl At1 {
             (1.2, 2.0 * l, 0.5 * l)
         };
         let kp = result(c / (r * l) * (step.abs() / 100.0), 8)?;
-        put(m, d2, LoopTag::p, kp);
-        put(m, d2, LoopTag::i, result(ti, 8)?);
-        put(m, d2, LoopTag::d, result(td, 8)?);
+        d2.set(m, LoopTag::p, kp);
+        d2.set(m, LoopTag::i, result(ti, 8)?);
+        d2.set(m, LoopTag::d, result(td, 8)?);
         self.restore(m, a, 8)?;
         self.end(m, a, 0);
         Ok(())
@@ -353,17 +389,17 @@ impl Instr for At1 {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let m = &*cx.mem;
         let a = Areas {
-            s1: m.block_start(&self.s1, 3)?,
-            d1: m.block_start(&self.d1, 1)?,
-            s2: m.block_start(&self.s2, 1)?,
-            d2: m.block_start(&self.d2, 128)?,
-            d3: m.block_start(&self.d3, 22)?,
+            s1: Area::of(m, &self.s1, 3)?,
+            d1: Area::of(m, &self.d1, 1)?,
+            s2: Area::of(m, &self.s2, 1)?,
+            d2: Area::of(m, &self.d2, LoopTag::WORDS as u32)?,
+            d3: Area::of(m, &self.d3, At1Work::WORDS as u32)?,
         };
         self.sys.run(cx.mem, |m| {
             self.body(m, &a)?;
             // DEC-35: BB1 = BB2 ∨ … ∨ BB8 at the end of every execution.
-            let bb = m.words[a.d1];
-            set_bits(m, a.d1, 1, bb & ALARMS != 0);
+            let bb = a.d1.get(m, At1Block::bb);
+            a.d1.set_bits(m, At1Block::bb, 1, bb & ALARMS != 0);
             Ok(())
         })
     }

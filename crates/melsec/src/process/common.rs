@@ -11,6 +11,7 @@ use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::isa::{CompileFn, Def, Doc, Pulse, Steps};
 
 use super::settings::ProcessSettings;
+use super::tag::UPPER_INH_BELOW;
 use crate::Args;
 
 /// A process-control instruction (000 §2.2.6-§2.2.7): runs on every scan
@@ -147,6 +148,17 @@ softplc_ir::layout! {
         /// BB: alarm and state bits (BB1 … BB16 = b0 … b15, see
         /// [`super::tag::bb`]); each instruction says which it writes.
         bb: u16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The block memory (D1) of the instructions whose outputs are bits
+    /// (S.DUTY, S.BC).
+    pub struct BitBlockMemory[2] {
+        /// BW1 = b0, BW2 = b1, …: the outputs (other bits left alone).
+        bw: u16 @ 0,
+        /// BB: alarm bits.
+        bb: u16 @ 1,
     }
 }
 
@@ -311,33 +323,6 @@ pub fn dummy(a: &mut Args<'_, '_>, k: usize) -> Option<()> {
     a.block(k).map(|_| ())
 }
 
-/// Reads a float word pair (low word first).
-#[inline]
-pub fn get_f(m: &DeviceMemory, i: usize) -> f32 {
-    f32::from_bits(m.words[i] as u32 | (m.words[i + 1] as u32) << 16)
-}
-
-/// Writes a float word pair (low word first).
-#[inline]
-pub fn set_f(m: &mut DeviceMemory, i: usize, v: f32) {
-    let b = v.to_bits();
-    m.words[i] = b as u16;
-    m.words[i + 1] = (b >> 16) as u16;
-}
-
-/// Reads a 32-bit BIN word pair (low word first).
-#[inline]
-pub fn get_u32(m: &DeviceMemory, i: usize) -> u32 {
-    m.words[i] as u32 | (m.words[i + 1] as u32) << 16
-}
-
-/// Writes a 32-bit BIN word pair (low word first).
-#[inline]
-pub fn set_u32(m: &mut DeviceMemory, i: usize, v: u32) {
-    m.words[i] = v as u16;
-    m.words[i + 1] = (v >> 16) as u16;
-}
-
 /// Whether `v` is a number the CPU operates on (000 §2.2.4: 0 or
 /// 2^-126 ≤ |v| < 2^128).
 #[inline]
@@ -348,7 +333,7 @@ pub fn valid(v: f32) -> bool {
 /// Reads a float operand, checked: NaN, ±∞ and denormals are detail 1.
 #[inline]
 pub fn real(m: &DeviceMemory, i: usize, step: u16) -> Result<f32, PcError> {
-    let v = get_f(m, i);
+    let v = f32::read(&m.words[i..]);
     if valid(v) {
         Ok(v)
     } else {
@@ -545,13 +530,13 @@ pub fn upper_inh(a: &mut Args<'_, '_>, k: usize) -> Option<Block> {
         limit: 0,
     };
     Some(match b.start {
-        WordArg::Word(i) if i >= base + 8 => Block {
-            start: WordArg::Word(i - 8),
+        WordArg::Word(i) if i >= base + UPPER_INH_BELOW => Block {
+            start: WordArg::Word(i - UPPER_INH_BELOW),
             limit: b.limit,
         },
-        WordArg::Indexed(ix) if ix.number >= 8 => Block {
+        WordArg::Indexed(ix) if ix.number >= UPPER_INH_BELOW => Block {
             start: WordArg::Indexed(Box::new(softplc_ir::ops::Indexed {
-                number: ix.number - 8,
+                number: ix.number - UPPER_INH_BELOW,
                 ..*ix
             })),
             limit: b.limit,
@@ -604,19 +589,6 @@ pub fn tick_started(
         m.words[counter] = if reached { 0 } else { c };
         Ok(not(reached))
     }
-}
-
-/// Bit `b` of word `i` (a control bit e1 … of the input data, BB bits).
-#[inline]
-pub fn bit(m: &DeviceMemory, i: usize, b: u32) -> bool {
-    m.words[i] >> b & 1 != 0
-}
-
-/// Writes the bits of `mask` in word `i` from `value`, the others kept (BB
-/// bits an instruction does not define are left as found).
-#[inline]
-pub fn put_bits(m: &mut DeviceMemory, i: usize, mask: u16, value: u16) {
-    m.words[i] = m.words[i] & !mask | value & mask;
 }
 
 /// A signed BIN16 count (n, SN) checked against `lo..=hi` (detail 3, DEC-36).
@@ -749,11 +721,13 @@ mod tests {
     #[test]
     fn floats_are_checked_as_the_cpu_does() {
         let mut m = mem();
-        set_f(&mut m, 10, 1.5);
+        let at = Area(10);
+        at.set(&mut m, Input::e1, 1.5);
         assert_eq!(real(&m, 10, 3), Ok(1.5));
-        set_f(&mut m, 10, f32::NAN);
+        assert_eq!(at.real(&m, Input::e1, 3), Ok(1.5));
+        at.set(&mut m, Input::e1, f32::NAN);
         assert_eq!(real(&m, 10, 3), Err(PcError::bad_number(3)));
-        set_f(&mut m, 10, f32::MIN_POSITIVE / 2.0);
+        at.set(&mut m, Input::e1, f32::MIN_POSITIVE / 2.0);
         assert_eq!(real(&m, 10, 3), Err(PcError::bad_number(3)));
         assert_eq!(result(f32::MAX * 2.0, 4), Err(PcError::overflow(4)));
     }

@@ -6,9 +6,7 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{
-    def, history_in_block_memory, result, Area, Areas, BlockMemory, PcError, Sys,
-};
+use super::common::{def, history_in_block_memory, result, Area, Areas, BlockMemory, PcError, Sys};
 use super::settings::ProcessSettings;
 use super::tag::bb;
 use crate::{Args, ExecCtx, Instr};

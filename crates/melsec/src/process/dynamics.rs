@@ -345,7 +345,7 @@ impl Ded {
         if t.start {
             stored = 0;
             if edge {
-                let fill_e1 = !s2.bit(m, DedConsts::ochg, 0) == s.ded_ochg_fill;
+                let fill_e1 = s2.bit(m, DedConsts::ochg, 0) != s.ded_ochg_fill;
                 d1.set(m, BlockMemory::bw, if fill_e1 { e1 } else { ys });
             }
             d1.set_bits(m, BlockMemory::bb, bb::BB1, true);

@@ -4,7 +4,7 @@ use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, def, dummy, real, result, set_f, PcError, Sys};
+use super::common::{area, def, dummy, result, Area, BlockMemory, PcError, Sys};
 use super::settings::ProcessSettings;
 use super::tag::{alm, bb, Inh, LoopTag, Mode, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
@@ -27,20 +27,13 @@ softplc_ir::layout! {
         sv: f32 @ 14,
         /// Operation type: 0 hold, 1 return (AUT, CAB).
         kind: i16 @ 16,
-        /// SV1 (s); SVi at +22 + 2(i − 1).
+        /// SV1 (s); SVi is `sv1.nth(i − 1)`, +22 … +52.
         sv1: f32 @ 22,
-        /// MV1 (%); MVi at +54 + 2(i − 1).
+        /// MV1 (%); MVi is `mv1.nth(i − 1)`, +54 … +84.
         mv1: f32 @ 54,
     }
 }
 
-const ALM: usize = LoopTag::alm.offset();
-const INH: usize = LoopTag::inh.offset();
-const MODE: usize = LoopTag::mode.offset();
-const MV: usize = LoopTag::mv.offset();
-const MH: usize = LoopTag::mh.offset();
-const ML: usize = LoopTag::ml.offset();
-const SV: usize = PgsTag::sv.offset();
 const BB_PGS: u16 = bb::BB1 | bb::BB2 | bb::BB3;
 
 /// 000 §9.23 S.PGS `S.PGS S1(dmy) D1 S2(dmy) D2` (L17327-17897), program
@@ -109,18 +102,17 @@ enum Kind {
 
 impl Instr for Pgs {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.sys.run(cx.mem, |m| {
-            let bbi = d1 + 2;
-            let ptno = m.words[d2 + PgsTag::ptno.offset()] as i16;
-            if m.words[d2 + ALM] & alm::SPA != 0 || ptno == 0 {
-                m.words[d2 + ALM] &= !(alm::MHA | alm::MLA);
-                m.words[d2 + MODE] = Mode::MAN;
-                m.words[bbi] &= !BB_PGS;
+            let ptno = d2.get(m, PgsTag::ptno);
+            if d2.get(m, LoopTag::alm) & alm::SPA != 0 || ptno == 0 {
+                d2.set_bits(m, LoopTag::alm, alm::MHA | alm::MLA, false);
+                d2.set(m, LoopTag::mode, Mode::MAN);
+                d1.set_bits(m, BlockMemory::bb, BB_PGS, false);
                 return Ok(());
             }
-            let mode = m.words[d2 + MODE];
+            let mode = d2.get(m, LoopTag::mode);
             let kind = if mode & (Mode::AUT | Mode::CAB) != 0 {
                 Kind::Hold
             } else if self.mode.cascade(mode) {
@@ -128,19 +120,19 @@ impl Instr for Pgs {
             } else {
                 if self.mode.manual(mode) || self.mode.auto(mode) {
                     // Stopped at the present SV and MV (MAN, CMB, CMV, LCM, LCA, LCC).
-                    m.words[d2 + ALM] &= !(alm::MHA | alm::MLA);
-                    m.words[bbi] &= !BB_PGS;
-                    let mv = real(m, d2 + MV, 4)?;
-                    set_f(m, d1, mv);
+                    d2.set_bits(m, LoopTag::alm, alm::MHA | alm::MLA, false);
+                    d1.set_bits(m, BlockMemory::bb, BB_PGS, false);
+                    let mv = d2.real(m, LoopTag::mv, 4)?;
+                    d1.set(m, BlockMemory::bw, mv);
                 }
                 return Ok(());
             };
             // (3) SV count-up.
             let dt = self.sys.dt(m, 2)?;
-            let sv = result(real(m, d2 + SV, 2)? + dt, 2)?;
-            set_f(m, d2 + SV, sv);
+            let sv = result(d2.real(m, PgsTag::sv, 2)? + dt, 2)?;
+            d2.set(m, PgsTag::sv, sv);
             // (4) MVPGS.
-            let kind = match (kind, m.words[d2 + PgsTag::kind.offset()]) {
+            let kind = match (kind, d2.get(m, PgsTag::kind)) {
                 (Kind::Cyclic, _) => Kind::Cyclic,
                 (_, 0) => Kind::Hold,
                 (_, 1) => Kind::Return,
@@ -151,24 +143,24 @@ impl Instr for Pgs {
             }
             let n = ptno as usize;
             let svi = |m: &softplc_ir::device::DeviceMemory, i: usize| {
-                real(m, d2 + PgsTag::sv1.offset() + 2 * (i - 1), 3)
+                d2.real(m, PgsTag::sv1.nth(i - 1), 3)
             };
             let mvi = |m: &softplc_ir::device::DeviceMemory, i: usize| {
-                real(m, d2 + PgsTag::mv1.offset() + 2 * (i - 1), 3)
+                d2.real(m, PgsTag::mv1.nth(i - 1), 3)
             };
             let mvpgs = if sv >= svi(m, n)? {
                 match kind {
                     Kind::Hold => {
-                        m.words[d2 + MODE] = Mode::MAN;
+                        d2.set(m, LoopTag::mode, Mode::MAN);
                         mvi(m, n)?
                     }
                     Kind::Return => {
-                        m.words[d2 + MODE] = Mode::MAN;
-                        set_f(m, d2 + SV, 0.0);
+                        d2.set(m, LoopTag::mode, Mode::MAN);
+                        d2.set(m, PgsTag::sv, 0.0);
                         mvi(m, n)?
                     }
                     Kind::Cyclic => {
-                        set_f(m, d2 + SV, 0.0);
+                        d2.set(m, PgsTag::sv, 0.0);
                         mvi(m, 1)?
                     }
                 }
@@ -187,8 +179,8 @@ impl Instr for Pgs {
                 v
             };
             // (5) output with the high/low limit.
-            let mh = real(m, d2 + MH, 4)?;
-            let ml = real(m, d2 + ML, 4)?;
+            let mh = d2.real(m, LoopTag::mh, 4)?;
+            let ml = d2.real(m, LoopTag::ml, 4)?;
             let (mv, high, low) = if mvpgs > mh {
                 (mh, true, false)
             } else if mvpgs < ml {
@@ -196,8 +188,8 @@ impl Instr for Pgs {
             } else {
                 (mvpgs, false, false)
             };
-            let inh = m.words[d2 + INH];
-            let (mut almw, mut bbw) = (m.words[d2 + ALM], m.words[bbi]);
+            let inh = d2.get(m, LoopTag::inh);
+            let (mut almw, mut bbw) = (d2.get(m, LoopTag::alm), d1.get(m, BlockMemory::bb));
             let h = self
                 .inh
                 .apply(inh, &mut almw, alm::MHA, &mut bbw, bb::BB2, high);
@@ -205,10 +197,10 @@ impl Instr for Pgs {
                 .inh
                 .apply(inh, &mut almw, alm::MLA, &mut bbw, bb::BB3, low);
             super::tag::put(&mut bbw, bb::BB1, h || l);
-            m.words[d2 + ALM] = almw;
-            m.words[bbi] = bbw;
-            set_f(m, d2 + MV, mv);
-            set_f(m, d1, mv);
+            d2.set(m, LoopTag::alm, almw);
+            d1.set(m, BlockMemory::bb, bbw);
+            d2.set(m, LoopTag::mv, mv);
+            d1.set(m, BlockMemory::bw, mv);
             Ok(())
         })
     }

@@ -5,7 +5,7 @@ use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::{
-    area, def, dummy, rate_count, real, result, set_f, window, PcError, Sys, Window,
+    area, def, dummy, rate_count, result, window, Area, BlockMemory, Input, PcError, Sys, Window,
 };
 use super::settings::ProcessSettings;
 use super::tag::{alm, bb, put, Inh, LoopTag, LOOP_WORDS};
@@ -19,18 +19,6 @@ static PHPL: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[def("S.PHPL", 4, &PHPL, Phpl::compile)];
-
-const ALM: usize = LoopTag::alm.offset();
-const INH: usize = LoopTag::inh.offset();
-const PV: usize = LoopTag::pv.offset();
-const RH: usize = LoopTag::rh.offset();
-const RL: usize = LoopTag::rl.offset();
-const HS: usize = LoopTag::hs.offset();
-const CTIM: usize = LoopTag::ctim.offset();
-const DPL: usize = LoopTag::dpl.offset();
-const REF: usize = LoopTag::rate_ref.offset();
-const FLAG: usize = LoopTag::rate_flag.offset();
-const COUNT: usize = LoopTag::rate_count.offset();
 
 /// The alarms S.PHPL owns.
 const ALM_PHPL: u16 = alm::DPNA | alm::DPPA | alm::LLA | alm::HHA | alm::PLA | alm::PHA;
@@ -111,42 +99,44 @@ fn hyst(set: bool, reset: bool, last: bool) -> bool {
 
 impl Instr for Phpl {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
+        let (flag, counter) = (d2.index(LoopTag::rate_flag), d2.index(LoopTag::rate_count));
         self.sys.run(cx.mem, |m| {
-            let bbi = d1 + 2;
-            if m.words[d2 + ALM] & alm::SPA != 0 {
-                let pv = real(m, d2 + PV, 5)?;
-                let rh = real(m, d2 + RH, 5)?;
-                let rl = real(m, d2 + RL, 5)?;
-                set_f(m, d1, percent(pv, rh, rl, 5)?);
-                m.words[bbi] &= !BB_PHPL;
-                m.words[d2 + ALM] &= !ALM_PHPL;
+            if d2.get(m, LoopTag::alm) & alm::SPA != 0 {
+                let pv = d2.real(m, LoopTag::pv, 5)?;
+                let rh = d2.real(m, LoopTag::rh, 5)?;
+                let rl = d2.real(m, LoopTag::rl, 5)?;
+                d1.set(m, BlockMemory::bw, percent(pv, rh, rl, 5)?);
+                d1.set_bits(m, BlockMemory::bb, BB_PHPL, false);
+                d2.set_bits(m, LoopTag::alm, ALM_PHPL, false);
                 if !self.s.early_end_skips_counters {
                     // DEC-4's alternative: the window advances, nothing is evaluated.
-                    let n = rate_count(real(m, d2 + CTIM, 3)?, self.sys.dt(m, 3)?, 3)?;
-                    let w = window(m, d2 + FLAG, d2 + COUNT, n, &self.s)?;
+                    let ctim = d2.real(m, LoopTag::ctim, 3)?;
+                    let n = rate_count(ctim, self.sys.dt(m, 3)?, 3)?;
+                    let w = window(m, flag, counter, n, &self.s)?;
                     if matches!(w, Window::Start | Window::Evaluate { retake: true }) {
-                        let e1 = real(m, s1, 3)?;
-                        set_f(m, d2 + REF, e1);
+                        let e1 = s1.real(m, Input::e1, 3)?;
+                        d2.set(m, LoopTag::rate_ref, e1);
                     }
                 }
                 return Ok(());
             }
             // (1) engineering-value inverse conversion of the limits.
-            let rh = real(m, d2 + RH, 1)?;
-            let rl = real(m, d2 + RL, 1)?;
+            let rh = d2.real(m, LoopTag::rh, 1)?;
+            let rl = d2.real(m, LoopTag::rl, 1)?;
             let mut lim = [0.0f32; 4];
-            for (k, v) in lim.iter_mut().enumerate() {
-                *v = percent(real(m, d2 + LoopTag::ph.offset() + 2 * k, 1)?, rh, rl, 1)?;
+            let fields = [LoopTag::ph, LoopTag::pl, LoopTag::hh, LoopTag::ll];
+            for (v, f) in lim.iter_mut().zip(fields) {
+                *v = percent(d2.real(m, f, 1)?, rh, rl, 1)?;
             }
             let [ph, pl, hh, ll] = lim;
             // (2) high/low checks.
-            let e1 = real(m, s1, 2)?;
-            let hs = real(m, d2 + HS, 2)?;
-            let inh = m.words[d2 + INH];
-            let (mut almw, mut bbw) = (m.words[d2 + ALM], m.words[bbi]);
+            let e1 = s1.real(m, Input::e1, 2)?;
+            let hs = d2.real(m, LoopTag::hs, 2)?;
+            let inh = d2.get(m, LoopTag::inh);
+            let (mut almw, mut bbw) = (d2.get(m, LoopTag::alm), d1.get(m, BlockMemory::bb));
             let mut none = 0u16;
             let was = |bit: u16| almw & bit != 0;
             let pha = hyst(e1 >= ph, e1 <= result(ph - hs, 2)?, was(alm::PHA));
@@ -159,24 +149,24 @@ impl Instr for Phpl {
                 .apply(inh, &mut almw, alm::PLA, &mut bbw, bb::BB3, pla);
             let hha = self.inh.apply(inh, &mut almw, alm::HHA, &mut none, 0, hha);
             let lla = self.inh.apply(inh, &mut almw, alm::LLA, &mut none, 0, lla);
-            m.words[d2 + ALM] = almw;
-            m.words[bbi] = bbw;
+            d2.set(m, LoopTag::alm, almw);
+            d1.set(m, BlockMemory::bb, bbw);
             // (3) change-rate check.
-            let ctim = real(m, d2 + CTIM, 3)?;
+            let ctim = d2.real(m, LoopTag::ctim, 3)?;
             let dt = self.sys.dt(m, 3)?;
             let n = rate_count(ctim, dt, 3)?;
-            match window(m, d2 + FLAG, d2 + COUNT, n, &self.s)? {
+            match window(m, flag, counter, n, &self.s)? {
                 Window::Skip | Window::Hold => {}
-                Window::Start => set_f(m, d2 + REF, e1),
+                Window::Start => d2.set(m, LoopTag::rate_ref, e1),
                 Window::Evaluate { retake } => {
-                    let dpl = real(m, d2 + DPL, 3)?;
-                    let d = result(e1 - real(m, d2 + REF, 3)?, 3)?;
+                    let dpl = d2.real(m, LoopTag::dpl, 3)?;
+                    let d = result(e1 - d2.real(m, LoopTag::rate_ref, 3)?, 3)?;
                     self.inh
                         .apply(inh, &mut almw, alm::DPPA, &mut bbw, bb::BB4, d >= dpl);
                     self.inh
                         .apply(inh, &mut almw, alm::DPNA, &mut bbw, bb::BB5, d <= -dpl);
                     if retake {
-                        set_f(m, d2 + REF, e1);
+                        d2.set(m, LoopTag::rate_ref, e1);
                     }
                 }
             }
@@ -185,11 +175,11 @@ impl Instr for Phpl {
                 any |= hha || lla;
             }
             put(&mut bbw, bb::BB1, any);
-            m.words[d2 + ALM] = almw;
-            m.words[bbi] = bbw;
+            d2.set(m, LoopTag::alm, almw);
+            d1.set(m, BlockMemory::bb, bbw);
             // (4) engineering-value conversion.
-            set_f(m, d2 + PV, result((rh - rl) / 100.0 * e1 + rl, 4)?);
-            set_f(m, d1, e1);
+            d2.set(m, LoopTag::pv, result((rh - rl) / 100.0 * e1 + rl, 4)?);
+            d1.set(m, BlockMemory::bw, e1);
             Ok(())
         })
     }

@@ -4,8 +4,8 @@ use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_lang::isa::{Def, Doc};
 
-use super::common::{area, def, real, result, set_f, upper_inh, PcError, Sys};
-use super::io::stage::{alarms, convert, limit, ALM, ALM_OUT, BB_OUT, DML, INH, MH, ML, MODE, MV};
+use super::common::{area, def, result, upper_inh, Area, BlockMemory, Input, PcError, Sys};
+use super::io::stage::{alarms, convert, limit, ALM_OUT, BB_OUT};
 use super::settings::ProcessSettings;
 use super::tag::{alm, bb, Inh, LoopTag, Mode, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
@@ -33,8 +33,20 @@ softplc_ir::layout! {
     }
 }
 
-const RH: usize = LoopTag::rh.offset();
-const RL: usize = LoopTag::rl.offset();
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.SEL.
+    pub struct SelConsts[6] {
+        /// NMAX: the output at MV = 100 % (100.0).
+        nmax: f32 @ 0,
+        /// NMIN: the output at MV = 0 % (0.0).
+        nmin: f32 @ 2,
+        /// TRK: 0 no tracking, 1 tracking.
+        trk: u16 @ 4,
+        /// SVPTN (1EH): b0 = e1 selects E2, b1/b2 = 1: E1/E2 not used,
+        /// b3/b4 = 0: E1/E2 is the upper loop's MV.
+        svptn: u16 @ 5,
+    }
+}
 
 /// 000 §9.24 S.SEL `S.SEL S1 D1 S2 D2 S3` (L17898-18569), loop selector.
 ///
@@ -115,69 +127,69 @@ enum Track {
 
 impl Instr for Sel {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, 6)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
-        let s3 = cx.mem.block_start(&self.s3, 2)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let s2 = Area::of(cx.mem, &self.s2, 6)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
+        let s3 = Area::of(cx.mem, &self.s3, 2)?;
         let track = self.sys.run_with(cx.mem, |m| {
-            let bbi = d1 + 2;
-            if m.words[d2 + ALM] & alm::SPA != 0 {
-                m.words[d2 + ALM] &= !ALM_OUT;
-                m.words[d2 + MODE] = Mode::MAN;
-                m.words[bbi] &= !BB_OUT;
+            if d2.get(m, LoopTag::alm) & alm::SPA != 0 {
+                d2.set_bits(m, LoopTag::alm, ALM_OUT, false);
+                d2.set(m, LoopTag::mode, Mode::MAN);
+                d1.set_bits(m, BlockMemory::bb, BB_OUT, false);
                 return Ok(Track::None);
             }
             // (1) engineering-value conversion.
-            let rh = real(m, d2 + RH, 1)?;
-            let rl = real(m, d2 + RL, 1)?;
-            let e1 = real(m, s1, 1)?;
-            let e2 = real(m, s3, 1)?;
+            let rh = d2.real(m, LoopTag::rh, 1)?;
+            let rl = d2.real(m, LoopTag::rl, 1)?;
+            let e1 = s1.real(m, Input::e1, 1)?;
+            let e2 = s3.real(m, Input::e1, 1)?;
             let pv1 = result((rh - rl) / 100.0 * e1 + rl, 1)?;
             let pv2 = result((rh - rl) / 100.0 * e2 + rl, 1)?;
-            set_f(m, d2 + SelTag::pv1.offset(), pv1);
-            set_f(m, d2 + SelTag::pv2.offset(), pv2);
+            d2.set(m, SelTag::pv1, pv1);
+            d2.set(m, SelTag::pv2, pv2);
             // (2) E1/E2 selection.
-            let svptn = m.words[s2 + 5];
+            let svptn = s2.get(m, SelConsts::svptn);
             let second = svptn & 1 != 0;
             let pv = if second { pv2 } else { pv1 };
-            set_f(m, d2 + SelTag::pv.offset(), pv);
-            m.words[d2 + SelTag::slno.offset()] = if second { 2 } else { 1 };
+            d2.set(m, SelTag::pv, pv);
+            d2.set(m, SelTag::slno, if second { 2 } else { 1 });
             // (3) mode check.
-            let mode = m.words[d2 + MODE];
+            let mode = d2.get(m, LoopTag::mode);
             let manual = self.mode.manual(mode);
             if manual {
-                m.words[d2 + ALM] &= !ALM_OUT;
-                m.words[bbi] &= !BB_OUT;
+                d2.set_bits(m, LoopTag::alm, ALM_OUT, false);
+                d1.set_bits(m, BlockMemory::bb, BB_OUT, false);
             } else if self.mode.auto(mode) {
                 if rh == rl {
                     return Err(PcError::divide(3));
                 }
                 let t = result(100.0 / (rh - rl) * (pv - rl), 3)?;
                 // (4) change rate, high/low limiter.
-                let mv = real(m, d2 + MV, 4)?;
-                let dml = real(m, d2 + DML, 4)?;
-                let mh = real(m, d2 + MH, 4)?;
-                let ml = real(m, d2 + ML, 4)?;
+                let mv = d2.real(m, LoopTag::mv, 4)?;
+                let dml = d2.real(m, LoopTag::dml, 4)?;
+                let mh = d2.real(m, LoopTag::mh, 4)?;
+                let ml = d2.real(m, LoopTag::ml, 4)?;
                 let l = limit(t, mv, dml, mh, ml, 4)?;
-                set_f(m, d2 + MV, l.mv);
-                let inh = m.words[d2 + INH];
-                let (mut almw, mut bbw) = (m.words[d2 + ALM], m.words[bbi]);
+                d2.set(m, LoopTag::mv, l.mv);
+                let inh = d2.get(m, LoopTag::inh);
+                let (mut almw, mut bbw) = (d2.get(m, LoopTag::alm), d1.get(m, BlockMemory::bb));
                 alarms(self.inh, inh, &mut almw, &mut bbw, &l);
-                m.words[d2 + ALM] = almw;
-                m.words[bbi] = bbw;
+                d2.set(m, LoopTag::alm, almw);
+                d1.set(m, BlockMemory::bb, bbw);
             } else {
                 return Ok(Track::None);
             }
             // (5) output conversion.
-            let nmax = real(m, s2, 5)?;
-            let nmin = real(m, s2 + 2, 5)?;
-            let mv = real(m, d2 + MV, 5)?;
-            set_f(m, d1, convert(nmax, nmin, mv, 5)?);
+            let nmax = s2.real(m, SelConsts::nmax, 5)?;
+            let nmin = s2.real(m, SelConsts::nmin, 5)?;
+            let mv = d2.real(m, LoopTag::mv, 5)?;
+            d1.set(m, BlockMemory::bw, convert(nmax, nmin, mv, 5)?);
             // (6) tracking.
-            let trk = m.words[s2 + 4] == 1;
-            if trk && (manual || m.words[bbi] & bb::BB1 != 0) {
-                set_f(m, if second { s3 } else { s1 }, mv);
+            let trk = s2.get(m, SelConsts::trk) == 1;
+            if trk && (manual || d1.get(m, BlockMemory::bb) & bb::BB1 != 0) {
+                let en = if second { s3 } else { s1 };
+                en.set(m, Input::e1, mv);
                 let upper = svptn & if second { 1 << 4 } else { 1 << 3 } == 0;
                 if upper {
                     return Ok(Track::Upper(second));

@@ -107,6 +107,11 @@ softplc_ir::layout! {
     }
 }
 
+/// How far below the MV (+12) that an instruction's input operand names lies
+/// the INH (+4) of the same loop tag, where an instruction sets the upper
+/// loop's TRKF (spec §1.8).
+pub const UPPER_INH_BELOW: u32 = (LoopTag::mv.offset() - LoopTag::inh.offset()) as u32;
+
 /// The documented defaults of the loop-tag memory (spec §3), as
 /// (offset, words) pairs a loop-tag initialiser writes.
 pub fn defaults() -> [u16; 96] {

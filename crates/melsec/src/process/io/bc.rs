@@ -3,10 +3,7 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use super::stage::{ALM, INH};
-use crate::process::common::{
-    area, dummy, get_u32, rate_count, real, set_u32, window, Sys, Window,
-};
+use crate::process::common::{area, dummy, rate_count, window, Area, BitBlockMemory, Sys, Window};
 use crate::process::settings::ProcessSettings;
 use crate::process::tag::{alm, bb, put, Inh, LoopTag, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
@@ -27,6 +24,14 @@ softplc_ir::layout! {
         dpl: i32 @ 44,
         /// Past values: the reference sample Xn-m (BIN32).
         reference: i32 @ 126,
+    }
+}
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.BC.
+    pub struct BcInput[2] {
+        /// E1: the count (BIN32, 0 … 2147483647).
+        e1: i32 @ 0,
     }
 }
 
@@ -85,37 +90,35 @@ impl Bc {
 
 impl Instr for Bc {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.sys.run(cx.mem, |m| {
-            let e1 = get_u32(m, s1) as i32;
-            let w = &m.words[d2..d2 + 128];
+            let e1 = s1.get(m, BcInput::e1);
             let (ph, sv1, sv2, dpl) = (
-                BcTag::ph.get(w),
-                BcTag::sv1.get(w),
-                BcTag::sv2.get(w),
-                BcTag::dpl.get(w),
+                d2.get(m, BcTag::ph),
+                d2.get(m, BcTag::sv1),
+                d2.get(m, BcTag::sv2),
+                d2.get(m, BcTag::dpl),
             );
-            let inh = m.words[d2 + INH];
-            let (mut almw, mut bbw) = (m.words[d2 + ALM], m.words[d1 + 1]);
+            let inh = d2.get(m, LoopTag::inh);
+            let (mut almw, mut bbw) = (d2.get(m, LoopTag::alm), d1.get(m, BitBlockMemory::bb));
             // (1) high check.
             self.inh
                 .apply(inh, &mut almw, alm::PHA, &mut bbw, bb::BB2, e1 > ph);
-            m.words[d2 + ALM] = almw;
-            m.words[d1 + 1] = bbw;
+            d2.set(m, LoopTag::alm, almw);
+            d1.set(m, BitBlockMemory::bb, bbw);
             // (2) change-rate check.
-            let ctim = real(m, d2 + BcTag::ctim.offset(), 2)?;
+            let ctim = d2.real(m, BcTag::ctim, 2)?;
             let dt = self.sys.dt(m, 2)?;
             let n = rate_count(ctim, dt, 2)?;
-            let refi = d2 + BcTag::reference.offset();
-            let flag = d2 + LoopTag::rate_flag.offset();
-            let counter = d2 + LoopTag::rate_count.offset();
+            let flag = d2.index(LoopTag::rate_flag);
+            let counter = d2.index(LoopTag::rate_count);
             match window(m, flag, counter, n, &self.s)? {
                 Window::Skip | Window::Hold => {}
-                Window::Start => set_u32(m, refi, e1 as u32),
+                Window::Start => d2.set(m, BcTag::reference, e1),
                 Window::Evaluate { retake } => {
-                    let d = e1 as i64 - get_u32(m, refi) as i32 as i64;
+                    let d = e1 as i64 - d2.get(m, BcTag::reference) as i64;
                     self.inh.apply(
                         inh,
                         &mut almw,
@@ -125,19 +128,19 @@ impl Instr for Bc {
                         d >= dpl as i64,
                     );
                     if retake {
-                        set_u32(m, refi, e1 as u32);
+                        d2.set(m, BcTag::reference, e1);
                     }
                 }
             }
             let any = bbw & (bb::BB2 | bb::BB3) != 0;
             put(&mut bbw, bb::BB1, any);
-            m.words[d2 + ALM] = almw;
-            m.words[d1 + 1] = bbw;
+            d2.set(m, LoopTag::alm, almw);
+            d1.set(m, BitBlockMemory::bb, bbw);
             // (3) output conversion.
-            let mut bw = m.words[d1];
+            let mut bw = d1.get(m, BitBlockMemory::bw);
             put(&mut bw, 1, e1 >= 0 && e1 >= sv1);
             put(&mut bw, 2, e1 >= 0 && e1 >= sv2);
-            m.words[d1] = bw;
+            d1.set(m, BitBlockMemory::bw, bw);
             Ok(())
         })
     }

@@ -3,17 +3,11 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use super::stage::{velocity, Flow, Kit, MV};
-use crate::process::common::{area, count, dummy, real, tick, PcError, Sys};
+use super::stage::{velocity, Bb, Flow, Kit};
+use crate::process::common::{area, count, dummy, tick, Area, BitBlockMemory, PcError, Sys};
 use crate::process::settings::ProcessSettings;
 use crate::process::tag::{LoopTag, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
-
-const CTDUTY: usize = LoopTag::ctduty.offset();
-const FLAG: usize = LoopTag::duty_flag.offset();
-const COUNT: usize = LoopTag::duty_count.offset();
-const OUT: usize = LoopTag::duty_out.offset();
-const ON: usize = LoopTag::duty_on.offset();
 
 /// 000 §8.5 S.DUTY `S.DUTY S1 D1 S2(dmy) D2` (L5307-5996), time-proportional
 /// ON/OFF output.
@@ -80,26 +74,28 @@ impl Duty {
     fn period(
         &self,
         m: &mut softplc_ir::device::DeviceMemory,
-        d2: usize,
+        d2: Area,
         recompute: bool,
     ) -> Result<(), PcError> {
         let s = &self.k.s;
-        let ct = real(m, d2 + CTDUTY, 4)?;
+        let ct = d2.real(m, LoopTag::ctduty, 4)?;
         let dt = self.k.sys.dt(m, 4)?;
         let mut n = 0u16;
-        let t = tick(m, d2 + FLAG, d2 + COUNT, s, || {
+        let (flag, counter) = (d2.index(LoopTag::duty_flag), d2.index(LoopTag::duty_count));
+        let t = tick(m, flag, counter, s, || {
             n = count(ct, dt, false, s, 4)?;
             Ok(n)
         })?;
         if t.reached {
             if recompute {
-                let mv = real(m, d2 + MV, 4)?;
+                let mv = d2.real(m, LoopTag::mv, 4)?;
                 let on = (mv / 100.0 * n as f32 + 0.5).floor();
-                m.words[d2 + ON] = on.clamp(0.0, 32767.0) as u16;
+                d2.set(m, LoopTag::duty_on, on.clamp(0.0, 32767.0) as u16);
             }
-            m.words[d2 + OUT] = 0;
+            d2.set(m, LoopTag::duty_out, 0);
         } else {
-            m.words[d2 + OUT] = m.words[d2 + OUT].saturating_add(1);
+            let out = d2.get(m, LoopTag::duty_out);
+            d2.set(m, LoopTag::duty_out, out.saturating_add(1));
         }
         Ok(())
     }
@@ -107,11 +103,11 @@ impl Duty {
 
 impl Instr for Duty {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.k.sys.run(cx.mem, |m| {
-            match velocity(&self.k, m, s1, d1 + 1, d2)? {
+            match velocity(&self.k, m, s1, Bb(d1, BitBlockMemory::bb), d2)? {
                 Flow::Output => {}
                 Flow::Idle => return Ok(()),
                 Flow::Stopped | Flow::Held => {
@@ -123,12 +119,8 @@ impl Instr for Duty {
             }
             self.period(m, d2, true)?;
             // (6) output conversion.
-            let on = m.words[d2 + OUT] < m.words[d2 + ON];
-            if on {
-                m.words[d1] |= 1;
-            } else {
-                m.words[d1] &= !1;
-            }
+            let on = d2.get(m, LoopTag::duty_out) < d2.get(m, LoopTag::duty_on);
+            d1.set_bits(m, BitBlockMemory::bw, 1, on);
             Ok(())
         })
     }

@@ -3,13 +3,32 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use super::stage::{ALM, INH, MODE};
-use crate::process::common::{area, real, result, set_f, PcError, Sys};
+use crate::process::common::{area, result, Area, BlockMemory, Input, PcError, Sys};
 use crate::process::settings::ProcessSettings;
 use crate::process::tag::{alm, bb, put, Inh, LoopTag, Mode, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
 
-const ALPHA: usize = LoopTag::filter.offset();
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.IN.
+    pub struct InConsts[16] {
+        /// EMAX: the engineering value at NMAX (100.0).
+        emax: f32 @ 0,
+        /// EMIN: the engineering value at NMIN (0.0).
+        emin: f32 @ 2,
+        /// NMAX: the input upper limit (100.0).
+        nmax: f32 @ 4,
+        /// NMIN: the input lower limit (0.0).
+        nmin: f32 @ 6,
+        /// HH: the high range error occurs (110.0).
+        hh: f32 @ 8,
+        /// H: the high range error returns (100.0).
+        h: f32 @ 10,
+        /// L: the low range error returns (0.0).
+        l: f32 @ 12,
+        /// LL: the low range error occurs (-10.0).
+        ll: f32 @ 14,
+    }
+}
 
 /// 000 §8.1 S.IN `S.IN S1 D1 S2 D2` (L3306-3893), analog input processing.
 ///
@@ -81,26 +100,25 @@ fn check(set: bool, reset: bool) -> Option<bool> {
 
 impl Instr for In {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, 16)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let s2 = Area::of(cx.mem, &self.s2, 16)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.sys.run(cx.mem, |m| {
-            let bbi = d1 + 2;
             let sea_bits = bb::BB1 | bb::BB2 | bb::BB3;
-            if m.words[d2 + ALM] & alm::SPA != 0 {
-                m.words[d2 + ALM] &= !alm::SEA;
-                m.words[d2 + MODE] = Mode::MAN;
-                m.words[bbi] &= !sea_bits;
+            if d2.get(m, LoopTag::alm) & alm::SPA != 0 {
+                d2.set_bits(m, LoopTag::alm, alm::SEA, false);
+                d2.set(m, LoopTag::mode, Mode::MAN);
+                d1.set_bits(m, BlockMemory::bb, sea_bits, false);
                 return Ok(());
             }
             // (1) range check.
-            let e1 = real(m, s1, 1)?;
-            let hh = real(m, s2 + 8, 1)?;
-            let h = real(m, s2 + 10, 1)?;
-            let l = real(m, s2 + 12, 1)?;
-            let ll = real(m, s2 + 14, 1)?;
-            let mut bbw = m.words[bbi];
+            let e1 = s1.real(m, Input::e1, 1)?;
+            let hh = s2.real(m, InConsts::hh, 1)?;
+            let h = s2.real(m, InConsts::h, 1)?;
+            let l = s2.real(m, InConsts::l, 1)?;
+            let ll = s2.real(m, InConsts::ll, 1)?;
+            let mut bbw = d1.get(m, BlockMemory::bb);
             let high = check(e1 >= hh, e1 <= h);
             let low = check(e1 <= ll, e1 >= l);
             let bb2 = high.unwrap_or(bbw & bb::BB2 != 0);
@@ -112,21 +130,19 @@ impl Instr for In {
                 let after_high = high.unwrap_or(bbw & bb::BB1 != 0);
                 low.unwrap_or(after_high)
             };
-            let inh = m.words[d2 + INH];
+            let inh = d2.get(m, LoopTag::inh);
             let on = self.inh.allows(inh, alm::SEA);
             put(&mut bbw, bb::BB2, bb2 && on);
             put(&mut bbw, bb::BB3, bb3 && on);
             put(&mut bbw, bb::BB1, bb1 && on);
-            m.words[bbi] = bbw;
-            let mut almw = m.words[d2 + ALM];
-            put(&mut almw, alm::SEA, bb1 && on);
-            m.words[d2 + ALM] = almw;
+            d1.set(m, BlockMemory::bb, bbw);
+            d2.set_bits(m, LoopTag::alm, alm::SEA, bb1 && on);
             if bb1 && on && self.sys.hold_input(m) {
                 return Ok(());
             }
             // (2) input limiter.
-            let nmax = real(m, s2 + 4, 2)?;
-            let nmin = real(m, s2 + 6, 2)?;
+            let nmax = s2.real(m, InConsts::nmax, 2)?;
+            let nmin = s2.real(m, InConsts::nmin, 2)?;
             let t1 = if e1 >= nmax {
                 nmax
             } else if e1 <= nmin {
@@ -135,16 +151,16 @@ impl Instr for In {
                 e1
             };
             // (3) engineering-value inverse conversion.
-            let emax = real(m, s2, 3)?;
-            let emin = real(m, s2 + 2, 3)?;
+            let emax = s2.real(m, InConsts::emax, 3)?;
+            let emin = s2.real(m, InConsts::emin, 3)?;
             if nmax == nmin {
                 return Err(PcError::divide(3));
             }
             let t2 = result((emax - emin) / (nmax - nmin) * (t1 - nmin) + emin, 3)?;
             // (4) digital filter on the previous BW (DEC-8).
-            let a = real(m, d2 + ALPHA, 4)?;
-            let prev = real(m, d1, 4)?;
-            set_f(m, d1, result(t2 + a * (prev - t2), 4)?);
+            let a = d2.real(m, LoopTag::filter, 4)?;
+            let prev = d1.real(m, BlockMemory::bw, 4)?;
+            d1.set(m, BlockMemory::bw, result(t2 + a * (prev - t2), 4)?);
             Ok(())
         })
     }

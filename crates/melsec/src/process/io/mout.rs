@@ -3,10 +3,10 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use super::stage::{convert, MODE, MV};
-use crate::process::common::{area, dummy, real, set_f, Sys};
+use super::stage::{convert, OutputRange};
+use crate::process::common::{area, dummy, Area, BlockMemory, Sys};
 use crate::process::settings::ProcessSettings;
-use crate::process::tag::{alm, Mode, LOOP_WORDS};
+use crate::process::tag::{alm, LoopTag, Mode, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
 
 /// 000 §8.4 S.MOUT `S.MOUT S1(dmy) D1 S2 D2` (L5018-5288), manual output:
@@ -50,19 +50,19 @@ impl Mout {
 
 impl Instr for Mout {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let d1 = cx.mem.block_start(&self.d1, 2)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let d1 = Area::of(cx.mem, &self.d1, 2)?;
+        let s2 = Area::of(cx.mem, &self.s2, 4)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.sys.run(cx.mem, |m| {
-            if m.words[d2 + 3] & alm::SPA != 0 {
-                m.words[d2 + MODE] = Mode::MAN;
+            if d2.get(m, LoopTag::alm) & alm::SPA != 0 {
+                d2.set(m, LoopTag::mode, Mode::MAN);
                 return Ok(());
             }
-            if self.mode.manual(m.words[d2 + MODE]) {
-                let nmax = real(m, s2, 1)?;
-                let nmin = real(m, s2 + 2, 1)?;
-                let mv = real(m, d2 + MV, 1)?;
-                set_f(m, d1, convert(nmax, nmin, mv, 1)?);
+            if self.mode.manual(d2.get(m, LoopTag::mode)) {
+                let nmax = s2.real(m, OutputRange::nmax, 1)?;
+                let nmin = s2.real(m, OutputRange::nmin, 1)?;
+                let mv = d2.real(m, LoopTag::mv, 1)?;
+                d1.set(m, BlockMemory::bw, convert(nmax, nmin, mv, 1)?);
             }
             Ok(())
         })

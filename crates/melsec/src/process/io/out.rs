@@ -3,10 +3,10 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use super::stage::{convert, positional, velocity, Flow, Kit, MV};
-use crate::process::common::{area, real, set_f, Sys};
+use super::stage::{convert, positional, velocity, Bb, Flow, Kit, OutputRange};
+use crate::process::common::{area, Area, BlockMemory, Sys};
 use crate::process::settings::ProcessSettings;
-use crate::process::tag::LOOP_WORDS;
+use crate::process::tag::{LoopTag, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
 
 /// 000 §8.2 S.OUT1 `S.OUT1 S1 D1 S2 D2` (L3894-4506), output processing
@@ -73,21 +73,22 @@ impl Out {
 
 impl Instr for Out {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 2)?;
-        let d1 = cx.mem.block_start(&self.d1, 3)?;
-        let s2 = cx.mem.block_start(&self.s2, 4)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 2)?;
+        let d1 = Area::of(cx.mem, &self.d1, 3)?;
+        let s2 = Area::of(cx.mem, &self.s2, 4)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
+        let bb = Bb(d1, BlockMemory::bb);
         self.k.sys.run(cx.mem, |m| {
             let flow = if self.velocity {
-                velocity(&self.k, m, s1, d1 + 2, d2)?
+                velocity(&self.k, m, s1, bb, d2)?
             } else {
-                positional(&self.k, m, s1, d1 + 2, d2)?
+                positional(&self.k, m, s1, bb, d2)?
             };
             if flow == Flow::Output {
-                let nmax = real(m, s2, 4)?;
-                let nmin = real(m, s2 + 2, 4)?;
-                let mv = real(m, d2 + MV, 4)?;
-                set_f(m, d1, convert(nmax, nmin, mv, 4)?);
+                let nmax = s2.real(m, OutputRange::nmax, 4)?;
+                let nmin = s2.real(m, OutputRange::nmin, 4)?;
+                let mv = d2.real(m, LoopTag::mv, 4)?;
+                d1.set(m, BlockMemory::bw, convert(nmax, nmin, mv, 4)?);
             }
             Ok(())
         })

@@ -3,7 +3,7 @@
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
-use crate::process::common::{area, get_u32, set_u32, PcError, Sys};
+use crate::process::common::{area, Area, PcError, Sys};
 use crate::process::settings::ProcessSettings;
 use crate::process::tag::LOOP_WORDS;
 use crate::{Args, ExecCtx, Instr};
@@ -17,6 +17,40 @@ softplc_ir::layout! {
         sum2: i32 @ 12,
         /// Past values: the last input E1n-1 (BIN32; this loop has no ALM2).
         last: u32 @ 116,
+    }
+}
+
+softplc_ir::layout! {
+    /// The input data (S1) of S.PSUM.
+    pub struct PsumInput[3] {
+        /// E1: the link-counter value (BIN32).
+        e1: u32 @ 0,
+        /// e1 = b0: integration start; e2 = b1: integration hold.
+        ctl: u16 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The block memory (D1) of S.PSUM.
+    pub struct PsumBlock[4] {
+        /// BW1: the integral value, integer part (BIN32).
+        bw1: i32 @ 0,
+        /// BW2: the integral value, fraction part (BIN32, in units of 1/U).
+        bw2: i32 @ 2,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.PSUM.
+    pub struct PsumConsts[5] {
+        /// W: the weight per pulse (1 … 999).
+        weight: i16 @ 0,
+        /// U: the unit (1, 10, 100, 1000).
+        unit: i16 @ 1,
+        /// HILMT: the integration limit (1 … 2147483647).
+        hilmt: i32 @ 2,
+        /// SUMPTN: 0 reset to 0 over HILMT, 1 hold at HILMT.
+        sumptn: u16 @ 4,
     }
 }
 
@@ -88,32 +122,32 @@ impl Psum {
 
 impl Instr for Psum {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let s1 = cx.mem.block_start(&self.s1, 3)?;
-        let d1 = cx.mem.block_start(&self.d1, 4)?;
-        let s2 = cx.mem.block_start(&self.s2, 5)?;
-        let d2 = cx.mem.block_start(&self.d2, LOOP_WORDS)?;
+        let s1 = Area::of(cx.mem, &self.s1, 3)?;
+        let d1 = Area::of(cx.mem, &self.d1, 4)?;
+        let s2 = Area::of(cx.mem, &self.s2, 5)?;
+        let d2 = Area::of(cx.mem, &self.d2, LOOP_WORDS)?;
         self.sys.run(cx.mem, |m| {
-            let e1 = get_u32(m, s1);
-            let e = m.words[s1 + 2];
-            let (start, hold) = (e & 1 != 0, e & 2 != 0);
-            let lasti = d2 + PsumTag::last.offset();
+            let e1 = s1.get(m, PsumInput::e1);
+            let (start, hold) = (s1.bit(m, PsumInput::ctl, 0), s1.bit(m, PsumInput::ctl, 1));
             // (1) input increment.
             let t1 = if start && !hold {
-                self.increment(e1, get_u32(m, lasti))
+                self.increment(e1, d2.get(m, PsumTag::last))
             } else {
                 0
             };
-            set_u32(m, lasti, e1);
+            d2.set(m, PsumTag::last, e1);
             // (2) integration.
-            let w = &m.words[d2..d2 + 128];
-            let (sum1, sum2) = (PsumTag::sum1.get(w) as i64, PsumTag::sum2.get(w) as i64);
+            let (sum1, sum2) = (
+                d2.get(m, PsumTag::sum1) as i64,
+                d2.get(m, PsumTag::sum2) as i64,
+            );
             let (t2, t3) = if !start {
                 (0, 0)
             } else if hold {
                 (sum1, sum2)
             } else {
-                let weight = m.words[s2] as i16 as i64;
-                let unit = m.words[s2 + 1] as i16 as i64;
+                let weight = s2.get(m, PsumConsts::weight) as i64;
+                let unit = s2.get(m, PsumConsts::unit) as i64;
                 if unit == 0 {
                     return Err(PcError::divide(2));
                 }
@@ -126,8 +160,8 @@ impl Instr for Psum {
                 (sum1 + t4 + f.div_euclid(unit), f.rem_euclid(unit))
             };
             // (3) output conversion.
-            let hilmt = get_u32(m, s2 + 2) as i32 as i64;
-            let mode = m.words[s2 + 4];
+            let hilmt = s2.get(m, PsumConsts::hilmt) as i64;
+            let mode = s2.get(m, PsumConsts::sumptn);
             if hilmt < 1 || mode > 1 {
                 return Err(PcError::range(3));
             }
@@ -138,10 +172,10 @@ impl Instr for Psum {
             } else {
                 (hilmt, 0)
             };
-            set_u32(m, d1, bw1 as u32);
-            set_u32(m, d1 + 2, bw2 as u32);
-            set_u32(m, d2 + PsumTag::sum1.offset(), bw1 as u32);
-            set_u32(m, d2 + PsumTag::sum2.offset(), bw2 as u32);
+            d1.set(m, PsumBlock::bw1, bw1 as i32);
+            d1.set(m, PsumBlock::bw2, bw2 as i32);
+            d2.set(m, PsumTag::sum1, bw1 as i32);
+            d2.set(m, PsumTag::sum2, bw2 as i32);
             Ok(())
         })
     }

@@ -2,7 +2,7 @@
 //! S.DUTY (§8.5 L5806-5996), and the change-rate / high-low limiter that
 //! S.SEL (§9.24) uses too.
 //!
-//! Loop-tag words (D2 offsets) this stage reads and writes — the contract
+//! Loop-tag words ([`LoopTag`] fields) this stage reads and writes — the contract
 //! the PID family relies on:
 //! * +1 MODE (MAN on loop stop), +3 ALM (SPA read; DMLA, MHA, MLA written),
 //!   +4 INH (DMLI, MHI, MLI, ERRI read; **TRKF** (DEC-6 b14) set to 1 in the
@@ -17,27 +17,47 @@
 //! E1 (S1) is the PID's BW, ΔMV in %.
 
 use softplc_ir::device::DeviceMemory;
+use softplc_ir::layout::At;
 
-use crate::process::common::{real, result, set_f, PcError, Sys};
+use crate::process::common::{result, Area, Input, PcError, Sys};
 use crate::process::settings::ProcessSettings;
 use crate::process::tag::{alm, bb, put, Alm2, Inh, LoopTag, Mode};
 
-pub(crate) const MODE: usize = LoopTag::mode.offset();
-pub(crate) const ALM: usize = LoopTag::alm.offset();
-pub(crate) const INH: usize = LoopTag::inh.offset();
-pub(crate) const MV: usize = LoopTag::mv.offset();
-pub(crate) const MH: usize = LoopTag::mh.offset();
-pub(crate) const ML: usize = LoopTag::ml.offset();
-pub(crate) const DML: usize = LoopTag::dml.offset();
-pub(crate) const TI: usize = LoopTag::i.offset();
-pub(crate) const MVP: usize = LoopTag::mvp.offset();
-pub(crate) const ALM2: usize = LoopTag::alm2.offset();
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.OUT1, S.OUT2 and S.MOUT: the output
+    /// range of the conversion BW = (NMAX − NMIN)/100 × MV + NMIN.
+    pub struct OutputRange[4] {
+        /// NMAX: the output at MV = 100 % (default 100.0).
+        nmax: f32 @ 0,
+        /// NMIN: the output at MV = 0 % (default 0.0).
+        nmin: f32 @ 2,
+    }
+}
 
 /// The BB bits of the output instructions: BB1 alarm, BB2 high, BB3 low,
 /// BB4 change rate.
 pub(crate) const BB_OUT: u16 = bb::BB1 | bb::BB2 | bb::BB3 | bb::BB4;
 /// The ALM bits the output stage owns.
 pub(crate) const ALM_OUT: u16 = alm::DMLA | alm::MHA | alm::MLA;
+
+/// The BB word of an output instruction: its block memory and the field
+/// (S.OUT1/S.OUT2 +2, S.DUTY +1).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Bb(pub Area, pub At<u16>);
+
+impl Bb {
+    fn get(self, m: &DeviceMemory) -> u16 {
+        self.0.get(m, self.1)
+    }
+
+    fn set(self, m: &mut DeviceMemory, v: u16) {
+        self.0.set(m, self.1, v)
+    }
+
+    fn clear(self, m: &mut DeviceMemory, bits: u16) {
+        self.0.set_bits(m, self.1, bits, false)
+    }
+}
 
 /// What the settings make of the loop-tag bits, resolved at compile.
 #[derive(Clone, Copy, Debug)]
@@ -135,24 +155,25 @@ pub(crate) enum Flow {
 /// The loop stop and the mode judgment shared by the three output
 /// instructions; `velocity` adds the ALM2 clearing and the TRKF setting of
 /// S.OUT1/S.DUTY. Returns `None` when an auto mode goes on to the limiter.
-fn judge(k: &Kit, m: &mut DeviceMemory, bbi: usize, d2: usize, velocity: bool) -> Option<Flow> {
-    let alm_w = m.words[d2 + ALM];
+fn judge(k: &Kit, m: &mut DeviceMemory, bb: Bb, d2: Area, velocity: bool) -> Option<Flow> {
+    let alm_w = d2.get(m, LoopTag::alm);
+    let alm2 = k.alm2.mha2 | k.alm2.mla2;
     if alm_w & alm::SPA != 0 {
-        m.words[d2 + ALM] = alm_w & !ALM_OUT;
+        d2.set(m, LoopTag::alm, alm_w & !ALM_OUT);
         if velocity {
-            m.words[d2 + ALM2] &= !(k.alm2.mha2 | k.alm2.mla2);
+            d2.set_bits(m, LoopTag::alm2, alm2, false);
         }
-        m.words[d2 + MODE] = Mode::MAN;
-        m.words[bbi] &= !BB_OUT;
+        d2.set(m, LoopTag::mode, Mode::MAN);
+        bb.clear(m, BB_OUT);
         return Some(Flow::Stopped);
     }
-    let mode = m.words[d2 + MODE];
+    let mode = d2.get(m, LoopTag::mode);
     if k.mode.manual(mode) {
-        m.words[d2 + ALM] = alm_w & !ALM_OUT;
-        m.words[bbi] &= !BB_OUT;
+        d2.set(m, LoopTag::alm, alm_w & !ALM_OUT);
+        bb.clear(m, BB_OUT);
         if velocity {
-            m.words[d2 + ALM2] &= !(k.alm2.mha2 | k.alm2.mla2);
-            m.words[d2 + INH] |= k.inh.trkf;
+            d2.set_bits(m, LoopTag::alm2, alm2, false);
+            d2.set_bits(m, LoopTag::inh, k.inh.trkf, true);
         }
         return Some(Flow::Output);
     }
@@ -160,7 +181,7 @@ fn judge(k: &Kit, m: &mut DeviceMemory, bbi: usize, d2: usize, velocity: bool) -
         return Some(Flow::Idle);
     }
     if alm_w & alm::SEA != 0 && k.sys.hold_output(m) {
-        m.words[bbi] &= !BB_OUT;
+        bb.clear(m, BB_OUT);
         return Some(Flow::Held);
     }
     None
@@ -172,64 +193,64 @@ fn judge(k: &Kit, m: &mut DeviceMemory, bbi: usize, d2: usize, velocity: bool) -
 fn limiter(
     k: &Kit,
     m: &mut DeviceMemory,
-    bbi: usize,
-    d2: usize,
+    bb: Bb,
+    d2: Area,
     t: f32,
     velocity: bool,
 ) -> Result<Option<Limited>, PcError> {
-    let mv = real(m, d2 + MV, 2)?;
+    let mv = d2.real(m, LoopTag::mv, 2)?;
     if t == mv && k.s.output_tracking_skips_limits {
         return Ok(None);
     }
-    let dml = real(m, d2 + DML, 2)?;
-    let mh = real(m, d2 + MH, 2)?;
-    let ml = real(m, d2 + ML, 2)?;
+    let dml = d2.real(m, LoopTag::dml, 2)?;
+    let mh = d2.real(m, LoopTag::mh, 2)?;
+    let ml = d2.real(m, LoopTag::ml, 2)?;
     let l = limit(t, mv, dml, mh, ml, 2)?;
-    set_f(m, d2 + MV, l.mv);
-    let inh_w = m.words[d2 + INH];
-    let (mut alm_w, mut bb_w) = (m.words[d2 + ALM], m.words[bbi]);
+    d2.set(m, LoopTag::mv, l.mv);
+    let inh_w = d2.get(m, LoopTag::inh);
+    let (mut alm_w, mut bb_w) = (d2.get(m, LoopTag::alm), bb.get(m));
     alarms(k.inh, inh_w, &mut alm_w, &mut bb_w, &l);
-    m.words[d2 + ALM] = alm_w;
-    m.words[bbi] = bb_w;
+    d2.set(m, LoopTag::alm, alm_w);
+    bb.set(m, bb_w);
     if velocity {
         let a2 = if l.high { k.alm2.mha2 } else { 0 } | if l.low { k.alm2.mla2 } else { 0 };
-        m.words[d2 + ALM2] = a2;
+        d2.set(m, LoopTag::alm2, a2);
     }
     Ok(Some(l))
 }
 
 /// S.OUT1 (6), (1)-(4) and S.DUTY (7), (1)-(4): loop stop, mode judgment,
 /// input addition with TRKF, change-rate/high-low limiter (skipped when
-/// T = MV, DEC-10), reset windup (DEC-11). `e1` is the flat index of ΔMV,
-/// `bbi` that of BB, `d2` the loop tag. SD1503: 1 input addition, 2
-/// limiter, 3 reset windup.
+/// T = MV, DEC-10), reset windup (DEC-11). `s1` holds ΔMV, `bb` is the
+/// BB word, `d2` the loop tag. SD1503: 1 input addition, 2 limiter, 3
+/// reset windup.
 pub(crate) fn velocity(
     k: &Kit,
     m: &mut DeviceMemory,
-    e1: usize,
-    bbi: usize,
-    d2: usize,
+    s1: Area,
+    bb: Bb,
+    d2: Area,
 ) -> Result<Flow, PcError> {
-    if let Some(f) = judge(k, m, bbi, d2, true) {
+    if let Some(f) = judge(k, m, bb, d2, true) {
         return Ok(f);
     }
     // (2) input addition.
-    let mut e = real(m, e1, 1)?;
-    let mut mvp = real(m, d2 + MVP, 1)?;
-    if m.words[d2 + INH] & k.inh.trkf != 0 {
-        mvp = real(m, d2 + MV, 1)?;
+    let mut e = s1.real(m, Input::e1, 1)?;
+    let mut mvp = d2.real(m, LoopTag::mvp, 1)?;
+    if d2.get(m, LoopTag::inh) & k.inh.trkf != 0 {
+        mvp = d2.real(m, LoopTag::mv, 1)?;
         e = 0.0;
-        m.words[d2 + INH] &= !k.inh.trkf;
+        d2.set_bits(m, LoopTag::inh, k.inh.trkf, false);
     }
     let t = result(e + mvp, 1)?;
-    set_f(m, d2 + MVP, t);
+    d2.set(m, LoopTag::mvp, t);
     // (3) change rate, high/low limiter.
-    let Some(l) = limiter(k, m, bbi, d2, t, true)? else {
+    let Some(l) = limiter(k, m, bb, d2, t, true)? else {
         return Ok(Flow::Output);
     };
     // (4) reset windup: skipped when TI = 0.
     // T1 > MH or T1 < ML: the limiter's high/low result, MV the limit.
-    let ti = real(m, d2 + TI, 3)?;
+    let ti = d2.real(m, LoopTag::i, 3)?;
     if ti != 0.0 && (l.high || l.low) {
         let mvp = if k.s.reset_windup_first_order {
             let dt = k.sys.dt(m, 3)?;
@@ -237,7 +258,7 @@ pub(crate) fn velocity(
         } else {
             l.mv
         };
-        set_f(m, d2 + MVP, mvp);
+        d2.set(m, LoopTag::mvp, mvp);
     }
     Ok(Flow::Output)
 }
@@ -247,15 +268,15 @@ pub(crate) fn velocity(
 pub(crate) fn positional(
     k: &Kit,
     m: &mut DeviceMemory,
-    e1: usize,
-    bbi: usize,
-    d2: usize,
+    s1: Area,
+    bb: Bb,
+    d2: Area,
 ) -> Result<Flow, PcError> {
-    if let Some(f) = judge(k, m, bbi, d2, false) {
+    if let Some(f) = judge(k, m, bb, d2, false) {
         return Ok(f);
     }
-    let t = real(m, e1, 2)?;
-    limiter(k, m, bbi, d2, t, false)?;
+    let t = s1.real(m, Input::e1, 2)?;
+    limiter(k, m, bb, d2, t, false)?;
     Ok(Flow::Output)
 }
 

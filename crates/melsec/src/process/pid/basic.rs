@@ -10,9 +10,9 @@
 
 use softplc_ir::device::DeviceMemory;
 
-use super::front::{derivative, past, Areas, Front};
+use super::front::{derivative, Areas, Front, PidPast};
 use super::{gains, Input};
-use crate::process::common::{real, result, set_f, PcError};
+use crate::process::common::{result, PcError};
 
 /// The second difference of PV after shifting the PV history (+104 → +106
 /// → +108, E1 → +104), signed by PN; returns (x, PVn-1).
@@ -22,11 +22,11 @@ pub(crate) fn shift_pv(
     i: &Input,
     step: u16,
 ) -> Result<(f32, f32), PcError> {
-    let pv1 = real(m, a.d2 + past::PV, step)?;
-    let pv2 = real(m, a.d2 + past::PV1, step)?;
-    set_f(m, a.d2 + past::PV2, pv2);
-    set_f(m, a.d2 + past::PV1, pv1);
-    set_f(m, a.d2 + past::PV, i.e1);
+    let pv1 = a.d2.real(m, PidPast::pv, step)?;
+    let pv2 = a.d2.real(m, PidPast::pv1, step)?;
+    a.d2.set(m, PidPast::pv2, pv2);
+    a.d2.set(m, PidPast::pv1, pv1);
+    a.d2.set(m, PidPast::pv, i.e1);
     let x = result(i.e1 - 2.0 * pv1 + pv2, step)?;
     Ok((if i.forward { x } else { -x }, pv1))
 }
@@ -40,23 +40,23 @@ pub(crate) fn bn(
     x: f32,
 ) -> Result<f32, PcError> {
     let (md, td, _) = gains(m, a, 5)?;
-    let b1 = real(m, a.d2 + past::B1, 5)?;
+    let b1 = a.d2.real(m, PidPast::b1, 5)?;
     let bn = if td == 0.0 || f.mode.no_derivative(i.mode) {
         0.0
     } else {
         derivative(md, td, i.ct, x, b1, 5)?
     };
-    set_f(m, a.d2 + past::B1, bn);
+    a.d2.set(m, PidPast::b1, bn);
     Ok(bn)
 }
 
 /// ΔMV of S.PID (processing No. 5).
 pub fn law(f: &Front, m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32, PcError> {
     let (_, _, ti) = gains(m, a, 5)?;
-    let dv1 = real(m, a.d2 + past::DV1, 5)?;
+    let dv1 = a.d2.real(m, PidPast::dv1, 5)?;
     let (x, _) = shift_pv(m, a, i, 5)?;
     let bn = bn(f, m, a, i, x)?;
     let inc = f.integral(m, a.d2, i.ct, ti, i.dv, 5)?;
-    set_f(m, a.d2 + past::DV1, i.dv);
+    a.d2.set(m, PidPast::dv1, i.dv);
     result(i.kp * (i.dv - dv1 + inc + bn), 5)
 }

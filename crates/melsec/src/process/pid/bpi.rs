@@ -12,26 +12,34 @@
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::layout::At;
 
-use super::front::{past, tag, tag_pos, word, Areas};
+use super::front::{tag_pos, Areas};
 use super::Input;
-use crate::process::common::{real, result, set_f, PcError};
+use crate::process::common::{result, PcError};
 use crate::process::tag::{alm, LoopTag};
 
 /// ΣDV, S.BPI's +56 (000 §9.6 L11940-11950).
 const SDV: At<f32> = LoopTag::d;
 
+softplc_ir::layout! {
+    /// The past values of S.BPI in the loop tag (000 §9.6 L11940-11950).
+    pub struct BpiPast[128] {
+        /// (CT/TI)·DVI: the integral term.
+        ip: f32 @ 98,
+    }
+}
+
 /// ΔMV of S.BPI (processing No. 5).
 pub fn law(m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32, PcError> {
     let d2 = a.d2;
     let ti = tag_pos(m, d2, LoopTag::i, 5)?;
-    let frozen = ti == 0.0 || word(m, d2, LoopTag::alm) & (alm::MHA | alm::MLA) != 0;
+    let frozen = ti == 0.0 || d2.get(m, LoopTag::alm) & (alm::MHA | alm::MLA) != 0;
     let ip = if frozen {
-        real(m, d2 + past::W98, 5)?
+        d2.real(m, BpiPast::ip, 5)?
     } else {
-        let sdv = result(tag(m, d2, SDV, 5)? + i.dv, 5)?;
+        let sdv = result(d2.real(m, SDV, 5)? + i.dv, 5)?;
         let ip = result(i.ct / ti * sdv, 5)?;
-        set_f(m, d2 + SDV.offset(), sdv);
-        set_f(m, d2 + past::W98, ip);
+        d2.set(m, SDV, sdv);
+        d2.set(m, BpiPast::ip, ip);
         ip
     };
     result(i.kp * (i.dv + ip), 5)

@@ -12,33 +12,31 @@ use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::layout::At;
 use softplc_ir::ops::{Block, WordArg};
 
-use crate::process::common::{self, area, real, result, set_f, PcError, Sys, Tick};
+use crate::process::common::{self, area, result, Area, BlockMemory, Input, PcError, Sys, Tick};
 use crate::process::settings::ProcessSettings;
-use crate::process::tag::{alm, Alm2, Inh, LoopTag, Mode};
+use crate::process::tag::{alm, Alm2, Inh, LoopTag, Mode, UPPER_INH_BELOW};
 use crate::Args;
 
-/// Past-value words of the PID family (000 §9.1 *3, L7384-7403; spec §3).
-pub mod past {
-    /// S.PIDP In-1; S.SPI DVn-1.
-    pub const W100: usize = 100;
-    /// Bn-1.
-    pub const B1: usize = 102;
-    /// PVn.
-    pub const PV: usize = 104;
-    /// PVn-1.
-    pub const PV1: usize = 106;
-    /// PVn-2.
-    pub const PV2: usize = 108;
-    /// DVn-1.
-    pub const DV1: usize = 110;
-    /// S.2PID DVn-2.
-    pub const DV2: usize = 112;
-    /// S.2PID Dn-1.
-    pub const D1: usize = 114;
-    /// S.SPI operation definition (1 operate, 0 hold); S.BPI and S.R: +98/99 float.
-    pub const W98: usize = 98;
-    /// S.SPI operate executions left in the period.
-    pub const W99: usize = 99;
+softplc_ir::layout! {
+    /// The past values of the velocity-form PID family in the loop tag (000
+    /// §9.1 *3, L7384-7403; spec §3). S.PIDP, S.SPI, S.BPI and S.R declare
+    /// their own meanings of +98 … +101 next to their code.
+    pub struct PidPast[128] {
+        /// Bn-1: the last derivative term.
+        b1: f32 @ 102,
+        /// PVn.
+        pv: f32 @ 104,
+        /// PVn-1.
+        pv1: f32 @ 106,
+        /// PVn-2.
+        pv2: f32 @ 108,
+        /// DVn-1.
+        dv1: f32 @ 110,
+        /// S.2PID: DVn-2.
+        dv2: f32 @ 112,
+        /// S.2PID: Dn-1, the last derivative term on PV.
+        d1: f32 @ 114,
+    }
 }
 
 /// Why an execution stopped: a process-control operation error (4100 with
@@ -68,16 +66,11 @@ pub fn run(
     }
 }
 
-/// A float of the loop tag at `d2`, checked (detail 1 at `step`).
+/// A float parameter of the loop tag `d2` that must not be negative
+/// (detail 1 when it is not a number, 2 when negative; DEC-36).
 #[inline]
-pub fn tag(m: &DeviceMemory, d2: usize, f: At<f32>, step: u16) -> Result<f32, PcError> {
-    real(m, d2 + f.offset(), step)
-}
-
-/// A float parameter that must not be negative (detail 2, DEC-36).
-#[inline]
-pub fn tag_pos(m: &DeviceMemory, d2: usize, f: At<f32>, step: u16) -> Result<f32, PcError> {
-    positive(real(m, d2 + f.offset(), step)?, step)
+pub fn tag_pos(m: &DeviceMemory, d2: Area, f: At<f32>, step: u16) -> Result<f32, PcError> {
+    positive(d2.real(m, f, step)?, step)
 }
 
 /// `v`, or detail 2 when it is negative (DEC-36).
@@ -87,34 +80,6 @@ pub fn positive(v: f32, step: u16) -> Result<f32, PcError> {
         Err(PcError::negative(step))
     } else {
         Ok(v)
-    }
-}
-
-/// Writes a float of the loop tag.
-#[inline]
-pub fn put(m: &mut DeviceMemory, d2: usize, f: At<f32>, v: f32) {
-    set_f(m, d2 + f.offset(), v);
-}
-
-/// A word of the loop tag.
-#[inline]
-pub fn word(m: &DeviceMemory, d2: usize, f: At<u16>) -> u16 {
-    m.words[d2 + f.offset()]
-}
-
-/// Writes a word of the loop tag.
-#[inline]
-pub fn put_word(m: &mut DeviceMemory, d2: usize, f: At<u16>, v: u16) {
-    m.words[d2 + f.offset()] = v;
-}
-
-/// Sets or clears `bits` of the word at `i`.
-#[inline]
-pub fn set_bits(m: &mut DeviceMemory, i: usize, bits: u16, on: bool) {
-    if on {
-        m.words[i] |= bits;
-    } else {
-        m.words[i] &= !bits;
     }
 }
 
@@ -132,14 +97,15 @@ pub struct Operands {
     words: [u32; 3],
 }
 
-/// The operands' flat word indexes for one execution.
+/// The operands for one execution: S1 ([`Input`]), D1 ([`BlockMemory`]),
+/// S2 (each instruction's constants), D2 ([`LoopTag`]), S3 ([`Input`]: E2).
 #[derive(Clone, Copy, Debug)]
 pub struct Areas {
-    pub s1: usize,
-    pub d1: usize,
-    pub s2: usize,
-    pub d2: usize,
-    pub s3: usize,
+    pub s1: Area,
+    pub d1: Area,
+    pub s2: Area,
+    pub d2: Area,
+    pub s3: Area,
     /// The upper loop's INH (S3 − 8, spec §1.8), when it lies in S3's device.
     pub upper: Option<usize>,
 }
@@ -169,16 +135,19 @@ impl Operands {
         })
     }
 
-    /// The flat indexes (4101 when an indexed area runs past its device).
+    /// The areas (4101 when an indexed area runs past its device).
     pub fn resolve(&self, m: &DeviceMemory) -> Result<Areas, Fault> {
-        let s3 = m.block_start(&self.s3, 2)?;
+        let s3 = Area::of(m, &self.s3, 2)?;
         Ok(Areas {
-            s1: m.block_start(&self.s1, self.words[0])?,
-            d1: m.block_start(&self.d1, self.words[1])?,
-            s2: m.block_start(&self.s2, self.words[2])?,
-            d2: m.block_start(&self.d2, 128)?,
+            s1: Area::of(m, &self.s1, self.words[0])?,
+            d1: Area::of(m, &self.d1, self.words[1])?,
+            s2: Area::of(m, &self.s2, self.words[2])?,
+            d2: Area::of(m, &self.d2, LoopTag::WORDS as u32)?,
             s3,
-            upper: s3.checked_sub(8).filter(|&u| u >= self.s3_base as usize),
+            upper: s3
+                .0
+                .checked_sub(UPPER_INH_BELOW as usize)
+                .filter(|&u| u >= self.s3_base as usize),
         })
     }
 }
@@ -208,14 +177,28 @@ pub struct Pattern {
     pub e2_upper_mv: bool,
 }
 
+/// Where an instruction's S2 keeps PN, TRK and SVPTN (fields of its
+/// operation-constant layout; S.R has no PN).
+#[derive(Clone, Copy, Debug)]
+pub struct PatternFields {
+    pub pn: Option<At<u16>>,
+    pub trk: At<u16>,
+    pub svptn: At<u16>,
+}
+
 impl Pattern {
-    /// Reads PN, TRK and SVPTN at S2 + `at`, + `at` + 1, + `at` + 2; a value
-    /// out of range is detail 3 at the step that uses it (PN: gain 4, TRK and
-    /// SVPTN: SV setting 2).
-    pub fn read(m: &DeviceMemory, s2: usize, at: usize, pn_step: u16) -> Result<Pattern, PcError> {
-        let pn = m.words[s2 + at];
-        let trk = m.words[s2 + at + 1];
-        let svptn = m.words[s2 + at + 2];
+    /// Reads PN, TRK and SVPTN from S2; a value out of range is detail 3 at
+    /// the step that uses it (PN: gain 4, TRK and SVPTN: SV setting 2).
+    /// Without a PN field the action is reverse.
+    pub fn read(
+        m: &DeviceMemory,
+        s2: Area,
+        f: PatternFields,
+        pn_step: u16,
+    ) -> Result<Pattern, PcError> {
+        let pn = f.pn.map_or(0, |pn| s2.get(m, pn));
+        let trk = s2.get(m, f.trk);
+        let svptn = s2.get(m, f.svptn);
         if trk > 1 || svptn > 3 {
             return Err(PcError::range(2));
         }
@@ -255,8 +238,8 @@ impl Front {
     }
 
     /// Whether the loop is stopped (ALM.SPA = 1, 000 §5.1.1).
-    pub fn stopped(&self, m: &DeviceMemory, d2: usize) -> bool {
-        word(m, d2, LoopTag::alm) & alm::SPA != 0
+    pub fn stopped(&self, m: &DeviceMemory, d2: Area) -> bool {
+        d2.get(m, LoopTag::alm) & alm::SPA != 0
     }
 
     /// The loop-stop actions every control instruction shares: MODE := MAN
@@ -266,12 +249,12 @@ impl Front {
     pub fn stop(
         &self,
         m: &mut DeviceMemory,
-        d2: usize,
+        d2: Area,
         clear: u16,
         period: Option<At<f32>>,
     ) -> Result<(), PcError> {
-        put_word(m, d2, LoopTag::mode, Mode::MAN);
-        set_bits(m, d2 + LoopTag::alm.offset(), clear, false);
+        d2.set(m, LoopTag::mode, Mode::MAN);
+        d2.set_bits(m, LoopTag::alm, clear, false);
         if let (false, Some(p)) = (self.s.early_end_skips_counters, period) {
             self.cycle(m, d2, p)?;
         }
@@ -280,14 +263,14 @@ impl Front {
 
     /// The control-cycle judgment (processing No. 1): one execution of the
     /// +96/+97 counter with N = round(period/ΔT) (DEC-1 … DEC-3).
-    pub fn cycle(&self, m: &mut DeviceMemory, d2: usize, period: At<f32>) -> Result<Tick, PcError> {
+    pub fn cycle(&self, m: &mut DeviceMemory, d2: Area, period: At<f32>) -> Result<Tick, PcError> {
         let dt = self.sys.dt(m, 1)?;
-        let p = tag(m, d2, period, 1)?;
+        let p = d2.real(m, period, 1)?;
         let s = self.s;
         common::tick(
             m,
-            d2 + LoopTag::ct_flag.offset(),
-            d2 + LoopTag::ct_count.offset(),
+            d2.index(LoopTag::ct_flag),
+            d2.index(LoopTag::ct_count),
             &s,
             || common::count(p, dt, false, &s, 1),
         )
@@ -304,16 +287,16 @@ impl Front {
         mode: u16,
     ) -> Result<f32, PcError> {
         if self.mode.cascade(mode) && pat.e2_used {
-            let e2 = real(m, a.s3, 2)?;
-            let rh = tag(m, a.d2, LoopTag::rh, 2)?;
-            let rl = tag(m, a.d2, LoopTag::rl, 2)?;
+            let e2 = a.s3.real(m, Input::e1, 2)?;
+            let rh = a.d2.real(m, LoopTag::rh, 2)?;
+            let rl = a.d2.real(m, LoopTag::rl, 2)?;
             let svn = result((rh - rl) / 100.0 * e2 + rl, 2)?;
             if self.s.cascade_writes_sv {
-                put(m, a.d2, LoopTag::sv, svn);
+                a.d2.set(m, LoopTag::sv, svn);
             }
             Ok(svn)
         } else {
-            tag(m, a.d2, LoopTag::sv, 2)
+            a.d2.real(m, LoopTag::sv, 2)
         }
     }
 
@@ -328,8 +311,8 @@ impl Front {
         mode: u16,
         svn: f32,
     ) -> Result<f32, Halt> {
-        let rh = tag(m, a.d2, LoopTag::rh, 3)?;
-        let rl = tag(m, a.d2, LoopTag::rl, 3)?;
+        let rh = a.d2.real(m, LoopTag::rh, 3)?;
+        let rl = a.d2.real(m, LoopTag::rl, 3)?;
         if rh == rl {
             return Err(PcError::divide(3).into());
         }
@@ -355,7 +338,7 @@ impl Front {
                 };
                 m.words[u] |= self.inh.trkf;
             }
-            set_f(m, a.s3, value);
+            a.s3.set(m, Input::e1, value);
         }
         Ok(())
     }
@@ -391,14 +374,14 @@ impl Front {
         sv1: f32,
         step: u16,
     ) -> Result<f32, PcError> {
-        let e1 = real(m, a.s1, step)?;
+        let e1 = a.s1.real(m, Input::e1, step)?;
         let dv = result(if pat.forward { e1 - sv1 } else { sv1 - e1 }, step)?;
-        put(m, a.d2, LoopTag::dv, dv);
+        a.d2.set(m, LoopTag::dv, dv);
         Ok(dv)
     }
 
     /// The deviation check: |DV| ≥ DVL → 1; DVL − DVLS < |DV| < DVL → the
-    /// previous state (the BB bit `bb` of D1 + 2, DEC-8); |DV| ≤ DVL − DVLS →
+    /// previous state (the BB bit `bb` of D1, DEC-8); |DV| ≤ DVL − DVLS →
     /// 0; 0 while DVLI or ERRI. Writes ALM.DVLA and the BB bit.
     pub fn check(
         &self,
@@ -411,7 +394,7 @@ impl Front {
     ) -> Result<bool, PcError> {
         let dvl = tag_pos(m, a.d2, LoopTag::dvl, step)?;
         let dvls = positive(dvls, step)?;
-        let prev = m.words[a.d1 + 2] & bb != 0;
+        let prev = a.d1.get(m, BlockMemory::bb) & bb != 0;
         let d = dv.abs();
         let on = if d >= dvl {
             true
@@ -420,20 +403,20 @@ impl Front {
         } else {
             prev
         };
-        let on = on && self.inh.allows(word(m, a.d2, LoopTag::inh), alm::DVLA);
-        set_bits(m, a.d2 + LoopTag::alm.offset(), alm::DVLA, on);
-        set_bits(m, a.d1 + 2, bb, on);
+        let on = on && self.inh.allows(a.d2.get(m, LoopTag::inh), alm::DVLA);
+        a.d2.set_bits(m, LoopTag::alm, alm::DVLA, on);
+        a.d1.set_bits(m, BlockMemory::bb, bb, on);
         Ok(on)
     }
 
     /// The output-limit alarms the integral freeze looks at (DEC-15): MHA2 /
     /// MLA2 of ALM2 +116 (DEC-7) on firmware ≥ 07032, MHA / MLA of ALM before.
-    pub fn limits(&self, m: &DeviceMemory, d2: usize) -> (bool, bool) {
+    pub fn limits(&self, m: &DeviceMemory, d2: Area) -> (bool, bool) {
         if self.s.firmware_serial_ge_07032 {
-            let w = word(m, d2, LoopTag::alm2);
+            let w = d2.get(m, LoopTag::alm2);
             (w & self.alm2.mha2 != 0, w & self.alm2.mla2 != 0)
         } else {
-            let w = word(m, d2, LoopTag::alm);
+            let w = d2.get(m, LoopTag::alm);
             (w & alm::MHA != 0, w & alm::MLA != 0)
         }
     }
@@ -445,7 +428,7 @@ impl Front {
     pub fn integral(
         &self,
         m: &DeviceMemory,
-        d2: usize,
+        d2: Area,
         period: f32,
         ti: f32,
         dv: f32,
@@ -457,9 +440,9 @@ impl Front {
         let inc = result(period / ti * dv, step)?;
         let (h, l) = self.limits(m, d2);
         if h || l {
-            let mvp = tag(m, d2, LoopTag::mvp, step)?;
-            let mh = tag(m, d2, LoopTag::mh, step)?;
-            let ml = tag(m, d2, LoopTag::ml, step)?;
+            let mvp = d2.real(m, LoopTag::mvp, step)?;
+            let mh = d2.real(m, LoopTag::mh, step)?;
+            let ml = d2.real(m, LoopTag::ml, step)?;
             if (mvp > mh && inc > 0.0) || (mvp < ml && inc < 0.0) {
                 return Ok(0.0);
             }

@@ -24,9 +24,11 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_lang::isa::{Def, Doc};
 
-use self::front::{run, set_bits, tag, word, Areas, Front, Halt, Operands, Pattern};
-use crate::process::common::{def, real, set_f, PcError};
-use crate::process::tag::{alm, LoopTag};
+use softplc_ir::layout::At;
+
+use self::front::{run, Areas, Front, Halt, Operands, Pattern, PatternFields};
+use crate::process::common::{self, def, BlockMemory, PcError};
+use crate::process::tag::{alm, bb, LoopTag};
 use crate::{Args, ExecCtx, Instr};
 
 static PID: Doc = Doc {
@@ -83,6 +85,51 @@ pub static DEFS: &[Def] = &[
     def("S.ONF2", 5, &ONF, onoff::OnOff::compile_2),
     def("S.ONF3", 5, &ONF, onoff::OnOff::compile_3),
 ];
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.PID, S.2PID and S.IPD (and the
+    /// first seven words of S.PIDP's, [`pidp::PidpConsts`]).
+    pub struct PidConsts[7] {
+        /// MTD: the derivative gain (8.0).
+        mtd: f32 @ 0,
+        /// DVLS: the deviation alarm hysteresis (2.0).
+        dvls: f32 @ 2,
+        /// PN: 0 reverse, 1 forward action.
+        pn: u16 @ 4,
+        /// TRK: 1 tracking.
+        trk: u16 @ 5,
+        /// SVPTN: b0 = 1 E2 not used, b1 = 0 E2 is the upper loop's MV.
+        svptn: u16 @ 6,
+    }
+}
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.SPI and S.BPI.
+    pub struct PiConsts[5] {
+        /// DVLS: the deviation alarm hysteresis (2.0).
+        dvls: f32 @ 0,
+        /// PN: 0 reverse, 1 forward action.
+        pn: u16 @ 2,
+        /// TRK: 1 tracking.
+        trk: u16 @ 3,
+        /// SVPTN: b0 = 1 E2 not used, b1 = 0 E2 is the upper loop's MV.
+        svptn: u16 @ 4,
+    }
+}
+
+/// PN, TRK and SVPTN of [`PidConsts`].
+pub const PID_PATTERN: PatternFields = PatternFields {
+    pn: Some(PidConsts::pn),
+    trk: PidConsts::trk,
+    svptn: PidConsts::svptn,
+};
+
+/// PN, TRK and SVPTN of [`PiConsts`].
+pub const PI_PATTERN: PatternFields = PatternFields {
+    pn: Some(PiConsts::pn),
+    trk: PiConsts::trk,
+    svptn: PiConsts::svptn,
+};
 
 /// Which velocity-form law an instruction computes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -152,28 +199,30 @@ impl Velocity {
     fn body(&self, m: &mut DeviceMemory, a: &Areas) -> Result<(), Halt> {
         let f = &self.f;
         if f.stopped(m, a.d2) {
-            set_f(m, a.d1, 0.0);
-            set_bits(m, a.d1 + 2, 1, false);
+            a.d1.set(m, BlockMemory::bw, 0.0);
+            a.d1.set_bits(m, BlockMemory::bb, bb::BB1, false);
             f.stop(m, a.d2, alm::DVLA, Some(LoopTag::ct))?;
             return Ok(());
         }
         if !f.cycle(m, a.d2, LoopTag::ct)?.reached {
-            set_f(m, a.d1, 0.0);
+            a.d1.set(m, BlockMemory::bw, 0.0);
             return Ok(());
         }
-        // S2: PID/2PID/IPD +0 MTD, +2 DVLS, +4 PN, +5 TRK, +6 SVPTN;
-        // BPI +0 DVLS, +2 PN, +3 TRK, +4 SVPTN.
-        let (dvls_at, pat_at) = if self.law == Law::Bpi { (0, 2) } else { (2, 4) };
-        let pat = Pattern::read(m, a.s2, pat_at, 4)?;
-        let mode = word(m, a.d2, LoopTag::mode);
+        let (dvls_at, fields): (At<f32>, _) = if self.law == Law::Bpi {
+            (PiConsts::dvls, PI_PATTERN)
+        } else {
+            (PidConsts::dvls, PID_PATTERN)
+        };
+        let pat = Pattern::read(m, a.s2, fields, 4)?;
+        let mode = a.d2.get(m, LoopTag::mode);
         let svn = f.sv(m, a, pat, mode)?;
         let sv1 = f.track(m, a, pat, mode, svn)?;
         let (dv, kp) = f.gain(m, a, pat, sv1)?;
         let input = Input {
-            e1: real(m, a.s1, 4)?,
+            e1: a.s1.real(m, common::Input::e1, 4)?,
             dv,
             kp,
-            ct: tag(m, a.d2, LoopTag::ct, 5)?,
+            ct: a.d2.real(m, LoopTag::ct, 5)?,
             mode,
             forward: pat.forward,
         };
@@ -183,9 +232,9 @@ impl Velocity {
             Law::Ipd => (ipd::law(f, m, a, &input)?, 6),
             Law::Bpi => (bpi::law(m, a, &input)?, 6),
         };
-        set_f(m, a.d1, bw);
-        let dvls = real(m, a.s2 + dvls_at, check)?;
-        f.check(m, a, dv, dvls, 1, check)?;
+        a.d1.set(m, BlockMemory::bw, bw);
+        let dvls = a.s2.real(m, dvls_at, check)?;
+        f.check(m, a, dv, dvls, bb::BB1, check)?;
         Ok(())
     }
 }
@@ -197,9 +246,9 @@ impl Instr for Velocity {
     }
 }
 
-/// MTD (S2 +0) and TD, TI of the loop tag, checked at `step`.
+/// MTD (S2, [`PidConsts`]) and TD, TI of the loop tag, checked at `step`.
 pub(crate) fn gains(m: &DeviceMemory, a: &Areas, step: u16) -> Result<(f32, f32, f32), PcError> {
-    let md = front::positive(real(m, a.s2, step)?, step)?;
+    let md = front::positive(a.s2.real(m, PidConsts::mtd, step)?, step)?;
     let td = front::tag_pos(m, a.d2, LoopTag::d, step)?;
     let ti = front::tag_pos(m, a.d2, LoopTag::i, step)?;
     Ok((md, td, ti))

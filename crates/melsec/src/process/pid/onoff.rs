@@ -17,14 +17,33 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::layout::At;
 
-use super::front::{put, run, set_bits, tag, tag_pos, word, Areas, Front, Halt, Operands, Pattern};
-use crate::process::common::{get_f, set_f, PcError};
+use super::front::{run, tag_pos, Areas, Front, Halt, Operands, Pattern, PatternFields};
+use crate::process::common::{BlockMemory, PcError};
+use crate::process::tag::bb::{BB1, BB2};
 use crate::process::tag::LoopTag;
 use crate::{Args, ExecCtx, Instr};
 
 /// The hysteresis widths S.ONF2/3 keep at +18/+20 (000 §9.20 L16100-16140).
 const HS0: At<f32> = LoopTag::mh;
 const HS1: At<f32> = LoopTag::ml;
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.ONF2 and S.ONF3.
+    pub struct OnfConsts[3] {
+        /// PN: 0 reverse, 1 forward action.
+        pn: u16 @ 0,
+        /// TRK: 1 tracking.
+        trk: u16 @ 1,
+        /// SVPTN (3): b0 = 1 E2 not used, b1 = 0 E2 is the upper loop's MV.
+        svptn: u16 @ 2,
+    }
+}
+
+const PATTERN: PatternFields = PatternFields {
+    pn: Some(OnfConsts::pn),
+    trk: OnfConsts::trk,
+    svptn: OnfConsts::svptn,
+};
 
 #[derive(Debug)]
 pub struct OnOff {
@@ -51,7 +70,7 @@ impl OnOff {
     /// (3) MV′ (processing No. 4).
     fn compensate(&self, m: &DeviceMemory, a: &Areas, dv: f32) -> Result<f32, PcError> {
         let hs0 = tag_pos(m, a.d2, HS0, 4)?;
-        let prev = get_f(m, a.d1);
+        let prev = a.d1.get(m, BlockMemory::bw);
         Ok(if !self.three {
             if dv > hs0 {
                 100.0
@@ -76,12 +95,12 @@ impl OnOff {
 
     /// (5) the ON/OFF bits from BW (processing No. 6).
     fn bits(&self, m: &mut DeviceMemory, a: &Areas, bw: f32) {
-        let bb = a.d1 + 2;
+        let (d1, bb) = (a.d1, BlockMemory::bb);
         if self.three {
-            set_bits(m, bb, 1, bw >= 75.0);
-            set_bits(m, bb, 2, bw <= 25.0);
+            d1.set_bits(m, bb, BB1, bw >= 75.0);
+            d1.set_bits(m, bb, BB2, bw <= 25.0);
         } else {
-            set_bits(m, bb, 1, bw.abs() >= 50.0);
+            d1.set_bits(m, bb, BB1, bw.abs() >= 50.0);
         }
     }
 
@@ -92,27 +111,27 @@ impl OnOff {
             f.stop(m, d2, 0, Some(LoopTag::ct))?;
             return Ok(());
         }
-        let mode = word(m, d2, LoopTag::mode);
+        let mode = d2.get(m, LoopTag::mode);
         let manual = f.mode.manual(mode);
         let bw = if !f.cycle(m, d2, LoopTag::ct)?.reached {
             if !manual {
                 return Ok(());
             }
-            tag(m, d2, LoopTag::mv, 5)?
+            d2.real(m, LoopTag::mv, 5)?
         } else {
-            let pat = Pattern::read(m, a.s2, 0, 4)?;
+            let pat = Pattern::read(m, a.s2, PATTERN, 4)?;
             let svn = f.sv(m, a, pat, mode)?;
             let sv1 = f.track(m, a, pat, mode, svn)?;
             let dv = f.deviation(m, a, pat, sv1, 4)?;
             let mv1 = self.compensate(m, a, dv)?;
             if manual {
-                tag(m, d2, LoopTag::mv, 5)?
+                d2.real(m, LoopTag::mv, 5)?
             } else {
-                put(m, d2, LoopTag::mv, mv1);
+                d2.set(m, LoopTag::mv, mv1);
                 mv1
             }
         };
-        set_f(m, a.d1, bw);
+        a.d1.set(m, BlockMemory::bw, bw);
         self.bits(m, a, bw);
         Ok(())
     }

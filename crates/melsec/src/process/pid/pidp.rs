@@ -21,22 +21,54 @@
 //! and the mode is not MAN/LCM/CMV (L9569-9607, DEC-15). S.PIDP neither sets
 //! nor clears TRKF (the manual gives it no such step).
 
+use crate::process::common::Area;
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 
 use super::front::{
-    derivative, past, put, run, set_bits, tag, tag_pos, word, Areas, Front, Halt, Operands, Pattern,
+    derivative, run, tag_pos, Areas, Front, Halt, Operands, Pattern, PatternFields, PidPast,
 };
 use super::gains;
-use crate::process::common::{real, result, set_f, PcError};
+use crate::process::common::{result, BlockMemory, Input, PcError};
+use crate::process::tag::bb::{BB1, BB2, BB3, BB4, BB5};
 use crate::process::tag::{alm, LoopTag};
 use crate::{Args, ExecCtx, Instr};
 
-const BB1: u16 = 1;
-const BB2: u16 = 2;
-const BB3: u16 = 4;
-const BB4: u16 = 8;
-const BB5: u16 = 16;
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.PIDP (000 §9.3 L8970-8980; the
+    /// odd offsets as printed).
+    pub struct PidpConsts[11] {
+        /// MTD: the derivative gain (8.0).
+        mtd: f32 @ 0,
+        /// DVLS: the deviation alarm hysteresis (2.0).
+        dvls: f32 @ 2,
+        /// PN: 0 reverse, 1 forward action.
+        pn: u16 @ 4,
+        /// TRK: 1 tracking.
+        trk: u16 @ 5,
+        /// SVPTN: b0 = 1 E2 not used, b1 = 0 E2 is the upper loop's MV.
+        svptn: u16 @ 6,
+        /// NMAX: the output at MV = 100 % (100.0).
+        nmax: f32 @ 7,
+        /// NMIN: the output at MV = 0 % (0.0).
+        nmin: f32 @ 9,
+    }
+}
+
+softplc_ir::layout! {
+    /// The past value of S.PIDP's own in the loop tag (the others are
+    /// [`PidPast`]'s).
+    pub struct PidpPast[128] {
+        /// In-1: the last integral term.
+        i1: f32 @ 100,
+    }
+}
+
+const PATTERN: PatternFields = PatternFields {
+    pn: Some(PidpConsts::pn),
+    trk: PidpConsts::trk,
+    svptn: PidpConsts::svptn,
+};
 
 #[derive(Debug)]
 pub struct Pidp {
@@ -57,19 +89,19 @@ impl Pidp {
         if !f.cycle(m, a.d2, LoopTag::ct)?.reached {
             return Ok(None);
         }
-        let pat = Pattern::read(m, a.s2, 4, 4)?;
+        let pat = Pattern::read(m, a.s2, PATTERN, 4)?;
         let svn = f.sv(m, a, pat, mode)?;
         let sv1 = f.track(m, a, pat, mode, svn)?;
         let (dv, kp) = f.gain(m, a, pat, sv1)?;
-        let e1 = real(m, a.s1, 5)?;
-        let ct = tag(m, a.d2, LoopTag::ct, 5)?;
+        let e1 = a.s1.real(m, Input::e1, 5)?;
+        let ct = a.d2.real(m, LoopTag::ct, 5)?;
         let (md, td, ti) = gains(m, a, 5)?;
         let d2 = a.d2;
-        let i1 = real(m, d2 + past::W100, 5)?;
-        let b1 = real(m, d2 + past::B1, 5)?;
-        let pv1 = real(m, d2 + past::PV, 5)?;
-        set_f(m, d2 + past::PV1, pv1);
-        set_f(m, d2 + past::PV, e1);
+        let i1 = d2.real(m, PidpPast::i1, 5)?;
+        let b1 = d2.real(m, PidPast::b1, 5)?;
+        let pv1 = d2.real(m, PidPast::pv, 5)?;
+        d2.set(m, PidPast::pv1, pv1);
+        d2.set(m, PidPast::pv, e1);
         let x = result(e1 - pv1, 5)?;
         let x = if pat.forward { x } else { -x };
         let bn = if td == 0.0 || f.mode.no_derivative(mode) {
@@ -79,10 +111,10 @@ impl Pidp {
         };
         let inc = self.increment(m, d2, mode, ct, ti, dv)?;
         let i_n = result(i1 + inc, 5)?;
-        set_f(m, d2 + past::W100, i_n);
-        set_f(m, d2 + past::B1, bn);
+        d2.set(m, PidpPast::i1, i_n);
+        d2.set(m, PidPast::b1, bn);
         let t = result(kp * (dv + i_n + bn), 5)?;
-        let dvls = real(m, a.s2 + 2, 6)?;
+        let dvls = a.s2.real(m, PidpConsts::dvls, 6)?;
         f.check(m, a, dv, dvls, BB2, 6)?;
         Ok(Some(t))
     }
@@ -91,7 +123,7 @@ impl Pidp {
     fn increment(
         &self,
         m: &DeviceMemory,
-        d2: usize,
+        d2: Area,
         mode: u16,
         ct: f32,
         ti: f32,
@@ -108,7 +140,7 @@ impl Pidp {
         }
         if f.s.firmware_serial_ge_07032 {
             let manual = f.mode.no_derivative(mode);
-            let trkf = word(m, d2, LoopTag::inh) & f.inh.trkf != 0;
+            let trkf = d2.get(m, LoopTag::inh) & f.inh.trkf != 0;
             if manual || (f.sys.options(m) & 1 != 0 && trkf) {
                 return Ok(0.0);
             }
@@ -120,14 +152,14 @@ impl Pidp {
     fn limit(&self, m: &mut DeviceMemory, a: &Areas, t: f32) -> Result<(), PcError> {
         let f = &self.f;
         let d2 = a.d2;
-        let mv = tag(m, d2, LoopTag::mv, 7)?;
+        let mv = d2.real(m, LoopTag::mv, 7)?;
         if t == mv && f.s.output_tracking_skips_limits {
             return Ok(());
         }
         let dml = tag_pos(m, d2, LoopTag::dml, 7)?;
-        let mh = tag(m, d2, LoopTag::mh, 7)?;
-        let ml = tag(m, d2, LoopTag::ml, 7)?;
-        let inh = word(m, d2, LoopTag::inh);
+        let mh = d2.real(m, LoopTag::mh, 7)?;
+        let ml = d2.real(m, LoopTag::ml, 7)?;
+        let inh = d2.get(m, LoopTag::inh);
         let d = result(t - mv, 7)?;
         let (t1, rate) = if d > dml {
             (result(mv + dml, 7)?, true)
@@ -143,21 +175,20 @@ impl Pidp {
         } else {
             (t1, false, false)
         };
-        put(m, d2, LoopTag::mv, out);
+        d2.set(m, LoopTag::mv, out);
         let rate = rate && f.inh.allows(inh, alm::DMLA);
         let (h, l) = (
             high && f.inh.allows(inh, alm::MHA),
             low && f.inh.allows(inh, alm::MLA),
         );
-        let ai = d2 + LoopTag::alm.offset();
-        set_bits(m, ai, alm::DMLA, rate);
-        set_bits(m, ai, alm::MHA, h);
-        set_bits(m, ai, alm::MLA, l);
+        d2.set_bits(m, LoopTag::alm, alm::DMLA, rate);
+        d2.set_bits(m, LoopTag::alm, alm::MHA, h);
+        d2.set_bits(m, LoopTag::alm, alm::MLA, l);
         let alm2 = if high { f.alm2.mha2 } else { 0 } | if low { f.alm2.mla2 } else { 0 };
-        m.words[d2 + LoopTag::alm2.offset()] = alm2;
-        set_bits(m, a.d1 + 2, BB5, rate);
-        set_bits(m, a.d1 + 2, BB3, h);
-        set_bits(m, a.d1 + 2, BB4, l);
+        d2.set(m, LoopTag::alm2, alm2);
+        a.d1.set_bits(m, BlockMemory::bb, BB5, rate);
+        a.d1.set_bits(m, BlockMemory::bb, BB3, h);
+        a.d1.set_bits(m, BlockMemory::bb, BB4, l);
         Ok(())
     }
 
@@ -165,8 +196,8 @@ impl Pidp {
         let f = &self.f;
         let d2 = a.d2;
         if f.stopped(m, d2) {
-            m.words[d2 + LoopTag::alm2.offset()] = 0;
-            set_bits(m, a.d1 + 2, BB1 | BB2 | BB3 | BB4 | BB5, false);
+            d2.set(m, LoopTag::alm2, 0);
+            a.d1.set_bits(m, BlockMemory::bb, BB1 | BB2 | BB3 | BB4 | BB5, false);
             f.stop(
                 m,
                 d2,
@@ -175,33 +206,33 @@ impl Pidp {
             )?;
             return Ok(());
         }
-        let mode = word(m, d2, LoopTag::mode);
+        let mode = d2.get(m, LoopTag::mode);
         let t = self.compute(m, a, mode)?;
-        let bb = a.d1 + 2;
+        let d1 = a.d1;
+        let bb = BlockMemory::bb;
         if f.mode.manual(mode) {
-            set_bits(
-                m,
-                d2 + LoopTag::alm.offset(),
-                alm::MHA | alm::MLA | alm::DMLA,
-                false,
-            );
-            m.words[d2 + LoopTag::alm2.offset()] = 0;
-            set_bits(m, bb, BB3 | BB4 | BB5, false);
-            let b2 = m.words[bb] & BB2 != 0;
-            set_bits(m, bb, BB1, b2);
+            d2.set_bits(m, LoopTag::alm, alm::MHA | alm::MLA | alm::DMLA, false);
+            d2.set(m, LoopTag::alm2, 0);
+            d1.set_bits(m, bb, BB3 | BB4 | BB5, false);
+            let b2 = d1.get(m, bb) & BB2 != 0;
+            d1.set_bits(m, bb, BB1, b2);
         } else {
             let t = match t {
                 Some(t) => t,
-                None => tag(m, d2, LoopTag::mv, 7)?,
+                None => d2.real(m, LoopTag::mv, 7)?,
             };
             self.limit(m, a, t)?;
-            let any = m.words[bb] & (BB2 | BB3 | BB4 | BB5) != 0;
-            set_bits(m, bb, BB1, any);
+            let any = d1.get(m, bb) & (BB2 | BB3 | BB4 | BB5) != 0;
+            d1.set_bits(m, bb, BB1, any);
         }
-        let mv = tag(m, d2, LoopTag::mv, 8)?;
-        let nmax = real(m, a.s2 + 7, 8)?;
-        let nmin = real(m, a.s2 + 9, 8)?;
-        set_f(m, a.d1, result((nmax - nmin) / 100.0 * mv + nmin, 8)?);
+        let mv = d2.real(m, LoopTag::mv, 8)?;
+        let nmax = a.s2.real(m, PidpConsts::nmax, 8)?;
+        let nmin = a.s2.real(m, PidpConsts::nmin, 8)?;
+        d1.set(
+            m,
+            BlockMemory::bw,
+            result((nmax - nmin) / 100.0 * mv + nmin, 8)?,
+        );
         Ok(())
     }
 }

@@ -17,8 +17,8 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::layout::At;
 
-use super::front::{past, put, run, tag, tag_pos, word, Areas, Front, Halt, Operands, Pattern};
-use crate::process::common::{real, result, set_f, PcError};
+use super::front::{run, tag_pos, Areas, Front, Halt, Operands, Pattern, PatternFields};
+use crate::process::common::{result, BlockMemory, Input, PcError};
 use crate::process::tag::LoopTag;
 use crate::{Args, ExecCtx, Instr};
 
@@ -29,6 +29,31 @@ const DR: At<f32> = LoopTag::dvl;
 const RMAX: At<f32> = LoopTag::p;
 const RMIN: At<f32> = LoopTag::i;
 const RN: At<f32> = LoopTag::d;
+
+softplc_ir::layout! {
+    /// The operation constants (S2) of S.R.
+    pub struct RatioConsts[2] {
+        /// TRK: 1 tracking.
+        trk: u16 @ 0,
+        /// SVPTN (3): b0 = 1 E2 not used, b1 = 0 E2 is the upper loop's MV.
+        svptn: u16 @ 1,
+    }
+}
+
+softplc_ir::layout! {
+    /// The past value of S.R in the loop tag (000 §9.7 L12520-12580).
+    pub struct RatioPast[128] {
+        /// Rn-1: the last ratio.
+        r1: f32 @ 98,
+    }
+}
+
+/// S.R has no PN (reverse action, unused).
+const PATTERN: PatternFields = PatternFields {
+    pn: None,
+    trk: RatioConsts::trk,
+    svptn: RatioConsts::svptn,
+};
 
 #[derive(Debug)]
 pub struct Ratio {
@@ -62,34 +87,23 @@ impl Ratio {
         if !f.cycle(m, d2, LoopTag::ct)?.reached {
             return Ok(());
         }
-        // S2 +0 TRK, +1 SVPTN: Pattern reads PN, TRK, SVPTN from S2 + at.
-        let trk = m.words[a.s2];
-        let svptn = m.words[a.s2 + 1];
-        if trk > 1 || svptn > 3 {
-            return Err(PcError::range(2).into());
-        }
-        let pat = Pattern {
-            forward: false,
-            trk: trk == 1,
-            e2_used: svptn & 1 == 0,
-            e2_upper_mv: svptn & 2 == 0,
-        };
-        let mode = word(m, d2, LoopTag::mode);
-        let rmax = tag(m, d2, RMAX, 2)?;
-        let rmin = tag(m, d2, RMIN, 2)?;
+        let pat = Pattern::read(m, a.s2, PATTERN, 4)?;
+        let mode = d2.get(m, LoopTag::mode);
+        let rmax = d2.real(m, RMAX, 2)?;
+        let rmin = d2.real(m, RMIN, 2)?;
         let spr = if f.mode.cascade(mode) {
             if pat.e2_used {
-                let e2 = real(m, a.s3, 2)?;
+                let e2 = a.s3.real(m, Input::e1, 2)?;
                 let spr = result((rmax - rmin) / 100.0 * e2 + rmin, 2)?;
                 if f.s.cascade_writes_sv {
-                    put(m, d2, SPR, spr);
+                    d2.set(m, SPR, spr);
                 }
                 spr
             } else {
-                tag(m, d2, SPR, 2)?
+                d2.real(m, SPR, 2)?
             }
         } else {
-            let spr = tag(m, d2, SPR, 3)?;
+            let spr = d2.real(m, SPR, 3)?;
             if pat.trk && pat.e2_used && f.mode.tracking(mode) {
                 if rmax == rmin {
                     return Err(PcError::divide(3).into());
@@ -100,7 +114,7 @@ impl Ratio {
             spr
         };
         let dr = tag_pos(m, d2, DR, 4)?;
-        let r1 = real(m, d2 + past::W98, 4)?;
+        let r1 = d2.real(m, RatioPast::r1, 4)?;
         let d = result(spr - r1, 4)?;
         let rn = if d > dr {
             result(r1 + dr, 4)?
@@ -109,16 +123,16 @@ impl Ratio {
         } else {
             spr
         };
-        put(m, d2, RN, rn);
-        set_f(m, d2 + past::W98, rn);
-        let e1 = real(m, a.s1, 5)?;
-        let bias = tag(m, d2, BIAS, 5)?;
+        d2.set(m, RN, rn);
+        d2.set(m, RatioPast::r1, rn);
+        let e1 = a.s1.real(m, Input::e1, 5)?;
+        let bias = d2.real(m, BIAS, 5)?;
         if rmax == rmin {
             return Err(PcError::divide(5).into());
         }
-        set_f(
+        a.d1.set(
             m,
-            a.d1,
+            BlockMemory::bw,
             result(e1 * ((rn - rmin) / (rmax - rmin)) + bias, 5)?,
         );
         Ok(())

@@ -19,14 +19,27 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::layout::At;
 
-use super::front::{past, run, set_bits, tag, word, Areas, Front, Halt, Operands, Pattern};
-use crate::process::common::{count, real, result, set_f, tick, PcError};
-use crate::process::tag::{alm, LoopTag};
+use super::front::{run, Areas, Front, Halt, Operands, Pattern};
+use super::{PiConsts, PI_PATTERN};
+use crate::process::common::{count, result, tick, Area, BlockMemory, PcError};
+use crate::process::tag::{alm, bb, LoopTag};
 use crate::{Args, ExecCtx, Instr};
 
 /// S.SPI's meanings of +46 and +56 (000 §9.4 L10250-10270).
 const ST: At<f32> = LoopTag::ct;
 const STHT: At<f32> = LoopTag::d;
+
+softplc_ir::layout! {
+    /// The past values of S.SPI in the loop tag (000 §9.4 L10250-10270).
+    pub struct SpiPast[128] {
+        /// The operation definition: 1 operate, 0 hold.
+        operate: u16 @ 98,
+        /// The operate executions left in the period.
+        left: u16 @ 99,
+        /// DVn-1.
+        dv1: f32 @ 100,
+    }
+}
 
 #[derive(Debug)]
 pub struct Spi {
@@ -48,37 +61,37 @@ impl Spi {
     }
 
     /// The operation-time monitoring: Some(operate?) or None (n = 0).
-    fn phase(&self, m: &mut DeviceMemory, d2: usize) -> Result<Option<bool>, PcError> {
+    fn phase(&self, m: &mut DeviceMemory, d2: Area) -> Result<Option<bool>, PcError> {
         let f = &self.f;
         let dt = f.sys.dt(m, 1)?;
-        let stht = tag(m, d2, STHT, 1)?;
-        let st = tag(m, d2, ST, 1)?;
+        let stht = d2.real(m, STHT, 1)?;
+        let st = d2.real(m, ST, 1)?;
         let n = whole(stht, dt, f)?;
         let ns = whole(st, dt, f)?;
         if n == 0 {
             return Ok(None);
         }
         if n <= ns {
-            m.words[d2 + past::W98] = 1;
+            d2.set(m, SpiPast::operate, 1);
             return Ok(Some(true));
         }
         let s = f.s;
         let t = tick(
             m,
-            d2 + LoopTag::ct_flag.offset(),
-            d2 + LoopTag::ct_count.offset(),
+            d2.index(LoopTag::ct_flag),
+            d2.index(LoopTag::ct_count),
             &s,
             || Ok(n),
         )?;
         if t.begins() {
-            m.words[d2 + past::W99] = ns;
+            d2.set(m, SpiPast::left, ns);
         }
-        let left = m.words[d2 + past::W99];
+        let left = d2.get(m, SpiPast::left);
         let operate = left > 0;
         if operate {
-            m.words[d2 + past::W99] = left - 1;
+            d2.set(m, SpiPast::left, left - 1);
         }
-        m.words[d2 + past::W98] = operate as u16;
+        d2.set(m, SpiPast::operate, operate as u16);
         Ok(Some(operate))
     }
 
@@ -86,8 +99,8 @@ impl Spi {
         let f = &self.f;
         let d2 = a.d2;
         if f.stopped(m, d2) {
-            set_f(m, a.d1, 0.0);
-            set_bits(m, a.d1 + 2, 1, false);
+            a.d1.set(m, BlockMemory::bw, 0.0);
+            a.d1.set_bits(m, BlockMemory::bb, bb::BB1, false);
             f.stop(m, d2, alm::DVLA, None)?;
             if !f.s.early_end_skips_counters {
                 self.phase(m, d2)?;
@@ -95,30 +108,30 @@ impl Spi {
             return Ok(());
         }
         let Some(operate) = self.phase(m, d2)? else {
-            set_f(m, a.d1, 0.0);
+            a.d1.set(m, BlockMemory::bw, 0.0);
             return Ok(());
         };
-        let pat = Pattern::read(m, a.s2, 2, 4)?;
-        let mode = word(m, d2, LoopTag::mode);
+        let pat = Pattern::read(m, a.s2, PI_PATTERN, 4)?;
+        let mode = d2.get(m, LoopTag::mode);
         let dv = if operate {
             let svn = f.sv(m, a, pat, mode)?;
             let sv1 = f.track(m, a, pat, mode, svn)?;
             let (dv, kp) = f.gain(m, a, pat, sv1)?;
             let ti = super::front::tag_pos(m, d2, LoopTag::i, 5)?;
             let bt = f.sys.dt(m, 5)?;
-            let dv1 = real(m, d2 + past::W100, 5)?;
+            let dv1 = d2.real(m, SpiPast::dv1, 5)?;
             let inc = f.integral(m, d2, bt, ti, dv, 5)?;
-            set_f(m, d2 + past::W100, dv);
-            set_f(m, a.d1, result(kp * (dv - dv1 + inc), 5)?);
+            d2.set(m, SpiPast::dv1, dv);
+            a.d1.set(m, BlockMemory::bw, result(kp * (dv - dv1 + inc), 5)?);
             dv
         } else {
-            let sv = tag(m, d2, LoopTag::sv, 3)?;
+            let sv = d2.real(m, LoopTag::sv, 3)?;
             f.track(m, a, pat, mode, sv)?;
-            set_f(m, a.d1, 0.0);
-            tag(m, d2, LoopTag::dv, 6)?
+            a.d1.set(m, BlockMemory::bw, 0.0);
+            d2.real(m, LoopTag::dv, 6)?
         };
-        let dvls = real(m, a.s2, 6)?;
-        f.check(m, a, dv, dvls, 1, 6)?;
+        let dvls = a.s2.real(m, PiConsts::dvls, 6)?;
+        f.check(m, a, dv, dvls, bb::BB1, 6)?;
         Ok(())
     }
 }

@@ -13,9 +13,9 @@
 use softplc_ir::device::DeviceMemory;
 
 use super::basic::shift_pv;
-use super::front::{derivative, past, Areas, Front};
+use super::front::{derivative, Areas, Front, PidPast};
 use super::{gains, Input};
-use crate::process::common::{real, result, set_f, PcError};
+use crate::process::common::{result, PcError};
 use crate::process::tag::LoopTag;
 
 /// α or β: negative is detail 2, above 1 detail 3.
@@ -31,9 +31,9 @@ fn unit(m: &DeviceMemory, a: &Areas, f: softplc_ir::layout::At<f32>) -> Result<f
 pub fn law(f: &Front, m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32, PcError> {
     let (md, td, ti) = gains(m, a, 5)?;
     let d2 = a.d2;
-    let dv1 = real(m, d2 + past::DV1, 5)?;
-    let dv2 = real(m, d2 + past::DV2, 5)?;
-    let b1 = real(m, d2 + past::B1, 5)?;
+    let dv1 = d2.real(m, PidPast::dv1, 5)?;
+    let dv2 = d2.real(m, PidPast::dv2, 5)?;
+    let b1 = d2.real(m, PidPast::b1, 5)?;
     let off = td == 0.0 || f.mode.no_derivative(i.mode);
     let bn = if off {
         0.0
@@ -41,7 +41,7 @@ pub fn law(f: &Front, m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32,
         let x = result(i.dv - 2.0 * dv1 + dv2, 5)?;
         derivative(md, td, i.ct, x, b1, 5)?
     };
-    let d1 = real(m, d2 + past::D1, 6)?;
+    let d1 = d2.real(m, PidPast::d1, 6)?;
     let (x, pv1) = shift_pv(m, a, i, 6)?;
     let cn = result(i.e1 - pv1, 5)?;
     let cn = if i.forward { cn } else { -cn };
@@ -53,10 +53,10 @@ pub fn law(f: &Front, m: &mut DeviceMemory, a: &Areas, i: &Input) -> Result<f32,
     let alpha = unit(m, a, LoopTag::alpha)?;
     let beta = unit(m, a, LoopTag::beta)?;
     let inc = f.integral(m, d2, i.ct, ti, i.dv, 7)?;
-    set_f(m, d2 + past::DV2, dv1);
-    set_f(m, d2 + past::DV1, i.dv);
-    set_f(m, d2 + past::B1, bn);
-    set_f(m, d2 + past::D1, dn);
+    d2.set(m, PidPast::dv2, dv1);
+    d2.set(m, PidPast::dv1, i.dv);
+    d2.set(m, PidPast::b1, bn);
+    d2.set(m, PidPast::d1, dn);
     let sum = (1.0 - alpha) * (i.dv - dv1) + alpha * cn + inc + (1.0 - beta) * bn + beta * dn;
     result(i.kp * sum, 7)
 }
