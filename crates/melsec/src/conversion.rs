@@ -59,34 +59,8 @@ static BLOCK_CONVERSION: Doc = Doc {
 
 // ------------------------------------------------------------------ BCD helpers
 
-/// Packs a binary value as BCD, one decimal digit per nibble (up to 16 digits).
-pub(crate) fn to_bcd(mut v: u64) -> u64 {
-    let mut r = 0;
-    let mut shift = 0;
-    while v > 0 {
-        r |= (v % 10) << shift;
-        v /= 10;
-        shift += 4;
-    }
-    r
-}
-
-/// Unpacks a BCD value; `None` when a nibble is not a decimal digit (A-F).
-pub(crate) fn from_bcd(v: u64) -> Option<u64> {
-    let mut r = 0;
-    let mut place = 1;
-    let mut rest = v;
-    while rest > 0 {
-        let digit = rest & 0xF;
-        if digit > 9 {
-            return None;
-        }
-        r += digit * place;
-        place *= 10;
-        rest >>= 4;
-    }
-    Some(r)
-}
+// The packing itself is the shared kernel.
+pub(crate) use softplc_ir::kernels::bcd::{pack as to_bcd, unpack as from_bcd};
 
 /// Reads a BCD operand of 4 (`wide` false) or 8 digits as binary; an A-F digit
 /// is 4100. A digit-specified operand reads only its own digits.

@@ -17,6 +17,7 @@
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::kernels::bcd;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -138,25 +139,17 @@ impl Instr for RealFunction {
 
 // ------------------------------------------------------------------ BCD type
 
-/// A BCD value of `n` digits (4100 when a nibble is above 9).
+/// A BCD value of the `n` low digits of `v` (4100 when a nibble is above 9).
 fn from_bcd(v: u32, n: u32) -> Result<u32, Fault> {
-    (0..n).rev().try_fold(0u32, |acc, k| {
-        let d = v >> (4 * k) & 0xF;
-        if d > 9 {
-            return Err(ErrorCode::OPERATION);
-        }
-        Ok(acc * 10 + d)
-    })
+    let digits = v as u64 & ((1u64 << (4 * n)) - 1);
+    bcd::unpack(digits)
+        .map(|x| x as u32)
+        .ok_or(ErrorCode::OPERATION)
 }
 
 /// `v` (0-9999) as 4 BCD digits.
-fn to_bcd(mut v: u32) -> u16 {
-    let mut r = 0u16;
-    for k in 0..4 {
-        r |= ((v % 10) as u16) << (4 * k);
-        v /= 10;
-    }
-    r
+fn to_bcd(v: u32) -> u16 {
+    bcd::pack(v as u64 % 10_000) as u16
 }
 
 /// |v| rounded at the fifth decimal place: (integer part, 4 decimals), both as

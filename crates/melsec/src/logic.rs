@@ -12,23 +12,26 @@ use super::transfer::{count, Loc, WordBlock};
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::Operand;
 use softplc_ir::fault::Fault;
+// The bitwise operation: PM §7.1.1-§7.1.2 logical product, §7.1.3-§7.1.4
+// sum, §7.1.5-§7.1.6 exclusive OR, §7.1.7-§7.1.8 exclusive NOR.
+use softplc_ir::kernels::logic::WordLogic;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
 
 /// This family's instructions.
 pub static DEFS: &[Def] = &[
-    Def::app("WAND", &LOGIC, |a| word(a, LogicOp::And, Num::I16)),
-    Def::app("WOR", &LOGIC, |a| word(a, LogicOp::Or, Num::I16)),
-    Def::app("WXOR", &LOGIC, |a| word(a, LogicOp::Xor, Num::I16)),
-    Def::app("WXNR", &LOGIC, |a| word(a, LogicOp::Xnr, Num::I16)),
-    Def::app("DAND", &LOGIC, |a| word(a, LogicOp::And, Num::I32)),
-    Def::app("DOR", &LOGIC, |a| word(a, LogicOp::Or, Num::I32)),
-    Def::app("DXOR", &LOGIC, |a| word(a, LogicOp::Xor, Num::I32)),
-    Def::app("DXNR", &LOGIC, |a| word(a, LogicOp::Xnr, Num::I32)),
-    Def::app("BKAND", &BLOCK_LOGIC, |a| block(a, LogicOp::And)),
-    Def::app("BKOR", &BLOCK_LOGIC, |a| block(a, LogicOp::Or)),
-    Def::app("BKXOR", &BLOCK_LOGIC, |a| block(a, LogicOp::Xor)),
-    Def::app("BKXNR", &BLOCK_LOGIC, |a| block(a, LogicOp::Xnr)),
+    Def::app("WAND", &LOGIC, |a| word(a, WordLogic::And, Num::I16)),
+    Def::app("WOR", &LOGIC, |a| word(a, WordLogic::Or, Num::I16)),
+    Def::app("WXOR", &LOGIC, |a| word(a, WordLogic::Xor, Num::I16)),
+    Def::app("WXNR", &LOGIC, |a| word(a, WordLogic::Xnr, Num::I16)),
+    Def::app("DAND", &LOGIC, |a| word(a, WordLogic::And, Num::I32)),
+    Def::app("DOR", &LOGIC, |a| word(a, WordLogic::Or, Num::I32)),
+    Def::app("DXOR", &LOGIC, |a| word(a, WordLogic::Xor, Num::I32)),
+    Def::app("DXNR", &LOGIC, |a| word(a, WordLogic::Xnr, Num::I32)),
+    Def::app("BKAND", &BLOCK_LOGIC, |a| block(a, WordLogic::And)),
+    Def::app("BKOR", &BLOCK_LOGIC, |a| block(a, WordLogic::Or)),
+    Def::app("BKXOR", &BLOCK_LOGIC, |a| block(a, WordLogic::Xor)),
+    Def::app("BKXNR", &BLOCK_LOGIC, |a| block(a, WordLogic::Xnr)),
 ];
 
 static LOGIC: Doc = Doc {
@@ -42,44 +45,19 @@ static BLOCK_LOGIC: Doc = Doc {
     notes: "past end or n<0 → 4101",
 };
 
-/// The bitwise operation of a logical instruction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum LogicOp {
-    /// Logical product (PM §7.1.1, §7.1.2).
-    And,
-    /// Logical sum (PM §7.1.3, §7.1.4).
-    Or,
-    /// Exclusive OR (PM §7.1.5, §7.1.6).
-    Xor,
-    /// Exclusive NOR: NOT (a XOR b) (PM §7.1.7, §7.1.8).
-    Xnr,
-}
-
-impl LogicOp {
-    #[inline]
-    fn apply(self, a: u32, b: u32) -> u32 {
-        match self {
-            LogicOp::And => a & b,
-            LogicOp::Or => a | b,
-            LogicOp::Xor => a ^ b,
-            LogicOp::Xnr => !(a ^ b),
-        }
-    }
-}
-
 /// PM §7.1.1/§7.1.3/§7.1.5/§7.1.7 WAND/WOR/WXOR/WXNR and DAND/DOR/DXOR/DXNR:
 /// `S D` stores D op S in D, `S1 S2 D` stores S1 op S2 in D. Sources may be
 /// constants (K/H); D is a device. No operation error.
 #[derive(Debug)]
 struct Word {
-    op: LogicOp,
+    op: WordLogic,
     num: Num,
     s1: WordArg,
     s2: WordArg,
     d: WordArg,
 }
 
-fn word(a: &mut Args<'_, '_>, op: LogicOp, num: Num) -> Option<Box<dyn Instr>> {
+fn word(a: &mut Args<'_, '_>, op: WordLogic, num: Num) -> Option<Box<dyn Instr>> {
     if !a.count(&[2, 3]) {
         return None;
     }
@@ -136,14 +114,14 @@ enum Src2 {
 /// does not define them; decision).
 #[derive(Debug)]
 struct BlockLogic {
-    op: LogicOp,
+    op: WordLogic,
     s1: WordBlock,
     s2: Src2,
     d: WordBlock,
     n: WordArg,
 }
 
-fn block(a: &mut Args<'_, '_>, op: LogicOp) -> Option<Box<dyn Instr>> {
+fn block(a: &mut Args<'_, '_>, op: WordLogic) -> Option<Box<dyn Instr>> {
     if !a.count(&[4]) {
         return None;
     }

@@ -1,5 +1,8 @@
 //! Dialect-neutral kernels of the ladder machine: comparison contacts, the
-//! built-in arithmetic and MOV, coils, timers and counters.
+//! built-in arithmetic and MOV, coils, timers and counters; and the value
+//! kernels both dialects' instructions share (BCD, word logic).
 
 pub mod basic;
+pub mod bcd;
+pub mod logic;
 pub mod sequence;
