@@ -38,54 +38,54 @@ pub static DEFS: &[Def] = &[
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.3 L4275 ADD
-    Def::app("ADD", &ARITH, arith)
+    Def::app("ADD", &ARITH, |a| arith(a, Op::Add, false))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.3 L4304 SUB
-    Def::app("SUB", &ARITH, arith)
+    Def::app("SUB", &ARITH, |a| arith(a, Op::Sub, false))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.3 L4333 MUL
-    Def::app("MUL", &ARITH, arith)
+    Def::app("MUL", &ARITH, |a| arith(a, Op::Mul, false))
         .no_pulse()
         .steps(Steps::Fixed(8)),
     // 002 §6.3 L4360 DIV
-    Def::app("DIV", &ARITH, arith)
+    Def::app("DIV", &ARITH, |a| arith(a, Op::Div, false))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.3 L4532 DADD
-    Def::app("DADD", &ARITH, arith)
+    Def::app("DADD", &ARITH, |a| arith(a, Op::Add, true))
         .no_pulse()
         .steps(Steps::Fixed(10)),
     // 002 §6.3 L4561 DSUB
-    Def::app("DSUB", &ARITH, arith)
+    Def::app("DSUB", &ARITH, |a| arith(a, Op::Sub, true))
         .no_pulse()
         .steps(Steps::Fixed(10)),
     // 002 §6.3 L4590 DMUL
-    Def::app("DMUL", &ARITH, arith)
+    Def::app("DMUL", &ARITH, |a| arith(a, Op::Mul, true))
         .no_pulse()
         .steps(Steps::Fixed(10)),
     // 002 §6.3 L4622 DDIV
-    Def::app("DDIV", &ARITH, arith)
+    Def::app("DDIV", &ARITH, |a| arith(a, Op::Div, true))
         .no_pulse()
         .steps(Steps::Fixed(10)),
     // 002 §6.3 L4422 INC
-    Def::app("INC", &ARITH, step)
+    Def::app("INC", &ARITH, |a| step(a, false, 1))
         .no_pulse()
         .steps(Steps::Fixed(3)),
     // 002 §6.3 L4448 DAT
-    Def::app("DAT", &ARITH, step)
+    Def::app("DAT", &ARITH, |a| step(a, false, -1))
         .no_pulse()
         .steps(Steps::Fixed(3)),
     // 002 §6.3 L4684 DINC
-    Def::app("DINC", &ARITH, step)
+    Def::app("DINC", &ARITH, |a| step(a, true, 1))
         .no_pulse()
         .steps(Steps::Fixed(4)),
     // 002 §6.3 L4711 DDAT (headed DDEC, L4711-4715)
-    Def::app("DDAT", &ARITH, step)
+    Def::app("DDAT", &ARITH, |a| step(a, true, -1))
         .no_pulse()
         .steps(Steps::Fixed(4)),
-    Def::app("DDEC", &ARITH, step)
+    Def::app("DDEC", &ARITH, |a| step(a, true, -1))
         .no_pulse()
         .steps(Steps::Fixed(4)),
 ];
@@ -170,18 +170,11 @@ fn next(d: &WordArg, k: u32) -> Option<WordArg> {
     }
 }
 
-fn arith(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// ADD … DDIV: `op` on 16-bit or (`wide`) 32-bit operands.
+fn arith(a: &mut Args<'_, '_>, op: Op, wide: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) {
         return None;
     }
-    let m = a.mnemonic().to_string();
-    let wide = m.len() == 4;
-    let op = match &m[m.len() - 3..] {
-        "ADD" => Op::Add,
-        "SUB" => Op::Sub,
-        "MUL" => Op::Mul,
-        _ => Op::Div,
-    };
     let w = if wide { Width::W32 } else { Width::W16 };
     let s1 = a.word_at(0, w, false);
     let s2 = a.word_at(1, w, false);
@@ -203,8 +196,9 @@ fn arith(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
             a.error(
                 2,
                 format!(
-                    "`{}`: {m} needs a D or V register for its remainder",
-                    a.text(2)
+                    "`{}`: {} needs a D or V register for its remainder",
+                    a.text(2),
+                    a.mnemonic()
                 ),
             );
             return None;
@@ -294,13 +288,11 @@ struct Step {
     d: WordArg,
 }
 
-fn step(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// INC/DAT (`delta` 1/−1) on a 16-bit or (`wide`) 32-bit operand.
+fn step(a: &mut Args<'_, '_>, wide: bool, delta: i32) -> Option<Box<dyn Instr>> {
     if !a.count(&[1]) {
         return None;
     }
-    let m = a.mnemonic().to_string();
-    let wide = m.starts_with("DD") || m == "DINC";
-    let delta = if m.ends_with("INC") { 1 } else { -1 };
     let d = a.word_at(0, if wide { Width::W32 } else { Width::W16 }, true)?;
     Some(Box::new(Step { wide, delta, d }))
 }

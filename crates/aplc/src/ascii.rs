@@ -38,9 +38,13 @@ pub static DEFS: &[Def] = &[
         .no_pulse()
         .steps(Steps::Fixed(19)),
     // 002 §6.5.17 L5695 ITA
-    Def::app("ITA", &HEX, hex).no_pulse().steps(Steps::Fixed(7)),
+    Def::app("ITA", &HEX, |a| hex(a, true))
+        .no_pulse()
+        .steps(Steps::Fixed(7)),
     // 002 §6.5.18 L5731 ATI
-    Def::app("ATI", &HEX, hex).no_pulse().steps(Steps::Fixed(7)),
+    Def::app("ATI", &HEX, |a| hex(a, false))
+        .no_pulse()
+        .steps(Steps::Fixed(7)),
     // 002 §6.9 L6538 REF
     Def::app("REF", &IO, refresh)
         .no_pulse()
@@ -71,11 +75,11 @@ struct Hex {
     packing: u32,
 }
 
-fn hex(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// ITA (`to_ascii`) or ATI.
+fn hex(a: &mut Args<'_, '_>, to_ascii: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) {
         return None;
     }
-    let to_ascii = a.mnemonic() == "ITA";
     let s = if looks_like_constant(a.text(0)) {
         a.word_at(0, Width::W16, false).map(|w| match w {
             WordArg::Const(k) => Source::Const(k as u16),

@@ -7,6 +7,7 @@ use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::{BitArg, Coil, CoilKind, Join, MasterControl, Op};
 use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::rung::{MpsLimit, RungStack};
 
 use crate::devices::{counter_word, is_counter32, parse_device, Dev};
 use crate::resolve::{self, at, BitUse};
@@ -33,7 +34,10 @@ static MASTER: Doc = Doc {
 };
 
 /// Depth of the MPS stack (L2808-2820).
-const MAX_MPS: usize = 8;
+const MPS_LIMIT: MpsLimit = MpsLimit {
+    depth: 8,
+    excess: "MPS without MPP (L2808-2820)",
+};
 
 pub static DEFS: &[Def] = &[
     // 002 §5.1 L2569 LD
@@ -93,7 +97,8 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
         "AND" => (Join::And, Op::And(b)),
         "ANI" => (Join::And, Op::Ani(b)),
         "OR" => (Join::Or, Op::Or(b)),
-        _ => (Join::Or, Op::Ori(b)),
+        "ORI" => (Join::Or, Op::Ori(b)),
+        _ => return c.unmatched(u),
     };
     c.contact(i, join, op);
 }
@@ -118,11 +123,17 @@ impl Instr for ResetTc {
 
 fn coil(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
+    let kind = match u.m {
+        "OUT" => CoilKind::Out,
+        "SET" => CoilKind::Set,
+        "RST" => CoilKind::Rst,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, u.m, &[1]) || !c.output(i, u.m) {
         return;
     }
     let tok = &i.operands[0];
-    let what = if u.m == "OUT" {
+    let what = if kind == CoilKind::Out {
         BitUse::Coil
     } else {
         BitUse::SetRst
@@ -132,11 +143,11 @@ fn coil(c: &mut Compiler<'_>, u: &Use<'_>) {
         return;
     };
     let dev = parse_device(&tok.text.to_ascii_uppercase()).ok().flatten();
-    match (u.m, dev) {
-        ("OUT", _) => {
+    match (kind, dev) {
+        (CoilKind::Out, _) => {
             c.emit(Op::Out(b));
         }
-        ("SET", _) => {
+        (CoilKind::Set, _) => {
             c.emit(Op::Set(b));
         }
         (_, Some(d)) if matches!(d.dev, Dev::T | Dev::C) => {
@@ -166,8 +177,14 @@ fn coil(c: &mut Compiler<'_>, u: &Use<'_>) {
     }
 }
 
+/// ANB, ORB (L2757-2782): the rung-stack rules of `softplc_lang::rung`.
 fn anb_orb(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
+    let op = match u.m {
+        "ANB" => RungStack::Anb,
+        "ORB" => RungStack::Orb,
+        _ => return c.unmatched(u),
+    };
     if !i.operands.is_empty() {
         c.err(
             &i.operands[0],
@@ -178,41 +195,20 @@ fn anb_orb(c: &mut Compiler<'_>, u: &Use<'_>) {
         );
         return;
     }
-    if c.depth == 0 {
-        c.err(
-            &i.mnemonic,
-            format!("`{}` has no block to combine (no LD opened one)", u.m),
-        );
-    } else {
-        c.depth -= 1;
-    }
-    c.after_output = false;
-    c.emit(if u.m == "ANB" { Op::Anb } else { Op::Orb });
+    c.rung_stack(i, u.m, op, MPS_LIMIT);
 }
 
+/// MPS, MRD, MPP (L2791-2820): the rung-stack rules of `softplc_lang::rung`.
 fn mps(c: &mut Compiler<'_>, u: &Use<'_>) {
-    let (i, m) = (u.instr, u.m);
-    if !c.count(i, m, &[0]) || !c.need_rung(i, m) {
-        return;
+    let op = match u.m {
+        "MPS" => RungStack::Mps,
+        "MRD" => RungStack::Mrd,
+        "MPP" => RungStack::Mpp,
+        _ => return c.unmatched(u),
+    };
+    if c.count(u.instr, u.m, &[0]) {
+        c.rung_stack(u.instr, u.m, op, MPS_LIMIT);
     }
-    match m {
-        "MPS" if c.mps.len() >= MAX_MPS => c.err(
-            &i.mnemonic,
-            format!("more than {MAX_MPS} MPS without MPP (L2808-2820)"),
-        ),
-        "MPS" => c.mps.push(i.mnemonic.clone()),
-        _ if c.mps.is_empty() => c.err(&i.mnemonic, format!("`{m}` without MPS")),
-        "MPP" => {
-            c.mps.pop();
-        }
-        _ => {}
-    }
-    c.after_output = false;
-    c.emit(match m {
-        "MPS" => Op::Mps,
-        "MRD" => Op::Mrd,
-        _ => Op::Mpp,
-    });
 }
 
 /// EU/ED (rising/falling edge of the power flow, per instance) and INV.
@@ -225,7 +221,8 @@ fn edge(c: &mut Compiler<'_>, u: &Use<'_>) {
     let op = match m {
         "INV" => Op::Inv,
         "EU" => Op::Mep(c.slot()),
-        _ => Op::Mef(c.slot()),
+        "ED" => Op::Mef(c.slot()),
+        _ => return c.unmatched(u),
     };
     c.emit(op);
 }

@@ -23,11 +23,11 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.17.1 L8671 ZRST
-    Def::app("ZRST", &DOC, zrst)
+    Def::app("ZRST", &DOC, |a| zrst(a, false))
         .no_pulse()
         .steps(Steps::Fixed(5)),
     // 002 §6.17.2 L8701 ZSET
-    Def::app("ZSET", &DOC, zrst)
+    Def::app("ZSET", &DOC, |a| zrst(a, true))
         .no_pulse()
         .steps(Steps::Fixed(5)),
 ];
@@ -45,11 +45,11 @@ struct Range {
     count: WordArg,
 }
 
-fn zrst(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// ZRST, or ZSET (`set`).
+fn zrst(a: &mut Args<'_, '_>, set: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[2]) {
         return None;
     }
-    let set = a.mnemonic() == "ZSET";
     let text = a.text(0).to_ascii_uppercase();
     let d = match parse_device(&text) {
         Ok(Some(d))

@@ -28,22 +28,22 @@ static WORDBIT: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.17.3 L8726 DECO / DATO
-    Def::app("DECO", &BITS, funcs)
+    Def::app("DECO", &BITS, |a| func(a, deco, Width::W16))
         .no_pulse()
         .steps(Steps::Fixed(5)),
-    Def::app("DATO", &BITS, funcs)
+    Def::app("DATO", &BITS, |a| func(a, deco, Width::W16))
         .no_pulse()
         .steps(Steps::Fixed(5)),
     // 002 §6.17.4 L8756 ENCO
-    Def::app("ENCO", &BITS, funcs)
+    Def::app("ENCO", &BITS, |a| func(a, enco, Width::W16))
         .no_pulse()
         .steps(Steps::Fixed(5)),
     // 002 §6.17.5 L8787 BITS
-    Def::app("BITS", &BITS, funcs)
+    Def::app("BITS", &BITS, |a| func(a, bits, Width::W16))
         .no_pulse()
         .steps(Steps::Fixed(5)),
     // 002 §6.17.6 L8810 DBITS
-    Def::app("DBITS", &BITS, funcs)
+    Def::app("DBITS", &BITS, |a| func(a, bits, Width::W32))
         .no_pulse()
         .steps(Steps::Fixed(6)),
     // 002 §6.18 L8835-9001 BLD … BORI
@@ -54,13 +54,13 @@ pub static DEFS: &[Def] = &[
     Def::lower("BOR", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
     Def::lower("BORI", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
     // 002 §6.18 L9003-9076 BOUT, BSET, BRST
-    Def::app("BOUT", &WORDBIT, coil)
+    Def::app("BOUT", &WORDBIT, |a| coil(a, Coil::Out))
         .always()
         .steps(Steps::Fixed(5)),
-    Def::app("BSET", &WORDBIT, coil)
+    Def::app("BSET", &WORDBIT, |a| coil(a, Coil::Set))
         .no_pulse()
         .steps(Steps::Fixed(5)),
-    Def::app("BRST", &WORDBIT, coil)
+    Def::app("BRST", &WORDBIT, |a| coil(a, Coil::Rst))
         .no_pulse()
         .steps(Steps::Fixed(5)),
 ];
@@ -81,15 +81,9 @@ fn bits(s: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
     Ok(s.count_ones())
 }
 
-fn funcs(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    use Width::*;
-    let (f, src): (calc::Fn2, Width) = match a.mnemonic() {
-        "DECO" | "DATO" => (deco, W16),
-        "ENCO" => (enco, W16),
-        "BITS" => (bits, W16),
-        _ => (bits, W32),
-    };
-    calc::compile(a, Spec::new(f, src, W16, Layout::SD))
+/// DECO, ENCO, BITS, DBITS: `f` of a `src`-wide source into a word.
+fn func(a: &mut Args<'_, '_>, f: calc::Fn2, src: Width) -> Option<Box<dyn Instr>> {
+    calc::compile(a, Spec::new(f, src, Width::W16, Layout::SD))
 }
 
 fn bit_number(mem: &DeviceMemory, b: &WordArg) -> Result<u32, Fault> {
@@ -125,6 +119,15 @@ fn word_no_const(text: &str, c: &Compiler<'_>, dest: bool) -> Result<WordArg, St
 
 fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
+    let (join, negate) = match u.m {
+        "BLD" => (Join::Load, false),
+        "BLDI" => (Join::Load, true),
+        "BAND" => (Join::And, false),
+        "BANI" => (Join::And, true),
+        "BOR" => (Join::Or, false),
+        "BORI" => (Join::Or, true),
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, u.m, &[2]) {
         return;
     }
@@ -135,12 +138,6 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let (Some(word), Some(bit)) = (word, bit) else {
         return;
     };
-    let join = match &u.m[..3] {
-        "BLD" => Join::Load,
-        "BAN" => Join::And,
-        _ => Join::Or,
-    };
-    let negate = u.m.ends_with('I');
     let op = Op::Cond(Box::new(CondOp {
         join,
         cond: Box::new(WordBit { word, bit, negate }),
@@ -183,15 +180,10 @@ impl Instr for BitCoil {
     }
 }
 
-fn coil(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+fn coil(a: &mut Args<'_, '_>, kind: Coil) -> Option<Box<dyn Instr>> {
     if !a.count(&[2]) {
         return None;
     }
-    let kind = match a.mnemonic() {
-        "BOUT" => Coil::Out,
-        "BSET" => Coil::Set,
-        _ => Coil::Rst,
-    };
     let word = a.word_at(0, Width::W16, true);
     let bit = a.word_at(1, Width::W16, false)?;
     Some(Box::new(BitCoil {

@@ -24,19 +24,19 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.7.13 L6386 SFTR
-    Def::app("SFTR", &DOC, compile)
+    Def::app("SFTR", &DOC, |a| compile(a, true, true))
         .no_pulse()
         .steps(Steps::Fixed(9)),
     // 002 §6.7.14 L6427 SFTL
-    Def::app("SFTL", &DOC, compile)
+    Def::app("SFTL", &DOC, |a| compile(a, true, false))
         .no_pulse()
         .steps(Steps::Fixed(9)),
     // 002 §6.2.14 L4193 WSFR
-    Def::app("WSFR", &DOC, compile)
+    Def::app("WSFR", &DOC, |a| compile(a, false, true))
         .no_pulse()
         .steps(Steps::Fixed(9)),
     // 002 §6.2.15 L4233 WSFL
-    Def::app("WSFL", &DOC, compile)
+    Def::app("WSFL", &DOC, |a| compile(a, false, false))
         .no_pulse()
         .steps(Steps::Fixed(9)),
 ];
@@ -93,13 +93,12 @@ fn bit_block(a: &mut Args<'_, '_>, k: usize, dest: bool) -> Option<BitBlock> {
     })
 }
 
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// SFTR/SFTL (`bits`) or WSFR/WSFL, to the right (`right`) or left.
+fn compile(a: &mut Args<'_, '_>, bits: bool, right: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[4]) {
         return None;
     }
-    let m = a.mnemonic().to_string();
-    let right = m.ends_with('R');
-    let s = if m.starts_with('S') {
+    let s = if bits {
         let s = bit_block(a, 0, false);
         let d = bit_block(a, 1, true);
         Strings::Bits(s?, d?)

@@ -22,15 +22,15 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.16.1 L8550 CCITT
-    Def::app("CCITT", &DOC, compile)
+    Def::app("CCITT", &DOC, |a| compile(a, Kind::Ccitt))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.16.2 L8584 CRC16
-    Def::app("CRC16", &DOC, compile)
+    Def::app("CRC16", &DOC, |a| compile(a, Kind::Crc16))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.16.3 L8619 LRC
-    Def::app("LRC", &DOC, compile)
+    Def::app("LRC", &DOC, |a| compile(a, Kind::Lrc))
         .no_pulse()
         .steps(Steps::Fixed(7)),
 ];
@@ -61,15 +61,10 @@ fn dv(a: &mut Args<'_, '_>, k: usize) -> bool {
     ok
 }
 
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+fn compile(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) || !dv(a, 0) || !dv(a, 2) {
         return None;
     }
-    let kind = match a.mnemonic() {
-        "CCITT" => Kind::Ccitt,
-        "CRC16" => Kind::Crc16,
-        _ => Kind::Lrc,
-    };
     let r = resolve::block(a.map(), a.text(0), false);
     let data = a.check(0, r);
     let n = a.word_at(1, Width::W16, false);

@@ -70,7 +70,8 @@ fn compare(c: &mut Compiler<'_>, u: &Use<'_>) {
         ">" => CmpOp::Gt,
         "<" => CmpOp::Lt,
         ">=" => CmpOp::Ge,
-        _ => CmpOp::Le,
+        "<=" => CmpOp::Le,
+        _ => return c.unmatched(u),
     };
     let (join, width) = match base {
         "LD" => (Join::Load, Width::W16),
@@ -81,7 +82,8 @@ fn compare(c: &mut Compiler<'_>, u: &Use<'_>) {
         "ORD" => (Join::Or, Width::W32),
         "LDR" => (Join::Load, Width::Real),
         "ANDR" => (Join::And, Width::Real),
-        _ => (Join::Or, Width::Real),
+        "ORR" => (Join::Or, Width::Real),
+        _ => return c.unmatched(u),
     };
     let ra = resolve::word(c.map, &i.operands[0].text, width, false, false);
     let rb = resolve::word(c.map, &i.operands[1].text, width, false, false);

@@ -5,8 +5,7 @@
 //! Illegal values are error 64 with the destination unchanged.
 
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::Instr;
-use softplc_lang::compile::Args;
+use softplc_ir::kernels::bcd;
 use softplc_lang::isa::{Def, Doc, Steps};
 
 use crate::calc::{self, Fl, Layout, Spec};
@@ -24,17 +23,26 @@ static FUNC: Doc = Doc {
     notes: "SQT floor √ (Z, B when truncated; S < 0 error 64); VABS/NEG of the minimum is error 64",
 };
 
+/// Each definition with its operation and the widths of its source and
+/// destination (`OP S D`).
 macro_rules! defs {
-    ($doc:expr, $($name:literal $steps:literal),*) => {
-        &[$(Def::app($name, $doc, compile).no_pulse().steps(Steps::Fixed($steps)),)*]
+    ($doc:expr, $($name:literal $steps:literal $f:ident $src:ident $dst:ident),*) => {
+        &[$(Def::app($name, $doc, |a| {
+            calc::compile(a, Spec::new($f, Width::$src, Width::$dst, Layout::SD))
+        })
+        .no_pulse()
+        .steps(Steps::Fixed($steps)),)*]
     };
 }
 
 pub static DEFS: &[Def] = defs!(&CONV,
-    "DTI" 6, "ITD" 6, "FLT" 6, "DFLT" 7, "INT" 6, "DINT" 7, "BCD" 5, "DBCD" 7, "BIN" 5, "DBIN" 7,
-    "GRY" 5, "DGRY" 7, "GBIN" 5, "DGBIN" 7, "SEG" 5);
+    "DTI" 6 dti W32 W16, "ITD" 6 itd W16 W32, "FLT" 6 flt W16 Real, "DFLT" 7 dflt W32 Real,
+    "INT" 6 int Real W16, "DINT" 7 dint Real W32, "BCD" 5 bcd W16 W16, "DBCD" 7 dbcd W32 W32,
+    "BIN" 5 bin W16 W16, "DBIN" 7 bin W32 W32, "GRY" 5 gry W16 W16, "DGRY" 7 gry W32 W32,
+    "GBIN" 5 gbin W16 W16, "DGBIN" 7 gbin W32 W32, "SEG" 5 seg W16 W16);
 pub static FUNCS: &[Def] = defs!(&FUNC,
-    "SQT" 5, "DSQT" 7, "VABS" 5, "DVABS" 7, "NEG" 5, "DNEG" 7);
+    "SQT" 5 sqt W16 W16, "DSQT" 7 dsqt W32 W32, "VABS" 5 vabs W16 W16, "DVABS" 7 dvabs W32 W32,
+    "NEG" 5 neg W16 W16, "DNEG" 7 dneg W32 W32);
 
 /// 7-segment codes of 0-F (the FX SEGD table, spec aplc.md §4.8).
 const SEG: [u32; 16] = [
@@ -82,42 +90,21 @@ fn dint(x: u32, _: u32, fl: &mut Fl) -> Result<u32, Fault> {
     Ok(to_int(x, fl, i32::MIN as f64, i32::MAX as f64) as u32)
 }
 
-fn bcd_of(mut v: u32, digits: u32) -> u32 {
-    let mut r = 0;
-    for k in 0..digits {
-        r |= (v % 10) << (4 * k);
-        v /= 10;
-    }
-    r
-}
-fn bin_of(x: u32, digits: u32) -> Result<u32, Fault> {
-    let mut r = 0;
-    for k in (0..digits).rev() {
-        let d = x >> (4 * k) & 0xF;
-        if d > 9 {
-            return Err(E_VALUE);
-        }
-        r = r * 10 + d;
-    }
-    Ok(r)
-}
 fn bcd(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
     if x > 9999 {
         return Err(E_VALUE);
     }
-    Ok(bcd_of(x, 4))
+    Ok(bcd::pack(x as u64) as u32)
 }
 fn dbcd(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
     if x > 99_999_999 {
         return Err(E_VALUE);
     }
-    Ok(bcd_of(x, 8))
+    Ok(bcd::pack(x as u64) as u32)
 }
+/// BIN and DBIN: every nibble of the 16- or 32-bit source is a digit.
 fn bin(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
-    bin_of(x, 4)
-}
-fn dbin(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
-    bin_of(x, 8)
+    bcd::unpack(x as u64).map(|v| v as u32).ok_or(E_VALUE)
 }
 fn gry(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
     Ok(x ^ (x >> 1))
@@ -165,34 +152,6 @@ fn dneg(x: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
     (x as i32).checked_neg().map(|v| v as u32).ok_or(E_VALUE)
 }
 
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    use Width::*;
-    let (f, src, dst): (calc::Fn2, Width, Width) = match a.mnemonic() {
-        "DTI" => (dti, W32, W16),
-        "ITD" => (itd, W16, W32),
-        "FLT" => (flt, W16, Real),
-        "DFLT" => (dflt, W32, Real),
-        "INT" => (int, Real, W16),
-        "DINT" => (dint, Real, W32),
-        "BCD" => (bcd, W16, W16),
-        "DBCD" => (dbcd, W32, W32),
-        "BIN" => (bin, W16, W16),
-        "DBIN" => (dbin, W32, W32),
-        "GRY" => (gry, W16, W16),
-        "DGRY" => (gry, W32, W32),
-        "GBIN" => (gbin, W16, W16),
-        "DGBIN" => (gbin, W32, W32),
-        "SEG" => (seg, W16, W16),
-        "SQT" => (sqt, W16, W16),
-        "DSQT" => (dsqt, W32, W32),
-        "VABS" => (vabs, W16, W16),
-        "DVABS" => (dvabs, W32, W32),
-        "NEG" => (neg, W16, W16),
-        _ => (dneg, W32, W32),
-    };
-    calc::compile(a, Spec::new(f, src, dst, Layout::SD))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,7 +180,7 @@ mod tests {
         assert_eq!(run(bcd, 3333), 0x3333);
         assert_eq!(run(dbcd, 66666666), 0x66666666);
         assert_eq!(run(bin, 0x5555), 5555);
-        assert_eq!(run(dbin, 0x99999999), 99999999);
+        assert_eq!(run(bin, 0x99999999), 99999999);
         assert!(bin(0x5A55, 0, &mut Fl::default()).is_err());
         assert_eq!(run(gry, 0xAAAA), 0xFFFF);
         assert_eq!(run(gry, 0x88888888), 0xCCCCCCCC);

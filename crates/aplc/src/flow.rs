@@ -107,11 +107,13 @@ fn simple(c: &mut Compiler<'_>, u: &Use<'_>) {
     if !c.count(i, u.m, &[0]) || !c.output(i, u.m) {
         return;
     }
-    c.emit(match u.m {
+    let op = match u.m {
         "CFEND" => Op::GoEnd,
         "WDT" => Op::Wdt,
-        _ => Op::Stop,
-    });
+        "STOP" => Op::Stop,
+        _ => return c.unmatched(u),
+    };
+    c.emit(op);
 }
 
 #[derive(Debug)]

@@ -62,20 +62,24 @@ impl Instr for SetEi {
 }
 
 // 002 §6.1 L3699-3723 EI / DI: with power flow, enable / disable interrupts.
+// CIRET here is outside an interrupt routine (the driver compiles it inside).
 fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
+    let on = match u.m {
+        "EI" => Some(true),
+        "DI" => Some(false),
+        "CIRET" => None,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, u.m, &[0]) || !c.output(i, u.m) {
         return;
     }
-    if u.m == "CIRET" {
+    let Some(on) = on else {
         return c.err(&i.mnemonic, "CIRET outside an interrupt routine (L3733)");
-    }
+    };
     let x = c.ext.len() as u32;
     let bit = c.map.base(DeviceKind::V) + EI_BIT;
-    c.ext.push(Box::new(SetEi {
-        bit,
-        on: u.m == "EI",
-    }));
+    c.ext.push(Box::new(SetEi { bit, on }));
     c.emit(Op::Ext(x));
 }
 

@@ -5,8 +5,7 @@
 //! (width + 1 through the carry), shifts give 0 from the width on.
 
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::Instr;
-use softplc_lang::compile::Args;
+use softplc_ir::kernels::logic::WordLogic;
 use softplc_lang::isa::{Def, Doc, Steps};
 
 use crate::calc::{self, Fl, Layout, Spec};
@@ -24,17 +23,36 @@ static SHIFT: Doc = Doc {
     notes: "OP S1 D S2; rotations write SM181 = last bit out, count modulo the width (width + 1 through carry); shifts zero-fill, 0 from the width on; a bit-group source must be K4/K8; count < 0 is error 64",
 };
 
+/// Each definition with its operation, width and operand order.
 macro_rules! defs {
-    ($doc:expr, $($name:literal $steps:literal),*) => {
-        &[$(Def::app($name, $doc, compile).no_pulse().steps(Steps::Fixed($steps)),)*]
+    ($doc:expr, $($name:literal $steps:literal $f:ident $w:ident $layout:ident),*) => {
+        &[$(Def::app($name, $doc, |a| {
+            calc::compile(a, Spec::new($f, Width::$w, Width::$w, Layout::$layout))
+        })
+        .no_pulse()
+        .steps(Steps::Fixed($steps)),)*]
+    };
+}
+
+/// The shifts and rotations: `OP S1 D S2`, a bit-group source K4/K8.
+macro_rules! shifts {
+    ($doc:expr, $($name:literal $steps:literal $f:ident $w:ident),*) => {
+        &[$(Def::app($name, $doc, |a| {
+            calc::compile(a, Spec::new($f, Width::$w, Width::$w, Layout::S1DS2).full())
+        })
+        .no_pulse()
+        .steps(Steps::Fixed($steps)),)*]
     };
 }
 
 pub static DEFS: &[Def] = defs!(&LOGIC,
-    "WAND" 7, "WOR" 7, "WXOR" 7, "WINV" 5, "DWAND" 10, "DWOR" 10, "DWXOR" 10, "DWINV" 7);
-pub static SHIFTS: &[Def] = defs!(&SHIFT,
-    "ROR" 7, "ROL" 7, "RCR" 7, "RCL" 7, "SHR" 7, "SHL" 7,
-    "DROR" 9, "DROL" 9, "DRCR" 9, "DRCL" 9, "DSHR" 9, "DSHL" 9);
+    "WAND" 7 and W16 S1S2D, "WOR" 7 or W16 S1S2D, "WXOR" 7 xor W16 S1S2D, "WINV" 5 not W16 SD,
+    "DWAND" 10 and W32 S1S2D, "DWOR" 10 or W32 S1S2D, "DWXOR" 10 xor W32 S1S2D,
+    "DWINV" 7 not W32 SD);
+pub static SHIFTS: &[Def] = shifts!(&SHIFT,
+    "ROR" 7 ror W16, "ROL" 7 rol W16, "RCR" 7 rcr W16, "RCL" 7 rcl W16, "SHR" 7 shr W16,
+    "SHL" 7 shl W16, "DROR" 9 dror W32, "DROL" 9 drol W32, "DRCR" 9 drcr W32, "DRCL" 9 drcl W32,
+    "DSHR" 9 dshr W32, "DSHL" 9 dshl W32);
 
 fn count(n: u32) -> Result<u32, Fault> {
     if n as i16 >= 0 {
@@ -95,49 +113,16 @@ rotations!(u16, 16, ror, rol, rcr, rcl, shr, shl);
 rotations!(u32, 32, dror, drol, drcr, drcl, dshr, dshl);
 
 fn and(a: u32, b: u32, _: &mut Fl) -> Result<u32, Fault> {
-    Ok(a & b)
+    Ok(WordLogic::And.apply(a, b))
 }
 fn or(a: u32, b: u32, _: &mut Fl) -> Result<u32, Fault> {
-    Ok(a | b)
+    Ok(WordLogic::Or.apply(a, b))
 }
 fn xor(a: u32, b: u32, _: &mut Fl) -> Result<u32, Fault> {
-    Ok(a ^ b)
+    Ok(WordLogic::Xor.apply(a, b))
 }
-fn not(a: u32, _: u32, _: &mut Fl) -> Result<u32, Fault> {
-    Ok(!a)
-}
-
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    use Layout::*;
-    use Width::*;
-    let m = a.mnemonic().to_string();
-    let wide = m.starts_with("DW") || (m.starts_with('D') && m.len() == 4);
-    let w = if wide { W32 } else { W16 };
-    let base = if wide { &m[1..] } else { &m[..] };
-    let f: calc::Fn2 = match (base, wide) {
-        ("WAND", _) => and,
-        ("WOR", _) => or,
-        ("WXOR", _) => xor,
-        ("WINV", _) => not,
-        ("ROR", false) => ror,
-        ("ROL", false) => rol,
-        ("RCR", false) => rcr,
-        ("RCL", false) => rcl,
-        ("SHR", false) => shr,
-        ("SHL", false) => shl,
-        ("ROR", true) => dror,
-        ("ROL", true) => drol,
-        ("RCR", true) => drcr,
-        ("RCL", true) => drcl,
-        ("SHR", true) => dshr,
-        _ => dshl,
-    };
-    let spec = match base {
-        "WINV" => Spec::new(f, w, w, SD),
-        "WAND" | "WOR" | "WXOR" => Spec::new(f, w, w, S1S2D),
-        _ => Spec::new(f, w, w, S1DS2).full(),
-    };
-    calc::compile(a, spec)
+fn not(a: u32, b: u32, _: &mut Fl) -> Result<u32, Fault> {
+    Ok(WordLogic::Not.apply(a, b))
 }
 
 #[cfg(test)]

@@ -25,15 +25,15 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.11.2 L7819 RAMP
-    Def::app("RAMP", &DOC, compile)
+    Def::app("RAMP", &DOC, |a| compile(a, Kind::Ramp))
         .always()
         .steps(Steps::Fixed(12)),
     // 002 §6.11.3 L7892 HACKLE
-    Def::app("HACKLE", &DOC, compile)
+    Def::app("HACKLE", &DOC, |a| compile(a, Kind::Hackle))
         .always()
         .steps(Steps::Fixed(12)),
     // 002 §6.11.4 L7976 TRIANGLE
-    Def::app("TRIANGLE", &DOC, compile)
+    Def::app("TRIANGLE", &DOC, |a| compile(a, Kind::Triangle))
         .always()
         .steps(Steps::Fixed(12)),
 ];
@@ -66,15 +66,10 @@ struct Ramp {
     st: LocalSlot<RampState>,
 }
 
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+fn compile(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
     if !a.count(&[5]) {
         return None;
     }
-    let kind = match a.mnemonic() {
-        "RAMP" => Kind::Ramp,
-        "HACKLE" => Kind::Hackle,
-        _ => Kind::Triangle,
-    };
     let s1 = a.word_at(0, Width::W16, false);
     let s2 = a.word_at(1, Width::W16, false);
     let dv = matches!(parse_device(&a.text(2).to_ascii_uppercase()), Ok(Some(d)) if d.group.is_none() && matches!(d.dev, Dev::D | Dev::V));

@@ -6,8 +6,6 @@
 //! logarithm of a value ≤ 0 and the undefined powers are error 64.
 
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::Instr;
-use softplc_lang::compile::Args;
 use softplc_lang::isa::{Def, Doc, Steps};
 
 use crate::calc::{self, Fl, Layout, Spec};
@@ -20,15 +18,23 @@ static DOC: Doc = Doc {
     notes: "Z on 0, C above 1.701412E+38 (saturating); ÷0 error 69; √ of < 0, ln of ≤ 0, 0^(≤0) and (<0)^non-integer error 64; SIN/COS/TAN in radians",
 };
 
+/// Each definition with its operation and operand order: `OP S1 S2 D` or
+/// `OP S D`, REAL throughout.
 macro_rules! defs {
-    ($($name:literal $steps:literal),*) => {
-        &[$(Def::app($name, &DOC, compile).no_pulse().steps(Steps::Fixed($steps)),)*]
+    ($($name:literal $steps:literal $f:ident $layout:ident),*) => {
+        &[$(Def::app($name, &DOC, |a| {
+            calc::compile(a, Spec::new($f, Width::Real, Width::Real, Layout::$layout))
+        })
+        .no_pulse()
+        .steps(Steps::Fixed($steps)),)*]
     };
 }
 
 pub static DEFS: &[Def] = defs!(
-    "RADD" 10, "RSUB" 10, "RMUL" 10, "RDIV" 10, "RSQT" 7, "RVABS" 7, "RNEG" 7,
-    "SIN" 7, "COS" 7, "TAN" 7, "POWER" 10, "LN" 7, "EXP" 7
+    "RADD" 10 radd S1S2D, "RSUB" 10 rsub S1S2D, "RMUL" 10 rmul S1S2D, "RDIV" 10 rdiv S1S2D,
+    "RSQT" 7 rsqt SD, "RVABS" 7 rvabs SD, "RNEG" 7 rneg SD,
+    "SIN" 7 sin SD, "COS" 7 cos SD, "TAN" 7 tan SD, "POWER" 10 power S1S2D,
+    "LN" 7 ln SD, "EXP" 7 exp SD
 );
 
 /// Stores a result with the flags: Z when 0, C beyond 1.701412E+38.
@@ -101,23 +107,4 @@ fn ln(a: u32, _: u32, fl: &mut Fl) -> Result<u32, Fault> {
 }
 fn exp(a: u32, _: u32, fl: &mut Fl) -> Result<u32, Fault> {
     out(r(a).exp(), fl, true)
-}
-
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-    let (f, layout): (calc::Fn2, Layout) = match a.mnemonic() {
-        "RADD" => (radd, Layout::S1S2D),
-        "RSUB" => (rsub, Layout::S1S2D),
-        "RMUL" => (rmul, Layout::S1S2D),
-        "RDIV" => (rdiv, Layout::S1S2D),
-        "POWER" => (power, Layout::S1S2D),
-        "RSQT" => (rsqt, Layout::SD),
-        "RVABS" => (rvabs, Layout::SD),
-        "RNEG" => (rneg, Layout::SD),
-        "SIN" => (sin, Layout::SD),
-        "COS" => (cos, Layout::SD),
-        "TAN" => (tan, Layout::SD),
-        "LN" => (ln, Layout::SD),
-        _ => (exp, Layout::SD),
-    };
-    calc::compile(a, Spec::new(f, Width::Real, Width::Real, layout))
 }

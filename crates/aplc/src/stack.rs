@@ -30,23 +30,23 @@ static SUMS: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.2.10 L4080 PUSH
-    Def::app("PUSH", &STACK, stack)
+    Def::app("PUSH", &STACK, |a| stack(a, Kind::Push))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.2.11 L4117 FIFO
-    Def::app("FIFO", &STACK, stack)
+    Def::app("FIFO", &STACK, |a| stack(a, Kind::Fifo))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.2.12 L4154 LIFO
-    Def::app("LIFO", &STACK, stack)
+    Def::app("LIFO", &STACK, |a| stack(a, Kind::Lifo))
         .no_pulse()
         .steps(Steps::Fixed(7)),
     // 002 §6.3 L4795 SUM
-    Def::app("SUM", &SUMS, sum)
+    Def::app("SUM", &SUMS, |a| sum(a, false))
         .no_pulse()
         .steps(Steps::Fixed(8)),
     // 002 §6.3 L4829 DSUM
-    Def::app("DSUM", &SUMS, sum)
+    Def::app("DSUM", &SUMS, |a| sum(a, true))
         .no_pulse()
         .steps(Steps::Fixed(9)),
 ];
@@ -82,15 +82,10 @@ fn count_word(a: &mut Args<'_, '_>, k: usize) -> Option<Block> {
     a.check(k, r)
 }
 
-fn stack(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+fn stack(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) {
         return None;
     }
-    let kind = match a.mnemonic() {
-        "PUSH" => Kind::Push,
-        "FIFO" => Kind::Fifo,
-        _ => Kind::Lifo,
-    };
     let (value, area) = if kind == Kind::Push {
         (a.word_at(0, Width::W16, false), count_word(a, 1))
     } else {
@@ -158,11 +153,11 @@ struct Sum {
     flags: Flags,
 }
 
-fn sum(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// SUM, or DSUM (`wide`).
+fn sum(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) {
         return None;
     }
-    let wide = a.mnemonic() == "DSUM";
     let r = if wide {
         resolve::block32(a.map(), a.text(0))
     } else {

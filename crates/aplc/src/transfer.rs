@@ -37,9 +37,11 @@ pub static DEFS: &[Def] = &[
         .no_pulse()
         .steps(Steps::Fixed(3)),
     // 002 §6.2.8 L4012 XCH
-    Def::app("XCH", &DOC, xch).no_pulse().steps(Steps::Fixed(5)),
+    Def::app("XCH", &DOC, |a| xch(a, false))
+        .no_pulse()
+        .steps(Steps::Fixed(5)),
     // 002 §6.2.9 L4048 DXCH
-    Def::app("DXCH", &DOC, xch)
+    Def::app("DXCH", &DOC, |a| xch(a, true))
         .no_pulse()
         .steps(Steps::Fixed(7)),
 ];
@@ -164,11 +166,11 @@ struct Xch {
     wide: bool,
 }
 
-fn xch(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// XCH, or DXCH (`wide`).
+fn xch(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[2]) {
         return None;
     }
-    let wide = a.mnemonic() == "DXCH";
     let w = if wide { Width::W32 } else { Width::W16 };
     let x = a.word_at(0, w, true);
     let y = a.word_at(1, w, true)?;

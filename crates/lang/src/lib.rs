@@ -5,13 +5,14 @@
 //! It knows no instruction set: a dialect crate passes its `Dialect`.
 
 mod args;
+pub mod audit;
 pub mod compile;
 pub mod csv;
 pub mod dialect;
 pub mod il;
 pub mod isa;
 pub mod resolve;
-mod rung;
+pub mod rung;
 pub mod settings;
 mod source;
 

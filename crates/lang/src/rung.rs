@@ -3,11 +3,75 @@
 //! requires before it (PM §3). Every check reports and lets compilation go on.
 
 use super::compile::{Compiler, MAX_BLOCKS};
-use super::isa::Class;
+use super::isa::{Class, Use};
 use super::source::{SourceInstr, Token};
 use softplc_ir::ops::{Join, Op};
 
+/// An operation on the rung's two stacks (PM §3.5-§3.6; 002 L2757-2820, the
+/// same rules): ANB/ORB combine the last block an LD opened with the one
+/// before, MPS/MRD/MPP push, read and pop the branch stack.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RungStack {
+    Anb,
+    Orb,
+    Mps,
+    Mrd,
+    Mpp,
+}
+
+/// How deep a dialect nests MPS, and how it words the excess: "more than
+/// {depth} {excess}".
+#[derive(Clone, Copy, Debug)]
+pub struct MpsLimit {
+    pub depth: usize,
+    pub excess: &'static str,
+}
+
 impl Compiler<'_> {
+    /// The rung-stack rules of both dialects, after the dialect checked the
+    /// operands (none): ANB/ORB need a block to combine; MPS/MRD/MPP need a
+    /// rung, MPS at most `limit.depth` deep, MRD/MPP an open MPS (an MPS
+    /// left open is reported where the rung closes). Emits the op.
+    pub fn rung_stack(&mut self, i: &SourceInstr, m: &str, op: RungStack, limit: MpsLimit) {
+        match op {
+            RungStack::Anb | RungStack::Orb => {
+                if self.depth == 0 {
+                    self.err(
+                        &i.mnemonic,
+                        format!("`{m}` has no block to combine (no LD opened one)"),
+                    );
+                } else {
+                    self.depth -= 1;
+                }
+            }
+            RungStack::Mps | RungStack::Mrd | RungStack::Mpp => {
+                if !self.need_rung(i, m) {
+                    return;
+                }
+                if op == RungStack::Mps {
+                    if self.mps.len() >= limit.depth {
+                        let excess = format!("more than {} {}", limit.depth, limit.excess);
+                        self.err(&i.mnemonic, excess);
+                    } else {
+                        self.mps.push(i.mnemonic.clone());
+                    }
+                } else if self.mps.is_empty() {
+                    self.err(&i.mnemonic, format!("`{m}` without MPS"));
+                } else if op == RungStack::Mpp {
+                    self.mps.pop();
+                }
+            }
+        }
+        self.after_output = false;
+        self.emit(match op {
+            RungStack::Anb => Op::Anb,
+            RungStack::Orb => Op::Orb,
+            RungStack::Mps => Op::Mps,
+            RungStack::Mrd => Op::Mrd,
+            RungStack::Mpp => Op::Mpp,
+        });
+    }
+
     /// After a faulty instruction, puts the rung state where a correct one of the
     /// same class would have left it, so one mistake gives one diagnostic. An
     /// unknown mnemonic counts as an output.
@@ -147,6 +211,20 @@ impl Compiler<'_> {
         self.has_rung = false;
         self.after_output = true;
         true
+    }
+
+    /// For a lowering shared by several definitions that tells them apart by
+    /// name: `u` is none of the names it knows. Reported as a load error at
+    /// the mnemonic (a softplc bug), so that a definition added without its
+    /// case never runs as another instruction.
+    pub fn unmatched(&mut self, u: &Use<'_>) {
+        self.err(
+            &u.instr.mnemonic,
+            format!(
+                "`{}` has no case in its definition's lowering (a softplc bug: please report it)",
+                u.m
+            ),
+        );
     }
 
     pub fn pulsed(&mut self, pulse: bool, op: Op) {

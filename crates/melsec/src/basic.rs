@@ -235,7 +235,7 @@ enum App {
 fn compare_contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let (i, m) = (u.instr, u.m);
     let Some((join, num, op)) = parse_compare(m) else {
-        return;
+        return c.unmatched(u);
     };
     if !c.count(i, m, &[2]) {
         c.contact_state(i, join);
@@ -398,7 +398,7 @@ fn parse_compare(m: &str) -> Option<(Join, Num, CmpOp)> {
 fn str_compare(c: &mut Compiler<'_>, u: &Use<'_>) {
     let (i, m) = (u.instr, u.m);
     let Some((join, op)) = parse_str_compare(m) else {
-        return;
+        return c.unmatched(u);
     };
     let cmp = {
         let mut args = Args::new(c, i, m);

@@ -85,11 +85,16 @@ fn cj(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
+    let scj = match m {
+        "CJ" => false,
+        "SCJ" => true,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[1]) || !c.output(i, m) {
         return;
     }
     if let Some(p) = c.pointer(&ops[0]) {
-        let op = if m == "CJ" {
+        let op = if !scj {
             Op::Cj {
                 target: 0,
                 always: false,
@@ -132,8 +137,13 @@ fn jmp(c: &mut Compiler<'_>, u: &Use<'_>) {
 fn stop_goend(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
+    let op = match m {
+        "STOP" => Op::Stop,
+        "GOEND" => Op::GoEnd,
+        _ => return c.unmatched(u),
+    };
     if c.count(i, m, &[0]) && c.output(i, m) {
-        c.emit(if m == "STOP" { Op::Stop } else { Op::GoEnd });
+        c.emit(op);
     }
 }
 
@@ -149,7 +159,11 @@ fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     if !c.count(i, m, &[0]) {
         return;
     }
-    let enable = m == "EI";
+    let enable = match m {
+        "EI" => true,
+        "DI" => false,
+        _ => return c.unmatched(u),
+    };
     let always = !c.has_rung || c.after_output;
     if always {
         c.standalone(i, m);
@@ -285,7 +299,8 @@ fn prog_ctl(c: &mut Compiler<'_>, u: &Use<'_>) {
         "PSCAN" => TypeChange::Scan,
         "PSTOP" => TypeChange::Standby,
         "POFF" => TypeChange::Off,
-        _ => TypeChange::LowSpeed,
+        "PLOW" => TypeChange::LowSpeed,
+        _ => return c.unmatched(u),
     };
     let id = c.prog_names.len() as u32;
     c.prog_names.push(name.to_ascii_uppercase());
@@ -299,7 +314,8 @@ fn wdt_trace(c: &mut Compiler<'_>, u: &Use<'_>) {
         let op = match m {
             "TRACE" => Op::Trace { reset: false },
             "TRACER" => Op::Trace { reset: true },
-            _ => Op::Wdt,
+            "WDT" | "WDTP" => Op::Wdt,
+            _ => return c.unmatched(u),
         };
         c.pulsed(m == "WDTP", op);
     }

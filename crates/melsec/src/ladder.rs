@@ -8,6 +8,7 @@ use softplc_ir::ops::*;
 use softplc_lang::compile::{Compiler, MAX_MPS};
 use softplc_lang::isa::{Class, Def, Doc, Pulse, Steps, Use};
 use softplc_lang::resolve::timer_slot;
+use softplc_lang::rung::{MpsLimit, RungStack};
 use softplc_lang::Token;
 
 /// The sequence instructions.
@@ -135,16 +136,24 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
+    let (join, negate, edge) = match m {
+        "LD" => (Join::Load, false, Edge::None),
+        "LDI" => (Join::Load, true, Edge::None),
+        "AND" => (Join::And, false, Edge::None),
+        "ANI" => (Join::And, true, Edge::None),
+        "OR" => (Join::Or, false, Edge::None),
+        "ORI" => (Join::Or, true, Edge::None),
+        "LDP" => (Join::Load, false, Edge::Rising),
+        "LDF" => (Join::Load, false, Edge::Falling),
+        "ANDP" => (Join::And, false, Edge::Rising),
+        "ANDF" => (Join::And, false, Edge::Falling),
+        "ORP" => (Join::Or, false, Edge::Rising),
+        "ORF" => (Join::Or, false, Edge::Falling),
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[1]) {
         return;
     }
-    let (join, rest) = split_join(m);
-    let negate = rest == "I" || m == "ANI";
-    let edge = match rest {
-        "P" => Edge::Rising,
-        "F" => Edge::Falling,
-        _ => Edge::None,
-    };
     let Some(src) = c.bit_operand(&ops[0]) else {
         c.contact_state(i, join);
         return;
@@ -172,47 +181,35 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     c.contact(i, join, op);
 }
 
+/// MPS nests 16 deep (PM §3.6).
+const MPS_LIMIT: MpsLimit = MpsLimit {
+    depth: MAX_MPS as usize,
+    excess: "nested MPS",
+};
+
+/// ANB, ORB (PM §3.5): the rung-stack rules of `softplc_lang::rung`.
 fn anb_orb(c: &mut Compiler<'_>, u: &Use<'_>) {
-    let i = u.instr;
-    let m = u.m;
-    if !c.count(i, m, &[0]) {
-        return;
+    let op = match u.m {
+        "ANB" => RungStack::Anb,
+        "ORB" => RungStack::Orb,
+        _ => return c.unmatched(u),
+    };
+    if c.count(u.instr, u.m, &[0]) {
+        c.rung_stack(u.instr, u.m, op, MPS_LIMIT);
     }
-    if c.depth == 0 {
-        c.err(
-            &i.mnemonic,
-            format!("`{m}` has no block to combine (no LD opened one)"),
-        );
-    } else {
-        c.depth -= 1;
-    }
-    c.after_output = false;
-    c.emit(if m == "ANB" { Op::Anb } else { Op::Orb });
 }
 
+/// MPS, MRD, MPP (PM §3.6): the rung-stack rules of `softplc_lang::rung`.
 fn mps(c: &mut Compiler<'_>, u: &Use<'_>) {
-    let i = u.instr;
-    let m = u.m;
-    if !c.count(i, m, &[0]) || !c.need_rung(i, m) {
-        return;
+    let op = match u.m {
+        "MPS" => RungStack::Mps,
+        "MRD" => RungStack::Mrd,
+        "MPP" => RungStack::Mpp,
+        _ => return c.unmatched(u),
+    };
+    if c.count(u.instr, u.m, &[0]) {
+        c.rung_stack(u.instr, u.m, op, MPS_LIMIT);
     }
-    match m {
-        "MPS" if c.mps.len() >= MAX_MPS as usize => {
-            c.err(&i.mnemonic, format!("more than {MAX_MPS} nested MPS"))
-        }
-        "MPS" => c.mps.push(i.mnemonic.clone()),
-        _ if c.mps.is_empty() => c.err(&i.mnemonic, format!("`{m}` without MPS")),
-        "MPP" => {
-            c.mps.pop();
-        }
-        _ => {}
-    }
-    c.after_output = false;
-    c.emit(match m {
-        "MPS" => Op::Mps,
-        "MRD" => Op::Mrd,
-        _ => Op::Mpp,
-    });
 }
 
 fn inv_mep(c: &mut Compiler<'_>, u: &Use<'_>) {
@@ -225,7 +222,8 @@ fn inv_mep(c: &mut Compiler<'_>, u: &Use<'_>) {
     let op = match m {
         "INV" => Op::Inv,
         "MEP" => Op::Mep(c.slot()),
-        _ => Op::Mef(c.slot()),
+        "MEF" => Op::Mef(c.slot()),
+        _ => return c.unmatched(u),
     };
     c.emit(op);
 }
@@ -234,15 +232,17 @@ fn egp(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
+    let rising = match m {
+        "EGP" => true,
+        "EGF" => false,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[1]) || !c.need_rung(i, m) {
         return;
     }
     c.after_output = false;
     if let Some(v) = c.edge_relay(&ops[0]) {
-        c.emit(Op::EdgeRelay {
-            rising: m == "EGP",
-            v,
-        });
+        c.emit(Op::EdgeRelay { rising, v });
     }
 }
 
@@ -250,19 +250,20 @@ fn set_rst(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
+    let reset = match m {
+        "SET" => false,
+        "RST" => true,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[1]) || !c.output(i, m) {
         return;
     }
     if let Some(n) = annunciator(c, &ops[0]) {
-        let kind = if m == "SET" {
-            AnnKind::Set
-        } else {
-            AnnKind::Rst
-        };
+        let kind = if reset { AnnKind::Rst } else { AnnKind::Set };
         c.emit(Op::Ann { kind, n });
         return;
     }
-    if m == "RST" {
+    if reset {
         rst(c, &ops[0]);
         return;
     }
@@ -281,16 +282,17 @@ fn pls(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
+    let kind: fn(u32) -> CoilKind = match m {
+        "PLS" => CoilKind::Pls,
+        "PLF" => CoilKind::Plf,
+        "FF" => CoilKind::Ff,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[1]) || !c.output(i, m) {
         return;
     }
     if let Some(dst) = c.bit_dest(&ops[0]) {
-        let s = c.slot();
-        let kind = match m {
-            "PLS" => CoilKind::Pls(s),
-            "PLF" => CoilKind::Plf(s),
-            _ => CoilKind::Ff(s),
-        };
+        let kind = kind(c.slot());
         c.emit(Op::Coil(Box::new(Coil { kind, dst })));
     }
 }
@@ -299,9 +301,9 @@ fn ledr(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     // ANR resets the annunciator shown first (SD62), as LEDR does for
-    // annunciators; ANRP on the rising edge.
+    // annunciators; ANRP (its pulse form) on the rising edge.
     if c.count(i, m, &[0]) && c.output(i, m) {
-        c.pulsed(m == "ANRP", Op::Ledr);
+        c.pulsed(u.pulse, Op::Ledr);
     }
 }
 
@@ -364,21 +366,31 @@ fn nop(c: &mut Compiler<'_>, u: &Use<'_>) {
 fn end(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
+    let fend = match m {
+        "END" => false,
+        "FEND" => true,
+        _ => return c.unmatched(u),
+    };
     if !c.count(i, m, &[0]) || !c.standalone(i, m) {
         return;
     }
-    if m == "END" {
-        c.emit(Op::End);
-        c.end_seen = Some(i.mnemonic.clone());
-    } else {
+    if fend {
         c.fend_seen = true;
         c.emit(Op::Fend);
+    } else {
+        c.emit(Op::End);
+        c.end_seen = Some(i.mnemonic.clone());
     }
 }
 
 fn out(c: &mut Compiler<'_>, u: &Use<'_>) {
     let (i, m) = (u.instr, u.m);
     let ops = &i.operands;
+    let high_speed = match m {
+        "OUT" => false,
+        "OUTH" => true,
+        _ => return c.unmatched(u),
+    };
     if ops.is_empty() {
         c.count(i, m, &[1, 2]);
         return;
@@ -404,7 +416,7 @@ fn out(c: &mut Compiler<'_>, u: &Use<'_>) {
         _ => None,
     };
     let Some((dev, index)) = tc else {
-        if m == "OUTH" {
+        if high_speed {
             return c.err(
                 &ops[0],
                 format!("OUTH needs a timer (T or ST), found `{}`", ops[0].text),
@@ -452,7 +464,7 @@ fn out(c: &mut Compiler<'_>, u: &Use<'_>) {
         );
     }
     let counter = dev.kind == DeviceKind::CS;
-    if counter && m == "OUTH" {
+    if counter && high_speed {
         return c.err(&i.mnemonic, "OUTH is for timers; counters use OUT");
     }
     let (coil_k, value_k) = match dev.kind {
@@ -483,7 +495,7 @@ fn out(c: &mut Compiler<'_>, u: &Use<'_>) {
             value,
             slot,
             set,
-            high_speed: m == "OUTH",
+            high_speed,
             retentive,
         })));
     }
@@ -651,16 +663,5 @@ fn rst(c: &mut Compiler<'_>, tok: &Token) {
                 dst,
             }))),
         };
-    }
-}
-
-fn split_join(m: &str) -> (Join, &str) {
-    if let Some(r) = m.strip_prefix("LD") {
-        (Join::Load, r)
-    } else if let Some(r) = m.strip_prefix("AN") {
-        // AND, ANDP, ANDF, ANI
-        (Join::And, r.strip_prefix('D').unwrap_or(r))
-    } else {
-        (Join::Or, m.strip_prefix("OR").unwrap_or(m))
     }
 }

@@ -33,11 +33,11 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §6.10.8 L8380 EVWRT (10 steps).
-    Def::app("EVWRT", &DOC, compile)
+    Def::app("EVWRT", &DOC, |a| compile(a, false))
         .on_rise()
         .steps(Steps::Fixed(10)),
     // 002 §6.10.9 L8403 EVRD ("EV RD"; 10 steps).
-    Def::app("EVRD", &DOC, compile)
+    Def::app("EVRD", &DOC, |a| compile(a, true))
         .on_rise()
         .steps(Steps::Fixed(10)),
 ];
@@ -59,11 +59,11 @@ struct Inverter {
     tx: usize,
 }
 
-fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+/// EVRD (`read`) or EVWRT.
+fn compile(a: &mut Args<'_, '_>, read: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[4]) {
         return None;
     }
-    let read = a.mnemonic() == "EVRD";
     let port = if a.text(0).trim() == "1" {
         Some(1)
     } else {

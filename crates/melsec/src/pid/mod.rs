@@ -123,14 +123,6 @@ impl Family {
             }
         }
     }
-
-    fn of(m: &str) -> Family {
-        if m.starts_with("S.") || m.starts_with("SP.") {
-            Family::Incomplete
-        } else {
-            Family::Complete
-        }
-    }
 }
 
 softplc_ir::cpu_state! {
@@ -146,22 +138,33 @@ softplc_ir::cpu_state! {
 /// This family's instructions (001 §3.1.3/§3.2.3 instruction lists). The `S.`
 /// family's pulse form is `SP.xxx` (001 §8.1); the other's a `P` suffix.
 pub static DEFS: &[Def] = &[
-    Def::app("S.PIDINIT", &INCOMPLETE, PidInit::compile).pulse(Pulse::SPrefix),
-    Def::app("S.PIDCONT", &INCOMPLETE, PidCont::compile).pulse(Pulse::SPrefix),
-    Def::app("S.PIDSTOP", &INCOMPLETE, |a| PidStopRun::compile(a, false)).pulse(Pulse::SPrefix),
-    Def::app("S.PIDRUN", &INCOMPLETE, |a| PidStopRun::compile(a, true)).pulse(Pulse::SPrefix),
-    Def::app("S.PIDPRMW", &INCOMPLETE, PidPrmw::compile).pulse(Pulse::SPrefix),
-    Def::app("PIDINIT", &COMPLETE, PidInit::compile),
-    Def::app("PIDCONT", &COMPLETE, PidCont::compile),
-    Def::app("PIDSTOP", &COMPLETE, |a| PidStopRun::compile(a, false)),
-    Def::app("PIDRUN", &COMPLETE, |a| PidStopRun::compile(a, true)),
-    Def::app("PIDPRMW", &COMPLETE, PidPrmw::compile),
+    Def::app("S.PIDINIT", &INCOMPLETE, |a| PidInit::compile(a, INC)).pulse(Pulse::SPrefix),
+    Def::app("S.PIDCONT", &INCOMPLETE, |a| PidCont::compile(a, INC)).pulse(Pulse::SPrefix),
+    Def::app("S.PIDSTOP", &INCOMPLETE, |a| {
+        PidStopRun::compile(a, INC, false)
+    })
+    .pulse(Pulse::SPrefix),
+    Def::app("S.PIDRUN", &INCOMPLETE, |a| {
+        PidStopRun::compile(a, INC, true)
+    })
+    .pulse(Pulse::SPrefix),
+    Def::app("S.PIDPRMW", &INCOMPLETE, |a| PidPrmw::compile(a, INC)).pulse(Pulse::SPrefix),
+    Def::app("PIDINIT", &COMPLETE, |a| PidInit::compile(a, COMP)),
+    Def::app("PIDCONT", &COMPLETE, |a| PidCont::compile(a, COMP)),
+    Def::app("PIDSTOP", &COMPLETE, |a| {
+        PidStopRun::compile(a, COMP, false)
+    }),
+    Def::app("PIDRUN", &COMPLETE, |a| PidStopRun::compile(a, COMP, true)),
+    Def::app("PIDPRMW", &COMPLETE, |a| PidPrmw::compile(a, COMP)),
     Def::rejected(
         "PID57",
         "PID57 needs an AD57(S1) CRT controller module (QnACPU only, 001 §9.1.3), which \
          softplc does not emulate; read SV/PV/MV from the PIDCONT I/O data instead",
     ),
 ];
+
+const INC: Family = Family::Incomplete;
+const COMP: Family = Family::Complete;
 
 static INCOMPLETE: Doc = Doc {
     family: "PID (incomplete derivative)",
@@ -175,9 +178,8 @@ static COMPLETE: Doc = Doc {
 };
 
 /// Checks the operand count (S.PIDPRMW/PIDPRMW 2, the others 1; 001 §8.1,
-/// §9.1 "设置数据"); the family follows the spelling (`S.`/`SP.` or plain).
-fn prologue(a: &mut Args<'_, '_>, operands: usize) -> Option<Family> {
-    let fam = Family::of(a.mnemonic());
+/// §9.1 "设置数据"); `fam` is the definition's family (`S.` or plain).
+fn prologue(a: &mut Args<'_, '_>, fam: Family, operands: usize) -> Option<Family> {
     fam.declare(a);
     a.count(&[operands]).then_some(fam)
 }
@@ -212,8 +214,8 @@ struct PidInit {
 }
 
 impl PidInit {
-    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, 1)?;
+    fn compile(a: &mut Args<'_, '_>, fam: Family) -> Option<Box<dyn Instr>> {
+        let fam = prologue(a, fam, 1)?;
         let data = a.block(0)?;
         Some(Box::new(PidInit { fam, data }))
     }
@@ -262,8 +264,8 @@ struct PidCont {
 }
 
 impl PidCont {
-    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, 1)?;
+    fn compile(a: &mut Args<'_, '_>, fam: Family) -> Option<Box<dyn Instr>> {
+        let fam = prologue(a, fam, 1)?;
         let io = a.block(0)?;
         let map = a.map();
         let track_flag = map.index(DeviceKind::SM, fam.track_flag());
@@ -320,8 +322,8 @@ struct PidStopRun {
 }
 
 impl PidStopRun {
-    fn compile(a: &mut Args<'_, '_>, run: bool) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, 1)?;
+    fn compile(a: &mut Args<'_, '_>, fam: Family, run: bool) -> Option<Box<dyn Instr>> {
+        let fam = prologue(a, fam, 1)?;
         let n = a.word_src(0, Num::I16)?;
         Some(Box::new(PidStopRun { fam, run, n }))
     }
@@ -362,8 +364,8 @@ struct PidPrmw {
 }
 
 impl PidPrmw {
-    fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
-        let fam = prologue(a, 2)?;
+    fn compile(a: &mut Args<'_, '_>, fam: Family) -> Option<Box<dyn Instr>> {
+        let fam = prologue(a, fam, 2)?;
         let n = a.word_src(0, Num::I16);
         let data = a.block(1);
         Some(Box::new(PidPrmw {
