@@ -11,7 +11,7 @@
 
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 use softplc_ir::ops::{BitArg, Op, WordArg};
 use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
@@ -46,9 +46,60 @@ fn by_driver(c: &mut Compiler<'_>, u: &Use<'_>) {
 /// The hidden label of a subroutine's end (CSRET jumps there).
 pub const RET_LABEL: u32 = 1 << 17;
 
-/// Words of a saved frame: V0-V63, LM0-LM63 packed in two words, the
-/// "called" flag.
-const FRAME: u32 = 64 + 2 + 1;
+/// The locals a call saves: V0-V63 and LM0-LM63.
+const LOCALS: usize = 64;
+
+/// What a call site keeps in its state words: the caller's V0-V63 and
+/// LM0-LM63 while the subroutine runs, and whether the call ran (set by the
+/// call, taken by the return half).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Saved {
+    v: [u16; LOCALS],
+    lm: u64,
+    called: bool,
+}
+
+impl Default for Saved {
+    fn default() -> Self {
+        Saved {
+            v: [0; LOCALS],
+            lm: 0,
+            called: false,
+        }
+    }
+}
+
+/// Its state words, in this order: V0-V63, LM0-LM31, LM32-LM63, called.
+impl LocalState for Saved {
+    const WORDS: u32 = LOCALS as u32 + 2 + 1;
+
+    fn load(words: &[u32]) -> Self {
+        let mut w = words.iter().copied();
+        let mut next = move || w.next().unwrap_or(0);
+        let v = [(); LOCALS].map(|_| next() as u16);
+        let lm = next() as u64 | (next() as u64) << 32;
+        Saved {
+            v,
+            lm,
+            called: next() != 0,
+        }
+    }
+
+    fn store(self, words: &mut [u32]) {
+        let mut w = words.iter_mut();
+        let mut put = |x: u32| {
+            if let Some(s) = w.next() {
+                *s = x;
+            }
+        };
+        for v in self.v {
+            put(v as u32);
+        }
+        put(self.lm as u32);
+        put((self.lm >> 32) as u32);
+        put(self.called as u32);
+    }
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Ty {
@@ -77,8 +128,8 @@ struct Param {
 struct Frame {
     lm: u32,
     v: u32,
-    /// First of the call site's [`FRAME`] state words.
-    save: u32,
+    /// The call site's saved locals.
+    save: LocalSlot<Saved>,
 }
 
 #[derive(Debug)]
@@ -123,36 +174,51 @@ fn write(cx: &mut ExecCtx<'_>, p: &Param, to_local: bool, v: u32) -> Result<(), 
 }
 
 impl Frame {
+    /// The caller's locals: V0-V63 and LM0-LM63 (bit k of `lm` is LMk).
+    fn locals<'m>(&self, cx: &'m mut ExecCtx<'_>) -> (&'m mut [u16], &'m mut [bool]) {
+        let (v, lm) = (self.v as usize, self.lm as usize);
+        (
+            &mut cx.mem.words[v..v + LOCALS],
+            &mut cx.mem.bits[lm..lm + LOCALS],
+        )
+    }
+
+    /// Saves the caller's locals and clears them for the callee.
     fn save(&self, cx: &mut ExecCtx<'_>) {
-        let (v, lm, s) = (self.v as usize, self.lm as usize, self.save as usize);
-        for k in 0..64 {
-            cx.state[s + k] = cx.mem.words[v + k] as u32;
-        }
-        let (mut lo, mut hi) = (0u32, 0u32);
-        for k in 0..32 {
-            lo |= (cx.mem.bits[lm + k] as u32) << k;
-            hi |= (cx.mem.bits[lm + 32 + k] as u32) << k;
-        }
-        cx.state[s + 64] = lo;
-        cx.state[s + 65] = hi;
-        cx.mem.words[v..v + 64].fill(0);
-        cx.mem.bits[lm..lm + 64].fill(false);
+        let mut s = cx.local(&self.save);
+        let (v, lm) = self.locals(cx);
+        s.v.copy_from_slice(v);
+        s.lm = lm
+            .iter()
+            .enumerate()
+            .fold(0, |acc, (k, &b)| acc | (b as u64) << k);
+        v.fill(0);
+        lm.fill(false);
+        cx.set_local(&self.save, s);
+    }
+
+    /// Whether the call was made since the last return (and clears it).
+    fn take_called(&self, cx: &mut ExecCtx<'_>) -> bool {
+        let mut s = cx.local(&self.save);
+        let called = std::mem::take(&mut s.called);
+        cx.set_local(&self.save, s);
+        called
+    }
+
+    /// The call is made: its return half restores the caller's locals.
+    fn mark_called(&self, cx: &mut ExecCtx<'_>) {
+        let mut s = cx.local(&self.save);
+        s.called = true;
+        cx.set_local(&self.save, s);
     }
 
     fn restore(&self, cx: &mut ExecCtx<'_>) {
-        let (v, lm, s) = (self.v as usize, self.lm as usize, self.save as usize);
-        for k in 0..64 {
-            cx.mem.words[v + k] = cx.state[s + k] as u16;
+        let s = cx.local(&self.save);
+        let (v, lm) = self.locals(cx);
+        v.copy_from_slice(&s.v);
+        for (k, b) in lm.iter_mut().enumerate() {
+            *b = s.lm >> k & 1 != 0;
         }
-        let (lo, hi) = (cx.state[s + 64], cx.state[s + 65]);
-        for k in 0..32 {
-            cx.mem.bits[lm + k] = lo >> k & 1 != 0;
-            cx.mem.bits[lm + 32 + k] = hi >> k & 1 != 0;
-        }
-    }
-
-    fn called(&self) -> usize {
-        self.save as usize + 66
     }
 }
 
@@ -170,14 +236,14 @@ impl Instr for CallIn {
                 write(cx, p, true, *b)?;
             }
         }
-        cx.state[self.frame.called()] = 1;
+        self.frame.mark_called(cx);
         Ok(())
     }
 }
 
 impl CallOut {
     fn step(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let called = std::mem::take(&mut cx.state[self.frame.called()]) != 0;
+        let called = self.frame.take_called(cx);
         cx.mem.bits[self.bit as usize] = called;
         if !called {
             return Ok(());
@@ -256,10 +322,10 @@ pub fn call(
     let frame = |save| Frame {
         lm: c.map.base(DeviceKind::B),
         v: c.map.base(DeviceKind::W),
-        save,
+        save: LocalSlot::new(save),
     };
     let save = c.state_words;
-    c.state_words += FRAME;
+    c.state_words += Saved::WORDS;
     let (f_in, f_out) = (frame(save), frame(save));
     let bit = c.map.base(DeviceKind::V) + CALL_BIT;
     let params_out = params

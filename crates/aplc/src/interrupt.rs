@@ -20,7 +20,7 @@
 
 use softplc_ir::device::{DeviceKind, DeviceMap};
 use softplc_ir::fault::{ErrorCode, Fault};
-use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 use softplc_ir::ops::Op;
 use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
@@ -83,15 +83,70 @@ fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     c.emit(Op::Ext(x));
 }
 
-/// State words of the dispatcher.
-const PREV_X: usize = 0;
-const TIMED: usize = 1; // 3 × (enabled, next due lo, next due hi)
-const LEN: usize = 10;
-const QUEUE: usize = 11;
-const WORDS: u32 = (QUEUE + DEPTH) as u32;
+/// One timed interrupt's schedule (SM66-SM68, SD66-SD68).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Timed {
+    /// Timing since the scan that found it enabled.
+    running: bool,
+    /// The next due time, ms of PLC time.
+    due_ms: u64,
+}
+
+/// The dispatcher's state: X0-X7 at the previous scan, the timed
+/// interrupts, and the routines waiting, oldest first.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct DispatchState {
+    prev_x: u32,
+    timed: [Timed; 3],
+    len: usize,
+    queue: [u32; DEPTH],
+}
+
+/// Its state words, in this order: prev_x, 3 × (running, due low, due
+/// high), the queue length, the queue.
+impl LocalState for DispatchState {
+    const WORDS: u32 = 1 + 3 * 3 + 1 + DEPTH as u32;
+
+    fn load(words: &[u32]) -> Self {
+        let mut w = words.iter().copied();
+        let mut next = move || w.next().unwrap_or(0);
+        let prev_x = next();
+        let timed = [(); 3].map(|_| Timed {
+            running: next() != 0,
+            due_ms: next() as u64 | (next() as u64) << 32,
+        });
+        let len = (next() as usize).min(DEPTH);
+        let queue = [(); DEPTH].map(|_| next());
+        DispatchState {
+            prev_x,
+            timed,
+            len,
+            queue,
+        }
+    }
+
+    fn store(self, words: &mut [u32]) {
+        let mut w = words.iter_mut();
+        let mut put = |v: u32| {
+            if let Some(x) = w.next() {
+                *x = v;
+            }
+        };
+        put(self.prev_x);
+        for t in self.timed {
+            put(t.running as u32);
+            put(t.due_ms as u32);
+            put((t.due_ms >> 32) as u32);
+        }
+        put(self.len as u32);
+        for r in self.queue {
+            put(r);
+        }
+    }
+}
 
 /// What the dispatcher reads and writes.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 struct Dispatch {
     /// (event, routine index) of the program's routines.
     routines: Vec<(u8, u32)>,
@@ -101,7 +156,7 @@ struct Dispatch {
     v: u32,
     /// PORT1's mailbox word of serial events.
     events: u32,
-    state: u32,
+    state: LocalSlot<DispatchState>,
 }
 
 #[derive(Debug)]
@@ -111,17 +166,15 @@ struct Scan(Dispatch);
 struct Pop(Dispatch);
 
 impl Dispatch {
-    fn push(&self, cx: &mut ExecCtx<'_>, event: u8, lost: &mut bool) {
+    fn push(&self, st: &mut DispatchState, event: u8, lost: &mut bool) {
         let Some(&(_, r)) = self.routines.iter().find(|(e, _)| *e == event) else {
             return; // no routine: acknowledged as a no-op (L10125)
         };
-        let s = self.state as usize;
-        let len = cx.state[s + LEN] as usize;
-        if len >= DEPTH {
+        if st.len >= DEPTH {
             *lost = true;
         } else {
-            cx.state[s + QUEUE + len] = r;
-            cx.state[s + LEN] = len as u32 + 1;
+            st.queue[st.len] = r;
+            st.len += 1;
         }
     }
 }
@@ -132,56 +185,55 @@ impl Instr for Scan {
     }
     fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let d = &self.0;
-        let s = d.state as usize;
+        let mut st = cx.local(&d.state);
         let ei = cx.mem.bits[(d.v + EI_BIT) as usize];
         let mut lost = false;
         // X0-X7 edges since the previous scan.
-        let prev = cx.state[s + PREV_X];
+        let prev = st.prev_x;
         let mut now_x = 0u32;
         for k in 0..8 {
             now_x |= (cx.mem.bits[(d.x + k) as usize] as u32) << k;
         }
-        cx.state[s + PREV_X] = now_x;
+        st.prev_x = now_x;
         for k in 0..8u32 {
             let (was, is) = (prev >> k & 1 != 0, now_x >> k & 1 != 0);
             if was == is || !ei || !cx.mem.bits[(d.sm + 40 + k) as usize] {
                 continue;
             }
             let event = if is { k } else { 10 + k };
-            d.push(cx, event as u8, &mut lost);
+            d.push(&mut st, event as u8, &mut lost);
         }
         // Timed interrupts 0-2: SM66-SM68, SD66-SD68.
         let now_ms = cx.now_us / 1000;
         for t in 0..3u32 {
-            let at = s + TIMED + 3 * t as usize;
             let on = cx.mem.bits[(d.sm + 66 + t) as usize];
             let period = cx.mem.words[(d.sd + 66 + t) as usize] as i16;
+            let mut timed = st.timed[t as usize];
             if !on || period < 1 {
-                cx.state[at] = 0;
+                st.timed[t as usize].running = false;
                 continue;
             }
-            let mut due = cx.state[at + 1] as u64 | (cx.state[at + 2] as u64) << 32;
-            if cx.state[at] == 0 {
-                cx.state[at] = 1;
-                due = now_ms + period as u64;
+            if !timed.running {
+                timed.running = true;
+                timed.due_ms = now_ms + period as u64;
             }
-            while now_ms >= due {
+            while now_ms >= timed.due_ms {
                 if ei {
-                    d.push(cx, 26 + t as u8, &mut lost);
+                    d.push(&mut st, 26 + t as u8, &mut lost);
                 }
-                due += period as u64;
+                timed.due_ms += period as u64;
             }
-            cx.state[at + 1] = due as u32;
-            cx.state[at + 2] = (due >> 32) as u32;
+            st.timed[t as usize] = timed;
         }
         // Serial events of PORT1 recorded by the communication phase.
         let at = d.events as usize;
         let serial = std::mem::take(&mut cx.mem.words[at]);
         for k in 0..4u32 {
             if serial >> k & 1 != 0 && ei && cx.mem.bits[(d.sm + 52 + k) as usize] {
-                d.push(cx, 34 + k as u8, &mut lost);
+                d.push(&mut st, 34 + k as u8, &mut lost);
             }
         }
+        cx.set_local(&d.state, st);
         if lost {
             Err(E_QUEUE)
         } else {
@@ -198,17 +250,18 @@ impl Instr for Pop {
     /// the "any" bit when one was taken.
     fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let d = &self.0;
-        let s = d.state as usize;
+        let mut st = cx.local(&d.state);
         let bits = (d.v + INT_BITS) as usize;
         cx.mem.bits[bits..bits + MAX_INT as usize].fill(false);
-        let len = cx.state[s + LEN] as usize;
-        let any = len > 0;
+        let any = st.len > 0;
         if any {
-            let r = cx.state[s + QUEUE] as usize;
-            cx.state
-                .copy_within(s + QUEUE + 1..s + QUEUE + len, s + QUEUE);
-            cx.state[s + LEN] = len as u32 - 1;
-            cx.mem.bits[bits + r] = true;
+            let r = st.queue[0] as usize;
+            st.queue.copy_within(1..st.len, 0);
+            st.len -= 1;
+            cx.set_local(&d.state, st);
+            if let Some(b) = cx.mem.bits.get_mut(bits + r) {
+                *b = true;
+            }
         }
         cx.mem.bits[(d.v + INT_ANY_BIT) as usize] = any;
         Ok(())
@@ -230,22 +283,28 @@ pub fn dispatch(c: &mut Compiler<'_>, events: &[u8]) -> Vec<usize> {
         sd: map.base(DeviceKind::SD),
         v: map.base(DeviceKind::V),
         events: map.base(DeviceKind::SW) + mailbox::base(1) + mailbox::EVENTS,
-        state: c.state_words,
+        state: LocalSlot::new(c.state_words),
     };
-    c.state_words += WORDS;
+    let pop = Dispatch {
+        routines: d.routines.clone(),
+        state: LocalSlot::new(c.state_words),
+        ..d
+    };
+    c.state_words += DispatchState::WORDS;
+    let v = d.v;
     let x = c.ext.len() as u32;
-    c.ext.push(Box::new(Scan(d.clone())));
+    c.ext.push(Box::new(Scan(d)));
     c.emit(Op::ExtAlways(x));
     let top = c.ops.len() as u32;
     let x = c.ext.len() as u32;
-    c.ext.push(Box::new(Pop(d.clone())));
+    c.ext.push(Box::new(Pop(pop)));
     c.emit(Op::ExtAlways(x));
     let mut calls = Vec::new();
     for r in 0..events.len() as u32 {
-        c.emit(Op::Ld(d.v + INT_BITS + r));
+        c.emit(Op::Ld(v + INT_BITS + r));
         calls.push(c.emit(Op::Call(0)));
     }
-    c.emit(Op::Ld(d.v + INT_ANY_BIT));
+    c.emit(Op::Ld(v + INT_ANY_BIT));
     c.emit(Op::Cj {
         target: top,
         always: false,

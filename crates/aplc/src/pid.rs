@@ -17,6 +17,7 @@
 
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::layout::At;
 use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::compile::Args;
 use softplc_lang::isa::{Def, Doc, Steps};
@@ -38,6 +39,52 @@ pub static DEFS: &[Def] = &[
         .no_pulse()
         .steps(Steps::Fixed(9)),
 ];
+
+softplc_ir::layout! {
+    /// The 20-word parameter block at S3 (L7690-7760; +7 … +14 softplc's
+    /// working area, see the module's decision). All words are INT.
+    pub struct PidBlock[20] {
+        /// Ts: the sampling time, ms (≥ 1).
+        ts: i16 @ 0,
+        /// The mode: b0 reverse action, b1 PV change alarm, b2 MV change
+        /// alarm, b5 MV limits (b2 and b5 together: neither).
+        mode: u16 @ 1,
+        /// α: the input filter coefficient, % (0-99).
+        alpha: i16 @ 2,
+        /// Kp: the proportional gain, % (≥ 1).
+        kp: i16 @ 3,
+        /// TI: the integral time, ×100 ms (0: no integral).
+        ti: i16 @ 4,
+        /// KD: the derivative gain, % (0-100).
+        kd: i16 @ 5,
+        /// TD: the derivative time, ×10 ms (0: no derivative).
+        td: i16 @ 6,
+        /// EVn−1.
+        ev1: i16 @ 7,
+        /// PVnf−1.
+        pvf1: i16 @ 8,
+        /// PVnf−2.
+        pvf2: i16 @ 9,
+        /// Dn−1 (rounded).
+        d1: i16 @ 10,
+        /// PVn−1 (for the PV change alarm).
+        pv1: i16 @ 11,
+        /// The fraction of MV carried to the next sample, ×10000.
+        frac: i16 @ 12,
+        /// The milliseconds since the last sample.
+        elapsed: u16 @ 14,
+        /// The PV rise alarm setting (mode b1).
+        pv_rise: i16 @ 15,
+        /// The PV fall alarm setting (mode b1).
+        pv_fall: i16 @ 16,
+        /// The MV upper limit (b5) or the MV rise alarm setting (b2).
+        mv_high: i16 @ 17,
+        /// The MV lower limit (b5) or the MV fall alarm setting (b2).
+        mv_low: i16 @ 18,
+        /// The alarms: b0 PV rise, b1 PV fall, b2 MV rise, b3 MV fall.
+        alarms: u16 @ 19,
+    }
+}
 
 #[derive(Debug)]
 struct Pid {
@@ -80,17 +127,19 @@ fn clamp16(v: f64) -> i16 {
 
 impl Instr for Pid {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
-        let b = cx.mem.block_start(&self.block, 20)?;
-        let w = |cx: &ExecCtx<'_>, k: usize| cx.mem.words[b + k] as i16;
-        let (ts, mode, alpha, kp, ti, kd, td) = (
-            w(cx, 0),
-            w(cx, 1) as u16,
-            w(cx, 2),
-            w(cx, 3),
-            w(cx, 4),
-            w(cx, 5),
-            w(cx, 6),
+        let b = cx.mem.block_start(&self.block, PidBlock::WORDS as u32)?;
+        let w = |cx: &ExecCtx<'_>, f: At<i16>| f.get(&cx.mem.words[b..]);
+        let (ts, alpha, kp) = (
+            w(cx, PidBlock::ts),
+            w(cx, PidBlock::alpha),
+            w(cx, PidBlock::kp),
         );
+        let (ti, kd, td) = (
+            w(cx, PidBlock::ti),
+            w(cx, PidBlock::kd),
+            w(cx, PidBlock::td),
+        );
+        let mode = PidBlock::mode.get(&cx.mem.words[b..]);
         let ok = ts >= 1
             && (0..=99).contains(&alpha)
             && kp >= 1
@@ -104,28 +153,33 @@ impl Instr for Pid {
             (true, true) => (false, false, false),
             (o, l) => (mode & 2 != 0 && !l, o, l),
         };
-        let negative = |from: usize| w(cx, from) < 0 || w(cx, from + 1) < 0;
-        if limits && w(cx, 17) < w(cx, 18) || alarm_in && negative(15) || alarm_out && negative(17)
+        let (pv_rise, pv_fall) = (w(cx, PidBlock::pv_rise), w(cx, PidBlock::pv_fall));
+        let (mv_high, mv_low) = (w(cx, PidBlock::mv_high), w(cx, PidBlock::mv_low));
+        if limits && mv_high < mv_low
+            || alarm_in && (pv_rise < 0 || pv_fall < 0)
+            || alarm_out && (mv_high < 0 || mv_low < 0)
         {
             return Err(E_VALUE);
         }
         // Sampling: the scan time measured at the previous END accumulates.
-        let elapsed = (cx.mem.words[b + 14] as u32 + cx.scan_us / 1000).min(u16::MAX as u32);
+        let block = &mut cx.mem.words[b..b + PidBlock::WORDS];
+        let elapsed =
+            (PidBlock::elapsed.get(block) as u32 + cx.scan_us / 1000).min(u16::MAX as u32);
         if elapsed < ts as u32 {
-            cx.mem.words[b + 14] = elapsed as u16;
+            PidBlock::elapsed.set(block, elapsed as u16);
             return Ok(());
         }
-        cx.mem.words[b + 14] = (elapsed - ts as u32).min(ts as u32) as u16;
+        PidBlock::elapsed.set(block, (elapsed - ts as u32).min(ts as u32) as u16);
         let (sv, pv) = (
             cx.mem.read16(&self.sv)? as i16 as f64,
             cx.mem.read16(&self.pv)? as i16 as f64,
         );
         let (ev1, pf1, pf2, d1, pv1) = (
-            w(cx, 7) as f64,
-            w(cx, 8) as f64,
-            w(cx, 9) as f64,
-            w(cx, 10) as f64,
-            w(cx, 11),
+            w(cx, PidBlock::ev1) as f64,
+            w(cx, PidBlock::pvf1) as f64,
+            w(cx, PidBlock::pvf2) as f64,
+            w(cx, PidBlock::d1) as f64,
+            w(cx, PidBlock::pv1),
         );
         let a = alpha as f64 / 100.0;
         let pvf = pv + a * (pf1 - pv);
@@ -150,11 +204,11 @@ impl Instr for Pid {
         };
         let integral = if ti == 0 { 0.0 } else { ts_ms / ti_ms * ev };
         let dmv = kp as f64 / 100.0 * ((ev - ev1) + integral + dn);
-        let frac = w(cx, 12) as f64 / 10000.0;
+        let frac = w(cx, PidBlock::frac) as f64 / 10000.0;
         let prev = cx.mem.read16(&self.mv)? as i16 as f64;
         let mut mv = prev + frac + dmv;
         if limits {
-            mv = mv.clamp(w(cx, 18) as f64, w(cx, 17) as f64);
+            mv = mv.clamp(mv_low as f64, mv_high as f64);
         }
         let out = clamp16(mv);
         let rest = if limits { 0.0 } else { mv - out as f64 };
@@ -162,20 +216,20 @@ impl Instr for Pid {
         let mut alarms = 0u16;
         if alarm_in {
             let dpv = pv as i32 - pv1 as i32;
-            alarms |= (dpv > w(cx, 15) as i32) as u16 | ((-dpv > w(cx, 16) as i32) as u16) << 1;
+            alarms |= (dpv > pv_rise as i32) as u16 | ((-dpv > pv_fall as i32) as u16) << 1;
         }
         if alarm_out {
             let d = out as i32 - prev as i32;
-            alarms |= ((d > w(cx, 17) as i32) as u16) << 2 | ((-d > w(cx, 18) as i32) as u16) << 3;
+            alarms |= ((d > mv_high as i32) as u16) << 2 | ((-d > mv_low as i32) as u16) << 3;
         }
-        let words = &mut cx.mem.words[b..b + 20];
-        words[7] = clamp16(ev) as u16;
-        words[8] = clamp16(pvf) as u16;
-        words[9] = pf1 as i16 as u16;
-        words[10] = clamp16(dn) as u16;
-        words[11] = pv as i16 as u16;
-        words[12] = clamp16(rest * 10000.0) as u16;
-        words[19] = alarms;
+        let block = &mut cx.mem.words[b..b + PidBlock::WORDS];
+        PidBlock::ev1.set(block, clamp16(ev));
+        PidBlock::pvf1.set(block, clamp16(pvf));
+        PidBlock::pvf2.set(block, pf1 as i16);
+        PidBlock::d1.set(block, clamp16(dn));
+        PidBlock::pv1.set(block, pv as i16);
+        PidBlock::frac.set(block, clamp16(rest * 10000.0));
+        PidBlock::alarms.set(block, alarms);
         Ok(())
     }
 }

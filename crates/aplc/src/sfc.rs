@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
-use softplc_ir::instr::{ExecCtx, Instr, LocalSlot};
+use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 use softplc_ir::local_state;
 use softplc_ir::ops::{BitArg, MasterControl, Op};
 use softplc_lang::compile::Compiler;
@@ -152,7 +152,7 @@ impl Sfc {
                 c.err(tok, format!("S{n} opens a second step body (first at line {line}): each step once (L9889, D16)"));
             }
             let slot = c.state_words;
-            c.state_words += 1;
+            c.state_words += <Gate as LocalState>::WORDS;
             let x = c.ext.len() as u32;
             c.ext.push(Box::new(StepGate {
                 step: s_base + n,

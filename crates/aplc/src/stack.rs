@@ -58,6 +58,16 @@ enum Kind {
     Lifo,
 }
 
+softplc_ir::layout! {
+    /// The stack area of PUSH, FIFO and LIFO: the count word, then the data.
+    pub struct StackArea[2] {
+        /// The number of values stored.
+        count: u16 @ 0,
+        /// The first value (the oldest); value k is `data.nth(k)`.
+        data: u16 @ 1,
+    }
+}
+
 #[derive(Debug)]
 struct Stack {
     kind: Kind,
@@ -105,38 +115,44 @@ fn stack(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
 impl Instr for Stack {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let size = num::read16(cx.mem, &self.size)? as i32;
-        let at = cx.mem.block_start(&self.area, 1)?;
-        let count = cx.mem.words[at] as i16 as i32;
+        // The count word alone first: the size it allows is checked before the data.
+        let at = cx
+            .mem
+            .block_start(&self.area, StackArea::data.offset() as u32)?;
+        let count = StackArea::count.get(&cx.mem.words[at..]) as i16 as i32;
         if size <= 0 || count < 0 || count > size {
             return Err(E_STACK);
         }
-        let base = cx.mem.block_start(&self.area, size as u32 + 1)?;
         let (size, count) = (size as usize, count as usize);
+        let words = StackArea::data.nth(size).offset();
+        let base = cx.mem.block_start(&self.area, words as u32)?;
+        let value = |k: usize| StackArea::data.nth(k);
         match self.kind {
             Kind::Push => {
                 let full = count == size;
                 cx.mem.bits[self.flags.carry as usize] = full;
                 if !full {
                     let v = cx.mem.read16(&self.value)?;
-                    cx.mem.words[base] = (count + 1) as u16;
-                    cx.mem.words[base + count + 1] = v;
+                    let area = &mut cx.mem.words[base..base + words];
+                    StackArea::count.set(area, (count + 1) as u16);
+                    value(count).set(area, v);
                 }
             }
             Kind::Fifo | Kind::Lifo if count == 0 => cx.mem.bits[self.flags.zero as usize] = true,
             Kind::Fifo => {
-                let v = cx.mem.words[base + 1];
+                let v = value(0).get(&cx.mem.words[base..]);
                 cx.mem.write16(&self.value, v)?;
-                cx.mem
-                    .words
-                    .copy_within(base + 2..base + size + 1, base + 1);
-                cx.mem.words[base + size] = 0;
-                cx.mem.words[base] = (count - 1) as u16;
+                // The others move down one place; the last becomes 0.
+                let area = &mut cx.mem.words[base..base + words];
+                area.copy_within(value(1).offset()..words, value(0).offset());
+                value(size - 1).set(area, 0);
+                StackArea::count.set(area, (count - 1) as u16);
                 cx.mem.bits[self.flags.zero as usize] = count == 1;
             }
             Kind::Lifo => {
-                let v = cx.mem.words[base + count];
+                let v = value(count - 1).get(&cx.mem.words[base..]);
                 cx.mem.write16(&self.value, v)?;
-                cx.mem.words[base] = (count - 1) as u16;
+                StackArea::count.set(&mut cx.mem.words[base..], (count - 1) as u16);
                 cx.mem.bits[self.flags.zero as usize] = count == 1;
             }
         }

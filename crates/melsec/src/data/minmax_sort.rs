@@ -4,6 +4,7 @@
 use super::{elem, fixed_block, get_flag, read_i16, set_elem, width};
 use crate::{Args, ExecCtx, Instr};
 use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::instr::LocalSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{BitArg, Num, WordArg};
 
@@ -96,7 +97,7 @@ struct Sort {
     per_exec: WordArg,
     done: BitArg,
     work: Block,
-    state: usize,
+    state: LocalSlot<SortState>,
     wide: bool,
     sm703: Option<u32>,
 }
@@ -110,7 +111,7 @@ pub(super) fn sort(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
     let per_exec = a.word_src(2, Num::I16);
     let done = a.bit_dest(3);
     let work = fixed_block(a, 4, 2);
-    let state = a.state_words(4) as usize;
+    let state = a.local();
     Some(Box::new(Sort {
         s1: s1?,
         n: n?,
@@ -123,22 +124,26 @@ pub(super) fn sort(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
     }))
 }
 
-/// State words of a SORT: running flag, i, j, n.
-const SORT_RUNNING: usize = 0;
-const SORT_I: usize = 1;
-const SORT_J: usize = 2;
-const SORT_N: usize = 3;
+softplc_ir::local_state! {
+    /// A SORT in progress: the pass (i, j) it reached and its n.
+    struct SortState {
+        running: bool,
+        i: u32,
+        j: u32,
+        n: u32,
+    }
+}
 
 impl Instr for Sort {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mut st = cx.local(&self.state);
         let mem = &mut *cx.mem;
-        let st = &mut cx.state[self.state..self.state + 4];
         let per = read_i16(mem, &self.per_exec)?;
         if per <= 0 {
             return Err(ErrorCode::OPERATION);
         }
         mem.block_start(&self.work, 2)?;
-        let starting = st[SORT_RUNNING] == 0;
+        let starting = !st.running;
         let n = if starting {
             let n = read_i16(mem, &self.n)?;
             if n < 0 {
@@ -146,7 +151,7 @@ impl Instr for Sort {
             }
             n as u32
         } else {
-            st[SORT_N]
+            st.n
         };
         let s = mem.block_start(&self.s1, n * width(self.wide))?;
         // Also checks an index-modified D1 before anything is written.
@@ -155,7 +160,7 @@ impl Instr for Sort {
             mem.write_bit(&self.done, false)?;
             (0, 1)
         } else {
-            (st[SORT_I], st[SORT_J])
+            (st.i, st.j)
         };
         let descending = get_flag(mem, self.sm703);
         let mut left = per as u32;
@@ -182,13 +187,17 @@ impl Instr for Sort {
             }
         };
         if finished {
-            st[SORT_RUNNING] = 0;
-            mem.write_bit(&self.done, true)?;
+            st.running = false;
+            cx.set_local(&self.state, st);
+            cx.mem.write_bit(&self.done, true)?;
         } else {
-            st[SORT_RUNNING] = 1;
-            st[SORT_I] = i;
-            st[SORT_J] = j;
-            st[SORT_N] = n;
+            st = SortState {
+                running: true,
+                i,
+                j,
+                n,
+            };
+            cx.set_local(&self.state, st);
         }
         Ok(())
     }
