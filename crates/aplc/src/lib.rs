@@ -6,6 +6,8 @@
 //! ([`names`]). It runs on the shared engine; nothing is translated to
 //! MELSEC text.
 
+#![forbid(unsafe_code)]
+
 pub mod arith;
 pub mod ascii;
 pub mod basic;

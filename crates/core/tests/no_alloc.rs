@@ -1,5 +1,5 @@
-//! The scan loop allocates nothing (DEVELOPERS.md: "the scan loop does no
-//! parsing, allocation or string work"): a counting global allocator checks a
+//! The scan loop allocates nothing (ARCHITECTURE.md: "`exec` never
+//! allocates"): a counting global allocator checks a
 //! CPU with several program types, interrupts and many instruction families.
 
 use std::alloc::{GlobalAlloc, Layout, System};

@@ -1,8 +1,11 @@
 //! softplc-engine: the scan engine: input refresh → program → END processing (004 §4.3), in the
 //! time of a [`Clock`] it is given.
 //!
-//! [`Cpu`] owns the device memory and one compiled program. Everything a scan
-//! needs is allocated when the CPU is built; `scan` itself does no allocation.
+//! [`Cpu`] owns the device memory, its compiled programs and its model's
+//! [`Profile`]. Everything a scan needs is allocated when the CPU is built;
+//! `scan` itself does no allocation.
+
+#![forbid(unsafe_code)]
 
 mod cpu;
 mod exec;

@@ -5,6 +5,8 @@
 //! the instruction set (softplc-melsec) and the engine (softplc-engine) all
 //! build on it.
 
+#![forbid(unsafe_code)]
+
 pub mod access;
 pub mod calendar;
 pub mod clock;

@@ -94,6 +94,8 @@
 //!
 //! Sources and decisions: [`end_code`].
 
+#![forbid(unsafe_code)]
+
 mod codec;
 pub mod command;
 pub mod device;

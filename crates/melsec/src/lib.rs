@@ -8,6 +8,8 @@
 //! [`Args`]. [`DEFS`] lists the families, [`isa`] indexes them, [`dialect`]
 //! adds the devices, word order and system flags.
 
+#![forbid(unsafe_code)]
+
 pub mod arithmetic;
 pub mod basic;
 pub mod bits;

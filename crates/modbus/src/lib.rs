@@ -109,6 +109,8 @@
 //! [`Map::q_default`] (contract §3), [`Map::aplc`] (seed 002) and the plc.toml
 //! `[modbus]` schema are documented in [`map`].
 
+#![forbid(unsafe_code)]
+
 pub mod frame;
 pub mod map;
 pub mod pdu;

@@ -13,6 +13,8 @@
 //! offers Basic256Sha256 (Sign, SignAndEncrypt) with a self-signed
 //! certificate made in the pki directory on first start.
 
+#![forbid(unsafe_code)]
+
 pub mod config;
 pub mod points;
 pub mod publish;
