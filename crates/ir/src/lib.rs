@@ -13,6 +13,7 @@ pub mod fault;
 pub mod instr;
 pub mod kernels;
 pub mod layout;
+pub mod listing;
 mod operand;
 pub mod ops;
 pub mod system;
