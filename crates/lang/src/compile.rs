@@ -62,30 +62,36 @@ fn label_entry(tok: &Token) -> Entry {
     }
 }
 
-/// Adds an instruction to a listing: its definition's ladder role (an
-/// unknown mnemonic is a box, as the compiler's recovery counts it an
-/// output) and the loop memory it owns.
+/// Adds an instruction to a listing (see [`listed`]).
 fn record(out: &mut Listing, isa: &Isa, i: &SourceInstr) {
+    let (entry, owned) = listed(isa, i);
+    out.entries.push(Entry::Instr(entry));
+    out.loops.extend(owned);
+}
+
+/// An instruction as a listing records it: its definition's ladder role
+/// (an unknown mnemonic is a box, as the compiler's recovery counts it an
+/// output), its text as written and the loop memory it owns.
+pub fn listed(isa: &Isa, i: &SourceInstr) -> (Listed, Option<LoopUse>) {
     let def = match isa.lookup(&i.mnemonic.text.to_ascii_uppercase()) {
         Found::Def(d, _) | Found::WrongPulse(d) | Found::NoPulse(d) => Some(d),
         Found::Unknown => None,
     };
-    if let Some((k, memory)) = def.and_then(|d| d.loop_memory) {
-        if let Some(block) = i.operands.get(k) {
-            out.loops.push(LoopUse {
-                mnemonic: i.mnemonic.text.clone(),
-                block: block.text.clone(),
-                line: i.mnemonic.line,
-                memory,
-            });
-        }
-    }
-    out.entries.push(Entry::Instr(Listed {
+    let owned = def.and_then(|d| d.loop_memory).and_then(|(k, memory)| {
+        Some(LoopUse {
+            mnemonic: i.mnemonic.text.clone(),
+            block: i.operands.get(k)?.text.clone(),
+            line: i.mnemonic.line,
+            memory,
+        })
+    });
+    let entry = Listed {
         role: def.map_or(Role::Box, |d| d.role),
         mnemonic: i.mnemonic.text.clone(),
         operands: i.operands.iter().map(|t| t.text.clone()).collect(),
         line: i.mnemonic.line,
-    }));
+    };
+    (entry, owned)
 }
 
 /// The compiler's state while it compiles one file. Instruction lowerings

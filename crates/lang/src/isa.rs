@@ -344,9 +344,15 @@ impl Isa {
     /// `reason`, so a program using one learns which model it needs.
     pub fn rejecting(mut self, foreign: &[&'static [Def]], reason: &'static str) -> Isa {
         for family in foreign {
+            // Still the same instruction to a tool that shows the program.
             let rejected: Vec<Def> = family
                 .iter()
-                .map(|d| Def::rejected(d.name, reason).pulse(d.pulse))
+                .map(|d| Def {
+                    class: d.class,
+                    role: d.role,
+                    loop_memory: d.loop_memory,
+                    ..Def::rejected(d.name, reason).pulse(d.pulse)
+                })
                 .collect();
             // Built once per dialect (in a `LazyLock`), so leaking is bounded.
             self.add(Box::leak(rejected.into_boxed_slice()));
