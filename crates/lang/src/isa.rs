@@ -4,11 +4,13 @@
 //!
 //! A definition carries everything the rest of softplc asks about an
 //! instruction: its name and pulse form, its rung class (what it does to the
-//! ladder structure), its drive (runs while the condition is ON, or on every
-//! execution with the condition as input), its step rule, its manual citation
-//! and how it compiles — or why it is rejected. The compiler, the step counter,
-//! the error recovery and COMPATIBILITY.md (see [`compat_markdown`]) all read
-//! these definitions; nothing else lists mnemonics.
+//! ladder structure) and ladder role (what a tool draws: [`Role`]), the
+//! control-loop memory it owns, its drive (runs while the condition is ON, or
+//! on every execution with the condition as input), its step rule, its manual
+//! citation and how it compiles — or why it is rejected. The compiler, the
+//! step counter, the error recovery, the program's listing (read by the
+//! doors) and COMPATIBILITY.md (see [`compat_markdown`]) all read these
+//! definitions; nothing else lists mnemonics.
 
 use std::collections::HashMap;
 
