@@ -63,3 +63,14 @@ fn the_driver_lists_every_instruction_with_its_role() {
     );
     assert!(p.listing.loops.is_empty());
 }
+
+#[test]
+fn pid_owns_its_parameter_block() {
+    let p = softplc_aplc::load_bytes("t.apl", b"LD SM0\nPID D500 D501 D510 D502\n").unwrap();
+    let [u] = &p.listing.loops[..] else {
+        panic!("one loop memory")
+    };
+    assert_eq!((u.mnemonic.as_str(), u.block.as_str()), ("PID", "D510"));
+    assert!(u.memory.is(&softplc_aplc::pid::PID_BLOCK));
+    assert_eq!(u.memory.field("alarms").map(|f| f.offset), Some(19));
+}
