@@ -19,7 +19,7 @@ use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::compile::Args;
-use softplc_lang::isa::{Def, Doc, Steps};
+use softplc_lang::isa::{Def, Doc, LoopMemory, Steps};
 
 use crate::constant::Width;
 use crate::devices::{parse_device, Dev};
@@ -36,8 +36,66 @@ pub static DEFS: &[Def] = &[
     // 002 §6.11.1 L7657 PID
     Def::app("PID", &DOC, compile)
         .no_pulse()
-        .steps(Steps::Fixed(9)),
+        .steps(Steps::Fixed(9))
+        .loop_memory(2, &PID_BLOCK),
 ];
+
+softplc_ir::layout! {
+    /// PID's 20-word block at S3 (002 §6.11.1 L7657-7817, spec aplc.md §5.2;
+    /// the use of the working area +7..+14 is softplc's decision, see the
+    /// module documentation). One word each.
+    pub struct PidBlock[20] {
+        /// Sampling time Ts, ms (1..32767).
+        ts: i16 @ 0,
+        /// Mode: b0 reverse action, b1 input-change alarm, b2 output-change alarm, b5 output limits.
+        mode: u16 @ 1,
+        /// Input filter coefficient α, % (0..99).
+        alpha: i16 @ 2,
+        /// Proportional gain Kp, % (1..32767).
+        kp: i16 @ 3,
+        /// Integral time TI, ×100 ms (0: no integral action).
+        ti: i16 @ 4,
+        /// Derivative gain KD, % (0..100).
+        kd: i16 @ 5,
+        /// Derivative time TD, ×10 ms (0: no derivative action).
+        td: i16 @ 6,
+        /// Working area: EVn−1.
+        ev1: i16 @ 7,
+        /// Working area: PVnf−1.
+        pvf1: i16 @ 8,
+        /// Working area: PVnf−2.
+        pvf2: i16 @ 9,
+        /// Working area: Dn−1 (rounded).
+        d1: i16 @ 10,
+        /// Working area: PVn−1, for the input alarm.
+        pv1: i16 @ 11,
+        /// Working area: the fraction of MV, ×10000.
+        mv_frac: i16 @ 12,
+        /// Working area: milliseconds since the last sample.
+        elapsed: u16 @ 14,
+        /// Input-change alarm, increase side (b1).
+        pv_rise: i16 @ 15,
+        /// Input-change alarm, decrease side (b1).
+        pv_fall: i16 @ 16,
+        /// Output upper limit (b5), or output-change alarm, increase side (b2).
+        mv_high: i16 @ 17,
+        /// Output lower limit (b5), or output-change alarm, decrease side (b2).
+        mv_low: i16 @ 18,
+        /// Alarm bits: b0/b1 input change over +/−, b2/b3 output change over +/−.
+        alarms: u16 @ 19,
+    }
+}
+
+/// PID's S3 block as its loop memory (one loop; SV, PV and MV are other
+/// operands).
+pub static PID_BLOCK: LoopMemory = LoopMemory {
+    name: "PID parameter block",
+    fields: PidBlock::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
 
 #[derive(Debug)]
 struct Pid {

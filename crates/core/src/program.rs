@@ -14,7 +14,7 @@ use crate::device::DeviceConfig;
 
 /// The compiler, bound to the MELSEC-Q instruction set.
 pub mod compile {
-    pub use softplc_lang::compile::{Args, BitBlock, Block, Compiler, MAX_NESTING};
+    pub use softplc_lang::compile::{listing, Args, BitBlock, Block, Compiler, MAX_NESTING};
 
     use super::{DeviceConfig, Diagnostics, Program, Source};
 

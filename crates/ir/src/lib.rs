@@ -1,5 +1,6 @@
 //! softplc-ir: the leaf of softplc. Device memory and its typed door
-//! ([`access`]), resolved operands and the compiled ladder machine ([`ops`]),
+//! ([`access`]), resolved operands and the compiled ladder machine ([`ops`])
+//! with what it tells the tools that show it ([`listing`]),
 //! faults, the instruction trait ([`instr`]), the shared kernels and time.
 //! It depends on no other softplc crate; the language front end (softplc-lang),
 //! the instruction set (softplc-melsec) and the engine (softplc-engine) all
@@ -15,6 +16,7 @@ pub mod fault;
 pub mod instr;
 pub mod kernels;
 pub mod layout;
+pub mod listing;
 mod operand;
 pub mod ops;
 pub mod profile;

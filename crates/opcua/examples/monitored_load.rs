@@ -69,7 +69,7 @@ fn main() {
     let prepared = Prepared {
         devices: points::devices(&cpu, &[]).expect("the program's devices"),
         cfg,
-        ladder: Vec::new(),
+        loops: Vec::new(),
     };
     let engine = EngineConfig {
         period: SCAN,

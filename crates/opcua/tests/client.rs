@@ -62,7 +62,6 @@ fn start(src: &str, mut cfg: OpcuaConfig) -> Server {
     let pki = tempfile::tempdir().unwrap();
     cfg.pki = pki.path().to_path_buf();
     let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
-    let source = softplc_core::program::il::parse_il("main.il", src).unwrap();
     let cpu = Cpu::new(
         p,
         softplc_core::profile::default_config(),
@@ -70,8 +69,8 @@ fn start(src: &str, mut cfg: OpcuaConfig) -> Server {
     );
     let prepared = Prepared {
         devices: points::devices(&cpu, &cfg.nodes).unwrap(),
+        loops: points::program_loops(&cpu),
         cfg,
-        ladder: vec![softplc_http::ladder::LadderProgram::from_source(&source)],
     };
     let engine = EngineConfig {
         period: Duration::from_millis(5),

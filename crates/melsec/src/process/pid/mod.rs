@@ -26,7 +26,7 @@ use softplc_lang::isa::{Def, Doc};
 
 use self::front::{run, set_bits, tag, word, Areas, Front, Halt, Operands, Pattern};
 use crate::process::common::{def, real, set_f, PcError};
-use crate::process::tag::{alm, LoopTag};
+use crate::process::tag::{alm, LoopTag, LOOP_TAG};
 use crate::{Args, ExecCtx, Instr};
 
 static PID: Doc = Doc {
@@ -73,15 +73,15 @@ static ONF: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[
-    def("S.PID", 5, &PID, Velocity::compile_pid),
-    def("S.2PID", 5, &TWO_DOF, Velocity::compile_2pid),
-    def("S.PIDP", 5, &PIDP, pidp::Pidp::compile),
-    def("S.SPI", 5, &SPI, spi::Spi::compile),
-    def("S.IPD", 5, &IPD, Velocity::compile_ipd),
-    def("S.BPI", 5, &BPI, Velocity::compile_bpi),
-    def("S.R", 5, &RATIO, ratio::Ratio::compile),
-    def("S.ONF2", 5, &ONF, onoff::OnOff::compile_2),
-    def("S.ONF3", 5, &ONF, onoff::OnOff::compile_3),
+    def("S.PID", 5, &PID, Velocity::compile_pid).loop_memory(3, &LOOP_TAG),
+    def("S.2PID", 5, &TWO_DOF, Velocity::compile_2pid).loop_memory(3, &LOOP_TAG),
+    def("S.PIDP", 5, &PIDP, pidp::Pidp::compile).loop_memory(3, &LOOP_TAG),
+    def("S.SPI", 5, &SPI, spi::Spi::compile).loop_memory(3, &LOOP_TAG),
+    def("S.IPD", 5, &IPD, Velocity::compile_ipd).loop_memory(3, &LOOP_TAG),
+    def("S.BPI", 5, &BPI, Velocity::compile_bpi).loop_memory(3, &LOOP_TAG),
+    def("S.R", 5, &RATIO, ratio::Ratio::compile).loop_memory(3, &LOOP_TAG),
+    def("S.ONF2", 5, &ONF, onoff::OnOff::compile_2).loop_memory(3, &LOOP_TAG),
+    def("S.ONF3", 5, &ONF, onoff::OnOff::compile_3).loop_memory(3, &LOOP_TAG),
 ];
 
 /// Which velocity-form law an instruction computes.
