@@ -6,7 +6,7 @@ use softplc_ir::device::DeviceKind;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::{BitArg, Coil, CoilKind, Join, MasterControl, Op};
 use softplc_lang::compile::Compiler;
-use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::isa::{Class, CoilRole, Def, Doc, Link, Steps, Test, Use};
 use softplc_lang::rung::{MpsLimit, RungStack};
 
 use crate::devices::{counter_word, is_counter32, parse_device, Dev};
@@ -41,41 +41,41 @@ const MPS_LIMIT: MpsLimit = MpsLimit {
 
 pub static DEFS: &[Def] = &[
     // 002 §5.1 L2569 LD
-    Def::lower("LD", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("LD", Join::Load, Test::Open, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2595 LDI
-    Def::lower("LDI", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("LDI", Join::Load, Test::Closed, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2621 AND
-    Def::lower("AND", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("AND", Join::And, Test::Open, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2649 ANI
-    Def::lower("ANI", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("ANI", Join::And, Test::Closed, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2677 OR
-    Def::lower("OR", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("OR", Join::Or, Test::Open, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2705 ORI
-    Def::lower("ORI", Class::Contact, &CONTACTS, contact).steps(Steps::Fixed(1)),
+    Def::contact("ORI", Join::Or, Test::Closed, &CONTACTS, contact).steps(Steps::Fixed(1)),
     // 002 §5.1 L2733 OUT
-    Def::lower("OUT", Class::Output, &COILS, coil).steps(Steps::Fixed(1)),
+    Def::coil("OUT", CoilRole::Out, &COILS, coil).steps(Steps::Fixed(1)),
     // 002 §5.1 L2912 SET
-    Def::lower("SET", Class::Output, &COILS, coil).steps(Steps::Fixed(1)),
+    Def::coil("SET", CoilRole::Set, &COILS, coil).steps(Steps::Fixed(1)),
     // 002 §5.1 L2932 RST
-    Def::lower("RST", Class::Output, &COILS, coil).steps(Steps::Fixed(1)),
+    Def::coil("RST", CoilRole::Reset, &COILS, coil).steps(Steps::Fixed(1)),
     // 002 §5.1 L2753 ANB
-    Def::lower("ANB", Class::Connection, &CONNECT, anb_orb).steps(Steps::Fixed(1)),
+    Def::link("ANB", Link::BlockAnd, &CONNECT, anb_orb).steps(Steps::Fixed(1)),
     // 002 §5.1 L2776 ORB
-    Def::lower("ORB", Class::Connection, &CONNECT, anb_orb).steps(Steps::Fixed(1)),
+    Def::link("ORB", Link::BlockOr, &CONNECT, anb_orb).steps(Steps::Fixed(1)),
     // 002 §5.1 L2808 MPS
-    Def::lower("MPS", Class::Connection, &CONNECT, mps).steps(Steps::Fixed(1)),
+    Def::link("MPS", Link::Push, &CONNECT, mps).steps(Steps::Fixed(1)),
     // 002 §5.1 L2822 MRD
-    Def::lower("MRD", Class::Connection, &CONNECT, mps).steps(Steps::Fixed(1)),
+    Def::link("MRD", Link::Read, &CONNECT, mps).steps(Steps::Fixed(1)),
     // 002 §5.1 L2832 MPP
-    Def::lower("MPP", Class::Connection, &CONNECT, mps).steps(Steps::Fixed(1)),
+    Def::link("MPP", Link::Pop, &CONNECT, mps).steps(Steps::Fixed(1)),
     // 002 §5.1 L2846 EU
-    Def::lower("EU", Class::Connection, &CONNECT, edge).steps(Steps::Fixed(2)),
+    Def::link("EU", Link::Rising, &CONNECT, edge).steps(Steps::Fixed(2)),
     // 002 §5.1 L2860 ED
-    Def::lower("ED", Class::Connection, &CONNECT, edge).steps(Steps::Fixed(2)),
+    Def::link("ED", Link::Falling, &CONNECT, edge).steps(Steps::Fixed(2)),
     // 002 §5.1 L2890 INV
-    Def::lower("INV", Class::Connection, &CONNECT, edge).steps(Steps::Fixed(1)),
+    Def::link("INV", Link::Invert, &CONNECT, edge).steps(Steps::Fixed(1)),
     // 002 §5.1 L2956 NOP
-    Def::lower("NOP", Class::Connection, &CONNECT, nop).steps(Steps::Fixed(1)),
+    Def::link("NOP", Link::Nothing, &CONNECT, nop).steps(Steps::Fixed(1)),
     // 002 §5.1 L2972 MC
     Def::lower("MC", Class::Output, &MASTER, mc).steps(Steps::Fixed(3)),
     // 002 §5.1 L2984 MCR

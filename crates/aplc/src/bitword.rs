@@ -8,7 +8,7 @@ use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::ops::{CondOp, Condition, Join, Op, WordArg};
 use softplc_lang::compile::{Args, Compiler};
-use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::isa::{Def, Doc, Steps, Test, Use};
 
 use crate::calc::{self, Fl, Layout, Spec};
 use crate::constant::Width;
@@ -47,12 +47,54 @@ pub static DEFS: &[Def] = &[
         .no_pulse()
         .steps(Steps::Fixed(6)),
     // 002 §6.18 L8835-9001 BLD … BORI
-    Def::lower("BLD", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
-    Def::lower("BLDI", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
-    Def::lower("BAND", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
-    Def::lower("BANI", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
-    Def::lower("BOR", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
-    Def::lower("BORI", Class::Contact, &WORDBIT, contact).steps(Steps::Fixed(5)),
+    Def::contact(
+        "BLD",
+        Join::Load,
+        Test::WordBit { closed: false },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
+    Def::contact(
+        "BLDI",
+        Join::Load,
+        Test::WordBit { closed: true },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
+    Def::contact(
+        "BAND",
+        Join::And,
+        Test::WordBit { closed: false },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
+    Def::contact(
+        "BANI",
+        Join::And,
+        Test::WordBit { closed: true },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
+    Def::contact(
+        "BOR",
+        Join::Or,
+        Test::WordBit { closed: false },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
+    Def::contact(
+        "BORI",
+        Join::Or,
+        Test::WordBit { closed: true },
+        &WORDBIT,
+        contact,
+    )
+    .steps(Steps::Fixed(5)),
     // 002 §6.18 L9003-9076 BOUT, BSET, BRST
     Def::app("BOUT", &WORDBIT, |a| coil(a, Coil::Out))
         .always()

@@ -8,7 +8,7 @@ use softplc_ir::fault::Fault;
 use softplc_ir::kernels::basic::test;
 use softplc_ir::ops::{CmpOp, CondOp, Condition, Join, Num, Op, WordArg};
 use softplc_lang::compile::Compiler;
-use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::isa::{Def, Doc, Steps, Test, Use};
 
 use crate::constant::Width;
 use crate::num;
@@ -21,19 +21,30 @@ static DOC: Doc = Doc {
 };
 
 macro_rules! compares {
-    ($($base:literal),*) => {
+    ($(($base:literal, $join:ident, $num:ident)),*) => {
         &[$(
-            Def::lower(concat!($base, "="), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
-            Def::lower(concat!($base, "<>"), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
-            Def::lower(concat!($base, ">"), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
-            Def::lower(concat!($base, "<"), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
-            Def::lower(concat!($base, ">="), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
-            Def::lower(concat!($base, "<="), Class::Contact, &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, "="), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, "<>"), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, ">"), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, "<"), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, ">="), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
+            Def::contact(concat!($base, "<="), Join::$join, Test::Compare(Num::$num), &DOC, compare).steps(Steps::Fixed(5)),
         )*]
     };
 }
 
-pub static DEFS: &[Def] = compares!("LD", "AND", "OR", "LDD", "ANDD", "ORD", "LDR", "ANDR", "ORR");
+/// INT, DINT and REAL compare contacts, each as LD, AND and OR.
+pub static DEFS: &[Def] = compares!(
+    ("LD", Load, I16),
+    ("AND", And, I16),
+    ("OR", Or, I16),
+    ("LDD", Load, I32),
+    ("ANDD", And, I32),
+    ("ORD", Or, I32),
+    ("LDR", Load, F32),
+    ("ANDR", And, F32),
+    ("ORR", Or, F32)
+);
 
 /// A DINT or REAL comparison (high word first).
 #[derive(Debug)]

@@ -140,6 +140,9 @@ fn pou(c: &mut Compiler<'_>, unit: &Unit, p: &Pou, links: &mut Links) {
                 .collect();
             c.cur_step = c.step;
             c.cur_line = i.mnemonic.line;
+            for stl in &run {
+                c.record(stl);
+            }
             links.sfc.stl(c, &run);
             c.step += 3 * run.len() as u32;
             k += run.len();
@@ -186,6 +189,7 @@ fn pou(c: &mut Compiler<'_>, unit: &Unit, p: &Pou, links: &mut Links) {
 }
 
 fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, links: &mut Links) {
+    c.record(i);
     let m = i.mnemonic.text.to_ascii_uppercase();
     c.cur_step = c.step;
     c.cur_line = i.mnemonic.line;

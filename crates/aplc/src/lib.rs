@@ -6,6 +6,8 @@
 //! ([`names`]). It runs on the shared engine; nothing is translated to
 //! MELSEC text.
 
+#![forbid(unsafe_code)]
+
 pub mod arith;
 pub mod ascii;
 pub mod basic;
@@ -29,8 +31,10 @@ pub mod interrupt;
 pub mod logic;
 pub mod names;
 pub mod num;
+mod outline;
 pub mod pid;
 pub mod pou;
+pub mod profile;
 pub mod ramp;
 pub mod real;
 pub mod rejected;
@@ -52,6 +56,7 @@ use softplc_lang::isa::{Def, Found, Isa};
 use softplc_lang::Diagnostics;
 
 pub use devices::device_config;
+pub use outline::{outline, Outline, Shown};
 
 /// Every definition, by chapter.
 pub static DEFS: &[&[Def]] = &[
@@ -183,31 +188,6 @@ pub(crate) fn globals_of(unit: &pou::Unit) -> Vec<(String, String)> {
         .collect();
     g.sort();
     g
-}
-
-/// An `.apl` file as written, for tools that show it (the web monitor's
-/// ladder): its POUs with operands not substituted ([`pou::parse_as_written`]),
-/// its global table and its comments.
-#[derive(Clone, Debug)]
-pub struct Outline {
-    pub unit: pou::Unit,
-    pub comments: Vec<text::Comment>,
-    /// Lines holding tokens (the comments of other lines stand alone).
-    pub token_lines: Vec<u32>,
-}
-
-/// Reads `.apl` bytes into an [`Outline`]; the same text and structure
-/// errors as [`load_bytes`], without compiling.
-pub fn outline(name: &str, bytes: &[u8]) -> Result<Outline, Diagnostics> {
-    let text = text::decode(bytes);
-    let (lines, comments) =
-        text::lines_and_comments(name, &text).map_err(|d| Diagnostics(vec![d]))?;
-    let unit = pou::parse_as_written(name, &lines, &is_mnemonic).map_err(Diagnostics)?;
-    Ok(Outline {
-        unit,
-        comments,
-        token_lines: lines.iter().map(|l| l[0].line).collect(),
-    })
 }
 
 /// Loads an `.apl` file.

@@ -20,7 +20,7 @@ use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::layout::At;
 use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::compile::Args;
-use softplc_lang::isa::{Def, Doc, Steps};
+use softplc_lang::isa::{Def, Doc, LoopMemory, Steps};
 
 use crate::constant::Width;
 use crate::devices::{parse_device, Dev};
@@ -37,54 +37,66 @@ pub static DEFS: &[Def] = &[
     // 002 §6.11.1 L7657 PID
     Def::app("PID", &DOC, compile)
         .no_pulse()
-        .steps(Steps::Fixed(9)),
+        .steps(Steps::Fixed(9))
+        .loop_memory(2, &PID_BLOCK),
 ];
 
 softplc_ir::layout! {
-    /// The 20-word parameter block at S3 (L7690-7760; +7 … +14 softplc's
-    /// working area, see the module's decision). All words are INT.
+    /// PID's 20-word block at S3 (002 §6.11.1 L7657-7817, spec aplc.md §5.2;
+    /// the use of the working area +7..+14 is softplc's decision, see the
+    /// module documentation). One word each.
     pub struct PidBlock[20] {
-        /// Ts: the sampling time, ms (≥ 1).
+        /// Sampling time Ts, ms (1..32767).
         ts: i16 @ 0,
-        /// The mode: b0 reverse action, b1 PV change alarm, b2 MV change
-        /// alarm, b5 MV limits (b2 and b5 together: neither).
+        /// Mode: b0 reverse action, b1 input-change alarm, b2 output-change alarm, b5 output limits.
         mode: u16 @ 1,
-        /// α: the input filter coefficient, % (0-99).
+        /// Input filter coefficient α, % (0..99).
         alpha: i16 @ 2,
-        /// Kp: the proportional gain, % (≥ 1).
+        /// Proportional gain Kp, % (1..32767).
         kp: i16 @ 3,
-        /// TI: the integral time, ×100 ms (0: no integral).
+        /// Integral time TI, ×100 ms (0: no integral action).
         ti: i16 @ 4,
-        /// KD: the derivative gain, % (0-100).
+        /// Derivative gain KD, % (0..100).
         kd: i16 @ 5,
-        /// TD: the derivative time, ×10 ms (0: no derivative).
+        /// Derivative time TD, ×10 ms (0: no derivative action).
         td: i16 @ 6,
-        /// EVn−1.
+        /// Working area: EVn−1.
         ev1: i16 @ 7,
-        /// PVnf−1.
+        /// Working area: PVnf−1.
         pvf1: i16 @ 8,
-        /// PVnf−2.
+        /// Working area: PVnf−2.
         pvf2: i16 @ 9,
-        /// Dn−1 (rounded).
+        /// Working area: Dn−1 (rounded).
         d1: i16 @ 10,
-        /// PVn−1 (for the PV change alarm).
+        /// Working area: PVn−1, for the input alarm.
         pv1: i16 @ 11,
-        /// The fraction of MV carried to the next sample, ×10000.
-        frac: i16 @ 12,
-        /// The milliseconds since the last sample.
+        /// Working area: the fraction of MV, ×10000.
+        mv_frac: i16 @ 12,
+        /// Working area: milliseconds since the last sample.
         elapsed: u16 @ 14,
-        /// The PV rise alarm setting (mode b1).
+        /// Input-change alarm, increase side (b1).
         pv_rise: i16 @ 15,
-        /// The PV fall alarm setting (mode b1).
+        /// Input-change alarm, decrease side (b1).
         pv_fall: i16 @ 16,
-        /// The MV upper limit (b5) or the MV rise alarm setting (b2).
+        /// Output upper limit (b5), or output-change alarm, increase side (b2).
         mv_high: i16 @ 17,
-        /// The MV lower limit (b5) or the MV fall alarm setting (b2).
+        /// Output lower limit (b5), or output-change alarm, decrease side (b2).
         mv_low: i16 @ 18,
-        /// The alarms: b0 PV rise, b1 PV fall, b2 MV rise, b3 MV fall.
+        /// Alarm bits: b0/b1 input change over +/−, b2/b3 output change over +/−.
         alarms: u16 @ 19,
     }
 }
+
+/// PID's S3 block as its loop memory (one loop; SV, PV and MV are other
+/// operands).
+pub static PID_BLOCK: LoopMemory = LoopMemory {
+    name: "PID parameter block",
+    fields: PidBlock::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
 
 #[derive(Debug)]
 struct Pid {
@@ -204,7 +216,7 @@ impl Instr for Pid {
         };
         let integral = if ti == 0 { 0.0 } else { ts_ms / ti_ms * ev };
         let dmv = kp as f64 / 100.0 * ((ev - ev1) + integral + dn);
-        let frac = w(cx, PidBlock::frac) as f64 / 10000.0;
+        let frac = w(cx, PidBlock::mv_frac) as f64 / 10000.0;
         let prev = cx.mem.read16(&self.mv)? as i16 as f64;
         let mut mv = prev + frac + dmv;
         if limits {
@@ -228,7 +240,7 @@ impl Instr for Pid {
         PidBlock::pvf2.set(block, pf1 as i16);
         PidBlock::d1.set(block, clamp16(dn));
         PidBlock::pv1.set(block, pv as i16);
-        PidBlock::frac.set(block, clamp16(rest * 10000.0));
+        PidBlock::mv_frac.set(block, clamp16(rest * 10000.0));
         PidBlock::alarms.set(block, alarms);
         Ok(())
     }

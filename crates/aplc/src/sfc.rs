@@ -19,7 +19,7 @@ use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};
 use softplc_ir::local_state;
 use softplc_ir::ops::{BitArg, MasterControl, Op};
 use softplc_lang::compile::Compiler;
-use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
+use softplc_lang::isa::{Class, Def, Doc, Role, Steps, Use};
 use softplc_lang::SourceInstr;
 
 use crate::devices::{parse_device, Dev, STEP_MC_BIT, STEP_SKIP_BIT};
@@ -32,9 +32,13 @@ static DOC: Doc = Doc {
 
 pub static DEFS: &[Def] = &[
     // 002 §5.2 L3021 STL (compiled by the driver, which sees the runs of STL)
-    Def::lower("STL", Class::Standalone, &DOC, by_driver).steps(Steps::Fixed(3)),
+    Def::lower("STL", Class::Standalone, &DOC, by_driver)
+        .role(Role::Step)
+        .steps(Steps::Fixed(3)),
     // 002 §5.2 L3089 RET
-    Def::lower("RET", Class::Standalone, &DOC, by_driver).steps(Steps::Fixed(1)),
+    Def::lower("RET", Class::Standalone, &DOC, by_driver)
+        .role(Role::StepsEnd)
+        .steps(Steps::Fixed(1)),
 ];
 
 fn by_driver(c: &mut Compiler<'_>, u: &Use<'_>) {

@@ -1,9 +1,14 @@
 //! `softplc`: run and check MELSEC-Q programs (contract §2).
 
+// `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
+#![deny(unsafe_code)]
+
 mod names;
 mod opcua;
 mod run;
 mod serve;
+// The SIGINT/SIGTERM handler (libc::signal).
+#[allow(unsafe_code)]
 mod signal;
 mod stdout;
 mod test_cmd;

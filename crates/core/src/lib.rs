@@ -1,14 +1,18 @@
-//! softplc core: the MELSEC-Q soft PLC, assembled from its crates (see
-//! ARCHITECTURE.md), with a stable public surface for the CLI, protocols and
-//! simulation:
+//! softplc core: the soft PLC (MELSEC-Q, QnPH and APLC-TCP CPUs), assembled
+//! from its crates (see ARCHITECTURE.md), with a stable public surface for the
+//! CLI, protocols and simulation:
+//! - [`profile`]: the CPU models, what each door asks of a CPU;
 //! - [`device`], [`access`]: device memory and the typed door to it (softplc-ir);
-//! - [`program`]: loading `.il`/`.csv` against the MELSEC-Q instruction set
-//!   (softplc-lang + softplc-melsec);
+//! - [`program`]: loading `.il`/`.csv` in a MELSEC dialect (softplc-lang +
+//!   softplc-melsec); [`aplc`]: loading `.apl` files (softplc-aplc);
 //! - [`instructions`]: the MELSEC-Q instruction set (softplc-melsec);
 //! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
 //! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk;
 //! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC);
 //! - [`tier`]: interpreter or native code (`[cpu] exec`, `--exec`, `SOFTPLC_EXEC`).
+
+// `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
+#![deny(unsafe_code)]
 
 pub use softplc_engine as engine;
 pub use softplc_ir::{access, device};
@@ -17,6 +21,7 @@ pub use softplc_melsec as instructions;
 pub mod aplc;
 pub mod names;
 pub mod persist;
+pub mod profile;
 pub mod program;
 pub mod project;
 pub mod tier;

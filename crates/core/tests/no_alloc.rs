@@ -1,5 +1,5 @@
-//! The scan loop allocates nothing (DEVELOPERS.md: "the scan loop does no
-//! parsing, allocation or string work"): a counting global allocator checks a
+//! The scan loop allocates nothing (ARCHITECTURE.md: "`exec` never
+//! allocates"): a counting global allocator checks a
 //! CPU with several program types, interrupts and many instruction families.
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -86,7 +86,7 @@ fn scans_do_not_allocate_on_either_tier() {
 fn scans_do_not_allocate(exec: Exec) {
     let cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(1)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let progs = [
         ("main.il", MAIN, ExecType::Scan, None),

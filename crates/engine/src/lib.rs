@@ -1,8 +1,11 @@
 //! softplc-engine: the scan engine: input refresh → program → END processing (004 §4.3), in the
 //! time of a [`Clock`] it is given.
 //!
-//! [`Cpu`] owns the device memory and one compiled program. Everything a scan
-//! needs is allocated when the CPU is built; `scan` itself does no allocation.
+//! [`Cpu`] owns the device memory, its compiled programs and its model's
+//! [`Profile`]. Everything a scan needs is allocated when the CPU is built;
+//! `scan` itself does no allocation.
+
+#![forbid(unsafe_code)]
 
 mod cpu;
 mod exec;
@@ -21,6 +24,7 @@ pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
 use exec::Outcome;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
+pub use softplc_ir::profile::Profile;
 
 /// Operating state of the CPU (004 §4.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,11 +100,13 @@ pub struct InitialValue {
     pub value: String,
 }
 
-/// CPU parameters. Defaults are the Q06HCPU's (004 ch. 9 parameter list).
+/// CPU parameters: the model's profile and the project's settings. Defaults
+/// of the settings are the QnHCPU's (004 ch. 9 parameter list).
 #[derive(Clone, Debug)]
 pub struct CpuConfig {
-    /// CPU model answered to "read CPU model" requests.
-    pub model: String,
+    /// What the CPU is: its model, family, names and doors (asked by every
+    /// door; the engine reads only its system devices).
+    pub profile: &'static Profile,
     pub devices: DeviceConfig,
     /// Watchdog time, measured in wall-clock time (default 200 ms, 004 L4850).
     pub watchdog: Duration,
@@ -128,10 +134,12 @@ pub struct CpuConfig {
     pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
 }
 
-impl Default for CpuConfig {
-    fn default() -> Self {
+impl CpuConfig {
+    /// The settings' defaults for a CPU of `profile`, with the profile's
+    /// system devices.
+    pub fn new(profile: &'static Profile) -> Self {
         CpuConfig {
-            model: "Q06HCPU".to_string(),
+            profile,
             devices: DeviceConfig::default(),
             watchdog: Duration::from_millis(200),
             operation_error: ErrorMode::Stop,
@@ -162,7 +170,7 @@ impl Default for CpuConfig {
                 Duration::from_millis(10),
             ],
             initial_values: Vec::new(),
-            system: None,
+            system: (profile.default_system)(),
         }
     }
 }

@@ -8,6 +8,8 @@
 //! at END, at most 10 a second and only of the names clients subscribed to
 //! ([`monitor`]). Step, breakpoints and snapshots run in one END hook.
 
+#![forbid(unsafe_code)]
+
 pub mod api;
 pub mod ladder;
 pub mod loops;

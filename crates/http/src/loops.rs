@@ -1,27 +1,31 @@
-//! Loop faceplates (issue #15): the PID loops found in the program's source
-//! (PIDCONT / S.PIDCONT with the PIDINIT / S.PIDINIT before them) with their
-//! I/O data words (SV, PV, MV, MVMAN, MAN/AUTO, ALARM; 001 §5.2(4) Table 5.4)
-//! and tuning parameters (001 §5.1 Table 5.2). Loop k's I/O data start at
-//! the PIDCONT operand + 10 common words + k × 18 (23 for the S. family), its
-//! control data at the PIDINIT operand + 2 + k × 10 (14). The number of loops
-//! is the PIDINIT operand's first word, read when the page is served.
+//! Loop faceplates (issue #15): the PID loops of the program (each
+//! instruction whose loop memory keeps its loops' settings elsewhere:
+//! PIDCONT / S.PIDCONT, with the PIDINIT / S.PIDINIT before it) with their
+//! I/O data words (SV, PV, MV, MVMAN, MAN/AUTO, ALARM; 001 §5.2(4) Table
+//! 5.4) and tuning parameters (001 §5.1 Table 5.2). Where each loop's words
+//! are, and their labels, come from the loop memory the instructions declare
+//! (`Program::listing`'s loops and their layouts). The number of loops is
+//! read from the control data when the page is served.
 //!
 //! Parameters written here take effect when the program registers them again
 //! (PIDINIT / PIDPRMW), as on the CPU.
 
+use softplc_ir::layout::Field;
+use softplc_ir::listing::{LoopMemory, LoopUse};
+
 use crate::ladder::LadderProgram;
 
 /// One PIDCONT and the PIDINIT that registers its loops.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct PidSet {
     pub file: String,
-    /// `PIDCONT` or `S.PIDCONT` as written.
+    /// `PIDCONT` or `S.PIDCONT` as written (upper case).
     pub mnemonic: String,
     /// The I/O data head (`D600`) and the control data head (`D500`).
     pub io: String,
     pub init: Option<String>,
-    /// The incomplete-derivative (`S.`) family.
-    pub incomplete: bool,
+    /// The I/O data's declaration; its `settings` the control data's.
+    pub memory: &'static LoopMemory,
 }
 
 /// One loop's device names.
@@ -38,37 +42,42 @@ pub struct Loop {
     pub params: Vec<(&'static str, String)>,
 }
 
-fn base(m: &str) -> String {
-    let u = m.to_ascii_uppercase();
-    let u = u
-        .strip_prefix("SP.")
-        .map_or(u.clone(), |r| format!("S.{r}"));
-    u.strip_suffix('P')
-        .filter(|b| b.ends_with("PIDINIT") || b.ends_with("PIDCONT"))
-        .map_or(u.clone(), str::to_string)
+/// The label a faceplate shows for a field: its doc up to the first `: `.
+pub fn label(f: &Field) -> &'static str {
+    let doc = f.doc.trim();
+    doc.split_once(": ").map_or(doc, |(head, _)| head)
 }
 
-/// The PIDCONTs of `programs`, each with the last PIDINIT of its family before it.
+/// The PID loop sets of `programs` (see [`find_in`]).
 pub fn find(programs: &[LadderProgram]) -> Vec<PidSet> {
+    find_in(
+        programs
+            .iter()
+            .map(|p| (p.file.as_str(), p.loops.as_slice())),
+    )
+}
+
+/// The PID loop sets of programs given as (file, loop memories): each
+/// instruction whose loop memory has its settings in another memory, with
+/// the last block of that memory before it.
+pub fn find_in<'a>(programs: impl IntoIterator<Item = (&'a str, &'a [LoopUse])>) -> Vec<PidSet> {
     let mut out = Vec::new();
-    for p in programs {
-        let mut init: [Option<String>; 2] = [None, None];
-        for r in &p.rungs {
-            r.for_each(&mut |e| {
-                let m = base(&e.mnemonic);
-                let s = m.starts_with("S.");
-                let Some(op) = e.operands.first() else { return };
-                if m.ends_with("PIDINIT") {
-                    init[s as usize] = Some(op.clone());
-                } else if m.ends_with("PIDCONT") {
-                    out.push(PidSet {
-                        file: p.file.clone(),
-                        mnemonic: e.mnemonic.clone(),
-                        io: op.clone(),
-                        init: init[s as usize].clone(),
-                        incomplete: s,
-                    });
-                }
+    for (file, loops) in programs {
+        for (k, u) in loops.iter().enumerate() {
+            let Some(settings) = u.memory.settings else {
+                continue;
+            };
+            let init = loops[..k]
+                .iter()
+                .rev()
+                .find(|v| v.memory.is(settings))
+                .map(|v| v.block.clone());
+            out.push(PidSet {
+                file: file.to_string(),
+                mnemonic: u.mnemonic.to_ascii_uppercase(),
+                io: u.block.clone(),
+                init,
+                memory: u.memory,
             });
         }
     }
@@ -88,40 +97,33 @@ pub(crate) fn offset(name: &str, k: u64) -> Option<String> {
 }
 
 impl PidSet {
+    /// The device holding the number of loops (the control data's count
+    /// word), if known.
+    pub fn count_device(&self) -> Option<String> {
+        let count = self.memory.settings?.count?;
+        offset(self.init.as_ref()?, count as u64)
+    }
+
     /// The words of loop `k` (0-based); `None` past the device's end.
     pub fn loop_at(&self, k: u32) -> Option<Loop> {
-        let (io_words, prm_words) = if self.incomplete { (23, 14) } else { (18, 10) };
-        let k = k as u64;
-        let io = |w: u64| offset(&self.io, 10 + k * io_words + w);
+        let io = |name: &str| {
+            let f = self.memory.field(name)?;
+            offset(&self.io, self.memory.offset(k, f))
+        };
         let mut params = Vec::new();
-        if let Some(init) = &self.init {
-            let labels: &[(&str, u64)] = &[
-                ("action (0 fwd, 1 rev)", 0),
-                ("Ts ×10 ms", 1),
-                ("Kp ×0.01", 2),
-                ("TI ×100 ms", 3),
-                ("TD ×10 ms", 4),
-                ("α %", 5),
-                ("MVLL", 6),
-                ("MVHL", 7),
-                ("ΔMVL", 8),
-                ("ΔPVL", 9),
-            ];
-            for (l, w) in labels {
-                params.push((*l, offset(init, 2 + k * prm_words + w)?));
-            }
-            if self.incomplete {
-                params.push(("KD ×0.01", offset(init, 2 + k * prm_words + 11)?));
+        if let (Some(init), Some(data)) = (&self.init, self.memory.settings) {
+            for f in data.fields {
+                params.push((label(f), offset(init, data.offset(k, f))?));
             }
         }
         Some(Loop {
-            title: format!("{} {} loop {}", self.mnemonic, self.io, k + 1),
-            sv: io(0)?,
-            pv: io(1)?,
-            mv: io(2)?,
-            mvman: io(4)?,
-            mode: io(5)?,
-            alarm: io(6)?,
+            title: format!("{} {} loop {}", self.mnemonic, self.io, k as u64 + 1),
+            sv: io("sv")?,
+            pv: io("pv")?,
+            mv: io("mv")?,
+            mvman: io("mvman")?,
+            mode: io("mode")?,
+            alarm: io("alarm")?,
             params,
         })
     }
@@ -136,7 +138,7 @@ pub async fn page(
     use std::fmt::Write;
     let sets = find(&app.cfg.ladder);
     // The loop counts, from one END.
-    let heads: Vec<Option<String>> = sets.iter().map(|s| s.init.clone()).collect();
+    let heads: Vec<Option<String>> = sets.iter().map(PidSet::count_device).collect();
     let counts = tokio::time::timeout(
         crate::api::END_WAIT,
         app.engine.at_end(move |s| {
@@ -236,7 +238,9 @@ mod tests {
         assert_eq!(l.params[0], ("action (0 fwd, 1 rev)", "D512".to_string()));
         assert_eq!(l.params.len(), 10);
         let s = sets[1].loop_at(0).unwrap();
-        assert!(sets[1].incomplete);
+        assert!(sets[1]
+            .memory
+            .is(&softplc_core::instructions::pid::S_PID_IO));
         assert_eq!(s.sv, "D810");
         assert_eq!(s.params[2].1, "D704");
         assert_eq!(s.params.last().unwrap().1, "D713");

@@ -1,20 +1,15 @@
-//! Faceplates of the process CPU's loops (000 §3.3.5): every loop tag that a
-//! loop instruction (S.IN, S.PID, S.OUT1 …) names as its D2, with SV/PV/MV,
-//! MODE and ALM, and the loop's constants, all from the declared layout the
+//! Faceplates of the process CPU's loops (000 §3.3.5): every loop tag that
+//! the program's loop instructions own as their D2 (the loop memory their
+//! definitions declare: `process::tag::LOOP_TAG`), with SV/PV/MV, MODE and
+//! ALM, and the loop's constants, all from the declared layout the
 //! instructions use (`process::tag::LoopTag`), so the page and the
 //! instructions read the same words.
 
-use softplc_core::instructions::process::tag::LoopTag;
+use softplc_core::instructions::process::tag::LOOP_TAG;
 use softplc_ir::layout::{Field, FieldType};
+use softplc_ir::listing::LoopUse;
 
 use crate::ladder::LadderProgram;
-
-/// The instructions whose D2 (operand 4) is a PID-type loop tag (spec §3;
-/// S.BC, S.PSUM and S.PGS give the same words other meanings).
-const LOOP_INSTRUCTIONS: &[&str] = &[
-    "S.IN", "S.OUT1", "S.OUT2", "S.MOUT", "S.DUTY", "S.PID", "S.2PID", "S.PIDP", "S.SPI", "S.IPD",
-    "S.BPI", "S.R", "S.PHPL", "S.ONF2", "S.ONF3", "S.SEL", "S.AT1",
-];
 
 /// One loop tag and the instructions that share it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -22,32 +17,38 @@ pub struct ProcessLoop {
     pub file: String,
     /// The loop tag's head device (`R1000`).
     pub tag: String,
+    /// The instructions that own it, upper case, in program order.
     pub instructions: Vec<String>,
 }
 
-/// The loop tags of `programs`, in order of first use.
+/// The loop tags of `programs`, in order of first use (see [`find_in`]).
 pub fn find(programs: &[LadderProgram]) -> Vec<ProcessLoop> {
+    find_in(
+        programs
+            .iter()
+            .map(|p| (p.file.as_str(), p.loops.as_slice())),
+    )
+}
+
+/// The loop tags of programs given as (file, loop memories), in order of
+/// first use.
+pub fn find_in<'a>(
+    programs: impl IntoIterator<Item = (&'a str, &'a [LoopUse])>,
+) -> Vec<ProcessLoop> {
     let mut out: Vec<ProcessLoop> = Vec::new();
-    for p in programs {
-        for r in &p.rungs {
-            r.for_each(&mut |e| {
-                let m = e.mnemonic.to_ascii_uppercase();
-                let (Some(tag), true) =
-                    (e.operands.get(3), LOOP_INSTRUCTIONS.contains(&m.as_str()))
-                else {
-                    return;
-                };
-                let tag = tag.to_ascii_uppercase();
-                match out.iter_mut().find(|l| l.tag == tag) {
-                    Some(l) if !l.instructions.contains(&m) => l.instructions.push(m),
-                    Some(_) => {}
-                    None => out.push(ProcessLoop {
-                        file: p.file.clone(),
-                        tag,
-                        instructions: vec![m],
-                    }),
-                }
-            });
+    for (file, loops) in programs {
+        for u in loops.iter().filter(|u| u.memory.is(&LOOP_TAG)) {
+            let tag = u.block.to_ascii_uppercase();
+            let m = u.mnemonic.to_ascii_uppercase();
+            match out.iter_mut().find(|l| l.tag == tag) {
+                Some(l) if !l.instructions.contains(&m) => l.instructions.push(m),
+                Some(_) => {}
+                None => out.push(ProcessLoop {
+                    file: file.to_string(),
+                    tag,
+                    instructions: vec![m],
+                }),
+            }
         }
     }
     out
@@ -63,18 +64,17 @@ impl ProcessLoop {
         })
     }
 
-    fn named(&self, name: &str) -> Option<String> {
-        LoopTag::FIELDS
-            .iter()
-            .find(|f| f.name == name)
-            .and_then(|f| self.field(f))
+    /// The device name of the layout field `name`.
+    pub fn named(&self, name: &str) -> Option<String> {
+        self.field(LOOP_TAG.field(name)?)
     }
 
     /// The constants shown and editable on the faceplate: the loop-tag
     /// memory below the past values, other than what the bars and flags show.
     pub fn params(&self) -> Vec<(&'static str, String)> {
         const SHOWN: &[&str] = &["mode", "alm", "inh", "pv", "mv", "sv", "dv", "mvp"];
-        LoopTag::FIELDS
+        LOOP_TAG
+            .fields
             .iter()
             .filter(|f| f.offset < 96 && !SHOWN.contains(&f.name))
             .filter_map(|f| Some((f.name, self.field(f)?)))

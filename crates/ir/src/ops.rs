@@ -455,6 +455,9 @@ pub struct Program {
     /// The device operands as written (upper case) and how they are used,
     /// sorted, each pair once (see [`DeviceUse`]).
     pub used_devices: Vec<(String, DeviceUse)>,
+    /// The source instructions with their ladder roles, and the control
+    /// loops they own, for the tools that show the program.
+    pub listing: crate::listing::Listing,
 }
 
 impl Program {

@@ -7,7 +7,12 @@
 //! calls it. The interpreter runs every other op with the shared
 //! implementations (`softplc_engine::tier`), so both tiers have one semantics.
 
+// `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
+#![deny(unsafe_code)]
+
 pub mod codegen;
+// Calls into the generated machine code.
+#[allow(unsafe_code)]
 mod native;
 pub mod plan;
 

@@ -420,6 +420,7 @@ mod tests {
             sources: vec![],
             globals: vec![],
             used_devices: vec![],
+            listing: Default::default(),
         }
     }
 

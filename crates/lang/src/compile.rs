@@ -6,9 +6,10 @@
 use std::collections::HashMap;
 
 use super::dialect::Dialect;
-use super::isa::{self, Found, Kind, Use};
+use super::isa::{self, Found, Isa, Kind, Use};
 use super::source::{Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, Token};
 use softplc_ir::device::{DeviceConfig, DeviceMap};
+use softplc_ir::listing::{Entry, Listed, Listing, LoopUse, Role};
 use softplc_ir::ops::*;
 
 pub use super::args::Args;
@@ -38,6 +39,59 @@ pub fn compile(
         }
     }
     c.finish(src)
+}
+
+/// The listing of a source as [`compile`] records it (see
+/// [`Program::listing`]), without compiling: the ladder of a file that does
+/// not load draws from it.
+pub fn listing(src: &Source, dialect: &Dialect) -> Listing {
+    let mut out = Listing::default();
+    for item in &src.items {
+        match item {
+            SourceItem::Label(tok) => out.entries.push(label_entry(tok)),
+            SourceItem::Instr(i) => record(&mut out, dialect.isa, i),
+        }
+    }
+    out
+}
+
+fn label_entry(tok: &Token) -> Entry {
+    Entry::Label {
+        text: tok.text.clone(),
+        line: tok.line,
+    }
+}
+
+/// Adds an instruction to a listing (see [`listed`]).
+fn record(out: &mut Listing, isa: &Isa, i: &SourceInstr) {
+    let (entry, owned) = listed(isa, i);
+    out.entries.push(Entry::Instr(entry));
+    out.loops.extend(owned);
+}
+
+/// An instruction as a listing records it: its definition's ladder role
+/// (an unknown mnemonic is a box, as the compiler's recovery counts it an
+/// output), its text as written and the loop memory it owns.
+pub fn listed(isa: &Isa, i: &SourceInstr) -> (Listed, Option<LoopUse>) {
+    let def = match isa.lookup(&i.mnemonic.text.to_ascii_uppercase()) {
+        Found::Def(d, _) | Found::WrongPulse(d) | Found::NoPulse(d) => Some(d),
+        Found::Unknown => None,
+    };
+    let owned = def.and_then(|d| d.loop_memory).and_then(|(k, memory)| {
+        Some(LoopUse {
+            mnemonic: i.mnemonic.text.clone(),
+            block: i.operands.get(k)?.text.clone(),
+            line: i.mnemonic.line,
+            memory,
+        })
+    });
+    let entry = Listed {
+        role: def.map_or(Role::Box, |d| d.role),
+        mnemonic: i.mnemonic.text.clone(),
+        operands: i.operands.iter().map(|t| t.text.clone()).collect(),
+        line: i.mnemonic.line,
+    };
+    (entry, owned)
 }
 
 /// The compiler's state while it compiles one file. Instruction lowerings
@@ -83,6 +137,8 @@ pub struct Compiler<'a> {
     pub interrupts: HashMap<u32, (u32, u32)>,
     /// Device operands resolved so far (`Program::used_devices`).
     pub used_devices: Vec<(String, softplc_ir::ops::DeviceUse)>,
+    /// The instructions and labels seen so far (`Program::listing`).
+    pub listing: Listing,
 }
 
 impl<'a> Compiler<'a> {
@@ -117,7 +173,19 @@ impl<'a> Compiler<'a> {
             common_from: u32::MAX,
             interrupts: HashMap::new(),
             used_devices: Vec::new(),
+            listing: Listing::default(),
         }
+    }
+
+    /// Records an instruction in the listing ([`Program::listing`]); every
+    /// driver calls it once per source instruction, in source order.
+    pub fn record(&mut self, i: &SourceInstr) {
+        record(&mut self.listing, self.dialect.isa, i);
+    }
+
+    /// Records a pointer label in the listing.
+    pub fn record_label(&mut self, tok: &Token) {
+        self.listing.entries.push(label_entry(tok));
     }
 
     pub fn err(&mut self, tok: &Token, msg: impl Into<String>) {
@@ -137,6 +205,7 @@ impl<'a> Compiler<'a> {
     }
 
     pub fn label(&mut self, tok: &Token) {
+        self.record_label(tok);
         let text = tok.text.to_ascii_uppercase();
         if self.end_seen.is_some() {
             self.err(tok, format!("pointer `{text}` after END labels nothing"));
@@ -199,6 +268,7 @@ impl<'a> Compiler<'a> {
     }
 
     fn instr(&mut self, i: &SourceInstr) {
+        self.record(i);
         let m = i.mnemonic.text.to_ascii_uppercase();
         if self.end_seen.is_some() {
             if !self.after_end_reported {
@@ -384,6 +454,7 @@ impl<'a> Compiler<'a> {
                 .map(|(n, (at, _))| (*n, *at))
                 .collect(),
             steps: self.step,
+            listing: self.listing,
         })
     }
 }

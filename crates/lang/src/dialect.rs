@@ -4,7 +4,9 @@
 //! decimal/hex/octal numbering), the order of 32-bit word pairs, and the
 //! system flags instructions use, named by role.
 //!
-//! MELSEC-Q is `softplc_melsec::dialect()`; the APLC will be the second.
+//! MELSEC-Q is `softplc_melsec::dialect()` (the process CPU's
+//! `process_dialect`), the APLC-TCP `softplc_aplc::dialect()`. Which one a
+//! CPU compiles in follows its model's profile (`softplc_core::profile`).
 
 use softplc_ir::device::{DeviceKind, DeviceTable};
 

@@ -4,17 +4,22 @@
 //!
 //! A definition carries everything the rest of softplc asks about an
 //! instruction: its name and pulse form, its rung class (what it does to the
-//! ladder structure), its drive (runs while the condition is ON, or on every
-//! execution with the condition as input), its step rule, its manual citation
-//! and how it compiles — or why it is rejected. The compiler, the step counter,
-//! the error recovery and COMPATIBILITY.md (see [`compat_markdown`]) all read
-//! these definitions; nothing else lists mnemonics.
+//! ladder structure) and ladder role (what a tool draws: [`Role`]), the
+//! control-loop memory it owns, its drive (runs while the condition is ON, or
+//! on every execution with the condition as input), its step rule, its manual
+//! citation and how it compiles — or why it is rejected. The compiler, the
+//! step counter, the error recovery, the program's listing (read by the
+//! doors) and COMPATIBILITY.md (see [`compat_markdown`]) all read these
+//! definitions; nothing else lists mnemonics.
 
 use std::collections::HashMap;
 
 use super::compile::{Args, Compiler};
 use super::source::{SourceInstr, Token};
 use softplc_ir::instr::Instr;
+use softplc_ir::ops::Join;
+
+pub use softplc_ir::listing::{CoilRole, Link, LoopMemory, Role, Test};
 
 /// How an instruction's pulse (rising-edge) form is spelled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,6 +44,16 @@ pub enum Class {
     Output,
     /// Takes no condition (END, FEND, MCR, FOR, NEXT, RET, IRET, JMP).
     Standalone,
+}
+
+/// The rung class a ladder role implies.
+pub const fn class_of(role: Role) -> Class {
+    match role {
+        Role::Contact { .. } => Class::Contact,
+        Role::Link(_) => Class::Connection,
+        Role::Coil(_) | Role::Box => Class::Output,
+        Role::Standalone | Role::Step | Role::StepsEnd => Class::Standalone,
+    }
 }
 
 /// When an instruction's code runs.
@@ -141,6 +156,11 @@ pub struct Def {
     pub name: &'static str,
     pub pulse: Pulse,
     pub class: Class,
+    /// What it is on the ladder, for the tools that show a program; always
+    /// of its `class` (see [`class_of`]).
+    pub role: Role,
+    /// The control-loop memory it owns: (operand index, declaration).
+    pub loop_memory: Option<(usize, &'static LoopMemory)>,
     pub drive: Drive,
     pub steps: Steps,
     pub kind: Kind,
@@ -154,6 +174,7 @@ impl std::fmt::Debug for Def {
             .field("name", &self.name)
             .field("pulse", &self.pulse)
             .field("class", &self.class)
+            .field("role", &self.role)
             .field("drive", &self.drive)
             .finish_non_exhaustive()
     }
@@ -161,12 +182,14 @@ impl std::fmt::Debug for Def {
 
 impl Def {
     /// An application instruction of a family: an output with a `P` form,
-    /// 1 + operands steps.
+    /// 1 + operands steps, drawn as a box.
     pub const fn app(name: &'static str, doc: &'static Doc, compile: CompileFn) -> Def {
         Def {
             name,
             pulse: Pulse::Suffix,
             class: Class::Output,
+            role: Role::Box,
+            loop_memory: None,
             drive: Drive::WhenOn,
             steps: Steps::Operands,
             kind: Kind::Instr(compile),
@@ -174,12 +197,48 @@ impl Def {
         }
     }
 
-    /// An instruction the compiler lowers itself.
+    /// An output (a box) or a standalone instruction the compiler lowers
+    /// itself. Contacts, connections and coils say what they are on the
+    /// ladder: [`Def::contact`], [`Def::link`], [`Def::coil`].
     pub const fn lower(name: &'static str, class: Class, doc: &'static Doc, f: LowerFn) -> Def {
+        let role = match class {
+            Class::Output => Role::Box,
+            Class::Standalone => Role::Standalone,
+            Class::Contact | Class::Connection => {
+                panic!("a contact or connection is declared with Def::contact or Def::link")
+            }
+        };
+        Def::lowered(name, role, doc, f)
+    }
+
+    /// A contact the compiler lowers: how it joins the rung and what it tests.
+    pub const fn contact(
+        name: &'static str,
+        join: Join,
+        test: Test,
+        doc: &'static Doc,
+        f: LowerFn,
+    ) -> Def {
+        Def::lowered(name, Role::Contact { join, test }, doc, f)
+    }
+
+    /// A connection instruction the compiler lowers.
+    pub const fn link(name: &'static str, link: Link, doc: &'static Doc, f: LowerFn) -> Def {
+        Def::lowered(name, Role::Link(link), doc, f)
+    }
+
+    /// A coil the compiler lowers.
+    pub const fn coil(name: &'static str, coil: CoilRole, doc: &'static Doc, f: LowerFn) -> Def {
+        Def::lowered(name, Role::Coil(coil), doc, f)
+    }
+
+    const fn lowered(name: &'static str, role: Role, doc: &'static Doc, f: LowerFn) -> Def {
         Def {
             name,
             pulse: Pulse::None,
-            class,
+            class: class_of(role),
+            role,
+            loop_memory: None,
             drive: Drive::WhenOn,
             steps: Steps::Operands,
             kind: Kind::Lower(f),
@@ -193,11 +252,31 @@ impl Def {
             name,
             pulse: Pulse::Suffix,
             class: Class::Output,
+            role: Role::Box,
+            loop_memory: None,
             drive: Drive::WhenOn,
             steps: Steps::Operands,
             kind: Kind::Rejected(reason),
             doc: None,
         }
+    }
+
+    /// Its ladder role is `role` (an SFC step, the end of the SFC section),
+    /// which must be of its class.
+    pub const fn role(mut self, role: Role) -> Def {
+        assert!(
+            class_of(role) as u8 == self.class as u8,
+            "a definition's role is of its rung class"
+        );
+        self.role = role;
+        self
+    }
+
+    /// It owns control-loop memory: the block at operand `operand` (0-based)
+    /// is `memory` (faceplates and OPC UA read the loops from it).
+    pub const fn loop_memory(mut self, operand: usize, memory: &'static LoopMemory) -> Def {
+        self.loop_memory = Some((operand, memory));
+        self
     }
 
     pub const fn pulse(mut self, p: Pulse) -> Def {
@@ -267,9 +346,15 @@ impl Isa {
     /// `reason`, so a program using one learns which model it needs.
     pub fn rejecting(mut self, foreign: &[&'static [Def]], reason: &'static str) -> Isa {
         for family in foreign {
+            // Still the same instruction to a tool that shows the program.
             let rejected: Vec<Def> = family
                 .iter()
-                .map(|d| Def::rejected(d.name, reason).pulse(d.pulse))
+                .map(|d| Def {
+                    class: d.class,
+                    role: d.role,
+                    loop_memory: d.loop_memory,
+                    ..Def::rejected(d.name, reason).pulse(d.pulse)
+                })
                 .collect();
             // Built once per dialect (in a `LazyLock`), so leaking is bounded.
             self.add(Box::leak(rejected.into_boxed_slice()));

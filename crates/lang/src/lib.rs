@@ -4,6 +4,8 @@
 //! checks, every diagnostic of a file) → a [`Program`] of pre-resolved ops.
 //! It knows no instruction set: a dialect crate passes its `Dialect`.
 
+#![forbid(unsafe_code)]
+
 mod args;
 pub mod audit;
 pub mod compile;

@@ -8,6 +8,8 @@
 //! [`Args`]. [`DEFS`] lists the families, [`isa`] indexes them, [`dialect`]
 //! adds the devices, word order and system flags.
 
+#![forbid(unsafe_code)]
+
 pub mod arithmetic;
 pub mod basic;
 pub mod bits;
@@ -24,6 +26,7 @@ pub mod logic;
 pub mod misc;
 pub mod pid;
 pub mod process;
+pub mod profiles;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
@@ -121,5 +124,7 @@ pub fn process_dialect(settings: process::settings::ProcessSettings) -> Dialect 
 
 /// Whether `model` is a process CPU.
 pub fn is_process_model(model: &str) -> bool {
-    process::MODELS.contains(&model)
+    profiles::PROFILES
+        .iter()
+        .any(|p| p.model == model && p.family == profiles::FAMILY_QNPH)
 }

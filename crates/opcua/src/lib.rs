@@ -13,6 +13,8 @@
 //! offers Basic256Sha256 (Sign, SignAndEncrypt) with a self-signed
 //! certificate made in the pki directory on first start.
 
+#![forbid(unsafe_code)]
+
 pub mod config;
 pub mod points;
 pub mod publish;
@@ -26,7 +28,7 @@ use opcua::server::node_manager::memory::{InMemoryNodeManager, InMemoryNodeManag
 use opcua::server::{ServerBuilder, ServerUserToken, ANONYMOUS_USER_TOKEN_ID};
 use opcua::types::MessageSecurityMode;
 use softplc_core::engine::Cpu;
-use softplc_http::ladder::LadderProgram;
+use softplc_ir::listing::LoopUse;
 use softplc_serve::{EngineHandle, Listener};
 
 pub use config::{Flags, OpcuaConfig};
@@ -46,22 +48,23 @@ const USER_TOKEN_ID: &str = "user";
 pub struct Prepared {
     pub cfg: OpcuaConfig,
     pub devices: Vec<Point>,
-    /// The program files as rungs, where the loops are found.
-    pub ladder: Vec<LadderProgram>,
+    /// The loop memories of each program, (file, loops), where the loops
+    /// are found ([`points::program_loops`]).
+    pub loops: Vec<(String, Vec<LoopUse>)>,
 }
 
 impl Prepared {
     /// The device variables of `cpu` (an error names a bad `[opcua] nodes`
-    /// entry) and its program files for the loops.
+    /// entry) and its programs' loop memories.
     pub fn new(cfg: OpcuaConfig, cpu: &Cpu) -> Result<Prepared, String> {
-        if softplc_core::names::Dialect::of(cpu) == softplc_core::names::Dialect::Aplc {
+        if softplc_core::profile::is_aplc(cpu.profile()) {
             return Err(APLC_REFUSED.to_string());
         }
         let devices = points::devices(cpu, &cfg.nodes)?;
         Ok(Prepared {
             cfg,
             devices,
-            ladder: softplc_http::ladder::load_programs(cpu),
+            loops: points::program_loops(cpu),
         })
     }
 
@@ -89,11 +92,11 @@ pub async fn serve(
     let Prepared {
         cfg,
         devices,
-        ladder,
+        loops,
     } = p;
     let feed = engine
         .at_end(move |s| {
-            let loops = points::loops(&s.cpu, &ladder);
+            let loops = points::loops(&s.cpu, &loops);
             let space = Arc::new(Space::new(devices, loops));
             let mem = s.cpu.memory();
             let raw: Vec<u64> = space

@@ -5,14 +5,15 @@
 //! (`D100:u16`, `D200:u32`); and the control loops with their named fields.
 //!
 //! Which devices a program uses comes from the compiler
-//! (`Program::used_devices`); the loops from the web monitor's faceplate
+//! (`Program::used_devices`); the loops from the loop memories the compiler
+//! recorded (`Program::listing`), read by the web monitor's faceplate
 //! finders (`softplc_http::loops`, `softplc_http::process_loops`), so both
 //! doors show the same words.
 
 use softplc_core::access::ValueType;
 use softplc_core::engine::Cpu;
 use softplc_core::names::{DevName, Names};
-use softplc_http::ladder::LadderProgram;
+use softplc_ir::listing::LoopUse;
 use softplc_ir::ops::{DeviceUse, Num};
 
 /// The OPC UA built-in type of a variable.
@@ -122,12 +123,24 @@ pub fn devices(cpu: &Cpu, extra: &[String]) -> Result<Vec<Point>, String> {
     Ok(out)
 }
 
+/// The loop memories of `cpu`'s programs as their listings record them:
+/// (file, loops) per program.
+pub fn program_loops(cpu: &Cpu) -> Vec<(String, Vec<LoopUse>)> {
+    (0..cpu.program_count())
+        .map(|i| {
+            let p = cpu.program_at(i);
+            (p.file.clone(), p.listing.loops.clone())
+        })
+        .collect()
+}
+
 /// The PID loops (PIDCONT/S.PIDCONT, 001 §5.2) and process-control loop tags
-/// (000 §3.3.5) of `ladder`, with SV, PV, MV, MODE and ALARM (and MVMAN for
-/// PID). A PID set has as many loops as its PIDINIT head's first word says at
-/// the END the address space is built (1 when unreadable, at most 32).
-pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
-    use softplc_core::instructions::process::tag::LoopTag;
+/// (000 §3.3.5) of `programs` (see [`program_loops`]), with SV, PV, MV, MODE
+/// and ALARM (and MVMAN for PID). A PID set has as many loops as its
+/// control data's count word says at the END the address space is built (1
+/// when unreadable, at most 32).
+pub fn loops(cpu: &Cpu, programs: &[(String, Vec<LoopUse>)]) -> Vec<LoopFolder> {
+    let programs = || programs.iter().map(|(f, l)| (f.as_str(), l.as_slice()));
     let names = Names::of(cpu);
     let point = |folder: &str, field: &str, device: &str| {
         let n = names.parse(device).ok()?;
@@ -139,11 +152,10 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
         )
     };
     let mut out = Vec::new();
-    for set in softplc_http::loops::find(ladder) {
+    for set in softplc_http::loops::find_in(programs()) {
         let count = set
-            .init
-            .as_ref()
-            .and_then(|h| names.parse(h).ok())
+            .count_device()
+            .and_then(|h| names.parse(&h).ok())
             .and_then(|d| d.raw(cpu.memory()).ok())
             .map_or(1, |n| (n as u16 as i16).clamp(1, 32) as u32);
         for k in 0..count {
@@ -163,7 +175,7 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
             out.push(LoopFolder { browse, fields });
         }
     }
-    for l in softplc_http::process_loops::find(ladder) {
+    for l in softplc_http::process_loops::find_in(programs()) {
         let browse = format!("loop tag {}", l.tag);
         let fields = [
             ("SV", "sv"),
@@ -173,10 +185,7 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
             ("ALARM", "alm"),
         ]
         .iter()
-        .filter_map(|(label, field)| {
-            let f = LoopTag::FIELDS.iter().find(|f| f.name == *field)?;
-            point(&browse, label, &l.field(f)?)
-        })
+        .filter_map(|(label, field)| point(&browse, label, &l.named(field)?))
         .collect();
         out.push(LoopFolder { browse, fields });
     }
@@ -187,11 +196,15 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
 mod tests {
     use super::*;
     use softplc_core::device::DeviceConfig;
-    use softplc_core::engine::{CpuConfig, VirtualClock};
+    use softplc_core::engine::VirtualClock;
 
     fn cpu(src: &str) -> Cpu {
         let p = softplc_core::program::compile_il("t.il", src, &DeviceConfig::default()).unwrap();
-        Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()))
+        Cpu::new(
+            p,
+            softplc_core::profile::default_config(),
+            Box::new(VirtualClock::new()),
+        )
     }
 
     fn ids(points: &[Point]) -> Vec<(&str, Kind)> {

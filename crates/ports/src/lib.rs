@@ -18,6 +18,8 @@
 //! Nothing here panics on what arrives on a line: malformed frames become
 //! the manual's error codes and the scan goes on.
 
+#![forbid(unsafe_code)]
+
 pub mod door;
 pub mod line;
 pub mod master;

@@ -4,6 +4,11 @@
 //! the way the CPU processes communication, so replies are consistent with a
 //! completed scan and clients can never stall a scan.
 
+// `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
+#![deny(unsafe_code)]
+
+// pthread_setschedparam for the real-time engine thread.
+#[allow(unsafe_code)]
 pub mod engine;
 pub mod mc;
 pub mod modbus;

@@ -18,6 +18,8 @@
 //! print!("{}", report.text());
 //! ```
 
+#![forbid(unsafe_code)]
+
 pub mod at1;
 pub mod csv_fit;
 pub mod driver;

@@ -117,6 +117,8 @@
 mod battery;
 pub use battery::{Attach, Battery, OnDamage};
 mod format;
+// flock(2) on the state directory's owner lock.
+#[allow(unsafe_code)]
 pub mod lock;
 mod recover;
 mod remap;

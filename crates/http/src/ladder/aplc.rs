@@ -10,18 +10,18 @@
 //!   variable table; comment lines above a rung are its comment.
 //! - An operand written as `#NAME` or a global's name is drawn `NAME=DEVICE`
 //!   and the device is what the page reads and writes; a CALL's arguments
-//!   carry the callee's parameter names (`IN1:=3`).
-//! - SFC (002 §5.2 L3019-3101): a run of `STL` draws as one step box on a
-//!   rung of its own, and the step's body rungs take their rail power from
-//!   the step(s) (up to the next STL, `RET` or the end of the POU, as the
-//!   compiler scopes them); `SET Sn`/`OUT Sn` transitions draw as coils.
-//! - `LBL n` and `CJ n` are instructions in this dialect: LBL a rung of its
+//!   carry the callee's parameter names (`IN1:=3`), all as the dialect's
+//!   outline shows them ([`softplc_aplc::Shown`]).
+//! - SFC (002 §5.2 L3019-3101): a run of SFC steps draws as one step box on
+//!   a rung of its own, and the step's body rungs take their rail power
+//!   from the step(s) (up to the end of the SFC section or of the POU, as
+//!   the compiler scopes them); `SET Sn`/`OUT Sn` transitions draw as coils.
+//! - Labels and jumps are instructions in this dialect: LBL a rung of its
 //!   own, CJ a box (L3601-3666).
 
 use std::path::Path;
 
-use softplc_aplc::pou::{Pou, PouKind, Unit};
-use softplc_core::program::{SourceInstr, Token};
+use softplc_aplc::pou::{Pou, PouKind};
 
 use super::build::{Builder, Notes};
 use super::{LadderProgram, Names, Section};
@@ -44,9 +44,9 @@ pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
             .map_or_else(|| "cannot parse".to_string(), |d| d.to_string())
     })?;
     let unit = &outline.unit;
-    let dialect = softplc_aplc::dialect();
     let mut b = Builder::new(Names::Aplc { locals: true });
     let mut sections = Vec::new();
+    let mut loops = Vec::new();
     for pou in &unit.pous {
         b.set_names(Names::Aplc {
             locals: pou.kind == PouKind::Main,
@@ -61,25 +61,13 @@ pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
                 .collect(),
             first: b.count(),
         });
-        let mut k = 0;
-        while k < pou.body.len() {
-            let i = &pou.body[k];
-            if is(i, "STL") {
-                let run: Vec<SourceInstr> = pou.body[k..]
-                    .iter()
-                    .take_while(|i| is(i, "STL"))
-                    .map(|i| resolve(unit, pou, i).0)
-                    .collect();
-                b.step(&run.iter().collect::<Vec<_>>());
-                k += run.len();
-                continue;
-            }
-            if is(i, "RET") {
-                b.end_step();
-            }
-            let (instr, notes) = resolve(unit, pou, i);
-            b.item(&instr, dialect, notes);
-            k += 1;
+        for shown in outline.shown(pou) {
+            loops.extend(shown.owned);
+            let notes = Notes {
+                aliases: shown.aliases,
+                params: shown.params,
+            };
+            b.item(&shown.listed, notes);
         }
     }
     let mut rungs = b.finish();
@@ -107,11 +95,8 @@ pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
             .filter(|c| c.line < first)
             .map(|c| c.text.clone())
             .collect(),
+        loops,
     })
-}
-
-fn is(i: &SourceInstr, m: &str) -> bool {
-    i.mnemonic.text.eq_ignore_ascii_case(m)
 }
 
 /// `MAIN`, `SBR_1`, `INT_1 EVENT 26`.
@@ -120,46 +105,4 @@ fn title(pou: &Pou) -> String {
         PouKind::Int { event, .. } => format!("{} EVENT {event}", pou.name()),
         _ => pou.name(),
     }
-}
-
-/// The instruction with its operands as devices, and how the source wrote
-/// them; a CALL's parameter names from the callee's variable table (IN,
-/// IN_OUT and OUT in table order, TEMP not passed: L2458-2462).
-fn resolve(unit: &Unit, pou: &Pou, i: &SourceInstr) -> (SourceInstr, Notes) {
-    let mut notes = Notes::default();
-    let operands: Vec<Token> = i
-        .operands
-        .iter()
-        .map(|t| {
-            let dev = unit.device_of(pou, &t.text).unwrap_or(&t.text);
-            if dev == t.text {
-                notes.aliases.push(String::new());
-                t.clone()
-            } else {
-                notes.aliases.push(t.text.clone());
-                Token {
-                    text: dev.to_string(),
-                    ..t.clone()
-                }
-            }
-        })
-        .collect();
-    if is(i, "CALL") {
-        let callee = operands.first().map(|t| t.text.to_ascii_uppercase());
-        if let Some(sbr) = unit.pous.iter().find(|p| Some(p.name()) == callee) {
-            notes.params = sbr
-                .vars
-                .iter()
-                .filter(|v| v.kind != "TEMP")
-                .map(|v| v.name.clone())
-                .collect();
-        }
-    }
-    (
-        SourceInstr {
-            operands,
-            ..i.clone()
-        },
-        notes,
-    )
 }

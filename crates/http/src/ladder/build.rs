@@ -7,8 +7,8 @@
 //! ANB/ORB close. A rung ends at the LD that follows its outputs (with no
 //! block or MPS open), at a label and at a standalone instruction.
 
-use softplc_core::program::isa::{Class, Found};
-use softplc_core::program::{Dialect, Source, SourceInstr, SourceItem};
+use softplc_ir::listing::{CoilRole, Entry, Link, Listed, Role, Test};
+use softplc_ir::ops::Join;
 
 use super::{Elem, Kind, Names};
 
@@ -138,6 +138,8 @@ pub(crate) struct Builder {
     label: Option<String>,
     line: Option<u32>,
     next_id: u32,
+    /// The step box drawn last, while SFC steps follow each other (a merge).
+    step: Option<usize>,
 }
 
 impl Builder {
@@ -173,18 +175,19 @@ impl Builder {
         self.label = Some(text.to_string());
     }
 
-    /// An SFC step: a run of STLs (one: a step body, several: a merge) draws
-    /// as one step box on a rung of its own; the rungs after it are the
-    /// step's until [`Self::end_step`].
-    pub(crate) fn step(&mut self, run: &[&SourceInstr]) {
-        let Some(first) = run.first() else { return };
+    /// An SFC step: a run of steps (one: a step body, several: a merge)
+    /// draws as one step box on a rung of its own; the rungs after it are
+    /// the step's until the SFC section or the POU ends.
+    fn step(&mut self, l: &Listed) {
+        let operand = l.operands.first().cloned();
+        if let Some(RungBody::Standalone(e)) = self.step.map(|r| &mut self.rungs[r].body) {
+            e.operands.extend(operand.clone());
+            self.bus.extend(operand);
+            return;
+        }
         self.flush();
-        self.bus.clear();
-        let mut e = self.elem(Kind::Step, first, "STL", Notes::default());
-        e.operands = run
-            .iter()
-            .filter_map(|i| i.operands.first().map(|t| t.text.clone()))
-            .collect();
+        let mut e = self.elem(Kind::Step, l, Notes::default());
+        e.operands = operand.into_iter().collect();
         self.bus = e.operands.clone();
         self.rungs.push(Rung {
             label: self.label.take(),
@@ -193,6 +196,7 @@ impl Builder {
             comment: Vec::new(),
             bus: Vec::new(),
         });
+        self.step = Some(self.rungs.len() - 1);
         self.line = None;
     }
 
@@ -235,6 +239,7 @@ impl Builder {
         self.mps.clear();
         self.outputs = 0;
         self.line = None;
+        self.step = None;
     }
 
     /// The pending condition becomes a branch point at the current fan.
@@ -254,133 +259,144 @@ impl Builder {
         }
     }
 
-    fn elem(&mut self, kind: Kind, i: &SourceInstr, m: &str, notes: Notes) -> Elem {
+    fn elem(&mut self, kind: Kind, l: &Listed, notes: Notes) -> Elem {
         let id = self.next_id;
         self.next_id += 1;
-        self.line.get_or_insert(i.mnemonic.line);
+        self.line.get_or_insert(l.line);
         Elem {
             id,
             kind,
-            mnemonic: m.to_string(),
-            operands: i.operands.iter().map(|t| t.text.clone()).collect(),
-            line: i.mnemonic.line,
+            role: l.role,
+            mnemonic: l.mnemonic.to_ascii_uppercase(),
+            operands: l.operands.clone(),
+            line: l.line,
             names: self.names,
             aliases: notes.aliases,
             params: notes.params,
         }
     }
 
-    /// An instruction of `dialect` (an unknown mnemonic draws as an output box).
-    pub(crate) fn item(&mut self, i: &SourceInstr, dialect: &Dialect, notes: Notes) {
-        let m = i.mnemonic.text.to_ascii_uppercase();
-        let class = match dialect.isa.lookup(&m) {
-            Found::Def(d, _) | Found::WrongPulse(d) | Found::NoPulse(d) => d.class,
-            Found::Unknown => Class::Output,
-        };
-        self.instr(i, class, notes);
+    /// An entry of a program's listing.
+    pub(crate) fn entry(&mut self, e: &Entry) {
+        match e {
+            Entry::Label { text, .. } => self.label(text),
+            Entry::Instr(l) => self.item(l, Notes::default()),
+        }
     }
 
-    fn instr(&mut self, i: &SourceInstr, class: Class, notes: Notes) {
-        let m = i.mnemonic.text.to_ascii_uppercase();
-        match class {
-            Class::Contact => {
-                // APLC word-bit contacts BLD/BLDI/BAND/BANI/BOR/BORI (002
-                // L8833-9076): LD/AND/OR of bit S2 of word S1.
-                let word_bit = m
-                    .strip_prefix('B')
-                    .filter(|r| ["LD", "AND", "OR"].iter().any(|p| r.starts_with(p)));
-                let base = word_bit.unwrap_or(&m);
-                let load = base.starts_with("LD");
-                if load
-                    && self.outputs > 0
-                    && self.mps.is_empty()
-                    && self.blocks.is_empty()
-                    && self.net.is_none()
-                {
-                    self.flush();
-                }
-                let kind = if i.operands.len() >= 2 && word_bit.is_none() {
-                    Kind::Compare
-                } else {
-                    match base {
-                        "LDI" | "ANI" | "ORI" => Kind::Nc,
-                        "LDP" | "ANDP" | "ORP" => Kind::Rise,
-                        "LDF" | "ANDF" | "ORF" => Kind::Fall,
-                        _ => Kind::No,
-                    }
-                };
-                let e = Net::Elem(self.elem(kind, i, &m, notes));
-                if load {
-                    if let Some(n) = self.net.take() {
-                        self.blocks.push(n);
-                    }
-                    self.net = Some(e);
-                } else {
-                    let net = self.net.take();
-                    self.net = Some(Net::join(net, e, base.starts_with("OR")));
-                }
-            }
-            Class::Connection => match m.as_str() {
-                "ANB" | "ORB" => {
-                    let n = self.net.take();
-                    self.net = match (self.blocks.pop(), n) {
-                        (Some(b), Some(n)) => Some(Net::join(Some(b), n, m == "ORB")),
-                        // A block opened at a branch point (LD after MPS/MRD,
-                        // 002 L2185-2208): ANB puts it in series there. An
-                        // ORB there is drawn the same way.
-                        (None, n) => n,
-                        (Some(b), None) => Some(b),
-                    };
-                }
-                "MPS" => {
-                    self.fork();
-                    self.mps.push(self.cur);
-                }
-                "MRD" | "MPP" => {
-                    self.fork();
-                    let top = if m == "MRD" {
-                        self.mps.last().copied()
-                    } else {
-                        self.mps.pop()
-                    };
-                    if let Some(t) = top {
-                        self.cur = t;
-                    }
-                }
-                _ => {
-                    let e = Net::Elem(self.elem(Kind::Modifier, i, &m, notes));
-                    let net = self.net.take();
-                    self.net = Some(Net::join(net, e, false));
-                }
-            },
-            Class::Output => {
-                let bit = i.operands.first().is_some_and(|o| {
-                    self.names.device_type(&o.text) == Some(softplc_core::access::ValueType::Bit)
+    /// An instruction, drawn as its ladder role says.
+    pub(crate) fn item(&mut self, l: &Listed, notes: Notes) {
+        if l.role != Role::Step {
+            self.step = None;
+        }
+        match l.role {
+            Role::Contact { join, test } => self.contact(l, join, test, notes),
+            Role::Link(link) => self.link(l, link, notes),
+            Role::Coil(coil) => {
+                let bit = l.operands.first().is_some_and(|o| {
+                    self.names.device_type(o) == Some(softplc_core::access::ValueType::Bit)
                 });
-                let kind = match m.as_str() {
-                    "OUT" if bit => Kind::Coil,
-                    "SET" if bit => Kind::Set,
-                    "RST" if bit => Kind::Reset,
+                let kind = match coil {
+                    CoilRole::Out if bit => Kind::Coil,
+                    CoilRole::Set if bit => Kind::Set,
+                    CoilRole::Reset if bit => Kind::Reset,
                     _ => Kind::Box,
                 };
-                let e = self.elem(kind, i, &m, notes);
-                self.fork();
-                self.fans[self.cur].items.push(ItemB::Out(e));
-                self.outputs += 1;
+                self.output(l, kind, notes);
             }
-            Class::Standalone => {
-                self.flush();
-                let e = self.elem(Kind::Standalone, i, &m, notes);
-                self.rungs.push(Rung {
-                    label: self.label.take(),
-                    line: e.line,
-                    body: RungBody::Standalone(e),
-                    comment: Vec::new(),
-                    bus: self.bus.clone(),
-                });
-                self.line = None;
+            Role::Box => self.output(l, Kind::Box, notes),
+            Role::Step => self.step(l),
+            Role::StepsEnd => {
+                self.end_step();
+                self.standalone(l, notes);
+            }
+            Role::Standalone => self.standalone(l, notes),
+        }
+    }
+
+    fn contact(&mut self, l: &Listed, join: Join, test: Test, notes: Notes) {
+        let load = join == Join::Load;
+        if load
+            && self.outputs > 0
+            && self.mps.is_empty()
+            && self.blocks.is_empty()
+            && self.net.is_none()
+        {
+            self.flush();
+        }
+        let kind = match test {
+            Test::Open | Test::WordBit { closed: false } => Kind::No,
+            Test::Closed | Test::WordBit { closed: true } => Kind::Nc,
+            Test::Rising => Kind::Rise,
+            Test::Falling => Kind::Fall,
+            Test::Compare(_) | Test::Computed => Kind::Compare,
+        };
+        let e = Net::Elem(self.elem(kind, l, notes));
+        if load {
+            if let Some(n) = self.net.take() {
+                self.blocks.push(n);
+            }
+            self.net = Some(e);
+        } else {
+            let net = self.net.take();
+            self.net = Some(Net::join(net, e, join == Join::Or));
+        }
+    }
+
+    fn link(&mut self, l: &Listed, link: Link, notes: Notes) {
+        match link {
+            Link::BlockAnd | Link::BlockOr => {
+                let n = self.net.take();
+                self.net = match (self.blocks.pop(), n) {
+                    (Some(b), Some(n)) => Some(Net::join(Some(b), n, link == Link::BlockOr)),
+                    // A block opened at a branch point (LD after MPS/MRD,
+                    // 002 L2185-2208): ANB puts it in series there. An
+                    // ORB there is drawn the same way.
+                    (None, n) => n,
+                    (Some(b), None) => Some(b),
+                };
+            }
+            Link::Push => {
+                self.fork();
+                self.mps.push(self.cur);
+            }
+            Link::Read | Link::Pop => {
+                self.fork();
+                let top = if link == Link::Read {
+                    self.mps.last().copied()
+                } else {
+                    self.mps.pop()
+                };
+                if let Some(t) = top {
+                    self.cur = t;
+                }
+            }
+            Link::Invert | Link::Rising | Link::Falling | Link::Nothing => {
+                let e = Net::Elem(self.elem(Kind::Modifier, l, notes));
+                let net = self.net.take();
+                self.net = Some(Net::join(net, e, false));
             }
         }
+    }
+
+    fn output(&mut self, l: &Listed, kind: Kind, notes: Notes) {
+        let e = self.elem(kind, l, notes);
+        self.fork();
+        self.fans[self.cur].items.push(ItemB::Out(e));
+        self.outputs += 1;
+    }
+
+    fn standalone(&mut self, l: &Listed, notes: Notes) {
+        self.flush();
+        let e = self.elem(Kind::Standalone, l, notes);
+        self.rungs.push(Rung {
+            label: self.label.take(),
+            line: e.line,
+            body: RungBody::Standalone(e),
+            comment: Vec::new(),
+            bus: self.bus.clone(),
+        });
+        self.line = None;
     }
 }
 
@@ -401,15 +417,11 @@ fn take(fans: &mut Vec<FanB>, i: usize) -> Fan {
     }
 }
 
-/// The rungs of `src`; instruction classes come from `dialect` (an unknown
-/// mnemonic draws as an output box).
-pub fn build(src: &Source, dialect: &Dialect) -> Vec<Rung> {
+/// The rungs of a program's listing (MELSEC names).
+pub fn build(entries: &[Entry]) -> Vec<Rung> {
     let mut b = Builder::new(Names::Melsec);
-    for item in super::items(src) {
-        match item {
-            SourceItem::Label(t) => b.label(&t.text),
-            SourceItem::Instr(i) => b.item(i, dialect, Notes::default()),
-        }
+    for e in entries {
+        b.entry(e);
     }
     b.finish()
 }

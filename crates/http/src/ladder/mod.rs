@@ -3,12 +3,11 @@
 //! series and parallel, with coils and application-instruction boxes on the
 //! right.
 //!
-//! - [`build`] turns the instruction list into rung trees: LD/AND/OR and
-//!   ANB/ORB make series/parallel [`Net`]s, MPS/MRD/MPP and outputs followed
-//!   by more contacts make branches ([`Fan`]). Which instruction is a
-//!   contact, a connection, an output or standalone comes from the dialect's
-//!   instruction classes; only the structural connection instructions and the
-//!   LD/AND/OR prefixes are read by name.
+//! - [`build`] turns a program's listing (`Program::listing`: each
+//!   instruction with the ladder role its definition declares) into rung
+//!   trees: loads, ANDs and ORs and the block joins make series/parallel
+//!   [`Net`]s, the branch stack and outputs followed by more contacts make
+//!   branches ([`Fan`]). Nothing is recognised by its mnemonic.
 //! - [`grid`] places a rung on a grid of cells;
 //! - [`render`] draws the grid as text (the snapshot tests) and as SVG with an
 //!   element id per contact and coil and the device names to colour them live.
@@ -27,7 +26,9 @@ pub mod render;
 use std::path::Path;
 
 use softplc_core::access::{DeviceSpec, ValueType};
-use softplc_core::program::{Dialect, Source, SourceItem};
+use softplc_core::program::{Dialect, Program, Source};
+use softplc_ir::listing::{Listing, LoopUse, Role, Test};
+use softplc_ir::ops::Num;
 
 pub use build::{build, Fan, Item, Net, Rung, RungBody};
 
@@ -130,6 +131,9 @@ pub struct Elem {
     /// Index of the element in its program (element id on the page).
     pub id: u32,
     pub kind: Kind,
+    /// What its definition says it is on the ladder.
+    pub role: Role,
+    /// The mnemonic as written, upper case (shown, never interpreted).
     pub mnemonic: String,
     pub operands: Vec<String>,
     /// Source line.
@@ -168,8 +172,11 @@ impl Elem {
 
     /// The bit number of a word-bit contact (APLC `BLD D0 5`: bit 5 of D0).
     pub fn word_bit(&self) -> Option<&str> {
-        match self.kind {
-            Kind::No | Kind::Nc if self.operands.len() == 2 => Some(&self.operands[1]),
+        match self.role {
+            Role::Contact {
+                test: Test::WordBit { .. },
+                ..
+            } => self.operands.get(1).map(String::as_str),
             _ => None,
         }
     }
@@ -207,14 +214,15 @@ impl Elem {
 
     /// `i32` or `f32` for a 32-bit or real comparison contact.
     fn compare_type(&self) -> Option<&'static str> {
-        if self.kind != Kind::Compare {
-            return None;
-        }
-        let m = &self.mnemonic;
-        let rest = ["LD", "AND", "OR"].iter().find_map(|p| m.strip_prefix(p))?;
-        match rest.chars().next()? {
-            'D' => Some("i32"),
-            'E' | 'R' => Some("f32"),
+        match self.role {
+            Role::Contact {
+                test: Test::Compare(Num::I32),
+                ..
+            } => Some("i32"),
+            Role::Contact {
+                test: Test::Compare(Num::F32),
+                ..
+            } => Some("f32"),
             _ => None,
         }
     }
@@ -250,21 +258,38 @@ pub struct LadderProgram {
     pub sections: Vec<Section>,
     /// Comment lines before the file's first instruction or declaration.
     pub comment: Vec<String>,
+    /// The control-loop memories its instructions own, in program order
+    /// (the faceplates' loops).
+    pub loops: Vec<LoopUse>,
 }
 
 impl LadderProgram {
-    /// Lays out a parsed file (MELSEC-Q instruction classes).
+    /// Lays out a compiled program from its listing.
+    pub fn from_program(p: &Program) -> LadderProgram {
+        LadderProgram::from_listing(&p.file, &p.listing)
+    }
+
+    /// Lays out a listing (MELSEC names) read from `file`.
+    pub fn from_listing(file: &str, listing: &Listing) -> LadderProgram {
+        LadderProgram {
+            file: file.to_string(),
+            rungs: build(&listing.entries),
+            loops: listing.loops.clone(),
+            ..LadderProgram::default()
+        }
+    }
+
+    /// Lays out a parsed file (MELSEC-Q instruction roles) as the compiler
+    /// would list it, whether or not it compiles: an unknown mnemonic
+    /// draws as a box.
     pub fn from_source(src: &Source) -> LadderProgram {
         LadderProgram::from_source_in(src, softplc_core::instructions::dialect())
     }
 
-    /// Lays out a parsed file with the instruction classes of `dialect`.
+    /// Lays out a parsed file with the instruction roles of `dialect`.
     pub fn from_source_in(src: &Source, dialect: &Dialect) -> LadderProgram {
-        LadderProgram {
-            file: src.file.clone(),
-            rungs: build(src, dialect),
-            ..LadderProgram::default()
-        }
+        let listing = softplc_core::program::compile::listing(src, dialect);
+        LadderProgram::from_listing(&src.file, &listing)
     }
 
     /// Reads and lays out a program file (`.csv` or `.il`) as MELSEC-Q.
@@ -319,36 +344,27 @@ impl LadderProgram {
     }
 }
 
-/// The ladder of every program file of `cpu`, read again from the files it
-/// was compiled from (a file that cannot be read shows as a note), with the
-/// instruction classes of the CPU model's dialect: an APLC-TCP CPU's files
-/// as `.apl`.
+/// The ladder of every program of `cpu`: a MELSEC program's from its
+/// listing; an APLC-TCP program's from its `.apl` file read again (its
+/// comments and names as written are not in the listing; a file that
+/// cannot be read shows as a note).
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
-    let model = &cpu.config().model;
-    let dialect = softplc_core::program::dialect_for(model, Default::default());
+    let aplc = softplc_core::profile::is_aplc(cpu.profile());
     (0..cpu.program_count())
         .map(|i| {
-            let file = &cpu.program_at(i).file;
-            let path = Path::new(file);
-            let ladder = if model == softplc_core::aplc::MODEL {
-                aplc::from_file(path)
-            } else {
-                LadderProgram::from_file_in(path, &dialect)
-            };
-            ladder.unwrap_or_else(|e| {
-                eprintln!("softplc: --http: no ladder for {file}: {e}");
+            let p = cpu.program_at(i);
+            if !aplc {
+                return LadderProgram::from_program(p);
+            }
+            aplc::from_file(Path::new(&p.file)).unwrap_or_else(|e| {
+                eprintln!("softplc: --http: no ladder for {}: {e}", p.file);
                 LadderProgram {
-                    file: file.clone(),
+                    file: p.file.clone(),
                     ..LadderProgram::default()
                 }
             })
         })
         .collect()
-}
-
-/// Items of a source as (label before it, instruction).
-pub(crate) fn items(src: &Source) -> impl Iterator<Item = &SourceItem> {
-    src.items.iter()
 }
 
 #[cfg(test)]

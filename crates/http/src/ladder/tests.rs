@@ -323,3 +323,22 @@ fn wires_name_where_their_power_comes_from() {
     assert!(svg.contains(r#"class="w link" data-into="5""#), "{svg}");
     assert!(svg.contains(r#"<line class="w" data-into="7""#), "{svg}");
 }
+
+#[test]
+fn a_loaded_program_draws_from_its_listing_as_its_source_does() {
+    // What `load_programs` draws for a served program is what the file's
+    // source gives (the snapshots above).
+    let text = "LD X0\nOR Y0\nANI X1\nMPS\nAND X2\nOUT Y0\nMPP\nOUT Y1\nLDP X3\nLD X4\nORF X5\nANB\nSET M0\nP10\nLD= D0 K5\nMEP\nMOV K100 D10\nOUT T0 K10\nFEND\nEND\n";
+    let src = softplc_core::program::il::parse_il("t.il", text).unwrap();
+    let program = softplc_core::program::compile_il(
+        "t.il",
+        text,
+        &softplc_core::device::DeviceConfig::default(),
+    )
+    .unwrap();
+    let from_program = LadderProgram::from_program(&program);
+    let from_source = LadderProgram::from_source(&src);
+    assert_eq!(from_program.rungs, from_source.rungs);
+    assert_eq!(draw(&from_program), draw(&from_source));
+    assert_eq!(from_program.rungs[2].label.as_deref(), Some("P10"));
+}

@@ -44,7 +44,7 @@ use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::instr::CpuSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
-use softplc_lang::isa::{Def, Doc, Pulse};
+use softplc_lang::isa::{Def, Doc, LoopMemory, Pulse};
 
 pub use algo::round_word;
 
@@ -138,8 +138,12 @@ softplc_ir::cpu_state! {
 /// This family's instructions (001 §3.1.3/§3.2.3 instruction lists). The `S.`
 /// family's pulse form is `SP.xxx` (001 §8.1); the other's a `P` suffix.
 pub static DEFS: &[Def] = &[
-    Def::app("S.PIDINIT", &INCOMPLETE, |a| PidInit::compile(a, INC)).pulse(Pulse::SPrefix),
-    Def::app("S.PIDCONT", &INCOMPLETE, |a| PidCont::compile(a, INC)).pulse(Pulse::SPrefix),
+    Def::app("S.PIDINIT", &INCOMPLETE, |a| PidInit::compile(a, INC))
+        .pulse(Pulse::SPrefix)
+        .loop_memory(0, &S_PID_DATA),
+    Def::app("S.PIDCONT", &INCOMPLETE, |a| PidCont::compile(a, INC))
+        .pulse(Pulse::SPrefix)
+        .loop_memory(0, &S_PID_IO),
     Def::app("S.PIDSTOP", &INCOMPLETE, |a| {
         PidStopRun::compile(a, INC, false)
     })
@@ -149,8 +153,8 @@ pub static DEFS: &[Def] = &[
     })
     .pulse(Pulse::SPrefix),
     Def::app("S.PIDPRMW", &INCOMPLETE, |a| PidPrmw::compile(a, INC)).pulse(Pulse::SPrefix),
-    Def::app("PIDINIT", &COMPLETE, |a| PidInit::compile(a, COMP)),
-    Def::app("PIDCONT", &COMPLETE, |a| PidCont::compile(a, COMP)),
+    Def::app("PIDINIT", &COMPLETE, |a| PidInit::compile(a, COMP)).loop_memory(0, &PID_DATA),
+    Def::app("PIDCONT", &COMPLETE, |a| PidCont::compile(a, COMP)).loop_memory(0, &PID_IO),
     Def::app("PIDSTOP", &COMPLETE, |a| {
         PidStopRun::compile(a, COMP, false)
     }),
@@ -165,6 +169,50 @@ pub static DEFS: &[Def] = &[
 
 const INC: Family = Family::Incomplete;
 const COMP: Family = Family::Complete;
+
+/// S.PIDINIT's block (001 §5.1(3)(a)): +0 the number of loops, +1 the
+/// loops computed per scan, then 14 words of control data a loop.
+pub static S_PID_DATA: LoopMemory = LoopMemory {
+    name: "PID control data",
+    fields: params::LoopData::FIELDS,
+    first: 2,
+    stride: Family::Incomplete.param_words() as u32,
+    count: Some(0),
+    settings: None,
+};
+
+/// PIDINIT's block (001 §5.1(3)(b)): as S.PIDINIT's, 10 words a loop.
+pub static PID_DATA: LoopMemory = LoopMemory {
+    name: "PID control data",
+    fields: params::LoopData::FIELDS.split_at(params::PLAIN_FIELDS).0,
+    first: 2,
+    stride: Family::Complete.param_words() as u32,
+    count: Some(0),
+    settings: None,
+};
+
+/// S.PIDCONT's I/O data (001 §5.2(4)(a)): 10 common work words, then 23
+/// words a loop, [`algo::LoopIo`] first; the loops' control data is the
+/// S.PIDINIT block registered before it.
+pub static S_PID_IO: LoopMemory = LoopMemory {
+    name: "PID I/O data",
+    fields: algo::LoopIo::FIELDS,
+    first: 10,
+    stride: Family::Incomplete.io_words() as u32,
+    count: None,
+    settings: Some(&S_PID_DATA),
+};
+
+/// PIDCONT's I/O data (001 §5.2(4)(b)): as S.PIDCONT's, 18 words a loop,
+/// with PIDINIT's control data.
+pub static PID_IO: LoopMemory = LoopMemory {
+    name: "PID I/O data",
+    fields: algo::LoopIo::FIELDS,
+    first: 10,
+    stride: Family::Complete.io_words() as u32,
+    count: None,
+    settings: Some(&PID_DATA),
+};
 
 static INCOMPLETE: Doc = Doc {
     family: "PID (incomplete derivative)",

@@ -6,6 +6,39 @@ use super::Family;
 /// Words of one loop's PID control data (001 §5.1(3): S. family 14, plain family 10).
 pub(crate) const MAX_LOOP_WORDS: usize = 14;
 
+softplc_ir::layout! {
+    /// One loop's PID control data (001 §5.1 Table 5.2, layouts §5.1(3)(a)
+    /// and (b)): the S. family's 14 words; the plain family's are the first
+    /// 10 (no KD). Each doc starts with the label a faceplate shows.
+    pub struct LoopData[14] {
+        /// action (0 fwd, 1 rev): operation select, 0 forward, 1 reverse (001 §4.2.2).
+        select: i16 @ 0,
+        /// Ts ×10 ms: sampling period, 1..6000.
+        ts: i16 @ 1,
+        /// Kp ×0.01: proportional gain, 1..10000.
+        kp: i16 @ 2,
+        /// TI ×100 ms: integral time, 1..32767, above 30000 ∞.
+        ti: i16 @ 3,
+        /// TD ×10 ms: derivative time, 0..30000.
+        td: i16 @ 4,
+        /// α %: input filter coefficient, 0..100.
+        alpha: i16 @ 5,
+        /// MVLL: MV lower limit.
+        mvll: i16 @ 6,
+        /// MVHL: MV upper limit.
+        mvhl: i16 @ 7,
+        /// ΔMVL: MV change-rate alarm limit.
+        dmvl: i16 @ 8,
+        /// ΔPVL: PV change-rate alarm limit.
+        dpvl: i16 @ 9,
+        /// KD ×0.01: derivative gain, 0..32767, above 30000 ∞ (S. family only).
+        kd: i16 @ 11,
+    }
+}
+
+/// The plain family's fields of [`LoopData`]: all but KD.
+pub(crate) const PLAIN_FIELDS: usize = 10;
+
 /// One loop's registered PID control data, 001 §5.1 Table 5.2 (words m+0 …
 /// m+13 of §5.1(3)(a), m+0 … m+9 of §5.1(3)(b)).
 ///
@@ -47,28 +80,29 @@ impl LoopParams {
     /// MVHL < MVLL is checked on the raw words: the limited-mode conversion to
     /// −50..2050 is monotonic, so it can never turn a valid pair into an invalid one.
     pub(crate) fn decode(fam: Family, w: &[u16]) -> Option<LoopParams> {
-        let i = |k: usize| w[k] as i16;
+        type L = LoopData;
         let p = LoopParams {
-            reverse: match i(0) {
+            reverse: match L::select.get(w) {
                 0 => false,
                 1 => true,
                 _ => return None,
             },
-            ts: range(i(1), 1, 6000)?,
-            kp: range(i(2), 1, 10000)?,
-            ti: range(i(3), 1, 32767)?,
-            td: range(i(4), 0, 30000)?,
-            alpha: range(i(5), 0, 100)?,
-            mvll: i(6),
-            mvhl: i(7),
-            dmvl: i(8),
-            dpvl: i(9),
+            ts: range(L::ts.get(w), 1, 6000)?,
+            kp: range(L::kp.get(w), 1, 10000)?,
+            ti: range(L::ti.get(w), 1, 32767)?,
+            td: range(L::td.get(w), 0, 30000)?,
+            alpha: range(L::alpha.get(w), 0, 100)?,
+            mvll: L::mvll.get(w),
+            mvhl: L::mvhl.get(w),
+            dmvl: L::dmvl.get(w),
+            dpvl: L::dpvl.get(w),
             kd: match fam {
+                // The reserved words +10, +12, +13 are 0.
                 Family::Incomplete => {
                     if w[10] != 0 || w[12] != 0 || w[13] != 0 {
                         return None;
                     }
-                    range(i(11), 0, 32767)?
+                    range(L::kd.get(w), 0, 32767)?
                 }
                 Family::Complete => 0,
             },

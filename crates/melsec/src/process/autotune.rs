@@ -38,7 +38,7 @@ use softplc_ir::layout::At;
 
 use super::common::{area, count, def, result, tick, Area, InputCtl, PcError, Sys};
 use super::settings::ProcessSettings;
-use super::tag::{alm, LoopTag, Mode};
+use super::tag::{alm, LoopTag, Mode, LOOP_TAG};
 use crate::{Args, ExecCtx, Instr};
 
 static AT1: Doc = Doc {
@@ -48,7 +48,7 @@ static AT1: Doc = Doc {
             (DEC-33), MV restored once (DEC-34), BB1 = BB2 ∨ … ∨ BB8 (DEC-35)",
 };
 
-pub static DEFS: &[Def] = &[def("S.AT1", 5, &AT1, At1::compile)];
+pub static DEFS: &[Def] = &[def("S.AT1", 5, &AT1, At1::compile).loop_memory(3, &LOOP_TAG)];
 
 const BB2: u16 = 1 << 1;
 const BB3: u16 = 1 << 2;

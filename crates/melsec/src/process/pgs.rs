@@ -16,7 +16,7 @@ static PGS: Doc = Doc {
             hold/return type in AUT/CAB, cyclic in CAS/CCB/CSV, stopped in the other modes",
 };
 
-pub static DEFS: &[Def] = &[def("S.PGS", 4, &PGS, Pgs::compile)];
+pub static DEFS: &[Def] = &[def("S.PGS", 4, &PGS, Pgs::compile).loop_memory(3, &PGS_TAG)];
 
 softplc_ir::layout! {
     /// The loop tag as S.PGS uses it (000 §9.23 L17640-17765).
@@ -33,6 +33,16 @@ softplc_ir::layout! {
         mv1: f32 @ 54,
     }
 }
+
+/// S.PGS's D2 as its loop memory.
+pub static PGS_TAG: softplc_ir::listing::LoopMemory = softplc_ir::listing::LoopMemory {
+    name: "S.PGS loop tag",
+    fields: PgsTag::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
 
 const BB_PGS: u16 = bb::BB1 | bb::BB2 | bb::BB3;
 

@@ -8,7 +8,7 @@ use super::common::{
     area, def, dummy, rate_count, result, window, Area, BlockMemory, Input, PcError, Sys, Window,
 };
 use super::settings::ProcessSettings;
-use super::tag::{alm, bb, put, Inh, LoopTag, LOOP_WORDS};
+use super::tag::{alm, bb, put, Inh, LoopTag, LOOP_TAG, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
 
 static PHPL: Doc = Doc {
@@ -18,7 +18,7 @@ static PHPL: Doc = Doc {
             (DEC-18), BB1 = BB2 ∨ BB3 ∨ BB4 ∨ BB5 (DEC-19), PV written",
 };
 
-pub static DEFS: &[Def] = &[def("S.PHPL", 4, &PHPL, Phpl::compile)];
+pub static DEFS: &[Def] = &[def("S.PHPL", 4, &PHPL, Phpl::compile).loop_memory(3, &LOOP_TAG)];
 
 /// The alarms S.PHPL owns.
 const ALM_PHPL: u16 = alm::DPNA | alm::DPPA | alm::LLA | alm::HHA | alm::PLA | alm::PHA;

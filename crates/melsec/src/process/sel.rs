@@ -7,7 +7,7 @@ use softplc_lang::isa::{Def, Doc};
 use super::common::{area, def, result, upper_inh, Area, BlockMemory, Input, PcError, Sys};
 use super::io::stage::{alarms, convert, limit, ALM_OUT, BB_OUT};
 use super::settings::ProcessSettings;
-use super::tag::{alm, bb, Inh, LoopTag, Mode, LOOP_WORDS};
+use super::tag::{alm, bb, Inh, LoopTag, Mode, LOOP_TAG, LOOP_WORDS};
 use crate::{Args, ExecCtx, Instr};
 
 static SEL: Doc = Doc {
@@ -17,7 +17,7 @@ static SEL: Doc = Doc {
             selector tracking En := MV (and the upper loop's TRKF when SVPTN marks En as its MV)",
 };
 
-pub static DEFS: &[Def] = &[def("S.SEL", 5, &SEL, Sel::compile)];
+pub static DEFS: &[Def] = &[def("S.SEL", 5, &SEL, Sel::compile).loop_memory(3, &LOOP_TAG)];
 
 softplc_ir::layout! {
     /// The loop tag as S.SEL uses it (000 §9.24 L18300-18390).

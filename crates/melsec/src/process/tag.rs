@@ -10,6 +10,17 @@ use super::settings::ProcessSettings;
 /// Words of a loop tag (96 loop-tag memory + 32 past values; 000 §3.3.1).
 pub const LOOP_WORDS: u32 = 128;
 
+/// The loop tag as the loop memory of the instructions of a PID-type loop
+/// (their D2), for faceplates and OPC UA.
+pub static LOOP_TAG: softplc_ir::listing::LoopMemory = softplc_ir::listing::LoopMemory {
+    name: "loop tag",
+    fields: LoopTag::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
+
 softplc_ir::layout! {
     /// The loop-tag memory of a PID-type loop (spec §3, defaults in docs).
     pub struct LoopTag[128] {

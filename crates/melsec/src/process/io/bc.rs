@@ -35,6 +35,16 @@ softplc_ir::layout! {
     }
 }
 
+/// S.BC's D2 as its loop memory.
+pub static BC_TAG: softplc_ir::listing::LoopMemory = softplc_ir::listing::LoopMemory {
+    name: "S.BC loop tag",
+    fields: BcTag::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
+
 /// 000 §8.6 S.BC `S.BC S1 D1 S2(dmy) D2` (L5997-6423), batch counter.
 ///
 /// Operands: S1 +0/+1 E1 (BIN32, 0 … 2147483647); D1 +0 BW1 = b0, BW2 = b1

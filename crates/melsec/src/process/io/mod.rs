@@ -15,6 +15,7 @@ pub(crate) mod stage;
 use softplc_lang::isa::{Def, Doc};
 
 use super::common::def;
+use super::tag::LOOP_TAG;
 
 static IN: Doc = Doc {
     family: "process control: I/O",
@@ -62,11 +63,11 @@ static PSUM: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[
-    def("S.IN", 4, &IN, input::In::compile),
-    def("S.OUT1", 4, &OUT1, out::Out::compile_out1),
-    def("S.OUT2", 4, &OUT2, out::Out::compile_out2),
-    def("S.MOUT", 4, &MOUT, mout::Mout::compile),
-    def("S.DUTY", 4, &DUTY, duty::Duty::compile),
-    def("S.BC", 4, &BC, bc::Bc::compile),
-    def("S.PSUM", 4, &PSUM, psum::Psum::compile),
+    def("S.IN", 4, &IN, input::In::compile).loop_memory(3, &LOOP_TAG),
+    def("S.OUT1", 4, &OUT1, out::Out::compile_out1).loop_memory(3, &LOOP_TAG),
+    def("S.OUT2", 4, &OUT2, out::Out::compile_out2).loop_memory(3, &LOOP_TAG),
+    def("S.MOUT", 4, &MOUT, mout::Mout::compile).loop_memory(3, &LOOP_TAG),
+    def("S.DUTY", 4, &DUTY, duty::Duty::compile).loop_memory(3, &LOOP_TAG),
+    def("S.BC", 4, &BC, bc::Bc::compile).loop_memory(3, &bc::BC_TAG),
+    def("S.PSUM", 4, &PSUM, psum::Psum::compile).loop_memory(3, &psum::PSUM_TAG),
 ];

@@ -54,6 +54,16 @@ softplc_ir::layout! {
     }
 }
 
+/// S.PSUM's D2 as its loop memory.
+pub static PSUM_TAG: softplc_ir::listing::LoopMemory = softplc_ir::listing::LoopMemory {
+    name: "S.PSUM loop tag",
+    fields: PsumTag::FIELDS,
+    first: 0,
+    stride: 0,
+    count: None,
+    settings: None,
+};
+
 /// 000 §8.7 S.PSUM `S.PSUM S1 D1 S2 D2` (L6424-6774), pulse integration.
 ///
 /// Operands: S1 +0/+1 E1 (BIN32 link-counter value), +2 e1 = b0

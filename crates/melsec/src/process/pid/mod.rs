@@ -28,7 +28,7 @@ use softplc_ir::layout::At;
 
 use self::front::{run, Areas, Front, Halt, Operands, Pattern, PatternFields};
 use crate::process::common::{self, def, BlockMemory, PcError};
-use crate::process::tag::{alm, bb, LoopTag};
+use crate::process::tag::{alm, bb, LoopTag, LOOP_TAG};
 use crate::{Args, ExecCtx, Instr};
 
 static PID: Doc = Doc {
@@ -75,15 +75,15 @@ static ONF: Doc = Doc {
 };
 
 pub static DEFS: &[Def] = &[
-    def("S.PID", 5, &PID, Velocity::compile_pid),
-    def("S.2PID", 5, &TWO_DOF, Velocity::compile_2pid),
-    def("S.PIDP", 5, &PIDP, pidp::Pidp::compile),
-    def("S.SPI", 5, &SPI, spi::Spi::compile),
-    def("S.IPD", 5, &IPD, Velocity::compile_ipd),
-    def("S.BPI", 5, &BPI, Velocity::compile_bpi),
-    def("S.R", 5, &RATIO, ratio::Ratio::compile),
-    def("S.ONF2", 5, &ONF, onoff::OnOff::compile_2),
-    def("S.ONF3", 5, &ONF, onoff::OnOff::compile_3),
+    def("S.PID", 5, &PID, Velocity::compile_pid).loop_memory(3, &LOOP_TAG),
+    def("S.2PID", 5, &TWO_DOF, Velocity::compile_2pid).loop_memory(3, &LOOP_TAG),
+    def("S.PIDP", 5, &PIDP, pidp::Pidp::compile).loop_memory(3, &LOOP_TAG),
+    def("S.SPI", 5, &SPI, spi::Spi::compile).loop_memory(3, &LOOP_TAG),
+    def("S.IPD", 5, &IPD, Velocity::compile_ipd).loop_memory(3, &LOOP_TAG),
+    def("S.BPI", 5, &BPI, Velocity::compile_bpi).loop_memory(3, &LOOP_TAG),
+    def("S.R", 5, &RATIO, ratio::Ratio::compile).loop_memory(3, &LOOP_TAG),
+    def("S.ONF2", 5, &ONF, onoff::OnOff::compile_2).loop_memory(3, &LOOP_TAG),
+    def("S.ONF3", 5, &ONF, onoff::OnOff::compile_3).loop_memory(3, &LOOP_TAG),
 ];
 
 softplc_ir::layout! {

@@ -1,6 +1,8 @@
 //! FMI 3.0 co-simulation FMUs as plant models (`type = "fmu"`, issue 16).
 
 mod description;
+// The FMI 3.0 C interface of an FMU library.
+#[allow(unsafe_code)]
 mod ffi;
 mod unpack;
 
