@@ -404,7 +404,7 @@ fn take(fans: &mut Vec<FanB>, i: usize) -> Fan {
 /// The rungs of `src`; instruction classes come from `dialect` (an unknown
 /// mnemonic draws as an output box).
 pub fn build(src: &Source, dialect: &Dialect) -> Vec<Rung> {
-    let mut b = Builder::new(Names::Melsec);
+    let mut b = Builder::new(Names::default());
     for item in super::items(src) {
         match item {
             SourceItem::Label(t) => b.label(&t.text),

@@ -26,56 +26,53 @@ pub mod render;
 
 use std::path::Path;
 
-use softplc_core::access::{DeviceSpec, ValueType};
+use softplc_core::access::ValueType;
+use softplc_core::profile::{Profile, SourceFormat};
 use softplc_core::program::{Dialect, Source, SourceItem};
 
 pub use build::{build, Fan, Item, Net, Rung, RungBody};
 
 /// Whose device names a program's operands are (the names the page shows,
-/// subscribes to and writes, contract §3.1 "in the program's dialect").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Names {
-    /// MELSEC-Q (`--show` names, hexadecimal X/Y).
-    #[default]
-    Melsec,
-    /// APLC-TCP (`softplc_aplc::names`, octal X/Y). `locals`: LM and V are
-    /// read live; only in MAIN, whose frame is the one device memory holds
-    /// at END (a subroutine's or interrupt routine's locals are gone then).
-    Aplc { locals: bool },
+/// subscribes to and writes, contract §3.1 "in the program's dialect"): the
+/// CPU model's naming (MELSEC's hexadecimal X/Y, the APLC's octal X/Y and
+/// LM/V locals).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Names {
+    profile: &'static Profile,
+    /// Program locals (the APLC's LM and V) are read live: only in MAIN,
+    /// whose frame is the one device memory holds at END (a subroutine's or
+    /// interrupt routine's locals are gone then).
+    locals: bool,
+}
+
+impl Default for Names {
+    /// The default model's names (MELSEC-Q).
+    fn default() -> Names {
+        Names::new(softplc_core::profile::default_profile(), false)
+    }
 }
 
 impl Names {
+    /// The names of `profile`'s programs; `locals`: whether program locals
+    /// are live devices here.
+    pub fn new(profile: &'static Profile, locals: bool) -> Names {
+        Names { profile, locals }
+    }
+
     /// The value type of a device name, `None` for a constant or anything
     /// that is no device of this dialect.
     pub fn device_type(self, name: &str) -> Option<ValueType> {
-        match self {
-            Names::Melsec => DeviceSpec::parse(name).ok().map(|d| d.ty),
-            Names::Aplc { locals } => {
-                let u = name.to_ascii_uppercase();
-                if !locals && (u.starts_with('V') || u.contains("LM")) {
-                    return None;
-                }
-                softplc_aplc::names::Name::parse(name).ok().map(|n| n.ty)
-            }
+        let naming = self.profile.naming;
+        if !self.locals && naming.is_local(name) {
+            return None;
         }
+        naming.parse(name).ok().map(|n| n.ty)
     }
 
     /// The name of a timer's or counter's current value (`T0` → `TN0`,
     /// `C3` → `CN3`; MELSEC also `ST1` → `STN1`).
     pub fn current_value(self, dev: &str) -> Option<String> {
-        let u = dev.to_ascii_uppercase();
-        let kinds: &[(&str, &str)] = match self {
-            Names::Melsec => &[("ST", "STN"), ("T", "TN"), ("C", "CN")],
-            Names::Aplc { .. } => &[("T", "TN"), ("C", "CN")],
-        };
-        for (p, n) in kinds {
-            if let Some(rest) = u.strip_prefix(p) {
-                if !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit()) {
-                    return Some(format!("{n}{rest}"));
-                }
-            }
-        }
-        None
+        self.profile.naming.current_value(dev)
     }
 }
 
@@ -321,8 +318,8 @@ impl LadderProgram {
 
 /// The ladder of every program file of `cpu`, read again from the files it
 /// was compiled from (a file that cannot be read shows as a note), with the
-/// instruction classes of the CPU model's dialect: an APLC-TCP CPU's files
-/// as `.apl`.
+/// instruction classes of the CPU model's dialect, in its program files'
+/// format (an APLC-TCP CPU's files as `.apl`).
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
     let profile = cpu.profile();
     let dialect = softplc_core::profile::dialect(profile, Default::default());
@@ -330,10 +327,9 @@ pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
         .map(|i| {
             let file = &cpu.program_at(i).file;
             let path = Path::new(file);
-            let ladder = if softplc_core::profile::is_aplc(profile) {
-                aplc::from_file(path)
-            } else {
-                LadderProgram::from_file_in(path, &dialect)
+            let ladder = match softplc_core::profile::source_format(profile) {
+                SourceFormat::InstructionList => LadderProgram::from_file_in(path, &dialect),
+                SourceFormat::Pou => aplc::from_file(path),
             };
             ladder.unwrap_or_else(|e| {
                 eprintln!("softplc: --http: no ladder for {file}: {e}");
