@@ -281,7 +281,7 @@ pub(crate) fn load_with(
         }
     };
     let profile = single::profile_for(path, model, dialect).map_err(|e| {
-        eprintln!("{}: --model: {e}", path.display());
+        eprintln!("--model: {e}");
         ExitCode::from(2)
     })?;
     let options = single::Options {
