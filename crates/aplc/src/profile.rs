@@ -99,6 +99,7 @@ pub static PROFILE: Profile = Profile {
         modbus: "aplc",
         modbus_unit: 8,
         serial_ports: 2,
+        opcua: false,
     },
     default_system: || Some(crate::system()),
 };

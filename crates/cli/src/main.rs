@@ -55,10 +55,10 @@ enum Command {
         /// CPU model a single program file is checked for (default Q06HCPU).
         #[arg(long, value_name = "MODEL")]
         model: Option<String>,
-        /// How a single program file is read: melsec or aplc (default by
-        /// name: `.apl` is aplc).
-        #[arg(long, value_name = "D", value_enum)]
-        dialect: Option<names::DialectArg>,
+        /// How a single program file is read: melsec or aplc, or a family
+        /// (MELSEC-Q, MELSEC-QnPH, APLC) (default by name: `.apl` is aplc).
+        #[arg(long, value_name = "D", value_parser = names::parse_family)]
+        dialect: Option<&'static softplc_core::profile::Profile>,
         /// Also compile for this tier (auto, jit, interp; as `run --exec`).
         #[arg(long, value_name = "TIER", value_parser = softplc_core::tier::Exec::parse)]
         exec: Option<softplc_core::tier::Exec>,

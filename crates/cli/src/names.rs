@@ -1,8 +1,15 @@
 //! The `--dialect` option; device names are `softplc_core::names::DevName`.
 
-/// How a single program file is read (`--dialect`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum DialectArg {
-    Melsec,
-    Aplc,
+use softplc_core::profile::{self, Profile};
+
+/// `--dialect`: a family by name (`melsec`, `aplc`, `MELSEC-QnPH`, any
+/// case), as its first model.
+pub fn parse_family(text: &str) -> Result<&'static Profile, String> {
+    profile::of_family(text).ok_or_else(|| {
+        format!(
+            "unknown dialect `{}` (expected melsec, aplc or a family: {})",
+            text.trim(),
+            profile::families().join(", ")
+        )
+    })
 }

@@ -9,17 +9,17 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::{json, Map, Value as Json};
 use softplc_core::access::{DeviceSpec, Value};
-use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
-use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::engine::{Clock, Cpu, CpuState, VirtualClock};
 use softplc_core::names::{DevName, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
-use softplc_core::program::{self, Diagnostics};
+use softplc_core::profile::Profile;
+use softplc_core::program::Diagnostics;
 use softplc_core::project;
+use softplc_core::single;
 use softplc_core::tier::{self, Exec};
 
-use crate::names::DialectArg;
 use crate::stdout::{out, outln};
 
 #[derive(Args, Debug)]
@@ -91,11 +91,12 @@ pub struct RunArgs {
     /// APLC PORT2 on a serial device or pty (`[port2]`).
     #[arg(long, value_name = "PATH")]
     pub port2: Option<PathBuf>,
-    /// How a single program file is read: melsec or aplc (default by name:
-    /// `.apl` is aplc). APLC device names: X10/Y10 octal, Dn the high word
-    /// of :i32/:u32/:f32, TN5/CN5 current values.
-    #[arg(long, value_name = "D", value_enum)]
-    pub dialect: Option<DialectArg>,
+    /// How a single program file is read: melsec or aplc, or a family
+    /// (MELSEC-Q, MELSEC-QnPH, APLC) (default by name: `.apl` is aplc). APLC
+    /// device names: X10/Y10 octal, Dn the high word of :i32/:u32/:f32,
+    /// TN5/CN5 current values.
+    #[arg(long, value_name = "D", value_parser = crate::names::parse_family)]
+    pub dialect: Option<&'static Profile>,
     /// Execution tier: auto (native code where the host has it), jit or
     /// interp; overrides SOFTPLC_EXEC and a project's `[cpu] exec`.
     #[arg(long, value_name = "TIER", value_parser = Exec::parse)]
@@ -240,50 +241,14 @@ pub(crate) fn load(
     load_with(path, clock, start, None, model)
 }
 
-/// True when a single program file is read as `.apl` (contract §2).
-pub(crate) fn is_aplc(path: &Path, dialect: Option<DialectArg>) -> bool {
-    !project::is_project(path)
-        && dialect.map_or(softplc_core::aplc::is_apl(path), |d| d == DialectArg::Aplc)
-}
-
 /// [`load`] with the `--dialect` of a single program file.
 pub(crate) fn load_with(
     path: &Path,
     clock: Box<dyn Clock>,
     start: Option<DateTime>,
-    dialect: Option<DialectArg>,
+    dialect: Option<&'static Profile>,
     model: Option<&str>,
 ) -> Result<Loaded, ExitCode> {
-    if is_aplc(path, dialect) {
-        let aplc = softplc_core::profile::aplc();
-        if model.is_some_and(|m| softplc_core::profile::find(m).ok() != Some(aplc)) {
-            eprintln!(
-                "{}: --model: an APLC program runs on {}",
-                path.display(),
-                aplc.model
-            );
-            return Err(ExitCode::from(2));
-        }
-        let program = softplc_core::aplc::load_file(path).map_err(|d| report(&d, path))?;
-        let mut cfg = softplc_core::aplc::cpu_config();
-        if let Some(t) = start {
-            cfg.clock_start = t;
-        }
-        let cpu = softplc_core::aplc::single_cpu(program, cfg, clock).map_err(|e| {
-            eprintln!("softplc: {e}");
-            ExitCode::from(1)
-        })?;
-        return Ok(Loaded {
-            cpu,
-            state: None,
-            modbus: None,
-            http: None,
-            opcua: None,
-            on_damage: OnDamage::default(),
-            ports: Vec::new(),
-            exec: None,
-        });
-    }
     if project::is_project(path) {
         if model.is_some() {
             eprintln!(
@@ -308,33 +273,30 @@ pub(crate) fn load_with(
             exec: p.exec,
         });
     }
-    let profile = match model.map(project::known_model) {
-        None => softplc_core::profile::default_profile(),
-        Some(Ok(p)) if !softplc_core::profile::is_aplc(p) => p,
-        Some(Ok(p)) => {
-            eprintln!(
-                "{}: --model: {} runs .apl programs, not this file",
-                path.display(),
-                p.model
-            );
-            return Err(ExitCode::from(2));
-        }
-        Some(Err(e)) => {
+    let model = match model.map(project::known_model).transpose() {
+        Ok(m) => m,
+        Err(e) => {
             eprintln!("--model: {e}");
             return Err(ExitCode::from(2));
         }
     };
-    let mut cfg = CpuConfig::new(profile);
-    let dialect = program::dialect_for(profile, program::ProcessSettings::default());
-    let program = program::load_file_in(path, &DeviceConfig::default(), &dialect, None)
-        .map_err(|d| report(&d, path))?;
-    project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
-        .map_err(|d| report(&program::Diagnostics(vec![d]), path))?;
-    if let Some(t) = start {
-        cfg.clock_start = t;
-    }
+    let profile = single::profile_for(path, model, dialect).map_err(|e| {
+        eprintln!("--model: {e}");
+        ExitCode::from(2)
+    })?;
+    let options = single::Options {
+        clock_start: start,
+        ..Default::default()
+    };
+    let cpu = single::load(path, profile, options, clock).map_err(|e| match e {
+        single::LoadError::Program(d) => report(&d, path),
+        single::LoadError::Cpu(e) => {
+            eprintln!("softplc: {e}");
+            ExitCode::from(1)
+        }
+    })?;
     Ok(Loaded {
-        cpu: Cpu::new(program, cfg, clock),
+        cpu,
         state: None,
         modbus: None,
         http: None,
@@ -350,7 +312,7 @@ pub(crate) fn load_with(
 pub fn check(
     path: &Path,
     model: Option<&str>,
-    dialect: Option<DialectArg>,
+    dialect: Option<&'static Profile>,
     exec: Option<Exec>,
     stats: bool,
 ) -> ExitCode {

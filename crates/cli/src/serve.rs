@@ -131,6 +131,15 @@ fn http_token(arg: Option<&str>, table: Option<&toml::Table>) -> Result<Option<S
     Ok(Some(t))
 }
 
+/// "a" or "an" before a model name read letter by letter ("an APLC-TCP",
+/// "a Q06HCPU", "an L02CPU").
+fn article(model: &str) -> &'static str {
+    match model.chars().next().map(|c| c.to_ascii_uppercase()) {
+        Some('A' | 'E' | 'F' | 'H' | 'I' | 'L' | 'M' | 'N' | 'O' | 'R' | 'S' | 'X') => "an",
+        _ => "a",
+    }
+}
+
 fn host_clock() -> DateTime {
     let s = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -193,16 +202,19 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         },
         None => None,
     };
-    let aplc = softplc_core::profile::is_aplc(cpu.profile());
-    if aplc {
-        // APLC-TCP speaks Modbus only (seed 002 ch. 10); see COMPATIBILITY.md.
+    let doors = cpu.profile().doors;
+    if doors.mc.is_none() {
+        // A model without the MC protocol (the APLC-TCP speaks Modbus and free
+        // port only); see COMPATIBILITY.md.
         for (flag, given) in [
             ("--mc", args.mc.is_some()),
             ("--mc-udp", args.mc_udp.is_some()),
         ] {
             if given {
+                let model = cpu.profile().model;
                 return fail(format!(
-                    "{flag}: an APLC-TCP has no MC protocol (seed 002 ch. 10: Modbus RTU/ASCII/TCP and free port only); use --modbus"
+                    "{flag}: {} {model} has no MC protocol; use --modbus",
+                    article(model)
                 ));
             }
         }
@@ -271,14 +283,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         Err(e) => return fail(e),
     }
     let table = modbus.unwrap_or_default();
-    // APLC-TCP: seed 002's map and unit address 8 (L10686, contract §3).
-    let (map_dialect, unit) = if aplc {
-        (softplc_modbus::Dialect::Aplc, 8)
-    } else {
-        (softplc_modbus::Dialect::Q, 1)
+    // The model's Modbus map and unit address (the APLC-TCP's: seed 002's map
+    // at unit 8, L10686, contract §3).
+    let Some(preset) = softplc_modbus::Preset::find(doors.modbus) else {
+        return fail(format!(
+            "{}: no Modbus map named \"{}\"",
+            cpu.profile().model,
+            doors.modbus
+        ));
     };
+    let unit = doors.modbus_unit;
     let modbus_setup = || -> Result<(Map, Slave), String> {
-        let map = Map::from_toml_with(&table, map_dialect).map_err(|e| format!("[modbus]: {e}"))?;
+        let map = Map::from_toml_with(&table, preset).map_err(|e| format!("[modbus]: {e}"))?;
         let mut slave =
             Slave::from_toml_with(&table, unit).map_err(|e| format!("[modbus]: {e}"))?;
         slave.read_only |= args.modbus_read_only;

@@ -117,6 +117,69 @@ fn dialect_option_and_names() {
     assert_eq!(v["devices"]["D5"], 31);
 }
 
+/// `--dialect` names a family (any case; `melsec` and `aplc` as before); a
+/// `--model` must run the file's language.
+#[test]
+fn dialect_is_a_family_and_the_model_must_match() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(&dir, "prog.txt", "LD X10\nOUT Y10\n");
+    for family in ["aplc", "APLC", " Aplc"] {
+        let v = json(&softplc(&[
+            "run",
+            &p,
+            "--dialect",
+            family,
+            "--set",
+            "X10=1",
+            "--show",
+            "Y10",
+            "--json",
+        ]));
+        assert_eq!(v["devices"]["Y10"], true, "{family}");
+    }
+    let m = write(&dir, "prog.il", "LD X10\nOUT Y10\nEND\n");
+    for family in ["melsec", "MELSEC-Q", "melsec-qnph"] {
+        let v = json(&softplc(&[
+            "run",
+            &m,
+            "--dialect",
+            family,
+            "--set",
+            "X10=1",
+            "--show",
+            "Y10",
+            "--json",
+        ]));
+        assert_eq!(v["devices"]["Y10"], true, "{family}");
+    }
+    let bad = softplc(&["run", &p, "--dialect", "fx"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("unknown dialect `fx` (expected melsec, aplc or a family: MELSEC-Q, "),
+        "{err}"
+    );
+    for args in [
+        vec!["run", &p, "--dialect", "aplc", "--model", "Q06HCPU"],
+        vec!["check", "examples/aplc/conveyor.apl", "--model", "q06hcpu"],
+    ] {
+        let out = softplc(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--model: Q06HCPU does not run "), "{err}");
+    }
+    let out = softplc(&["check", &m, "--model", "APLC-TCP"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--model: APLC-TCP does not run "), "{err}");
+    let out = softplc(&["check", &p, "--dialect", "aplc", "--model", "aplc-tcp"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// A run error keeps the CPU in RUN and is reported with its Appendix 6 code.
 #[test]
 fn run_error_json() {

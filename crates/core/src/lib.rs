@@ -7,7 +7,8 @@
 //!   softplc-melsec); [`aplc`]: loading `.apl` files (softplc-aplc);
 //! - [`instructions`]: the MELSEC-Q instruction set (softplc-melsec);
 //! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
-//! - [`project`]: `plc.toml` projects; [`persist`]: latched data on disk;
+//! - [`project`]: `plc.toml` projects; [`single`]: one program file on its
+//!   own; [`persist`]: latched data on disk;
 //! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC);
 //! - [`tier`]: interpreter or native code (`[cpu] exec`, `--exec`, `SOFTPLC_EXEC`).
 
@@ -24,4 +25,5 @@ pub mod persist;
 pub mod profile;
 pub mod program;
 pub mod project;
+pub mod single;
 pub mod tier;

@@ -40,6 +40,16 @@ impl Names {
         }
     }
 
+    /// The names of a model with the global variables its program `files`
+    /// declare (the APLC's `VAR_GLOBAL`), before they are loaded.
+    pub fn of_files(profile: &'static Profile, files: &[&std::path::Path]) -> Names {
+        let mut names = Names::plain(profile);
+        if crate::profile::source_format(profile) == crate::profile::SourceFormat::Pou {
+            names.globals = crate::aplc::globals_of_files(files);
+        }
+        names
+    }
+
     /// The names of a running CPU.
     pub fn of(cpu: &Cpu) -> Names {
         let mut globals: Vec<(String, String)> = (0..cpu.program_count())

@@ -71,6 +71,45 @@ pub fn is_aplc(profile: &Profile) -> bool {
     profile.family == softplc_aplc::profile::FAMILY
 }
 
+/// How a model's program files are written, for the tools that read them
+/// (the loaders of single files and the ladder view).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SourceFormat {
+    /// Instruction lists: `.il` text or a GX Works2 `.csv` export (MELSEC).
+    InstructionList,
+    /// POU text: `.apl` files of POUs with their variable tables (the APLC).
+    Pou,
+}
+
+impl SourceFormat {
+    /// The format a program file is read in by default: by its name,
+    /// `.apl` (any case) is POU text.
+    pub fn of_file(path: &std::path::Path) -> SourceFormat {
+        if crate::aplc::is_apl(path) {
+            SourceFormat::Pou
+        } else {
+            SourceFormat::InstructionList
+        }
+    }
+
+    /// The model a file of this format runs on when none is named.
+    pub fn default_profile(self) -> &'static Profile {
+        match self {
+            SourceFormat::InstructionList => default_profile(),
+            SourceFormat::Pou => aplc(),
+        }
+    }
+}
+
+/// The format of `profile`'s program files.
+pub fn source_format(profile: &Profile) -> SourceFormat {
+    if is_aplc(profile) {
+        SourceFormat::Pou
+    } else {
+        SourceFormat::InstructionList
+    }
+}
+
 /// The language dialect `.il`/`.csv` programs of a MELSEC model compile in:
 /// the process CPU's (with the project's `[process]` decisions) or
 /// MELSEC-Q's. (An APLC-TCP compiles `.apl` files: [`crate::aplc`].)

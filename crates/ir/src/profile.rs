@@ -83,6 +83,9 @@ pub struct Doors {
     /// Serial ports its programs drive themselves (the APLC's PORT1 and
     /// PORT2: Modbus master, free port).
     pub serial_ports: u8,
+    /// Serves OPC UA: its compiler records the devices programs use
+    /// (`Program::used_devices`), which the server's Devices folder lists.
+    pub opcua: bool,
 }
 
 /// A device name from outside programs, resolved to the storage it lives in.

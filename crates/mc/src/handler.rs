@@ -48,60 +48,6 @@ impl Session {
     }
 }
 
-/// Model codes answered to "read CPU model" (0101), from the MC protocol / SLMP
-/// reference tables. Models with built-in Ethernet (`...E...CPU`) answer the code
-/// of the same model without it. Unknown models answer code 0000.
-pub const MODEL_CODES: &[(&str, u16)] = &[
-    ("Q00JCPU", 0x0250),
-    ("Q00CPU", 0x0251),
-    ("Q01CPU", 0x0252),
-    ("Q02CPU", 0x0041),
-    ("Q02HCPU", 0x0041),
-    ("Q06HCPU", 0x0042),
-    ("Q12HCPU", 0x0043),
-    ("Q25HCPU", 0x0044),
-    ("Q12PRHCPU", 0x004B),
-    ("Q25PRHCPU", 0x004C),
-    ("Q00UJCPU", 0x0260),
-    ("Q00UCPU", 0x0261),
-    ("Q01UCPU", 0x0262),
-    ("Q02UCPU", 0x0263),
-    ("Q03UDCPU", 0x0268),
-    ("Q03UDECPU", 0x0268),
-    ("Q04UDHCPU", 0x0269),
-    ("Q04UDEHCPU", 0x0269),
-    ("Q06UDHCPU", 0x026A),
-    ("Q06UDEHCPU", 0x026A),
-    ("Q10UDHCPU", 0x0266),
-    ("Q10UDEHCPU", 0x0266),
-    ("Q13UDHCPU", 0x026B),
-    ("Q13UDEHCPU", 0x026B),
-    ("Q20UDHCPU", 0x0267),
-    ("Q20UDEHCPU", 0x0267),
-    ("Q26UDHCPU", 0x026C),
-    ("Q26UDEHCPU", 0x026C),
-    ("Q50UDEHCPU", 0x026D),
-    ("Q100UDEHCPU", 0x026E),
-    ("Q03UDVCPU", 0x0366),
-    ("Q04UDVCPU", 0x0367),
-    ("Q06UDVCPU", 0x0368),
-    ("Q13UDVCPU", 0x036A),
-    ("Q26UDVCPU", 0x036C),
-    ("L02SCPU", 0x0543),
-    ("L02CPU", 0x0541),
-    ("L06CPU", 0x0544),
-    ("L26CPU", 0x0545),
-    ("L26CPU-BT", 0x0542),
-];
-
-/// The model code of a CPU model name (case-insensitive).
-pub fn model_code(model: &str) -> Option<u16> {
-    MODEL_CODES
-        .iter()
-        .find(|(m, _)| m.eq_ignore_ascii_case(model.trim()))
-        .map(|(_, c)| *c)
-}
-
 /// Executes `req` on `cpu`. `password` is the CPU's remote password, if any.
 pub fn handle(
     req: &Request,

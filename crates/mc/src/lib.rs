@@ -110,4 +110,4 @@ pub use frame::{
     decode_request, decode_response, encode_request, encode_response, DataCode, ErrorInfo, Frame,
     FrameError, Header, Rejected, Request, Response, ResponseData, ResponseFrame,
 };
-pub use handler::{handle, model_code, serve, Served, Session};
+pub use handler::{handle, serve, Served, Session};

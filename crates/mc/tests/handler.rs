@@ -414,8 +414,81 @@ fn read_cpu_model_answers_as_the_configured_cpu() {
             code: 0x0268
         })
     );
-    assert_eq!(model_code("q06hcpu"), Some(0x42));
-    assert_eq!(model_code("Q99CPU"), None);
+    let find = softplc_core::profile::find;
+    assert_eq!(find("q06hcpu").unwrap().doors.mc, Some(0x42));
+    assert!(find("Q99CPU").is_err());
+}
+
+/// Model codes of "read CPU model" (0101), from the MC protocol / SLMP
+/// reference tables. Models with built-in Ethernet (`...E...CPU`) answer the
+/// code of the same model without it; models without a published code (the
+/// process CPUs) answer 0000.
+const SLMP_MODEL_CODES: &[(&str, u16)] = &[
+    ("Q00JCPU", 0x0250),
+    ("Q00CPU", 0x0251),
+    ("Q01CPU", 0x0252),
+    ("Q02CPU", 0x0041),
+    ("Q02HCPU", 0x0041),
+    ("Q06HCPU", 0x0042),
+    ("Q12HCPU", 0x0043),
+    ("Q25HCPU", 0x0044),
+    ("Q12PRHCPU", 0x004B),
+    ("Q25PRHCPU", 0x004C),
+    ("Q00UJCPU", 0x0260),
+    ("Q00UCPU", 0x0261),
+    ("Q01UCPU", 0x0262),
+    ("Q02UCPU", 0x0263),
+    ("Q03UDCPU", 0x0268),
+    ("Q03UDECPU", 0x0268),
+    ("Q04UDHCPU", 0x0269),
+    ("Q04UDEHCPU", 0x0269),
+    ("Q06UDHCPU", 0x026A),
+    ("Q06UDEHCPU", 0x026A),
+    ("Q10UDHCPU", 0x0266),
+    ("Q10UDEHCPU", 0x0266),
+    ("Q13UDHCPU", 0x026B),
+    ("Q13UDEHCPU", 0x026B),
+    ("Q20UDHCPU", 0x0267),
+    ("Q20UDEHCPU", 0x0267),
+    ("Q26UDHCPU", 0x026C),
+    ("Q26UDEHCPU", 0x026C),
+    ("Q50UDEHCPU", 0x026D),
+    ("Q100UDEHCPU", 0x026E),
+    ("Q03UDVCPU", 0x0366),
+    ("Q04UDVCPU", 0x0367),
+    ("Q06UDVCPU", 0x0368),
+    ("Q13UDVCPU", 0x036A),
+    ("Q26UDVCPU", 0x036C),
+    ("L02SCPU", 0x0543),
+    ("L02CPU", 0x0541),
+    ("L06CPU", 0x0544),
+    ("L26CPU", 0x0545),
+    ("L26CPU-BT", 0x0542),
+];
+
+/// Every model with the MC protocol answers its name, padded to 16
+/// characters, and the code of the reference table (0000 where it has none).
+#[test]
+fn read_cpu_model_answers_the_reference_code_of_every_model() {
+    for p in softplc_core::profile::all() {
+        let Some(code) = p.doors.mc else {
+            continue;
+        };
+        let want = SLMP_MODEL_CODES
+            .iter()
+            .find(|(m, _)| *m == p.model)
+            .map_or(0, |(_, c)| *c);
+        assert_eq!(code, want, "{}", p.model);
+        let (mut cpu, _) = cpu_with(softplc_core::profile::config(p));
+        let mut name = [b' '; 16];
+        name[..p.model.len()].copy_from_slice(p.model.as_bytes());
+        assert_eq!(
+            run(&mut cpu, Command::ReadCpuModel),
+            Response::Ok(ResponseData::CpuModel { name, code: want }),
+            "{}",
+            p.model
+        );
+    }
 }
 
 #[test]

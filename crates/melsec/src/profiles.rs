@@ -72,6 +72,7 @@ const fn model(
             modbus: "q",
             modbus_unit: 1,
             serial_ports: 0,
+            opcua: true,
         },
         default_system: || None,
     }

@@ -117,7 +117,7 @@ pub mod pdu;
 pub mod slave;
 
 pub use frame::{crc16, decode, decode_exact, lrc, Frame, FrameError, FrameErrorKind, Proto};
-pub use map::{Chunk, Dialect, Limits, Map, Range, Table, MAP_KEYS};
+pub use map::{Chunk, Limits, Map, Preset, Range, Table, MAP_KEYS, PRESETS};
 pub use pdu::{is_write_function, Exception, Request};
 pub use slave::{serve, Counters, Slave, Step, SLAVE_KEYS};
 

@@ -259,19 +259,83 @@ impl Limits {
     };
 }
 
-/// The preset a map starts from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Dialect {
-    /// MELSEC-Q (contract §3).
-    Q,
-    /// APLC-TCP (seed 002).
-    Aplc,
+/// A preset: the map and rules a dialect's slave starts from, by name (a
+/// CPU profile's `doors.modbus`, the `[modbus] dialect` key).
+#[derive(Debug)]
+pub struct Preset {
+    /// The names `[modbus] dialect` selects it by (any case); the first is
+    /// its own, the one profiles give.
+    pub names: &'static [&'static str],
+    /// The function codes it answers; a `functions` list chooses among them.
+    pub functions: &'static [u8],
+    pub limits: Limits,
+    /// See [`Map::span`].
+    pub span: bool,
+    /// Its address ranges.
+    pub ranges: fn() -> Vec<Range>,
+}
+
+impl PartialEq for Preset {
+    /// Presets are static values, one per name.
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl Eq for Preset {}
+
+/// The MELSEC-Q map of contract §3 (module docs).
+pub static Q_PRESET: Preset = Preset {
+    names: &["q", "melsec", "melsec-q"],
+    functions: &Q_FUNCTIONS,
+    limits: Limits::STANDARD,
+    span: true,
+    ranges: q_ranges,
+};
+
+/// The APLC map of seed 002 (spec/aplc.md §6.4): one range per request.
+pub static APLC_PRESET: Preset = Preset {
+    names: &["aplc"],
+    functions: &APLC_FUNCTIONS,
+    limits: Limits::APLC,
+    span: false,
+    ranges: aplc_ranges,
+};
+
+/// Every preset; the first is the default of [`Map::from_toml`].
+pub static PRESETS: [&Preset; 2] = [&Q_PRESET, &APLC_PRESET];
+
+impl Preset {
+    /// Its own name (`q`, `aplc`).
+    pub fn name(&self) -> &'static str {
+        self.names[0]
+    }
+
+    /// The preset called `name` (any case, surrounding blanks ignored).
+    pub fn find(name: &str) -> Option<&'static Preset> {
+        let name = name.trim();
+        PRESETS
+            .into_iter()
+            .find(|p| p.names.iter().any(|n| n.eq_ignore_ascii_case(name)))
+    }
+
+    /// The map as the preset gives it.
+    pub fn map(&'static self) -> Map {
+        Map {
+            preset: self,
+            functions: self.functions.to_vec(),
+            limits: self.limits,
+            span: self.span,
+            ranges: (self.ranges)(),
+        }
+    }
 }
 
 /// An address map with its dialect rules.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Map {
-    pub dialect: Dialect,
+    /// The preset it started from (its function codes bound `functions`).
+    pub preset: &'static Preset,
     /// Supported function codes; others get exception 01.
     pub functions: Vec<u8>,
     pub limits: Limits,
@@ -324,6 +388,61 @@ pub const APLC_WRITABLE_SD: [(u32, u32); 12] = [
     (200, 219),
 ];
 
+/// The presets' own names as the `dialect` error lists them: `"q" or "aplc"`.
+fn preset_names() -> String {
+    let names: Vec<String> = PRESETS
+        .iter()
+        .map(|p| format!("\"{}\"", p.name()))
+        .collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => names.concat(),
+    }
+}
+
+/// The ranges of the MELSEC-Q map (module docs).
+fn q_ranges() -> Vec<Range> {
+    use DeviceKind::*;
+    use Table::*;
+    vec![
+        Range::new(Coils, 0, 8192, Y, 0),
+        Range::new(Coils, 8192, 8192, M, 0),
+        Range::new(Coils, 16384, 8192, L, 0),
+        Range::new(Coils, 24576, 8192, B, 0),
+        Range::new(DiscreteInputs, 0, 8192, X, 0),
+        Range::new(HoldingRegisters, 0, 12288, D, 0),
+        Range::new(HoldingRegisters, 12288, 8192, W, 0),
+        Range::new(HoldingRegisters, 20480, 32768, R, 0),
+        Range::new(InputRegisters, 0, 2048, SD, 0),
+    ]
+}
+
+/// The ranges of the APLC map (module docs).
+fn aplc_ranges() -> Vec<Range> {
+    use DeviceKind::*;
+    use Table::*;
+    vec![
+        // 256 addresses over Y0-Y177 / X0-X177 (decision D2).
+        Range::new(Coils, 0, 256, Y, 0).with_limit(APLC_IO_POINTS),
+        Range::new(Coils, 1200, 256, X, 0)
+            .with_writable(&[])
+            .with_limit(APLC_IO_POINTS),
+        Range::new(Coils, 2000, 2000, M, 0),
+        Range::new(Coils, 4400, 256, SM, 0).with_writable(&APLC_WRITABLE_SM),
+        Range::new(Coils, 6000, 992, S, 0),
+        Range::new(Coils, 8000, 256, TS, 0),
+        Range::new(Coils, 9200, 256, CS, 0),
+        Range::new(DiscreteInputs, 0, 256, X, 0).with_limit(APLC_IO_POINTS),
+        Range::new(HoldingRegisters, 0, 8000, D, 0),
+        Range::new(HoldingRegisters, 8000, 256, SD, 0).with_writable(&APLC_WRITABLE_SD),
+        Range::new(HoldingRegisters, 8500, 16, Z, 0),
+        Range::new(HoldingRegisters, 9000, 256, TN, 0),
+        Range::new(HoldingRegisters, 9500, 200, CN, 0),
+        // C200+k in CN(200+2k) (high), CN(201+2k) (low).
+        Range::new(HoldingRegisters, 9700, 112, CN, 200).with_pair_words(),
+    ]
+}
+
 /// One piece of a request: `len` addresses of `range` from `offset`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Chunk<'a> {
@@ -351,87 +470,32 @@ impl Default for Map {
 impl Map {
     /// The MELSEC-Q default map of contract §3.
     pub fn q_default() -> Map {
-        use DeviceKind::*;
-        use Table::*;
-        Map {
-            dialect: Dialect::Q,
-            functions: Q_FUNCTIONS.to_vec(),
-            limits: Limits::STANDARD,
-            span: true,
-            ranges: vec![
-                Range::new(Coils, 0, 8192, Y, 0),
-                Range::new(Coils, 8192, 8192, M, 0),
-                Range::new(Coils, 16384, 8192, L, 0),
-                Range::new(Coils, 24576, 8192, B, 0),
-                Range::new(DiscreteInputs, 0, 8192, X, 0),
-                Range::new(HoldingRegisters, 0, 12288, D, 0),
-                Range::new(HoldingRegisters, 12288, 8192, W, 0),
-                Range::new(HoldingRegisters, 20480, 32768, R, 0),
-                Range::new(InputRegisters, 0, 2048, SD, 0),
-            ],
-        }
+        Q_PRESET.map()
     }
 
     /// The APLC map of seed 002 (spec/aplc.md §6.4).
     pub fn aplc() -> Map {
-        use DeviceKind::*;
-        use Table::*;
-        Map {
-            dialect: Dialect::Aplc,
-            functions: APLC_FUNCTIONS.to_vec(),
-            limits: Limits::APLC,
-            span: false,
-            ranges: vec![
-                // 256 addresses over Y0-Y177 / X0-X177 (decision D2).
-                Range::new(Coils, 0, 256, Y, 0).with_limit(APLC_IO_POINTS),
-                Range::new(Coils, 1200, 256, X, 0)
-                    .with_writable(&[])
-                    .with_limit(APLC_IO_POINTS),
-                Range::new(Coils, 2000, 2000, M, 0),
-                Range::new(Coils, 4400, 256, SM, 0).with_writable(&APLC_WRITABLE_SM),
-                Range::new(Coils, 6000, 992, S, 0),
-                Range::new(Coils, 8000, 256, TS, 0),
-                Range::new(Coils, 9200, 256, CS, 0),
-                Range::new(DiscreteInputs, 0, 256, X, 0).with_limit(APLC_IO_POINTS),
-                Range::new(HoldingRegisters, 0, 8000, D, 0),
-                Range::new(HoldingRegisters, 8000, 256, SD, 0).with_writable(&APLC_WRITABLE_SD),
-                Range::new(HoldingRegisters, 8500, 16, Z, 0),
-                Range::new(HoldingRegisters, 9000, 256, TN, 0),
-                Range::new(HoldingRegisters, 9500, 200, CN, 0),
-                // C200+k in CN(200+2k) (high), CN(201+2k) (low).
-                Range::new(HoldingRegisters, 9700, 112, CN, 200).with_pair_words(),
-            ],
-        }
-    }
-
-    pub fn preset(dialect: Dialect) -> Map {
-        match dialect {
-            Dialect::Q => Map::q_default(),
-            Dialect::Aplc => Map::aplc(),
-        }
+        APLC_PRESET.map()
     }
 
     /// Reads the `[modbus]` table of plc.toml (schema in the module docs); without
     /// `dialect` the Q preset is the base. Keys not in [`MAP_KEYS`] are left to
     /// other readers.
     pub fn from_toml(table: &toml::Table) -> Result<Map, String> {
-        Map::from_toml_with(table, Dialect::Q)
+        Map::from_toml_with(table, PRESETS[0])
     }
 
-    /// As [`Map::from_toml`], with `default` as the preset when `dialect` is absent
-    /// (pass [`Dialect::Aplc`] for an `APLC-TCP` CPU model).
-    pub fn from_toml_with(table: &toml::Table, default: Dialect) -> Result<Map, String> {
-        let dialect = match table.get("dialect") {
+    /// As [`Map::from_toml`], with `default` as the preset when `dialect` is
+    /// absent (the CPU profile's, `Preset::find(profile.doors.modbus)`).
+    pub fn from_toml_with(table: &toml::Table, default: &'static Preset) -> Result<Map, String> {
+        let preset = match table.get("dialect") {
             None => default,
-            Some(toml::Value::String(s)) => match s.to_ascii_lowercase().as_str() {
-                "q" | "melsec" | "melsec-q" => Dialect::Q,
-                "aplc" => Dialect::Aplc,
-                _ => {
-                    return Err(format!(
-                        "[modbus] dialect: unknown dialect \"{s}\" (expected \"q\" or \"aplc\")"
-                    ))
-                }
-            },
+            Some(toml::Value::String(s)) => Preset::find(s).ok_or_else(|| {
+                format!(
+                    "[modbus] dialect: unknown dialect \"{s}\" (expected {})",
+                    preset_names()
+                )
+            })?,
             Some(v) => {
                 return Err(format!(
                     "[modbus] dialect: expected a string, found {}",
@@ -439,16 +503,13 @@ impl Map {
                 ))
             }
         };
-        let mut map = Map::preset(dialect);
+        let mut map = preset.map();
         if let Some(v) = table.get("functions") {
             let list: Vec<i64> = v
                 .clone()
                 .try_into()
                 .map_err(|_| "[modbus] functions: expected a list of function codes".to_string())?;
-            let supported = match dialect {
-                Dialect::Q => &Q_FUNCTIONS[..],
-                Dialect::Aplc => &APLC_FUNCTIONS[..],
-            };
+            let supported = preset.functions;
             let mut functions = Vec::new();
             for fc in list {
                 match u8::try_from(fc) {

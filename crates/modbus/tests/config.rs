@@ -4,7 +4,7 @@ mod common;
 
 use common::*;
 use softplc_core::device::DeviceKind::*;
-use softplc_modbus::{Dialect, Map, Range, Request, Slave, Table, MAP_KEYS, SLAVE_KEYS};
+use softplc_modbus::{Map, Preset, Range, Request, Slave, Table, MAP_KEYS, SLAVE_KEYS};
 
 fn modbus(src: &str) -> toml::Table {
     let doc: toml::Table = toml::from_str(src).unwrap();
@@ -20,7 +20,7 @@ fn presets() {
     assert_eq!(map("[modbus]\n").unwrap(), Map::q_default());
     assert_eq!(map("[modbus]\ndialect = \"aplc\"\n").unwrap(), Map::aplc());
     assert_eq!(
-        Map::from_toml_with(&modbus("[modbus]\n"), Dialect::Aplc).unwrap(),
+        Map::from_toml_with(&modbus("[modbus]\n"), Preset::find("aplc").unwrap()).unwrap(),
         Map::aplc()
     );
     assert_eq!(
@@ -33,6 +33,34 @@ fn presets() {
         .check_devices(&Default::default())
         .is_empty());
     assert!(Map::aplc().check_devices(&Default::default()).is_empty());
+}
+
+/// Presets are named data: the `dialect` key's names, and every CPU
+/// profile's `doors.modbus`, find one.
+#[test]
+fn presets_are_found_by_name() {
+    for (name, want) in [
+        ("q", Map::q_default()),
+        ("melsec", Map::q_default()),
+        ("MELSEC-Q", Map::q_default()),
+        (" Aplc ", Map::aplc()),
+    ] {
+        assert_eq!(Preset::find(name).unwrap().map(), want, "{name}");
+        let src = format!("[modbus]\ndialect = \"{}\"\n", name.trim());
+        assert_eq!(map(&src).unwrap(), want, "{name}");
+    }
+    assert_eq!(Preset::find("fx"), None);
+    for p in softplc_core::profile::all() {
+        let preset = Preset::find(p.doors.modbus).unwrap();
+        assert_eq!(preset.name(), p.doors.modbus, "{}", p.model);
+    }
+    let aplc = softplc_core::profile::aplc();
+    assert_eq!(Preset::find(aplc.doors.modbus).unwrap().map(), Map::aplc());
+    let q = softplc_core::profile::default_profile();
+    assert_eq!(
+        Preset::find(q.doors.modbus).unwrap().map(),
+        Map::q_default()
+    );
 }
 
 #[test]

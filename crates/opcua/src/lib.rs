@@ -36,10 +36,15 @@ pub use config::{Flags, OpcuaConfig};
 use points::Point;
 use space::{SoftplcNodes, Space, WriteRule};
 
-/// Why an APLC-TCP program is not served (COMPATIBILITY.md).
-pub const APLC_REFUSED: &str = "--opcua: APLC-TCP programs are not served over OPC UA yet: \
-     the APLC driver resolves operands without recording them (Program::used_devices), \
-     so the Devices folder would be empty; use --modbus or --http";
+/// Why the programs of a model without the OPC UA door (the APLC-TCP) are
+/// not served (COMPATIBILITY.md).
+pub fn refused(model: &str) -> String {
+    format!(
+        "--opcua: {model} programs are not served over OPC UA yet: its compiler does not \
+         record the devices programs use (Program::used_devices), so the Devices folder \
+         would be empty; use --modbus or --http"
+    )
+}
 
 /// The user token id of the configured user.
 const USER_TOKEN_ID: &str = "user";
@@ -57,8 +62,8 @@ impl Prepared {
     /// The device variables of `cpu` (an error names a bad `[opcua] nodes`
     /// entry) and its programs' loop memories.
     pub fn new(cfg: OpcuaConfig, cpu: &Cpu) -> Result<Prepared, String> {
-        if softplc_core::profile::is_aplc(cpu.profile()) {
-            return Err(APLC_REFUSED.to_string());
+        if !cpu.profile().doors.opcua {
+            return Err(refused(cpu.profile().model));
         }
         let devices = points::devices(cpu, &cfg.nodes)?;
         Ok(Prepared {

@@ -4,7 +4,7 @@
 //! compiler uses, before `#NAME` and global names are substituted) and laid
 //! out by the same rung builder as MELSEC files, with the APLC instruction
 //! classes ([`softplc_aplc::dialect`]) and APLC device names
-//! ([`Names::Aplc`]: octal X/Y, LM/V, TN/CN).
+//! (the APLC-TCP's [`Names`]: octal X/Y, LM/V, TN/CN).
 //!
 //! - One [`Section`] per POU (MAIN, `SBR_<n>`, `INT_<n> EVENT <e>`) with its
 //!   variable table; comment lines above a rung are its comment.
@@ -44,13 +44,14 @@ pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
             .map_or_else(|| "cannot parse".to_string(), |d| d.to_string())
     })?;
     let unit = &outline.unit;
-    let mut b = Builder::new(Names::Aplc { locals: true });
+    let mut b = Builder::new(Names::new(softplc_core::profile::aplc(), true));
     let mut sections = Vec::new();
     let mut loops = Vec::new();
     for pou in &unit.pous {
-        b.set_names(Names::Aplc {
-            locals: pou.kind == PouKind::Main,
-        });
+        b.set_names(Names::new(
+            softplc_core::profile::aplc(),
+            pou.kind == PouKind::Main,
+        ));
         b.end_step();
         sections.push(Section {
             title: title(pou),

@@ -419,7 +419,7 @@ fn take(fans: &mut Vec<FanB>, i: usize) -> Fan {
 
 /// The rungs of a program's listing (MELSEC names).
 pub fn build(entries: &[Entry]) -> Vec<Rung> {
-    let mut b = Builder::new(Names::Melsec);
+    let mut b = Builder::new(Names::default());
     for e in entries {
         b.entry(e);
     }

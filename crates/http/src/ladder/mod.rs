@@ -25,7 +25,8 @@ pub mod render;
 
 use std::path::Path;
 
-use softplc_core::access::{DeviceSpec, ValueType};
+use softplc_core::access::ValueType;
+use softplc_core::profile::{Profile, SourceFormat};
 use softplc_core::program::{Dialect, Program, Source};
 use softplc_ir::listing::{Listing, LoopUse, Role, Test};
 use softplc_ir::ops::Num;
@@ -33,50 +34,46 @@ use softplc_ir::ops::Num;
 pub use build::{build, Fan, Item, Net, Rung, RungBody};
 
 /// Whose device names a program's operands are (the names the page shows,
-/// subscribes to and writes, contract §3.1 "in the program's dialect").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Names {
-    /// MELSEC-Q (`--show` names, hexadecimal X/Y).
-    #[default]
-    Melsec,
-    /// APLC-TCP (`softplc_aplc::names`, octal X/Y). `locals`: LM and V are
-    /// read live; only in MAIN, whose frame is the one device memory holds
-    /// at END (a subroutine's or interrupt routine's locals are gone then).
-    Aplc { locals: bool },
+/// subscribes to and writes, contract §3.1 "in the program's dialect"): the
+/// CPU model's naming (MELSEC's hexadecimal X/Y, the APLC's octal X/Y and
+/// LM/V locals).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Names {
+    profile: &'static Profile,
+    /// Program locals (the APLC's LM and V) are read live: only in MAIN,
+    /// whose frame is the one device memory holds at END (a subroutine's or
+    /// interrupt routine's locals are gone then).
+    locals: bool,
+}
+
+impl Default for Names {
+    /// The default model's names (MELSEC-Q).
+    fn default() -> Names {
+        Names::new(softplc_core::profile::default_profile(), false)
+    }
 }
 
 impl Names {
+    /// The names of `profile`'s programs; `locals`: whether program locals
+    /// are live devices here.
+    pub fn new(profile: &'static Profile, locals: bool) -> Names {
+        Names { profile, locals }
+    }
+
     /// The value type of a device name, `None` for a constant or anything
     /// that is no device of this dialect.
     pub fn device_type(self, name: &str) -> Option<ValueType> {
-        match self {
-            Names::Melsec => DeviceSpec::parse(name).ok().map(|d| d.ty),
-            Names::Aplc { locals } => {
-                let u = name.to_ascii_uppercase();
-                if !locals && (u.starts_with('V') || u.contains("LM")) {
-                    return None;
-                }
-                softplc_aplc::names::Name::parse(name).ok().map(|n| n.ty)
-            }
+        let naming = self.profile.naming;
+        if !self.locals && naming.is_local(name) {
+            return None;
         }
+        naming.parse(name).ok().map(|n| n.ty)
     }
 
     /// The name of a timer's or counter's current value (`T0` → `TN0`,
     /// `C3` → `CN3`; MELSEC also `ST1` → `STN1`).
     pub fn current_value(self, dev: &str) -> Option<String> {
-        let u = dev.to_ascii_uppercase();
-        let kinds: &[(&str, &str)] = match self {
-            Names::Melsec => &[("ST", "STN"), ("T", "TN"), ("C", "CN")],
-            Names::Aplc { .. } => &[("T", "TN"), ("C", "CN")],
-        };
-        for (p, n) in kinds {
-            if let Some(rest) = u.strip_prefix(p) {
-                if !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit()) {
-                    return Some(format!("{n}{rest}"));
-                }
-            }
-        }
-        None
+        self.profile.naming.current_value(dev)
     }
 }
 
@@ -349,11 +346,11 @@ impl LadderProgram {
 /// comments and names as written are not in the listing; a file that
 /// cannot be read shows as a note).
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
-    let aplc = softplc_core::profile::is_aplc(cpu.profile());
+    let format = softplc_core::profile::source_format(cpu.profile());
     (0..cpu.program_count())
         .map(|i| {
             let p = cpu.program_at(i);
-            if !aplc {
+            if format == SourceFormat::InstructionList {
                 return LadderProgram::from_program(p);
             }
             aplc::from_file(Path::new(&p.file)).unwrap_or_else(|e| {

@@ -2,10 +2,9 @@
 
 use std::time::{Duration, Instant};
 
-use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
+use softplc_core::engine::{Cpu, CpuState, VirtualClock};
 use softplc_core::names::Names;
-use softplc_core::{aplc, program, project};
+use softplc_core::{project, single};
 
 use super::bind::{Probe, Sink, Source};
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
@@ -123,21 +122,12 @@ impl Scenario {
         let mut project_exec = None;
         let mut cpu = match &self.source {
             super::Source::Program(p) => {
-                let cfg = CpuConfig::new(self.profile);
-                if softplc_core::profile::is_aplc(self.profile) {
-                    let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
-                    let cfg = aplc::cpu_config_with_ports(
-                        aplc::cpu_config().watchdog,
-                        None,
-                        self.ports.clone(),
-                    );
-                    aplc::single_cpu(prog, cfg, Box::new(clock.clone()))?
-                } else {
-                    let dialect = program::dialect_for(cfg.profile, Default::default());
-                    let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
-                        .map_err(|d| format!("{d}"))?;
-                    Cpu::new(prog, cfg, Box::new(clock.clone()))
-                }
+                let options = single::Options {
+                    ports: self.ports.clone(),
+                    ..Default::default()
+                };
+                single::load(p, self.profile, options, Box::new(clock.clone()))
+                    .map_err(|e| e.to_string())?
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;

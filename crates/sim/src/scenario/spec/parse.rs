@@ -2,7 +2,8 @@
 //! [`Scenario`]: source, times, models and the timeline.
 
 use softplc_core::names::Names;
-use softplc_core::profile::{self, Profile};
+use softplc_core::profile::{self, Profile, SourceFormat};
+use softplc_core::single;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -266,31 +267,23 @@ impl Scenario {
     }
 }
 
-/// What the scenario's device names mean: the APLC's for an `.apl` program
-/// (or `cpu = "APLC-TCP"`) or an APLC-TCP project, with the programs'
-/// global names; MELSEC's otherwise. A program or project that does not
-/// load gives plain names here and its errors when the scenario is built.
-/// The `cpu` of a scenario that runs one program file: a MELSEC model, or
-/// the APLC-TCP, which runs `.apl` files only (and only it runs them).
+/// The `cpu` of a scenario that runs one program file: a model that reads
+/// the file's format (the APLC-TCP `.apl` files, a MELSEC model `.il`/`.csv`).
 fn program_model(model: &str, program: &std::path::Path) -> Result<&'static Profile, String> {
     let model = profile::find(model).map_err(|e| format!("cpu: {e}"))?;
-    if profile::is_aplc(model) != softplc_core::aplc::is_apl(program) {
-        return Err(format!(
-            "cpu: {} does not run {} (the APLC-TCP runs .apl programs, a MELSEC model .il/.csv)",
-            model.model,
-            program.display()
-        ));
-    }
-    Ok(model)
+    single::profile_for(program, Some(model), None).map_err(|e| format!("cpu: {e}"))
 }
 
+/// What the scenario's device names mean: those of the program file's model
+/// (`cpu`, else by the file name) or the project's, with the programs'
+/// global names (the APLC's). A program or project that does not load
+/// gives plain names here and its errors when the scenario is built.
 fn names_of(source: &Source, cpu: Option<&'static Profile>) -> (&'static Profile, Names) {
     let (profile, files) = match source {
         Source::Program(p) => {
             let d = match cpu {
                 Some(m) => m,
-                None if softplc_core::aplc::is_apl(p) => profile::aplc(),
-                None => profile::default_profile(),
+                None => SourceFormat::of_file(p).default_profile(),
             };
             (d, vec![p.clone()])
         }
@@ -302,12 +295,8 @@ fn names_of(source: &Source, cpu: Option<&'static Profile>) -> (&'static Profile
             Err(_) => (profile::default_profile(), Vec::new()),
         },
     };
-    let mut names = Names::plain(profile);
-    if profile::is_aplc(profile) {
-        let paths: Vec<&std::path::Path> = files.iter().map(|f| f.as_path()).collect();
-        names.globals = softplc_core::aplc::globals_of_files(&paths);
-    }
-    (profile, names)
+    let paths: Vec<&std::path::Path> = files.iter().map(|f| f.as_path()).collect();
+    (profile, Names::of_files(profile, &paths))
 }
 
 fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Names) -> Result<ModelSpec, String> {
