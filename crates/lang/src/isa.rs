@@ -267,9 +267,14 @@ impl Isa {
     /// `reason`, so a program using one learns which model it needs.
     pub fn rejecting(mut self, foreign: &[&'static [Def]], reason: &'static str) -> Isa {
         for family in foreign {
+            // Keeps the class, so a rejected contact leaves the rung as a
+            // contact would (no second diagnostic at the next ANB or OUT).
             let rejected: Vec<Def> = family
                 .iter()
-                .map(|d| Def::rejected(d.name, reason).pulse(d.pulse))
+                .map(|d| Def {
+                    class: d.class,
+                    ..Def::rejected(d.name, reason).pulse(d.pulse)
+                })
                 .collect();
             // Built once per dialect (in a `LazyLock`), so leaking is bounded.
             self.add(Box::leak(rejected.into_boxed_slice()));

@@ -51,6 +51,17 @@ pub static DEFS: &[Def] = &[
     Def::lower("FEND", Class::Standalone, &END, end).steps(Steps::Basic),
 ];
 
+/// The pulse NOT contacts of the Universal models (registered in
+/// [`crate::qnu`], rejected on the other CPUs).
+pub static QNU_DEFS: &[Def] = &[
+    Def::lower("LDPI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+    Def::lower("LDFI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+    Def::lower("ANDPI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+    Def::lower("ANDFI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+    Def::lower("ORPI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+    Def::lower("ORFI", Class::Contact, &PULSE_NOT_CONTACTS, contact).steps(Steps::Basic),
+];
+
 static CONTACTS: Doc = Doc {
     family: "contact",
     cite: "PM §5.1 contact instructions",
@@ -60,6 +71,14 @@ static EDGE_CONTACTS: Doc = Doc {
     family: "contact (edge)",
     cite: "PM §5.1",
     notes: "one hidden edge memory per instruction",
+};
+/// SH-080809ENG §5.1.3: LDPI/ANDPI/ORPI are OFF only on the scan the device
+/// rises (OFF→ON) and ON otherwise; LDFI/ANDFI/ORFI OFF only on the scan it
+/// falls. The negation of LDP/LDF, on the same hidden edge memory.
+static PULSE_NOT_CONTACTS: Doc = Doc {
+    family: "contact (pulse NOT, QnU)",
+    cite: "SH-080809ENG §5.1.3",
+    notes: "Universal models only; OFF only on the rising (…PI) or falling (…FI) edge; one hidden edge memory per instruction",
 };
 static CONNECTION: Doc = Doc {
     family: "connection",
@@ -131,6 +150,9 @@ fn rst_steps(ops: &[Token]) -> u32 {
     }
 }
 
+/// Every contact: LD/AND/OR, with `I` negated (LDI, ANI, ORI), `P`/`F` on
+/// an edge, `PI`/`FI` the negation of the edge (the QnU's LDPI … ORFI,
+/// [`QNU_DEFS`]).
 fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
@@ -139,8 +161,8 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
         return;
     }
     let (join, rest) = split_join(m);
-    let negate = rest == "I" || m == "ANI";
-    let edge = match rest {
+    let negate = rest.ends_with('I') || m == "ANI";
+    let edge = match rest.strip_suffix('I').unwrap_or(rest) {
         "P" => Edge::Rising,
         "F" => Edge::Falling,
         _ => Edge::None,
@@ -658,7 +680,7 @@ fn split_join(m: &str) -> (Join, &str) {
     if let Some(r) = m.strip_prefix("LD") {
         (Join::Load, r)
     } else if let Some(r) = m.strip_prefix("AN") {
-        // AND, ANDP, ANDF, ANI
+        // AND, ANDP, ANDF, ANI, ANDPI, ANDFI
         (Join::And, r.strip_prefix('D').unwrap_or(r))
     } else {
         (Join::Or, m.strip_prefix("OR").unwrap_or(m))

@@ -135,6 +135,7 @@ fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
         Ok(p) if p != config.profile => {
             *config = CpuConfig {
                 profile: p,
+                devices: (p.default_devices)(),
                 system: (p.default_system)(),
                 ..config.clone()
             }
