@@ -9,7 +9,6 @@ use std::time::Duration;
 use clap::Args;
 use serde_json::{json, Map, Value as Json};
 use softplc_core::access::{DeviceSpec, Value};
-use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
@@ -309,8 +308,8 @@ pub(crate) fn load_with(
         });
     }
     let profile = match model.map(project::known_model) {
-        None => softplc_core::profile::default_profile(),
-        Some(Ok(p)) if !softplc_core::profile::is_aplc(p) => p,
+        None => None,
+        Some(Ok(p)) if !softplc_core::profile::is_aplc(p) => Some(p),
         Some(Ok(p)) => {
             eprintln!(
                 "{}: --model: {} runs .apl programs, not this file",
@@ -324,12 +323,10 @@ pub(crate) fn load_with(
             return Err(ExitCode::from(2));
         }
     };
+    // The model: --model, else the one a CSV export names, else the Q06HCPU.
+    let (profile, program) =
+        program::load_single(path, profile).map_err(|d| report(&d, path))?;
     let mut cfg = CpuConfig::new(profile);
-    let dialect = program::dialect_for(profile, program::ProcessSettings::default());
-    let program = program::load_file_in(path, &DeviceConfig::default(), &dialect, None)
-        .map_err(|d| report(&d, path))?;
-    project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
-        .map_err(|d| report(&program::Diagnostics(vec![d]), path))?;
     if let Some(t) = start {
         cfg.clock_start = t;
     }
