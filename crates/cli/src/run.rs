@@ -324,8 +324,7 @@ pub(crate) fn load_with(
         }
     };
     // The model: --model, else the one a CSV export names, else the Q06HCPU.
-    let (profile, program) =
-        program::load_single(path, profile).map_err(|d| report(&d, path))?;
+    let (profile, program) = program::load_single(path, profile).map_err(|d| report(&d, path))?;
     let mut cfg = CpuConfig::new(profile);
     if let Some(t) = start {
         cfg.clock_start = t;

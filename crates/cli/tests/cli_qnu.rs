@@ -31,7 +31,9 @@ fn export(dir: &tempfile::TempDir, plc: &str) -> String {
 fn an_export_naming_a_q04udeh_runs_on_it() {
     let dir = tempfile::tempdir().unwrap();
     let csv = export(&dir, "QCPU (Q mode) Q04UDEH");
-    let out = softplc(&["run", &csv, "--scans", "3", "--set", "X0=1", "--show", "Y0", "--json"]);
+    let out = softplc(&[
+        "run", &csv, "--scans", "3", "--set", "X0=1", "--show", "Y0", "--json",
+    ]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "stderr: {stderr}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -61,5 +63,7 @@ fn an_export_naming_an_unknown_model_is_refused() {
         stderr.contains(":2:27: the PLC Information row names the CPU model `FX3U/FX3UC`"),
         "{stderr}"
     );
-    assert!(softplc(&["check", &csv, "--model", "Q26UDEHCPU"]).status.success());
+    assert!(softplc(&["check", &csv, "--model", "Q26UDEHCPU"])
+        .status
+        .success());
 }

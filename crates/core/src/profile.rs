@@ -109,6 +109,9 @@ mod tests {
         );
         assert_eq!(of_family("aplc").unwrap(), aplc());
         assert_eq!(of_family("melsec").unwrap().model, "Q06HCPU");
-        assert_eq!(families(), ["MELSEC-Q", "MELSEC-QnPH", "MELSEC-QnU", "APLC"]);
+        assert_eq!(
+            families(),
+            ["MELSEC-Q", "MELSEC-QnPH", "MELSEC-QnU", "APLC"]
+        );
     }
 }

@@ -116,10 +116,7 @@ pub fn load_single(
 }
 
 /// The MELSEC model a file names (`Q04UDEH` or `Q04UDEHCPU`, any case).
-fn named_model(
-    file: &str,
-    named: &Token,
-) -> Result<&'static crate::profile::Profile, Diagnostics> {
+fn named_model(file: &str, named: &Token) -> Result<&'static crate::profile::Profile, Diagnostics> {
     let text = named.text.as_str();
     crate::profile::find(text)
         .or_else(|_| crate::profile::find(&format!("{text}CPU")))

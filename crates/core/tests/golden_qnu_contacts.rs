@@ -70,10 +70,10 @@ END
     p.set("Z1", "3");
     for (d0, x3, want) in [
         ("0", "0", "111"),
-        ("32", "0", "011"),  // bit 5 rises
-        ("33", "1", "110"),  // bit 5 stays ON; X3 rises
-        ("1", "1", "101"),   // bit 5 falls
-        ("96", "0", "011"),  // bit 5 rises again (D0 = 0x60)
+        ("32", "0", "011"), // bit 5 rises
+        ("33", "1", "110"), // bit 5 stays ON; X3 rises
+        ("1", "1", "101"),  // bit 5 falls
+        ("96", "0", "011"), // bit 5 rises again (D0 = 0x60)
     ] {
         p.set("D0", d0).set("X3", x3);
         p.scan();

@@ -67,7 +67,13 @@ fn every_universal_model_is_a_qnu_profile() {
         assert_eq!(d.points(DeviceKind::ZR), zr, "{m}");
         assert_eq!(d.points(DeviceKind::R), zr.min(32_768), "{m}");
         // The other device points are the QnHCPU's defaults.
-        for k in [DeviceKind::M, DeviceKind::D, DeviceKind::W, DeviceKind::TN, DeviceKind::Z] {
+        for k in [
+            DeviceKind::M,
+            DeviceKind::D,
+            DeviceKind::W,
+            DeviceKind::TN,
+            DeviceKind::Z,
+        ] {
             assert_eq!(d.points(k), (model("Q06HCPU").default_devices)().points(k));
         }
     }
@@ -136,7 +142,12 @@ fn a_q04udehcpu_project_loads_and_runs() {
     else {
         panic!("ANDFI loaded on a Q06HCPU");
     };
-    assert!(d.0[0].message.contains("`ANDFI`: a Universal model instruction"), "{d}");
+    assert!(
+        d.0[0]
+            .message
+            .contains("`ANDFI`: a Universal model instruction"),
+        "{d}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -177,12 +188,22 @@ fn a_csv_export_runs_on_the_model_it_names() {
     let d = load_single(&path, Some(model("Q06HCPU"))).unwrap_err();
     assert_eq!(d.0.len(), 1);
     assert_eq!((d.0[0].line, d.0[0].col), (5, 9));
-    assert!(d.0[0].message.contains("`ANDFI`: a Universal model instruction"), "{d}");
+    assert!(
+        d.0[0]
+            .message
+            .contains("`ANDFI`: a Universal model instruction"),
+        "{d}"
+    );
 
     // An export of a QnH names it; ANDFI is then refused.
     let path = scratch_file("qnh.csv", &export("QCPU (Q mode) Q06H"));
     let d = load_single(&path, None).unwrap_err();
-    assert!(d.0[0].message.contains("`ANDFI`: a Universal model instruction"), "{d}");
+    assert!(
+        d.0[0]
+            .message
+            .contains("`ANDFI`: a Universal model instruction"),
+        "{d}"
+    );
 
     // A model softplc does not run is an error at its place in the row.
     let path = scratch_file("fx.csv", &export("FXCPU FX3U/FX3UC"));
@@ -209,7 +230,7 @@ fn a_csv_export_runs_on_the_model_it_names() {
 /// `.il` text of `steps` steps: LD/OUT pairs, NOPs to make up, END.
 fn program_of(steps: u32) -> String {
     let mut s = "LD X0\nOUT Y0\n".repeat(((steps - 1) / 2) as usize);
-    if steps % 2 == 0 {
+    if steps.is_multiple_of(2) {
         s.push_str("NOP\n");
     }
     s + "END\n"
