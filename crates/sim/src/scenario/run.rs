@@ -2,7 +2,6 @@
 
 use std::time::{Duration, Instant};
 
-use softplc_core::device::DeviceConfig;
 use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
 use softplc_core::names::Names;
 use softplc_core::{aplc, program, project};
@@ -134,7 +133,7 @@ impl Scenario {
                     aplc::single_cpu(prog, cfg, Box::new(clock.clone()))?
                 } else {
                     let dialect = program::dialect_for(cfg.profile, Default::default());
-                    let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
+                    let prog = program::load_file_in(p, &cfg.devices, &dialect, None)
                         .map_err(|d| format!("{d}"))?;
                     Cpu::new(prog, cfg, Box::new(clock.clone()))
                 }
