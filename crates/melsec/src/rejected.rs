@@ -105,7 +105,6 @@ pub static DEFS: &[Def] = &[
     ),
     Def::rejected("MEAN", QNU),
     Def::rejected("DMEAN", QNU),
-    Def::rejected("DFMOV", QNU),
     Def::rejected("POW", QNU),
     Def::rejected("LOG10", QNU),
     Def::rejected("STRINS", QNU),
