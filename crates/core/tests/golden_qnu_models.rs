@@ -151,13 +151,20 @@ fn a_q04udehcpu_project_loads_and_runs() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// A scratch file `name` with `bytes`.
-fn scratch_file(name: &str, bytes: &[u8]) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("softplc-qnu-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join(name);
-    std::fs::write(&path, bytes).unwrap();
-    path
+/// Scratch files, removed with the directory when the test ends.
+struct Scratch(tempfile::TempDir);
+
+impl Scratch {
+    fn new() -> Scratch {
+        Scratch(tempfile::tempdir().unwrap())
+    }
+
+    /// A file `name` with `bytes`.
+    fn file(&self, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+        let path = self.0.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path
+    }
 }
 
 /// A GX Works2 export (UTF-16LE, tab-separated) whose PLC Information row
@@ -178,7 +185,8 @@ fn export(plc: &str) -> Vec<u8> {
 
 #[test]
 fn a_csv_export_runs_on_the_model_it_names() {
-    let path = scratch_file("uni.csv", &export("QCPU (Q mode) Q04UDEH"));
+    let dir = Scratch::new();
+    let path = dir.file("uni.csv", &export("QCPU (Q mode) Q04UDEH"));
     let (profile, program) = load_single(&path, None).unwrap_or_else(|d| panic!("{d}"));
     assert_eq!(profile.model, "Q04UDEHCPU");
     assert_eq!(program.steps, 4);
@@ -196,7 +204,7 @@ fn a_csv_export_runs_on_the_model_it_names() {
     );
 
     // An export of a QnH names it; ANDFI is then refused.
-    let path = scratch_file("qnh.csv", &export("QCPU (Q mode) Q06H"));
+    let path = dir.file("qnh.csv", &export("QCPU (Q mode) Q06H"));
     let d = load_single(&path, None).unwrap_err();
     assert!(
         d.0[0]
@@ -206,7 +214,7 @@ fn a_csv_export_runs_on_the_model_it_names() {
     );
 
     // A model softplc does not run is an error at its place in the row.
-    let path = scratch_file("fx.csv", &export("FXCPU FX3U/FX3UC"));
+    let path = dir.file("fx.csv", &export("FXCPU FX3U/FX3UC"));
     let d = load_single(&path, None).unwrap_err();
     assert_eq!(d.0.len(), 1);
     assert_eq!(
@@ -221,9 +229,9 @@ fn a_csv_export_runs_on_the_model_it_names() {
     let (profile, _) = load_single(&path, Some(model("Q03UDECPU"))).unwrap();
     assert_eq!(profile.model, "Q03UDECPU");
     // A full model name is accepted too; an .il file names no model.
-    let path = scratch_file("full.csv", &export("Q13UDEHCPU"));
+    let path = dir.file("full.csv", &export("Q13UDEHCPU"));
     assert_eq!(load_single(&path, None).unwrap().0.model, "Q13UDEHCPU");
-    let path = scratch_file("p.il", b"LD X0\nOUT Y0\nEND\n");
+    let path = dir.file("p.il", b"LD X0\nOUT Y0\nEND\n");
     assert_eq!(load_single(&path, None).unwrap().0.model, "Q06HCPU");
 }
 
@@ -241,10 +249,11 @@ fn program_memory_of_a_q04udehcpu() {
     // 40K = 40,960 steps, of which the file header takes 34: a program of
     // 40,926 steps fits, one of 40,927 does not (it does on a Q06UDEHCPU).
     let q04 = model("Q04UDEHCPU");
-    let fits = scratch_file("fits.il", program_of(40_926).as_bytes());
+    let dir = Scratch::new();
+    let fits = dir.file("fits.il", program_of(40_926).as_bytes());
     let (_, program) = load_single(&fits, Some(q04)).unwrap_or_else(|d| panic!("{d}"));
     assert_eq!(program.steps, 40_926);
-    let over = scratch_file("over.il", program_of(40_927).as_bytes());
+    let over = dir.file("over.il", program_of(40_927).as_bytes());
     let d = load_single(&over, Some(q04)).unwrap_err();
     assert_eq!(
         d.0[0].message,
