@@ -343,6 +343,7 @@ fn finish(mut c: Compiler<'_>) -> Result<Program, Diagnostics> {
     let src = Source {
         file: c.file.to_string(),
         items: Vec::new(),
+        model: None,
     };
     c.finish(&src)
 }

@@ -93,6 +93,7 @@ pub static PROFILE: Profile = Profile {
         program_steps: 252 * 1024,
         programs: 124,
     },
+    default_devices: crate::devices::device_config,
     step_numbers: false,
     doors: Doors {
         mc: None,

@@ -286,6 +286,7 @@ pub(crate) fn load_with(
     })?;
     let options = single::Options {
         clock_start: start,
+        explicit_model: model.is_some(),
         ..Default::default()
     };
     let cpu = single::load(path, profile, options, clock).map_err(|e| match e {

@@ -38,7 +38,7 @@ pub fn aplc() -> &'static Profile {
     &softplc_aplc::profile::PROFILE
 }
 
-/// The families (`MELSEC-Q`, `MELSEC-QnPH`, `APLC`), each once, in the
+/// The families (`MELSEC-Q`, `MELSEC-QnPH`, `MELSEC-QnU`, `APLC`), each once, in the
 /// order of [`all`].
 pub fn families() -> Vec<&'static str> {
     let mut out: Vec<&'static str> = Vec::new();
@@ -111,13 +111,15 @@ pub fn source_format(profile: &Profile) -> SourceFormat {
 }
 
 /// The language dialect `.il`/`.csv` programs of a MELSEC model compile in:
-/// the process CPU's (with the project's `[process]` decisions) or
-/// MELSEC-Q's. (An APLC-TCP compiles `.apl` files: [`crate::aplc`].)
+/// the process CPU's (with the project's `[process]` decisions), the
+/// Universal models' or MELSEC-Q's. (An APLC-TCP compiles `.apl` files:
+/// [`crate::aplc`].)
 pub fn dialect(profile: &Profile, process: ProcessSettings) -> Dialect {
-    if profile.family == softplc_melsec::profiles::FAMILY_QNPH {
-        softplc_melsec::process_dialect(process)
-    } else {
-        softplc_melsec::dialect().clone()
+    use softplc_melsec::profiles::{FAMILY_QNPH, FAMILY_QNU};
+    match profile.family {
+        FAMILY_QNPH => softplc_melsec::process_dialect(process),
+        FAMILY_QNU => softplc_melsec::qnu_dialect().clone(),
+        _ => softplc_melsec::dialect().clone(),
     }
 }
 
@@ -146,6 +148,9 @@ mod tests {
         );
         assert_eq!(of_family("aplc").unwrap(), aplc());
         assert_eq!(of_family("melsec").unwrap().model, "Q06HCPU");
-        assert_eq!(families(), ["MELSEC-Q", "MELSEC-QnPH", "APLC"]);
+        assert_eq!(
+            families(),
+            ["MELSEC-Q", "MELSEC-QnPH", "MELSEC-QnU", "APLC"]
+        );
     }
 }

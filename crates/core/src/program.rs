@@ -90,3 +90,57 @@ pub fn compile_il_in(
 ) -> Result<Program, Diagnostics> {
     softplc_lang::load_bytes(name, text.as_bytes(), devices, dialect, None)
 }
+
+/// Loads a single MELSEC program file (`softplc run`/`check` of an `.il` or
+/// `.csv`) for the model it runs on: `model` (`--model`) when given, else the
+/// model a GX Works2 export names in its `PLC Information` row, else the
+/// Q06HCPU. `--model` takes precedence over the file's row (to run an export
+/// on another CPU). The program compiles in the model's dialect, against its
+/// default devices, and must fit its program memory.
+pub fn load_single(
+    path: &Path,
+    model: Option<&'static crate::profile::Profile>,
+) -> Result<(&'static crate::profile::Profile, Program), Diagnostics> {
+    load_single_or(path, model, crate::profile::default_profile())
+}
+
+/// [`load_single`] with `fallback` (a `--dialect` family's model) instead
+/// of the Q06HCPU when neither `model` nor the file names one.
+pub fn load_single_or(
+    path: &Path,
+    model: Option<&'static crate::profile::Profile>,
+    fallback: &'static crate::profile::Profile,
+) -> Result<(&'static crate::profile::Profile, Program), Diagnostics> {
+    let src = softplc_lang::parse_file(path)?;
+    let profile = match (model, &src.model) {
+        (Some(p), _) => p,
+        (None, Some(named)) => named_model(&src.file, named)?,
+        (None, None) => fallback,
+    };
+    let devices = (profile.default_devices)();
+    let dialect = dialect_for(profile, ProcessSettings::default());
+    let program = softplc_lang::compile(&src, &devices, &dialect, None)?;
+    crate::project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
+        .map_err(|d| Diagnostics(vec![d]))?;
+    Ok((profile, program))
+}
+
+/// The MELSEC model a file names (`Q04UDEH` or `Q04UDEHCPU`, any case).
+fn named_model(file: &str, named: &Token) -> Result<&'static crate::profile::Profile, Diagnostics> {
+    let text = named.text.as_str();
+    crate::profile::find(text)
+        .or_else(|_| crate::profile::find(&format!("{text}CPU")))
+        .ok()
+        .filter(|p| !crate::profile::is_aplc(p))
+        .ok_or_else(|| {
+            Diagnostics(vec![Diagnostic::at(
+                file,
+                named,
+                format!(
+                    "the PLC Information row names the CPU model `{text}`, which softplc does \
+                     not run (a MELSEC-Q, QnPH or Universal QnU model); give --model to run \
+                     the program on one"
+                ),
+            )])
+        })
+}

@@ -8,7 +8,6 @@
 use std::fmt;
 use std::path::Path;
 
-use crate::device::DeviceConfig;
 use crate::engine::calendar::DateTime;
 use crate::engine::{Clock, Cpu, CpuConfig};
 use crate::profile::{self, Profile, SourceFormat};
@@ -44,6 +43,10 @@ pub struct Options {
     /// The serial ports' settings of a model that has them (a scenario's
     /// `[port1]`/`[port2]`).
     pub ports: Vec<crate::aplc::PortConfig>,
+    /// The model was given (`--model`, a scenario's `cpu`): a model the
+    /// file names itself (a GX Works2 export's PLC Information row) does
+    /// not replace it. Otherwise the file's model outranks the default.
+    pub explicit_model: bool,
 }
 
 /// Why a single file does not run.
@@ -74,15 +77,14 @@ pub fn load(
 ) -> Result<Cpu, LoadError> {
     match profile::source_format(profile) {
         SourceFormat::InstructionList => {
+            // Compiled against the model's own devices (its file registers).
+            let (profile, program) =
+                program::load_single_or(path, options.explicit_model.then_some(profile), profile)
+                    .map_err(LoadError::Program)?;
             let mut cfg = CpuConfig::new(profile);
             if let Some(t) = options.clock_start {
                 cfg.clock_start = t;
             }
-            let dialect = program::dialect_for(profile, program::ProcessSettings::default());
-            let program = program::load_file_in(path, &DeviceConfig::default(), &dialect, None)
-                .map_err(LoadError::Program)?;
-            crate::project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
-                .map_err(|d| LoadError::Program(Diagnostics(vec![d])))?;
             Ok(Cpu::new(program, cfg, clock))
         }
         SourceFormat::Pou => {

@@ -31,7 +31,11 @@ fn cpu_model() {
     assert!(p.config.system.is_some() && p.config.latch.is_empty());
     assert_eq!(
         error(&with_main("[cpu]\nmodel = \"Q99CPU\"\n")),
-        "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, or APLC-TCP)"
+        "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, \
+         Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, Q00UJCPU, Q00UCPU, Q01UCPU, Q02UCPU, Q03UDCPU, \
+         Q03UDECPU, Q03UDVCPU, Q04UDHCPU, Q04UDEHCPU, Q04UDVCPU, Q06UDHCPU, Q06UDEHCPU, Q06UDVCPU, \
+         Q10UDHCPU, Q10UDEHCPU, Q13UDHCPU, Q13UDEHCPU, Q13UDVCPU, Q20UDHCPU, Q20UDEHCPU, \
+         Q26UDHCPU, Q26UDEHCPU, Q26UDVCPU, or APLC-TCP)"
     );
     assert_eq!(
         error(&with_main("[cpu]\nmodel = 6\n")),

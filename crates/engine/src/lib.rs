@@ -136,11 +136,11 @@ pub struct CpuConfig {
 
 impl CpuConfig {
     /// The settings' defaults for a CPU of `profile`, with the profile's
-    /// system devices.
+    /// device points and system devices.
     pub fn new(profile: &'static Profile) -> Self {
         CpuConfig {
             profile,
-            devices: DeviceConfig::default(),
+            devices: (profile.default_devices)(),
             watchdog: Duration::from_millis(200),
             operation_error: ErrorMode::Stop,
             timer_low: Duration::from_millis(100),

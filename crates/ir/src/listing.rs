@@ -38,6 +38,10 @@ pub enum Test {
     /// The rising / falling edge of a bit.
     Rising,
     Falling,
+    /// ON except on the rising / falling edge of a bit (the QnU's LDPI,
+    /// LDFI …).
+    NotRising,
+    NotFalling,
     /// Bit S2 of word S1 (APLC `BLD D0 5`), normally open or closed.
     WordBit {
         closed: bool,

@@ -4,7 +4,8 @@
 //!
 //! A dialect crate declares the profiles of its models (`softplc-melsec`:
 //! the Q, QnPH and QnU CPUs; `softplc-aplc`: the APLC-TCP); the engine keeps
-//! the CPU's profile and reads nothing in it but [`Profile::default_system`].
+//! the CPU's profile and reads nothing in it but [`Profile::default_system`]
+//! (and [`Profile::default_devices`] when it builds a configuration's defaults).
 //! Doors (CLI, MC, Modbus, HTTP, OPC UA, simulator) ask the CPU's profile
 //! instead of comparing model names or keeping an enum of dialects.
 
@@ -12,7 +13,7 @@ use std::fmt;
 use std::sync::Arc;
 
 use crate::access::{DeviceSpec, Value, ValueType};
-use crate::device::DeviceKind;
+use crate::device::{DeviceConfig, DeviceKind};
 use crate::system::System;
 
 /// A CPU model.
@@ -29,6 +30,9 @@ pub struct Profile {
     pub naming: &'static dyn Naming,
     /// Program memory and program files.
     pub capacity: Capacity,
+    /// The device points and file-register size of a CPU whose parameters
+    /// set none (a project without `[devices]`, a single program file).
+    pub default_devices: fn() -> DeviceConfig,
     /// Errors name the step of the failing instruction (MELSEC); without,
     /// reports give its file and line only (the APLC).
     pub step_numbers: bool,

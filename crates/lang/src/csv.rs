@@ -12,6 +12,11 @@
 //! `I/O(软元件)` (full-width parentheses accepted). Without a BOM a file that is
 //! not UTF-8 is read as Shift-JIS, or as GBK when only that finds the header
 //! (the Chinese edition saves in GBK).
+//!
+//! A title row before the header row whose first cell is `PLC Information:`
+//! (any cell starting with `PLC` and ending with a colon, as the editions
+//! write it) names the CPU model in its second cell, series first:
+//! `QCPU (Q mode) Q04UDEH`. Its last word is the file's [`Source::model`].
 
 use std::borrow::Cow;
 
@@ -102,11 +107,15 @@ fn parse_text(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
     let mut cols: Option<Columns> = None;
     // True while continuation rows may still add operands to the last item.
     let mut open = false;
+    let mut model = None;
     for (n, raw) in text.split('\n').enumerate() {
         let line = to_u32(n + 1);
         let raw = raw.strip_suffix('\r').unwrap_or(raw);
         let Some(c) = &cols else {
             cols = header(raw);
+            if cols.is_none() && model.is_none() {
+                model = plc_information(raw, line);
+            }
             continue;
         };
         let cells = split_cells(raw, c.sep);
@@ -161,6 +170,7 @@ fn parse_text(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
         Ok(Source {
             file: file.to_string(),
             items,
+            model,
         })
     } else {
         Err(diags)
@@ -181,6 +191,27 @@ fn header(raw: &str) -> Option<Columns> {
             instr: find(&INSTRUCTION_NAMES)?,
             io: find(&IO_NAMES),
         })
+    })
+}
+
+/// The model of a `PLC Information:` row (tab- or comma-separated): the last
+/// word of its second cell, `Q04UDEH` of `QCPU (Q mode) Q04UDEH`.
+fn plc_information(raw: &str, line: u32) -> Option<Token> {
+    if !raw.contains("PLC") {
+        return None;
+    }
+    ['\t', ','].into_iter().find_map(|sep| {
+        let cells = split_cells(raw, sep);
+        let title = trim(cells.first()?);
+        let named = title.len() > 3
+            && string_of(&title[..3]) == "PLC"
+            && matches!(title.last(), Some((':' | '：', _)));
+        let info = trim(cells.get(1)?);
+        let start = info
+            .iter()
+            .rposition(|(ch, _)| ch.is_whitespace())
+            .map_or(0, |i| i + 1);
+        (named && start < info.len()).then(|| token(&info[start..], line))
     })
 }
 
@@ -597,6 +628,35 @@ mod tests {
         )
         .unwrap();
         assert_eq!(instr(&s.items[0]).mnemonic.text, "LD\tX0 K1");
+    }
+
+    #[test]
+    fn plc_information_row_names_the_model() {
+        let text = export(&[&["0", "", "LD", "X0", "", "", ""]]);
+        let s = parse_csv("p.csv", &utf16le(&text)).unwrap();
+        let m = s.model.expect("a model");
+        // `"PLC Information:"\t"QCPU (Q mode) Q06H"`: Q06H at column 35.
+        assert_eq!((m.text.as_str(), m.line, m.col), ("Q06H", 2, 35));
+        let uni = text.replace("QCPU (Q mode) Q06H", "QCPU (Q mode) Q04UDEH");
+        let s = parse_csv("p.csv", uni.as_bytes()).unwrap();
+        assert_eq!(s.model.map(|t| t.text).as_deref(), Some("Q04UDEH"));
+        // Comma-separated, another edition's title, a bare model.
+        let commas = format!(
+            "MAIN\r\n\"PLC情報:\",\"Q03UDV\"\r\n{}\r\n\"0\",\"\",\"LD\",\"X0\"\r\n",
+            HEADER.replace('\t', ",")
+        );
+        let s = parse_csv("p.csv", commas.as_bytes()).unwrap();
+        assert_eq!(s.model.map(|t| t.text).as_deref(), Some("Q03UDV"));
+        // No such row, an empty model cell, or the row after the header: none.
+        let none = [
+            text.replace("\"PLC Information:\"\t\"QCPU (Q mode) Q06H\"\r\n", ""),
+            text.replace("QCPU (Q mode) Q06H", " "),
+            text.replace("PLC Information:", "PLC Information"),
+            format!("{HEADER}\r\n\"PLC Information:\"\t\"Q06H\"\r\n"),
+        ];
+        for t in none {
+            assert_eq!(parse_csv("p.csv", t.as_bytes()).unwrap().model, None, "{t}");
+        }
     }
 
     #[test]

@@ -37,6 +37,7 @@ pub fn parse_il(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
         Ok(Source {
             file: file.to_string(),
             items,
+            model: None,
         })
     } else {
         Err(diags)

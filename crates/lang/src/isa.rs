@@ -346,7 +346,9 @@ impl Isa {
     /// `reason`, so a program using one learns which model it needs.
     pub fn rejecting(mut self, foreign: &[&'static [Def]], reason: &'static str) -> Isa {
         for family in foreign {
-            // Still the same instruction to a tool that shows the program.
+            // Keeps the class, so a rejected contact leaves the rung as a
+            // contact would (no second diagnostic at the next ANB or OUT), and
+            // is still the same instruction to a tool that shows the program.
             let rejected: Vec<Def> = family
                 .iter()
                 .map(|d| Def {

@@ -62,11 +62,15 @@ pub fn load_file(
     dialect: &Dialect,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
+    let src = parse_file(path)?;
+    compile::compile(&src, devices, dialect, common_from)
+}
+
+/// Reads and parses a program file (`.csv` a GX Works2 export, anything else
+/// an `.il` list) without compiling it.
+pub fn parse_file(path: &Path) -> Result<Source, Diagnostics> {
     let name = path.display().to_string();
-    let is_csv = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let (limit, what) = if is_csv {
+    let (limit, what) = if is_csv(&name) {
         (MAX_CSV_BYTES, "a CSV export")
     } else {
         (MAX_IL_BYTES, "a program file")
@@ -79,7 +83,7 @@ pub fn load_file(
             message,
         }])
     })?;
-    load_bytes(&name, &bytes, devices, dialect, common_from)
+    parse_bytes(&name, &bytes)
 }
 
 /// Loads program text already in memory; the format follows the file name.
@@ -90,10 +94,19 @@ pub fn load_bytes(
     dialect: &Dialect,
     common_from: Option<u32>,
 ) -> Result<Program, Diagnostics> {
-    let is_csv = Path::new(name)
+    let src = parse_bytes(name, bytes)?;
+    compile::compile(&src, devices, dialect, common_from)
+}
+
+fn is_csv(name: &str) -> bool {
+    Path::new(name)
         .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let src = if is_csv {
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+}
+
+/// Parses program text already in memory; the format follows the file name.
+pub fn parse_bytes(name: &str, bytes: &[u8]) -> Result<Source, Diagnostics> {
+    let src = if is_csv(name) {
         csv::parse_csv(name, bytes)
     } else if name.to_ascii_lowercase().ends_with(".apl") {
         Err(vec![Diagnostic {
@@ -116,6 +129,5 @@ pub fn load_bytes(
             }]),
         }
     };
-    let src = src.map_err(Diagnostics)?;
-    compile::compile(&src, devices, dialect, common_from)
+    src.map_err(Diagnostics)
 }

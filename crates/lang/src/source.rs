@@ -34,6 +34,10 @@ pub struct Source {
     /// File name as shown in diagnostics.
     pub file: String,
     pub items: Vec<SourceItem>,
+    /// The CPU model the file was written for, as the file names it (the
+    /// `PLC Information` row of a GX Works2 export: `Q04UDEH` of
+    /// `QCPU (Q mode) Q04UDEH`); `None` when it names none.
+    pub model: Option<Token>,
 }
 
 /// A load-time error (or warning) at a place in a file.

@@ -52,6 +52,59 @@ pub static DEFS: &[Def] = &[
     Def::lower("FEND", Class::Standalone, &END, end).steps(Steps::Basic),
 ];
 
+/// The pulse NOT contacts of the Universal models (registered in
+/// [`crate::qnu`], rejected on the other CPUs).
+pub static QNU_DEFS: &[Def] = &[
+    Def::contact(
+        "LDPI",
+        Join::Load,
+        Test::NotRising,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+    Def::contact(
+        "LDFI",
+        Join::Load,
+        Test::NotFalling,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+    Def::contact(
+        "ANDPI",
+        Join::And,
+        Test::NotRising,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+    Def::contact(
+        "ANDFI",
+        Join::And,
+        Test::NotFalling,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+    Def::contact(
+        "ORPI",
+        Join::Or,
+        Test::NotRising,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+    Def::contact(
+        "ORFI",
+        Join::Or,
+        Test::NotFalling,
+        &PULSE_NOT_CONTACTS,
+        contact,
+    )
+    .steps(Steps::Basic),
+];
+
 static CONTACTS: Doc = Doc {
     family: "contact",
     cite: "PM §5.1 contact instructions",
@@ -61,6 +114,14 @@ static EDGE_CONTACTS: Doc = Doc {
     family: "contact (edge)",
     cite: "PM §5.1",
     notes: "one hidden edge memory per instruction",
+};
+/// SH-080809ENG §5.1.3: LDPI/ANDPI/ORPI are OFF only on the scan the device
+/// rises (OFF→ON) and ON otherwise; LDFI/ANDFI/ORFI OFF only on the scan it
+/// falls. The negation of LDP/LDF, on the same hidden edge memory.
+static PULSE_NOT_CONTACTS: Doc = Doc {
+    family: "contact (pulse NOT, QnU)",
+    cite: "SH-080809ENG §5.1.3",
+    notes: "Universal models only; OFF only on the rising (…PI) or falling (…FI) edge; one hidden edge memory per instruction",
 };
 static CONNECTION: Doc = Doc {
     family: "connection",
@@ -132,6 +193,9 @@ fn rst_steps(ops: &[Token]) -> u32 {
     }
 }
 
+/// Every contact: LD/AND/OR, with `I` negated (LDI, ANI, ORI), `P`/`F` on
+/// an edge, `PI`/`FI` the negation of the edge (the QnU's LDPI … ORFI,
+/// [`QNU_DEFS`]).
 fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
@@ -149,6 +213,12 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
         "ANDF" => (Join::And, false, Edge::Falling),
         "ORP" => (Join::Or, false, Edge::Rising),
         "ORF" => (Join::Or, false, Edge::Falling),
+        "LDPI" => (Join::Load, true, Edge::Rising),
+        "LDFI" => (Join::Load, true, Edge::Falling),
+        "ANDPI" => (Join::And, true, Edge::Rising),
+        "ANDFI" => (Join::And, true, Edge::Falling),
+        "ORPI" => (Join::Or, true, Edge::Rising),
+        "ORFI" => (Join::Or, true, Edge::Falling),
         _ => return c.unmatched(u),
     };
     if !c.count(i, m, &[1]) {

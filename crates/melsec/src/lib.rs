@@ -27,6 +27,7 @@ pub mod misc;
 pub mod pid;
 pub mod process;
 pub mod profiles;
+pub mod qnu;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
@@ -69,21 +70,35 @@ pub static DEFS: &[&[Def]] = &[
     rejected::DEFS,
 ];
 
-/// The MELSEC-Q instruction set, indexed by name; the process CPU's
-/// instructions are rejected naming the models that have them.
+/// The MELSEC-Q instruction set (QnHCPU), indexed by name; the process
+/// CPU's and the Universal models' instructions are rejected naming the
+/// models that have them.
 pub fn isa() -> &'static Isa {
     static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
-        Isa::new(DEFS).rejecting(process::FAMILIES, process::NEEDS_PROCESS_CPU)
+        Isa::new(DEFS)
+            .rejecting(process::FAMILIES, process::NEEDS_PROCESS_CPU)
+            .rejecting(qnu::FAMILIES, qnu::NEEDS_QNU)
     });
     &ISA
 }
 
 /// The process CPU's instruction set (QnPHCPU, 000 §1): MELSEC-Q's and the
-/// process-control instructions.
+/// process-control instructions; the Universal models' are rejected.
 pub fn process_isa() -> &'static Isa {
     static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
         let families: Vec<&'static [Def]> = DEFS.iter().chain(process::FAMILIES).copied().collect();
-        Isa::new(&families)
+        Isa::new(&families).rejecting(qnu::FAMILIES, qnu::NEEDS_QNU)
+    });
+    &ISA
+}
+
+/// The Universal models' instruction set (QnUCPU): MELSEC-Q's and the
+/// instructions the Universal models add ([`qnu`]); the process-control
+/// instructions are rejected.
+pub fn qnu_isa() -> &'static Isa {
+    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
+        let families: Vec<&'static [Def]> = DEFS.iter().chain(qnu::FAMILIES).copied().collect();
+        Isa::new(&families).rejecting(process::FAMILIES, process::NEEDS_PROCESS_CPU)
     });
     &ISA
 }
@@ -120,6 +135,17 @@ pub fn process_dialect(settings: process::settings::ProcessSettings) -> Dialect 
         settings: Settings::new().with(settings),
         ..dialect().clone()
     }
+}
+
+/// The dialect of the Universal models (Q00UJCPU … Q26UDVCPU): MELSEC-Q's
+/// with the Universal models' instruction set.
+pub fn qnu_dialect() -> &'static Dialect {
+    static DIALECT: std::sync::LazyLock<Dialect> = std::sync::LazyLock::new(|| Dialect {
+        name: "MELSEC-QnU",
+        isa: qnu_isa(),
+        ..dialect().clone()
+    });
+    &DIALECT
 }
 
 /// Whether `model` is a process CPU.

@@ -3,7 +3,7 @@
 //! outside programs.
 
 use softplc_ir::access::{DeviceSpec, Value};
-use softplc_ir::device::DeviceKind;
+use softplc_ir::device::{DeviceConfig, DeviceKind};
 use softplc_ir::profile::{Capacity, Doors, NamedDevice, Naming, Profile};
 
 /// The family of the MELSEC-Q High Performance models (QnHCPU).
@@ -11,6 +11,9 @@ pub const FAMILY_Q: &str = "MELSEC-Q";
 /// The process CPUs (QnPHCPU): the QnHCPU's memory plus the
 /// process-control instructions (000 §1).
 pub const FAMILY_QNPH: &str = "MELSEC-QnPH";
+/// The Universal models (QnUCPU): the QnHCPU's instructions plus those the
+/// Universal models add ([`crate::qnu`]).
+pub const FAMILY_QNU: &str = "MELSEC-QnU";
 
 /// MELSEC device names outside programs: the shared door's own syntax
 /// (`X1F` hex, `D10:f32`, `K4M0`, `D0.F`, `TN0`; values `H1F`, `0x1F`).
@@ -66,6 +69,7 @@ const fn model(
             program_steps: k_steps * 1024,
             programs,
         },
+        default_devices: DeviceConfig::q06h,
         step_numbers: true,
         doors: Doors {
             mc: Some(mc_code),
@@ -78,10 +82,52 @@ const fn model(
     }
 }
 
+/// A Universal model: program files, program memory, the default devices
+/// with its file registers and the MC model code.
+const fn qnu(model: &'static str, k_steps: u32, devices: fn() -> DeviceConfig, mc: u16) -> Profile {
+    Profile {
+        default_devices: devices,
+        ..self::model(model, FAMILY_QNU, QNU_PROGRAMS, k_steps, mc)
+    }
+}
+
+/// Program files of every Universal model (QnUCPU User's Manual, Function
+/// Explanation, Program Fundamentals, SH-080807ENG, performance
+/// specifications: 124; recalled, not read from the manual: see
+/// COMPATIBILITY.md).
+const QNU_PROGRAMS: usize = 124;
+
+/// The device defaults of a Universal model: the QnHCPU's points (the
+/// parameter defaults are the same, SH-080807ENG "device setting"), with as
+/// file registers the points of the model's standard RAM, `ZR` (R is the
+/// first 32K of them). A model without standard RAM has none.
+///
+/// Decision: the CPU's own parameter default is "file register not used";
+/// softplc gives the standard RAM's, as it gives a QnHCPU a 1 MB card.
+fn qnu_devices<const ZR: u32>() -> DeviceConfig {
+    let mut c = DeviceConfig::q06h();
+    c.set_points(DeviceKind::ZR, ZR);
+    c
+}
+
+/// File registers in standard RAM (SH-080807ENG performance specifications,
+/// recalled: see COMPATIBILITY.md): none on the Q00UJCPU; 128 KB = 64K
+/// points (Q00U, Q01U, Q02U); 192 KB (Q03UD…); 256 KB (Q04UD…); 768 KB
+/// (Q06UD…); 1 MB (Q10UD…, Q13UD…); 1.25 MB (Q20UD…, Q26UD…).
+const ZR_NONE: u32 = 0;
+const ZR_128K: u32 = 65_536;
+const ZR_192K: u32 = 98_304;
+const ZR_256K: u32 = 131_072;
+const ZR_768K: u32 = 393_216;
+const ZR_1M: u32 = 524_288;
+const ZR_1M25: u32 = 655_360;
+
 /// The models, program files and program memory of 004 Table 3.1 (and the
 /// process CPUs of 000 §1, with the QnHCPU's memory), with the model codes
 /// the MC protocol's "read CPU model" answers (SLMP reference; none is
-/// published for the process CPUs: 0).
+/// published for the process CPUs: 0). Then the Universal models: program
+/// memory in steps from the performance specifications of SH-080807ENG
+/// (10K … 260K steps, 1k = 1024), program files and file registers as above.
 pub static PROFILES: &[Profile] = &[
     model("Q02CPU", FAMILY_Q, 28, 28, 0x0041),
     model("Q02HCPU", FAMILY_Q, 28, 28, 0x0041),
@@ -92,6 +138,29 @@ pub static PROFILES: &[Profile] = &[
     model("Q06PHCPU", FAMILY_QNPH, 60, 60, 0),
     model("Q12PHCPU", FAMILY_QNPH, 124, 124, 0),
     model("Q25PHCPU", FAMILY_QNPH, 124, 252, 0),
+    qnu("Q00UJCPU", 10, qnu_devices::<ZR_NONE>, 0x0260),
+    qnu("Q00UCPU", 10, qnu_devices::<ZR_128K>, 0x0261),
+    qnu("Q01UCPU", 15, qnu_devices::<ZR_128K>, 0x0262),
+    qnu("Q02UCPU", 20, qnu_devices::<ZR_128K>, 0x0263),
+    qnu("Q03UDCPU", 30, qnu_devices::<ZR_192K>, 0x0268),
+    qnu("Q03UDECPU", 30, qnu_devices::<ZR_192K>, 0x0268),
+    qnu("Q03UDVCPU", 30, qnu_devices::<ZR_192K>, 0x0366),
+    qnu("Q04UDHCPU", 40, qnu_devices::<ZR_256K>, 0x0269),
+    qnu("Q04UDEHCPU", 40, qnu_devices::<ZR_256K>, 0x0269),
+    qnu("Q04UDVCPU", 40, qnu_devices::<ZR_256K>, 0x0367),
+    qnu("Q06UDHCPU", 60, qnu_devices::<ZR_768K>, 0x026A),
+    qnu("Q06UDEHCPU", 60, qnu_devices::<ZR_768K>, 0x026A),
+    qnu("Q06UDVCPU", 60, qnu_devices::<ZR_768K>, 0x0368),
+    qnu("Q10UDHCPU", 100, qnu_devices::<ZR_1M>, 0x0266),
+    qnu("Q10UDEHCPU", 100, qnu_devices::<ZR_1M>, 0x0266),
+    qnu("Q13UDHCPU", 130, qnu_devices::<ZR_1M>, 0x026B),
+    qnu("Q13UDEHCPU", 130, qnu_devices::<ZR_1M>, 0x026B),
+    qnu("Q13UDVCPU", 130, qnu_devices::<ZR_1M>, 0x036A),
+    qnu("Q20UDHCPU", 200, qnu_devices::<ZR_1M25>, 0x0267),
+    qnu("Q20UDEHCPU", 200, qnu_devices::<ZR_1M25>, 0x0267),
+    qnu("Q26UDHCPU", 260, qnu_devices::<ZR_1M25>, 0x026C),
+    qnu("Q26UDEHCPU", 260, qnu_devices::<ZR_1M25>, 0x026C),
+    qnu("Q26UDVCPU", 260, qnu_devices::<ZR_1M25>, 0x036C),
 ];
 
 /// The profile a project gets without `[cpu] model` (and `run` without

@@ -22,7 +22,8 @@ const IXDEV: &str = "IXDEV/IXSET build the IX/IXEND offset table from the device
                      between them (program structure); IX/IXEND index-modification blocks are \
                      not supported";
 const FX: &str = "not a MELSEC-Q instruction (FX series); use the comparison contacts or BKCMP";
-const QNU: &str = "not in the QnH instruction set (Universal model QnU or later)";
+const QNU: &str = "a Universal model (QnU) instruction softplc does not implement yet (it is \
+                   not in the QnH instruction set)";
 
 /// The rejected instructions.
 pub static DEFS: &[Def] = &[
@@ -104,7 +105,6 @@ pub static DEFS: &[Def] = &[
     ),
     Def::rejected("MEAN", QNU),
     Def::rejected("DMEAN", QNU),
-    Def::rejected("DFMOV", QNU),
     Def::rejected("POW", QNU),
     Def::rejected("LOG10", QNU),
     Def::rejected("STRINS", QNU),

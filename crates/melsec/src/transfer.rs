@@ -3,9 +3,9 @@
 //!
 //! PM = QCPU (Q mode)/QnACPU Programming Manual (Common Instructions).
 //!
-//! Not QnH instructions, hence not implemented here: DFMOV (Universal model
-//! QnU/LCPU only), CMLB and DSWAP (not in the Q instruction set), `$MOV` (string
-//! family).
+//! Not QnH instructions, hence not here: DFMOV (Universal models only, in
+//! [`crate::qnu::transfer`]), CMLB and DSWAP (not in the Q instruction set),
+//! `$MOV` (string family).
 //!
 //! This module also holds the block-operand helpers the logic, rotation and bit
 //! families share ([`WordBlock`], [`count`], [`carry_flag`]).

@@ -92,7 +92,7 @@ pub(crate) fn devices(cx: &mut Ctx, t: &[Entry], table_at: Range<usize>, cfg: &m
                 &e.key_span,
                 format!(
                     "{name} has a fixed size ({} points) and cannot be changed",
-                    DeviceConfig::default().points(*kind)
+                    cfg.points(*kind)
                 ),
             );
         } else if up == "R" || up == "ZR" {

@@ -90,8 +90,7 @@ pub fn check_capacity(
                 col: 1,
                 message: format!(
                     "the programs take {total} steps ({FILE_HEADER_STEPS} file-header steps a file \
-                     included), more than the {model}'s program memory of {capacity} steps \
-                     (004 Table 3.1)"
+                     included), more than the {model}'s program memory of {capacity} steps"
                 ),
             });
         }
@@ -135,6 +134,7 @@ fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
         Ok(p) if p != config.profile => {
             *config = CpuConfig {
                 profile: p,
+                devices: (p.default_devices)(),
                 system: (p.default_system)(),
                 ..config.clone()
             }

@@ -45,6 +45,24 @@ impl Plc {
         }
     }
 
+    /// Compiles `.il` text for `model` (any MELSEC model: its dialect and
+    /// default devices).
+    pub fn on_model(src: &str, model: &str) -> Plc {
+        let profile = softplc_core::profile::find(model).expect("a known model");
+        let cfg = softplc_core::profile::config(profile);
+        let dialect = dialect_for(profile, ProcessSettings::default());
+        let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
+            .unwrap_or_else(|d| panic!("load failed:\n{d}"));
+        let clock = VirtualClock::new();
+        let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
+        softplc_core::tier::apply_env(&mut cpu);
+        Plc {
+            cpu,
+            clock,
+            scan_us: 10_000,
+        }
+    }
+
     /// [`Plc::process_with`] the spec's decisions.
     pub fn process(src: &str) -> Plc {
         Plc::process_with(src, ProcessSettings::default())
@@ -161,6 +179,22 @@ pub fn process_diagnostics(src: &str) -> Vec<String> {
         &dialect,
     ) {
         Ok(_) => panic!("expected diagnostics"),
+        Err(d) => {
+            d.0.iter()
+                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                .collect()
+        }
+    }
+}
+
+/// Diagnostics of a program that must fail to load on `model`, as
+/// `line:col: message`.
+pub fn model_diagnostics(model: &str, src: &str) -> Vec<String> {
+    let profile = softplc_core::profile::find(model).expect("a known model");
+    let dialect = dialect_for(profile, ProcessSettings::default());
+    let devices = softplc_core::profile::config(profile).devices;
+    match compile_il_in("t.il", src, &devices, &dialect) {
+        Ok(_) => panic!("program loaded on {model} but errors were expected:\n{src}"),
         Err(d) => {
             d.0.iter()
                 .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))

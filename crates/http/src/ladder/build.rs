@@ -329,6 +329,8 @@ impl Builder {
             Test::Closed | Test::WordBit { closed: true } => Kind::Nc,
             Test::Rising => Kind::Rise,
             Test::Falling => Kind::Fall,
+            Test::NotRising => Kind::RiseNot,
+            Test::NotFalling => Kind::FallNot,
             Test::Compare(_) | Test::Computed => Kind::Compare,
         };
         let e = Net::Elem(self.elem(kind, l, notes));

@@ -85,6 +85,9 @@ pub enum Kind {
     Nc,
     Rise,
     Fall,
+    /// The pulse-NOT contacts: ON except on the rising / falling edge.
+    RiseNot,
+    FallNot,
     /// A comparison contact (`LD= D0 K5`).
     Compare,
     /// INV, MEP, MEF, EGP, EGF: an operation on the result, in series.
@@ -110,6 +113,8 @@ impl Kind {
             Kind::Nc => "nc",
             Kind::Rise => "rise",
             Kind::Fall => "fall",
+            Kind::RiseNot => "risenot",
+            Kind::FallNot => "fallnot",
             Kind::Compare => "cmp",
             Kind::Modifier => "mod",
             Kind::Coil => "coil",

@@ -28,6 +28,8 @@ fn text_of(e: &Elem) -> String {
         Kind::Nc => format!("|/{} |", short(&op, 6)),
         Kind::Rise => format!("|^{} |", short(&op, 6)),
         Kind::Fall => format!("|v{} |", short(&op, 6)),
+        Kind::RiseNot => format!("|^/{} |", short(&op, 5)),
+        Kind::FallNot => format!("|v/{} |", short(&op, 5)),
         Kind::Compare => format!(
             "[{} {}]",
             e.mnemonic
@@ -171,7 +173,7 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
 
     let cx = x + w / 2;
     match e.kind {
-        Kind::No | Kind::Nc | Kind::Rise | Kind::Fall => {
+        Kind::No | Kind::Nc | Kind::Rise | Kind::Fall | Kind::RiseNot | Kind::FallNot => {
             let _ = write!(
                 out,
                 r#"<line class="w in" x1="{x}" y1="{mid}" x2="{}" y2="{mid}"/><line class="w out" x1="{}" y1="{mid}" x2="{}" y2="{mid}"/><rect class="sym" x="{}" y="{}" width="16" height="22"/>"#,
@@ -191,6 +193,20 @@ fn elem_svg(out: &mut String, prog: usize, e: &Elem, x: usize, y: usize, w: usiz
                 ),
                 Kind::Rise => format!(r#"<text class="mk" x="{cx}" y="{}">↑</text>"#, mid + 5),
                 Kind::Fall => format!(r#"<text class="mk" x="{cx}" y="{}">↓</text>"#, mid + 5),
+                // The edge mark struck through, as the programming tool draws it.
+                Kind::RiseNot | Kind::FallNot => format!(
+                    r#"<text class="mk" x="{cx}" y="{}">{}</text><line class="mk" x1="{}" y1="{}" x2="{}" y2="{}"/>"#,
+                    mid + 5,
+                    if e.kind == Kind::RiseNot {
+                        '↑'
+                    } else {
+                        '↓'
+                    },
+                    cx - 8,
+                    mid + 11,
+                    cx + 8,
+                    mid - 11
+                ),
                 _ => String::new(),
             };
             out.push_str(&mark);

@@ -200,7 +200,8 @@
       if (k.contains("k-cmp")) on = compare(g.dataset.m, g.dataset.ops.split(" "));
       else if (k.contains("k-step")) on = g.dataset.ops.split(" ").every((d) => values[d] === true);
       else if (k.contains("k-nc")) on = v === false;
-      else if (k.contains("k-box") || k.contains("k-mod") || k.contains("k-end")) on = undefined;
+      // A pulse-NOT contact (LDPI …) depends on the last scan's value too: not shown.
+      else if (k.contains("k-box") || k.contains("k-mod") || k.contains("k-end") || k.contains("k-risenot") || k.contains("k-fallnot")) on = undefined;
       else on = v === true;
       k.toggle("on", on === true);
     });

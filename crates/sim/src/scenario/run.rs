@@ -124,6 +124,7 @@ impl Scenario {
             super::Source::Program(p) => {
                 let options = single::Options {
                     ports: self.ports.clone(),
+                    explicit_model: self.cpu.is_some(),
                     ..Default::default()
                 };
                 single::load(p, self.profile, options, Box::new(clock.clone()))
