@@ -5,8 +5,8 @@
 //! loaded from the EEPROM at power-on and STOP→RUN.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::fault::ErrorCode;
-use softplc_ir::system::{ScanTimes, System};
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::system::{ScanTimes, Severity, System};
 
 use crate::comm::{mailbox, PortConfig, Regs, IDLE};
 use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
@@ -22,6 +22,10 @@ pub struct Aplc {
     /// SD150-SD154 and the mailboxes' protocol words).
     pub ports: Vec<PortConfig>,
 }
+
+/// softplc's BATTERY ERROR (a damaged state directory), as on MELSEC CPUs:
+/// Appendix 6 has no number for it.
+const BATTERY: ErrorCode = ErrorCode(1600);
 
 fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
     let _ = mem.set_bit(DeviceKind::SM, n, v);
@@ -123,18 +127,52 @@ impl System for Aplc {
         sd(mem, 32, ms(t.max_us));
     }
 
-    /// Faults of the shared kernels and the engine in Appendix 6 numbers; a
-    /// scan longer than the constant scan is no error (L950).
-    fn code(&self, code: ErrorCode) -> Option<ErrorCode> {
-        Some(ErrorCode(match code.0 {
-            4100 => 64,
-            4101 => 65,
-            5000 => 61,
-            5010 => return None,
-            4200..=4203 | 4211 | 4212 => 68,
-            4213 => 66,
-            c => c,
+    /// Faults in Appendix 6 numbers; a scan longer than the constant scan
+    /// is no error (L950) and there are no annunciators. Conditions without
+    /// an Appendix 6 number keep softplc's (BATTERY ERROR 1600) or take the
+    /// nearest (IRET errors 68, a missing program 72).
+    fn code(&self, fault: Fault) -> Option<ErrorCode> {
+        Some(ErrorCode(match fault {
+            Fault::Operation => 64,
+            Fault::Range => 65,
+            Fault::Watchdog => 61,
+            Fault::ScanOverrun | Fault::Annunciator => return None,
+            Fault::ForWithoutNext
+            | Fault::NextWithoutFor
+            | Fault::ForNesting
+            | Fault::BreakWithoutFor
+            | Fault::NoRet
+            | Fault::RetInMain
+            | Fault::NoIret
+            | Fault::IretInMain => 68,
+            Fault::CallNesting => 66,
+            Fault::NoProgram => 72,
+            Fault::Battery => BATTERY.0,
+            Fault::Family(c) => c.0,
         }))
+    }
+
+    /// Appendix 6's messages (L11266-11289).
+    fn message(&self, code: ErrorCode) -> &'static str {
+        match code.0 {
+            60 => "program compile error",
+            61 => "user program timeout (watchdog)",
+            62 => "illegal instruction",
+            63 => "illegal operand device type",
+            64 => "illegal operand value",
+            65 => "operand device number out of range",
+            66 => "subroutine stack overflow",
+            67 => "interrupt request queue overflow",
+            68 => "illegal jump label or subroutine call",
+            69 => "divide by zero",
+            70 => "illegal stack definition",
+            72 => "undefined subroutine or interrupt routine",
+            73 => "special module address invalid",
+            74 => "special module access error",
+            75 => "I/O immediate refresh error",
+            1600 => "BATTERY ERROR: battery-backed data lost (damaged state file)",
+            _ => "error",
+        }
     }
 
     /// SM20 and the SD20-SD24 history (newest in SD20, pushed only when it
@@ -157,7 +195,11 @@ impl System for Aplc {
     }
 
     /// 64-80 keep the CPU running; 60-63 and everything else stop it (D14).
-    fn stops(&self, code: ErrorCode) -> bool {
-        !(64..=80).contains(&code.0)
+    fn severity(&self, code: ErrorCode) -> Severity {
+        if (64..=80).contains(&code.0) {
+            Severity::Continue
+        } else {
+            Severity::Stop
+        }
     }
 }

@@ -15,7 +15,7 @@ use std::time::Instant;
 use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::kernels::{basic, sequence};
 use softplc_ir::ops::MAX_NESTING;
 use softplc_ir::ops::{Edge, Join, Op, Program};
@@ -267,7 +267,7 @@ fn op(
                         return Flow::Done(Outcome::Abort);
                     }
                     if rt.wdt_start.elapsed() > k.watchdog {
-                        return Flow::Done(Outcome::Fault(ErrorCode::WDT, cur, pc));
+                        return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
                     }
                 }
             }
@@ -439,7 +439,7 @@ fn op(
         Op::Call(target) => {
             if cond {
                 if rt.calls.len() >= MAX_NESTING {
-                    try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
+                    try_op!(Err::<(), _>(Fault::CallNesting));
                     return Flow::Next(next);
                 }
                 rt.calls.push((cur as u32, next as u32));
@@ -452,7 +452,7 @@ fn op(
         Op::CallFar { slot, pc: target } => {
             if cond {
                 if rt.calls.len() >= MAX_NESTING {
-                    try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
+                    try_op!(Err::<(), _>(Fault::CallNesting));
                     return Flow::Next(next);
                 }
                 rt.calls.push((cur as u32, next as u32));
@@ -473,12 +473,12 @@ fn op(
             }
         }
         // Linking replaces every CallCommon; one left means a bug, not input.
-        Op::CallCommon(_) => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
+        Op::CallCommon(_) => try_op!(Err::<(), _>(Fault::NoProgram)),
         Op::Ret => match rt.calls.pop() {
             // RET to another file: back to the nested pass that called it.
             Some((slot, _)) if slot as usize != cur => return Flow::Done(Outcome::Return),
             Some((_, ret)) => next = ret as usize,
-            None => try_op!(Err::<(), _>(ErrorCode::RET_IN_MAIN)),
+            None => try_op!(Err::<(), _>(Fault::RetInMain)),
         },
         // FOR n: n of 0 or less runs once.
         Op::For(n) => {
@@ -490,7 +490,7 @@ fn op(
                 }
             };
             if rt.fors.len() >= MAX_NESTING {
-                try_op!(Err::<(), _>(ErrorCode::FOR_NESTING));
+                try_op!(Err::<(), _>(Fault::ForNesting));
                 return Flow::Next(next);
             }
             rt.fors.push((next as u32, n));
@@ -506,7 +506,7 @@ fn op(
                     rt.fors.pop();
                 }
             }
-            None => try_op!(Err::<(), _>(ErrorCode::NEXT_WITHOUT_FOR)),
+            None => try_op!(Err::<(), _>(Fault::NextWithoutFor)),
         },
         // BREAK d p: ends the innermost FOR, storing the repetitions left
         // (the interrupted one included) in d, and jumps to p.
@@ -517,7 +517,7 @@ fn op(
                         try_op!(rt.mem.write16(&b.0, left as u16));
                         next = b.1 as usize;
                     }
-                    None => try_op!(Err::<(), _>(ErrorCode::BREAK_WITHOUT_FOR)),
+                    None => try_op!(Err::<(), _>(Fault::BreakWithoutFor)),
                 }
             }
         }
@@ -529,7 +529,7 @@ fn op(
         Op::Fend | Op::End => {
             // A scan longer than the watchdog is WDT ERROR even without a loop.
             if rt.wdt_start.elapsed() > k.watchdog {
-                return Flow::Done(Outcome::Fault(ErrorCode::WDT, cur, pc));
+                return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
             }
             return Flow::Done(rt.end_checks(cur, pc));
         }
@@ -548,7 +548,7 @@ fn op(
             if rt.in_interrupt {
                 return Flow::Done(Outcome::End);
             }
-            try_op!(Err::<(), _>(ErrorCode::IRET_IN_MAIN));
+            try_op!(Err::<(), _>(Fault::IretInMain));
         }
         Op::Ann { kind, n } => {
             rt.annunciator(*kind, *n, cond);
@@ -557,7 +557,7 @@ fn op(
             if cond {
                 match rt.type_requests.get_mut(*name as usize) {
                     Some(r) => *r = Some(*kind),
-                    None => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
+                    None => try_op!(Err::<(), _>(Fault::NoProgram)),
                 }
             }
         }
@@ -577,7 +577,7 @@ fn op(
                         rt.duty[k] = Some((n1 as u16, n2 as u16, count));
                     }
                     (Err(code), _) | (_, Err(code)) => try_op!(Err::<(), _>(code)),
-                    _ => try_op!(Err::<(), _>(ErrorCode::OPERATION)),
+                    _ => try_op!(Err::<(), _>(Fault::Operation)),
                 }
             }
         }

@@ -21,6 +21,7 @@ pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
 use exec::Outcome;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
+use softplc_ir::system::Severity;
 
 /// Operating state of the CPU (004 §4.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,44 +223,56 @@ pub(crate) struct Runtime {
 pub const HISTORY_LEN: usize = 16;
 
 impl Runtime {
-    /// Records a fault in SM0/SM1/SD0 and the error-location registers; returns
-    /// true when the CPU must stop (004 §7.20).
+    /// Records a fault of op `pc` in the system devices (SD0 and the
+    /// error-location registers on MELSEC); returns true when the CPU must stop
+    /// (004 §7.20).
     #[cold]
     #[inline(never)]
-    pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
+    pub(crate) fn record_fault(&mut self, prog: &Program, fault: Fault, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
-        self.record(code, Some(file), step, line);
-        if let Some(s) = &self.system {
-            return s.code(code).is_some_and(|c| s.stops(c));
+        match self.record(fault, Some(file), step, line) {
+            None => false,
+            Some(code) => match self.severity(code) {
+                Severity::Stop => true,
+                Severity::Continue => false,
+                Severity::Operation => self.operation_error == ErrorMode::Stop,
+            },
         }
-        !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
     }
 
-    /// Records a self-diagnostic error: SM0/SM1, SD0-SD26 and the error history.
+    /// The family's number for `fault` (`None`: no error in this family).
+    pub(crate) fn code(&self, fault: Fault) -> Option<ErrorCode> {
+        match &self.system {
+            Some(s) => s.code(fault),
+            None => Some(special::code(fault)),
+        }
+    }
+
+    /// What error `code` does to the CPU.
+    pub(crate) fn severity(&self, code: ErrorCode) -> Severity {
+        match &self.system {
+            Some(s) => s.severity(code),
+            None => special::severity(code),
+        }
+    }
+
+    /// Records a self-diagnostic error in the system devices, the latest
+    /// error and the error history; the code recorded, `None` when `fault`
+    /// is no error in this family.
     pub(crate) fn record(
         &mut self,
-        code: ErrorCode,
+        fault: Fault,
         file: Option<&str>,
         step: Option<u32>,
         line: Option<u32>,
-    ) {
+    ) -> Option<ErrorCode> {
         let now = self.clock.now(self.now_us);
-        let code = match &self.system {
-            Some(s) => {
-                // `None`: not an error in this family (the APLC's constant
-                // scan overrun, L950).
-                let Some(code) = s.code(code) else {
-                    return;
-                };
-                s.report_error(&mut self.mem, code);
-                code
-            }
-            None => {
-                special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
-                code
-            }
-        };
+        let code = self.code(fault)?;
+        match &self.system {
+            Some(s) => s.report_error(&mut self.mem, code),
+            None => special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now),
+        }
         self.error = Some(CpuError {
             code,
             step,
@@ -274,6 +287,7 @@ impl Runtime {
             time: now.to_unix(),
             detail: step,
         });
+        Some(code)
     }
 
     /// EI / DI (SM715 is ON in EI).
@@ -286,7 +300,7 @@ impl Runtime {
     /// (I0-I47) and SD781-SD793 (I48-I255).
     pub(crate) fn imask(&mut self, s: &softplc_ir::ops::WordArg) -> Result<(), Fault> {
         let softplc_ir::ops::WordArg::Word(first) = s else {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         };
         let first = *first as usize;
         let words: [u16; 16] = std::array::from_fn(|k| self.mem.words[first + k]);
@@ -330,9 +344,10 @@ impl Runtime {
 
     fn annunciator_on(&mut self, n: u16) {
         special::annunciator_add(&mut self.mem, n);
-        self.record(ErrorCode::ANNUNCIATOR, None, None, None);
-        if let Some(h) = self.history.back_mut() {
-            h.detail = Some(n as u32);
+        if self.record(Fault::Annunciator, None, None, None).is_some() {
+            if let Some(h) = self.history.back_mut() {
+                h.detail = Some(n as u32);
+            }
         }
         // SD4 individual information 6: annunciator number in SD16.
         let _ = self.mem.set_word(DeviceKind::SD, 4, 0x0600);
@@ -351,11 +366,11 @@ impl Runtime {
     /// END/FEND reached: a subroutine without RET or a FOR without NEXT is an error.
     pub(crate) fn end_checks(&mut self, slot: usize, pc: usize) -> Outcome {
         let code = if self.in_interrupt {
-            ErrorCode::NO_IRET
+            Fault::NoIret
         } else if !self.calls.is_empty() {
-            ErrorCode::NO_RET
+            Fault::NoRet
         } else if !self.fors.is_empty() {
-            ErrorCode::FOR_WITHOUT_NEXT
+            Fault::ForWithoutNext
         } else {
             return Outcome::End;
         };

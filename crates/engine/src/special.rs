@@ -4,7 +4,8 @@
 use super::CpuState;
 use softplc_ir::calendar::{DateTime, PlcClock};
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::fault::ErrorCode;
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::system::Severity;
 
 fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
     let _ = mem.set_bit(DeviceKind::SM, n, v);
@@ -119,7 +120,7 @@ pub(crate) fn report_error(
     sd(mem, 1, bcd(y) << 8 | bcd(at.month));
     sd(mem, 2, bcd(at.day) << 8 | bcd(at.hour));
     sd(mem, 3, bcd(at.minute) << 8 | bcd(at.second));
-    if code.is_operation_error() {
+    if severity(code) == Severity::Operation {
         sm(mem, 56, true);
     }
     sd(mem, 0, code.0);
@@ -274,5 +275,62 @@ pub(crate) fn user_clocks(mem: &mut DeviceMemory, duty: &mut [Option<(u16, u16, 
         let n = if k < 5 { 420 + k } else { 425 + k };
         sm(mem, n as i64, v);
         *count = count.wrapping_add(1);
+    }
+}
+
+/// The MELSEC number of `fault` (004 §7.20; the codes of the QCPU User's
+/// Manual (Hardware Design, Maintenance and Inspection)).
+pub(crate) fn code(fault: Fault) -> ErrorCode {
+    ErrorCode(match fault {
+        Fault::Operation => 4100,
+        Fault::Range => 4101,
+        Fault::ForWithoutNext => 4200,
+        Fault::NextWithoutFor => 4201,
+        Fault::ForNesting => 4202,
+        Fault::BreakWithoutFor => 4203,
+        Fault::NoRet => 4211,
+        Fault::RetInMain => 4212,
+        Fault::CallNesting => 4213,
+        Fault::NoIret => 4221,
+        Fault::IretInMain => 4223,
+        Fault::NoProgram => 2410,
+        Fault::Watchdog => 5000,
+        Fault::ScanOverrun => 5010,
+        Fault::Battery => 1600,
+        Fault::Annunciator => 9000,
+        Fault::Family(c) => c.0,
+    })
+}
+
+/// Operation errors follow the "operation error" parameter; BATTERY ERROR,
+/// PRG.TIME OVER and annunciators keep the CPU running.
+pub(crate) fn severity(code: ErrorCode) -> Severity {
+    match code.0 {
+        4100..=4199 => Severity::Operation,
+        1600 | 5010 | 9000 => Severity::Continue,
+        _ => Severity::Stop,
+    }
+}
+
+/// The CPU's message for error `code`.
+pub(crate) fn message(code: ErrorCode) -> &'static str {
+    match code.0 {
+        1600 => "BATTERY ERROR: battery-backed data lost (damaged state file)",
+        2410 => "FILE OPE. ERROR: the specified program does not exist",
+        4100 => "OPERATION ERROR: the instruction cannot process this data",
+        4101 => "OPERATION ERROR: device range exceeded",
+        4200 => "FOR NEXT ERROR: FOR without NEXT",
+        4201 => "FOR NEXT ERROR: NEXT without FOR",
+        4202 => "FOR NEXT ERROR: more than 16 FOR nesting levels",
+        4203 => "FOR NEXT ERROR: BREAK without FOR",
+        4211 => "CAN'T EXECUTE(P): no RET in the executed subroutine",
+        4212 => "CAN'T EXECUTE(P): RET executed in the main program",
+        4213 => "CAN'T EXECUTE(P): more than 16 CALL nesting levels",
+        4221 => "CAN'T EXECUTE(I): no IRET in the executed interrupt program",
+        4223 => "CAN'T EXECUTE(I): IRET executed outside an interrupt program",
+        5000 => "WDT ERROR: scan time exceeded the watchdog",
+        5010 => "PRG.TIME OVER: scan time exceeded the constant scan",
+        9000 => "F****: annunciator ON",
+        _ => "error",
     }
 }

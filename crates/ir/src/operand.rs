@@ -3,7 +3,7 @@
 
 use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
-use crate::fault::{ErrorCode, Fault};
+use crate::fault::Fault;
 use crate::ops::{BitArg, BitBlock, Block, Indexed, IndexedKind, WordArg};
 
 impl DeviceMemory {
@@ -21,7 +21,7 @@ impl DeviceMemory {
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         Ok((ix.base as i64 + n) as usize)
     }
@@ -41,7 +41,7 @@ impl DeviceMemory {
         match &b.start {
             WordArg::Word(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
             WordArg::Indexed(ix) => self.indexed(ix, n),
-            _ => Err(ErrorCode::RANGE),
+            _ => Err(Fault::Range),
         }
     }
 
@@ -50,7 +50,7 @@ impl DeviceMemory {
         match &b.start {
             BitArg::Bit(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
             BitArg::Indexed(ix) => self.indexed(ix, n),
-            _ => Err(ErrorCode::RANGE),
+            _ => Err(Fault::Range),
         }
     }
 
@@ -108,7 +108,7 @@ impl DeviceMemory {
         let bits = self.read32(a)?;
         let exp = (bits >> 23) & 0xFF;
         match exp {
-            0xFF => Err(ErrorCode::OPERATION),
+            0xFF => Err(Fault::Operation),
             0 => Ok(0.0),
             _ => Ok(f32::from_bits(bits)),
         }
@@ -190,7 +190,7 @@ impl DeviceMemory {
     #[inline]
     pub fn write_f32(&mut self, a: &WordArg, v: f32) -> Result<(), Fault> {
         if !v.is_finite() {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = if v.abs() < f32::MIN_POSITIVE { 0.0 } else { v };
         self.write32(a, v.to_bits())

@@ -4,7 +4,7 @@
 //! CPU has no [`System`]); another dialect (the APLC) provides its own.
 
 use crate::device::DeviceMemory;
-use crate::fault::ErrorCode;
+use crate::fault::{ErrorCode, Fault};
 
 /// Scan times measured at END, µs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -12,6 +12,18 @@ pub struct ScanTimes {
     pub current_us: u64,
     pub min_us: u64,
     pub max_us: u64,
+}
+
+/// What an error does to the CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// The CPU stops (until RESET).
+    Stop,
+    /// The CPU keeps running (a continuation error).
+    Continue,
+    /// An operation error: stops or continues as the CPU's "operation error"
+    /// parameter says.
+    Operation,
 }
 
 /// A family's system devices and error numbering.
@@ -22,14 +34,15 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn scan_start(&self, mem: &mut DeviceMemory, since_run_us: u64, first_scan: bool);
     /// END (housekeeping) of a scan.
     fn scan_end(&self, mem: &mut DeviceMemory, times: ScanTimes);
-    /// The family's code for a fault the shared kernels or the engine raise
-    /// (range, operation, watchdog errors are MELSEC-numbered there); `None`
-    /// when the condition is no error in this family (nothing is recorded).
-    fn code(&self, code: ErrorCode) -> Option<ErrorCode>;
-    /// Records error `code` (already translated) in the system devices.
+    /// The family's number for `fault`; `None` when the condition is no
+    /// error in this family (nothing is recorded).
+    fn code(&self, fault: Fault) -> Option<ErrorCode>;
+    /// The family's message for error `code`.
+    fn message(&self, code: ErrorCode) -> &'static str;
+    /// Records error `code` in the system devices.
     fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode);
-    /// True when error `code` stops the CPU.
-    fn stops(&self, code: ErrorCode) -> bool;
+    /// What error `code` does to the CPU.
+    fn severity(&self, code: ErrorCode) -> Severity;
     /// Right after the device initial values were written (power-on, RESET,
     /// STOP→RUN, the restore of battery-backed memory from a state
     /// directory): data of the family that outranks them (the APLC's EEPROM

@@ -27,6 +27,7 @@ pub mod process;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
+pub mod system;
 pub mod table;
 pub mod timing;
 pub mod transfer;

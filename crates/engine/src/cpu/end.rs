@@ -1,6 +1,7 @@
 //! END processing, the calendar clock, and the monitors (004 §4.3).
 
 use super::*;
+use softplc_ir::system::Severity;
 
 impl Cpu {
     /// The calendar clock now, µs since 1970.
@@ -92,7 +93,7 @@ impl Cpu {
         // continuation error (004 §7.1).
         if let Some(cs) = self.cfg.constant_scan {
             if scan_us > cs.as_micros() as u64 && !initial {
-                self.rt.record(ErrorCode::PRG_TIME_OVER, None, None, None);
+                self.rt.record(crate::Fault::ScanOverrun, None, None, None);
             }
         }
         // SM50 OFF→ON: clear the continuation error named in SD50 (lower two
@@ -100,7 +101,7 @@ impl Cpu {
         let sm50 = special::error_reset_requested(&self.rt.mem);
         if let (Some(code), false) = (sm50, self.sm50) {
             if let Some(e) = &self.rt.error {
-                let clearable = e.code.is_continuation() || e.code.is_operation_error();
+                let clearable = self.rt.severity(e.code) != Severity::Stop;
                 if clearable && e.code.0 / 100 == code / 100 {
                     self.rt.error = None;
                     special::clear_error(&mut self.rt.mem);

@@ -328,6 +328,14 @@ impl Cpu {
         self.rt.error.as_ref()
     }
 
+    /// The message of error `code` in this CPU's family.
+    pub fn error_message(&self, code: ErrorCode) -> &'static str {
+        match &self.rt.system {
+            Some(s) => s.message(code),
+            None => special::message(code),
+        }
+    }
+
     /// The error history, oldest first (004 §7.20.2).
     pub fn history(&self) -> impl Iterator<Item = &crate::HistoryEntry> {
         self.rt.history.iter()

@@ -4,7 +4,7 @@
 
 use super::sequence;
 use crate::device::DeviceMemory;
-use crate::fault::{ErrorCode, Fault};
+use crate::fault::Fault;
 use crate::ops::{Apply, ArithOp, CmpOp, Compare, Num, WordArg};
 
 /// Evaluates a comparison contact (`LD=`, `ANDD>`, `ORE<=` …); signed compare for
@@ -79,7 +79,7 @@ pub fn apply(mem: &mut DeviceMemory, timer_rem: &mut [u32], a: &Apply) -> Result
                 Num::I32 if (i32::MIN as f64..=i32::MAX as f64).contains(&v) => {
                     mem.write32(d, v as i32 as u32)
                 }
-                _ => Err(ErrorCode::OPERATION),
+                _ => Err(Fault::Operation),
             }
         }
         Apply::ResetTc(r) => {
@@ -111,7 +111,7 @@ fn arith(
                 ArithOp::Mul => mem.write_words(d, (a as i32 * b as i32) as u32 as u64, 2),
                 ArithOp::Div => {
                     if b == 0 {
-                        return Err(ErrorCode::OPERATION);
+                        return Err(Fault::Operation);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
                     if is_digits(d) {
@@ -129,7 +129,7 @@ fn arith(
                 ArithOp::Mul => mem.write_words(d, (a as i64 * b as i64) as u64, 4),
                 ArithOp::Div => {
                     if b == 0 {
-                        return Err(ErrorCode::OPERATION);
+                        return Err(Fault::Operation);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
                     if is_digits(d) {
@@ -145,7 +145,7 @@ fn arith(
                 ArithOp::Add => a + b,
                 ArithOp::Sub => a - b,
                 ArithOp::Mul => a * b,
-                ArithOp::Div if b == 0.0 => return Err(ErrorCode::OPERATION),
+                ArithOp::Div if b == 0.0 => return Err(Fault::Operation),
                 ArithOp::Div => a / b,
             };
             mem.write_f32(d, v)

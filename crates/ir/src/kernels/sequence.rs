@@ -71,7 +71,7 @@ pub fn timer(
     }
     let set = mem.read16(&t.set)? as i16;
     if set < 0 {
-        return Err(crate::fault::ErrorCode::OPERATION);
+        return Err(crate::fault::Fault::Operation);
     }
     let was_on = mem.bits[coil];
     mem.bits[coil] = true;
@@ -107,7 +107,7 @@ pub fn timer(
 pub fn counter(mem: &mut DeviceMemory, c: &Counter, cond: bool) -> Result<(), Fault> {
     let set = mem.read16(&c.set)? as i16;
     if set < 0 {
-        return Err(crate::fault::ErrorCode::OPERATION);
+        return Err(crate::fault::Fault::Operation);
     }
     let set = set.max(1);
     let (coil, contact, value) = (c.coil as usize, c.contact as usize, c.value as usize);

@@ -1,0 +1,3 @@
+//! MELSEC-Q's system: its error numbering ([`codes`]).
+
+pub mod codes;
