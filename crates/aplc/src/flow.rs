@@ -5,6 +5,7 @@
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::kernels::cpu::ResetWatchdog;
 use softplc_ir::ops::{Op, WordArg};
 use softplc_lang::compile::{Args, Compiler};
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
@@ -107,11 +108,15 @@ fn simple(c: &mut Compiler<'_>, u: &Use<'_>) {
     if !c.count(i, u.m, &[0]) || !c.output(i, u.m) {
         return;
     }
-    c.emit(match u.m {
-        "CFEND" => Op::GoEnd,
-        "WDT" => Op::Wdt,
-        _ => Op::Stop,
-    });
+    match u.m {
+        "CFEND" => {
+            c.emit(Op::GoEnd);
+        }
+        "WDT" => c.emit_instr(false, false, Box::new(ResetWatchdog)),
+        _ => {
+            c.emit(Op::Stop);
+        }
+    }
 }
 
 #[derive(Debug)]

@@ -10,8 +10,6 @@
 //! [`Pass::op`] (through [`Host`]), so every op has the one implementation
 //! here.
 
-use std::time::Instant;
-
 use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
 use softplc_ir::device::DeviceMemory;
@@ -254,6 +252,7 @@ fn op(
                 scan_us: rt.scan_us,
                 clock: &mut rt.clock,
                 shared: &mut rt.shared,
+                cpu: &mut rt.cpu,
             }
         };
     }
@@ -266,7 +265,7 @@ fn op(
                     if rt.abort.load(std::sync::atomic::Ordering::Relaxed) {
                         return Flow::Done(Outcome::Abort);
                     }
-                    if rt.wdt_start.elapsed() > k.watchdog {
+                    if rt.cpu.watchdog_start.elapsed() > k.watchdog {
                         return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
                     }
                 }
@@ -358,7 +357,7 @@ fn op(
             let base = rt.timer_base_us[t.high_speed as usize];
             try_op!(sequence::timer(
                 &mut rt.mem,
-                &mut rt.timer_rem,
+                &mut rt.cpu.timer_rem,
                 base,
                 rt.scan_us,
                 t,
@@ -397,15 +396,26 @@ fn op(
                 rt.mem.words[*d as usize] = rt.mem.words[*s as usize];
             }
         }
-        Op::Apply(a) => {
+        Op::MovD { s, d } => {
             if cond {
-                try_op!(basic::apply(&mut rt.mem, &mut rt.timer_rem, a));
+                let (s, d) = (*s as usize, *d as usize);
+                rt.mem.words.copy_within(s..s + 2, d);
+            }
+        }
+        Op::MovDK { k, d } => {
+            if cond {
+                let d = *d as usize;
+                rt.mem.words[d] = *k as u16;
+                rt.mem.words[d + 1] = (*k >> 16) as u16;
             }
         }
         Op::Ext(x) => {
             if cond {
                 let mut cx = exec_ctx!();
                 try_op!(prog.ext[*x as usize].exec(&mut cx));
+                if rt.cpu.report.is_some() {
+                    rt.record_report();
+                }
             }
         }
         Op::ExtAlways(x) => {
@@ -416,6 +426,9 @@ fn op(
             } else {
                 instr.off(&mut cx)
             });
+            if rt.cpu.report.is_some() {
+                rt.record_report();
+            }
         }
         Op::Cj { target, always } => {
             if *always || cond {
@@ -528,43 +541,17 @@ fn op(
         }
         Op::Fend | Op::End => {
             // A scan longer than the watchdog is WDT ERROR even without a loop.
-            if rt.wdt_start.elapsed() > k.watchdog {
+            if rt.cpu.watchdog_start.elapsed() > k.watchdog {
                 return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
             }
             return Flow::Done(rt.end_checks(cur, pc));
         }
         Op::Nop => {}
-        Op::Interrupts { enable, always } => {
-            if *always || cond {
-                rt.set_ei(*enable);
-            }
-        }
-        Op::Imask(s) => {
-            if cond {
-                try_op!(rt.imask(s));
-            }
-        }
         Op::Iret => {
             if rt.in_interrupt {
                 return Flow::Done(Outcome::End);
             }
             try_op!(Err::<(), _>(Fault::IretInMain));
-        }
-        Op::Ann { kind, n } => {
-            rt.annunciator(*kind, *n, cond);
-        }
-        Op::ProgCtl { kind, name } => {
-            if cond {
-                match rt.type_requests.get_mut(*name as usize) {
-                    Some(r) => *r = Some(*kind),
-                    None => try_op!(Err::<(), _>(Fault::NoProgram)),
-                }
-            }
-        }
-        Op::Wdt => {
-            if cond {
-                rt.wdt_start = Instant::now();
-            }
         }
         Op::Duty(d) => {
             if cond {
@@ -579,20 +566,6 @@ fn op(
                     (Err(code), _) | (_, Err(code)) => try_op!(Err::<(), _>(code)),
                     _ => try_op!(Err::<(), _>(Fault::Operation)),
                 }
-            }
-        }
-        Op::Trace { reset } => {
-            if cond {
-                if *reset {
-                    rt.trace_reset = true;
-                } else {
-                    rt.trace_trigger = true;
-                }
-            }
-        }
-        Op::Ledr => {
-            if cond {
-                rt.ledr();
             }
         }
     }

@@ -19,6 +19,7 @@ pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
 
 use exec::Outcome;
+use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 use softplc_ir::system::Severity;
@@ -177,8 +178,6 @@ pub(crate) struct Runtime {
     pub clock: calendar::PlcClock,
     /// CPU-wide state of family instructions (see `ExecCtx::shared`).
     pub shared: Box<[u32]>,
-    /// Sub-unit remainder of each timer, µs (T then ST).
-    pub timer_rem: Box<[u32]>,
     /// [low, high] timer bases in µs.
     pub timer_base_us: [u32; 2],
     /// Scan time measured at the previous END, µs; added by OUT T.
@@ -190,8 +189,6 @@ pub(crate) struct Runtime {
     pub fors: Vec<(u32, i16)>,
     pub stop_request: bool,
     pub watchdog: Duration,
-    /// Wall-clock start of the watchdog: the scan's start, or the last WDT.
-    pub wdt_start: std::time::Instant,
     /// Set by the host to stop the CPU even inside an endless loop; checked
     /// with the watchdog on backward jumps (`Cpu::abort_handle`).
     pub abort: std::sync::Arc<std::sync::atomic::AtomicBool>,
@@ -200,21 +197,17 @@ pub(crate) struct Runtime {
     pub error: Option<CpuError>,
     /// Error history, oldest first, at most [`HISTORY_LEN`] entries.
     pub history: std::collections::VecDeque<HistoryEntry>,
-    /// EI state (SM715) and the IMASK pattern, one enable bit per I0-I255.
-    pub ei: bool,
-    pub imask: [u16; 16],
     /// An interrupt program is running (IRET ends it).
     pub in_interrupt: bool,
-    /// Execution-type change requested for each program slot, applied at END.
-    pub type_requests: Box<[Option<softplc_ir::ops::TypeChange>]>,
+    /// What CPU-function instructions change: the watchdog start, the
+    /// interrupt enable and mask, execution-type requests, the trace
+    /// requests, the timers' remainders.
+    pub cpu: CpuServices,
     /// Running a program for POFF: every condition forced OFF.
     pub force_off: bool,
     /// User timing clocks set by DUTY: (ON scans, OFF scans, scans counted),
     /// SM420-SM424 then SM430-SM434; `None` until DUTY runs.
     pub duty: [Option<(u16, u16, u32)>; 10],
-    /// TRACE / TRACER executed this scan (applied at END).
-    pub trace_trigger: bool,
-    pub trace_reset: bool,
     /// See [`CpuConfig::system`].
     pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
 }
@@ -290,76 +283,20 @@ impl Runtime {
         Some(code)
     }
 
-    /// EI / DI (SM715 is ON in EI).
-    pub(crate) fn set_ei(&mut self, on: bool) {
-        self.ei = on;
-        let _ = self.mem.set_bit(DeviceKind::SM, 715, on);
-    }
-
-    /// IMASK: 16 words of enable bits for I0-I255, mirrored in SD715-SD717
-    /// (I0-I47) and SD781-SD793 (I48-I255).
-    pub(crate) fn imask(&mut self, s: &softplc_ir::ops::WordArg) -> Result<(), Fault> {
-        let softplc_ir::ops::WordArg::Word(first) = s else {
-            return Err(Fault::Range);
-        };
-        let first = *first as usize;
-        let words: [u16; 16] = std::array::from_fn(|k| self.mem.words[first + k]);
-        self.imask = words;
-        for (k, w) in words.iter().enumerate() {
-            let sd = if k < 3 { 715 + k } else { 781 + k - 3 };
-            let _ = self.mem.set_word(DeviceKind::SD, sd as i64, *w);
-        }
-        Ok(())
-    }
-
-    /// Interrupt pointer `n` is enabled by EI and its IMASK bit.
-    pub(crate) fn interrupt_enabled(&self, n: usize) -> bool {
-        self.ei && self.imask[n / 16] >> (n % 16) & 1 != 0
-    }
-
-    /// OUT/SET/RST of annunciator F`n` (004 §10.2.4): turning it ON through OUT or
-    /// SET appends it to SD64-SD79 (SD62 first, SD63 count, SM62 ON) and logs error
-    /// 9000; RST removes it; OUT turning it OFF does no list processing.
-    pub(crate) fn annunciator(&mut self, kind: softplc_ir::ops::AnnKind, n: u16, cond: bool) {
-        use softplc_ir::ops::AnnKind;
-        let was = self.mem.get_bit(DeviceKind::F, n as i64).unwrap_or(false);
-        match kind {
-            AnnKind::Out => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, cond);
-                if cond && !was {
-                    self.annunciator_on(n);
+    /// Records the continuation error an instruction reported
+    /// ([`CpuServices::report`]): an annunciator and its number.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn record_report(&mut self) {
+        if let Some((fault, detail)) = self.cpu.report.take() {
+            if self.record(fault, None, None, None).is_some() {
+                if let Some(h) = self.history.back_mut() {
+                    h.detail = Some(detail);
+                }
+                if self.system.is_none() {
+                    special::annunciator_detail(&mut self.mem, detail);
                 }
             }
-            AnnKind::Set if cond && !was => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, true);
-                self.annunciator_on(n);
-            }
-            AnnKind::Rst if cond => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, false);
-                special::annunciator_remove(&mut self.mem, n);
-            }
-            _ => {}
-        }
-    }
-
-    fn annunciator_on(&mut self, n: u16) {
-        special::annunciator_add(&mut self.mem, n);
-        if self.record(Fault::Annunciator, None, None, None).is_some() {
-            if let Some(h) = self.history.back_mut() {
-                h.detail = Some(n as u32);
-            }
-        }
-        // SD4 individual information 6: annunciator number in SD16.
-        let _ = self.mem.set_word(DeviceKind::SD, 4, 0x0600);
-        let _ = self.mem.set_word(DeviceKind::SD, 16, n);
-    }
-
-    /// LEDR: turns OFF the annunciator shown first (SD62) and removes it.
-    pub(crate) fn ledr(&mut self) {
-        let first = self.mem.get_word(DeviceKind::SD, 64).unwrap_or(0);
-        if self.mem.get_word(DeviceKind::SD, 63).unwrap_or(0) > 0 {
-            let _ = self.mem.set_bit(DeviceKind::F, first as i64, false);
-            special::annunciator_remove(&mut self.mem, first);
         }
     }
 

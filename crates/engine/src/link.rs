@@ -1,7 +1,8 @@
 //! Linking the program files of a CPU: what one file refers to in another is
 //! resolved when the CPU is built, never while scanning.
 //!
-//! - PSCAN/PSTOP/POFF/PLOW name a program file (its name without extension).
+//! - Instructions that name a program file (PSCAN/PSTOP/POFF/PLOW: its name
+//!   without extension) find its slot (`Instr::link`).
 //! - CALL of a common pointer (from the "common pointer" parameter up to P4095,
 //!   004 §10.9.2) reaches a subroutine in any file, typically a standby program.
 //! - Each interrupt pointer and each common pointer may be defined once across
@@ -45,29 +46,21 @@ pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>
         }
     }
     for p in programs.iter_mut() {
+        for x in &mut p.ext {
+            x.link(&names);
+        }
         let file = p.file.clone();
         for op in &mut p.ops {
-            match op {
-                Op::ProgCtl { name, .. } => {
-                    let wanted = &p.prog_names[*name as usize];
-                    // An unknown name stays out of range: error 2410 when executed.
-                    *name = names
-                        .iter()
-                        .position(|m| m == wanted)
-                        .map_or(u32::MAX, |i| i as u32);
-                }
-                Op::CallCommon(n) => {
-                    let Some(&(slot, pc)) = common.get(n) else {
-                        return Err(format!(
-                            "{file}: CALL P{n}: no program defines the common pointer P{n}"
-                        ));
-                    };
-                    *op = Op::CallFar {
-                        slot: slot as u16,
-                        pc,
-                    };
-                }
-                _ => {}
+            if let Op::CallCommon(n) = op {
+                let Some(&(slot, pc)) = common.get(n) else {
+                    return Err(format!(
+                        "{file}: CALL P{n}: no program defines the common pointer P{n}"
+                    ));
+                };
+                *op = Op::CallFar {
+                    slot: slot as u16,
+                    pc,
+                };
             }
         }
     }

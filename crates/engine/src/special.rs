@@ -216,32 +216,11 @@ pub(crate) fn clock_registers(
     sm210
 }
 
-/// Appends annunciator `n` to SD64-SD79 (16 entries), SD62 = first, SD63 = count,
-/// SM62 ON (004 §10.2.4).
-pub(crate) fn annunciator_add(mem: &mut DeviceMemory, n: u16) {
-    let count = sd_get(mem, 63).min(16);
-    if count < 16 {
-        sd(mem, 64 + count as i64, n);
-        sd(mem, 63, count + 1);
-    }
-    sd(mem, 62, sd_get(mem, 64));
-    sm(mem, 62, true);
-}
-
-/// Removes annunciator `n` from SD64-SD79, shifting the later ones up.
-pub(crate) fn annunciator_remove(mem: &mut DeviceMemory, n: u16) {
-    let count = sd_get(mem, 63).min(16) as i64;
-    let Some(pos) = (0..count).find(|k| sd_get(mem, 64 + k) == n) else {
-        return;
-    };
-    for k in pos..count - 1 {
-        let next = sd_get(mem, 65 + k);
-        sd(mem, 64 + k, next);
-    }
-    sd(mem, 64 + count - 1, 0);
-    sd(mem, 63, (count - 1) as u16);
-    sd(mem, 62, if count > 1 { sd_get(mem, 64) } else { 0 });
-    sm(mem, 62, count > 1);
+/// SD4 individual information 6 (the annunciator number in SD16) of an
+/// annunciator's error 9000.
+pub(crate) fn annunciator_detail(mem: &mut DeviceMemory, n: u32) {
+    sd(mem, 4, 0x0600);
+    sd(mem, 16, n as u16);
 }
 
 /// SM50 OFF→ON clears the continuation error whose code is in SD50; the lower

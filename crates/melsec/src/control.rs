@@ -1,10 +1,15 @@
 //! Program control (PM §6.6-6.7, §7.6, §7.16-7.18): jumps, subroutine calls,
 //! FOR/NEXT loops, interrupt control, execution-type changes, the watchdog
-//! reset, the user timing clocks, the sampling trace and STOP. They move the
-//! program counter or talk to the CPU, so the compiler lowers them into the
-//! ladder machine's own ops, run by the interpreter and END processing.
+//! reset, the user timing clocks, the sampling trace and STOP. Those that
+//! move the program counter are lowered into the ladder machine's own ops;
+//! those that talk to the CPU (EI/DI, IMASK, PSCAN…, WDT, TRACE) are
+//! instructions asking the engine through `ExecCtx::cpu`.
 
+use softplc_ir::cpu::TypeChange;
 use softplc_ir::device::{parse_operand, Constant, DeviceKind, Operand};
+use softplc_ir::fault::Fault;
+use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::kernels::cpu::ResetWatchdog;
 use softplc_ir::ops::*;
 use softplc_lang::compile::{Compiler, MAX_NESTING};
 use softplc_lang::isa::{Class, Def, Doc, Pulse, Steps, Use};
@@ -156,7 +161,46 @@ fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     } else if !c.output(i, m) {
         return;
     }
-    c.emit(Op::Interrupts { enable, always });
+    let sm715 = c.map.index(DeviceKind::SM, SM_EI);
+    c.emit_instr(
+        false,
+        always,
+        Box::new(Interrupts {
+            enable,
+            always,
+            sm715,
+        }),
+    );
+}
+
+/// SM715: ON while interrupts are enabled (EI).
+const SM_EI: u32 = 715;
+
+/// PM §6.7 EI / DI: enables or disables the interrupt programs; SM715
+/// mirrors the state. Without a contact ([`ei_di`]) it runs at every
+/// execution, under an OFF master control too.
+#[derive(Debug)]
+struct Interrupts {
+    enable: bool,
+    always: bool,
+    sm715: Option<u32>,
+}
+
+impl Instr for Interrupts {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.enable_interrupts(self.enable);
+        if let Some(b) = self.sm715 {
+            cx.mem.bits[b as usize] = self.enable;
+        }
+        Ok(())
+    }
+
+    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        if self.always {
+            self.exec(cx)?;
+        }
+        Ok(())
+    }
 }
 
 fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
@@ -165,8 +209,42 @@ fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
     let ops = &u.instr.operands;
     if c.count(i, m, &[1]) && c.output(i, m) {
         if let Some(s) = c.word_dest(&ops[0], Num::I16, 16) {
-            c.emit(Op::Imask(Box::new(s)));
+            // SD715-SD717 (I0-I47) and SD781-SD793 (I48-I255) mirror the mask.
+            let sd = c
+                .map
+                .index(DeviceKind::SD, 793)
+                .map(|_| c.map.base(DeviceKind::SD));
+            c.emit_instr(false, false, Box::new(Imask { s, sd }));
         }
+    }
+}
+
+/// PM §6.7 IMASK `S`: 16 words of enable bits for I0-I255 (one bit per
+/// pointer, I0 in bit 0 of S), mirrored in SD715-SD717 and SD781-SD793. An
+/// index-modified or digit-specified S is a range error.
+#[derive(Debug)]
+struct Imask {
+    s: WordArg,
+    /// Flat index of SD0, when the CPU has SD793.
+    sd: Option<u32>,
+}
+
+impl Instr for Imask {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let WordArg::Word(first) = self.s else {
+            return Err(Fault::Range);
+        };
+        let first = first as usize;
+        let words: [u16; softplc_ir::cpu::INTERRUPTS / 16] =
+            std::array::from_fn(|k| cx.mem.words[first + k]);
+        cx.cpu.mask_interrupts(words);
+        if let Some(sd) = self.sd {
+            for (k, w) in words.iter().enumerate() {
+                let n = if k < 3 { 715 + k } else { 781 + k - 3 };
+                cx.mem.words[sd as usize + n] = *w;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -287,21 +365,67 @@ fn prog_ctl(c: &mut Compiler<'_>, u: &Use<'_>) {
         "POFF" => TypeChange::Off,
         _ => TypeChange::LowSpeed,
     };
-    let id = c.prog_names.len() as u32;
-    c.prog_names.push(name.to_ascii_uppercase());
-    c.pulsed(pulse, Op::ProgCtl { kind, name: id });
+    let x = ProgramControl {
+        kind,
+        name: name.to_ascii_uppercase(),
+        slot: u32::MAX,
+    };
+    c.emit_instr(pulse, false, Box::new(x));
+}
+
+/// PM §7.16 PSCAN/PSTOP/POFF/PLOW `"name"`: the named program becomes a scan,
+/// standby or low-speed program at END (POFF: its outputs OFF at the next
+/// scan first); the last request wins. A name no program has is FILE OPE.
+/// ERROR 2410 when executed.
+#[derive(Debug)]
+struct ProgramControl {
+    kind: TypeChange,
+    name: String,
+    /// The program's slot, found when the CPU is built (`u32::MAX`: none).
+    slot: u32,
+}
+
+impl Instr for ProgramControl {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.change_type(self.slot, self.kind)
+    }
+
+    fn link(&mut self, programs: &[String]) {
+        self.slot = programs
+            .iter()
+            .position(|p| *p == self.name)
+            .map_or(u32::MAX, |i| i as u32);
+    }
 }
 
 fn wdt_trace(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     if c.count(i, m, &[0]) && c.output(i, m) {
-        let op = match m {
-            "TRACE" => Op::Trace { reset: false },
-            "TRACER" => Op::Trace { reset: true },
-            _ => Op::Wdt,
+        let x: Box<dyn Instr> = match m {
+            "TRACE" => Box::new(Trace { reset: false }),
+            "TRACER" => Box::new(Trace { reset: true }),
+            _ => Box::new(ResetWatchdog),
         };
-        c.pulsed(m == "WDTP", op);
+        c.emit_instr(m == "WDTP", false, x);
+    }
+}
+
+/// 004 §7.12 TRACE (trigger the sampling trace) / TRACER (reset it), both
+/// applied at END.
+#[derive(Debug)]
+struct Trace {
+    reset: bool,
+}
+
+impl Instr for Trace {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        if self.reset {
+            cx.cpu.reset_trace();
+        } else {
+            cx.cpu.trigger_trace();
+        }
+        Ok(())
     }
 }
 

@@ -8,6 +8,7 @@
 //! [`Args`]. [`DEFS`] lists the families, [`isa`] indexes them, [`dialect`]
 //! adds the devices, word order and system flags.
 
+mod annunciator;
 pub mod arithmetic;
 pub mod basic;
 pub mod bits;

@@ -113,9 +113,9 @@ impl Cpu {
             special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
         // PSCAN/PSTOP/POFF/PLOW take effect at END; the last request wins.
         for i in 0..self.slots.len() {
-            if let Some(kind) = self.rt.type_requests[i].take() {
+            if let Some(kind) = self.rt.cpu.type_requests[i].take() {
                 let slot = &mut self.slots[i];
-                use softplc_ir::ops::TypeChange;
+                use softplc_ir::cpu::TypeChange;
                 slot.off_pending = kind == TypeChange::Off;
                 slot.exec = match kind {
                     TypeChange::Scan => ExecType::Scan,
@@ -126,10 +126,10 @@ impl Cpu {
         }
         special::user_clocks(&mut self.rt.mem, &mut self.rt.duty);
         if let Some(t) = &mut self.trace {
-            if std::mem::take(&mut self.rt.trace_reset) {
+            if std::mem::take(&mut self.rt.cpu.trace_reset) {
                 t.reset(&mut self.rt.mem);
             }
-            if std::mem::take(&mut self.rt.trace_trigger) {
+            if std::mem::take(&mut self.rt.cpu.trace_trigger) {
                 t.trigger();
             }
             t.sample(&mut self.rt.mem, self.scans, now);

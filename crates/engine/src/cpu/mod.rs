@@ -24,6 +24,7 @@ use super::{
     StopToRunOutput,
 };
 use softplc_ir::calendar::PlcClock;
+use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 use softplc_ir::ops::MAX_NESTING;
@@ -199,7 +200,6 @@ impl Cpu {
             clock: PlcClock::new(cfg.clock_start, now),
             shared: vec![0; programs.iter().map(|p| p.shared_words).max().unwrap_or(0) as usize]
                 .into_boxed_slice(),
-            timer_rem: vec![0; timers as usize].into_boxed_slice(),
             timer_base_us: [
                 cfg.timer_low.as_micros().max(1) as u32,
                 cfg.timer_high.as_micros().max(1) as u32,
@@ -210,19 +210,14 @@ impl Cpu {
             fors: Vec::with_capacity(MAX_NESTING),
             stop_request: false,
             watchdog: wall_watchdog(cfg.watchdog, clock.is_virtual()),
-            wdt_start: std::time::Instant::now(),
             abort: Default::default(),
             operation_error: cfg.operation_error,
             error: None,
             history: std::collections::VecDeque::with_capacity(crate::HISTORY_LEN),
-            ei: false,
-            imask: DEFAULT_IMASK,
             in_interrupt: false,
-            type_requests: vec![None; slots.len()].into_boxed_slice(),
+            cpu: CpuServices::new(slots.len(), timers as usize, DEFAULT_IMASK),
             force_off: false,
             duty: [None; 10],
-            trace_trigger: false,
-            trace_reset: false,
             system: cfg.system.clone(),
         };
         let mut cpu = Cpu {

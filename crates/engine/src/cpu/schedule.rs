@@ -18,7 +18,7 @@ impl Cpu {
         self.rt.now_us = now;
         self.busy_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
-        self.rt.wdt_start = std::time::Instant::now();
+        self.rt.cpu.reset_watchdog();
         let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
         self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
         if !self.forces.is_empty() {
@@ -291,7 +291,7 @@ impl Cpu {
             self.int_due[k] += periods[k];
             let n = 28 + k;
             if self.interrupts[n].is_some() {
-                if self.rt.interrupt_enabled(n) {
+                if self.rt.cpu.interrupt_enabled(n) {
                     if !self.run_interrupt(n) {
                         return false;
                     }
@@ -301,7 +301,7 @@ impl Cpu {
             }
         }
         for k in (0..4).rev() {
-            if self.int_pending[k] && self.rt.interrupt_enabled(28 + k) {
+            if self.int_pending[k] && self.rt.cpu.interrupt_enabled(28 + k) {
                 self.int_pending[k] = false;
                 if !self.run_interrupt(28 + k) {
                     return false;

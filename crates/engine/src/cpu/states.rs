@@ -154,9 +154,9 @@ impl Cpu {
         self.clear_unlatched();
         self.rt.error = None;
         self.stop_error = false;
-        self.rt.timer_rem.fill(0);
-        self.rt.ei = false;
-        self.rt.imask = DEFAULT_IMASK;
+        self.rt.cpu.timer_rem.fill(0);
+        self.rt.cpu.enable_interrupts(false);
+        self.rt.cpu.mask_interrupts(DEFAULT_IMASK);
         self.rt.duty = [None; 10];
         let now = self.clock.now_us();
         self.power_on_us = now;

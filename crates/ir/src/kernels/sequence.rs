@@ -3,6 +3,7 @@
 
 use crate::device::DeviceMemory;
 use crate::fault::Fault;
+use crate::instr::{ExecCtx, Instr};
 use crate::ops::{Coil, CoilKind, Counter, ResetTc, Timer};
 
 /// OUT/SET/RST/PLS/PLF/FF on a general bit operand. `cond` is the rung condition.
@@ -124,12 +125,15 @@ pub fn counter(mem: &mut DeviceMemory, c: &Counter, cond: bool) -> Result<(), Fa
     Ok(())
 }
 
-/// `RST T`/`RST C`: clears the current value and the contact at once.
-#[inline]
-pub fn reset_tc(mem: &mut DeviceMemory, rem: &mut [u32], r: &ResetTc) {
-    mem.words[r.value as usize] = 0;
-    mem.bits[r.contact as usize] = false;
-    if r.slot != u32::MAX {
-        rem[r.slot as usize] = 0;
+/// `RST T`/`RST C` (PM §5.3): clears the current value and the contact at
+/// once, and a timer's sub-unit remainder.
+impl Instr for ResetTc {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.mem.words[self.value as usize] = 0;
+        cx.mem.bits[self.contact as usize] = false;
+        if self.slot != u32::MAX {
+            cx.cpu.reset_timer(self.slot);
+        }
+        Ok(())
     }
 }
