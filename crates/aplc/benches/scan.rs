@@ -39,11 +39,10 @@ fn cpu(src: &str) -> (Cpu, VirtualClock) {
     let program =
         softplc_aplc::load_bytes("bench.apl", src.as_bytes()).expect("bench program loads");
     let cfg = CpuConfig {
-        model: "APLC-TCP".into(),
         devices: softplc_aplc::device_config(),
         latch: Vec::new(),
         system: Some(softplc_aplc::system()),
-        ..CpuConfig::default()
+        ..CpuConfig::new(&softplc_aplc::profile::PROFILE)
     };
     let clock = VirtualClock::new();
     let p = LoadedProgram {

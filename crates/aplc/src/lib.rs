@@ -31,6 +31,7 @@ pub mod names;
 pub mod num;
 pub mod pid;
 pub mod pou;
+pub mod profile;
 pub mod ramp;
 pub mod real;
 pub mod rejected;

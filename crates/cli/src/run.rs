@@ -13,7 +13,7 @@ use softplc_core::device::DeviceConfig;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::{Clock, Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::names::{DevName, Dialect, Names};
+use softplc_core::names::{DevName, Names};
 use softplc_core::persist::{Attach, Battery, OnDamage, PersistError};
 use softplc_core::program::{self, Diagnostics};
 use softplc_core::project;
@@ -255,11 +255,12 @@ pub(crate) fn load_with(
     model: Option<&str>,
 ) -> Result<Loaded, ExitCode> {
     if is_aplc(path, dialect) {
-        if model.is_some_and(|m| !m.eq_ignore_ascii_case(softplc_core::aplc::MODEL)) {
+        let aplc = softplc_core::profile::aplc();
+        if model.is_some_and(|m| softplc_core::profile::find(m).ok() != Some(aplc)) {
             eprintln!(
                 "{}: --model: an APLC program runs on {}",
                 path.display(),
-                softplc_core::aplc::MODEL
+                aplc.model
             );
             return Err(ExitCode::from(2));
         }
@@ -307,20 +308,27 @@ pub(crate) fn load_with(
             exec: p.exec,
         });
     }
-    let mut cfg = CpuConfig::default();
-    if let Some(m) = model {
-        cfg.model = match project::known_model(m) {
-            Ok(m) => m.to_string(),
-            Err(e) => {
-                eprintln!("--model: {e}");
-                return Err(ExitCode::from(2));
-            }
-        };
-    }
-    let dialect = program::dialect_for(&cfg.model, program::ProcessSettings::default());
+    let profile = match model.map(project::known_model) {
+        None => softplc_core::profile::default_profile(),
+        Some(Ok(p)) if !softplc_core::profile::is_aplc(p) => p,
+        Some(Ok(p)) => {
+            eprintln!(
+                "{}: --model: {} runs .apl programs, not this file",
+                path.display(),
+                p.model
+            );
+            return Err(ExitCode::from(2));
+        }
+        Some(Err(e)) => {
+            eprintln!("--model: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    let mut cfg = CpuConfig::new(profile);
+    let dialect = program::dialect_for(profile, program::ProcessSettings::default());
     let program = program::load_file_in(path, &DeviceConfig::default(), &dialect, None)
         .map_err(|d| report(&d, path))?;
-    project::check_capacity(&cfg.model, &[(program.file.as_str(), program.steps)])
+    project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
         .map_err(|d| report(&program::Diagnostics(vec![d]), path))?;
     if let Some(t) = start {
         cfg.clock_start = t;
@@ -479,7 +487,6 @@ pub fn run(args: RunArgs) -> ExitCode {
         ..
     } = loaded;
     let names = Names::of(&cpu);
-    let dialect = names.dialect;
     let (writes, shows, trace) = match parse_options(&args, &names)
         .and_then(|(w, s)| Ok((w, s, parse_trace(&args, &names)?)))
     {
@@ -631,12 +638,12 @@ pub fn run(args: RunArgs) -> ExitCode {
     // From whole nanoseconds, so 510 scans of 10 ms print 5100, not 5100.000000000001.
     let time_ms = (u128::from(scans) * args.scan_time.as_nanos()) as f64 / 1e6;
     // The APLC has no step numbers in its reports (contract §2).
-    let aplc = dialect == Dialect::Aplc;
+    let steps = cpu.profile().step_numbers;
     let error = cpu.error().map(|e| {
         json!({
             "code": e.code.0,
             "message": cpu.error_message(e.code),
-            "step": if aplc { None } else { e.step },
+            "step": if steps { e.step } else { None },
             "file": e.file,
             "line": e.line,
         })

@@ -10,7 +10,6 @@ use std::time::Duration;
 use clap::Args;
 use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::MonotonicClock;
-use softplc_core::names::Dialect;
 use softplc_core::persist::{Attach, Battery};
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
@@ -194,7 +193,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         },
         None => None,
     };
-    let aplc = Dialect::of(&cpu) == Dialect::Aplc;
+    let aplc = softplc_core::profile::is_aplc(cpu.profile());
     if aplc {
         // APLC-TCP speaks Modbus only (seed 002 ch. 10); see COMPATIBILITY.md.
         for (flag, given) in [
@@ -241,7 +240,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         };
         let cfg = softplc_http::HttpConfig {
             token,
-            model: cpu.config().model.clone(),
+            model: cpu.profile().model.to_string(),
             ladder: softplc_http::ladder::load_programs(&cpu),
         };
         listeners.push(softplc_http::listener(addr, cfg));

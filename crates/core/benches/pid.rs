@@ -11,7 +11,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use softplc_core::device::{DeviceConfig, DeviceKind};
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 
 const LOOPS: u32 = 32;
@@ -56,7 +56,11 @@ fn cpu(s: &Setup) -> (Cpu, VirtualClock) {
     let prog =
         compile_il("bench.il", &s.src, &DeviceConfig::default()).expect("bench program loads");
     let clock = VirtualClock::new();
-    let mut cpu = Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()));
+    let mut cpu = Cpu::new(
+        prog,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
     if s.params > 0 {
         let mem = cpu.memory_mut();
         let mut put = |n: u32, v: i32| mem.set_word(DeviceKind::D, n as i64, v as u16).unwrap();

@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use softplc_core::device::{DeviceConfig, DeviceKind};
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::instructions::process::tag;
 use softplc_core::program::{compile_il_in, dialect_for, ProcessSettings};
 
@@ -48,11 +48,10 @@ fn program(which: &[&str]) -> String {
 }
 
 fn cpu(src: &str) -> (Cpu, VirtualClock) {
-    let cfg = CpuConfig {
-        model: "Q06PHCPU".into(),
-        ..CpuConfig::default()
-    };
-    let dialect = dialect_for(&cfg.model, ProcessSettings::default());
+    let cfg = softplc_core::profile::config(
+        softplc_core::profile::find("Q06PHCPU").expect("a process CPU"),
+    );
+    let dialect = dialect_for(cfg.profile, ProcessSettings::default());
     let prog = compile_il_in("bench.il", src, &DeviceConfig::default(), &dialect)
         .unwrap_or_else(|d| panic!("bench program loads: {d}"));
     let clock = VirtualClock::new();

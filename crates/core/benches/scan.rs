@@ -8,7 +8,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_core::tier::{apply, Exec};
 
@@ -17,7 +17,11 @@ mod programs;
 fn cpu(src: &str, exec: Exec) -> (Cpu, VirtualClock) {
     let prog = compile_il("bench.il", src, &DeviceConfig::default()).expect("bench program loads");
     let clock = VirtualClock::new();
-    let mut cpu = Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()));
+    let mut cpu = Cpu::new(
+        prog,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
     if let Some(s) = apply(&mut cpu, exec).expect("tier") {
         eprintln!(
             "compile: {:.1} ms ({} native ops)",

@@ -11,9 +11,6 @@ use crate::program::{Diagnostics, Program};
 pub use softplc_aplc::comm::PortConfig;
 pub use softplc_aplc::names::Name;
 
-/// The model name that selects the APLC dialect (contract §4).
-pub const MODEL: &str = "APLC-TCP";
-
 /// True for a program file read as `.apl` by default (contract §2
 /// `--dialect`: by name).
 pub fn is_apl(path: &Path) -> bool {
@@ -83,7 +80,6 @@ pub fn cpu_config_with_ports(
 ) -> CpuConfig {
     let ms = |d: Duration| d.as_millis().min(u16::MAX as u128) as u16;
     CpuConfig {
-        model: MODEL.to_string(),
         devices: softplc_aplc::device_config(),
         watchdog,
         constant_scan,
@@ -93,6 +89,6 @@ pub fn cpu_config_with_ports(
             constant_scan.map_or(0, ms),
             ports,
         )),
-        ..CpuConfig::default()
+        ..CpuConfig::new(crate::profile::aplc())
     }
 }

@@ -17,6 +17,7 @@ pub use softplc_melsec as instructions;
 pub mod aplc;
 pub mod names;
 pub mod persist;
+pub mod profile;
 pub mod program;
 pub mod project;
 pub mod tier;

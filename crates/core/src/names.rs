@@ -10,48 +10,32 @@
 
 use softplc_ir::access::{AccessError, DeviceSpec, Value, ValueType};
 use softplc_ir::device::DeviceMemory;
+use softplc_ir::profile::{NamedDevice, Naming, Profile};
 
 use crate::engine::Cpu;
 
-/// Whose device names a CPU takes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dialect {
-    /// MELSEC-Q (every model but APLC-TCP).
-    Melsec,
-    /// APLC-TCP (seed 002).
-    Aplc,
-}
-
-impl Dialect {
-    /// The dialect of a CPU model name.
-    pub fn of_model(model: &str) -> Dialect {
-        if model.eq_ignore_ascii_case(crate::aplc::MODEL) {
-            Dialect::Aplc
-        } else {
-            Dialect::Melsec
-        }
-    }
-
-    /// The dialect of a running CPU.
-    pub fn of(cpu: &Cpu) -> Dialect {
-        Dialect::of_model(&cpu.config().model)
-    }
-}
-
-/// What names mean for a CPU: its dialect and its programs' global
+/// What names mean for a CPU: its profile's naming and its programs' global
 /// variables (APLC: `启动` for `X0`, contract §2).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone)]
 pub struct Names {
-    pub dialect: Dialect,
+    pub naming: &'static dyn Naming,
     /// (upper-case name, device text).
     pub globals: Vec<(String, String)>,
 }
 
+impl std::fmt::Debug for Names {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Names")
+            .field("globals", &self.globals)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Names {
-    /// The names of a dialect without globals.
-    pub fn plain(dialect: Dialect) -> Names {
+    /// The names of a model without globals.
+    pub fn plain(profile: &'static Profile) -> Names {
         Names {
-            dialect,
+            naming: profile.naming,
             globals: Vec::new(),
         }
     }
@@ -63,15 +47,15 @@ impl Names {
             .collect();
         globals.sort();
         Names {
-            dialect: Dialect::of(cpu),
+            naming: cpu.profile().naming,
             globals,
         }
     }
 
-    /// Parses `DEV[:TYPE]` or, in the APLC dialect, `GLOBAL[:TYPE]` (the
-    /// name as given is the key in reports).
+    /// Parses `DEV[:TYPE]` or, where the programs name devices (APLC global
+    /// variables), `GLOBAL[:TYPE]` (the name as given is the key in reports).
     pub fn parse(&self, s: &str) -> Result<DevName, String> {
-        if self.dialect == Dialect::Aplc && !self.globals.is_empty() {
+        if !self.globals.is_empty() {
             let (name, ty) = match s.split_once(':') {
                 Some((n, t)) => (n.trim(), Some(t)),
                 None => (s.trim(), None),
@@ -82,62 +66,47 @@ impl Names {
                     Some(t) => format!("{dev}:{t}"),
                     None => dev.clone(),
                 };
-                let mut n = DevName::parse(&text, self.dialect)?;
-                n.spec.text = s.trim().to_string();
+                let mut n = DevName::with(&text, self.naming)?;
+                n.dev.spec.text = s.trim().to_string();
                 return Ok(n);
             }
         }
-        DevName::parse(s, self.dialect)
+        DevName::with(s, self.naming)
     }
 }
 
 /// A device name of a dialect, resolved to the storage it lives in.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct DevName {
-    /// The door's spec over the storage; `text` is the name as given.
-    spec: DeviceSpec,
-    /// The type shown and written (the spec's, except for swapped pairs).
-    ty: ValueType,
-    /// Two registers holding one value high word first (APLC): the door
-    /// reads them as a low-word-first `u32`, turned on the way.
-    swap: bool,
-    /// Not writable from outside (APLC LM and V).
-    read_only: bool,
-    dialect: Dialect,
+    dev: NamedDevice,
+    naming: &'static dyn Naming,
+}
+
+impl std::fmt::Debug for DevName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.dev.fmt(f)
+    }
 }
 
 impl DevName {
-    /// Parses `DEV` or `DEV:TYPE` in `dialect`.
-    pub fn parse(s: &str, dialect: Dialect) -> Result<DevName, String> {
-        match dialect {
-            Dialect::Melsec => {
-                let spec = DeviceSpec::parse(s)?;
-                Ok(DevName {
-                    ty: spec.ty,
-                    spec,
-                    swap: false,
-                    read_only: false,
-                    dialect,
-                })
-            }
-            Dialect::Aplc => {
-                let n = crate::aplc::Name::parse(s)?;
-                Ok(DevName {
-                    ty: n.ty,
-                    swap: n.swaps(),
-                    read_only: n.is_local(),
-                    spec: n.spec,
-                    dialect,
-                })
-            }
-        }
+    /// Parses `DEV` or `DEV:TYPE` in the names of `profile`.
+    pub fn parse(s: &str, profile: &'static Profile) -> Result<DevName, String> {
+        DevName::with(s, profile.naming)
+    }
+
+    /// Parses `DEV` or `DEV:TYPE` with `naming`.
+    pub fn with(s: &str, naming: &'static dyn Naming) -> Result<DevName, String> {
+        Ok(DevName {
+            dev: naming.parse(s)?,
+            naming,
+        })
     }
 
     /// Parses `s` in the dialect of `cpu`, with its programs' global names,
     /// checking the device exists there.
     pub fn parse_for(s: &str, cpu: &Cpu) -> Result<DevName, String> {
         let n = Names::of(cpu).parse(s)?;
-        if n.ty != ValueType::Str {
+        if n.dev.ty != ValueType::Str {
             n.raw(cpu.memory()).map_err(|e| e.to_string())?;
         }
         Ok(n)
@@ -145,17 +114,17 @@ impl DevName {
 
     /// The name as given, the key in reports.
     pub fn text(&self) -> &str {
-        &self.spec.text
+        &self.dev.spec.text
     }
 
     /// The type shown and written.
     pub fn ty(&self) -> ValueType {
-        self.ty
+        self.dev.ty
     }
 
     /// The door's spec over the storage (for tools that need a span).
     pub fn spec(&self) -> &DeviceSpec {
-        &self.spec
+        &self.dev.spec
     }
 
     /// Reads the value.
@@ -165,8 +134,8 @@ impl DevName {
 
     /// Reads the value from device memory.
     pub fn read_mem(&self, mem: &DeviceMemory) -> Result<Value, String> {
-        if self.ty == ValueType::Str {
-            return self.spec.read(mem);
+        if self.dev.ty == ValueType::Str {
+            return self.dev.spec.read(mem);
         }
         Ok(self.present_raw(self.raw(mem)?))
     }
@@ -175,8 +144,8 @@ impl DevName {
     /// no allocation unless it fails. Not for `:str`.
     #[inline]
     pub fn raw(&self, mem: &DeviceMemory) -> Result<u64, AccessError> {
-        let raw = self.spec.raw(mem)?;
-        Ok(if self.swap {
+        let raw = self.dev.spec.raw(mem)?;
+        Ok(if self.dev.swap {
             (raw as u32).rotate_left(16) as u64
         } else {
             raw
@@ -185,7 +154,7 @@ impl DevName {
 
     /// Presents raw bits of [`Self::raw`] in this name's type.
     pub fn present_raw(&self, raw: u64) -> Value {
-        match self.ty {
+        match self.dev.ty {
             ValueType::I16 => Value::Int(raw as u16 as i16 as i64),
             ValueType::U16 => Value::Int(raw as u16 as i64),
             ValueType::I32 => Value::Int(raw as u32 as i32 as i64),
@@ -200,52 +169,38 @@ impl DevName {
     /// in this name's type.
     pub fn present(&self, door: &Value) -> Value {
         match door {
-            Value::Int(raw) if self.swap => self.present_raw((*raw as u32).rotate_left(16) as u64),
+            Value::Int(raw) if self.dev.swap => {
+                self.present_raw((*raw as u32).rotate_left(16) as u64)
+            }
             v => v.clone(),
         }
     }
 
-    /// Writes a value given as text (`--set`) in the dialect's syntax:
-    /// MELSEC `H1F`/`0x1F`; APLC `16#1F`, `8#17`, `2#101` (a bit pattern,
-    /// also for `:f32`); decimal, a float for `:f32`, `true`/`false`/`1`/`0`.
+    /// Writes a value given as text (`--set`) in the dialect's syntax
+    /// (MELSEC `H1F`/`0x1F`; APLC `16#1F`, `8#17`, `2#101`).
     pub fn write(&self, cpu: &mut Cpu, text: &str) -> Result<(), String> {
         self.writable()?;
-        match self.dialect {
-            Dialect::Melsec => cpu.write_device(&self.spec, text),
-            Dialect::Aplc => {
-                let v = self.parse_value(text)?;
-                self.write_value(cpu, &v)
-            }
+        // A numeric word device reports a missing device before a bad value.
+        if self.dev.ty != ValueType::Str && self.dev.ty != ValueType::Bit {
+            self.raw(cpu.memory()).map_err(|e| e.to_string())?;
         }
+        let v = self.parse_value(text)?;
+        let door = self.door_value(&v)?;
+        cpu.write_value(&self.dev.spec, &door).map_err(|e| match e {
+            // Named by the text as given, not the value it parsed to.
+            AccessError::Value { device, ty, .. } => AccessError::Value {
+                device,
+                value: text.to_string(),
+                ty,
+            }
+            .to_string(),
+            e => e.to_string(),
+        })
     }
 
     /// A value text in this name's type and dialect (for [`Self::write_value`]).
     pub fn parse_value(&self, text: &str) -> Result<Value, String> {
-        if self.dialect == Dialect::Melsec {
-            return self.spec.parse_value(text).map_err(|e| e.to_string());
-        }
-        let bad = || format!("`{}`: bad value `{text}`", self.text());
-        let t = text.trim();
-        if self.ty == ValueType::Bit {
-            return match t.to_ascii_lowercase().as_str() {
-                "1" | "true" | "on" => Ok(Value::Bool(true)),
-                "0" | "false" | "off" => Ok(Value::Bool(false)),
-                _ => Err(bad()),
-            };
-        }
-        if self.ty == ValueType::F32 {
-            if let Some(bits) = aplc_int(t).filter(|_| t.contains('#')) {
-                let bits = u32::try_from(bits).map_err(|_| bad())?;
-                return Ok(Value::Float(f32::from_bits(bits) as f64));
-            }
-            return t
-                .parse::<f64>()
-                .ok()
-                .filter(|f| (*f as f32).is_finite())
-                .map(Value::Float)
-                .ok_or_else(bad);
-        }
-        aplc_int(t).map(Value::Int).ok_or_else(bad)
+        self.naming.parse_value(&self.dev, text)
     }
 
     /// Writes a typed value in this name's type (the HTTP API, plant models):
@@ -253,7 +208,7 @@ impl DevName {
     /// `Bool` for bits. Nothing is written when it does not fit.
     pub fn write_value(&self, cpu: &mut Cpu, v: &Value) -> Result<(), String> {
         let door = self.door_value(v)?;
-        cpu.write_value(&self.spec, &door)
+        cpu.write_value(&self.dev.spec, &door)
             .map_err(|e| e.to_string())
     }
 
@@ -261,11 +216,11 @@ impl DevName {
     /// this name's type; an error for a read-only name.
     pub fn door_value(&self, v: &Value) -> Result<Value, String> {
         self.writable()?;
-        if !self.swap {
+        if !self.dev.swap {
             return Ok(v.clone());
         }
-        let bad = || format!("`{}`: bad value `{v}` for {:?}", self.text(), self.ty);
-        let bits: u32 = match (self.ty, v) {
+        let bad = || format!("`{}`: bad value `{v}` for {:?}", self.text(), self.dev.ty);
+        let bits: u32 = match (self.dev.ty, v) {
             (ValueType::F32, Value::Float(f)) => {
                 let x = *f as f32;
                 if !x.is_finite() {
@@ -284,11 +239,11 @@ impl DevName {
 
     /// Not writable from outside (APLC LM and V).
     pub fn is_read_only(&self) -> bool {
-        self.read_only
+        self.dev.read_only
     }
 
     fn writable(&self) -> Result<(), String> {
-        if self.read_only {
+        if self.dev.read_only {
             return Err(format!(
                 "`{}`: LM and V are POU locals and cannot be set",
                 self.text()
@@ -296,16 +251,6 @@ impl DevName {
         }
         Ok(())
     }
-}
-
-/// `16#1F`, `8#17`, `2#101`, `+5`, `-5`.
-fn aplc_int(t: &str) -> Option<i64> {
-    for (p, r) in [("16#", 16), ("8#", 8), ("2#", 2)] {
-        if let Some(d) = t.strip_prefix(p) {
-            return i64::from_str_radix(d, r).ok();
-        }
-    }
-    t.strip_prefix('+').unwrap_or(t).parse().ok()
 }
 
 #[cfg(test)]
@@ -321,27 +266,32 @@ mod tests {
     #[test]
     fn aplc_names_reach_their_storage_high_word_first() {
         let mut cpu = aplc_cpu();
-        assert_eq!(Dialect::of(&cpu), Dialect::Aplc);
+        assert_eq!(cpu.profile().family, "APLC");
         // D10:i32 = 16#00020001: D10 (high) = 2, D11 (low) = 1.
-        let n = DevName::parse("D10:i32", Dialect::Aplc).unwrap();
+        let n = DevName::parse("D10:i32", crate::profile::aplc()).unwrap();
         n.write(&mut cpu, "16#00020001").unwrap();
-        let d = |cpu: &Cpu, s| DevName::parse(s, Dialect::Aplc).unwrap().read(cpu).unwrap();
+        let d = |cpu: &Cpu, s| {
+            DevName::parse(s, crate::profile::aplc())
+                .unwrap()
+                .read(cpu)
+                .unwrap()
+        };
         assert_eq!(d(&cpu, "D10"), Value::Int(2));
         assert_eq!(d(&cpu, "D11"), Value::Int(1));
         assert_eq!(n.read(&cpu).unwrap(), Value::Int(0x0002_0001));
         assert_eq!(n.raw(cpu.memory()).unwrap(), 0x0002_0001);
         // 1.5f32 = 16#3FC00000: D20 = 16#3FC0, D21 = 0.
-        let f = DevName::parse("D20:f32", Dialect::Aplc).unwrap();
+        let f = DevName::parse("D20:f32", crate::profile::aplc()).unwrap();
         f.write_value(&mut cpu, &Value::Float(1.5)).unwrap();
         assert_eq!(d(&cpu, "D20:u16"), Value::Int(0x3FC0));
         assert_eq!(d(&cpu, "D21"), Value::Int(0));
         // CN201 is 32-bit: -2 is FFFF FFFE in the CN pair of C201.
-        let c = DevName::parse("CN201", Dialect::Aplc).unwrap();
+        let c = DevName::parse("CN201", crate::profile::aplc()).unwrap();
         assert_eq!(c.ty(), ValueType::I32);
         c.write(&mut cpu, "-2").unwrap();
         assert_eq!(c.read(&cpu).unwrap(), Value::Int(-2));
         // X10 is input 8; V0 cannot be set.
-        DevName::parse("X10", Dialect::Aplc)
+        DevName::parse("X10", crate::profile::aplc())
             .unwrap()
             .write(&mut cpu, "1")
             .unwrap();
@@ -349,22 +299,22 @@ mod tests {
             cpu.memory().get_bit(crate::device::DeviceKind::X, 8),
             Ok(true)
         );
-        assert!(DevName::parse("V0", Dialect::Aplc)
+        assert!(DevName::parse("V0", crate::profile::aplc())
             .unwrap()
             .write(&mut cpu, "1")
             .is_err());
-        assert!(DevName::parse("X8", Dialect::Aplc).is_err());
+        assert!(DevName::parse("X8", crate::profile::aplc()).is_err());
         // A global name stands for its device, shown as given.
         let names = Names {
-            dialect: Dialect::Aplc,
+            naming: crate::profile::aplc().naming,
             globals: vec![("流量".into(), "D20".into())],
         };
         let g = names.parse("流量:f32").unwrap();
         assert_eq!(g.text(), "流量:f32");
         assert_eq!(g.read(&cpu).unwrap(), Value::Float(1.5));
-        assert!(Names::plain(Dialect::Aplc).parse("流量").is_err());
+        assert!(Names::plain(crate::profile::aplc()).parse("流量").is_err());
         // 16# is only APLC's; H is only MELSEC's.
-        assert!(DevName::parse("D0", Dialect::Aplc)
+        assert!(DevName::parse("D0", crate::profile::aplc())
             .unwrap()
             .write(&mut cpu, "H10")
             .is_err());
@@ -378,8 +328,12 @@ mod tests {
             &crate::device::DeviceConfig::default(),
         )
         .unwrap();
-        let mut cpu = Cpu::new(p, Default::default(), Box::new(VirtualClock::new()));
-        assert_eq!(Dialect::of(&cpu), Dialect::Melsec);
+        let mut cpu = Cpu::new(
+            p,
+            crate::profile::default_config(),
+            Box::new(VirtualClock::new()),
+        );
+        assert_eq!(cpu.profile().family, "MELSEC-Q");
         let n = DevName::parse_for("D0:i32", &cpu).unwrap();
         n.write(&mut cpu, "H20001").unwrap();
         // Low word first on MELSEC: D0 = 1, D1 = 2.

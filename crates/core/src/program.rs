@@ -66,14 +66,9 @@ pub fn compile_il(name: &str, text: &str, devices: &DeviceConfig) -> Result<Prog
 pub use softplc_lang::dialect::Dialect;
 pub use softplc_melsec::process::settings::ProcessSettings;
 
-/// The dialect a CPU model compiles in: the process CPU's (Q02PHCPU …
-/// Q25PHCPU, with the project's `[process]` decisions) or MELSEC-Q's.
-pub fn dialect_for(model: &str, process: ProcessSettings) -> Dialect {
-    if softplc_melsec::is_process_model(model) {
-        softplc_melsec::process_dialect(process)
-    } else {
-        softplc_melsec::dialect().clone()
-    }
+/// The dialect a CPU model compiles in (see [`crate::profile::dialect`]).
+pub fn dialect_for(profile: &crate::profile::Profile, process: ProcessSettings) -> Dialect {
+    crate::profile::dialect(profile, process)
 }
 
 /// [`load_file_with`] in a given dialect (see [`dialect_for`]).

@@ -4,7 +4,6 @@
 
 mod common;
 use common::diagnostics;
-use softplc_core::engine::CpuConfig;
 use softplc_core::program::compile_il;
 
 /// The single diagnostic of a program that must fail to load.
@@ -27,7 +26,11 @@ fn assert_diag(d: &str, pos: &str, parts: &[&str]) {
 }
 
 fn loads(src: &str) {
-    if let Err(d) = compile_il("test.il", src, &CpuConfig::default().devices) {
+    if let Err(d) = compile_il(
+        "test.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+    ) {
         panic!("should load:\n{src}\n{d}");
     }
 }
@@ -308,7 +311,7 @@ fn retentive_timer_with_no_points() {
     let d = one("LD X0\nOUT ST0 K10\nEND\n");
     assert_diag(&d, "2:5", &["ST0", "0 points"]);
     // With points assigned it loads.
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices
         .set_points(softplc_core::device::DeviceKind::STS, 16);
     compile_il("test.il", "LD X0\nOUT ST0 K10\nEND\n", &cfg.devices).unwrap();

@@ -5,11 +5,15 @@
 
 use softplc_core::access::{DeviceSpec, Value};
 use softplc_core::device::{DeviceConfig, DeviceKind};
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 
 fn cpu(src: &str) -> Cpu {
     let p = softplc_core::program::compile_il("t.il", src, &DeviceConfig::default()).unwrap();
-    Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()))
+    Cpu::new(
+        p,
+        softplc_core::profile::default_config(),
+        Box::new(VirtualClock::new()),
+    )
 }
 
 fn bit(cpu: &Cpu, d: &str) -> bool {

@@ -516,7 +516,7 @@ fn bk_add_on_w_devices() {
 fn continue_mode_skips_failing_bcd_instruction() {
     let cfg = CpuConfig {
         operation_error: ErrorMode::Continue,
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config("LD SM400\nB* HF H1 D0\nLD SM400\nB+ H1 H2 D2\nEND\n", cfg);
     p.set("D0:u32", "0x12345678").scan();

@@ -33,7 +33,7 @@ fn put_clock(p: &mut Plc, w: [i64; 7]) {
 fn writer(mode: ErrorMode) -> Plc {
     let cfg = CpuConfig {
         operation_error: mode,
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     Plc::with_config("LD X0\nDATEWRP D100\nLD SM400\nDATERD D0\nEND\n", cfg)
 }

@@ -529,7 +529,7 @@ END
 fn division_by_zero_continue_mode() {
     let cfg = CpuConfig {
         operation_error: ErrorMode::Continue,
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config(
         "\
@@ -563,7 +563,7 @@ END
 fn watchdog_error_on_endless_loop() {
     let cfg = CpuConfig {
         watchdog: Duration::from_millis(20),
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config(
         "\

@@ -12,7 +12,7 @@ use softplc_core::engine::{CpuConfig, CpuState, ErrorMode};
 fn continue_mode(src: &str) -> Plc {
     let cfg = CpuConfig {
         operation_error: ErrorMode::Continue,
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     Plc::with_config(src, cfg)
 }

@@ -28,7 +28,7 @@ fn initial_programs_run_once_then_scan_programs() {
             (INIT, ExecType::Initial, None),
             (MAIN, ExecType::Scan, None),
         ],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scan();
     assert_eq!((p.int("D0"), p.int("D1"), p.int("D2")), (100, 1, 0));
@@ -58,7 +58,7 @@ fn fixed_scan_program_runs_at_its_interval() {
                 Some(Duration::from_millis(50)),
             ),
         ],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scans(4);
     assert_eq!(p.int("D10"), 0);
@@ -78,7 +78,7 @@ fn standby_programs_do_not_run() {
             (MAIN, ExecType::Scan, None),
             ("LD SM400\nINC D10\nEND\n", ExecType::Standby, None),
         ],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scans(5);
     assert_eq!((p.int("D2"), p.int("D10")), (5, 0));
@@ -115,7 +115,7 @@ fn stop_to_run_output_modes() {
     ] {
         let cfg = CpuConfig {
             stop_to_run_output: mode,
-            ..CpuConfig::default()
+            ..softplc_core::profile::default_config()
         };
         let mut p = Plc::with_config(src, cfg);
         p.set("X0", "1").scan().set("X0", "0").scan();
@@ -191,7 +191,7 @@ fn latch_clear_switch_and_remote() {
                 clearable: false,
             },
         ],
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let src = "LD SM402\nMOV K1 D100\nMOV K2 D200\nMOV K3 D0\nMOV K4 R0\nEND\n";
     let mut p = Plc::with_config(src, cfg.clone());
@@ -232,7 +232,7 @@ fn reset_keeps_overlapping_latch_ranges_and_file_registers() {
             range(DeviceKind::M, 10, 19),
             range(DeviceKind::TN, 5, 6),
         ],
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config("LD SM400\nOUT M100\nEND\n", cfg);
     for d in [
@@ -296,7 +296,7 @@ fn initial_values_at_power_on_and_stop_to_run() {
                 value: "1.5".into(),
             },
         ],
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config("LD SM400\nINC D10\nEND\n", cfg);
     assert_eq!(p.int("D10"), 1234);
@@ -314,7 +314,7 @@ fn constant_scan_overrun_is_prg_time_over() {
     // error: SD0 = 5010, the CPU keeps running (004 §7.1).
     let cfg = CpuConfig {
         constant_scan: Some(Duration::from_millis(10)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config("LD SM400\nINC D0\nEND\n", cfg);
     p.scans(2);
@@ -342,7 +342,7 @@ fn stop_instruction_then_remote_run() {
 fn low_speed_programs_run_once_per_scan_with_their_registers() {
     let cfg = CpuConfig {
         constant_scan: Some(Duration::from_millis(20)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_programs(
         &[
@@ -373,7 +373,7 @@ fn execution_type_changes_take_effect_at_end() {
     let sub = "LD SM400\nINC D0\nOUT Y5\nEND\n";
     let mut p = Plc::with_programs(
         &[(main, ExecType::Scan, None), (sub, ExecType::Standby, None)],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scans(2);
     assert_eq!(p.int("D0"), 0);
@@ -467,7 +467,7 @@ fn low_speed_async_with_constant_scan() {
     // A again (1), B starts (2 of 3). Scan 3: B ends (1) → END 2, A (1), B (1.5).
     let cfg = CpuConfig {
         constant_scan: Some(Duration::from_millis(8)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let (mut cpu, clock) = low_speed_cpu(cfg, false);
     let mut got = Vec::new();
@@ -491,7 +491,7 @@ fn low_speed_async_with_low_speed_time() {
     // Scan 3: B ends (2) → END 2, A (1) → 3 ms used, B not started.
     let cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(3)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let (mut cpu, clock) = low_speed_cpu(cfg, false);
     let mut got = Vec::new();
@@ -512,7 +512,7 @@ fn low_speed_sync_with_constant_scan() {
     // Scan 1: A, B (2.5 of 3). Scan 2: B ends → END 1, wait. Scan 3: A, B (2.5).
     let cfg = CpuConfig {
         constant_scan: Some(Duration::from_millis(8)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let (mut cpu, clock) = low_speed_cpu(cfg, true);
     let mut got = Vec::new();
@@ -530,7 +530,7 @@ fn low_speed_sync_with_low_speed_time() {
     // → END 1 and the scan programs start again at once (scan = 4 + 1 ms).
     let cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(3)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let (mut cpu, clock) = low_speed_cpu(cfg, true);
     clock.advance_us(7_000);

@@ -147,7 +147,7 @@ fn error_history_keeps_the_latest_16_with_time() {
     // stamped with the clock (2000-01-01 00:00:00 + scan time).
     let cfg = CpuConfig {
         operation_error: softplc_core::engine::ErrorMode::Continue,
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let mut p = Plc::with_config("LD SM400\n/ K1 K0 D0\nEND\n", cfg);
     p.scan_time_us(1_000_000).scans(20);
@@ -277,7 +277,7 @@ fn program_and_interrupt_monitor_lists() {
                 Some(Duration::from_millis(50)),
             ),
         ],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scans(10);
     let m = p.cpu.program_monitor();

@@ -7,7 +7,7 @@
 
 use softplc_core::access::DeviceSpec;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{CpuConfig, ExecType};
+use softplc_core::engine::ExecType;
 
 fn linked(
     progs: &[(&str, &str, ExecType)],
@@ -15,7 +15,7 @@ fn linked(
 ) -> Result<softplc_core::engine::Cpu, String> {
     use softplc_core::engine::{LoadedProgram, VirtualClock};
     use softplc_core::program::{compile::compile_with, il::parse_il};
-    let cfg = CpuConfig::default();
+    let cfg = softplc_core::profile::default_config();
     let loaded = progs
         .iter()
         .map(|(name, src, exec)| {
@@ -97,10 +97,10 @@ fn programs_must_match_the_cpus_device_points() {
     let prog = compile_il(
         "a.il",
         "LD X0\nOUT Y0\nEND\n",
-        &CpuConfig::default().devices,
+        &softplc_core::profile::default_config().devices,
     )
     .unwrap();
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(DeviceKind::STS, 16);
     let loaded = vec![LoadedProgram {
         program: prog,

@@ -6,7 +6,7 @@
 
 mod common;
 use common::{assert_running, assert_stopped, diagnostics, Plc};
-use softplc_core::engine::{CpuConfig, ExecType};
+use softplc_core::engine::ExecType;
 
 /// The single diagnostic of a program that must not load.
 fn only_diagnostic(src: &str) -> String {
@@ -368,7 +368,7 @@ fn rnd_series_is_cpu_wide_and_restarts_at_stop_to_run() {
             ("LD SM400\nSRND K100\nRND D0\nEND\n", ExecType::Scan, None),
             ("LD SM400\nRND D1\nEND\n", ExecType::Scan, None),
         ],
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
     );
     p.scan();
     // Seed 100: 12662 (srnd_sets_the_seed) in the first program, then in the

@@ -190,9 +190,9 @@ fn exec_does_not_allocate() {
 /// "registered in the CPU module").
 #[test]
 fn pidinit_and_pidcont_in_different_program_files() {
-    use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
+    use softplc_core::engine::{Cpu, ExecType, LoadedProgram, VirtualClock};
     use softplc_core::program::compile_il;
-    let cfg = CpuConfig::default();
+    let cfg = softplc_core::profile::default_config();
     let init = "LD SM400\nS.PIDINIT D100\nEND\n";
     let main = "LD SM400\nS.PIDCONT D300\nEND\n";
     let progs = [

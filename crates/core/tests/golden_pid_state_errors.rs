@@ -17,7 +17,7 @@ use common::pid::{
     PV, SV,
 };
 use common::{assert_running, assert_stopped, Plc};
-use softplc_core::engine::{CpuConfig, CpuState, ErrorCode};
+use softplc_core::engine::{CpuState, ErrorCode};
 
 // ------------------------------------------------------------ state in the work words
 
@@ -348,7 +348,11 @@ fn operand_checks_at_load() {
                PIDSTOP K1\nPIDSTOPP H1\nPIDRUN D0\nPIDRUNP K1M0\n\
                S.PIDSTOP K1\nSP.PIDSTOP D1\nS.PIDRUN K4X0\nSP.PIDRUN H2\n\
                PIDPRMW K1 D100\nPIDPRMWP D0 R0\nS.PIDPRMW K1 W0\nSP.PIDPRMW D2 ZR0\nEND\n";
-    let prog = softplc_core::program::compile_il("t.il", src, &CpuConfig::default().devices);
+    let prog = softplc_core::program::compile_il(
+        "t.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+    );
     assert!(prog.is_ok(), "{:?}", prog.err().map(|d| d.to_string()));
 }
 

@@ -310,11 +310,12 @@ fn s_at1_decision_alternatives() {
     plant.scans(&mut p, 2);
     assert_eq!(tag(&p, 12), 20.0);
     // DEC-35 has no described alternative: rejected at load.
-    let dialect = softplc_core::program::dialect_for("Q06PHCPU", s(|s| s.at1_bb1_or = false));
+    let dialect =
+        softplc_core::program::dialect_for(common::process_cpu(), s(|s| s.at1_bb1_or = false));
     let e = softplc_core::program::compile_il_in(
         "t.il",
         SRC,
-        &softplc_core::engine::CpuConfig::default().devices,
+        &softplc_core::profile::default_config().devices,
         &dialect,
     )
     .unwrap_err();

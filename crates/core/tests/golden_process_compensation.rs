@@ -103,10 +103,14 @@ fn fails(p: &Plc, detail: i64) {
 
 /// Load diagnostics of a process-CPU program under `s`.
 fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    use softplc_core::engine::CpuConfig;
     use softplc_core::program::{compile_il_in, dialect_for};
-    let dialect = dialect_for("Q06PHCPU", s);
-    match compile_il_in("t.il", src, &CpuConfig::default().devices, &dialect) {
+    let dialect = dialect_for(common::process_cpu(), s);
+    match compile_il_in(
+        "t.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+        &dialect,
+    ) {
         Ok(_) => panic!("expected diagnostics"),
         Err(d) => {
             d.0.iter()

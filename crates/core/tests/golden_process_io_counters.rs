@@ -5,13 +5,17 @@
 mod common;
 use common::process::{assert_pc_error, f, loop_tag};
 use common::Plc;
-use softplc_core::engine::CpuConfig;
 use softplc_core::program::{compile_il_in, dialect_for, ProcessSettings};
 
 /// Diagnostics of a process-CPU program compiled with `s`.
 fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    let dialect = dialect_for("Q06PHCPU", s);
-    match compile_il_in("t.il", src, &CpuConfig::default().devices, &dialect) {
+    let dialect = dialect_for(common::process_cpu(), s);
+    match compile_il_in(
+        "t.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+        &dialect,
+    ) {
         Ok(_) => panic!("expected diagnostics"),
         Err(d) => d.0.iter().map(|d| d.message.clone()).collect(),
     }

@@ -426,12 +426,14 @@ fn s_bpi_blend_pi() {
 
 #[test]
 fn s_bpi_other_forms_are_rejected_at_load() {
-    let dialect =
-        softplc_core::program::dialect_for("Q06PHCPU", settings(|s| s.bpi_reconstructed = false));
+    let dialect = softplc_core::program::dialect_for(
+        common::process_cpu(),
+        settings(|s| s.bpi_reconstructed = false),
+    );
     let e = softplc_core::program::compile_il_in(
         "t.il",
         &program("S.BPI"),
-        &softplc_core::engine::CpuConfig::default().devices,
+        &softplc_core::profile::default_config().devices,
         &dialect,
     )
     .unwrap_err();

@@ -298,12 +298,14 @@ fn s_r_error_codes() {
         setup(&mut p);
         assert_eq!(error_after(&mut p, 3), want, "S.R: {what}");
     }
-    let dialect =
-        softplc_core::program::dialect_for("Q06PHCPU", settings(|s| s.ratio_reconstructed = false));
+    let dialect = softplc_core::program::dialect_for(
+        common::process_cpu(),
+        settings(|s| s.ratio_reconstructed = false),
+    );
     let e = softplc_core::program::compile_il_in(
         "t.il",
         &program("S.R"),
-        &softplc_core::engine::CpuConfig::default().devices,
+        &softplc_core::profile::default_config().devices,
         &dialect,
     )
     .unwrap_err();
@@ -441,8 +443,9 @@ fn control_instructions_load_with_their_steps_and_operand_checks() {
         ("LD SM400\nS.ONF3 D0 D100 D200 D1000 SD1506\nEND\n", 9),
         ("LD SM400\nS.AT1 D0 D100 D200 D1000 D300\nEND\n", 9),
     ];
-    let dialect = softplc_core::program::dialect_for("Q06PHCPU", ProcessSettings::default());
-    let devices = softplc_core::engine::CpuConfig::default().devices;
+    let dialect =
+        softplc_core::program::dialect_for(common::process_cpu(), ProcessSettings::default());
+    let devices = softplc_core::profile::default_config().devices;
     for (src, steps) in programs {
         let prog = softplc_core::program::compile_il_in("t.il", src, &devices, &dialect)
             .unwrap_or_else(|d| panic!("{src}: {d}"));

@@ -12,7 +12,6 @@
 mod common;
 use common::{diagnostics, inputs, outputs, Plc};
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::CpuConfig;
 
 // ---------------------------------------------------------------- timers
 
@@ -231,7 +230,7 @@ END
 
 #[test]
 fn retentive_timer_keeps_value() {
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(DeviceKind::STS, 16);
     let mut p = Plc::with_config(
         "\

@@ -13,7 +13,7 @@ use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 use softplc_core::access::DeviceSpec;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_core::tier::{apply, Exec, Jit};
 use softplc_jit::plan::MIN_RUN;
@@ -232,7 +232,7 @@ enum Tier {
 }
 
 fn cpu(src: &str, tier: Tier) -> Option<(Cpu, VirtualClock)> {
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     // No file registers: the programs do not use them, and a CPU is built
     // twice per case.
     cfg.devices.set_points(DeviceKind::ZR, 0);
@@ -341,7 +341,11 @@ fn most_generated_programs_load_and_run_native_code() {
         for _ in 0..200 {
             let parts = strategy.new_tree(&mut runner).unwrap().current();
             let src = render(&parts);
-            match compile_il("p.il", &src, &CpuConfig::default().devices) {
+            match compile_il(
+                "p.il",
+                &src,
+                &softplc_core::profile::default_config().devices,
+            ) {
                 Ok(_) => loaded += 1,
                 Err(d) => {
                     eprintln!("{d}\n{src}");

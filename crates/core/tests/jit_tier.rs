@@ -28,7 +28,7 @@ fn both(src: &str, cfg: CpuConfig) -> [Plc; 2] {
 }
 
 fn each(src: &str, f: impl Fn(&mut Plc)) {
-    for mut p in both(src, CpuConfig::default()) {
+    for mut p in both(src, softplc_core::profile::default_config()) {
         f(&mut p);
     }
 }
@@ -129,7 +129,7 @@ END
 fn watchdog_stops_an_endless_loop_on_both_tiers() {
     let cfg = CpuConfig {
         watchdog: Duration::from_millis(20),
-        ..Default::default()
+        ..softplc_core::profile::default_config()
     };
     for mut p in both("P0\nLD SM400\nOUT M0\nJMP P0\nEND\n", cfg) {
         p.scan();

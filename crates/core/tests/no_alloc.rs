@@ -86,7 +86,7 @@ fn scans_do_not_allocate_on_either_tier() {
 fn scans_do_not_allocate(exec: Exec) {
     let cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(1)),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let progs = [
         ("main.il", MAIN, ExecType::Scan, None),

@@ -9,7 +9,7 @@ use softplc_core::program::compile_il;
 fn cpu() -> (Cpu, VirtualClock) {
     let cfg = CpuConfig {
         operation_error: ErrorMode::Continue,
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let src = "LD SM402\nSET L7\nSET M7\nMOV K1234 R100\nMOV K55 D0\nLD X0\n/ K1 K0 D1\nEND\n";
     let p = compile_il("main.il", src, &cfg.devices).unwrap();

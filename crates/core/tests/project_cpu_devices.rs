@@ -15,18 +15,19 @@ use common::project::{error, latch, load, ms, ok, us, with_main, MAIN};
 #[test]
 fn cpu_model() {
     let p = ok(&with_main("[cpu]\nmodel = \"q25hcpu\"\n"));
-    assert_eq!(p.config.model, "Q25HCPU");
+    assert_eq!(p.config.profile.model, "Q25HCPU");
     for m in ["Q02CPU", "Q02HCPU", "Q06HCPU", "Q12HCPU", "Q25HCPU"] {
         assert_eq!(
             ok(&with_main(&format!("[cpu]\nmodel = \"{m}\"\n")))
                 .config
+                .profile
                 .model,
             m
         );
     }
     // APLC-TCP selects the APLC dialect (contract §4).
     let p = ok(&with_main("[cpu]\nmodel = \"APLC-TCP\"\n"));
-    assert_eq!(p.config.model, "APLC-TCP");
+    assert_eq!(p.config.profile.model, "APLC-TCP");
     assert!(p.config.system.is_some() && p.config.latch.is_empty());
     assert_eq!(
         error(&with_main("[cpu]\nmodel = \"Q99CPU\"\n")),

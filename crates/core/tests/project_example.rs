@@ -10,7 +10,7 @@ use std::path::Path;
 use softplc_core::access::DeviceSpec;
 use softplc_core::device::DeviceKind;
 use softplc_core::engine::calendar::DateTime;
-use softplc_core::engine::{Cpu, CpuConfig, ErrorMode, ExecType, StopToRunOutput, VirtualClock};
+use softplc_core::engine::{Cpu, ErrorMode, ExecType, StopToRunOutput, VirtualClock};
 use softplc_core::project::{is_project, load_project, ProgramSpec};
 
 mod common;
@@ -56,7 +56,7 @@ fn example_project_loads() {
         ]
     );
     let c = &p.config;
-    assert_eq!(c.model, "Q06HCPU");
+    assert_eq!(c.profile.model, "Q06HCPU");
     assert_eq!(c.devices.points(DeviceKind::STS), 16);
     assert_eq!(c.devices.points(DeviceKind::STN), 16);
     assert_eq!(c.devices.points(DeviceKind::ZR), 32768);
@@ -217,7 +217,7 @@ fn defaults_when_keys_are_absent() {
     let p = ok(MAIN);
     assert_eq!(
         format!("{:?}", p.config),
-        format!("{:?}", CpuConfig::default())
+        format!("{:?}", softplc_core::profile::default_config())
     );
     assert_eq!(p.state_dir, p.dir.join("state"));
     assert_eq!(p.common_pointer, None);
@@ -228,7 +228,7 @@ fn defaults_when_keys_are_absent() {
     ));
     assert_eq!(
         format!("{:?}", p.config),
-        format!("{:?}", CpuConfig::default())
+        format!("{:?}", softplc_core::profile::default_config())
     );
 }
 

@@ -12,7 +12,7 @@ fn process_settings_load_and_reach_the_instructions() {
         "[cpu]\nmodel = \"Q06PHCPU\"\n[process]\nieng_decreasing = false\n\
                 firmware_serial_ge_07032 = false\n[[program]]\nfile = \"main.il\"\n",
     );
-    assert_eq!(p.config.model, "Q06PHCPU");
+    assert_eq!(p.config.profile.model, "Q06PHCPU");
     assert!(!p.process.ieng_decreasing && !p.process.firmware_serial_ge_07032);
     assert!(p.process.mode_lcc_b0);
 

@@ -22,6 +22,7 @@ use exec::Outcome;
 use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
+pub use softplc_ir::profile::Profile;
 use softplc_ir::system::Severity;
 
 /// Operating state of the CPU (004 §4.4).
@@ -98,11 +99,13 @@ pub struct InitialValue {
     pub value: String,
 }
 
-/// CPU parameters. Defaults are the Q06HCPU's (004 ch. 9 parameter list).
+/// CPU parameters: the model's profile and the project's settings. Defaults
+/// of the settings are the QnHCPU's (004 ch. 9 parameter list).
 #[derive(Clone, Debug)]
 pub struct CpuConfig {
-    /// CPU model answered to "read CPU model" requests.
-    pub model: String,
+    /// What the CPU is: its model, family, names and doors (asked by every
+    /// door; the engine reads only its system devices).
+    pub profile: &'static Profile,
     pub devices: DeviceConfig,
     /// Watchdog time, measured in wall-clock time (default 200 ms, 004 L4850).
     pub watchdog: Duration,
@@ -130,10 +133,12 @@ pub struct CpuConfig {
     pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
 }
 
-impl Default for CpuConfig {
-    fn default() -> Self {
+impl CpuConfig {
+    /// The settings' defaults for a CPU of `profile`, with the profile's
+    /// system devices.
+    pub fn new(profile: &'static Profile) -> Self {
         CpuConfig {
-            model: "Q06HCPU".to_string(),
+            profile,
             devices: DeviceConfig::default(),
             watchdog: Duration::from_millis(200),
             operation_error: ErrorMode::Stop,
@@ -164,7 +169,7 @@ impl Default for CpuConfig {
                 Duration::from_millis(10),
             ],
             initial_values: Vec::new(),
-            system: None,
+            system: (profile.default_system)(),
         }
     }
 }

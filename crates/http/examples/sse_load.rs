@@ -9,7 +9,7 @@
 use std::time::{Duration, Instant};
 
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_serve::{Background, EngineConfig, ScanStats, ServeState};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 
@@ -43,7 +43,11 @@ fn run(clients: usize, secs: u64, copies: usize) -> ScanStats {
         &softplc_core::program::il::parse_il("load.il", &src).unwrap(),
     );
     let names: Vec<String> = ladder.devices().into_iter().take(40).collect();
-    let cpu = Cpu::new(p, CpuConfig::default(), Box::new(MonotonicClock::default()));
+    let cpu = Cpu::new(
+        p,
+        softplc_core::profile::default_config(),
+        Box::new(MonotonicClock::default()),
+    );
     let cfg = softplc_http::HttpConfig {
         token: None,
         model: "Q06HCPU".into(),

@@ -23,7 +23,7 @@ use axum::routing::{get, post};
 use axum::{Json, Router};
 use serde_json::{json, Map, Value as Json_};
 use softplc_core::access::Value;
-use softplc_core::names::{DevName, Dialect};
+use softplc_core::names::{DevName, Names};
 use softplc_serve::ServeState;
 
 use crate::monitor::{self, Breakpoint, Monitor};
@@ -158,19 +158,19 @@ fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, R
     serde_json::from_slice(bytes).map_err(|e| bad(format!("malformed JSON body ({what}): {e}")))
 }
 
-/// The dialect of the served CPU (its device names).
-fn dialect(s: &ServeState) -> Dialect {
-    Dialect::of(&s.cpu)
+/// The device names of the served CPU.
+fn names(s: &ServeState) -> Names {
+    Names::plain(s.cpu.profile())
 }
 
 /// The CPU's error as in contract §2 (the APLC has no step numbers).
 fn error_json(s: &ServeState) -> Json_ {
-    let aplc = dialect(s) == Dialect::Aplc;
+    let steps = s.cpu.profile().step_numbers;
     s.cpu.error().map_or(Json_::Null, |e| {
         json!({
             "code": e.code.0,
             "message": s.cpu.error_message(e.code),
-            "step": if aplc { None } else { e.step },
+            "step": if steps { e.step } else { None },
             "file": e.file,
             "line": e.line,
         })
@@ -179,9 +179,9 @@ fn error_json(s: &ServeState) -> Json_ {
 
 fn forced_json(s: &ServeState) -> Json_ {
     let mut m = Map::new();
-    let d = dialect(s);
+    let d = names(s);
     for (k, n, on) in s.cpu.forced() {
-        m.insert(io_name(k, n, d), Json_::Bool(on));
+        m.insert(io_name(k, n, &d), Json_::Bool(on));
     }
     Json_::Object(m)
 }
@@ -346,7 +346,7 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
         }
         for (k, n, _) in &forces {
             if *n >= s.cpu.memory().map.points(*k) {
-                let name = io_name(*k, *n, dialect(s));
+                let name = io_name(*k, *n, &names(s));
                 return Err(format!("`{name}` is beyond the CPU's points"));
             }
         }

@@ -313,35 +313,62 @@ pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use softplc_core::names::Dialect;
 
     #[test]
     fn breakpoint_conditions_parse() {
-        let b = Breakpoint::parse("D0 >= 100", &Names::plain(Dialect::Melsec)).unwrap();
+        let b = Breakpoint::parse(
+            "D0 >= 100",
+            &Names::plain(softplc_core::profile::default_profile()),
+        )
+        .unwrap();
         assert_eq!((b.device.text(), b.cmp), ("D0", Cmp::Ge));
         assert_eq!(b.value, Value::Int(100));
-        let b = Breakpoint::parse("M5", &Names::plain(Dialect::Melsec)).unwrap();
+        let b = Breakpoint::parse(
+            "M5",
+            &Names::plain(softplc_core::profile::default_profile()),
+        )
+        .unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Eq, Value::Bool(true)));
-        let b = Breakpoint::parse("D10:f32<1.5", &Names::plain(Dialect::Melsec)).unwrap();
+        let b = Breakpoint::parse(
+            "D10:f32<1.5",
+            &Names::plain(softplc_core::profile::default_profile()),
+        )
+        .unwrap();
         assert_eq!((b.cmp, b.value.clone()), (Cmp::Lt, Value::Float(1.5)));
         assert_eq!(
-            Breakpoint::parse("Y0 == false", &Names::plain(Dialect::Melsec))
-                .unwrap()
-                .value,
+            Breakpoint::parse(
+                "Y0 == false",
+                &Names::plain(softplc_core::profile::default_profile())
+            )
+            .unwrap()
+            .value,
             Value::Bool(false)
         );
         assert_eq!(
-            Breakpoint::parse("D1 <> 3", &Names::plain(Dialect::Melsec))
-                .unwrap()
-                .cmp,
+            Breakpoint::parse(
+                "D1 <> 3",
+                &Names::plain(softplc_core::profile::default_profile())
+            )
+            .unwrap()
+            .cmp,
             Cmp::Ne
         );
-        assert!(Breakpoint::parse("D0", &Names::plain(Dialect::Melsec))
-            .unwrap_err()
-            .contains("comparison"));
-        assert!(Breakpoint::parse("D0 > x", &Names::plain(Dialect::Melsec)).is_err());
-        assert!(Breakpoint::parse("QQ >= 1", &Names::plain(Dialect::Melsec))
-            .unwrap_err()
-            .contains("QQ"));
+        assert!(Breakpoint::parse(
+            "D0",
+            &Names::plain(softplc_core::profile::default_profile())
+        )
+        .unwrap_err()
+        .contains("comparison"));
+        assert!(Breakpoint::parse(
+            "D0 > x",
+            &Names::plain(softplc_core::profile::default_profile())
+        )
+        .is_err());
+        assert!(Breakpoint::parse(
+            "QQ >= 1",
+            &Names::plain(softplc_core::profile::default_profile())
+        )
+        .unwrap_err()
+        .contains("QQ"));
     }
 }

@@ -6,7 +6,8 @@
 use serde_json::{json, Value as Json};
 use softplc_core::access::{DeviceSpec, Value, ValueType};
 use softplc_core::device::DeviceKind;
-use softplc_core::names::{DevName, Dialect, Names};
+use softplc_core::names::{DevName, Names};
+use softplc_core::profile;
 
 /// Most names in one request.
 pub const MAX_NAMES: usize = 1024;
@@ -33,7 +34,7 @@ pub fn name_list(list: Option<&str>, names: &Names) -> Result<Vec<DevName>, Stri
 
 /// Parses a MELSEC device name, naming it in the error.
 pub fn spec(text: &str) -> Result<DeviceSpec, String> {
-    name(text, &Names::plain(Dialect::Melsec)).map(|n| n.spec().clone())
+    name(text, &Names::plain(profile::default_profile())).map(|n| n.spec().clone())
 }
 
 /// Parses `names=D0,Y0,D10:f32` as MELSEC names.
@@ -105,12 +106,9 @@ pub fn io_point(text: &str, names: &Names) -> Result<(DeviceKind, u32), String> 
     }
 }
 
-/// The `--show` name of X`n`/Y`n`: hexadecimal on MELSEC, octal on the APLC.
-pub fn io_name(kind: DeviceKind, n: u32, dialect: Dialect) -> String {
-    match dialect {
-        Dialect::Melsec => format!("{kind:?}{n:X}"),
-        Dialect::Aplc => format!("{kind:?}{n:o}"),
-    }
+/// The `--show` name of X`n`/Y`n` in `names`' dialect.
+pub fn io_name(kind: DeviceKind, n: u32, names: &Names) -> String {
+    names.naming.io_name(kind, n)
 }
 
 #[cfg(test)]
@@ -119,7 +117,7 @@ mod tests {
 
     #[test]
     fn json_values_follow_the_device_type() {
-        let mel = Names::plain(Dialect::Melsec);
+        let mel = Names::plain(profile::default_profile());
         let spec = |s| name(s, &mel);
         let d = spec("D0").unwrap();
         assert_eq!(from_json(&d, &json!(5)).unwrap(), Value::Int(5));
@@ -134,26 +132,29 @@ mod tests {
         assert!(from_json(&f, &json!(1e300)).is_err());
         assert!(spec("QQ9").unwrap_err().contains("QQ9"));
         // APLC: 16# values; LM/V are parsed but refused on write.
-        let d = name("D0", &Names::plain(Dialect::Aplc)).unwrap();
+        let d = name("D0", &Names::plain(profile::aplc())).unwrap();
         assert_eq!(from_json(&d, &json!("16#1F")).unwrap(), Value::Int(31));
-        assert!(name("X8", &Names::plain(Dialect::Aplc))
+        assert!(name("X8", &Names::plain(profile::aplc()))
             .unwrap_err()
             .contains("X8"));
     }
 
     #[test]
     fn only_x_and_y_points_are_forced() {
-        let m = &Names::plain(Dialect::Melsec);
+        let m = &Names::plain(profile::default_profile());
         assert_eq!(io_point("X1F", m).unwrap(), (DeviceKind::X, 0x1F));
         assert_eq!(io_point("y0", m).unwrap(), (DeviceKind::Y, 0));
         assert!(io_point("M0", m).is_err());
         assert!(io_point("K4X0", m).is_err());
-        assert_eq!(io_name(DeviceKind::X, 0x1F, Dialect::Melsec), "X1F");
+        assert_eq!(io_name(DeviceKind::X, 0x1F, m), "X1F");
         // APLC X/Y are octal: X10 is input 8.
         assert_eq!(
-            io_point("X10", &Names::plain(Dialect::Aplc)).unwrap(),
+            io_point("X10", &Names::plain(profile::aplc())).unwrap(),
             (DeviceKind::X, 8)
         );
-        assert_eq!(io_name(DeviceKind::Y, 8, Dialect::Aplc), "Y10");
+        assert_eq!(
+            io_name(DeviceKind::Y, 8, &Names::plain(profile::aplc())),
+            "Y10"
+        );
     }
 }

@@ -21,7 +21,7 @@ fn start() -> Server {
     let cpu = Cpu::new(program, cfg, Box::new(MonotonicClock::default()));
     let http = HttpConfig {
         token: Some(TOKEN.into()),
-        model: softplc_core::aplc::MODEL.into(),
+        model: softplc_core::profile::aplc().model.into(),
         ladder: vec![softplc_http::ladder::aplc::from_bytes("main.apl", APL.as_bytes()).unwrap()],
     };
     start_cpu(cpu, http)

@@ -16,4 +16,5 @@ pub mod kernels;
 pub mod layout;
 mod operand;
 pub mod ops;
+pub mod profile;
 pub mod system;

@@ -252,14 +252,14 @@ fn execute(
             ResponseData::None
         }
         ReadCpuModel => {
-            let model = &cpu.config().model;
+            let profile = cpu.profile();
             let mut name = [b' '; 16];
-            for (d, s) in name.iter_mut().zip(model.bytes()) {
+            for (d, s) in name.iter_mut().zip(profile.model.bytes()) {
                 *d = if s.is_ascii_graphic() { s } else { b' ' };
             }
             ResponseData::CpuModel {
                 name,
-                code: model_code(model).unwrap_or(0),
+                code: profile.doors.mc.unwrap_or(0),
             }
         }
         Unlock { password: given } => {

@@ -10,7 +10,7 @@
 //! use softplc_mc::{serve, Served, Session};
 //!
 //! let prog = softplc_core::program::compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
-//! let mut cpu = Cpu::new(prog, Default::default(), Box::new(VirtualClock::new()));
+//! let mut cpu = Cpu::new(prog, softplc_core::profile::default_config(), Box::new(VirtualClock::new()));
 //! let mut session = Session::new();
 //! // 3E binary: batch read D100-D102 in word units (what pymcprotocol sends).
 //! let frame = [

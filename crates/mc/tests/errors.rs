@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{CpuConfig, CpuState};
+use softplc_core::engine::CpuState;
 use softplc_mc::*;
 
 /// Decodes a frame that must be refused; returns the end code and checks that the
@@ -470,7 +470,7 @@ fn malformed_frames_close_the_connection() {
 
 #[test]
 fn refused_requests_leave_the_cpu_alone() {
-    let (mut cpu, _) = cpu_with(CpuConfig::default());
+    let (mut cpu, _) = cpu_with(softplc_core::profile::default_config());
     let mut s = Session::new();
     // Random write: D0 in range, D99999 not: nothing is written.
     let frame = ascii3e("140200000200D*0000000001D*0999990002");

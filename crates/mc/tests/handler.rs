@@ -4,7 +4,7 @@ mod common;
 
 use common::*;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{Cpu, CpuConfig, CpuState, LatchRange};
+use softplc_core::engine::{Cpu, CpuState, LatchRange};
 use softplc_mc::*;
 
 /// Serves one frame; returns the decoded response.
@@ -119,7 +119,7 @@ fn bit_devices_in_bit_units_and_word_units() {
 
 #[test]
 fn writing_x_survives_the_input_refresh() {
-    let (mut cpu, clock) = cpu_with(CpuConfig::default());
+    let (mut cpu, clock) = cpu_with(softplc_core::profile::default_config());
     // Batch write X0 ON in bit units (program: LD X0 OUT Y0).
     ok(
         &mut cpu,
@@ -171,7 +171,7 @@ fn timer_counter_and_special_devices() {
 
 #[test]
 fn retentive_timers_when_configured() {
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(DeviceKind::STS, 64);
     let (mut cpu, _) = cpu_with(cfg);
     ok(&mut cpu, &ascii3e("14010000SN0000630001002A"));
@@ -278,7 +278,7 @@ fn random_read_and_write_with_double_words() {
 
 #[test]
 fn remote_stop_run_pause_over_the_wire() {
-    let (mut cpu, clock) = cpu_with(CpuConfig::default());
+    let (mut cpu, clock) = cpu_with(softplc_core::profile::default_config());
     let stop = ascii3e("100200000001");
     let run = ascii3e("1001000000010000");
     let pause = ascii3e("100300000001");
@@ -328,7 +328,7 @@ fn remote_reset_clears_a_stop_error_and_latch_clear_works_in_stop() {
 
 #[test]
 fn remote_run_clear_modes() {
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.latch.push(LatchRange {
         kind: DeviceKind::D,
         start: 100,
@@ -396,10 +396,17 @@ fn read_cpu_model_answers_as_the_configured_cpu() {
     };
     assert_eq!(response, ascii3e_ok("Q06HCPU         0042"));
     // Another model.
-    let (mut cpu, _) = cpu_with(CpuConfig {
-        model: "Q03UDECPU".into(),
-        ..CpuConfig::default()
-    });
+    let q06 = softplc_core::profile::default_profile();
+    let q03ude: &'static softplc_core::profile::Profile =
+        Box::leak(Box::new(softplc_core::profile::Profile {
+            model: "Q03UDECPU",
+            doors: softplc_core::profile::Doors {
+                mc: Some(0x0268),
+                ..q06.doors
+            },
+            ..*q06
+        }));
+    let (mut cpu, _) = cpu_with(softplc_core::profile::config(q03ude));
     assert_eq!(
         run(&mut cpu, Command::ReadCpuModel),
         Response::Ok(ResponseData::CpuModel {

@@ -25,6 +25,7 @@ pub mod logic;
 pub mod misc;
 pub mod pid;
 pub mod process;
+pub mod profiles;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
@@ -123,5 +124,7 @@ pub fn process_dialect(settings: process::settings::ProcessSettings) -> Dialect 
 
 /// Whether `model` is a process CPU.
 pub fn is_process_model(model: &str) -> bool {
-    process::MODELS.contains(&model)
+    profiles::PROFILES
+        .iter()
+        .any(|p| p.model == model && p.family == profiles::FAMILY_QNPH)
 }

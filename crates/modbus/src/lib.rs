@@ -11,7 +11,7 @@
 //! use softplc_modbus::{Map, Proto, Slave, Step};
 //!
 //! let prog = softplc_core::program::compile_il("t.il", "LD SM400\nOUT M8191\nEND\n", &Default::default()).unwrap();
-//! let mut cpu = Cpu::new(prog, Default::default(), Box::new(VirtualClock::new()));
+//! let mut cpu = Cpu::new(prog, softplc_core::profile::default_config(), Box::new(VirtualClock::new()));
 //! let d107 = softplc_core::access::DeviceSpec::parse("D107").unwrap();
 //! cpu.write_device(&d107, "H022B").unwrap();
 //! let (map, mut slave) = (Map::q_default(), Slave::new(1));

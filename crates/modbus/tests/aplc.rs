@@ -460,7 +460,7 @@ fn c200_to_c255_are_register_pairs() {
         [1, 7, 0xFFFF, 0xFFF7]
     );
     let c = |cpu: &Cpu, s: &str| {
-        softplc_core::names::DevName::parse(s, softplc_core::names::Dialect::Aplc)
+        softplc_core::names::DevName::parse(s, softplc_core::profile::aplc())
             .unwrap()
             .read(cpu)
             .unwrap()
@@ -634,10 +634,10 @@ fn io_addresses_past_177_read_off_and_ignore_writes_on_an_aplc_cpu() {
 /// through the door is read back over Modbus at the map's address.
 #[test]
 fn map_ranges_land_on_the_aplc_storage() {
-    use softplc_core::names::{DevName, Dialect};
+    use softplc_core::names::DevName;
     let mut cpu = aplc_cpu();
     let set = |cpu: &mut Cpu, name: &str, v: &str| {
-        DevName::parse(name, Dialect::Aplc)
+        DevName::parse(name, softplc_core::profile::aplc())
             .unwrap()
             .write(cpu, v)
             .unwrap()

@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use softplc_core::device::DeviceKind::*;
-use softplc_core::engine::{Cpu, CpuConfig};
+use softplc_core::engine::Cpu;
 use softplc_modbus::{serve, Frame, Map, Proto, Request, Slave};
 
 /// Serves a PDU over TCP (unit 1) and returns the response PDU.
@@ -486,7 +486,7 @@ fn read_only_slave_refuses_writes_with_01() {
 #[test]
 fn devices_missing_in_the_cpu_are_04_and_nothing_is_written() {
     // A CPU with 1024 D points under the Q map (D0-D12287 mapped).
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(D, 1024);
     let mut cpu = cpu_with(cfg.clone());
     let map = Map::q_default();

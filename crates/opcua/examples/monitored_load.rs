@@ -21,7 +21,7 @@ use opcua::types::{
     MonitoringParameters, NodeId, ReadValueId, TimestampsToReturn,
 };
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_opcua::{points, OpcuaConfig, Prepared};
 use softplc_serve::{Background, EngineConfig, ServeState};
 
@@ -53,7 +53,7 @@ fn main() {
         .expect("the load program compiles");
     let cpu = Cpu::new(
         program,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let pki = tempfile::tempdir().expect("a temporary pki directory");

@@ -54,7 +54,7 @@ impl Prepared {
     /// The device variables of `cpu` (an error names a bad `[opcua] nodes`
     /// entry) and its program files for the loops.
     pub fn new(cfg: OpcuaConfig, cpu: &Cpu) -> Result<Prepared, String> {
-        if softplc_core::names::Dialect::of(cpu) == softplc_core::names::Dialect::Aplc {
+        if softplc_core::profile::is_aplc(cpu.profile()) {
             return Err(APLC_REFUSED.to_string());
         }
         let devices = points::devices(cpu, &cfg.nodes)?;

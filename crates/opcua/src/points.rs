@@ -187,11 +187,15 @@ pub fn loops(cpu: &Cpu, ladder: &[LadderProgram]) -> Vec<LoopFolder> {
 mod tests {
     use super::*;
     use softplc_core::device::DeviceConfig;
-    use softplc_core::engine::{CpuConfig, VirtualClock};
+    use softplc_core::engine::VirtualClock;
 
     fn cpu(src: &str) -> Cpu {
         let p = softplc_core::program::compile_il("t.il", src, &DeviceConfig::default()).unwrap();
-        Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()))
+        Cpu::new(
+            p,
+            softplc_core::profile::default_config(),
+            Box::new(VirtualClock::new()),
+        )
     }
 
     fn ids(points: &[Point]) -> Vec<(&str, Kind)> {

@@ -254,14 +254,18 @@ mod tests {
     fn only_changed_points_are_queued_each_once() {
         use softplc_core::access::Value;
         use softplc_core::device::DeviceConfig;
-        use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+        use softplc_core::engine::{Cpu, VirtualClock};
         let p = softplc_core::program::compile_il(
             "t.il",
             "LD X0\nOUT Y0\nMOV D0 D1\nEND\n",
             &DeviceConfig::default(),
         )
         .unwrap();
-        let cpu = Cpu::new(p, CpuConfig::default(), Box::new(VirtualClock::new()));
+        let cpu = Cpu::new(
+            p,
+            softplc_core::profile::default_config(),
+            Box::new(VirtualClock::new()),
+        );
         let devices = crate::points::devices(&cpu, &[]).unwrap();
         let names: Vec<&str> = devices.iter().map(|p| p.id.as_str()).collect();
         assert_eq!(names, ["D0", "D1", "X0", "Y0"]);

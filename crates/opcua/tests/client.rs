@@ -14,7 +14,7 @@ use opcua::types::{
     ObjectId, ReadValueId, ReferenceTypeId, StatusCode, TimestampsToReturn, Variant, WriteValue,
 };
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_opcua::{points, OpcuaConfig, Prepared};
 use softplc_serve::{Background, EngineConfig, ServeState};
 
@@ -63,7 +63,11 @@ fn start(src: &str, mut cfg: OpcuaConfig) -> Server {
     cfg.pki = pki.path().to_path_buf();
     let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
     let source = softplc_core::program::il::parse_il("main.il", src).unwrap();
-    let cpu = Cpu::new(p, CpuConfig::default(), Box::new(MonotonicClock::default()));
+    let cpu = Cpu::new(
+        p,
+        softplc_core::profile::default_config(),
+        Box::new(MonotonicClock::default()),
+    );
     let prepared = Prepared {
         devices: points::devices(&cpu, &cfg.nodes).unwrap(),
         cfg,

@@ -8,7 +8,7 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_serve::{mc::Mc, Background, EngineConfig, Listener, ServeState};
 
@@ -33,7 +33,7 @@ fn main() {
     let prog = compile_il("load.il", &src, &Default::default()).expect("program");
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {

@@ -11,7 +11,7 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{Cpu, CpuConfig, LatchRange, MonotonicClock};
+use softplc_core::engine::{Cpu, LatchRange, MonotonicClock};
 use softplc_core::persist::Battery;
 use softplc_core::program::compile_il;
 use softplc_modbus::{Map, Slave};
@@ -19,7 +19,7 @@ use softplc_serve::{modbus::ModbusTcp, Background, EngineConfig, Listener, Serve
 
 fn cpu() -> Cpu {
     let prog = compile_il("w.il", "LD SM400\nINC D200\nEND\n", &Default::default()).unwrap();
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.latch.push(LatchRange {
         kind: DeviceKind::D,
         start: 0,

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_modbus::{Map, Slave};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, Background, EngineConfig, Listener, ServeState};
@@ -14,7 +14,7 @@ fn start() -> Background {
     let prog = compile_il("t.il", src, &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {

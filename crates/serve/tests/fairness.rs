@@ -10,7 +10,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_modbus::{Map, Slave};
 use softplc_serve::mc::Mc;
@@ -28,7 +28,7 @@ fn start(listener: Listener, period_ms: u64) -> Background {
     let prog = compile_il("t.il", "LD SM400\nINC D0\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let period = Duration::from_millis(period_ms);

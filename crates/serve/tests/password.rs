@@ -7,7 +7,7 @@ use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::time::Duration;
 
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_serve::mc::Mc;
 use softplc_serve::{Background, EngineConfig, Listener, ServeState};
@@ -41,7 +41,7 @@ fn wrong_guesses_are_throttled_per_peer() {
     let prog = compile_il("t.il", "LD SM400\nINC D0\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {

@@ -6,7 +6,7 @@ use std::net::TcpStream;
 use std::time::Duration;
 
 use softplc_core::access::DeviceSpec;
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_core::program::compile_il;
 use softplc_serve::{Background, EngineConfig, FrameLen, Listener, Protocol, ServeState};
 
@@ -63,7 +63,7 @@ fn requests_are_served_at_end_while_scanning() {
     .unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {
@@ -134,7 +134,7 @@ fn mc_protocol_over_tcp_and_udp() {
     let prog = compile_il("t.il", "LD SM400\nMOV K7 D101\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {
@@ -178,7 +178,7 @@ fn the_engine_thread_asks_for_sched_fifo_and_says_what_it_got() {
     let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {
@@ -228,7 +228,7 @@ fn requests_run_on_the_sched_fifo_thread() {
     let prog = compile_il("t.il", "LD X0\nOUT Y0\nEND\n", &Default::default()).unwrap();
     let cpu = Cpu::new(
         prog,
-        CpuConfig::default(),
+        softplc_core::profile::default_config(),
         Box::new(MonotonicClock::default()),
     );
     let cfg = EngineConfig {

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_sim::plot;
 use softplc_sim::scenario::{ExpectKind, Outcome, Scenario};
@@ -17,7 +17,11 @@ fn build(program: &str, scenario: &str) -> Result<softplc_sim::scenario::Run, St
     let clock = VirtualClock::new();
     let prog =
         compile_il("inline.il", program, &DeviceConfig::default()).map_err(|d| d.to_string())?;
-    let cpu = Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()));
+    let cpu = Cpu::new(
+        prog,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
     sc.build_with(cpu, clock)
 }
 
@@ -648,7 +652,11 @@ devices = [\"SD520\"]
     .unwrap();
     let clock = VirtualClock::new();
     let prog = compile_il("inline.il", "END\n", &DeviceConfig::default()).unwrap();
-    let cpu = Cpu::new(prog, CpuConfig::default(), Box::new(clock.clone()));
+    let cpu = Cpu::new(
+        prog,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
     let o = sc.build_with(cpu, clock).unwrap().run(&mut |_| {});
     let t = o.trace.unwrap();
     assert!(t.len() <= 10_002 && t.len() > 9_000, "{}", t.len());

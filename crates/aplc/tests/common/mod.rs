@@ -14,11 +14,10 @@ pub struct Plc {
 
 pub fn config() -> CpuConfig {
     CpuConfig {
-        model: "APLC-TCP".into(),
         devices: softplc_aplc::device_config(),
         latch: Vec::new(),
         system: Some(softplc_aplc::system()),
-        ..CpuConfig::default()
+        ..CpuConfig::new(&softplc_aplc::profile::PROFILE)
     }
 }
 

@@ -159,7 +159,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     let Value::Table(top) = &root.value else {
         unreachable!("a TOML document is a table")
     };
-    let mut config = CpuConfig::default();
+    let mut config = crate::profile::default_config();
     let mut state_dir = dir.join("state");
 
     const SECTIONS: &[&str] = &[
@@ -209,8 +209,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "interrupts") {
         settings::interrupts(&mut cx, t, &mut config);
     }
-    let ports = ports::ports(&mut cx, top, config.model == crate::aplc::MODEL, dir);
-    if config.model == crate::aplc::MODEL {
+    let aplc_model = crate::profile::is_aplc(config.profile);
+    let ports = ports::ports(&mut cx, top, aplc_model, dir);
+    if aplc_model {
         aplc::configure(&mut cx, top, &mut config, &ports);
     }
     if let Some(t) = table(&mut cx, "clock") {
@@ -230,7 +231,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     let mut process = crate::program::ProcessSettings::default();
     if let Some(e) = section("process") {
         if let Some(t) = cx.table(e, "[process]") {
-            settings::process(&mut cx, e, t, &config.model, &mut process);
+            settings::process(&mut cx, e, t, config.profile, &mut process);
         }
     }
     let programs = programs::programs(&mut cx, section("program"), dir, &config);
@@ -266,7 +267,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
 impl Project {
     /// The dialect the project's programs compile in (by `[cpu] model`).
     pub fn dialect(&self) -> crate::program::Dialect {
-        crate::program::dialect_for(&self.config.model, self.process)
+        crate::profile::dialect(self.config.profile, self.process)
     }
 
     /// Loads and compiles every program of the project (all diagnostics of all
@@ -277,7 +278,7 @@ impl Project {
     ) -> Result<crate::engine::Cpu, Diagnostics> {
         let mut loaded = Vec::new();
         let mut diags = Vec::new();
-        if self.config.model == crate::aplc::MODEL {
+        if crate::profile::is_aplc(self.config.profile) {
             let programs = aplc::load(&self.programs, &self.manifest.display().to_string())
                 .map_err(Diagnostics)?;
             for program in programs {
@@ -323,7 +324,7 @@ impl Project {
             .iter()
             .map(|l| (l.program.file.as_str(), l.program.steps))
             .collect();
-        settings::check_capacity(&self.config.model, &files).map_err(|d| Diagnostics(vec![d]))?;
+        settings::check_capacity(self.config.profile, &files).map_err(|d| Diagnostics(vec![d]))?;
         crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(|e| {
             Diagnostics(vec![crate::program::Diagnostic {
                 file: self.manifest.display().to_string(),

@@ -5,7 +5,6 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use super::ctx::Ctx;
-use super::settings::max_programs;
 use super::tree::{Entry, Item, Value};
 use super::units::ranges;
 use super::ProgramSpec;
@@ -53,14 +52,14 @@ pub(crate) fn programs(
         );
         return out;
     }
-    let max = max_programs(&config.model);
+    let max = config.profile.capacity.programs;
     if let Some((item, _)) = tables.get(max) {
         cx.error(
             &item.span,
             format!(
                 "too many programs ({}): a {} executes at most {max} program files",
                 tables.len(),
-                config.model
+                config.profile.model
             ),
         );
     }

@@ -7,23 +7,7 @@ use super::tree::{Entry, Value};
 use super::units::{ranges, show};
 use crate::engine::calendar::DateTime;
 use crate::engine::{CpuConfig, ErrorMode, StopToRunOutput};
-
-/// CPU models softplc answers as, with the number of program files each can
-/// execute (program memory files, 004 Table 3.1 L1001; at most 124 execute, L1016)
-/// and its program capacity in k steps (004 Table 3.1 L1001: 28k/60k/124k/252k).
-pub(crate) const MODELS: &[(&str, usize, u32)] = &[
-    ("Q02CPU", 28, 28),
-    ("Q02HCPU", 28, 28),
-    ("Q06HCPU", 60, 60),
-    ("Q12HCPU", 124, 124),
-    ("Q25HCPU", 124, 252),
-    // The process CPUs (000 §1, L18-44): the QnHCPU's memory, plus the
-    // process-control instructions.
-    ("Q02PHCPU", 28, 28),
-    ("Q06PHCPU", 60, 60),
-    ("Q12PHCPU", 124, 124),
-    ("Q25PHCPU", 124, 252),
-];
+use crate::profile::Profile;
 
 /// `[process]`: the process CPU's decisions (spec/process-control.md
 /// DEC-1 … DEC-36), each `key = true|false`; only on a process CPU model.
@@ -31,10 +15,11 @@ pub(crate) fn process(
     cx: &mut Ctx,
     e: &Entry,
     t: &[Entry],
-    model: &str,
+    profile: &Profile,
     out: &mut crate::program::ProcessSettings,
 ) {
     use softplc_melsec::process::settings::KEYS;
+    let model = profile.model;
     if !softplc_melsec::is_process_model(model) {
         cx.error(
             &e.item.span,
@@ -69,28 +54,13 @@ pub(crate) fn process(
 
 /// The model named `text` (case-insensitive), as softplc spells it, or an
 /// error listing the models.
-pub fn known_model(text: &str) -> Result<&'static str, String> {
-    let up = text.trim().to_ascii_uppercase();
-    MODELS
-        .iter()
-        .find(|(m, _, _)| *m == up)
-        .map(|(m, _, _)| *m)
-        .ok_or_else(|| {
-            let list: Vec<&str> = MODELS.iter().map(|(m, _, _)| *m).collect();
-            format!(
-                "unknown CPU model \"{text}\" (expected {})",
-                list.join(", ")
-            )
-        })
+pub fn known_model(text: &str) -> Result<&'static Profile, String> {
+    crate::profile::find(text)
 }
 
 /// Steps of program memory a model has (1k = 1024 steps; decision).
-pub fn program_capacity(model: &str) -> u32 {
-    MODELS
-        .iter()
-        .find(|(m, _, _)| *m == model)
-        .map_or(252, |(_, _, k)| *k)
-        * 1024
+pub fn program_capacity(profile: &Profile) -> u32 {
+    profile.capacity.program_steps
 }
 
 /// The file header every program file takes in program memory (004 L1018:
@@ -101,10 +71,11 @@ pub const FILE_HEADER_STEPS: u32 = 34;
 /// fit the model's program memory with their file headers; the error names the
 /// first file that does not fit.
 pub fn check_capacity(
-    model: &str,
+    profile: &Profile,
     files: &[(&str, u32)],
 ) -> Result<(), crate::program::Diagnostic> {
-    let capacity = program_capacity(model);
+    let capacity = program_capacity(profile);
+    let model = profile.model;
     let mut used = 0u64;
     for (file, steps) in files {
         used += (*steps + FILE_HEADER_STEPS) as u64;
@@ -126,14 +97,6 @@ pub fn check_capacity(
         }
     }
     Ok(())
-}
-
-/// Program files the model can execute.
-pub(crate) fn max_programs(model: &str) -> usize {
-    MODELS
-        .iter()
-        .find(|(m, _, _)| *m == model)
-        .map_or(124, |(_, n, _)| *n)
 }
 
 /// `[cpu] model` and `common_pointer`; returns the first common pointer.
@@ -168,21 +131,16 @@ fn model(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
     let Some(text) = cx.string(e, "a CPU model name such as \"Q06HCPU\"") else {
         return;
     };
-    let up = text.trim().to_ascii_uppercase();
-    if up == crate::aplc::MODEL {
-        // The APLC dialect: its devices and programs (project/aplc.rs).
-        config.model = crate::aplc::MODEL.to_string();
-    } else if let Some((m, _, _)) = MODELS.iter().find(|(m, _, _)| *m == up) {
-        config.model = m.to_string();
-    } else {
-        let list: Vec<&str> = MODELS.iter().map(|(m, _, _)| *m).collect();
-        cx.error(
-            &e.item.span,
-            format!(
-                "unknown CPU model \"{text}\" (expected {}, or APLC-TCP)",
-                list.join(", ")
-            ),
-        );
+    match crate::profile::find(text) {
+        Ok(p) if p != config.profile => {
+            *config = CpuConfig {
+                profile: p,
+                system: (p.default_system)(),
+                ..config.clone()
+            }
+        }
+        Ok(_) => {}
+        Err(e2) => cx.error(&e.item.span, e2),
     }
 }
 

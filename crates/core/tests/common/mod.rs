@@ -25,17 +25,14 @@ impl Plc {
     /// Compiles `.il` text with the default Q06HCPU configuration; panics with the
     /// diagnostics if it does not load. Scans take 10 ms of virtual time.
     pub fn new(src: &str) -> Plc {
-        Plc::with_config(src, CpuConfig::default())
+        Plc::with_config(src, softplc_core::profile::default_config())
     }
 
     /// Compiles `.il` text for a process CPU (Q06PHCPU) with the given
     /// process-control decisions.
     pub fn process_with(src: &str, settings: ProcessSettings) -> Plc {
-        let cfg = CpuConfig {
-            model: "Q06PHCPU".into(),
-            ..CpuConfig::default()
-        };
-        let dialect = dialect_for(&cfg.model, settings);
+        let cfg = softplc_core::profile::config(process_cpu());
+        let dialect = dialect_for(cfg.profile, settings);
         let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
             .unwrap_or_else(|d| panic!("load failed:\n{d}"));
         let clock = VirtualClock::new();
@@ -156,8 +153,13 @@ impl Plc {
 /// Diagnostics of a process-CPU program that must fail to load, as
 /// `line:col: message`.
 pub fn process_diagnostics(src: &str) -> Vec<String> {
-    let dialect = dialect_for("Q06PHCPU", ProcessSettings::default());
-    match compile_il_in("t.il", src, &CpuConfig::default().devices, &dialect) {
+    let dialect = dialect_for(process_cpu(), ProcessSettings::default());
+    match compile_il_in(
+        "t.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+        &dialect,
+    ) {
         Ok(_) => panic!("expected diagnostics"),
         Err(d) => {
             d.0.iter()
@@ -169,7 +171,11 @@ pub fn process_diagnostics(src: &str) -> Vec<String> {
 
 /// Diagnostics of a program that must fail to load, as `line:col: message`.
 pub fn diagnostics(src: &str) -> Vec<String> {
-    match compile_il("test.il", src, &CpuConfig::default().devices) {
+    match compile_il(
+        "test.il",
+        src,
+        &softplc_core::profile::default_config().devices,
+    ) {
         Ok(_) => panic!("program loaded but errors were expected:\n{src}"),
         Err(d) => {
             d.0.iter()
@@ -206,4 +212,9 @@ pub fn outputs(p: &Plc, n: usize) -> String {
     (0..n)
         .map(|i| if p.bit(&format!("Y{i}")) { '1' } else { '0' })
         .collect()
+}
+
+/// The process CPU the process-control tests run on.
+pub fn process_cpu() -> &'static softplc_core::profile::Profile {
+    softplc_core::profile::find("Q06PHCPU").expect("a known model")
 }

@@ -151,6 +151,6 @@ pub fn run_pv(p: &mut Plc, fam: Fam, pvs: &[i64]) -> Vec<i64> {
 pub fn continue_on_error() -> CpuConfig {
     CpuConfig {
         operation_error: ErrorMode::Continue,
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     }
 }

@@ -310,6 +310,11 @@ impl Cpu {
         &self.programs[0]
     }
 
+    /// What this CPU is (its model, names and doors): what every door asks.
+    pub fn profile(&self) -> &'static crate::Profile {
+        self.cfg.profile
+    }
+
     pub fn config(&self) -> &CpuConfig {
         &self.cfg
     }

@@ -324,13 +324,13 @@ impl LadderProgram {
 /// instruction classes of the CPU model's dialect: an APLC-TCP CPU's files
 /// as `.apl`.
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
-    let model = &cpu.config().model;
-    let dialect = softplc_core::program::dialect_for(model, Default::default());
+    let profile = cpu.profile();
+    let dialect = softplc_core::profile::dialect(profile, Default::default());
     (0..cpu.program_count())
         .map(|i| {
             let file = &cpu.program_at(i).file;
             let path = Path::new(file);
-            let ladder = if model == softplc_core::aplc::MODEL {
+            let ladder = if softplc_core::profile::is_aplc(profile) {
                 aplc::from_file(path)
             } else {
                 LadderProgram::from_file_in(path, &dialect)

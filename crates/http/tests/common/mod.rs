@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use serde_json::Value;
 use softplc_core::device::DeviceConfig;
-use softplc_core::engine::{Cpu, CpuConfig, MonotonicClock};
+use softplc_core::engine::{Cpu, MonotonicClock};
 use softplc_http::HttpConfig;
 use softplc_serve::{Background, EngineConfig, ServeState};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -38,7 +38,11 @@ pub fn start(token: Option<&str>) -> Server {
 pub fn start_program(src: &str, token: Option<&str>) -> Server {
     let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
     let source = softplc_core::program::il::parse_il("main.il", src).unwrap();
-    let cpu = Cpu::new(p, CpuConfig::default(), Box::new(MonotonicClock::default()));
+    let cpu = Cpu::new(
+        p,
+        softplc_core::profile::default_config(),
+        Box::new(MonotonicClock::default()),
+    );
     let cfg = HttpConfig {
         token: token.map(str::to_string),
         model: "Q06HCPU".into(),

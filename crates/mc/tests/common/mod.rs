@@ -14,7 +14,7 @@ pub fn cpu_with(cfg: CpuConfig) -> (Cpu, VirtualClock) {
 }
 
 pub fn cpu() -> Cpu {
-    cpu_with(CpuConfig::default()).0
+    cpu_with(softplc_core::profile::default_config()).0
 }
 
 /// 3E binary request: subheader 50 00, network 00, PC FF, I/O 03FF (FF 03),

@@ -24,7 +24,7 @@ pub fn aplc_cpu() -> Cpu {
 }
 
 pub fn cpu() -> Cpu {
-    cpu_with(CpuConfig::default())
+    cpu_with(softplc_core::profile::default_config())
 }
 
 /// `"01 03 00 6B"` → bytes.

@@ -4,7 +4,7 @@ use std::time::{Duration, Instant};
 
 use softplc_core::device::DeviceConfig;
 use softplc_core::engine::{Cpu, CpuConfig, CpuState, VirtualClock};
-use softplc_core::names::{Dialect, Names};
+use softplc_core::names::Names;
 use softplc_core::{aplc, program, project};
 
 use super::bind::{Probe, Sink, Source};
@@ -123,11 +123,8 @@ impl Scenario {
         let mut project_exec = None;
         let mut cpu = match &self.source {
             super::Source::Program(p) => {
-                let mut cfg = CpuConfig::default();
-                if let Some(m) = &self.cpu {
-                    cfg.model = m.clone();
-                }
-                if self.names.dialect == Dialect::Aplc {
+                let cfg = CpuConfig::new(self.profile);
+                if softplc_core::profile::is_aplc(self.profile) {
                     let prog = aplc::load_file(p).map_err(|d| format!("{d}"))?;
                     let cfg = aplc::cpu_config_with_ports(
                         aplc::cpu_config().watchdog,
@@ -136,7 +133,7 @@ impl Scenario {
                     );
                     aplc::single_cpu(prog, cfg, Box::new(clock.clone()))?
                 } else {
-                    let dialect = program::dialect_for(&cfg.model, Default::default());
+                    let dialect = program::dialect_for(cfg.profile, Default::default());
                     let prog = program::load_file_in(p, &DeviceConfig::default(), &dialect, None)
                         .map_err(|d| format!("{d}"))?;
                     Cpu::new(prog, cfg, Box::new(clock.clone()))
@@ -382,7 +379,7 @@ impl Run {
         match self.cpu.error() {
             Some(e) => {
                 let place = match (&e.file, e.line, e.step) {
-                    (Some(f), Some(l), _) if Dialect::of(&self.cpu) == Dialect::Aplc => {
+                    (Some(f), Some(l), _) if !self.cpu.profile().step_numbers => {
                         format!(" at {f}:{l}")
                     }
                     (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),

@@ -4,6 +4,7 @@
 //! built against the loaded program.
 
 use softplc_core::names::Names;
+use softplc_core::profile::Profile;
 use std::path::PathBuf;
 
 mod expect;
@@ -214,7 +215,10 @@ pub struct Scenario {
     /// `cpu`: the CPU model a program file runs on (default Q06HCPU; e.g.
     /// "Q06PHCPU" for the process-control instructions). A project sets its
     /// own with `[cpu] model`.
-    pub cpu: Option<String>,
+    pub cpu: Option<&'static Profile>,
+    /// The CPU the scenario runs: `cpu`, the project's `[cpu] model`, or by
+    /// the program file (`.apl`: the APLC-TCP; else the Q06HCPU).
+    pub profile: &'static Profile,
     /// What the file's device names mean: APLC names (and the programs'
     /// global names) for an `.apl` program, `cpu = "APLC-TCP"` or an
     /// APLC-TCP project (contract §2), else MELSEC names.

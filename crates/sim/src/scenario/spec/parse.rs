@@ -1,7 +1,8 @@
 //! The scenario file as TOML deserializes it, and its translation into a
 //! [`Scenario`]: source, times, models and the timeline.
 
-use softplc_core::names::{Dialect, Names};
+use softplc_core::names::Names;
+use softplc_core::profile::{self, Profile};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -127,9 +128,9 @@ impl Scenario {
             (Some(_), Source::Project(_)) => {
                 return Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
             }
-            (Some(m), Source::Program(p)) => Some(program_model(m, p)?.to_string()),
+            (Some(m), Source::Program(p)) => Some(program_model(m, p)?),
         };
-        let dev_names = names_of(&source, cpu.as_deref());
+        let (cpu_profile, dev_names) = names_of(&source, cpu);
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
         if scan_us == 0 {
             return Err("scan_time: must be at least 1us".into());
@@ -202,7 +203,7 @@ impl Scenario {
         let mut ports = Vec::new();
         for (n, t) in [(1u8, &doc.port1), (2, &doc.port2)] {
             let Some(t) = t else { continue };
-            if matches!(source, Source::Project(_)) || dev_names.dialect != Dialect::Aplc {
+            if matches!(source, Source::Project(_)) || cpu_profile.doors.serial_ports == 0 {
                 return Err(format!(
                     "[port{n}]: only for an APLC program file (a project sets its ports in plc.toml)"
                 ));
@@ -211,7 +212,7 @@ impl Scenario {
         }
         let mut peers = Vec::new();
         for (i, t) in doc.peer.iter().enumerate() {
-            if dev_names.dialect != Dialect::Aplc {
+            if cpu_profile.doors.serial_ports == 0 {
                 return Err(
                     "[[peer]]: serial peers need an APLC-TCP program (its PORT1/PORT2)".into(),
                 );
@@ -223,6 +224,7 @@ impl Scenario {
             name,
             source,
             cpu,
+            profile: cpu_profile,
             names: dev_names,
             scan_us,
             scans,
@@ -270,48 +272,42 @@ impl Scenario {
 /// load gives plain names here and its errors when the scenario is built.
 /// The `cpu` of a scenario that runs one program file: a MELSEC model, or
 /// the APLC-TCP, which runs `.apl` files only (and only it runs them).
-fn program_model(model: &str, program: &std::path::Path) -> Result<&'static str, String> {
-    use softplc_core::aplc;
-    let model = if model.trim().eq_ignore_ascii_case(aplc::MODEL) {
-        aplc::MODEL
-    } else {
-        softplc_core::project::known_model(model)
-            .map_err(|e| format!("cpu: {e}, or {}", aplc::MODEL))?
-    };
-    let apl = aplc::is_apl(program);
-    if (model == aplc::MODEL) != apl {
+fn program_model(model: &str, program: &std::path::Path) -> Result<&'static Profile, String> {
+    let model = profile::find(model).map_err(|e| format!("cpu: {e}"))?;
+    if profile::is_aplc(model) != softplc_core::aplc::is_apl(program) {
         return Err(format!(
-            "cpu: {model} does not run {} (the APLC-TCP runs .apl programs, a MELSEC model .il/.csv)",
+            "cpu: {} does not run {} (the APLC-TCP runs .apl programs, a MELSEC model .il/.csv)",
+            model.model,
             program.display()
         ));
     }
     Ok(model)
 }
 
-fn names_of(source: &Source, cpu: Option<&str>) -> Names {
-    let (dialect, files) = match source {
+fn names_of(source: &Source, cpu: Option<&'static Profile>) -> (&'static Profile, Names) {
+    let (profile, files) = match source {
         Source::Program(p) => {
             let d = match cpu {
-                Some(m) => Dialect::of_model(m),
-                None if softplc_core::aplc::is_apl(p) => Dialect::Aplc,
-                None => Dialect::Melsec,
+                Some(m) => m,
+                None if softplc_core::aplc::is_apl(p) => profile::aplc(),
+                None => profile::default_profile(),
             };
             (d, vec![p.clone()])
         }
         Source::Project(p) => match softplc_core::project::load_project(p) {
             Ok(proj) => (
-                Dialect::of_model(&proj.config.model),
+                proj.config.profile,
                 proj.programs.iter().map(|s| s.file.clone()).collect(),
             ),
-            Err(_) => (Dialect::Melsec, Vec::new()),
+            Err(_) => (profile::default_profile(), Vec::new()),
         },
     };
-    let mut names = Names::plain(dialect);
-    if dialect == Dialect::Aplc {
+    let mut names = Names::plain(profile);
+    if profile::is_aplc(profile) {
         let paths: Vec<&std::path::Path> = files.iter().map(|f| f.as_path()).collect();
         names.globals = softplc_core::aplc::globals_of_files(&paths);
     }
-    names
+    (profile, names)
 }
 
 fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Names) -> Result<ModelSpec, String> {
