@@ -100,5 +100,5 @@ pub static PROFILE: Profile = Profile {
         modbus_unit: 8,
         serial_ports: 2,
     },
-    default_system: || Some(crate::system()),
+    default_system: crate::system,
 };

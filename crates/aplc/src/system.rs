@@ -6,7 +6,7 @@
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
-use softplc_ir::system::{ScanTimes, Severity, System};
+use softplc_ir::system::{End, EndCtx, ErrorReport, ScanStart, Severity, System};
 
 use crate::comm::{mailbox, PortConfig, Regs, IDLE};
 use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
@@ -104,7 +104,8 @@ impl System for Aplc {
     /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;
     /// SM10-SM14 toggle every half period from RUN (first half 0); SM15
     /// toggles every scan, 0 on the first (L10696-10760).
-    fn scan_start(&self, mem: &mut DeviceMemory, t: u64, first_scan: bool) {
+    fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
+        let (t, first_scan) = (start.since_run_us, start.first_scan);
         sm(mem, 0, true);
         sm(mem, 1, first_scan);
         sm(mem, 2, first_scan);
@@ -119,8 +120,13 @@ impl System for Aplc {
     }
 
     /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,
-    /// maximum scan time in ms.
-    fn scan_end(&self, mem: &mut DeviceMemory, t: ScanTimes) {
+    /// maximum scan time in ms. The APLC has no initial programs: the END
+    /// of an initial scan changes nothing.
+    fn end(&self, cx: &mut EndCtx<'_>, end: End) {
+        if end.initial {
+            return;
+        }
+        let (mem, t) = (&mut *cx.mem, end.times);
         crate::timers::housekeeping(mem, t.current_us);
         sd(mem, 30, ms(t.current_us));
         sd(mem, 31, ms(t.min_us));
@@ -177,7 +183,8 @@ impl System for Aplc {
 
     /// SM20 and the SD20-SD24 history (newest in SD20, pushed only when it
     /// differs, L1313-1316); SM21 for 65, SM22 for 64 (L10732-10733).
-    fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode) {
+    fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
+        let code = report.code;
         sm(mem, 20, true);
         match code.0 {
             65 => sm(mem, 21, true),

@@ -553,21 +553,6 @@ fn op(
             }
             try_op!(Err::<(), _>(Fault::IretInMain));
         }
-        Op::Duty(d) => {
-            if cond {
-                let n1 = rt.mem.read16(&d.0).map(|v| v as i16);
-                let n2 = rt.mem.read16(&d.1).map(|v| v as i16);
-                match (n1, n2) {
-                    (Ok(n1), Ok(n2)) if n1 >= 0 && n2 >= 0 => {
-                        let k = d.2 as usize;
-                        let count = rt.duty[k].map_or(0, |c| c.2);
-                        rt.duty[k] = Some((n1 as u16, n2 as u16, count));
-                    }
-                    (Err(code), _) | (_, Err(code)) => try_op!(Err::<(), _>(code)),
-                    _ => try_op!(Err::<(), _>(Fault::Operation)),
-                }
-            }
-        }
     }
     Flow::Next(next)
 }

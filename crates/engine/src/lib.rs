@@ -7,7 +7,6 @@
 mod cpu;
 mod exec;
 mod link;
-mod special;
 pub mod tier;
 pub mod trace;
 
@@ -23,7 +22,7 @@ use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 pub use softplc_ir::profile::Profile;
-use softplc_ir::system::Severity;
+use softplc_ir::system::{ErrorReport, Severity};
 
 /// Operating state of the CPU (004 §4.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,9 +127,9 @@ pub struct CpuConfig {
     /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
     pub interrupt_periods: [Duration; 4],
     pub initial_values: Vec<InitialValue>,
-    /// The family's system devices and error numbering; `None` is MELSEC-Q's
-    /// (`special.rs`). The APLC dialect passes its own.
-    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
+    /// The family's system devices and error numbering (the profile's
+    /// default, or one built with the project's parameters).
+    pub system: std::sync::Arc<dyn softplc_ir::system::System>,
 }
 
 impl CpuConfig {
@@ -210,11 +209,10 @@ pub(crate) struct Runtime {
     pub cpu: CpuServices,
     /// Running a program for POFF: every condition forced OFF.
     pub force_off: bool,
-    /// User timing clocks set by DUTY: (ON scans, OFF scans, scans counted),
-    /// SM420-SM424 then SM430-SM434; `None` until DUTY runs.
-    pub duty: [Option<(u16, u16, u32)>; 10],
     /// See [`CpuConfig::system`].
-    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
+    pub system: std::sync::Arc<dyn softplc_ir::system::System>,
+    /// The system's own state words (`System::state_words`).
+    pub system_state: Box<[u32]>,
 }
 
 /// Entries kept in the error history (004 §7.20.2).
@@ -229,7 +227,7 @@ impl Runtime {
     pub(crate) fn record_fault(&mut self, prog: &Program, fault: Fault, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
-        match self.record(fault, Some(file), step, line) {
+        match self.record(fault, Some(file), step, line, None) {
             None => false,
             Some(code) => match self.severity(code) {
                 Severity::Stop => true,
@@ -239,20 +237,9 @@ impl Runtime {
         }
     }
 
-    /// The family's number for `fault` (`None`: no error in this family).
-    pub(crate) fn code(&self, fault: Fault) -> Option<ErrorCode> {
-        match &self.system {
-            Some(s) => s.code(fault),
-            None => Some(special::code(fault)),
-        }
-    }
-
     /// What error `code` does to the CPU.
     pub(crate) fn severity(&self, code: ErrorCode) -> Severity {
-        match &self.system {
-            Some(s) => s.severity(code),
-            None => special::severity(code),
-        }
+        self.system.severity(code)
     }
 
     /// Records a self-diagnostic error in the system devices, the latest
@@ -264,13 +251,18 @@ impl Runtime {
         file: Option<&str>,
         step: Option<u32>,
         line: Option<u32>,
+        detail: Option<u32>,
     ) -> Option<ErrorCode> {
         let now = self.clock.now(self.now_us);
-        let code = self.code(fault)?;
-        match &self.system {
-            Some(s) => s.report_error(&mut self.mem, code),
-            None => special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now),
-        }
+        let code = self.system.code(fault)?;
+        let report = ErrorReport {
+            code,
+            file,
+            step,
+            at: now,
+            detail,
+        };
+        self.system.report_error(&mut self.mem, &report);
         self.error = Some(CpuError {
             code,
             step,
@@ -283,7 +275,7 @@ impl Runtime {
         self.history.push_back(HistoryEntry {
             code,
             time: now.to_unix(),
-            detail: step,
+            detail: detail.or(step),
         });
         Some(code)
     }
@@ -294,14 +286,7 @@ impl Runtime {
     #[inline(never)]
     pub(crate) fn record_report(&mut self) {
         if let Some((fault, detail)) = self.cpu.report.take() {
-            if self.record(fault, None, None, None).is_some() {
-                if let Some(h) = self.history.back_mut() {
-                    h.detail = Some(detail);
-                }
-                if self.system.is_none() {
-                    special::annunciator_detail(&mut self.mem, detail);
-                }
-            }
+            self.record(fault, None, None, None, Some(detail));
         }
     }
 

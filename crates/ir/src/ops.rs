@@ -313,9 +313,6 @@ pub enum Op {
     Nop,
     /// End of an interrupt program.
     Iret,
-    /// DUTY n1 n2 SM42x: user timing clock `clock` (0-4 = SM420-SM424, 5-9 =
-    /// SM430-SM434) ON for n1 scans, OFF for n2 scans.
-    Duty(Box<(WordArg, WordArg, u8)>),
 }
 
 /// FOR/NEXT and CALL nesting (programming manual: 16 levels).

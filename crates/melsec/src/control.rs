@@ -6,7 +6,7 @@
 //! instructions asking the engine through `ExecCtx::cpu`.
 
 use softplc_ir::cpu::TypeChange;
-use softplc_ir::device::{parse_operand, Constant, DeviceKind, Operand};
+use softplc_ir::device::{Constant, DeviceKind, Operand};
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::kernels::cpu::ResetWatchdog;
@@ -34,7 +34,7 @@ pub static DEFS: &[Def] = &[
     Def::lower("POFF", Class::Output, &PROGRAMS, prog_ctl).pulse(Pulse::Suffix),
     Def::lower("PLOW", Class::Output, &PROGRAMS, prog_ctl).pulse(Pulse::Suffix),
     Def::lower("WDT", Class::Output, &WDT, wdt_trace).pulse(Pulse::Suffix),
-    Def::lower("DUTY", Class::Output, &DUTY, duty),
+    Def::app("DUTY", &DUTY, crate::user_clock::compile).no_pulse(),
     Def::lower("TRACE", Class::Output, &TRACE, wdt_trace),
     Def::lower("TRACER", Class::Output, &TRACE, wdt_trace),
     Def::lower("STOP", Class::Output, &STOP, stop_goend).steps(Steps::Basic),
@@ -426,43 +426,5 @@ impl Instr for Trace {
             cx.cpu.trigger_trace();
         }
         Ok(())
-    }
-}
-
-fn duty(c: &mut Compiler<'_>, u: &Use<'_>) {
-    let i = u.instr;
-    let m = u.m;
-    let ops = &u.instr.operands;
-    if !c.count(i, m, &[3]) || !c.output(i, m) {
-        return;
-    }
-    let n1 = c.word_src(&ops[0], Num::I16);
-    let n2 = c.word_src(&ops[1], Num::I16);
-    let clock = match parse_operand(&ops[2].text) {
-        Ok(Operand::Device {
-            dev,
-            digits: None,
-            bit: None,
-            index: None,
-        }) if dev.kind == DeviceKind::SM && matches!(dev.number, 420..=424 | 430..=434) => {
-            Some(if dev.number < 430 {
-                dev.number - 420
-            } else {
-                dev.number - 425
-            } as u8)
-        }
-        _ => {
-            c.err(
-                &ops[2],
-                format!(
-                    "`{}`: DUTY drives a user timing clock SM420-SM424 or SM430-SM434",
-                    ops[2].text
-                ),
-            );
-            None
-        }
-    };
-    if let (Some(n1), Some(n2), Some(clock)) = (n1, n2, clock) {
-        c.emit(Op::Duty(Box::new((n1, n2, clock))));
     }
 }

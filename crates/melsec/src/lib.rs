@@ -33,6 +33,7 @@ pub mod system;
 pub mod table;
 pub mod timing;
 pub mod transfer;
+mod user_clock;
 
 use softplc_ir::device::{DeviceKind, MELSEC_Q};
 pub use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};

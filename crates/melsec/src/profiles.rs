@@ -73,7 +73,7 @@ const fn model(
             modbus_unit: 1,
             serial_ports: 0,
         },
-        default_system: || None,
+        default_system: crate::system::system,
     }
 }
 

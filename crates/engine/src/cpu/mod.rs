@@ -18,7 +18,6 @@ mod states;
 use std::time::Duration;
 
 use super::exec::{self, Outcome};
-use super::special;
 use super::{
     Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, RunClear, Runtime,
     StopToRunOutput,
@@ -96,10 +95,8 @@ pub struct Cpu {
     last_end_us: u64,
     /// The initial programs have yet to run (power-on, RESET, STOP→RUN).
     initial_pending: bool,
-    /// SM402/SM403: first scan after RUN.
+    /// The first scan after RUN.
     first_scan: bool,
-    /// SM210 at the previous END, for its OFF→ON edge.
-    sm210: bool,
     scans: u64,
     min_scan_us: Option<u64>,
     max_scan_us: Option<u64>,
@@ -110,8 +107,9 @@ pub struct Cpu {
     /// Next occurrence of I28-I31 and causes remembered while disabled.
     int_due: [u64; 4],
     int_pending: [bool; 4],
-    /// SM50 at the previous END, for its OFF→ON edge.
-    sm50: bool,
+    /// The program's error reset request at the previous END, for its
+    /// rising edge (`System::error_reset`).
+    error_reset: bool,
     trace: Option<crate::trace::Trace>,
     /// Simulated time used by the programs of the current scan, µs.
     busy_us: u64,
@@ -121,7 +119,7 @@ pub struct Cpu {
     low_left_us: u64,
     /// Simulated low-speed execution time of the current cycle, µs.
     low_exec_us: u64,
-    /// Low-speed scan bookkeeping (SM404/405, SD528-SD535).
+    /// Low-speed scan bookkeeping (first cycle, scan times).
     low_first: bool,
     low_last_end_us: u64,
     low_min_us: Option<u64>,
@@ -217,7 +215,7 @@ impl Cpu {
             in_interrupt: false,
             cpu: CpuServices::new(slots.len(), timers as usize, DEFAULT_IMASK),
             force_off: false,
-            duty: [None; 10],
+            system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
             system: cfg.system.clone(),
         };
         let mut cpu = Cpu {
@@ -238,7 +236,6 @@ impl Cpu {
             last_end_us: now,
             initial_pending: true,
             first_scan: true,
-            sm210: false,
             scans: 0,
             min_scan_us: None,
             max_scan_us: None,
@@ -246,7 +243,7 @@ impl Cpu {
             int_counts: vec![0; 256],
             int_due: [0; 4],
             int_pending: [false; 4],
-            sm50: false,
+            error_reset: false,
             trace: None,
             busy_us: 0,
             low_pos: 0,
@@ -330,10 +327,7 @@ impl Cpu {
 
     /// The message of error `code` in this CPU's family.
     pub fn error_message(&self, code: ErrorCode) -> &'static str {
-        match &self.rt.system {
-            Some(s) => s.message(code),
-            None => special::message(code),
-        }
+        self.rt.system.message(code)
     }
 
     /// The error history, oldest first (004 §7.20.2).

@@ -103,7 +103,8 @@ impl Cpu {
     /// SD0 and the error history; with `stop` the CPU holds it as a stop error
     /// (RESET clears it).
     pub fn report_battery_error(&mut self, stop: bool) {
-        self.rt.record(crate::Fault::Battery, None, None, None);
+        self.rt
+            .record(crate::Fault::Battery, None, None, None, None);
         if stop {
             self.stop_error = true;
             self.set_stop();

@@ -2,6 +2,7 @@
 //! programs and the I28-I31 interrupts (004 §4.2, §4.1.3).
 
 use super::*;
+use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
 
 impl Cpu {
     /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
@@ -25,10 +26,12 @@ impl Cpu {
             self.apply_forces(DeviceKind::X);
             self.unforce_outputs();
         }
-        match &self.rt.system {
-            Some(s) => s.scan_start(&mut self.rt.mem, now - self.run_start_us, self.first_scan),
-            None => special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan),
-        }
+        let start = ScanStart {
+            since_power_on_us: now - self.power_on_us,
+            since_run_us: now - self.run_start_us,
+            first_scan: self.first_scan,
+        };
+        self.rt.system.scan_start(&mut self.rt.mem, start);
         let initial =
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;
@@ -98,9 +101,9 @@ impl Cpu {
     }
 
     /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
-    /// virtual time, so a pass always fits the spare time). SM510 is ON and SD510
-    /// holds the program number while one runs; SM404/SM405 are the low-speed
-    /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
+    /// virtual time, so a pass always fits the spare time). The system shows
+    /// the pass, the program running and each completed cycle
+    /// (`System::low_speed`).
     pub(super) fn run_low_speed(&mut self, _now: u64) -> bool {
         // The low-speed programs in parameter order, without allocating.
         let n_low = self
@@ -113,9 +116,8 @@ impl Cpu {
         }
 
         let first = self.low_first;
-        self.sm(404, first);
-        self.sm(405, !first);
-        let sync = self.rt.mem.get_bit(DeviceKind::SM, 330).unwrap_or(false);
+        self.low_speed(LowSpeed::Pass { first });
+        let sync = self.rt.system.low_speed_synchronous(&self.rt.mem);
         let timed = self
             .slots
             .iter()
@@ -180,7 +182,7 @@ impl Cpu {
             }
         }
         self.busy_us += used;
-        self.sm(510, false);
+        self.low_speed(LowSpeed::Running(None));
         true
     }
 
@@ -192,47 +194,36 @@ impl Cpu {
             .unwrap_or(0)
     }
 
-    pub(super) fn sm(&mut self, n: i64, v: bool) {
-        let _ = self.rt.mem.set_bit(DeviceKind::SM, n, v);
+    fn low_speed(&mut self, event: LowSpeed) {
+        self.rt.system.low_speed(&mut self.rt.mem, event);
     }
 
-    /// Runs low-speed program `i` with SM510 ON and SD510 = its number (the
-    /// simulated time is accounted by the caller).
+    /// Runs low-speed program `i`, shown as running (the simulated time is
+    /// accounted by the caller).
     pub(super) fn run_low(&mut self, i: usize) -> bool {
-        self.sm(510, true);
-        let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
+        self.low_speed(LowSpeed::Running(Some(i)));
         let cost = self.slots[i].cost_us;
         let ok = self.run_slot(i);
         self.busy_us -= cost;
-        self.sm(510, false);
+        self.low_speed(LowSpeed::Running(None));
         ok
     }
 
     /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
-    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — into
-    /// SD528-SD535; SD430 counts.
+    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — and
+    /// its minimum and maximum to the system.
     pub(super) fn low_speed_end(&mut self) {
         let us = std::mem::take(&mut self.low_exec_us);
         if !self.low_first {
             self.low_max_us = self.low_max_us.max(us);
         }
         self.low_min_us = Some(self.low_min_us.map_or(us, |m| m.min(us)));
-        for (reg, v) in [
-            (528, us),
-            (532, self.low_min_us.unwrap_or(0)),
-            (534, self.low_max_us),
-        ] {
-            let (ms, sub) = special::ms_us(v);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, reg, ms);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, reg + 1, sub);
-        }
-        let c = self
-            .rt
-            .mem
-            .get_word(DeviceKind::SD, 430)
-            .unwrap_or(0)
-            .wrapping_add(1);
-        let _ = self.rt.mem.set_word(DeviceKind::SD, 430, c);
+        let times = ScanTimes {
+            current_us: us,
+            min_us: self.low_min_us.unwrap_or(0),
+            max_us: self.low_max_us,
+        };
+        self.low_speed(LowSpeed::End(times));
         self.low_first = false;
     }
 
@@ -336,9 +327,11 @@ impl Cpu {
         self.outcome(out)
     }
 
-    /// Starts (or with `None` stops) a sampling trace, sampled at END.
+    /// Starts (or with `None` stops) a sampling trace, sampled at END; the
+    /// system's relays show its state.
     pub fn set_trace(&mut self, trace: Option<crate::trace::Trace>) {
-        self.trace = trace;
+        let relays = self.rt.system.trace_relays(&self.rt.mem.map);
+        self.trace = trace.map(|t| t.with_relays(relays));
     }
 
     pub fn trace(&self) -> Option<&crate::trace::Trace> {
