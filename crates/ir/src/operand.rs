@@ -14,10 +14,10 @@ impl DeviceMemory {
             Indexed::NONE => 0,
             z => self.words[z as usize] as i16 as i64,
         };
-        // R: the block SD648 selects (`ix.block` is SD648's index).
+        // R: the block the selector word holds.
         let block = match ix.block {
             Indexed::NONE => 0,
-            b => self.words[b as usize],
+            _ => crate::access::selected_block(self),
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {

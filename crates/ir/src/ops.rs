@@ -52,13 +52,15 @@ pub struct Indexed {
     pub points: u32,
     /// Flat word index of the index register `Zn`, or [`Indexed::NONE`].
     pub z: u32,
-    /// Flat word index of SD648 (the file-register block number) for `R`
-    /// operands, or [`Indexed::NONE`].
+    /// [`Indexed::SELECTED_BLOCK`] for `R` operands (they add the
+    /// file-register block the CPU's selector word holds), else
+    /// [`Indexed::NONE`].
     pub block: u32,
 }
 
 impl Indexed {
     pub const NONE: u32 = u32::MAX;
+    pub const SELECTED_BLOCK: u32 = 0;
 }
 
 /// A resolved word operand; 16-bit instructions use the low word of a constant.

@@ -153,6 +153,11 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn low_speed_synchronous(&self, _mem: &DeviceMemory) -> bool {
         false
     }
+    /// The word selecting the file-register block R addresses in a memory of
+    /// `map` (flat word index), `None` when R is always block 0.
+    fn r_block(&self, _map: &DeviceMap) -> Option<u32> {
+        None
+    }
     /// The relays of the sampling trace in a memory of `map`, `None` when
     /// the family shows none.
     fn trace_relays(&self, _map: &DeviceMap) -> Option<TraceRelays> {

@@ -50,7 +50,7 @@ fn compile_rset(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     let points = map.points(DeviceKind::ZR) as i64;
     Some(Box::new(Rset {
         s,
-        sd648: (map.base(DeviceKind::SD) + softplc_ir::access::SD_R_BLOCK) as usize,
+        sd648: (map.base(DeviceKind::SD) + crate::system::R_BLOCK) as usize,
         blocks: (points + R_BLOCK as i64 - 1) / R_BLOCK as i64,
     }))
 }

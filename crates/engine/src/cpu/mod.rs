@@ -160,7 +160,9 @@ impl Cpu {
         cfg: CpuConfig,
         clock: Box<dyn Clock>,
     ) -> Result<Cpu, String> {
-        let mem = DeviceMemory::new(&cfg.devices);
+        let mut mem = DeviceMemory::new(&cfg.devices);
+        let r_block = cfg.system.r_block(&mem.map);
+        mem.map.set_r_block(r_block);
         let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
         let x = cfg.devices.points(DeviceKind::X) as usize;
         let y = cfg.devices.points(DeviceKind::Y) as usize;

@@ -94,6 +94,11 @@ impl System for Melsec {
         low_speed::synchronous(mem)
     }
 
+    /// SD648 (RSET).
+    fn r_block(&self, map: &DeviceMap) -> Option<u32> {
+        map.index(DeviceKind::SD, R_BLOCK)
+    }
+
     /// SM800 ready, SM802 executing, SM803 trigger, SM804 after the trigger,
     /// SM805 complete (004 §7.12).
     fn trace_relays(&self, map: &DeviceMap) -> Option<TraceRelays> {
