@@ -134,7 +134,7 @@ impl System for Aplc {
     }
 
     /// Faults in Appendix 6 numbers; a scan longer than the constant scan
-    /// is no error (L950) and there are no annunciators. Conditions without
+    /// is no error (L950) and there are no annunciators or common pointers. Conditions without
     /// an Appendix 6 number keep softplc's (BATTERY ERROR 1600) or take the
     /// nearest (IRET errors 68, a missing program 72).
     fn code(&self, fault: Fault) -> Option<ErrorCode> {
@@ -142,7 +142,7 @@ impl System for Aplc {
             Fault::Operation => 64,
             Fault::Range => 65,
             Fault::Watchdog => 61,
-            Fault::ScanOverrun | Fault::Annunciator => return None,
+            Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
             Fault::ForWithoutNext
             | Fault::NextWithoutFor
             | Fault::ForNesting

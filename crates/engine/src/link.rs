@@ -6,9 +6,11 @@
 //! - CALL of a common pointer (from the "common pointer" parameter up to P4095,
 //!   004 §10.9.2) reaches a subroutine in any file, typically a standby program.
 //! - Each interrupt pointer and each common pointer may be defined once across
-//!   all programs (004 L1201-1226; error 4021 for common pointers).
+//!   all programs (004 L1201-1226; the family's error for common pointers).
 
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Op, Program};
+use softplc_ir::system::System;
 
 /// A program's name: the file name without directory and extension, upper case
 /// (`main.il` → `MAIN`).
@@ -22,7 +24,10 @@ pub(crate) fn program_name(file: &str) -> String {
 
 /// Resolves cross-file references in place; returns the interrupt table
 /// (In → (program, op index)).
-pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>, String> {
+pub(crate) fn link(
+    programs: &mut [Program],
+    system: &dyn System,
+) -> Result<Vec<Option<(usize, u32)>>, String> {
     let names: Vec<String> = programs.iter().map(|p| program_name(&p.file)).collect();
     let mut interrupts: Vec<Option<(usize, u32)>> = vec![None; 256];
     let mut common: std::collections::HashMap<u32, (usize, u32)> = Default::default();
@@ -38,8 +43,11 @@ pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>
         }
         for &(n, pc) in &p.common_labels {
             if let Some((j, _)) = common.insert(n, (i, pc)) {
+                let code = system
+                    .code(Fault::PointerTwice)
+                    .map_or(String::new(), |c| format!(" (error {})", c.0));
                 return Err(format!(
-                    "common pointer P{n} is defined in {} and in {} (error 4021)",
+                    "common pointer P{n} is defined in {} and in {}{code}",
                     programs[j].file, p.file
                 ));
             }

@@ -35,6 +35,9 @@ pub enum Fault {
     IretInMain,
     /// A program named by an instruction does not exist.
     NoProgram,
+    /// A common pointer is defined in two program files (found when the
+    /// CPU is built).
+    PointerTwice,
     /// The scan exceeded the watchdog time.
     Watchdog,
     /// The scan exceeded the constant-scan period.

@@ -192,7 +192,7 @@ impl Cpu {
                 p.file
             ));
         }
-        let interrupts = crate::link::link(&mut programs)?;
+        let interrupts = crate::link::link(&mut programs, &*cfg.system)?;
         let locals = programs.iter().map(ProgState::new).collect();
         let rt = Runtime {
             mem,

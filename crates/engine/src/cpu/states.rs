@@ -126,7 +126,7 @@ impl Cpu {
         }
         for k in DeviceKind::ALL {
             use DeviceKind::*;
-            if matches!(k, X | SM | SD | R | ZR) {
+            if matches!(k, X | R | ZR) || k.is_system() {
                 continue;
             }
             let start = mem.map.base(k) as usize;

@@ -35,6 +35,7 @@ pub fn code(fault: Fault) -> ErrorCode {
         Fault::NoIret => ErrorCode(4221),
         Fault::IretInMain => ErrorCode(4223),
         Fault::NoProgram => NO_PROGRAM,
+        Fault::PointerTwice => ErrorCode(4021),
         Fault::Watchdog => WDT,
         Fault::ScanOverrun => PRG_TIME_OVER,
         Fault::Battery => BATTERY,
