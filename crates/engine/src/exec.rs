@@ -413,8 +413,8 @@ fn op(
             if cond {
                 let mut cx = exec_ctx!();
                 try_op!(prog.ext[*x as usize].exec(&mut cx));
-                if rt.cpu.report.is_some() {
-                    rt.record_report();
+                if rt.cpu.pending {
+                    rt.serve_requests();
                 }
             }
         }
@@ -426,8 +426,8 @@ fn op(
             } else {
                 instr.off(&mut cx)
             });
-            if rt.cpu.report.is_some() {
-                rt.record_report();
+            if rt.cpu.pending {
+                rt.serve_requests();
             }
         }
         Op::Cj { target, always } => {

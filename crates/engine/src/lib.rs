@@ -213,6 +213,11 @@ pub(crate) struct Runtime {
     pub system: std::sync::Arc<dyn softplc_ir::system::System>,
     /// The system's own state words (`System::state_words`).
     pub system_state: Box<[u32]>,
+    /// Input image: what the input modules present; copied to X at input
+    /// refresh.
+    pub inputs: Box<[bool]>,
+    /// Forced X/Y (`cpu/force.rs`).
+    pub forces: Vec<cpu::Force>,
 }
 
 /// Entries kept in the error history (004 §7.20.2).
@@ -280,11 +285,42 @@ impl Runtime {
         Some(code)
     }
 
-    /// Records the continuation error an instruction reported
-    /// ([`CpuServices::report`]): an annunciator and its number.
+    /// Input refresh: the input image into X, forced inputs kept forced
+    /// (at the start of a scan, and when an instruction asks mid-scan).
+    pub(crate) fn refresh_inputs(&mut self) {
+        let xb = self.mem.map.base(DeviceKind::X) as usize;
+        self.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        if !self.forces.is_empty() {
+            self.apply_forces(DeviceKind::X);
+        }
+    }
+
+    /// Forced points of `kind` take their forced value; the value under the
+    /// force is kept.
+    pub(crate) fn apply_forces(&mut self, kind: DeviceKind) {
+        for f in &mut self.forces {
+            if f.kind == kind {
+                f.under = self.mem.bits[f.bit];
+                self.mem.bits[f.bit] = f.on;
+            }
+        }
+    }
+
+    /// Serves what an instruction asked for when it returns
+    /// ([`CpuServices::pending`]): an input refresh, a continuation error.
     #[cold]
     #[inline(never)]
-    pub(crate) fn record_report(&mut self) {
+    pub(crate) fn serve_requests(&mut self) {
+        self.cpu.pending = false;
+        if std::mem::take(&mut self.cpu.input_refresh) {
+            self.refresh_inputs();
+        }
+        self.record_report();
+    }
+
+    /// Records the continuation error an instruction reported
+    /// ([`CpuServices::report`]): an annunciator and its number.
+    fn record_report(&mut self) {
         if let Some((fault, detail)) = self.cpu.report.take() {
             self.record(fault, None, None, None, Some(detail));
         }

@@ -2,7 +2,7 @@
 //! [`crate::instr::ExecCtx::cpu`]): reset the watchdog, enable and mask
 //! interrupts by number, request an execution-type change of a program,
 //! trigger or reset the sampling trace, reset a timer's sub-unit remainder,
-//! report a continuation error. Dialect-neutral: an instruction of a family
+//! report a continuation error, refresh the inputs. Dialect-neutral: an instruction of a family
 //! writes its family's system devices itself and asks the engine for the rest.
 
 use std::time::Instant;
@@ -45,6 +45,10 @@ pub struct CpuServices {
     /// A continuation error an instruction reported, with its detail (an
     /// annunciator number); the engine records it right after the instruction.
     pub report: Option<(Fault, u32)>,
+    /// An input refresh an instruction asked for (served right after it).
+    pub input_refresh: bool,
+    /// Something above waits for the engine when the instruction returns.
+    pub pending: bool,
 }
 
 impl CpuServices {
@@ -60,6 +64,8 @@ impl CpuServices {
             trace_reset: false,
             timer_rem: vec![0; timers].into_boxed_slice(),
             report: None,
+            input_refresh: false,
+            pending: false,
         }
     }
 
@@ -116,5 +122,13 @@ impl CpuServices {
     /// detail; the engine records it when the instruction returns.
     pub fn report(&mut self, fault: Fault, detail: u32) {
         self.report = Some((fault, detail));
+        self.pending = true;
+    }
+
+    /// Refreshes the inputs mid-scan (the input image into the input
+    /// devices, forced inputs kept), right after the instruction returns.
+    pub fn refresh_inputs(&mut self) {
+        self.input_refresh = true;
+        self.pending = true;
     }
 }

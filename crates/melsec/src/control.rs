@@ -11,7 +11,7 @@ use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
 use softplc_ir::kernels::cpu::ResetWatchdog;
 use softplc_ir::ops::*;
-use softplc_lang::compile::{Compiler, MAX_NESTING};
+use softplc_lang::compile::{Args, Compiler, MAX_NESTING};
 use softplc_lang::isa::{Class, Def, Doc, Pulse, Steps, Use};
 
 /// The program-control instructions.
@@ -38,6 +38,7 @@ pub static DEFS: &[Def] = &[
     Def::lower("TRACE", Class::Output, &TRACE, wdt_trace),
     Def::lower("TRACER", Class::Output, &TRACE, wdt_trace),
     Def::lower("STOP", Class::Output, &STOP, stop_goend).steps(Steps::Basic),
+    Def::app("COM", &REFRESH, com).no_pulse(),
 ];
 
 static BRANCH: Doc = Doc {
@@ -79,6 +80,11 @@ static TRACE: Doc = Doc {
     family: "sampling trace",
     cite: "PM; 004 §7.12",
     notes: "trigger / reset the trace set up with `--trace` or `Cpu::set_trace`",
+};
+static REFRESH: Doc = Doc {
+    family: "refresh",
+    cite: "004 §4.2",
+    notes: "the input refresh in mid-scan (input image into X, forced inputs kept); outputs are the Y devices at any time",
 };
 static STOP: Doc = Doc {
     family: "termination / other",
@@ -425,6 +431,27 @@ impl Instr for Trace {
         } else {
             cx.cpu.trigger_trace();
         }
+        Ok(())
+    }
+}
+
+fn com(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+    a.count(&[0]).then(|| Box::new(Refresh) as Box<dyn Instr>)
+}
+
+/// 004 §4.2 (L1504-1575) COM: the END's refresh in mid-scan. softplc's
+/// outputs are the Y devices themselves, read by the host whenever it reads
+/// them, so what COM refreshes is the inputs: the input image (what the input
+/// modules present) into X, forced inputs kept forced. Decisions (the
+/// programming manual is not at hand): it runs while its condition is ON and
+/// has no pulse form; SM775 (no link refresh) selects nothing, softplc has
+/// no networks.
+#[derive(Debug)]
+struct Refresh;
+
+impl Instr for Refresh {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.refresh_inputs();
         Ok(())
     }
 }

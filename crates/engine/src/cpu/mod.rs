@@ -10,6 +10,7 @@
 mod door;
 mod end;
 mod force;
+pub(crate) use force::Force;
 pub use force::MAX_FORCES;
 mod retained;
 mod schedule;
@@ -85,8 +86,6 @@ pub struct Cpu {
     state: CpuState,
     /// A stop error holds the CPU in STOP until RESET.
     stop_error: bool,
-    /// Input image: what the input modules present; copied to X at input refresh.
-    inputs: Box<[bool]>,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
     /// Clock reading at power-on, at the last STOP→RUN and at the last END.
@@ -124,8 +123,6 @@ pub struct Cpu {
     low_last_end_us: u64,
     low_min_us: Option<u64>,
     low_max_us: u64,
-    /// Forced X/Y ([`force`]).
-    forces: Vec<force::Force>,
 }
 
 /// IMASK at power-on: everything enabled except the error interrupts I32-I47,
@@ -218,6 +215,8 @@ impl Cpu {
             cpu: CpuServices::new(slots.len(), timers as usize, DEFAULT_IMASK),
             force_off: false,
             system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
+            inputs: vec![false; x].into_boxed_slice(),
+            forces: Vec::new(),
             system: cfg.system.clone(),
         };
         let mut cpu = Cpu {
@@ -231,7 +230,6 @@ impl Cpu {
             clock,
             state: CpuState::Run,
             stop_error: false,
-            inputs: vec![false; x].into_boxed_slice(),
             saved_y: vec![false; y].into_boxed_slice(),
             power_on_us: now,
             run_start_us: now,
@@ -255,7 +253,6 @@ impl Cpu {
             low_last_end_us: 0,
             low_min_us: None,
             low_max_us: 0,
-            forces: Vec::new(),
         };
         cpu.power_on();
         Ok(cpu)
@@ -365,6 +362,7 @@ impl Cpu {
     /// STOP (004 §4.4); a forced output's forced value.
     pub fn output(&self, n: u32) -> bool {
         if let Some(f) = self
+            .rt
             .forces
             .iter()
             .find(|f| f.kind == DeviceKind::Y && f.n == n)

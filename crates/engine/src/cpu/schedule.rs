@@ -20,10 +20,8 @@ impl Cpu {
         self.busy_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
-        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
-        self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
-        if !self.forces.is_empty() {
-            self.apply_forces(DeviceKind::X);
+        self.rt.refresh_inputs();
+        if !self.rt.forces.is_empty() {
             self.unforce_outputs();
         }
         let start = ScanStart {
@@ -52,7 +50,7 @@ impl Cpu {
                 && self.run_type(ExecType::Scan)
                 && self.run_low_speed(now)
         };
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             // Forced outputs win over the program (and inputs it wrote).
             self.apply_forces(DeviceKind::Y);
             self.apply_forces(DeviceKind::X);

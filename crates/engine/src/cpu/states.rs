@@ -151,7 +151,7 @@ impl Cpu {
     /// values written, RUN from the initial programs.
     pub(super) fn power_on(&mut self) {
         // Forces are released at power-off and RESET (docs/forcing.md).
-        self.forces.clear();
+        self.rt.forces.clear();
         self.clear_unlatched();
         self.rt.error = None;
         self.stop_error = false;
