@@ -115,6 +115,11 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn state_words(&self) -> usize {
         0
     }
+    /// The interrupt enable mask at power-on (one bit per I0-I255): all
+    /// enabled unless the family says otherwise.
+    fn interrupt_mask(&self) -> [u16; crate::cpu::INTERRUPTS / 16] {
+        [0xFFFF; crate::cpu::INTERRUPTS / 16]
+    }
     /// Power-on (and RESET, remote latch clear) values of the system devices.
     fn power_on(&self, mem: &mut DeviceMemory);
     /// Right after the device initial values were written (power-on, RESET,

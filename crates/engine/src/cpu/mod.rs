@@ -125,14 +125,6 @@ pub struct Cpu {
     low_max_us: u64,
 }
 
-/// IMASK at power-on: everything enabled except the error interrupts I32-I47,
-/// which need IMASK (004 L10902-10904).
-const DEFAULT_IMASK: [u16; 16] = {
-    let mut m = [0xFFFF; 16];
-    m[2] = 0;
-    m
-};
-
 impl Cpu {
     /// Powers on a CPU with one scan program and puts it in RUN.
     ///
@@ -212,7 +204,7 @@ impl Cpu {
             error: None,
             history: std::collections::VecDeque::with_capacity(crate::HISTORY_LEN),
             in_interrupt: false,
-            cpu: CpuServices::new(slots.len(), timers as usize, DEFAULT_IMASK),
+            cpu: CpuServices::new(slots.len(), timers as usize, cfg.system.interrupt_mask()),
             force_off: false,
             system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
             inputs: vec![false; x].into_boxed_slice(),

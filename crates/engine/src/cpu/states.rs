@@ -157,7 +157,8 @@ impl Cpu {
         self.stop_error = false;
         self.rt.cpu.timer_rem.fill(0);
         self.rt.cpu.enable_interrupts(false);
-        self.rt.cpu.mask_interrupts(DEFAULT_IMASK);
+        let mask = self.rt.system.interrupt_mask();
+        self.rt.cpu.mask_interrupts(mask);
         let now = self.clock.now_us();
         self.power_on_us = now;
         self.min_scan_us = None;

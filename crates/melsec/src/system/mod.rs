@@ -40,6 +40,14 @@ impl System for Melsec {
         1
     }
 
+    /// Everything enabled except the error interrupts I32-I47, which need
+    /// IMASK (004 L10902-10904).
+    fn interrupt_mask(&self) -> [u16; softplc_ir::cpu::INTERRUPTS / 16] {
+        let mut m = [0xFFFF; softplc_ir::cpu::INTERRUPTS / 16];
+        m[2] = 0;
+        m
+    }
+
     fn power_on(&self, mem: &mut DeviceMemory) {
         scan::power_on(mem);
     }
