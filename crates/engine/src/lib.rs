@@ -178,7 +178,7 @@ pub(crate) struct Runtime {
     pub mem: DeviceMemory,
     /// Clock reading at the start of this scan, µs.
     pub now_us: u64,
-    /// The calendar clock (SD210-SD213, DATERD/DATEWR).
+    /// The calendar clock (the system's clock registers, DATERD/DATEWR).
     pub clock: calendar::PlcClock,
     /// CPU-wide state of family instructions (see `ExecCtx::shared`).
     pub shared: Box<[u32]>,
@@ -224,8 +224,8 @@ pub(crate) struct Runtime {
 pub const HISTORY_LEN: usize = 16;
 
 impl Runtime {
-    /// Records a fault of op `pc` in the system devices (SD0 and the
-    /// error-location registers on MELSEC); returns true when the CPU must stop
+    /// Records a fault of op `pc` in the system devices (the error code and
+    /// where it happened); returns true when the CPU must stop
     /// (004 §7.20).
     #[cold]
     #[inline(never)]

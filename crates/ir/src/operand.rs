@@ -1,5 +1,5 @@
 //! Reading and writing resolved operands. Index-modified operands are bounds
-//! checked here: an effective device outside its range is error 4101, never a panic.
+//! checked here: an effective device outside its range is `Fault::Range`, never a panic.
 
 use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
@@ -36,7 +36,7 @@ impl DeviceMemory {
     }
 
     /// Flat word index of the first of `n` words of a block operand; a block that
-    /// would run past the last point of its device is 4101.
+    /// would run past the last point of its device is `Fault::Range`.
     pub fn block_start(&self, b: &Block, n: u32) -> Result<usize, Fault> {
         match &b.start {
             WordArg::Word(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
@@ -45,7 +45,7 @@ impl DeviceMemory {
         }
     }
 
-    /// Flat bit index of the first of `n` bits of a bit block (4101 past the end).
+    /// Flat bit index of the first of `n` bits of a bit block (`Fault::Range` past the end).
     pub fn bit_block_start(&self, b: &BitBlock, n: u32) -> Result<usize, Fault> {
         match &b.start {
             BitArg::Bit(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
@@ -102,7 +102,7 @@ impl DeviceMemory {
     }
 
     /// Reads a real operand: ±∞ and NaN are not real numbers for the CPU (004 §2.8)
-    /// and give 4100; denormals read as 0.
+    /// and give `Fault::Operation`; denormals read as 0.
     #[inline]
     pub fn read_f32(&self, a: &WordArg) -> Result<f32, Fault> {
         let bits = self.read32(a)?;
@@ -186,7 +186,7 @@ impl DeviceMemory {
         Ok(())
     }
 
-    /// Writes a real result: overflow (±∞, NaN) is 4100; underflow becomes 0.
+    /// Writes a real result: overflow (±∞, NaN) is `Fault::Operation`; underflow becomes 0.
     #[inline]
     pub fn write_f32(&mut self, a: &WordArg, v: f32) -> Result<(), Fault> {
         if !v.is_finite() {

@@ -322,7 +322,7 @@ pub const MAX_NESTING: usize = 16;
 
 /// A word-device block operand whose length is known only at run time (BMOV,
 /// FMOV, SUM …): the first word and the flat index one past the device's last
-/// point, which a block may not cross (4101).
+/// point, which a block may not cross (`Fault::Range`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
     pub start: WordArg,

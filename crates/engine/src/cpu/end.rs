@@ -40,7 +40,7 @@ impl Cpu {
     pub(super) fn outcome(&mut self, out: Outcome) -> bool {
         match out {
             // A RET with no caller in this pass cannot happen at top level:
-            // `Ret` on an empty stack is 4212.
+            // `Ret` on an empty stack is `Fault::RetInMain`.
             Outcome::End | Outcome::Return => true,
             Outcome::Abort => false,
             Outcome::Fault(code, slot, pc) => {

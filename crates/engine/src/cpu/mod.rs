@@ -311,7 +311,7 @@ impl Cpu {
         self.state
     }
 
-    /// The latest self-diagnostic error (what SD0 holds), if any.
+    /// The latest self-diagnostic error, if any.
     pub fn error(&self) -> Option<&CpuError> {
         self.rt.error.as_ref()
     }
@@ -377,7 +377,7 @@ impl Cpu {
 /// Instructions take no virtual time, so a real CPU's WDT ERROR from a long
 /// scan has no deterministic counterpart; the watchdog still stops an
 /// endless scan, but a machine under load (a preempted engine thread) does
-/// not turn an ordinary scan into 5000 (COMPATIBILITY.md "Watchdog").
+/// not turn an ordinary scan into a watchdog error (COMPATIBILITY.md "Watchdog").
 pub const VIRTUAL_WATCHDOG_FLOOR: std::time::Duration = std::time::Duration::from_secs(1);
 
 fn wall_watchdog(t: std::time::Duration, virtual_time: bool) -> std::time::Duration {

@@ -174,7 +174,7 @@ impl Cpu {
                 self.low_pos = 0;
                 self.low_speed_end();
                 if sync {
-                    // Synchronous (SM330 ON): no second cycle in the same scan.
+                    // Synchronous: no second cycle in the same scan.
                     break;
                 }
             }

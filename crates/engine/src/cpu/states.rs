@@ -164,7 +164,7 @@ impl Cpu {
         self.min_scan_us = None;
         self.max_scan_us = None;
         // "Scans executed since power-on": RESET is power-on processing, and
-        // the scan counter SD420 restarts from 0 with it (004 L10434).
+        // the system's scan counter restarts from 0 with it (004 L10434).
         self.scans = 0;
         self.system_power_on();
         self.start_run();

@@ -1,6 +1,6 @@
 //! Basic instructions: comparison contacts, BIN and real arithmetic, conversion
 //! and transfer (programming manual ch. 6). Real numbers follow 004 §2.8: the CPU
-//! has no ±∞/NaN, so such inputs or results are OPERATION ERROR 4100.
+//! has no ±∞/NaN, so such inputs or results are operation errors.
 
 use crate::device::DeviceMemory;
 use crate::fault::Fault;
@@ -142,7 +142,7 @@ impl Instr for Int {
 
 /// `+ - * /` in BIN 16, BIN 32 and real. BIN add/subtract wrap (no error, as the
 /// CPU); `*` gives a double-width product; `/` gives quotient and remainder, the
-/// remainder taking the sign of the dividend; division by 0 is 4100. With a
+/// remainder taking the sign of the dividend; division by 0 is an operation error. With a
 /// digit-specified destination `*` stores the low 32 bits of the product (K1-K8)
 /// and `/` only the quotient, without the remainder.
 fn arith(

@@ -49,7 +49,7 @@ pub fn coil(mem: &mut DeviceMemory, edges: &mut [bool], c: &Coil, cond: bool) ->
 /// the part of the scan time below one time-base unit is carried in `rem`.
 /// Set value 0 turns the contact ON at once; a timer already timed out stays
 /// timed out when its set value is raised (L6505-6510). A negative set value from a
-/// word device is error 4100.
+/// word device is an operation error.
 #[inline]
 pub fn timer(
     mem: &mut DeviceMemory,
