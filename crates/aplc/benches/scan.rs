@@ -41,7 +41,7 @@ fn cpu(src: &str) -> (Cpu, VirtualClock) {
     let cfg = CpuConfig {
         devices: softplc_aplc::device_config(),
         latch: Vec::new(),
-        system: Some(softplc_aplc::system()),
+        system: softplc_aplc::system(),
         ..CpuConfig::new(&softplc_aplc::profile::PROFILE)
     };
     let clock = VirtualClock::new();

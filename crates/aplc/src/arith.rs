@@ -6,7 +6,8 @@
 
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
-use softplc_ir::ops::{Apply, Op as LadderOp, WordArg};
+use softplc_ir::kernels::basic::Move;
+use softplc_ir::ops::{Op as LadderOp, WordArg};
 use softplc_lang::compile::Args;
 use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
@@ -91,7 +92,7 @@ pub static DEFS: &[Def] = &[
 ];
 
 /// 16-bit MOV on the shared ladder ops (one word: no word order): the
-/// inline `MovK`/`MovW` for plain words, `Apply::Mov` otherwise.
+/// inline `MovK`/`MovW` for plain words, the shared `Move` otherwise.
 fn mov(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     if !c.count(i, u.m, &[2]) || !c.output(i, u.m) {
@@ -104,11 +105,15 @@ fn mov(c: &mut Compiler<'_>, u: &Use<'_>) {
     let (Some(s), Some(d)) = (s, d) else {
         return;
     };
-    c.emit(match (s, d) {
-        (WordArg::Const(k), WordArg::Word(d)) => LadderOp::MovK { k: k as u16, d },
-        (WordArg::Word(s), WordArg::Word(d)) => LadderOp::MovW { s, d },
-        (s, d) => LadderOp::Apply(Box::new(Apply::Mov { words: 1, s, d })),
-    });
+    match (s, d) {
+        (WordArg::Const(k), WordArg::Word(d)) => {
+            c.emit(LadderOp::MovK { k: k as u16, d });
+        }
+        (WordArg::Word(s), WordArg::Word(d)) => {
+            c.emit(LadderOp::MovW { s, d });
+        }
+        (s, d) => c.emit_instr(false, false, Box::new(Move { words: 1, s, d })),
+    }
 }
 
 #[derive(Debug)]

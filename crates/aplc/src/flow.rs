@@ -5,6 +5,7 @@
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::kernels::cpu::ResetWatchdog;
 use softplc_ir::ops::{Op, WordArg};
 use softplc_lang::compile::{Args, Compiler};
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
@@ -107,13 +108,16 @@ fn simple(c: &mut Compiler<'_>, u: &Use<'_>) {
     if !c.count(i, u.m, &[0]) || !c.output(i, u.m) {
         return;
     }
-    let op = match u.m {
-        "CFEND" => Op::GoEnd,
-        "WDT" => Op::Wdt,
-        "STOP" => Op::Stop,
-        _ => return c.unmatched(u),
-    };
-    c.emit(op);
+    match u.m {
+        "CFEND" => {
+            c.emit(Op::GoEnd);
+        }
+        "WDT" => c.emit_instr(false, false, Box::new(ResetWatchdog)),
+        "STOP" => {
+            c.emit(Op::Stop);
+        }
+        _ => c.unmatched(u),
+    }
 }
 
 #[derive(Debug)]

@@ -44,7 +44,7 @@ pub static DEFS: &[Def] = &[
 ];
 
 /// 67: interrupt request queue overflow.
-const E_QUEUE: ErrorCode = ErrorCode(67);
+const E_QUEUE: Fault = Fault::Family(ErrorCode(67));
 /// The FIFO's depth (L10113).
 const DEPTH: usize = 8;
 

@@ -8,13 +8,13 @@ use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::ops::{IndexedKind, WordArg};
 
 /// 64: illegal operand value.
-pub const E_VALUE: ErrorCode = ErrorCode(64);
+pub const E_VALUE: Fault = Fault::Operation;
 /// 65: operand device number out of range.
-pub const E_RANGE: ErrorCode = ErrorCode(65);
+pub const E_RANGE: Fault = Fault::Range;
 /// 69: divide by zero.
-pub const E_DIV0: ErrorCode = ErrorCode(69);
+pub const E_DIV0: Fault = Fault::Family(ErrorCode(69));
 /// 73: special module address invalid.
-pub const E_MODULE: ErrorCode = ErrorCode(73);
+pub const E_MODULE: Fault = Fault::Family(ErrorCode(73));
 
 fn is_pair(a: &WordArg) -> bool {
     match a {

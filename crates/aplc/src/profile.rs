@@ -102,5 +102,5 @@ pub static PROFILE: Profile = Profile {
         serial_ports: 2,
         opcua: false,
     },
-    default_system: || Some(crate::system()),
+    default_system: crate::system,
 };

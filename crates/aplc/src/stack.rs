@@ -15,7 +15,7 @@ use crate::num::{self, E_VALUE};
 use crate::resolve::{self, ArgsExt, Flags};
 
 /// 70: illegal stack definition.
-const E_STACK: ErrorCode = ErrorCode(70);
+const E_STACK: Fault = Fault::Family(ErrorCode(70));
 
 static STACK: Doc = Doc {
     family: "stacks",

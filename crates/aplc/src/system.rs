@@ -5,8 +5,8 @@
 //! loaded from the EEPROM at power-on and STOP→RUN.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::fault::ErrorCode;
-use softplc_ir::system::{ScanTimes, System};
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::system::{End, EndCtx, ErrorReport, ScanStart, Severity, System};
 
 use crate::comm::{mailbox, PortConfig, Regs, IDLE};
 use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
@@ -22,6 +22,10 @@ pub struct Aplc {
     /// SD150-SD154 and the mailboxes' protocol words).
     pub ports: Vec<PortConfig>,
 }
+
+/// softplc's BATTERY ERROR (a damaged state directory), as on MELSEC CPUs:
+/// Appendix 6 has no number for it.
+const BATTERY: ErrorCode = ErrorCode(1600);
 
 fn sm(mem: &mut DeviceMemory, n: i64, v: bool) {
     let _ = mem.set_bit(DeviceKind::SM, n, v);
@@ -100,7 +104,8 @@ impl System for Aplc {
     /// SM0 ON in RUN, SM1 the first scan, SM2 until one scan completed;
     /// SM10-SM14 toggle every half period from RUN (first half 0); SM15
     /// toggles every scan, 0 on the first (L10696-10760).
-    fn scan_start(&self, mem: &mut DeviceMemory, t: u64, first_scan: bool) {
+    fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
+        let (t, first_scan) = (start.since_run_us, start.first_scan);
         sm(mem, 0, true);
         sm(mem, 1, first_scan);
         sm(mem, 2, first_scan);
@@ -115,31 +120,71 @@ impl System for Aplc {
     }
 
     /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,
-    /// maximum scan time in ms.
-    fn scan_end(&self, mem: &mut DeviceMemory, t: ScanTimes) {
+    /// maximum scan time in ms. The APLC has no initial programs: the END
+    /// of an initial scan changes nothing.
+    fn end(&self, cx: &mut EndCtx<'_>, end: End) {
+        if end.initial {
+            return;
+        }
+        let (mem, t) = (&mut *cx.mem, end.times);
         crate::timers::housekeeping(mem, t.current_us);
         sd(mem, 30, ms(t.current_us));
         sd(mem, 31, ms(t.min_us));
         sd(mem, 32, ms(t.max_us));
     }
 
-    /// Faults of the shared kernels and the engine in Appendix 6 numbers; a
-    /// scan longer than the constant scan is no error (L950).
-    fn code(&self, code: ErrorCode) -> Option<ErrorCode> {
-        Some(ErrorCode(match code.0 {
-            4100 => 64,
-            4101 => 65,
-            5000 => 61,
-            5010 => return None,
-            4200..=4203 | 4211 | 4212 => 68,
-            4213 => 66,
-            c => c,
+    /// Faults in Appendix 6 numbers; a scan longer than the constant scan
+    /// is no error (L950) and there are no annunciators or common pointers. Conditions without
+    /// an Appendix 6 number keep softplc's (BATTERY ERROR 1600) or take the
+    /// nearest (IRET errors 68, a missing program 72).
+    fn code(&self, fault: Fault) -> Option<ErrorCode> {
+        Some(ErrorCode(match fault {
+            Fault::Operation => 64,
+            Fault::Range => 65,
+            Fault::Watchdog => 61,
+            Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
+            Fault::ForWithoutNext
+            | Fault::NextWithoutFor
+            | Fault::ForNesting
+            | Fault::BreakWithoutFor
+            | Fault::NoRet
+            | Fault::RetInMain
+            | Fault::NoIret
+            | Fault::IretInMain => 68,
+            Fault::CallNesting => 66,
+            Fault::NoProgram => 72,
+            Fault::Battery => BATTERY.0,
+            Fault::Family(c) => c.0,
         }))
+    }
+
+    /// Appendix 6's messages (L11266-11289).
+    fn message(&self, code: ErrorCode) -> &'static str {
+        match code.0 {
+            60 => "program compile error",
+            61 => "user program timeout (watchdog)",
+            62 => "illegal instruction",
+            63 => "illegal operand device type",
+            64 => "illegal operand value",
+            65 => "operand device number out of range",
+            66 => "subroutine stack overflow",
+            67 => "interrupt request queue overflow",
+            68 => "illegal jump label or subroutine call",
+            69 => "divide by zero",
+            70 => "illegal stack definition",
+            72 => "undefined subroutine or interrupt routine",
+            73 => "special module address invalid",
+            74 => "special module access error",
+            75 => "I/O immediate refresh error",
+            1600 => "BATTERY ERROR: battery-backed data lost (damaged state file)",
+            _ => "error",
+        }
     }
 
     /// SM20 and the SD20-SD24 history (newest in SD20, pushed only when it
     /// differs, L1313-1316); SM21 for 65, SM22 for 64 (L10732-10733).
-    fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode) {
+    fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
+        let code = report.code;
         sm(mem, 20, true);
         match code.0 {
             65 => sm(mem, 21, true),
@@ -157,7 +202,11 @@ impl System for Aplc {
     }
 
     /// 64-80 keep the CPU running; 60-63 and everything else stop it (D14).
-    fn stops(&self, code: ErrorCode) -> bool {
-        !(64..=80).contains(&code.0)
+    fn severity(&self, code: ErrorCode) -> Severity {
+        if (64..=80).contains(&code.0) {
+            Severity::Continue
+        } else {
+            Severity::Stop
+        }
     }
 }

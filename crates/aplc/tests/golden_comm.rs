@@ -19,7 +19,7 @@ fn port(n: u8, protocol: &str) -> PortConfig {
 
 fn with_ports(src: &str, ports: Vec<PortConfig>) -> Plc {
     let mut cfg = config();
-    cfg.system = Some(softplc_aplc::system_with_ports(200, 0, ports));
+    cfg.system = softplc_aplc::system_with_ports(200, 0, ports);
     plc_with(src, cfg)
 }
 

@@ -605,7 +605,7 @@ pub fn run(args: RunArgs) -> ExitCode {
     let error = cpu.error().map(|e| {
         json!({
             "code": e.code.0,
-            "message": e.code.message(),
+            "message": cpu.error_message(e.code),
             "step": if steps { e.step } else { None },
             "file": e.file,
             "line": e.line,
@@ -635,7 +635,7 @@ pub fn run(args: RunArgs) -> ExitCode {
                     (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
                     _ => String::new(),
                 };
-                outln!("error: {} {}{place}", e.code.0, e.code.message());
+                outln!("error: {} {}{place}", e.code.0, cpu.error_message(e.code));
             }
         }
         for line in text {

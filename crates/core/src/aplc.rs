@@ -84,11 +84,7 @@ pub fn cpu_config_with_ports(
         watchdog,
         constant_scan,
         latch: Vec::new(),
-        system: Some(softplc_aplc::system_with_ports(
-            ms(watchdog),
-            constant_scan.map_or(0, ms),
-            ports,
-        )),
+        system: softplc_aplc::system_with_ports(ms(watchdog), constant_scan.map_or(0, ms), ports),
         ..CpuConfig::new(crate::profile::aplc())
     }
 }

@@ -28,7 +28,11 @@ fn cpu_model() {
     // APLC-TCP selects the APLC dialect (contract §4).
     let p = ok(&with_main("[cpu]\nmodel = \"APLC-TCP\"\n"));
     assert_eq!(p.config.profile.model, "APLC-TCP");
-    assert!(p.config.system.is_some() && p.config.latch.is_empty());
+    // The APLC's own system: its error numbers (an operation error is 64).
+    use softplc_core::engine::{ErrorCode, Fault};
+    assert!(
+        p.config.system.code(Fault::Operation) == Some(ErrorCode(64)) && p.config.latch.is_empty()
+    );
     assert_eq!(
         error(&with_main("[cpu]\nmodel = \"Q99CPU\"\n")),
         "2:9: unknown CPU model \"Q99CPU\" (expected Q02CPU, Q02HCPU, Q06HCPU, Q12HCPU, Q25HCPU, \

@@ -10,12 +10,10 @@
 //! [`Pass::op`] (through [`Host`]), so every op has the one implementation
 //! here.
 
-use std::time::Instant;
-
 use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::kernels::{basic, sequence};
 use softplc_ir::ops::MAX_NESTING;
 use softplc_ir::ops::{Edge, Join, Op, Program};
@@ -254,6 +252,7 @@ fn op(
                 scan_us: rt.scan_us,
                 clock: &mut rt.clock,
                 shared: &mut rt.shared,
+                cpu: &mut rt.cpu,
             }
         };
     }
@@ -266,8 +265,8 @@ fn op(
                     if rt.abort.load(std::sync::atomic::Ordering::Relaxed) {
                         return Flow::Done(Outcome::Abort);
                     }
-                    if rt.wdt_start.elapsed() > k.watchdog {
-                        return Flow::Done(Outcome::Fault(ErrorCode::WDT, cur, pc));
+                    if rt.cpu.watchdog_start.elapsed() > k.watchdog {
+                        return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
                     }
                 }
             }
@@ -358,7 +357,7 @@ fn op(
             let base = rt.timer_base_us[t.high_speed as usize];
             try_op!(sequence::timer(
                 &mut rt.mem,
-                &mut rt.timer_rem,
+                &mut rt.cpu.timer_rem,
                 base,
                 rt.scan_us,
                 t,
@@ -397,15 +396,26 @@ fn op(
                 rt.mem.words[*d as usize] = rt.mem.words[*s as usize];
             }
         }
-        Op::Apply(a) => {
+        Op::MovD { s, d } => {
             if cond {
-                try_op!(basic::apply(&mut rt.mem, &mut rt.timer_rem, a));
+                let (s, d) = (*s as usize, *d as usize);
+                rt.mem.words.copy_within(s..s + 2, d);
+            }
+        }
+        Op::MovDK { k, d } => {
+            if cond {
+                let d = *d as usize;
+                rt.mem.words[d] = *k as u16;
+                rt.mem.words[d + 1] = (*k >> 16) as u16;
             }
         }
         Op::Ext(x) => {
             if cond {
                 let mut cx = exec_ctx!();
                 try_op!(prog.ext[*x as usize].exec(&mut cx));
+                if rt.cpu.pending {
+                    rt.serve_requests();
+                }
             }
         }
         Op::ExtAlways(x) => {
@@ -416,6 +426,9 @@ fn op(
             } else {
                 instr.off(&mut cx)
             });
+            if rt.cpu.pending {
+                rt.serve_requests();
+            }
         }
         Op::Cj { target, always } => {
             if *always || cond {
@@ -439,7 +452,7 @@ fn op(
         Op::Call(target) => {
             if cond {
                 if rt.calls.len() >= MAX_NESTING {
-                    try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
+                    try_op!(Err::<(), _>(Fault::CallNesting));
                     return Flow::Next(next);
                 }
                 rt.calls.push((cur as u32, next as u32));
@@ -452,7 +465,7 @@ fn op(
         Op::CallFar { slot, pc: target } => {
             if cond {
                 if rt.calls.len() >= MAX_NESTING {
-                    try_op!(Err::<(), _>(ErrorCode::CALL_NESTING));
+                    try_op!(Err::<(), _>(Fault::CallNesting));
                     return Flow::Next(next);
                 }
                 rt.calls.push((cur as u32, next as u32));
@@ -473,12 +486,12 @@ fn op(
             }
         }
         // Linking replaces every CallCommon; one left means a bug, not input.
-        Op::CallCommon(_) => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
+        Op::CallCommon(_) => try_op!(Err::<(), _>(Fault::NoProgram)),
         Op::Ret => match rt.calls.pop() {
             // RET to another file: back to the nested pass that called it.
             Some((slot, _)) if slot as usize != cur => return Flow::Done(Outcome::Return),
             Some((_, ret)) => next = ret as usize,
-            None => try_op!(Err::<(), _>(ErrorCode::RET_IN_MAIN)),
+            None => try_op!(Err::<(), _>(Fault::RetInMain)),
         },
         // FOR n: n of 0 or less runs once.
         Op::For(n) => {
@@ -490,7 +503,7 @@ fn op(
                 }
             };
             if rt.fors.len() >= MAX_NESTING {
-                try_op!(Err::<(), _>(ErrorCode::FOR_NESTING));
+                try_op!(Err::<(), _>(Fault::ForNesting));
                 return Flow::Next(next);
             }
             rt.fors.push((next as u32, n));
@@ -506,7 +519,7 @@ fn op(
                     rt.fors.pop();
                 }
             }
-            None => try_op!(Err::<(), _>(ErrorCode::NEXT_WITHOUT_FOR)),
+            None => try_op!(Err::<(), _>(Fault::NextWithoutFor)),
         },
         // BREAK d p: ends the innermost FOR, storing the repetitions left
         // (the interrupted one included) in d, and jumps to p.
@@ -517,7 +530,7 @@ fn op(
                         try_op!(rt.mem.write16(&b.0, left as u16));
                         next = b.1 as usize;
                     }
-                    None => try_op!(Err::<(), _>(ErrorCode::BREAK_WITHOUT_FOR)),
+                    None => try_op!(Err::<(), _>(Fault::BreakWithoutFor)),
                 }
             }
         }
@@ -528,72 +541,17 @@ fn op(
         }
         Op::Fend | Op::End => {
             // A scan longer than the watchdog is WDT ERROR even without a loop.
-            if rt.wdt_start.elapsed() > k.watchdog {
-                return Flow::Done(Outcome::Fault(ErrorCode::WDT, cur, pc));
+            if rt.cpu.watchdog_start.elapsed() > k.watchdog {
+                return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
             }
             return Flow::Done(rt.end_checks(cur, pc));
         }
         Op::Nop => {}
-        Op::Interrupts { enable, always } => {
-            if *always || cond {
-                rt.set_ei(*enable);
-            }
-        }
-        Op::Imask(s) => {
-            if cond {
-                try_op!(rt.imask(s));
-            }
-        }
         Op::Iret => {
             if rt.in_interrupt {
                 return Flow::Done(Outcome::End);
             }
-            try_op!(Err::<(), _>(ErrorCode::IRET_IN_MAIN));
-        }
-        Op::Ann { kind, n } => {
-            rt.annunciator(*kind, *n, cond);
-        }
-        Op::ProgCtl { kind, name } => {
-            if cond {
-                match rt.type_requests.get_mut(*name as usize) {
-                    Some(r) => *r = Some(*kind),
-                    None => try_op!(Err::<(), _>(ErrorCode::NO_PROGRAM)),
-                }
-            }
-        }
-        Op::Wdt => {
-            if cond {
-                rt.wdt_start = Instant::now();
-            }
-        }
-        Op::Duty(d) => {
-            if cond {
-                let n1 = rt.mem.read16(&d.0).map(|v| v as i16);
-                let n2 = rt.mem.read16(&d.1).map(|v| v as i16);
-                match (n1, n2) {
-                    (Ok(n1), Ok(n2)) if n1 >= 0 && n2 >= 0 => {
-                        let k = d.2 as usize;
-                        let count = rt.duty[k].map_or(0, |c| c.2);
-                        rt.duty[k] = Some((n1 as u16, n2 as u16, count));
-                    }
-                    (Err(code), _) | (_, Err(code)) => try_op!(Err::<(), _>(code)),
-                    _ => try_op!(Err::<(), _>(ErrorCode::OPERATION)),
-                }
-            }
-        }
-        Op::Trace { reset } => {
-            if cond {
-                if *reset {
-                    rt.trace_reset = true;
-                } else {
-                    rt.trace_trigger = true;
-                }
-            }
-        }
-        Op::Ledr => {
-            if cond {
-                rt.ledr();
-            }
+            try_op!(Err::<(), _>(Fault::IretInMain));
         }
     }
     Flow::Next(next)

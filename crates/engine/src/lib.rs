@@ -10,7 +10,6 @@
 mod cpu;
 mod exec;
 mod link;
-mod special;
 pub mod tier;
 pub mod trace;
 
@@ -22,9 +21,11 @@ pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
 
 use exec::Outcome;
+use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 pub use softplc_ir::profile::Profile;
+use softplc_ir::system::{ErrorReport, Severity};
 
 /// Operating state of the CPU (004 §4.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,9 +130,9 @@ pub struct CpuConfig {
     /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
     pub interrupt_periods: [Duration; 4],
     pub initial_values: Vec<InitialValue>,
-    /// The family's system devices and error numbering; `None` is MELSEC-Q's
-    /// (`special.rs`). The APLC dialect passes its own.
-    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
+    /// The family's system devices and error numbering (the profile's
+    /// default, or one built with the project's parameters).
+    pub system: std::sync::Arc<dyn softplc_ir::system::System>,
 }
 
 impl CpuConfig {
@@ -180,12 +181,10 @@ pub(crate) struct Runtime {
     pub mem: DeviceMemory,
     /// Clock reading at the start of this scan, µs.
     pub now_us: u64,
-    /// The calendar clock (SD210-SD213, DATERD/DATEWR).
+    /// The calendar clock (the system's clock registers, DATERD/DATEWR).
     pub clock: calendar::PlcClock,
     /// CPU-wide state of family instructions (see `ExecCtx::shared`).
     pub shared: Box<[u32]>,
-    /// Sub-unit remainder of each timer, µs (T then ST).
-    pub timer_rem: Box<[u32]>,
     /// [low, high] timer bases in µs.
     pub timer_base_us: [u32; 2],
     /// Scan time measured at the previous END, µs; added by OUT T.
@@ -197,8 +196,6 @@ pub(crate) struct Runtime {
     pub fors: Vec<(u32, i16)>,
     pub stop_request: bool,
     pub watchdog: Duration,
-    /// Wall-clock start of the watchdog: the scan's start, or the last WDT.
-    pub wdt_start: std::time::Instant,
     /// Set by the host to stop the CPU even inside an endless loop; checked
     /// with the watchdog on backward jumps (`Cpu::abort_handle`).
     pub abort: std::sync::Arc<std::sync::atomic::AtomicBool>,
@@ -207,67 +204,73 @@ pub(crate) struct Runtime {
     pub error: Option<CpuError>,
     /// Error history, oldest first, at most [`HISTORY_LEN`] entries.
     pub history: std::collections::VecDeque<HistoryEntry>,
-    /// EI state (SM715) and the IMASK pattern, one enable bit per I0-I255.
-    pub ei: bool,
-    pub imask: [u16; 16],
     /// An interrupt program is running (IRET ends it).
     pub in_interrupt: bool,
-    /// Execution-type change requested for each program slot, applied at END.
-    pub type_requests: Box<[Option<softplc_ir::ops::TypeChange>]>,
+    /// What CPU-function instructions change: the watchdog start, the
+    /// interrupt enable and mask, execution-type requests, the trace
+    /// requests, the timers' remainders.
+    pub cpu: CpuServices,
     /// Running a program for POFF: every condition forced OFF.
     pub force_off: bool,
-    /// User timing clocks set by DUTY: (ON scans, OFF scans, scans counted),
-    /// SM420-SM424 then SM430-SM434; `None` until DUTY runs.
-    pub duty: [Option<(u16, u16, u32)>; 10],
-    /// TRACE / TRACER executed this scan (applied at END).
-    pub trace_trigger: bool,
-    pub trace_reset: bool,
     /// See [`CpuConfig::system`].
-    pub system: Option<std::sync::Arc<dyn softplc_ir::system::System>>,
+    pub system: std::sync::Arc<dyn softplc_ir::system::System>,
+    /// The system's own state words (`System::state_words`).
+    pub system_state: Box<[u32]>,
+    /// Input image: what the input modules present; copied to X at input
+    /// refresh.
+    pub inputs: Box<[bool]>,
+    /// Forced X/Y (`cpu/force.rs`).
+    pub forces: Vec<cpu::Force>,
 }
 
 /// Entries kept in the error history (004 §7.20.2).
 pub const HISTORY_LEN: usize = 16;
 
 impl Runtime {
-    /// Records a fault in SM0/SM1/SD0 and the error-location registers; returns
-    /// true when the CPU must stop (004 §7.20).
+    /// Records a fault of op `pc` in the system devices (the error code and
+    /// where it happened); returns true when the CPU must stop
+    /// (004 §7.20).
     #[cold]
     #[inline(never)]
-    pub(crate) fn record_fault(&mut self, prog: &Program, code: ErrorCode, pc: usize) -> bool {
+    pub(crate) fn record_fault(&mut self, prog: &Program, fault: Fault, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
-        self.record(code, Some(file), step, line);
-        if let Some(s) = &self.system {
-            return s.code(code).is_some_and(|c| s.stops(c));
+        match self.record(fault, Some(file), step, line, None) {
+            None => false,
+            Some(code) => match self.severity(code) {
+                Severity::Stop => true,
+                Severity::Continue => false,
+                Severity::Operation => self.operation_error == ErrorMode::Stop,
+            },
         }
-        !(code.is_operation_error() && self.operation_error == ErrorMode::Continue)
     }
 
-    /// Records a self-diagnostic error: SM0/SM1, SD0-SD26 and the error history.
+    /// What error `code` does to the CPU.
+    pub(crate) fn severity(&self, code: ErrorCode) -> Severity {
+        self.system.severity(code)
+    }
+
+    /// Records a self-diagnostic error in the system devices, the latest
+    /// error and the error history; the code recorded, `None` when `fault`
+    /// is no error in this family.
     pub(crate) fn record(
         &mut self,
-        code: ErrorCode,
+        fault: Fault,
         file: Option<&str>,
         step: Option<u32>,
         line: Option<u32>,
-    ) {
+        detail: Option<u32>,
+    ) -> Option<ErrorCode> {
         let now = self.clock.now(self.now_us);
-        let code = match &self.system {
-            Some(s) => {
-                // `None`: not an error in this family (the APLC's constant
-                // scan overrun, L950).
-                let Some(code) = s.code(code) else {
-                    return;
-                };
-                s.report_error(&mut self.mem, code);
-                code
-            }
-            None => {
-                special::report_error(&mut self.mem, code, file.unwrap_or(""), step, &now);
-                code
-            }
+        let code = self.system.code(fault)?;
+        let report = ErrorReport {
+            code,
+            file,
+            step,
+            at: now,
+            detail,
         };
+        self.system.report_error(&mut self.mem, &report);
         self.error = Some(CpuError {
             code,
             step,
@@ -280,90 +283,60 @@ impl Runtime {
         self.history.push_back(HistoryEntry {
             code,
             time: now.to_unix(),
-            detail: step,
+            detail: detail.or(step),
         });
+        Some(code)
     }
 
-    /// EI / DI (SM715 is ON in EI).
-    pub(crate) fn set_ei(&mut self, on: bool) {
-        self.ei = on;
-        let _ = self.mem.set_bit(DeviceKind::SM, 715, on);
-    }
-
-    /// IMASK: 16 words of enable bits for I0-I255, mirrored in SD715-SD717
-    /// (I0-I47) and SD781-SD793 (I48-I255).
-    pub(crate) fn imask(&mut self, s: &softplc_ir::ops::WordArg) -> Result<(), Fault> {
-        let softplc_ir::ops::WordArg::Word(first) = s else {
-            return Err(ErrorCode::RANGE);
-        };
-        let first = *first as usize;
-        let words: [u16; 16] = std::array::from_fn(|k| self.mem.words[first + k]);
-        self.imask = words;
-        for (k, w) in words.iter().enumerate() {
-            let sd = if k < 3 { 715 + k } else { 781 + k - 3 };
-            let _ = self.mem.set_word(DeviceKind::SD, sd as i64, *w);
-        }
-        Ok(())
-    }
-
-    /// Interrupt pointer `n` is enabled by EI and its IMASK bit.
-    pub(crate) fn interrupt_enabled(&self, n: usize) -> bool {
-        self.ei && self.imask[n / 16] >> (n % 16) & 1 != 0
-    }
-
-    /// OUT/SET/RST of annunciator F`n` (004 §10.2.4): turning it ON through OUT or
-    /// SET appends it to SD64-SD79 (SD62 first, SD63 count, SM62 ON) and logs error
-    /// 9000; RST removes it; OUT turning it OFF does no list processing.
-    pub(crate) fn annunciator(&mut self, kind: softplc_ir::ops::AnnKind, n: u16, cond: bool) {
-        use softplc_ir::ops::AnnKind;
-        let was = self.mem.get_bit(DeviceKind::F, n as i64).unwrap_or(false);
-        match kind {
-            AnnKind::Out => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, cond);
-                if cond && !was {
-                    self.annunciator_on(n);
-                }
-            }
-            AnnKind::Set if cond && !was => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, true);
-                self.annunciator_on(n);
-            }
-            AnnKind::Rst if cond => {
-                let _ = self.mem.set_bit(DeviceKind::F, n as i64, false);
-                special::annunciator_remove(&mut self.mem, n);
-            }
-            _ => {}
+    /// Input refresh: the input image into X, forced inputs kept forced
+    /// (at the start of a scan, and when an instruction asks mid-scan).
+    pub(crate) fn refresh_inputs(&mut self) {
+        let xb = self.mem.map.base(DeviceKind::X) as usize;
+        self.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        if !self.forces.is_empty() {
+            self.apply_forces(DeviceKind::X);
         }
     }
 
-    fn annunciator_on(&mut self, n: u16) {
-        special::annunciator_add(&mut self.mem, n);
-        self.record(ErrorCode::ANNUNCIATOR, None, None, None);
-        if let Some(h) = self.history.back_mut() {
-            h.detail = Some(n as u32);
+    /// Forced points of `kind` take their forced value; the value under the
+    /// force is kept.
+    pub(crate) fn apply_forces(&mut self, kind: DeviceKind) {
+        for f in &mut self.forces {
+            if f.kind == kind {
+                f.under = self.mem.bits[f.bit];
+                self.mem.bits[f.bit] = f.on;
+            }
         }
-        // SD4 individual information 6: annunciator number in SD16.
-        let _ = self.mem.set_word(DeviceKind::SD, 4, 0x0600);
-        let _ = self.mem.set_word(DeviceKind::SD, 16, n);
     }
 
-    /// LEDR: turns OFF the annunciator shown first (SD62) and removes it.
-    pub(crate) fn ledr(&mut self) {
-        let first = self.mem.get_word(DeviceKind::SD, 64).unwrap_or(0);
-        if self.mem.get_word(DeviceKind::SD, 63).unwrap_or(0) > 0 {
-            let _ = self.mem.set_bit(DeviceKind::F, first as i64, false);
-            special::annunciator_remove(&mut self.mem, first);
+    /// Serves what an instruction asked for when it returns
+    /// ([`CpuServices::pending`]): an input refresh, a continuation error.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn serve_requests(&mut self) {
+        self.cpu.pending = false;
+        if std::mem::take(&mut self.cpu.input_refresh) {
+            self.refresh_inputs();
+        }
+        self.record_report();
+    }
+
+    /// Records the continuation error an instruction reported
+    /// ([`CpuServices::report`]): an annunciator and its number.
+    fn record_report(&mut self) {
+        if let Some((fault, detail)) = self.cpu.report.take() {
+            self.record(fault, None, None, None, Some(detail));
         }
     }
 
     /// END/FEND reached: a subroutine without RET or a FOR without NEXT is an error.
     pub(crate) fn end_checks(&mut self, slot: usize, pc: usize) -> Outcome {
         let code = if self.in_interrupt {
-            ErrorCode::NO_IRET
+            Fault::NoIret
         } else if !self.calls.is_empty() {
-            ErrorCode::NO_RET
+            Fault::NoRet
         } else if !self.fors.is_empty() {
-            ErrorCode::FOR_WITHOUT_NEXT
+            Fault::ForWithoutNext
         } else {
             return Outcome::End;
         };

@@ -1,13 +1,16 @@
 //! Linking the program files of a CPU: what one file refers to in another is
 //! resolved when the CPU is built, never while scanning.
 //!
-//! - PSCAN/PSTOP/POFF/PLOW name a program file (its name without extension).
+//! - Instructions that name a program file (PSCAN/PSTOP/POFF/PLOW: its name
+//!   without extension) find its slot (`Instr::link`).
 //! - CALL of a common pointer (from the "common pointer" parameter up to P4095,
 //!   004 §10.9.2) reaches a subroutine in any file, typically a standby program.
 //! - Each interrupt pointer and each common pointer may be defined once across
-//!   all programs (004 L1201-1226; error 4021 for common pointers).
+//!   all programs (004 L1201-1226; the family's error for common pointers).
 
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Op, Program};
+use softplc_ir::system::System;
 
 /// A program's name: the file name without directory and extension, upper case
 /// (`main.il` → `MAIN`).
@@ -21,7 +24,10 @@ pub(crate) fn program_name(file: &str) -> String {
 
 /// Resolves cross-file references in place; returns the interrupt table
 /// (In → (program, op index)).
-pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>, String> {
+pub(crate) fn link(
+    programs: &mut [Program],
+    system: &dyn System,
+) -> Result<Vec<Option<(usize, u32)>>, String> {
     let names: Vec<String> = programs.iter().map(|p| program_name(&p.file)).collect();
     let mut interrupts: Vec<Option<(usize, u32)>> = vec![None; 256];
     let mut common: std::collections::HashMap<u32, (usize, u32)> = Default::default();
@@ -37,37 +43,32 @@ pub(crate) fn link(programs: &mut [Program]) -> Result<Vec<Option<(usize, u32)>>
         }
         for &(n, pc) in &p.common_labels {
             if let Some((j, _)) = common.insert(n, (i, pc)) {
+                let code = system
+                    .code(Fault::PointerTwice)
+                    .map_or(String::new(), |c| format!(" (error {})", c.0));
                 return Err(format!(
-                    "common pointer P{n} is defined in {} and in {} (error 4021)",
+                    "common pointer P{n} is defined in {} and in {}{code}",
                     programs[j].file, p.file
                 ));
             }
         }
     }
     for p in programs.iter_mut() {
+        for x in &mut p.ext {
+            x.link(&names);
+        }
         let file = p.file.clone();
         for op in &mut p.ops {
-            match op {
-                Op::ProgCtl { name, .. } => {
-                    let wanted = &p.prog_names[*name as usize];
-                    // An unknown name stays out of range: error 2410 when executed.
-                    *name = names
-                        .iter()
-                        .position(|m| m == wanted)
-                        .map_or(u32::MAX, |i| i as u32);
-                }
-                Op::CallCommon(n) => {
-                    let Some(&(slot, pc)) = common.get(n) else {
-                        return Err(format!(
-                            "{file}: CALL P{n}: no program defines the common pointer P{n}"
-                        ));
-                    };
-                    *op = Op::CallFar {
-                        slot: slot as u16,
-                        pc,
-                    };
-                }
-                _ => {}
+            if let Op::CallCommon(n) = op {
+                let Some(&(slot, pc)) = common.get(n) else {
+                    return Err(format!(
+                        "{file}: CALL P{n}: no program defines the common pointer P{n}"
+                    ));
+                };
+                *op = Op::CallFar {
+                    slot: slot as u16,
+                    pc,
+                };
             }
         }
     }

@@ -2,11 +2,13 @@
 //! scan (or every n-th scan), up to 50 bit and 50 word devices and 8192 samples,
 //! with an optional trigger after which a set number of samples completes the
 //! trace. Samples go into a ring buffer allocated once, so tracing does not
-//! allocate while scanning. SM800 (ready), SM802 (executing), SM803 (trigger),
-//! SM804 (after trigger) and SM805 (complete) show its state.
+//! allocate while scanning. The family's relays ([`TraceRelays`]: MELSEC's
+//! SM800-SM805) show its state: ready, executing, trigger, after trigger,
+//! complete; turning the trigger relay ON triggers it.
 
 use softplc_ir::access::{DeviceSpec, Value, ValueType};
-use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::device::DeviceMemory;
+use softplc_ir::system::TraceRelays;
 
 /// Limits of the Q CPU's sampling trace.
 pub const MAX_BIT_DEVICES: usize = 50;
@@ -25,9 +27,9 @@ pub struct TraceConfig {
     /// Ring-buffer size in samples (1..=8192).
     pub capacity: usize,
     /// Trigger: when this bit device turns ON (a rising edge: a condition already
-    /// true at the start is not recognised, L4762), or SM803 turns ON, or TRACE
-    /// executes, `after_trigger` more samples are taken and the trace completes.
-    /// `None`: only SM803/TRACE trigger it.
+    /// true at the start is not recognised, L4762), or the trigger relay turns
+    /// ON, or TRACE executes, `after_trigger` more samples are taken and the
+    /// trace completes. `None`: only the trigger relay and TRACE trigger it.
     pub trigger: Option<DeviceSpec>,
     pub after_trigger: usize,
 }
@@ -73,9 +75,11 @@ pub struct Trace {
     countdown: u32,
     /// Engine time of the last sample (interval trace point).
     last_sample_us: Option<u64>,
-    /// Trigger device and SM803 at the previous END (edges).
+    /// Trigger device and trigger relay at the previous END (edges).
     trigger_before: bool,
-    sm803_before: bool,
+    relay_before: bool,
+    /// The relays showing the trace's state (set by the CPU).
+    relays: Option<TraceRelays>,
     /// Samples still to take after the trigger; `None` before the trigger.
     remaining: Option<usize>,
     complete: bool,
@@ -93,38 +97,49 @@ impl Trace {
             countdown: 0,
             last_sample_us: None,
             trigger_before: true,
-            sm803_before: true,
+            relay_before: true,
+            relays: None,
             remaining: None,
             complete: false,
             cfg,
         })
     }
 
+    /// The same trace shown by `relays`.
+    pub(crate) fn with_relays(mut self, relays: Option<TraceRelays>) -> Trace {
+        self.relays = relays;
+        self
+    }
+
+    /// Sets the relay `pick` chooses, if the trace has relays.
+    fn show(&self, mem: &mut DeviceMemory, pick: fn(&TraceRelays) -> u32, v: bool) {
+        if let Some(r) = &self.relays {
+            mem.bits[pick(r) as usize] = v;
+        }
+    }
+
     /// END processing: takes a sample when due.
     pub(crate) fn sample(&mut self, mem: &mut DeviceMemory, scan: u64, now_us: u64) {
-        let sm = |mem: &mut DeviceMemory, n: i64, v: bool| {
-            let _ = mem.set_bit(DeviceKind::SM, n, v);
-        };
-        sm(mem, 800, true);
+        self.show(mem, |r| r.ready, true);
         if self.complete {
             return;
         }
-        sm(mem, 802, true);
-        // Trigger on a rising edge of the trigger device or of SM803.
+        self.show(mem, |r| r.executing, true);
+        // Trigger on a rising edge of the trigger device or of the trigger relay.
         let dev = self
             .cfg
             .trigger
             .as_ref()
             .is_some_and(|t| matches!(t.read(mem), Ok(Value::Bool(true))));
-        let sm803 = mem.get_bit(DeviceKind::SM, 803).unwrap_or(false);
-        let fired = dev && !self.trigger_before || sm803 && !self.sm803_before;
-        (self.trigger_before, self.sm803_before) = (dev, sm803);
+        let relay = self.relays.is_some_and(|r| mem.bits[r.trigger as usize]);
+        let fired = dev && !self.trigger_before || relay && !self.relay_before;
+        (self.trigger_before, self.relay_before) = (dev, relay);
         if fired {
             self.trigger();
-            sm(mem, 803, true);
+            self.show(mem, |r| r.trigger, true);
         }
         if self.remaining.is_some() {
-            sm(mem, 804, true);
+            self.show(mem, |r| r.after_trigger, true);
         }
         let due = match self.cfg.interval_us {
             Some(iv) => {
@@ -159,8 +174,8 @@ impl Trace {
         }
         if self.remaining == Some(0) {
             self.complete = true;
-            sm(mem, 802, false);
-            sm(mem, 805, true);
+            self.show(mem, |r| r.executing, false);
+            self.show(mem, |r| r.complete, true);
         }
     }
 
@@ -172,9 +187,9 @@ impl Trace {
         self.last_sample_us = None;
         self.remaining = None;
         self.complete = false;
-        for n in [803, 804, 805] {
-            let _ = mem.set_bit(DeviceKind::SM, n, false);
-        }
+        self.show(mem, |r| r.trigger, false);
+        self.show(mem, |r| r.after_trigger, false);
+        self.show(mem, |r| r.complete, false);
     }
 
     /// The TRACE instruction or a trigger operation: starts the after-trigger count.

@@ -169,7 +169,7 @@ fn error_json(s: &ServeState) -> Json_ {
     s.cpu.error().map_or(Json_::Null, |e| {
         json!({
             "code": e.code.0,
-            "message": e.code.message(),
+            "message": s.cpu.error_message(e.code),
             "step": if steps { e.step } else { None },
             "file": e.file,
             "line": e.line,
@@ -201,7 +201,7 @@ async fn status(State(app): Shared) -> Response {
             .cpu
             .history()
             .map(|h| {
-                json!({"code": h.code.0, "message": h.code.message(), "time": h.time, "detail": h.detail})
+                json!({"code": h.code.0, "message": s.cpu.error_message(h.code), "time": h.time, "detail": h.detail})
             })
             .collect();
         json!({

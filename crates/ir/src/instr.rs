@@ -5,6 +5,7 @@
 use std::fmt::Debug;
 
 use crate::calendar::PlcClock;
+use crate::cpu::CpuServices;
 use crate::device::DeviceMemory;
 use crate::fault::Fault;
 
@@ -23,6 +24,9 @@ pub struct ExecCtx<'a> {
     pub shared: &'a mut [u32],
     /// The calendar clock (read with `clock.now(now_us)`, set by DATEWR).
     pub clock: &'a mut PlcClock,
+    /// What the engine does for CPU-function instructions (watchdog,
+    /// interrupts, execution types, trace, timers, error reports).
+    pub cpu: &'a mut CpuServices,
 }
 
 /// A compiled application instruction of a family module.
@@ -36,6 +40,11 @@ pub trait Instr: Debug + Send + Sync {
     fn off(&self, _cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         Ok(())
     }
+
+    /// Resolves what the instruction names in other program files when the
+    /// CPU is built: `programs` are the CPU's program names (file names
+    /// without extension, upper case) in slot order.
+    fn link(&mut self, _programs: &[String]) {}
 }
 
 /// The state an instruction keeps between executions (the CPU's per-instruction

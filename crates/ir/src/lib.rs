@@ -11,6 +11,7 @@
 pub mod access;
 pub mod calendar;
 pub mod clock;
+pub mod cpu;
 pub mod device;
 pub mod fault;
 pub mod instr;

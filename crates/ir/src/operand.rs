@@ -1,9 +1,9 @@
 //! Reading and writing resolved operands. Index-modified operands are bounds
-//! checked here: an effective device outside its range is error 4101, never a panic.
+//! checked here: an effective device outside its range is `Fault::Range`, never a panic.
 
 use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
-use crate::fault::{ErrorCode, Fault};
+use crate::fault::Fault;
 use crate::ops::{BitArg, BitBlock, Block, Indexed, IndexedKind, WordArg};
 
 impl DeviceMemory {
@@ -14,14 +14,14 @@ impl DeviceMemory {
             Indexed::NONE => 0,
             z => self.words[z as usize] as i16 as i64,
         };
-        // R: the block SD648 selects (`ix.block` is SD648's index).
+        // R: the block the selector word holds.
         let block = match ix.block {
             Indexed::NONE => 0,
-            b => self.words[b as usize],
+            _ => crate::access::selected_block(self),
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         Ok((ix.base as i64 + n) as usize)
     }
@@ -36,21 +36,21 @@ impl DeviceMemory {
     }
 
     /// Flat word index of the first of `n` words of a block operand; a block that
-    /// would run past the last point of its device is 4101.
+    /// would run past the last point of its device is `Fault::Range`.
     pub fn block_start(&self, b: &Block, n: u32) -> Result<usize, Fault> {
         match &b.start {
             WordArg::Word(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
             WordArg::Indexed(ix) => self.indexed(ix, n),
-            _ => Err(ErrorCode::RANGE),
+            _ => Err(Fault::Range),
         }
     }
 
-    /// Flat bit index of the first of `n` bits of a bit block (4101 past the end).
+    /// Flat bit index of the first of `n` bits of a bit block (`Fault::Range` past the end).
     pub fn bit_block_start(&self, b: &BitBlock, n: u32) -> Result<usize, Fault> {
         match &b.start {
             BitArg::Bit(i) if *i as u64 + n as u64 <= b.limit as u64 => Ok(*i as usize),
             BitArg::Indexed(ix) => self.indexed(ix, n),
-            _ => Err(ErrorCode::RANGE),
+            _ => Err(Fault::Range),
         }
     }
 
@@ -102,13 +102,13 @@ impl DeviceMemory {
     }
 
     /// Reads a real operand: ±∞ and NaN are not real numbers for the CPU (004 §2.8)
-    /// and give 4100; denormals read as 0.
+    /// and give `Fault::Operation`; denormals read as 0.
     #[inline]
     pub fn read_f32(&self, a: &WordArg) -> Result<f32, Fault> {
         let bits = self.read32(a)?;
         let exp = (bits >> 23) & 0xFF;
         match exp {
-            0xFF => Err(ErrorCode::OPERATION),
+            0xFF => Err(Fault::Operation),
             0 => Ok(0.0),
             _ => Ok(f32::from_bits(bits)),
         }
@@ -186,11 +186,11 @@ impl DeviceMemory {
         Ok(())
     }
 
-    /// Writes a real result: overflow (±∞, NaN) is 4100; underflow becomes 0.
+    /// Writes a real result: overflow (±∞, NaN) is `Fault::Operation`; underflow becomes 0.
     #[inline]
     pub fn write_f32(&mut self, a: &WordArg, v: f32) -> Result<(), Fault> {
         if !v.is_finite() {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = if v.abs() < f32::MIN_POSITIVE { 0.0 } else { v };
         self.write32(a, v.to_bits())

@@ -52,13 +52,15 @@ pub struct Indexed {
     pub points: u32,
     /// Flat word index of the index register `Zn`, or [`Indexed::NONE`].
     pub z: u32,
-    /// Flat word index of SD648 (the file-register block number) for `R`
-    /// operands, or [`Indexed::NONE`].
+    /// [`Indexed::SELECTED_BLOCK`] for `R` operands (they add the
+    /// file-register block the CPU's selector word holds), else
+    /// [`Indexed::NONE`].
     pub block: u32,
 }
 
 impl Indexed {
     pub const NONE: u32 = u32::MAX;
+    pub const SELECTED_BLOCK: u32 = 0;
 }
 
 /// A resolved word operand; 16-bit instructions use the low word of a constant.
@@ -208,55 +210,11 @@ pub enum ArithOp {
     Div,
 }
 
-/// Application instructions that run when their condition is on.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Apply {
-    /// MOV / DMOV / EMOV: copy 1 or 2 words.
-    Mov { words: u8, s: WordArg, d: WordArg },
-    /// `+ - * /` and their D and E forms.
-    Arith {
-        op: ArithOp,
-        num: Num,
-        s1: WordArg,
-        s2: WordArg,
-        d: WordArg,
-    },
-    /// INC/DEC/DINC/DDEC.
-    Step { num: Num, delta: i32, d: WordArg },
-    /// FLT / DFLT: BIN to real.
-    Flt { num: Num, s: WordArg, d: WordArg },
-    /// INT / DINT: real to BIN, rounded.
-    Int { num: Num, s: WordArg, d: WordArg },
-    /// RST timer/counter.
-    ResetTc(ResetTc),
-}
-
 /// `MC n dev` (master control).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MasterControl {
     pub level: u8,
     pub dst: BitArg,
-}
-
-/// Annunciator coil kinds (OUT F, SET F, RST F).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AnnKind {
-    Out,
-    Set,
-    Rst,
-}
-
-/// Execution-type changes (004 §4.2.6, qcpu.md §2.2 table).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TypeChange {
-    /// PSCAN: becomes a scan program.
-    Scan,
-    /// PSTOP: becomes a standby program.
-    Standby,
-    /// POFF: its outputs are turned OFF at the next scan, then standby.
-    Off,
-    /// PLOW: becomes a low-speed program.
-    LowSpeed,
 }
 
 /// One compiled operation. `Op` is 16 bytes.
@@ -311,7 +269,16 @@ pub enum Op {
         s: u32,
         d: u32,
     },
-    Apply(Box<Apply>),
+    /// `DMOV S D` between plain word devices (two words, low first).
+    MovD {
+        s: u32,
+        d: u32,
+    },
+    /// `DMOV K s D` / `EMOV E s D` into a plain word pair, low word first.
+    MovDK {
+        k: u32,
+        d: u32,
+    },
     /// An instruction of a family module: index into [`Program::ext`]; runs
     /// while the condition is ON.
     Ext(u32),
@@ -346,39 +313,8 @@ pub enum Op {
     End,
     Stop,
     Nop,
-    // --- interrupts and diagnostics ---
-    /// EI (`enable`) / DI: enable or disable interrupts; `always` when written
-    /// without a contact (at the start of a rung), else driven by the condition.
-    Interrupts {
-        enable: bool,
-        always: bool,
-    },
-    /// IMASK s: 16 words, one enable bit per interrupt pointer I0-I255.
-    Imask(Box<WordArg>),
     /// End of an interrupt program.
     Iret,
-    /// OUT/SET/RST of annunciator F`n`.
-    Ann {
-        kind: AnnKind,
-        n: u16,
-    },
-    /// LEDR: resets the first annunciator on the list.
-    Ledr,
-    /// PSCAN/PSTOP/POFF/PLOW: change a program's execution type at END; `name`
-    /// indexes [`Program::prog_names`] until the CPU resolves it to a program slot.
-    ProgCtl {
-        kind: TypeChange,
-        name: u32,
-    },
-    /// WDT: resets the watchdog timer (not the scan-time measurement).
-    Wdt,
-    /// DUTY n1 n2 SM42x: user timing clock `clock` (0-4 = SM420-SM424, 5-9 =
-    /// SM430-SM434) ON for n1 scans, OFF for n2 scans.
-    Duty(Box<(WordArg, WordArg, u8)>),
-    /// TRACE (trigger the sampling trace) / TRACER (reset it).
-    Trace {
-        reset: bool,
-    },
 }
 
 /// FOR/NEXT and CALL nesting (programming manual: 16 levels).
@@ -386,7 +322,7 @@ pub const MAX_NESTING: usize = 16;
 
 /// A word-device block operand whose length is known only at run time (BMOV,
 /// FMOV, SUM …): the first word and the flat index one past the device's last
-/// point, which a block may not cross (4101).
+/// point, which a block may not cross (`Fault::Range`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Block {
     pub start: WordArg,
@@ -430,8 +366,6 @@ pub struct Program {
     /// CPU-wide state words ([`crate::instr::ExecCtx::shared`]) its instructions
     /// use; the CPU allocates the largest need of its programs.
     pub shared_words: u32,
-    /// Program names referenced by PSCAN/PSTOP/POFF/PLOW (upper case).
-    pub prog_names: Vec<String>,
     /// Common pointers defined in this file: (Pn, op index).
     pub common_labels: Vec<(u32, u32)>,
     /// Interrupt pointers of this file: (In, op index), ascending.

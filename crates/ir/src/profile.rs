@@ -40,7 +40,7 @@ pub struct Profile {
     pub doors: Doors,
     /// The model's system devices and error numbering with default
     /// parameters (a loader with the project's parameters builds its own).
-    pub default_system: fn() -> Option<Arc<dyn System>>,
+    pub default_system: fn() -> Arc<dyn System>,
 }
 
 impl fmt::Debug for Profile {

@@ -1,10 +1,12 @@
-//! The seam for a PLC family's system devices: what the engine writes into
-//! special relays and registers around each scan and when an error is
-//! recorded. MELSEC-Q's are the engine's own (`engine/special.rs`, used when a
-//! CPU has no [`System`]); another dialect (the APLC) provides its own.
+//! The seam for a PLC family's system: what the engine writes into special
+//! relays and registers around each scan and when an error is recorded, and
+//! how the family numbers errors. The engine names no system device; each
+//! dialect implements [`System`] (MELSEC-Q's in `softplc-melsec`'s
+//! `system`, the APLC's in `softplc-aplc`'s `system`).
 
-use crate::device::DeviceMemory;
-use crate::fault::ErrorCode;
+use crate::calendar::{DateTime, PlcClock};
+use crate::device::{DeviceMap, DeviceMemory};
+use crate::fault::{ErrorCode, Fault};
 
 /// Scan times measured at END, µs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -14,25 +16,156 @@ pub struct ScanTimes {
     pub max_us: u64,
 }
 
+/// What an error does to the CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    /// The CPU stops (until RESET).
+    Stop,
+    /// The CPU keeps running (a continuation error).
+    Continue,
+    /// An operation error: stops or continues as the CPU's "operation error"
+    /// parameter says.
+    Operation,
+}
+
+/// The operating state a system shows (004 §4.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    Run,
+    Stop,
+    Pause,
+}
+
+/// The start of a scan, before the programs run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ScanStart {
+    /// Engine time since power-on and since the last STOP→RUN, µs.
+    pub since_power_on_us: u64,
+    pub since_run_us: u64,
+    /// The first scan after power-on, RESET or STOP→RUN.
+    pub first_scan: bool,
+}
+
+/// END processing of a scan.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct End {
+    /// The END of the initial programs' scan: `times.current_us` is the
+    /// initial scan time, min/max are not updated.
+    pub initial: bool,
+    pub times: ScanTimes,
+    /// Engine time since the last STOP→RUN, µs.
+    pub since_run_us: u64,
+}
+
+/// An error being recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ErrorReport<'a> {
+    pub code: ErrorCode,
+    /// Source file of the failing instruction, if an instruction failed.
+    pub file: Option<&'a str>,
+    /// Its step number.
+    pub step: Option<u32>,
+    /// Calendar time of detection.
+    pub at: DateTime,
+    /// Detail an instruction reported with the error (an annunciator number).
+    pub detail: Option<u32>,
+}
+
+/// Low-speed program execution (004 §4.2.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LowSpeed {
+    /// A scan's pass of the low-speed programs starts; `first`: the first
+    /// since RUN.
+    Pass { first: bool },
+    /// Low-speed program `slot` (in parameter order, from 0) starts, or
+    /// with `None` none is running any more.
+    Running(Option<usize>),
+    /// A low-speed cycle completed, with its execution times.
+    End(ScanTimes),
+}
+
+/// Flat bit indices of the relays that show a sampling trace's state; the
+/// trigger relay is also an input (turning it ON triggers the trace).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TraceRelays {
+    pub ready: u32,
+    pub executing: u32,
+    pub trigger: u32,
+    pub after_trigger: u32,
+    pub complete: u32,
+}
+
+/// What the system sees at END besides device memory.
+pub struct EndCtx<'a> {
+    pub mem: &'a mut DeviceMemory,
+    /// The CPU-wide state of instructions (`ExecCtx::shared`): instructions
+    /// that work through the system at END (MELSEC's DUTY) keep theirs here.
+    pub shared: &'a mut [u32],
+    /// The calendar clock and the engine time now, µs.
+    pub clock: &'a mut PlcClock,
+    pub now_us: u64,
+    /// The system's own words ([`System::state_words`]), cleared at power-on.
+    pub state: &'a mut [u32],
+}
+
 /// A family's system devices and error numbering.
 pub trait System: Send + Sync + std::fmt::Debug {
-    /// Power-on (and STOP→RUN) values of the system devices.
+    /// Words of the system's own state ([`EndCtx::state`]): edge memories of
+    /// its request relays.
+    fn state_words(&self) -> usize {
+        0
+    }
+    /// The interrupt enable mask at power-on (one bit per I0-I255): all
+    /// enabled unless the family says otherwise.
+    fn interrupt_mask(&self) -> [u16; crate::cpu::INTERRUPTS / 16] {
+        [0xFFFF; crate::cpu::INTERRUPTS / 16]
+    }
+    /// Power-on (and RESET, remote latch clear) values of the system devices.
     fn power_on(&self, mem: &mut DeviceMemory);
-    /// Relays set before the program runs (always-ON, first scan, clocks).
-    fn scan_start(&self, mem: &mut DeviceMemory, since_run_us: u64, first_scan: bool);
-    /// END (housekeeping) of a scan.
-    fn scan_end(&self, mem: &mut DeviceMemory, times: ScanTimes);
-    /// The family's code for a fault the shared kernels or the engine raise
-    /// (range, operation, watchdog errors are MELSEC-numbered there); `None`
-    /// when the condition is no error in this family (nothing is recorded).
-    fn code(&self, code: ErrorCode) -> Option<ErrorCode>;
-    /// Records error `code` (already translated) in the system devices.
-    fn report_error(&self, mem: &mut DeviceMemory, code: ErrorCode);
-    /// True when error `code` stops the CPU.
-    fn stops(&self, code: ErrorCode) -> bool;
     /// Right after the device initial values were written (power-on, RESET,
     /// STOP→RUN, the restore of battery-backed memory from a state
     /// directory): data of the family that outranks them (the APLC's EEPROM
     /// image into D6000-D6999, 002 table 2-2 L971-979).
     fn initialised(&self, _mem: &mut DeviceMemory) {}
+    /// Relays set before the program runs (always-ON, first scan, clocks).
+    fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart);
+    /// END processing: scan times, counters, clock registers, and what
+    /// instructions left for END.
+    fn end(&self, cx: &mut EndCtx<'_>, end: End);
+    /// The operating state changed (or was set again).
+    fn status(&self, _mem: &mut DeviceMemory, _status: Status) {}
+    /// The family's number for `fault`; `None` when the condition is no
+    /// error in this family (nothing is recorded).
+    fn code(&self, fault: Fault) -> Option<ErrorCode>;
+    /// The family's message for error `code`.
+    fn message(&self, code: ErrorCode) -> &'static str;
+    /// What error `code` does to the CPU.
+    fn severity(&self, code: ErrorCode) -> Severity;
+    /// Records an error in the system devices.
+    fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>);
+    /// A program's request to clear the latest error `current` (MELSEC: SM50
+    /// ON with the code in SD50): `None` without a request, else whether it
+    /// names `current`. The engine acts on the request's rising edge and
+    /// clears only errors that do not stop the CPU.
+    fn error_reset(&self, _mem: &DeviceMemory, _current: Option<ErrorCode>) -> Option<bool> {
+        None
+    }
+    /// Clears the error registers after an error reset.
+    fn clear_error(&self, _mem: &mut DeviceMemory) {}
+    /// Low-speed program execution.
+    fn low_speed(&self, _mem: &mut DeviceMemory, _event: LowSpeed) {}
+    /// Low-speed programs run synchronously: at most one cycle a scan.
+    fn low_speed_synchronous(&self, _mem: &DeviceMemory) -> bool {
+        false
+    }
+    /// The word selecting the file-register block R addresses in a memory of
+    /// `map` (flat word index), `None` when R is always block 0.
+    fn r_block(&self, _map: &DeviceMap) -> Option<u32> {
+        None
+    }
+    /// The relays of the sampling trace in a memory of `map`, `None` when
+    /// the family shows none.
+    fn trace_relays(&self, _map: &DeviceMap) -> Option<TraceRelays> {
+        None
+    }
 }

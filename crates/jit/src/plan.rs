@@ -16,9 +16,7 @@
 //! native ops fewer than [`MIN_RUN`] in a row between interpreted ones are
 //! interpreted with them, and a chunk without such a run has no native code.
 
-use softplc_ir::ops::{
-    Apply, BitArg, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg,
-};
+use softplc_ir::ops::{BitArg, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg};
 
 /// Most ops compiled into one function, so compile time stays linear in the
 /// program's length (Cranelift's register allocation is superlinear in a
@@ -364,18 +362,16 @@ fn step(op: &Op, lim: Limits) -> Option<Step> {
             s: WordSrc::Word(lim.word(*s, 1)?),
             d: lim.word(*d, 1)?,
         }]),
-        Op::Apply(a) => match &**a {
-            Apply::Mov {
-                words,
-                s,
-                d: WordArg::Word(d),
-            } if *words == 1 || *words == 2 => Step::Movs(vec![Move {
-                words: *words,
-                s: lim.src(s, *words)?,
-                d: lim.word(*d, *words)?,
-            }]),
-            _ => return None,
-        },
+        Op::MovD { s, d } => Step::Movs(vec![Move {
+            words: 2,
+            s: WordSrc::Word(lim.word(*s, 2)?),
+            d: lim.word(*d, 2)?,
+        }]),
+        Op::MovDK { k, d } => Step::Movs(vec![Move {
+            words: 2,
+            s: WordSrc::Const(*k),
+            d: lim.word(*d, 2)?,
+        }]),
         _ => return None,
     })
 }
@@ -410,7 +406,6 @@ mod tests {
             edge_slots: 1,
             state_words: 0,
             shared_words: 0,
-            prog_names: vec![],
             common_labels: vec![],
             interrupts: vec![],
             ext: vec![],

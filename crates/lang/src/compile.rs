@@ -129,8 +129,6 @@ pub struct Compiler<'a> {
     pub end_seen: Option<Token>,
     pub after_end_reported: bool,
     pub fend_seen: bool,
-    /// Program names used by PSCAN/PSTOP/POFF/PLOW.
-    pub prog_names: Vec<String>,
     /// First common pointer number (`u32::MAX`: none).
     pub common_from: u32,
     /// Interrupt pointers: number → (op index, line).
@@ -169,7 +167,6 @@ impl<'a> Compiler<'a> {
             end_seen: None,
             after_end_reported: false,
             fend_seen: false,
-            prog_names: Vec::new(),
             common_from: u32::MAX,
             interrupts: HashMap::new(),
             used_devices: Vec::new(),
@@ -446,7 +443,6 @@ impl<'a> Compiler<'a> {
                 v
             },
             ext: self.ext,
-            prog_names: self.prog_names,
             common_labels: self
                 .labels
                 .iter()

@@ -65,7 +65,7 @@ impl Compiler<'_> {
                 number,
                 points: self.map.points(DeviceKind::ZR),
                 z,
-                block: self.map.base(DeviceKind::SD) + softplc_ir::access::SD_R_BLOCK,
+                block: Indexed::SELECTED_BLOCK,
             });
         }
         Box::new(Indexed {

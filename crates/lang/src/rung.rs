@@ -234,4 +234,20 @@ impl Compiler<'_> {
         }
         self.emit(op);
     }
+
+    /// Emits instruction `x` of a lowering function: run while the
+    /// condition is ON (behind the pulse gate with `pulse`), or with `always`
+    /// at every execution (`Instr::off` while the condition is OFF).
+    pub fn emit_instr(&mut self, pulse: bool, always: bool, x: Box<dyn softplc_ir::instr::Instr>) {
+        let at = self.ext.len() as u32;
+        self.ext.push(x);
+        self.pulsed(
+            pulse,
+            if always {
+                Op::ExtAlways(at)
+            } else {
+                Op::Ext(at)
+            },
+        );
+    }
 }

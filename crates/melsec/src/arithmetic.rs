@@ -14,7 +14,7 @@
 use super::conversion::{read_bcd, to_bcd};
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::Operand;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{IndexedKind, Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -217,7 +217,7 @@ impl Instr for BcdDiv {
         let a = read_bcd(cx.mem, &self.s1, self.wide)?;
         let b = read_bcd(cx.mem, &self.s2, self.wide)?;
         if b == 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let (q, r) = (to_bcd(a / b), to_bcd(a % b));
         if is_digits(&self.d) {

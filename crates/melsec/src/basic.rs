@@ -4,7 +4,8 @@
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
-use softplc_ir::kernels::basic::test;
+use softplc_ir::instr::Instr;
+use softplc_ir::kernels::basic::{test, Arith, Flt, Int, Move, Step};
 use softplc_ir::ops::*;
 use softplc_lang::compile::{Args, Compiler};
 use softplc_lang::isa::{Class, Def, Doc, Pulse, Test, Use};
@@ -320,7 +321,7 @@ fn application(c: &mut Compiler<'_>, u: &Use<'_>, app: App) {
     if !ok_count || !c.output(i, m) {
         return;
     }
-    let apply = match app {
+    let x: Box<dyn Instr> = match app {
         App::Mov(num) => {
             let s = c.word_src(&ops[0], num);
             let d = c.word_dest(&ops[1], num, num.words());
@@ -338,11 +339,17 @@ fn application(c: &mut Compiler<'_>, u: &Use<'_>, app: App) {
                 (WordArg::Word(s), WordArg::Word(d), Num::I16) => {
                     return c.pulsed(pulse, Op::MovW { s: *s, d: *d })
                 }
-                _ => Apply::Mov {
+                (WordArg::Word(s), WordArg::Word(d), _) => {
+                    return c.pulsed(pulse, Op::MovD { s: *s, d: *d })
+                }
+                (WordArg::Const(k), WordArg::Word(d), _) => {
+                    return c.pulsed(pulse, Op::MovDK { k: *k, d: *d })
+                }
+                _ => Box::new(Move {
                     words: num.words() as u8,
                     s,
                     d,
-                },
+                }),
             }
         }
         App::Arith(op, num) => {
@@ -373,28 +380,28 @@ fn application(c: &mut Compiler<'_>, u: &Use<'_>, app: App) {
             let (Some(s1), Some(s2), Some(d)) = (s1, s2, d) else {
                 return;
             };
-            Apply::Arith { op, num, s1, s2, d }
+            Box::new(Arith { op, num, s1, s2, d })
         }
         App::Step(num, delta) => {
             let Some(d) = c.word_dest(&ops[0], num, num.words()) else {
                 return;
             };
-            Apply::Step { num, delta, d }
+            Box::new(Step { num, delta, d })
         }
         App::Flt(num) => {
             let s = c.word_src(&ops[0], num);
             let d = c.word_dest(&ops[1], Num::F32, 2);
             let (Some(s), Some(d)) = (s, d) else { return };
-            Apply::Flt { num, s, d }
+            Box::new(Flt { num, s, d })
         }
         App::Int(num) => {
             let s = c.word_src(&ops[0], Num::F32);
             let d = c.word_dest(&ops[1], num, num.words());
             let (Some(s), Some(d)) = (s, d) else { return };
-            Apply::Int { num, s, d }
+            Box::new(Int { num, s, d })
         }
     };
-    c.pulsed(pulse, Op::Apply(Box::new(apply)));
+    c.emit_instr(pulse, false, x);
 }
 
 /// `LD$=`, `AND$<>`, `OR$>` … → (join, operator).

@@ -9,7 +9,7 @@
 use super::transfer::count;
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::{DeviceKind, Operand};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::{BitArg, Num, WordArg};
 use softplc_ir::ops::{BitBlock, Block};
 use softplc_lang::isa::{Def, Doc};
@@ -235,7 +235,7 @@ impl Instr for Bkrst {
                 let z = z.map_or(0, |z| cx.mem.words[z as usize] as i16 as i64);
                 let eff = *number as i64 + z;
                 if eff < 0 || eff + n as i64 > *points as i64 {
-                    return Err(ErrorCode::RANGE);
+                    return Err(Fault::Range);
                 }
                 let (c, v) = (
                     (*contact_base as i64 + eff) as usize,

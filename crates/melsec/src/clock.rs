@@ -12,7 +12,7 @@
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::calendar::DateTime;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -55,7 +55,7 @@ fn write_words(cx: &mut ExecCtx<'_>, b: &Block, w: &[u16]) -> Result<(), Fault> 
 fn time_of(w: [u16; 3]) -> Result<i32, Fault> {
     let [h, m, s] = w.map(|v| v as i16 as i32);
     if !(0..24).contains(&h) || !(0..60).contains(&m) || !(0..60).contains(&s) {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     Ok(h * 3600 + m * 60 + s)
 }
@@ -124,7 +124,7 @@ impl Instr for DateWr {
         let w: [u16; 7] = read_words(cx, &self.s)?;
         let f = |k: usize| w[k] as i16 as i32;
         if f(1) < 0 || f(2) < 0 || f(3) < 0 || f(4) < 0 || f(5) < 0 || !(0..=6).contains(&f(6)) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let t = DateTime {
             year: f(0),
@@ -135,7 +135,7 @@ impl Instr for DateWr {
             second: f(5) as u32,
         };
         if !t.is_valid() {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         cx.clock.set(t, cx.now_us);
         Ok(())
@@ -226,7 +226,7 @@ impl Instr for Hour {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let t = cx.mem.read32(&self.s)? as i32;
         if !(0..DAY).contains(&t) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         write_words(cx, &self.d, &hms(t))
     }

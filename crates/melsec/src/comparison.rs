@@ -12,7 +12,7 @@
 use super::data::{elem, read_i16, set_flag, Bits};
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::{Constant, Operand};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{CmpOp, Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -109,7 +109,7 @@ impl Instr for BkCmp {
             return Ok(());
         }
         if n < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let n = n as u32;
         let w = if self.wide { 2 } else { 1 };

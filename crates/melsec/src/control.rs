@@ -1,12 +1,17 @@
 //! Program control (PM §6.6-6.7, §7.6, §7.16-7.18): jumps, subroutine calls,
 //! FOR/NEXT loops, interrupt control, execution-type changes, the watchdog
-//! reset, the user timing clocks, the sampling trace and STOP. They move the
-//! program counter or talk to the CPU, so the compiler lowers them into the
-//! ladder machine's own ops, run by the interpreter and END processing.
+//! reset, the user timing clocks, the sampling trace and STOP. Those that
+//! move the program counter are lowered into the ladder machine's own ops;
+//! those that talk to the CPU (EI/DI, IMASK, PSCAN…, WDT, TRACE) are
+//! instructions asking the engine through `ExecCtx::cpu`.
 
-use softplc_ir::device::{parse_operand, Constant, DeviceKind, Operand};
+use softplc_ir::cpu::TypeChange;
+use softplc_ir::device::{Constant, DeviceKind, Operand};
+use softplc_ir::fault::Fault;
+use softplc_ir::instr::{ExecCtx, Instr};
+use softplc_ir::kernels::cpu::ResetWatchdog;
 use softplc_ir::ops::*;
-use softplc_lang::compile::{Compiler, MAX_NESTING};
+use softplc_lang::compile::{Args, Compiler, MAX_NESTING};
 use softplc_lang::isa::{Class, Def, Doc, Pulse, Steps, Use};
 
 /// The program-control instructions.
@@ -29,10 +34,11 @@ pub static DEFS: &[Def] = &[
     Def::lower("POFF", Class::Output, &PROGRAMS, prog_ctl).pulse(Pulse::Suffix),
     Def::lower("PLOW", Class::Output, &PROGRAMS, prog_ctl).pulse(Pulse::Suffix),
     Def::lower("WDT", Class::Output, &WDT, wdt_trace).pulse(Pulse::Suffix),
-    Def::lower("DUTY", Class::Output, &DUTY, duty),
+    Def::app("DUTY", &DUTY, crate::user_clock::compile).no_pulse(),
     Def::lower("TRACE", Class::Output, &TRACE, wdt_trace),
     Def::lower("TRACER", Class::Output, &TRACE, wdt_trace),
     Def::lower("STOP", Class::Output, &STOP, stop_goend).steps(Steps::Basic),
+    Def::app("COM", &REFRESH, com).no_pulse(),
 ];
 
 static BRANCH: Doc = Doc {
@@ -74,6 +80,11 @@ static TRACE: Doc = Doc {
     family: "sampling trace",
     cite: "PM; 004 §7.12",
     notes: "trigger / reset the trace set up with `--trace` or `Cpu::set_trace`",
+};
+static REFRESH: Doc = Doc {
+    family: "refresh",
+    cite: "004 §4.2",
+    notes: "the input refresh in mid-scan (input image into X, forced inputs kept); outputs are the Y devices at any time",
 };
 static STOP: Doc = Doc {
     family: "termination / other",
@@ -170,7 +181,46 @@ fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
     } else if !c.output(i, m) {
         return;
     }
-    c.emit(Op::Interrupts { enable, always });
+    let sm715 = c.map.index(DeviceKind::SM, SM_EI);
+    c.emit_instr(
+        false,
+        always,
+        Box::new(Interrupts {
+            enable,
+            always,
+            sm715,
+        }),
+    );
+}
+
+/// SM715: ON while interrupts are enabled (EI).
+const SM_EI: u32 = 715;
+
+/// PM §6.7 EI / DI: enables or disables the interrupt programs; SM715
+/// mirrors the state. Without a contact ([`ei_di`]) it runs at every
+/// execution, under an OFF master control too.
+#[derive(Debug)]
+struct Interrupts {
+    enable: bool,
+    always: bool,
+    sm715: Option<u32>,
+}
+
+impl Instr for Interrupts {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.enable_interrupts(self.enable);
+        if let Some(b) = self.sm715 {
+            cx.mem.bits[b as usize] = self.enable;
+        }
+        Ok(())
+    }
+
+    fn off(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        if self.always {
+            self.exec(cx)?;
+        }
+        Ok(())
+    }
 }
 
 fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
@@ -179,8 +229,42 @@ fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
     let ops = &u.instr.operands;
     if c.count(i, m, &[1]) && c.output(i, m) {
         if let Some(s) = c.word_dest(&ops[0], Num::I16, 16) {
-            c.emit(Op::Imask(Box::new(s)));
+            // SD715-SD717 (I0-I47) and SD781-SD793 (I48-I255) mirror the mask.
+            let sd = c
+                .map
+                .index(DeviceKind::SD, 793)
+                .map(|_| c.map.base(DeviceKind::SD));
+            c.emit_instr(false, false, Box::new(Imask { s, sd }));
         }
+    }
+}
+
+/// PM §6.7 IMASK `S`: 16 words of enable bits for I0-I255 (one bit per
+/// pointer, I0 in bit 0 of S), mirrored in SD715-SD717 and SD781-SD793. An
+/// index-modified or digit-specified S is a range error.
+#[derive(Debug)]
+struct Imask {
+    s: WordArg,
+    /// Flat index of SD0, when the CPU has SD793.
+    sd: Option<u32>,
+}
+
+impl Instr for Imask {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let WordArg::Word(first) = self.s else {
+            return Err(Fault::Range);
+        };
+        let first = first as usize;
+        let words: [u16; softplc_ir::cpu::INTERRUPTS / 16] =
+            std::array::from_fn(|k| cx.mem.words[first + k]);
+        cx.cpu.mask_interrupts(words);
+        if let Some(sd) = self.sd {
+            for (k, w) in words.iter().enumerate() {
+                let n = if k < 3 { 715 + k } else { 781 + k - 3 };
+                cx.mem.words[sd as usize + n] = *w;
+            }
+        }
+        Ok(())
     }
 }
 
@@ -302,59 +386,88 @@ fn prog_ctl(c: &mut Compiler<'_>, u: &Use<'_>) {
         "PLOW" => TypeChange::LowSpeed,
         _ => return c.unmatched(u),
     };
-    let id = c.prog_names.len() as u32;
-    c.prog_names.push(name.to_ascii_uppercase());
-    c.pulsed(pulse, Op::ProgCtl { kind, name: id });
+    let x = ProgramControl {
+        kind,
+        name: name.to_ascii_uppercase(),
+        slot: u32::MAX,
+    };
+    c.emit_instr(pulse, false, Box::new(x));
+}
+
+/// PM §7.16 PSCAN/PSTOP/POFF/PLOW `"name"`: the named program becomes a scan,
+/// standby or low-speed program at END (POFF: its outputs OFF at the next
+/// scan first); the last request wins. A name no program has is FILE OPE.
+/// ERROR 2410 when executed.
+#[derive(Debug)]
+struct ProgramControl {
+    kind: TypeChange,
+    name: String,
+    /// The program's slot, found when the CPU is built (`u32::MAX`: none).
+    slot: u32,
+}
+
+impl Instr for ProgramControl {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.change_type(self.slot, self.kind)
+    }
+
+    fn link(&mut self, programs: &[String]) {
+        self.slot = programs
+            .iter()
+            .position(|p| *p == self.name)
+            .map_or(u32::MAX, |i| i as u32);
+    }
 }
 
 fn wdt_trace(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     if c.count(i, m, &[0]) && c.output(i, m) {
-        let op = match m {
-            "TRACE" => Op::Trace { reset: false },
-            "TRACER" => Op::Trace { reset: true },
-            "WDT" | "WDTP" => Op::Wdt,
+        let x: Box<dyn Instr> = match m {
+            "TRACE" => Box::new(Trace { reset: false }),
+            "TRACER" => Box::new(Trace { reset: true }),
+            "WDT" | "WDTP" => Box::new(ResetWatchdog),
             _ => return c.unmatched(u),
         };
-        c.pulsed(m == "WDTP", op);
+        c.emit_instr(m == "WDTP", false, x);
     }
 }
 
-fn duty(c: &mut Compiler<'_>, u: &Use<'_>) {
-    let i = u.instr;
-    let m = u.m;
-    let ops = &u.instr.operands;
-    if !c.count(i, m, &[3]) || !c.output(i, m) {
-        return;
+/// 004 §7.12 TRACE (trigger the sampling trace) / TRACER (reset it), both
+/// applied at END.
+#[derive(Debug)]
+struct Trace {
+    reset: bool,
+}
+
+impl Instr for Trace {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        if self.reset {
+            cx.cpu.reset_trace();
+        } else {
+            cx.cpu.trigger_trace();
+        }
+        Ok(())
     }
-    let n1 = c.word_src(&ops[0], Num::I16);
-    let n2 = c.word_src(&ops[1], Num::I16);
-    let clock = match parse_operand(&ops[2].text) {
-        Ok(Operand::Device {
-            dev,
-            digits: None,
-            bit: None,
-            index: None,
-        }) if dev.kind == DeviceKind::SM && matches!(dev.number, 420..=424 | 430..=434) => {
-            Some(if dev.number < 430 {
-                dev.number - 420
-            } else {
-                dev.number - 425
-            } as u8)
-        }
-        _ => {
-            c.err(
-                &ops[2],
-                format!(
-                    "`{}`: DUTY drives a user timing clock SM420-SM424 or SM430-SM434",
-                    ops[2].text
-                ),
-            );
-            None
-        }
-    };
-    if let (Some(n1), Some(n2), Some(clock)) = (n1, n2, clock) {
-        c.emit(Op::Duty(Box::new((n1, n2, clock))));
+}
+
+fn com(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
+    a.count(&[0]).then(|| Box::new(Refresh) as Box<dyn Instr>)
+}
+
+/// 004 §4.2 (L1504-1575) COM: the END's refresh in mid-scan. softplc's
+/// outputs are the Y devices themselves, read by the host whenever it reads
+/// them, so what COM refreshes is the inputs: the input image (what the input
+/// modules present) into X, forced inputs kept forced. Decisions (the
+/// programming manual is not at hand): it runs while its condition is ON and
+/// has no pulse form; SM775 (no link refresh) selects nothing, softplc has
+/// no networks.
+#[derive(Debug)]
+struct Refresh;
+
+impl Instr for Refresh {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.cpu.refresh_inputs();
+        Ok(())
     }
 }

@@ -10,7 +10,7 @@
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -70,7 +70,7 @@ pub(crate) fn read_bcd(mem: &DeviceMemory, a: &WordArg, wide: bool) -> Result<u6
     } else {
         mem.read16(a)? as u64
     };
-    from_bcd(raw).ok_or(ErrorCode::OPERATION)
+    from_bcd(raw).ok_or(Fault::Operation)
 }
 
 /// Gray code → binary over `bits` bits (16 or 32).
@@ -133,7 +133,7 @@ s_to_d!(
     |mem, s, d| {
         let v = mem.read16(s)? as i16;
         if !(0..=9999).contains(&v) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write16(d, to_bcd(v as u64) as u16)
     }
@@ -146,7 +146,7 @@ s_to_d!(
     |mem, s, d| {
         let v = mem.read32(s)? as i32;
         if !(0..=99_999_999).contains(&v) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write32(d, to_bcd(v as u64) as u32)
     }
@@ -179,7 +179,7 @@ s_to_d!(
     |mem, s, d| {
         let v = mem.read16(s)?;
         if v & 0x8000 != 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write16(d, v ^ v >> 1)
     }
@@ -191,7 +191,7 @@ s_to_d!(
     |mem, s, d| {
         let v = mem.read32(s)?;
         if v & 0x8000_0000 != 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write32(d, v ^ v >> 1)
     }
@@ -204,7 +204,7 @@ s_to_d!(
     |mem, s, d| {
         let g = mem.read16(s)?;
         if g & 0x8000 != 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write16(d, gray_to_bin(g as u32, 16) as u16)
     }
@@ -216,7 +216,7 @@ s_to_d!(
     |mem, s, d| {
         let g = mem.read32(s)?;
         if g & 0x8000_0000 != 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.write32(d, gray_to_bin(g, 32))
     }
@@ -239,7 +239,7 @@ s_to_d!(
     |mem, s, d| {
         let v = mem.read32(s)? as i32;
         let Ok(v) = i16::try_from(v) else {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         };
         mem.write16(d, v as u16)
     }
@@ -388,7 +388,7 @@ fn convert_block(
     let n = n as usize;
     let w = &mut mem.words;
     if !w[s..s + n].iter().all(|&v| valid(v)) {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     if d <= s {
         for i in 0..n {

@@ -6,7 +6,7 @@
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::access::R_BLOCK;
 use softplc_ir::device::DeviceKind;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
 
@@ -50,7 +50,7 @@ fn compile_rset(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     let points = map.points(DeviceKind::ZR) as i64;
     Some(Box::new(Rset {
         s,
-        sd648: (map.base(DeviceKind::SD) + softplc_ir::access::SD_R_BLOCK) as usize,
+        sd648: (map.base(DeviceKind::SD) + crate::system::R_BLOCK) as usize,
         blocks: (points + R_BLOCK as i64 - 1) / R_BLOCK as i64,
     }))
 }
@@ -59,7 +59,7 @@ impl Instr for Rset {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let block = cx.mem.read16(&self.s)? as i16 as i64;
         if block < 0 || block >= self.blocks {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         cx.mem.words[self.sd648] = block as u16;
         Ok(())
@@ -109,7 +109,7 @@ impl Instr for ByteAccess {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let n = cx.mem.read32(&self.n)? as i32 as i64;
         if n < 0 || n >= 2 * self.points as i64 {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         let word = self.zr + (n / 2) as usize;
         let shift = 8 * (n % 2) as u32;

@@ -16,7 +16,7 @@
 //! as for the other real-number instructions; a zero result is stored as +0.
 
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::kernels::bcd;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
@@ -116,18 +116,16 @@ impl Instr for RealFunction {
         let y = match self.f {
             Func::Sin => x.sin(),
             Func::Cos => x.cos(),
-            Func::Tan if tan_pole(x32) => return Err(ErrorCode::OPERATION),
+            Func::Tan if tan_pole(x32) => return Err(Fault::Operation),
             Func::Tan => x.tan(),
-            Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => {
-                return Err(ErrorCode::OPERATION)
-            }
+            Func::Asin | Func::Acos if !(-1.0..=1.0).contains(&x) => return Err(Fault::Operation),
             Func::Asin => x.asin(),
             Func::Acos => x.acos(),
             Func::Atan => x.atan(),
-            Func::Sqr if x < 0.0 => return Err(ErrorCode::OPERATION),
+            Func::Sqr if x < 0.0 => return Err(Fault::Operation),
             Func::Sqr => x.sqrt(),
             Func::Exp => x.exp(),
-            Func::Log if x <= 0.0 => return Err(ErrorCode::OPERATION),
+            Func::Log if x <= 0.0 => return Err(Fault::Operation),
             Func::Log => x.ln(),
         };
         // `as f32` rounds to nearest; a value beyond f32::MAX becomes ∞ and
@@ -144,7 +142,7 @@ fn from_bcd(v: u32, n: u32) -> Result<u32, Fault> {
     let digits = v as u64 & ((1u64 << (4 * n)) - 1);
     bcd::unpack(digits)
         .map(|x| x as u32)
-        .ok_or(ErrorCode::OPERATION)
+        .ok_or(Fault::Operation)
 }
 
 /// `v` (0-9999) as 4 BCD digits.
@@ -157,7 +155,7 @@ fn to_bcd(v: u32) -> u16 {
 fn bcd_fixed4(v: f64) -> Result<(u16, u16), Fault> {
     let r = (v.abs() * 10_000.0).round() as u64;
     if r / 10_000 > 9999 {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     Ok((to_bcd((r / 10_000) as u32), to_bcd((r % 10_000) as u32)))
 }
@@ -233,7 +231,7 @@ impl Instr for BcdTrig {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let deg = from_bcd(cx.mem.read16(&self.s)? as u32, 4)?;
         if deg > 360 || (self.f == Trig::Tan && (deg == 90 || deg == 270)) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let x = (deg as f64).to_radians();
         let v = match self.f {
@@ -283,12 +281,12 @@ impl Instr for BcdInverse {
         let [sign, int, frac] = [0, 1, 2].map(|k| cx.mem.words[i + k]);
         let (int, frac) = (from_bcd(int as u32, 4)?, from_bcd(frac as u32, 4)?);
         if sign > 1 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let mag = int as f64 + frac as f64 / 10_000.0;
         let v = if sign == 1 { -mag } else { mag };
         if self.f != Inv::Atan && mag > 1.0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let deg = match self.f {
             Inv::Asin => v.asin(),

@@ -3,7 +3,9 @@
 //! lowers them into the ladder machine's own ops; their run-time behaviour is
 //! in the interpreter and [`super::sequence`].
 
+use super::annunciator::{Annunciator, Coil as AnnCoil, Ledr, List};
 use softplc_ir::device::{parse_operand, Constant, DeviceKind, Operand};
+use softplc_ir::kernels::basic::Move;
 use softplc_ir::ops::*;
 use softplc_lang::compile::{Compiler, MAX_MPS};
 use softplc_lang::isa::{Class, CoilRole, Def, Doc, Link, Pulse, Steps, Test, Use};
@@ -329,8 +331,8 @@ fn set_rst(c: &mut Compiler<'_>, u: &Use<'_>) {
         return;
     }
     if let Some(n) = annunciator(c, &ops[0]) {
-        let kind = if reset { AnnKind::Rst } else { AnnKind::Set };
-        c.emit(Op::Ann { kind, n });
+        let coil = if reset { AnnCoil::Rst } else { AnnCoil::Set };
+        annunciator_coil(c, coil, n);
         return;
     }
     if reset {
@@ -373,7 +375,12 @@ fn ledr(c: &mut Compiler<'_>, u: &Use<'_>) {
     // ANR resets the annunciator shown first (SD62), as LEDR does for
     // annunciators; ANRP (its pulse form) on the rising edge.
     if c.count(i, m, &[0]) && c.output(i, m) {
-        c.pulsed(u.pulse, Op::Ledr);
+        let x = Ledr {
+            f: c.map.base(DeviceKind::F) as usize,
+            points: c.map.points(DeviceKind::F) as usize,
+            list: List::of(c.map),
+        };
+        c.emit_instr(u.pulse, false, Box::new(x));
     }
 }
 
@@ -496,10 +503,7 @@ fn out(c: &mut Compiler<'_>, u: &Use<'_>) {
             return c.err(&ops[1], format!("`OUT {}` takes no set value", ops[0].text));
         }
         if let Some(n) = annunciator(c, &ops[0]) {
-            c.emit(Op::Ann {
-                kind: AnnKind::Out,
-                n,
-            });
+            annunciator_coil(c, AnnCoil::Out, n);
             return;
         }
         if let Some(dst) = c.bit_dest(&ops[0]) {
@@ -613,14 +617,22 @@ fn ans(c: &mut Compiler<'_>, u: &Use<'_>) {
     })));
     c.emit(Op::Mps);
     c.emit(Op::Ld(contact));
-    c.emit(Op::Ann {
-        kind: AnnKind::Set,
-        n,
-    });
+    annunciator_coil(c, AnnCoil::Set, n);
     c.emit(Op::Mpp);
 }
 
 /// `Fn` written plainly: OUT/SET/RST make it an annunciator (004 §10.2.4).
+/// OUT (at every execution), SET or RST of annunciator F`n`.
+fn annunciator_coil(c: &mut Compiler<'_>, coil: AnnCoil, n: u16) {
+    let x = Annunciator {
+        coil,
+        n,
+        f: (c.map.base(DeviceKind::F) + n as u32) as usize,
+        list: List::of(c.map),
+    };
+    c.emit_instr(false, coil == AnnCoil::Out, Box::new(x));
+}
+
 fn annunciator(c: &mut Compiler<'_>, tok: &Token) -> Option<u16> {
     match parse_operand(&tok.text) {
         Ok(Operand::Device {
@@ -632,6 +644,23 @@ fn annunciator(c: &mut Compiler<'_>, tok: &Token) -> Option<u16> {
             Some(dev.number as u16)
         }
         _ => None,
+    }
+}
+
+/// RST of a word device: writes 0 (inline for a plain word).
+fn clear_word(c: &mut Compiler<'_>, d: WordArg) {
+    match d {
+        WordArg::Word(d) => {
+            c.emit(Op::MovK { k: 0, d });
+        }
+        d => {
+            let x = Move {
+                words: 1,
+                s: WordArg::Const(0),
+                d,
+            };
+            c.emit_instr(false, false, Box::new(x));
+        }
     }
 }
 
@@ -687,22 +716,19 @@ fn rst(c: &mut Compiler<'_>, tok: &Token) {
                 } else {
                     timer_slot(c.map, retentive, dev.number)
                 };
-                c.emit(Op::Apply(Box::new(Apply::ResetTc(ResetTc {
+                let x = ResetTc {
                     contact,
                     value: c.map.base(vk) + dev.number,
                     slot,
-                }))));
+                };
+                c.emit_instr(false, false, Box::new(x));
                 return;
             }
         }
         if !dev.kind.is_bit() || dev.generic {
             // RST of a word device writes 0.
             if let Some(d) = c.word_dest(tok, Num::I16, 1) {
-                c.emit(Op::Apply(Box::new(Apply::Mov {
-                    words: 1,
-                    s: WordArg::Const(0),
-                    d,
-                })));
+                clear_word(c, d);
             }
             return;
         }
@@ -716,11 +742,7 @@ fn rst(c: &mut Compiler<'_>, tok: &Token) {
     {
         if !dev.kind.is_bit() {
             if let Some(d) = c.word_dest(tok, Num::I16, 1) {
-                c.emit(Op::Apply(Box::new(Apply::Mov {
-                    words: 1,
-                    s: WordArg::Const(0),
-                    d,
-                })));
+                clear_word(c, d);
             }
             return;
         }

@@ -10,6 +10,7 @@
 
 #![forbid(unsafe_code)]
 
+mod annunciator;
 pub mod arithmetic;
 pub mod basic;
 pub mod bits;
@@ -31,9 +32,11 @@ pub mod qnu;
 pub mod rejected;
 pub mod rotation;
 pub mod strings;
+pub mod system;
 pub mod table;
 pub mod timing;
 pub mod transfer;
+mod user_clock;
 
 use softplc_ir::device::{DeviceKind, MELSEC_Q};
 pub use softplc_ir::instr::{ExecCtx, Instr, LocalSlot, LocalState};

@@ -8,7 +8,7 @@
 //! CPU computes them in 16 (32) bits and the manual lists no overflow error.
 
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
 
@@ -86,7 +86,7 @@ impl Limits {
     /// the caller truncates to the operand width (wrap-around).
     fn output(&self, lo: i64, hi: i64, x: i64) -> Result<i64, Fault> {
         match self.kind {
-            Kind::Limit | Kind::Band if lo > hi => Err(ErrorCode::OPERATION),
+            Kind::Limit | Kind::Band if lo > hi => Err(Fault::Operation),
             Kind::Limit => Ok(x.clamp(lo, hi)),
             Kind::Band if x < lo => Ok(x - lo),
             Kind::Band if x > hi => Ok(x - hi),

@@ -13,7 +13,7 @@
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::DeviceKind;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::instr::CpuSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
@@ -168,7 +168,7 @@ impl Instr for ZStack {
         let (z, nz) = (self.z, self.nz);
         if self.pop {
             if n <= 0 {
-                return Err(ErrorCode::OPERATION);
+                return Err(Fault::Operation);
             }
             let s = mem.block_start(&self.d, 1 + Z_REGS * n as u32)?;
             let at = s + 1 + Z_REGS as usize * (n as usize - 1);
@@ -176,7 +176,7 @@ impl Instr for ZStack {
             mem.words[s] = (n - 1) as u16;
         } else {
             if !(0..i16::MAX as i32).contains(&n) {
-                return Err(ErrorCode::OPERATION);
+                return Err(Fault::Operation);
             }
             let s = mem.block_start(&self.d, 1 + Z_REGS * (n as u32 + 1))?;
             let at = s + 1 + Z_REGS as usize * n as usize;

@@ -78,7 +78,7 @@ const fn model(
             serial_ports: 0,
             opcua: true,
         },
-        default_system: || None,
+        default_system: crate::system::system,
     }
 }
 

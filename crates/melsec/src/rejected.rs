@@ -81,7 +81,6 @@ pub static DEFS: &[Def] = &[
         "rotary table shortest-direction control is not implemented: its counting and drive \
          rules are not in the manuals softplc follows, so it could not be reproduced faithfully",
     ),
-    Def::rejected("COM", "refresh during the scan (COM) is not implemented"),
     Def::rejected("CHKST", CHK),
     Def::rejected("CHK", CHK),
     Def::rejected("CHKCIR", CHK),

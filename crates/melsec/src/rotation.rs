@@ -19,7 +19,7 @@
 use super::transfer::{carry_flag, count, set_carry, Loc, WordBlock};
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::{DeviceKind, Operand};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::BitBlock;
 use softplc_ir::ops::{BitArg, Indexed, IndexedKind, Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -382,7 +382,7 @@ impl Instr for Sft {
                 let z = mem.words[ix.z as usize] as i16 as i64;
                 let eff = ix.number as i64 + z;
                 if eff < 0 || eff >= ix.points as i64 {
-                    return Err(ErrorCode::RANGE);
+                    return Err(Fault::Range);
                 }
                 let i = (ix.base as i64 + eff) as usize;
                 match ix.kind {

@@ -27,7 +27,7 @@
 use super::data::read_i16;
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -76,7 +76,7 @@ impl Instr for Fifw {
         let v = mem.read16(&self.s)?;
         let (t, count) = table(mem, &self.d)?;
         if !(0..i16::MAX as i32).contains(&count) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.block_start(&self.d, count as u32 + 2)?;
         mem.words[t + count as usize + 1] = v;
@@ -138,7 +138,7 @@ impl Instr for Read {
         mem.read16(&self.d)?;
         let (t, count) = table(mem, &self.s)?;
         if count <= 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let pos = match (self.kind, &self.n) {
             (ReadKind::Oldest, _) => 1,
@@ -147,7 +147,7 @@ impl Instr for Read {
             (ReadKind::Nth, None) => 1,
         };
         if !(1..=count).contains(&pos) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.block_start(&self.s, count as u32 + 1)?;
         let (pos, last) = (t + pos as usize, t + count as usize);
@@ -191,7 +191,7 @@ impl Instr for Fins {
         let n = read_i16(mem, &self.n)?;
         let (t, count) = table(mem, &self.d)?;
         if !(0..i16::MAX as i32).contains(&count) || !(1..=count + 1).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.block_start(&self.d, count as u32 + 2)?;
         let (pos, last) = (t + n as usize, t + count as usize);

@@ -12,7 +12,7 @@
 use super::data::read_i16;
 use super::{Args, ExecCtx, Instr, LocalSlot};
 use softplc_ir::device::DeviceKind;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::local_state;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{BitArg, Num, WordArg};
@@ -114,7 +114,7 @@ impl Instr for TimChk {
         let mem = &mut *cx.mem;
         let set = read_i16(mem, &self.set)?;
         if set < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         // Range checks of index-modified operands before anything is written.
         let old = read_i16(mem, &self.cur)?;
@@ -208,7 +208,7 @@ impl Instr for Ramp {
         let mem = &mut *cx.mem;
         let n3 = read_i16(mem, &self.n3)?;
         if n3 <= 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let (n1, n2) = (read_i16(mem, &self.n1)?, read_i16(mem, &self.n2)?);
         let d = mem.block_start(&self.d1, 2)?;
@@ -317,7 +317,7 @@ impl Stmr {
     fn step(&self, cx: &mut ExecCtx<'_>, on: bool) -> Result<(), Fault> {
         let set = read_i16(cx.mem, &self.set)?;
         if set < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let mut st = cx.local(&self.state);
         let mem = &mut *cx.mem;

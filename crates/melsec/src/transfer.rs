@@ -12,7 +12,7 @@
 
 use super::{Args, ExecCtx, Instr};
 use softplc_ir::device::{DeviceMemory, Operand};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::dialect::Flag;
@@ -46,7 +46,7 @@ static TRANSFER: Doc = Doc {
 pub(crate) fn count(mem: &DeviceMemory, n: &WordArg) -> Result<Option<u32>, Fault> {
     match mem.read16(n)? as i16 {
         0 => Ok(None),
-        v if v < 0 => Err(ErrorCode::RANGE),
+        v if v < 0 => Err(Fault::Range),
         v => Ok(Some(v as u32)),
     }
 }
@@ -162,11 +162,11 @@ impl WordBlock {
                         let z = mem.words[ix.z as usize] as i16 as i64;
                         let eff = ix.number as i64 + z;
                         if eff < 0 || eff as u64 + span > ix.points as u64 {
-                            return Err(ErrorCode::RANGE);
+                            return Err(Fault::Range);
                         }
                         ix.base as u64 + eff as u64
                     }
-                    _ => return Err(ErrorCode::RANGE),
+                    _ => return Err(Fault::Range),
                 };
                 Ok(Loc::Digits {
                     bit: bit as usize,

@@ -16,7 +16,7 @@ pub fn config() -> CpuConfig {
     CpuConfig {
         devices: softplc_aplc::device_config(),
         latch: Vec::new(),
-        system: Some(softplc_aplc::system()),
+        system: softplc_aplc::system(),
         ..CpuConfig::new(&softplc_aplc::profile::PROFILE)
     }
 }

@@ -46,7 +46,7 @@ impl Cpu {
     pub fn write_span_words(&mut self, s: &Span, values: &[u16]) -> Result<(), AccessError> {
         self.rt.mem.write_span_words(s, values)?;
         self.mirror(s.kind(), s.number(), s.len());
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             self.force_written(Some((s.kind(), s.number(), s.len())));
         }
         Ok(())
@@ -56,7 +56,7 @@ impl Cpu {
     pub fn write_span_bits(&mut self, s: &Span, values: &[bool]) -> Result<(), AccessError> {
         self.rt.mem.write_span_bits(s, values)?;
         self.mirror(s.kind(), s.number(), s.len());
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             self.force_written(Some((s.kind(), s.number(), s.len())));
         }
         Ok(())
@@ -65,18 +65,18 @@ impl Cpu {
     /// Sets input X`n` as an input module would: it reaches X at the next input
     /// refresh and stays until set again.
     pub fn set_input(&mut self, n: u32, on: bool) {
-        if let Some(b) = self.inputs.get_mut(n as usize) {
+        if let Some(b) = self.rt.inputs.get_mut(n as usize) {
             *b = on;
         }
         let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             self.force_written(Some((DeviceKind::X, n, 1)));
         }
     }
 
     /// Forced values win over a write by name (see [`super::force`]).
     fn force_spec(&mut self, spec: &DeviceSpec) {
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             self.force_written(spec.bit_span());
         }
     }
@@ -96,7 +96,7 @@ impl Cpu {
         }
         for n in first..first + count {
             if let (Some(b), Ok(v)) = (
-                self.inputs.get_mut(n as usize),
+                self.rt.inputs.get_mut(n as usize),
                 self.rt.mem.get_bit(DeviceKind::X, n as i64),
             ) {
                 *b = v;

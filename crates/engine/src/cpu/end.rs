@@ -1,6 +1,7 @@
 //! END processing, the calendar clock, and the monitors (004 §4.3).
 
 use super::*;
+use softplc_ir::system::{End, EndCtx, ScanTimes, Severity};
 
 impl Cpu {
     /// The calendar clock now, µs since 1970.
@@ -39,7 +40,7 @@ impl Cpu {
     pub(super) fn outcome(&mut self, out: Outcome) -> bool {
         match out {
             // A RET with no caller in this pass cannot happen at top level:
-            // `Ret` on an empty stack is 4212.
+            // `Ret` on an empty stack is `Fault::RetInMain`.
             Outcome::End | Outcome::Return => true,
             Outcome::Abort => false,
             Outcome::Fault(code, slot, pc) => {
@@ -49,72 +50,70 @@ impl Cpu {
         }
     }
 
-    /// END processing: scan-time measurement and the scan SM/SD, clock registers,
-    /// constant-scan overrun, STOP requests.
+    /// END processing: scan-time measurement, constant-scan overrun, error
+    /// reset requests, the system's END (scan and clock registers, what
+    /// instructions left for END), execution-type changes, the sampling
+    /// trace, STOP requests.
     pub(super) fn end_processing(&mut self, now: u64, initial: bool) {
         let scan_us = now - self.last_end_us;
         self.last_end_us = now;
         self.rt.scan_us = scan_us.min(u32::MAX as u64) as u32;
-        if initial {
-            // SD522/SD523: initial scan time.
-            let (ms, sub) = special::ms_us(scan_us);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, 522, ms);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, 523, sub);
-        } else {
+        if !initial {
             if !self.first_scan {
-                // The first scan is excluded from the maximum (SD526/527).
+                // The first scan is excluded from the maximum.
                 self.max_scan_us = Some(self.max_scan_us.unwrap_or(0).max(scan_us));
             }
             self.min_scan_us = Some(self.min_scan_us.map_or(scan_us, |m| m.min(scan_us)));
-            match &self.rt.system {
-                Some(s) => s.scan_end(
-                    &mut self.rt.mem,
-                    softplc_ir::system::ScanTimes {
-                        current_us: scan_us,
-                        min_us: self.min_scan_us.unwrap_or(0),
-                        max_us: self.max_scan_us.unwrap_or(0),
-                    },
-                ),
-                None => special::end(
-                    &mut self.rt.mem,
-                    special::ScanTimes {
-                        current_us: scan_us,
-                        min_us: self.min_scan_us.unwrap_or(0),
-                        max_us: self.max_scan_us.unwrap_or(0),
-                        since_run_us: now - self.run_start_us,
-                    },
-                ),
-            }
+        }
+        let end = End {
+            initial,
+            times: ScanTimes {
+                current_us: scan_us,
+                min_us: self.min_scan_us.unwrap_or(0),
+                max_us: self.max_scan_us.unwrap_or(0),
+            },
+            since_run_us: now - self.run_start_us,
+        };
+        if !initial {
             self.first_scan = false;
         }
         self.scans += 1;
-        // PRG.TIME OVER (5010): a scan longer than the constant scan; a
-        // continuation error (004 §7.1).
+        // A scan longer than the constant scan (a continuation error on
+        // MELSEC, 004 §7.1).
         if let Some(cs) = self.cfg.constant_scan {
             if scan_us > cs.as_micros() as u64 && !initial {
-                self.rt.record(ErrorCode::PRG_TIME_OVER, None, None, None);
+                self.rt
+                    .record(crate::Fault::ScanOverrun, None, None, None, None);
             }
         }
-        // SM50 OFF→ON: clear the continuation error named in SD50 (lower two
-        // digits ignored); stop errors cannot be cleared this way.
-        let sm50 = special::error_reset_requested(&self.rt.mem);
-        if let (Some(code), false) = (sm50, self.sm50) {
-            if let Some(e) = &self.rt.error {
-                let clearable = e.code.is_continuation() || e.code.is_operation_error();
-                if clearable && e.code.0 / 100 == code / 100 {
-                    self.rt.error = None;
-                    special::clear_error(&mut self.rt.mem);
-                }
+        // The program's error reset request, on its rising edge: clears the
+        // latest error if it names it and it does not stop the CPU.
+        let current = self.rt.error.as_ref().map(|e| e.code);
+        let request = self.rt.system.error_reset(&self.rt.mem, current);
+        if let (Some(names_it), false) = (request, self.error_reset) {
+            let clearable = current.is_some_and(|c| self.rt.severity(c) != Severity::Stop);
+            if names_it && clearable {
+                self.rt.error = None;
+                self.rt.system.clear_error(&mut self.rt.mem);
             }
         }
-        self.sm50 = sm50.is_some();
-        self.sm210 =
-            special::clock_registers(&mut self.rt.mem, &mut self.rt.clock, now, self.sm210);
+        self.error_reset = request.is_some();
+        let rt = &mut self.rt;
+        rt.system.end(
+            &mut EndCtx {
+                mem: &mut rt.mem,
+                shared: &mut rt.shared,
+                clock: &mut rt.clock,
+                now_us: now,
+                state: &mut rt.system_state,
+            },
+            end,
+        );
         // PSCAN/PSTOP/POFF/PLOW take effect at END; the last request wins.
         for i in 0..self.slots.len() {
-            if let Some(kind) = self.rt.type_requests[i].take() {
+            if let Some(kind) = self.rt.cpu.type_requests[i].take() {
                 let slot = &mut self.slots[i];
-                use softplc_ir::ops::TypeChange;
+                use softplc_ir::cpu::TypeChange;
                 slot.off_pending = kind == TypeChange::Off;
                 slot.exec = match kind {
                     TypeChange::Scan => ExecType::Scan,
@@ -123,12 +122,11 @@ impl Cpu {
                 };
             }
         }
-        special::user_clocks(&mut self.rt.mem, &mut self.rt.duty);
         if let Some(t) = &mut self.trace {
-            if std::mem::take(&mut self.rt.trace_reset) {
+            if std::mem::take(&mut self.rt.cpu.trace_reset) {
                 t.reset(&mut self.rt.mem);
             }
-            if std::mem::take(&mut self.rt.trace_trigger) {
+            if std::mem::take(&mut self.rt.cpu.trace_trigger) {
                 t.trigger();
             }
             t.sample(&mut self.rt.mem, self.scans, now);
@@ -136,6 +134,6 @@ impl Cpu {
         if std::mem::take(&mut self.rt.stop_request) {
             self.set_stop();
         }
-        special::set_status(&mut self.rt.mem, self.state);
+        self.show_status();
     }
 }

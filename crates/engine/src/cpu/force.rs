@@ -17,7 +17,7 @@ use super::*;
 
 /// One forced device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Force {
+pub(crate) struct Force {
     pub kind: DeviceKind,
     pub n: u32,
     /// Index in the flat bit memory.
@@ -45,14 +45,14 @@ impl Cpu {
             ));
         }
         let bit = self.rt.mem.map.base(kind) as usize + n as usize;
-        match self.forces.iter_mut().find(|f| f.bit == bit) {
+        match self.rt.forces.iter_mut().find(|f| f.bit == bit) {
             Some(f) => f.on = on,
             None => {
-                if self.forces.len() >= MAX_FORCES {
+                if self.rt.forces.len() >= MAX_FORCES {
                     return Err(format!("at most {MAX_FORCES} devices can be forced"));
                 }
                 let under = self.rt.mem.bits[bit];
-                self.forces.push(Force {
+                self.rt.forces.push(Force {
                     kind,
                     n,
                     bit,
@@ -68,12 +68,17 @@ impl Cpu {
     /// Releases the force of X`n`/Y`n` (nothing if it is not forced): the
     /// device takes the value it would have had without it. True when it was forced.
     pub fn release(&mut self, kind: DeviceKind, n: u32) -> bool {
-        let Some(i) = self.forces.iter().position(|f| f.kind == kind && f.n == n) else {
+        let Some(i) = self
+            .rt
+            .forces
+            .iter()
+            .position(|f| f.kind == kind && f.n == n)
+        else {
             return false;
         };
-        let f = self.forces.swap_remove(i);
+        let f = self.rt.forces.swap_remove(i);
         self.rt.mem.bits[f.bit] = match kind {
-            DeviceKind::X => self.inputs.get(n as usize).copied().unwrap_or(f.under),
+            DeviceKind::X => self.rt.inputs.get(n as usize).copied().unwrap_or(f.under),
             _ => f.under,
         };
         true
@@ -81,26 +86,21 @@ impl Cpu {
 
     /// Releases every force.
     pub fn release_all(&mut self) {
-        while let Some(f) = self.forces.last().copied() {
+        while let Some(f) = self.rt.forces.last().copied() {
             self.release(f.kind, f.n);
         }
     }
 
     /// The forced devices: (kind, number, value), in the order they were forced.
     pub fn forced(&self) -> impl Iterator<Item = (DeviceKind, u32, bool)> + '_ {
-        self.forces.iter().map(|f| (f.kind, f.n, f.on))
+        self.rt.forces.iter().map(|f| (f.kind, f.n, f.on))
     }
 
     /// Writes the forced values of `kind` over device memory. What was there is
     /// the value under the force (the input image after the input refresh, the
     /// program's result after the programs).
     pub(super) fn apply_forces(&mut self, kind: DeviceKind) {
-        for f in &mut self.forces {
-            if f.kind == kind {
-                f.under = self.rt.mem.bits[f.bit];
-                self.rt.mem.bits[f.bit] = f.on;
-            }
-        }
+        self.rt.apply_forces(kind);
     }
 
     /// Before the programs: forced outputs go back to their values under the
@@ -108,7 +108,7 @@ impl Cpu {
     /// circuit keeps working) and a write made while forced is seen; the
     /// forced value is written again after the programs.
     pub(super) fn unforce_outputs(&mut self) {
-        for f in &self.forces {
+        for f in &self.rt.forces {
             if f.kind == DeviceKind::Y {
                 self.rt.mem.bits[f.bit] = f.under;
             }
@@ -119,7 +119,7 @@ impl Cpu {
     /// keep the written value as the one under the force; a write whose span is
     /// unknown (`None`, e.g. an indexed name) counts where it changed a point.
     pub(super) fn force_written(&mut self, span: Option<(DeviceKind, u32, u32)>) {
-        for f in &mut self.forces {
+        for f in &mut self.rt.forces {
             let cur = self.rt.mem.bits[f.bit];
             let hit = match span {
                 Some((k, first, count)) => k == f.kind && f.n >= first && f.n - first < count,

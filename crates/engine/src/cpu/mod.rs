@@ -10,6 +10,7 @@
 mod door;
 mod end;
 mod force;
+pub(crate) use force::Force;
 pub use force::MAX_FORCES;
 mod retained;
 mod schedule;
@@ -18,12 +19,12 @@ mod states;
 use std::time::Duration;
 
 use super::exec::{self, Outcome};
-use super::special;
 use super::{
     Clock, CpuConfig, CpuError, CpuState, ErrorCode, ExecType, ProgState, RunClear, Runtime,
     StopToRunOutput,
 };
 use softplc_ir::calendar::PlcClock;
+use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 use softplc_ir::ops::MAX_NESTING;
@@ -85,8 +86,6 @@ pub struct Cpu {
     state: CpuState,
     /// A stop error holds the CPU in STOP until RESET.
     stop_error: bool,
-    /// Input image: what the input modules present; copied to X at input refresh.
-    inputs: Box<[bool]>,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
     /// Clock reading at power-on, at the last STOP→RUN and at the last END.
@@ -95,10 +94,8 @@ pub struct Cpu {
     last_end_us: u64,
     /// The initial programs have yet to run (power-on, RESET, STOP→RUN).
     initial_pending: bool,
-    /// SM402/SM403: first scan after RUN.
+    /// The first scan after RUN.
     first_scan: bool,
-    /// SM210 at the previous END, for its OFF→ON edge.
-    sm210: bool,
     scans: u64,
     min_scan_us: Option<u64>,
     max_scan_us: Option<u64>,
@@ -109,8 +106,9 @@ pub struct Cpu {
     /// Next occurrence of I28-I31 and causes remembered while disabled.
     int_due: [u64; 4],
     int_pending: [bool; 4],
-    /// SM50 at the previous END, for its OFF→ON edge.
-    sm50: bool,
+    /// The program's error reset request at the previous END, for its
+    /// rising edge (`System::error_reset`).
+    error_reset: bool,
     trace: Option<crate::trace::Trace>,
     /// Simulated time used by the programs of the current scan, µs.
     busy_us: u64,
@@ -120,22 +118,12 @@ pub struct Cpu {
     low_left_us: u64,
     /// Simulated low-speed execution time of the current cycle, µs.
     low_exec_us: u64,
-    /// Low-speed scan bookkeeping (SM404/405, SD528-SD535).
+    /// Low-speed scan bookkeeping (first cycle, scan times).
     low_first: bool,
     low_last_end_us: u64,
     low_min_us: Option<u64>,
     low_max_us: u64,
-    /// Forced X/Y ([`force`]).
-    forces: Vec<force::Force>,
 }
-
-/// IMASK at power-on: everything enabled except the error interrupts I32-I47,
-/// which need IMASK (004 L10902-10904).
-const DEFAULT_IMASK: [u16; 16] = {
-    let mut m = [0xFFFF; 16];
-    m[2] = 0;
-    m
-};
 
 impl Cpu {
     /// Powers on a CPU with one scan program and puts it in RUN.
@@ -161,7 +149,9 @@ impl Cpu {
         cfg: CpuConfig,
         clock: Box<dyn Clock>,
     ) -> Result<Cpu, String> {
-        let mem = DeviceMemory::new(&cfg.devices);
+        let mut mem = DeviceMemory::new(&cfg.devices);
+        let r_block = cfg.system.r_block(&mem.map);
+        mem.map.set_r_block(r_block);
         let timers = cfg.devices.points(DeviceKind::TS) + cfg.devices.points(DeviceKind::STS);
         let x = cfg.devices.points(DeviceKind::X) as usize;
         let y = cfg.devices.points(DeviceKind::Y) as usize;
@@ -191,7 +181,7 @@ impl Cpu {
                 p.file
             ));
         }
-        let interrupts = crate::link::link(&mut programs)?;
+        let interrupts = crate::link::link(&mut programs, &*cfg.system)?;
         let locals = programs.iter().map(ProgState::new).collect();
         let rt = Runtime {
             mem,
@@ -199,7 +189,6 @@ impl Cpu {
             clock: PlcClock::new(cfg.clock_start, now),
             shared: vec![0; programs.iter().map(|p| p.shared_words).max().unwrap_or(0) as usize]
                 .into_boxed_slice(),
-            timer_rem: vec![0; timers as usize].into_boxed_slice(),
             timer_base_us: [
                 cfg.timer_low.as_micros().max(1) as u32,
                 cfg.timer_high.as_micros().max(1) as u32,
@@ -210,19 +199,16 @@ impl Cpu {
             fors: Vec::with_capacity(MAX_NESTING),
             stop_request: false,
             watchdog: wall_watchdog(cfg.watchdog, clock.is_virtual()),
-            wdt_start: std::time::Instant::now(),
             abort: Default::default(),
             operation_error: cfg.operation_error,
             error: None,
             history: std::collections::VecDeque::with_capacity(crate::HISTORY_LEN),
-            ei: false,
-            imask: DEFAULT_IMASK,
             in_interrupt: false,
-            type_requests: vec![None; slots.len()].into_boxed_slice(),
+            cpu: CpuServices::new(slots.len(), timers as usize, cfg.system.interrupt_mask()),
             force_off: false,
-            duty: [None; 10],
-            trace_trigger: false,
-            trace_reset: false,
+            system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
+            inputs: vec![false; x].into_boxed_slice(),
+            forces: Vec::new(),
             system: cfg.system.clone(),
         };
         let mut cpu = Cpu {
@@ -236,14 +222,12 @@ impl Cpu {
             clock,
             state: CpuState::Run,
             stop_error: false,
-            inputs: vec![false; x].into_boxed_slice(),
             saved_y: vec![false; y].into_boxed_slice(),
             power_on_us: now,
             run_start_us: now,
             last_end_us: now,
             initial_pending: true,
             first_scan: true,
-            sm210: false,
             scans: 0,
             min_scan_us: None,
             max_scan_us: None,
@@ -251,7 +235,7 @@ impl Cpu {
             int_counts: vec![0; 256],
             int_due: [0; 4],
             int_pending: [false; 4],
-            sm50: false,
+            error_reset: false,
             trace: None,
             busy_us: 0,
             low_pos: 0,
@@ -261,7 +245,6 @@ impl Cpu {
             low_last_end_us: 0,
             low_min_us: None,
             low_max_us: 0,
-            forces: Vec::new(),
         };
         cpu.power_on();
         Ok(cpu)
@@ -328,9 +311,14 @@ impl Cpu {
         self.state
     }
 
-    /// The latest self-diagnostic error (what SD0 holds), if any.
+    /// The latest self-diagnostic error, if any.
     pub fn error(&self) -> Option<&CpuError> {
         self.rt.error.as_ref()
+    }
+
+    /// The message of error `code` in this CPU's family.
+    pub fn error_message(&self, code: ErrorCode) -> &'static str {
+        self.rt.system.message(code)
     }
 
     /// The error history, oldest first (004 §7.20.2).
@@ -366,6 +354,7 @@ impl Cpu {
     /// STOP (004 §4.4); a forced output's forced value.
     pub fn output(&self, n: u32) -> bool {
         if let Some(f) = self
+            .rt
             .forces
             .iter()
             .find(|f| f.kind == DeviceKind::Y && f.n == n)
@@ -388,7 +377,7 @@ impl Cpu {
 /// Instructions take no virtual time, so a real CPU's WDT ERROR from a long
 /// scan has no deterministic counterpart; the watchdog still stops an
 /// endless scan, but a machine under load (a preempted engine thread) does
-/// not turn an ordinary scan into 5000 (COMPATIBILITY.md "Watchdog").
+/// not turn an ordinary scan into a watchdog error (COMPATIBILITY.md "Watchdog").
 pub const VIRTUAL_WATCHDOG_FLOOR: std::time::Duration = std::time::Duration::from_secs(1);
 
 fn wall_watchdog(t: std::time::Duration, virtual_time: bool) -> std::time::Duration {

@@ -99,11 +99,12 @@ impl Cpu {
         self.rt.abort.load(std::sync::atomic::Ordering::Relaxed)
     }
 
-    /// Reports battery-backed data lost at power-on: BATTERY ERROR (1600) in
-    /// SD0 and the error history; with `stop` the CPU holds it as a stop error
-    /// (RESET clears it).
+    /// Reports battery-backed data lost at power-on: the family's battery
+    /// error (MELSEC's BATTERY ERROR) in the system devices and the error
+    /// history; with `stop` the CPU holds it as a stop error (RESET clears it).
     pub fn report_battery_error(&mut self, stop: bool) {
-        self.rt.record(ErrorCode::BATTERY, None, None, None);
+        self.rt
+            .record(crate::Fault::Battery, None, None, None, None);
         if stop {
             self.stop_error = true;
             self.set_stop();

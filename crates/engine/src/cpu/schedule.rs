@@ -2,6 +2,7 @@
 //! programs and the I28-I31 interrupts (004 §4.2, §4.1.3).
 
 use super::*;
+use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
 
 impl Cpu {
     /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
@@ -18,17 +19,17 @@ impl Cpu {
         self.rt.now_us = now;
         self.busy_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
-        self.rt.wdt_start = std::time::Instant::now();
-        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
-        self.rt.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
-        if !self.forces.is_empty() {
-            self.apply_forces(DeviceKind::X);
+        self.rt.cpu.reset_watchdog();
+        self.rt.refresh_inputs();
+        if !self.rt.forces.is_empty() {
             self.unforce_outputs();
         }
-        match &self.rt.system {
-            Some(s) => s.scan_start(&mut self.rt.mem, now - self.run_start_us, self.first_scan),
-            None => special::scan_start(&mut self.rt.mem, now - self.power_on_us, self.first_scan),
-        }
+        let start = ScanStart {
+            since_power_on_us: now - self.power_on_us,
+            since_run_us: now - self.run_start_us,
+            first_scan: self.first_scan,
+        };
+        self.rt.system.scan_start(&mut self.rt.mem, start);
         let initial =
             self.initial_pending && self.slots.iter().any(|s| s.exec == ExecType::Initial);
         self.initial_pending = false;
@@ -49,7 +50,7 @@ impl Cpu {
                 && self.run_type(ExecType::Scan)
                 && self.run_low_speed(now)
         };
-        if !self.forces.is_empty() {
+        if !self.rt.forces.is_empty() {
             // Forced outputs win over the program (and inputs it wrote).
             self.apply_forces(DeviceKind::Y);
             self.apply_forces(DeviceKind::X);
@@ -98,9 +99,9 @@ impl Cpu {
     }
 
     /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
-    /// virtual time, so a pass always fits the spare time). SM510 is ON and SD510
-    /// holds the program number while one runs; SM404/SM405 are the low-speed
-    /// first-scan pulses; low-speed END sets SD528-SD535 and counts SD430.
+    /// virtual time, so a pass always fits the spare time). The system shows
+    /// the pass, the program running and each completed cycle
+    /// (`System::low_speed`).
     pub(super) fn run_low_speed(&mut self, _now: u64) -> bool {
         // The low-speed programs in parameter order, without allocating.
         let n_low = self
@@ -113,9 +114,8 @@ impl Cpu {
         }
 
         let first = self.low_first;
-        self.sm(404, first);
-        self.sm(405, !first);
-        let sync = self.rt.mem.get_bit(DeviceKind::SM, 330).unwrap_or(false);
+        self.low_speed(LowSpeed::Pass { first });
+        let sync = self.rt.system.low_speed_synchronous(&self.rt.mem);
         let timed = self
             .slots
             .iter()
@@ -174,13 +174,13 @@ impl Cpu {
                 self.low_pos = 0;
                 self.low_speed_end();
                 if sync {
-                    // Synchronous (SM330 ON): no second cycle in the same scan.
+                    // Synchronous: no second cycle in the same scan.
                     break;
                 }
             }
         }
         self.busy_us += used;
-        self.sm(510, false);
+        self.low_speed(LowSpeed::Running(None));
         true
     }
 
@@ -192,47 +192,36 @@ impl Cpu {
             .unwrap_or(0)
     }
 
-    pub(super) fn sm(&mut self, n: i64, v: bool) {
-        let _ = self.rt.mem.set_bit(DeviceKind::SM, n, v);
+    fn low_speed(&mut self, event: LowSpeed) {
+        self.rt.system.low_speed(&mut self.rt.mem, event);
     }
 
-    /// Runs low-speed program `i` with SM510 ON and SD510 = its number (the
-    /// simulated time is accounted by the caller).
+    /// Runs low-speed program `i`, shown as running (the simulated time is
+    /// accounted by the caller).
     pub(super) fn run_low(&mut self, i: usize) -> bool {
-        self.sm(510, true);
-        let _ = self.rt.mem.set_word(DeviceKind::SD, 510, i as u16 + 1);
+        self.low_speed(LowSpeed::Running(Some(i)));
         let cost = self.slots[i].cost_us;
         let ok = self.run_slot(i);
         self.busy_us -= cost;
-        self.sm(510, false);
+        self.low_speed(LowSpeed::Running(None));
         ok
     }
 
     /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
-    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — into
-    /// SD528-SD535; SD430 counts.
+    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — and
+    /// its minimum and maximum to the system.
     pub(super) fn low_speed_end(&mut self) {
         let us = std::mem::take(&mut self.low_exec_us);
         if !self.low_first {
             self.low_max_us = self.low_max_us.max(us);
         }
         self.low_min_us = Some(self.low_min_us.map_or(us, |m| m.min(us)));
-        for (reg, v) in [
-            (528, us),
-            (532, self.low_min_us.unwrap_or(0)),
-            (534, self.low_max_us),
-        ] {
-            let (ms, sub) = special::ms_us(v);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, reg, ms);
-            let _ = self.rt.mem.set_word(DeviceKind::SD, reg + 1, sub);
-        }
-        let c = self
-            .rt
-            .mem
-            .get_word(DeviceKind::SD, 430)
-            .unwrap_or(0)
-            .wrapping_add(1);
-        let _ = self.rt.mem.set_word(DeviceKind::SD, 430, c);
+        let times = ScanTimes {
+            current_us: us,
+            min_us: self.low_min_us.unwrap_or(0),
+            max_us: self.low_max_us,
+        };
+        self.low_speed(LowSpeed::End(times));
         self.low_first = false;
     }
 
@@ -291,7 +280,7 @@ impl Cpu {
             self.int_due[k] += periods[k];
             let n = 28 + k;
             if self.interrupts[n].is_some() {
-                if self.rt.interrupt_enabled(n) {
+                if self.rt.cpu.interrupt_enabled(n) {
                     if !self.run_interrupt(n) {
                         return false;
                     }
@@ -301,7 +290,7 @@ impl Cpu {
             }
         }
         for k in (0..4).rev() {
-            if self.int_pending[k] && self.rt.interrupt_enabled(28 + k) {
+            if self.int_pending[k] && self.rt.cpu.interrupt_enabled(28 + k) {
                 self.int_pending[k] = false;
                 if !self.run_interrupt(28 + k) {
                     return false;
@@ -336,9 +325,11 @@ impl Cpu {
         self.outcome(out)
     }
 
-    /// Starts (or with `None` stops) a sampling trace, sampled at END.
+    /// Starts (or with `None` stops) a sampling trace, sampled at END; the
+    /// system's relays show its state.
     pub fn set_trace(&mut self, trace: Option<crate::trace::Trace>) {
-        self.trace = trace;
+        let relays = self.rt.system.trace_relays(&self.rt.mem.map);
+        self.trace = trace.map(|t| t.with_relays(relays));
     }
 
     pub fn trace(&self) -> Option<&crate::trace::Trace> {

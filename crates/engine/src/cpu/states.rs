@@ -3,6 +3,7 @@
 
 use super::retained::latch_spans;
 use super::*;
+use softplc_ir::system::Status;
 
 impl Cpu {
     /// RUN (key switch or remote RUN). From STOP this is STOP→RUN: outputs per the
@@ -13,7 +14,7 @@ impl Cpu {
             CpuState::Run => Ok(()),
             CpuState::Pause => {
                 self.state = CpuState::Run;
-                special::set_status(&mut self.rt.mem, self.state);
+                self.show_status();
                 Ok(())
             }
             CpuState::Stop if self.stop_error => Err(format!(
@@ -41,7 +42,7 @@ impl Cpu {
             let n = self.saved_y.len();
             self.saved_y.copy_from_slice(&self.rt.mem.bits[yb..yb + n]);
             self.state = CpuState::Stop;
-            special::set_status(&mut self.rt.mem, self.state);
+            self.show_status();
         }
     }
 
@@ -51,7 +52,7 @@ impl Cpu {
             CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
             _ => {
                 self.state = CpuState::Pause;
-                special::set_status(&mut self.rt.mem, self.state);
+                self.show_status();
                 Ok(())
             }
         }
@@ -125,7 +126,7 @@ impl Cpu {
         }
         for k in DeviceKind::ALL {
             use DeviceKind::*;
-            if matches!(k, X | SM | SD | R | ZR) {
+            if matches!(k, X | R | ZR) || k.is_system() {
                 continue;
             }
             let start = mem.map.base(k) as usize;
@@ -150,20 +151,20 @@ impl Cpu {
     /// values written, RUN from the initial programs.
     pub(super) fn power_on(&mut self) {
         // Forces are released at power-off and RESET (docs/forcing.md).
-        self.forces.clear();
+        self.rt.forces.clear();
         self.clear_unlatched();
         self.rt.error = None;
         self.stop_error = false;
-        self.rt.timer_rem.fill(0);
-        self.rt.ei = false;
-        self.rt.imask = DEFAULT_IMASK;
-        self.rt.duty = [None; 10];
+        self.rt.cpu.timer_rem.fill(0);
+        self.rt.cpu.enable_interrupts(false);
+        let mask = self.rt.system.interrupt_mask();
+        self.rt.cpu.mask_interrupts(mask);
         let now = self.clock.now_us();
         self.power_on_us = now;
         self.min_scan_us = None;
         self.max_scan_us = None;
         // "Scans executed since power-on": RESET is power-on processing, and
-        // the scan counter SD420 restarts from 0 with it (004 L10434).
+        // the system's scan counter restarts from 0 with it (004 L10434).
         self.scans = 0;
         self.system_power_on();
         self.start_run();
@@ -193,7 +194,7 @@ impl Cpu {
         self.initial_pending = true;
         self.first_scan = true;
         self.state = CpuState::Run;
-        special::set_status(&mut self.rt.mem, self.state);
+        self.show_status();
     }
 
     /// Device initial values, then the family's data that outranks them
@@ -203,9 +204,7 @@ impl Cpu {
             // Validated when the project was loaded.
             let _ = iv.device.write(&mut self.rt.mem, &iv.value);
         }
-        if let Some(s) = &self.rt.system {
-            s.initialised(&mut self.rt.mem);
-        }
+        self.rt.system.initialised(&mut self.rt.mem);
     }
 
     /// Clears every device except the latch ranges and the file registers.
@@ -235,12 +234,21 @@ impl Cpu {
 }
 
 impl Cpu {
-    /// Power-on values of the system devices (MELSEC's or the family's own).
+    /// Power-on values of the system devices; the system's own state
+    /// starts cleared.
     fn system_power_on(&mut self) {
-        match &self.rt.system {
-            Some(s) => s.power_on(&mut self.rt.mem),
-            None => special::power_on(&mut self.rt.mem),
-        }
+        self.rt.system_state.fill(0);
+        self.rt.system.power_on(&mut self.rt.mem);
+    }
+
+    /// The operating state into the system devices.
+    pub(super) fn show_status(&mut self) {
+        let status = match self.state {
+            CpuState::Run => Status::Run,
+            CpuState::Stop => Status::Stop,
+            CpuState::Pause => Status::Pause,
+        };
+        self.rt.system.status(&mut self.rt.mem, status);
     }
 }
 

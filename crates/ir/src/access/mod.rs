@@ -8,7 +8,8 @@
 //! - [`Span`]: `len` consecutive points of one device kind, resolved from a
 //!   name or a protocol's (kind, number) pair and range-checked once; read and
 //!   written as words or bits ([`DeviceMemory::read_span_words`], …).
-//! - The file-register rule (R addresses block `SD648`, 004 §10.7) lives here
+//! - The file-register rule (R addresses the block the CPU's selector word
+//!   holds, 004 §10.7) lives here
 //!   and only here: [`r_to_zr`], [`RBlock`].
 //!
 //! Errors are [`AccessError`]s naming the device as it was given.
@@ -24,7 +25,7 @@ use std::fmt;
 
 use crate::device::OutOfRange;
 
-pub use span::{r_to_zr, selected_block, RBlock, Span, R_BLOCK, SD_R_BLOCK};
+pub use span::{r_to_zr, selected_block, RBlock, Span, R_BLOCK};
 pub use spec::DeviceSpec;
 
 /// How a device's contents are presented.

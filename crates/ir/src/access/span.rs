@@ -7,9 +7,6 @@ use crate::device::{DeviceKind, DeviceMemory, OutOfRange};
 /// Points of one file-register block: R0-R32767 (004 §10.7).
 pub const R_BLOCK: u32 = 32768;
 
-/// SD648: the file-register block RSET selects (004 §10.7).
-pub const SD_R_BLOCK: u32 = 648;
-
 /// The ZR number of R`n` in file-register block `block`: ZR(32768·block + n)
 /// (004 §10.7). The one statement of the rule: program operands on R (through
 /// `DeviceMemory`'s indexed operand reads), names and protocol spans use it.
@@ -18,9 +15,10 @@ pub const fn r_to_zr(block: u16, n: i64) -> i64 {
     block as i64 * R_BLOCK as i64 + n
 }
 
-/// The file-register block SD648 selects (0 when SD is not configured).
+/// The file-register block the memory's selector word holds (0 without one,
+/// see [`crate::device::DeviceMap::set_r_block`]).
 pub fn selected_block(mem: &DeviceMemory) -> u16 {
-    mem.get_word(DeviceKind::SD, SD_R_BLOCK as i64).unwrap_or(0)
+    mem.map.r_block().map_or(0, |w| mem.words[w as usize])
 }
 
 /// Which file-register block an R address means.
@@ -29,7 +27,7 @@ pub enum RBlock {
     /// Block 0: R is the window onto ZR0-ZR32767. Device names on the command
     /// line and in scenarios, and the Modbus map's R range.
     First,
-    /// The block SD648 selects, as a program's R operands: the MC protocol.
+    /// The selected block, as a program's R operands: the MC protocol.
     Selected,
 }
 

@@ -135,6 +135,9 @@ fn r_addresses_the_block_sd648_selects() {
     assert_eq!(r_to_zr(1, 0), 32768);
     assert_eq!(r_to_zr(3, 100), 98404);
     let mut m = mem();
+    // The selector word is the dialect's (MELSEC's SD648).
+    let sd648 = m.map.index(DeviceKind::SD, 648);
+    m.map.set_r_block(sd648);
     m.set_word(DeviceKind::SD, 648, 1).unwrap();
     assert_eq!(selected_block(&m), 1);
     // MC protocol: R0 with SD648 = 1 is ZR32768.

@@ -77,6 +77,12 @@ impl DeviceKind {
         ]
     };
 
+    /// The system's relays and registers (SM, SD): kept through a device
+    /// clear.
+    pub fn is_system(self) -> bool {
+        matches!(self, DeviceKind::SM | DeviceKind::SD)
+    }
+
     #[inline]
     pub fn is_bit(self) -> bool {
         (self as u8) <= (DeviceKind::FY as u8)

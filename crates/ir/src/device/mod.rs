@@ -112,6 +112,10 @@ pub struct DeviceMap {
     points: [u32; DeviceKind::COUNT],
     bit_len: u32,
     word_len: u32,
+    /// Flat word index of the word selecting the file-register block that R
+    /// addresses (the dialect's: MELSEC's SD648), `u32::MAX` for none (R is
+    /// block 0).
+    r_block: u32,
 }
 
 impl DeviceMap {
@@ -134,14 +138,26 @@ impl DeviceMap {
             }
         }
         // R is a window onto ZR: its base is block 0. Program operands on R are
-        // `Indexed` and add the block RSET selected (SD648) when they run.
+        // `Indexed` and add the selected block (`r_block`) when they run.
         base[DeviceKind::R as usize] = base[DeviceKind::ZR as usize];
         DeviceMap {
             base,
             points,
             bit_len: nb,
             word_len: nw,
+            r_block: u32::MAX,
         }
+    }
+
+    /// Sets the word selecting the file-register block R addresses (flat
+    /// word index; the CPU sets its system's), `None` for block 0 always.
+    pub fn set_r_block(&mut self, word: Option<u32>) {
+        self.r_block = word.filter(|w| *w < self.word_len).unwrap_or(u32::MAX);
+    }
+
+    /// The word selecting the file-register block, if any.
+    pub fn r_block(&self) -> Option<u32> {
+        (self.r_block != u32::MAX).then_some(self.r_block)
     }
 
     #[inline]

@@ -1,11 +1,11 @@
 //! Basic instructions: comparison contacts, BIN and real arithmetic, conversion
 //! and transfer (programming manual ch. 6). Real numbers follow 004 §2.8: the CPU
-//! has no ±∞/NaN, so such inputs or results are OPERATION ERROR 4100.
+//! has no ±∞/NaN, so such inputs or results are operation errors.
 
-use super::sequence;
 use crate::device::DeviceMemory;
-use crate::fault::{ErrorCode, Fault};
-use crate::ops::{Apply, ArithOp, CmpOp, Compare, Num, WordArg};
+use crate::fault::Fault;
+use crate::instr::{ExecCtx, Instr};
+use crate::ops::{ArithOp, CmpOp, Compare, Num, WordArg};
 
 /// Evaluates a comparison contact (`LD=`, `ANDD>`, `ORE<=` …); signed compare for
 /// BIN, IEEE compare for real.
@@ -36,62 +36,113 @@ pub fn test(op: CmpOp, ord: std::cmp::Ordering) -> bool {
     }
 }
 
-/// Executes an application instruction whose condition is ON.
-pub fn apply(mem: &mut DeviceMemory, timer_rem: &mut [u32], a: &Apply) -> Result<(), Fault> {
-    match a {
-        // MOV / DMOV / EMOV: EMOV copies the two words unchanged.
-        Apply::Mov { words: 1, s, d } => {
-            let v = mem.read16(s)?;
-            mem.write16(d, v)
+/// MOV / DMOV / EMOV (PM §6.4) on general operands (digits, index
+/// modification, file registers); plain words are the inline `Op::MovK`,
+/// `Op::MovW`, `Op::MovD`, `Op::MovDK`. EMOV copies the two words unchanged.
+#[derive(Debug)]
+pub struct Move {
+    /// 1 or 2.
+    pub words: u8,
+    pub s: WordArg,
+    pub d: WordArg,
+}
+
+impl Instr for Move {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        if self.words == 1 {
+            let v = cx.mem.read16(&self.s)?;
+            cx.mem.write16(&self.d, v)
+        } else {
+            let v = cx.mem.read32(&self.s)?;
+            cx.mem.write32(&self.d, v)
         }
-        Apply::Mov { s, d, .. } => {
-            let v = mem.read32(s)?;
-            mem.write32(d, v)
+    }
+}
+
+/// `+ - * /` and their D and E forms (PM §6.2-6.3): see [`arith`].
+#[derive(Debug)]
+pub struct Arith {
+    pub op: ArithOp,
+    pub num: Num,
+    pub s1: WordArg,
+    pub s2: WordArg,
+    pub d: WordArg,
+}
+
+impl Instr for Arith {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        arith(cx.mem, self.op, self.num, &self.s1, &self.s2, &self.d)
+    }
+}
+
+/// INC/DEC/DINC/DDEC (PM §6.3.5): they wrap, 32767 + 1 = -32768 (at 32 bits
+/// likewise).
+#[derive(Debug)]
+pub struct Step {
+    pub num: Num,
+    pub delta: i32,
+    pub d: WordArg,
+}
+
+impl Instr for Step {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mem = &mut *cx.mem;
+        if self.num == Num::I16 {
+            let v = (mem.read16(&self.d)? as i16).wrapping_add(self.delta as i16);
+            mem.write16(&self.d, v as u16)
+        } else {
+            let v = (mem.read32(&self.d)? as i32).wrapping_add(self.delta);
+            mem.write32(&self.d, v as u32)
         }
-        Apply::Arith { op, num, s1, s2, d } => arith(mem, *op, *num, s1, s2, d),
-        // INC/DEC wrap: 32767 + 1 = -32768 (DINC/DDEC likewise at 32 bits).
-        Apply::Step {
-            num: Num::I16,
-            delta,
-            d,
-        } => {
-            let v = (mem.read16(d)? as i16).wrapping_add(*delta as i16);
-            mem.write16(d, v as u16)
-        }
-        Apply::Step { delta, d, .. } => {
-            let v = (mem.read32(d)? as i32).wrapping_add(*delta);
-            mem.write32(d, v as u32)
-        }
-        // FLT / DFLT: BIN to real.
-        Apply::Flt { num, s, d } => {
-            let v = match num {
-                Num::I16 => mem.read16(s)? as i16 as f32,
-                _ => mem.read32(s)? as i32 as f32,
-            };
-            mem.write_f32(d, v)
-        }
-        // INT / DINT: real to BIN, rounded half away from zero (the CPU rounds the
-        // first decimal place); outside the BIN range is 4100.
-        Apply::Int { num, s, d } => {
-            let v = (mem.read_f32(s)? as f64).round();
-            match num {
-                Num::I16 if (-32768.0..=32767.0).contains(&v) => mem.write16(d, v as i16 as u16),
-                Num::I32 if (i32::MIN as f64..=i32::MAX as f64).contains(&v) => {
-                    mem.write32(d, v as i32 as u32)
-                }
-                _ => Err(ErrorCode::OPERATION),
+    }
+}
+
+/// FLT / DFLT (PM §6.4): BIN to real.
+#[derive(Debug)]
+pub struct Flt {
+    pub num: Num,
+    pub s: WordArg,
+    pub d: WordArg,
+}
+
+impl Instr for Flt {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mem = &mut *cx.mem;
+        let v = match self.num {
+            Num::I16 => mem.read16(&self.s)? as i16 as f32,
+            _ => mem.read32(&self.s)? as i32 as f32,
+        };
+        mem.write_f32(&self.d, v)
+    }
+}
+
+/// INT / DINT (PM §6.4): real to BIN, rounded half away from zero (the CPU
+/// rounds the first decimal place); outside the BIN range is an operation
+/// error.
+#[derive(Debug)]
+pub struct Int {
+    pub num: Num,
+    pub s: WordArg,
+    pub d: WordArg,
+}
+
+impl Instr for Int {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mem = &mut *cx.mem;
+        let v = (mem.read_f32(&self.s)? as f64).round();
+        match self.num {
+            Num::I16 if (-32768.0..=32767.0).contains(&v) => mem.write16(&self.d, v as i16 as u16),
+            Num::I32 if (i32::MIN as f64..=i32::MAX as f64).contains(&v) => {
+                mem.write32(&self.d, v as i32 as u32)
             }
-        }
-        Apply::ResetTc(r) => {
-            sequence::reset_tc(mem, timer_rem, r);
-            Ok(())
+            _ => Err(Fault::Operation),
         }
     }
 }
 
 /// `+ - * /` in BIN 16, BIN 32 and real. BIN add/subtract wrap (no error, as the
 /// CPU); `*` gives a double-width product; `/` gives quotient and remainder, the
-/// remainder taking the sign of the dividend; division by 0 is 4100. With a
+/// remainder taking the sign of the dividend; division by 0 is an operation error. With a
 /// digit-specified destination `*` stores the low 32 bits of the product (K1-K8)
 /// and `/` only the quotient, without the remainder.
 fn arith(
@@ -111,7 +162,7 @@ fn arith(
                 ArithOp::Mul => mem.write_words(d, (a as i32 * b as i32) as u32 as u64, 2),
                 ArithOp::Div => {
                     if b == 0 {
-                        return Err(ErrorCode::OPERATION);
+                        return Err(Fault::Operation);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
                     if is_digits(d) {
@@ -129,7 +180,7 @@ fn arith(
                 ArithOp::Mul => mem.write_words(d, (a as i64 * b as i64) as u64, 4),
                 ArithOp::Div => {
                     if b == 0 {
-                        return Err(ErrorCode::OPERATION);
+                        return Err(Fault::Operation);
                     }
                     let (q, r) = (a.wrapping_div(b), a.wrapping_rem(b));
                     if is_digits(d) {
@@ -145,7 +196,7 @@ fn arith(
                 ArithOp::Add => a + b,
                 ArithOp::Sub => a - b,
                 ArithOp::Mul => a * b,
-                ArithOp::Div if b == 0.0 => return Err(ErrorCode::OPERATION),
+                ArithOp::Div if b == 0.0 => return Err(Fault::Operation),
                 ArithOp::Div => a / b,
             };
             mem.write_f32(d, v)

@@ -3,6 +3,7 @@
 
 use crate::device::DeviceMemory;
 use crate::fault::Fault;
+use crate::instr::{ExecCtx, Instr};
 use crate::ops::{Coil, CoilKind, Counter, ResetTc, Timer};
 
 /// OUT/SET/RST/PLS/PLF/FF on a general bit operand. `cond` is the rung condition.
@@ -48,7 +49,7 @@ pub fn coil(mem: &mut DeviceMemory, edges: &mut [bool], c: &Coil, cond: bool) ->
 /// the part of the scan time below one time-base unit is carried in `rem`.
 /// Set value 0 turns the contact ON at once; a timer already timed out stays
 /// timed out when its set value is raised (L6505-6510). A negative set value from a
-/// word device is error 4100.
+/// word device is an operation error.
 #[inline]
 pub fn timer(
     mem: &mut DeviceMemory,
@@ -71,7 +72,7 @@ pub fn timer(
     }
     let set = mem.read16(&t.set)? as i16;
     if set < 0 {
-        return Err(crate::fault::ErrorCode::OPERATION);
+        return Err(crate::fault::Fault::Operation);
     }
     let was_on = mem.bits[coil];
     mem.bits[coil] = true;
@@ -107,7 +108,7 @@ pub fn timer(
 pub fn counter(mem: &mut DeviceMemory, c: &Counter, cond: bool) -> Result<(), Fault> {
     let set = mem.read16(&c.set)? as i16;
     if set < 0 {
-        return Err(crate::fault::ErrorCode::OPERATION);
+        return Err(crate::fault::Fault::Operation);
     }
     let set = set.max(1);
     let (coil, contact, value) = (c.coil as usize, c.contact as usize, c.value as usize);
@@ -124,12 +125,15 @@ pub fn counter(mem: &mut DeviceMemory, c: &Counter, cond: bool) -> Result<(), Fa
     Ok(())
 }
 
-/// `RST T`/`RST C`: clears the current value and the contact at once.
-#[inline]
-pub fn reset_tc(mem: &mut DeviceMemory, rem: &mut [u32], r: &ResetTc) {
-    mem.words[r.value as usize] = 0;
-    mem.bits[r.contact as usize] = false;
-    if r.slot != u32::MAX {
-        rem[r.slot as usize] = 0;
+/// `RST T`/`RST C` (PM §5.3): clears the current value and the contact at
+/// once, and a timer's sub-unit remainder.
+impl Instr for ResetTc {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        cx.mem.words[self.value as usize] = 0;
+        cx.mem.bits[self.contact as usize] = false;
+        if self.slot != u32::MAX {
+            cx.cpu.reset_timer(self.slot);
+        }
+        Ok(())
     }
 }

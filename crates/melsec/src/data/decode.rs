@@ -3,7 +3,7 @@
 use super::{read_i16, Bits, BitsAt};
 use crate::{Args, ExecCtx, Instr};
 use softplc_ir::device::Operand;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::BitBlock;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -43,7 +43,7 @@ impl Instr for Deco {
             return Ok(());
         }
         if !(1..=8).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = (mem.read16(&self.s)? as usize) & ((1 << n) - 1);
         let bits = 1usize << n;
@@ -93,13 +93,13 @@ impl Instr for Enco {
             return Ok(());
         }
         if !(1..=8).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let bits = 1usize << n;
         let at = self.s.resolve(mem, bits as u32)?;
         match (0..bits).rev().find(|&k| at.get(mem, k)) {
             Some(k) => mem.write16(&self.d, k as u16),
-            None => Err(ErrorCode::OPERATION),
+            None => Err(Fault::Operation),
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::read_i16;
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -40,7 +40,7 @@ impl Instr for Dis {
             return Ok(());
         }
         if !(1..=4).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = mem.read16(&self.s)?;
         let d = mem.block_start(&self.d, n as u32)?;
@@ -83,7 +83,7 @@ impl Instr for Uni {
             return Ok(());
         }
         if !(1..=4).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let s = mem.block_start(&self.s, n as u32)?;
         let mut v = 0u16;
@@ -141,7 +141,7 @@ impl Instr for Ndis {
             let base = mem.block_start(&self.s2, fields + 1)?;
             match mem.words[base + fields as usize] as i16 {
                 0 => break base,
-                v if !(1..=16).contains(&v) => return Err(ErrorCode::OPERATION),
+                v if !(1..=16).contains(&v) => return Err(Fault::Operation),
                 v => {
                     total += v as u32;
                     fields += 1;
@@ -231,7 +231,7 @@ impl Instr for Wtob {
             return Ok(());
         }
         if n < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let n = n as u32;
         let packed = n.div_ceil(2);

@@ -3,7 +3,7 @@
 
 use super::{elem, fixed_block, get_flag, read_i16, set_elem, width};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::instr::LocalSlot;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{BitArg, Num, WordArg};
@@ -140,14 +140,14 @@ impl Instr for Sort {
         let mem = &mut *cx.mem;
         let per = read_i16(mem, &self.per_exec)?;
         if per <= 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         mem.block_start(&self.work, 2)?;
         let starting = !st.running;
         let n = if starting {
             let n = read_i16(mem, &self.n)?;
             if n < 0 {
-                return Err(ErrorCode::OPERATION);
+                return Err(Fault::Operation);
             }
             n as u32
         } else {

@@ -46,7 +46,7 @@ use super::registry::Registry;
 use super::work::{LoopState, F_AUTO, F_DEFERRED, F_INIT, WORK};
 use super::Family;
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 
 /// Everything one PIDCONT execution needs besides the registry (001 §5.1.2
 /// measured scan time, §4.3.4 SM794/SM774, §4.3.5 SD794/SD795, SD774/SD775).
@@ -109,7 +109,7 @@ pub(crate) fn run(
         let (head, rest) = io.split_at_mut(WORK);
         let w = &mut rest[..work];
         if reg.bad(i) {
-            error.get_or_insert(ErrorCode::OPERATION);
+            error.get_or_insert(Fault::Operation);
             continue;
         }
         if reg.stopped(i) {
@@ -123,7 +123,7 @@ pub(crate) fn run(
             0 => false,
             1 => true,
             _ => {
-                error.get_or_insert(ErrorCode::OPERATION);
+                error.get_or_insert(Fault::Operation);
                 continue;
             }
         };

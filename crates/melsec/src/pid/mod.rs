@@ -54,7 +54,7 @@ pub const MAX_LOOPS: usize = 32;
 
 /// Error 4103: instruction order (PIDCONT before PIDINIT …; 001 §8.1.2–§8.1.4,
 /// §9.1.2–§9.1.5 "运算错误").
-pub const ORDER: ErrorCode = ErrorCode(4103);
+pub const ORDER: Fault = Fault::Family(ErrorCode(4103));
 
 /// The derivative family (001 §1.1; notes §1.1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -237,7 +237,7 @@ fn prologue(a: &mut Args<'_, '_>, fam: Family, operands: usize) -> Option<Family
 fn loop_index(cx: &ExecCtx<'_>, n: &WordArg, loops: usize) -> Result<usize, Fault> {
     let v = cx.mem.read16(n)? as i16;
     if v < 1 || v as usize > MAX_LOOPS || v as usize > loops {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     Ok(v as usize - 1)
 }
@@ -278,7 +278,7 @@ impl Instr for PidInit {
         let max = MAX_LOOPS as i16;
         if !(1..=max).contains(&n) || !(1..=max).contains(&k) || n < k {
             reg.register_error();
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let n = n as usize;
         let per = fam.param_words();
@@ -289,7 +289,7 @@ impl Instr for PidInit {
             let w = &cx.mem.words[s + 2 + per * i..s + 2 + per * (i + 1)];
             let ok = LoopParams::decode(fam, w).is_some();
             if !ok {
-                error = Err(ErrorCode::OPERATION);
+                error = Err(Fault::Operation);
             }
             reg.set_loop(i, w, ok);
         }
@@ -336,7 +336,7 @@ impl Instr for PidCont {
             return Err(ORDER);
         }
         if reg.common_error() {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let words = (10 + fam.io_words() * reg.loops()) as u32;
         let start = cx.mem.block_start(&self.io, words)?;
@@ -438,7 +438,7 @@ impl Instr for PidPrmw {
         let per = fam.param_words();
         let s = cx.mem.block_start(&self.data, per as u32)?;
         let w = &cx.mem.words[s..s + per];
-        LoopParams::decode(fam, w).ok_or(ErrorCode::OPERATION)?;
+        LoopParams::decode(fam, w).ok_or(Fault::Operation)?;
         self.fam.registry(cx.shared).set_loop(i, w, true);
         Ok(())
     }

@@ -5,7 +5,7 @@
 //! (DEC-1 … DEC-4).
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::layout::{At, WordValue};
 use softplc_ir::ops::{Block, WordArg};
 use softplc_lang::isa::{CompileFn, Def, Doc, Pulse, Steps};
@@ -116,7 +116,7 @@ impl Sys {
     pub fn fail(&self, m: &mut DeviceMemory, e: PcError) -> Fault {
         m.words[self.detail] = e.detail;
         m.words[self.step] = e.step;
-        ErrorCode::OPERATION
+        Fault::Operation
     }
 
     /// Runs an instruction body and reports its error, if any.

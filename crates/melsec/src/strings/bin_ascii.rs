@@ -4,7 +4,7 @@
 
 use super::{read_bytes, sm701, store_bytes};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -121,7 +121,7 @@ impl Instr for ToAsciiInstr {
 /// For the BCD kinds: 4100 when one of the `n` nibbles is above 9.
 fn bcd_check(kind: ToAscii, v: u32, n: u32) -> Result<(), Fault> {
     if matches!(kind, ToAscii::Bcd16 | ToAscii::Bcd32) && (0..n).any(|k| v >> (4 * k) & 0xF > 9) {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     Ok(())
 }
@@ -177,7 +177,7 @@ fn dec_char(c: u8) -> Result<u32, Fault> {
     match c {
         b'0'..=b'9' => Ok((c - b'0') as u32),
         b' ' => Ok(0),
-        _ => Err(ErrorCode::OPERATION),
+        _ => Err(Fault::Operation),
     }
 }
 
@@ -185,7 +185,7 @@ pub(super) fn hex_char(c: u8) -> Result<u32, Fault> {
     match c {
         b'0'..=b'9' => Ok((c - b'0') as u32),
         b'A'..=b'F' => Ok((c - b'A' + 10) as u32),
-        _ => Err(ErrorCode::OPERATION),
+        _ => Err(Fault::Operation),
     }
 }
 
@@ -194,7 +194,7 @@ fn signed_dec(c: &[u8], min: i64, max: i64) -> Result<i64, Fault> {
     let neg = match c[0] {
         b' ' => false,
         b'-' => true,
-        _ => return Err(ErrorCode::OPERATION),
+        _ => return Err(Fault::Operation),
     };
     let mut v: i64 = 0;
     for &d in &c[1..] {
@@ -202,7 +202,7 @@ fn signed_dec(c: &[u8], min: i64, max: i64) -> Result<i64, Fault> {
     }
     let v = if neg { -v } else { v };
     if !(min..=max).contains(&v) {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     Ok(v)
 }

@@ -2,7 +2,7 @@
 
 use super::{copy_str, dest, put_nul, read_dev_str, read_str, store, str_src, Loc, Str, StrSrc};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 
 /// PM §6.5 (data transfer) $MOV(P) `S D`: transfers the character string S (a constant or the
@@ -96,7 +96,7 @@ impl Instr for SAdd {
             copy_str(words, a, at);
         } else {
             if total > BUF {
-                return Err(ErrorCode::RANGE);
+                return Err(Fault::Range);
             }
             let mut buf = [0u8; BUF];
             for (i, c) in buf[..a.len].iter_mut().enumerate() {

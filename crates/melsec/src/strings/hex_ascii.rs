@@ -3,7 +3,7 @@
 use super::bin_ascii::{hex_char, HEX};
 use super::{dest, get_byte, put_nul, set_byte, sm701};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -39,7 +39,7 @@ impl Instr for Asc {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let n = cx.mem.read16(&self.n)? as i16;
         if n < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         if n == 0 {
             return Ok(());
@@ -98,7 +98,7 @@ impl Instr for Hex {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let n = cx.mem.read16(&self.n)? as i16;
         if n < 0 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         if n == 0 {
             return Ok(());

@@ -2,7 +2,7 @@
 
 use super::{read_str, read_words, store_bytes, str_src, StrSrc};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -53,7 +53,7 @@ pub(super) fn fixed(
     }
     let nd = nd.max(dec + 1);
     if nd > avail {
-        return Err(ErrorCode::OPERATION);
+        return Err(Fault::Operation);
     }
     out[0] = if neg { b'-' } else { b' ' };
     let spaces = avail - nd;
@@ -112,7 +112,7 @@ impl Instr for StrInstr {
             || !(0..=max_dec).contains(&dec)
             || (dec > 0 && dec > total - 3)
         {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = if self.wide {
             cx.mem.read32(&self.s2)? as i32 as i64
@@ -170,12 +170,12 @@ impl Instr for Val {
         let (max_total, max_dec) = if self.wide { (13, 10) } else { (8, 5) };
         let n = s.len;
         if !(2..=max_total).contains(&n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let neg = match s.byte(w, 0) {
             b' ' => false,
             b'-' => true,
-            _ => return Err(ErrorCode::OPERATION),
+            _ => return Err(Fault::Operation),
         };
         let mut v: i64 = 0;
         let mut point: Option<usize> = None;
@@ -192,12 +192,12 @@ impl Instr for Val {
                     // At most 12 digits: no overflow.
                     v = v * 10 + (c - b'0') as i64;
                 }
-                _ => return Err(ErrorCode::OPERATION),
+                _ => return Err(Fault::Operation),
             }
         }
         let dec = point.map_or(0, |p| n - 1 - p);
         if dec > max_dec || (dec > 0 && dec + 3 > n) {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let v = if neg { -v } else { v };
         let ok = if self.wide {
@@ -206,7 +206,7 @@ impl Instr for Val {
             (-32768..=32767).contains(&v)
         };
         if !ok {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let i = cx.mem.block_start(&self.d1, 2)?;
         cx.mem.words[i] = n as u16;

@@ -24,7 +24,7 @@
 
 use super::Args;
 use softplc_ir::device::{Constant, DeviceMemory, Operand};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::WordArg;
 use softplc_lang::isa::{Def, Doc};
@@ -315,7 +315,7 @@ fn read_dev_str(mem: &DeviceMemory, b: &Block) -> Result<Str<'static>, Fault> {
             loc: Loc::Mem(at),
             len,
         })
-        .ok_or(ErrorCode::RANGE)
+        .ok_or(Fault::Range)
 }
 
 /// The byte offset of a destination that must hold `len` characters and, with
@@ -324,7 +324,7 @@ fn dest(mem: &DeviceMemory, b: &Block, len: usize, nul: bool) -> Result<usize, F
     let (start, end) = span(mem, b)?;
     let words = if nul { len / 2 + 1 } else { len.div_ceil(2) };
     if start + words > end {
-        return Err(ErrorCode::RANGE);
+        return Err(Fault::Range);
     }
     Ok(2 * start)
 }

@@ -4,7 +4,7 @@ use super::bin_ascii::dec_digits;
 use super::len_str_val::fixed;
 use super::{read_str, read_words, store_bytes, str_src, Str, StrSrc};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -70,7 +70,7 @@ impl Instr for Estr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let x = cx.mem.read_f32(&self.s1)? as f64;
         let [form, total, dec] = read_words::<3>(cx.mem, &self.s2)?.map(|w| w as i16 as i32);
-        let bad = || Err(ErrorCode::OPERATION);
+        let bad = || Err(Fault::Operation);
         if !(0..=7).contains(&dec) || total > 24 {
             return bad();
         }
@@ -160,7 +160,7 @@ pub(super) fn compile_eval(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
 /// Parses an EVAL string to (negative, significant digits, decimal exponent of
 /// the last kept digit).
 fn parse_real(s: Str<'_>, w: &[u16]) -> Result<(bool, u32, i32), Fault> {
-    let bad = Err(ErrorCode::OPERATION);
+    let bad = Err(Fault::Operation);
     let mut neg = false;
     let mut seen_sign = false;
     let mut digits = 0u32; // significant digits kept (≤ 6)
@@ -239,7 +239,7 @@ impl Instr for Eval {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let s = read_str(cx.mem, &self.s)?;
         if s.len == 0 || s.len > 24 {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         let (neg, mant, shift) = parse_real(s, &cx.mem.words)?;
         if mant == 0 {
@@ -247,7 +247,7 @@ impl Instr for Eval {
         }
         let v = scale10(mant as f64, shift.clamp(-100, 100)) as f32;
         if v.is_infinite() || v < f32::MIN_POSITIVE {
-            return Err(ErrorCode::OPERATION);
+            return Err(Fault::Operation);
         }
         cx.mem.write_f32(&self.d, if neg { -v } else { v })
     }

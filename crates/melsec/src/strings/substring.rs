@@ -2,7 +2,7 @@
 
 use super::{copy_str, put_nul, read_dev_str, read_str, read_words, store, str_src, Loc, StrSrc};
 use crate::{Args, ExecCtx, Instr};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
 
@@ -37,7 +37,7 @@ impl Instr for Side {
         let s = read_str(cx.mem, &self.s)?;
         let n = cx.mem.read16(&self.n)? as i16;
         if n < 0 || n as usize > s.len {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         let n = n as usize;
         let from = if self.right { s.len - n } else { 0 };
@@ -85,12 +85,12 @@ impl Instr for Mid {
         let s = read_str(cx.mem, &self.s1)?;
         let [pos, cnt] = read_words::<2>(cx.mem, &self.s2)?.map(|w| w as i16 as i32);
         if cnt < -1 || pos < 1 {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         let pos = pos as usize - 1;
         if !self.write {
             if pos >= s.len {
-                return Err(ErrorCode::RANGE);
+                return Err(Fault::Range);
             }
             let rest = s.len - pos;
             let n = if cnt == -1 {
@@ -102,10 +102,10 @@ impl Instr for Mid {
         }
         let d = read_dev_str(cx.mem, &self.d)?;
         let Loc::Mem(at) = d.loc else {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         };
         if pos >= d.len {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         if cnt == 0 {
             put_nul(&mut cx.mem.words, at, 0);
@@ -159,7 +159,7 @@ impl Instr for InStr {
         let hay = read_str(cx.mem, &self.s2)?;
         let n = cx.mem.read16(&self.n)? as i16;
         if n < 1 || n as usize > hay.len {
-            return Err(ErrorCode::RANGE);
+            return Err(Fault::Range);
         }
         let w = &cx.mem.words;
         let found = if pat.len == 0 || pat.len > hay.len {

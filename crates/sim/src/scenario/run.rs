@@ -376,7 +376,11 @@ impl Run {
                     (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
                     _ => String::new(),
                 };
-                format!("error {} {}{place}", e.code.0, e.code.message())
+                format!(
+                    "error {} {}{place}",
+                    e.code.0,
+                    self.cpu.error_message(e.code)
+                )
             }
             None => "no error recorded".into(),
         }

@@ -8,7 +8,7 @@
 //! freeze (DEC-15: MHA2/MLA2 of ALM2 +116 per DEC-7, or MHA/MLA).
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::fault::Fault;
 use softplc_ir::layout::At;
 use softplc_ir::ops::{Block, WordArg};
 
@@ -334,7 +334,7 @@ impl Front {
         if pat.trk && pat.e2_used && self.mode.tracking(mode) {
             if pat.e2_upper_mv {
                 let Some(u) = a.upper else {
-                    return Err(Halt::Fault(ErrorCode::RANGE));
+                    return Err(Halt::Fault(Fault::Range));
                 };
                 m.words[u] |= self.inh.trkf;
             }

@@ -1,0 +1,122 @@
+//! MELSEC-Q's system (004 App. 1, App. 2; qcpu.md §4.4, §6, §8): its special
+//! relays and registers around each scan and at END, its error numbering
+//! ([`codes`]) and error registers, through the engine's [`System`] seam.
+//! One job per file: [`scan`] power-on, scan start, scan times and status;
+//! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
+//! low-speed registers; the user timing clocks of DUTY are `user_clock`.
+
+mod clock;
+pub mod codes;
+mod devices;
+mod errors;
+mod low_speed;
+mod scan;
+
+use std::sync::Arc;
+
+use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
+use softplc_ir::fault::{ErrorCode, Fault};
+use softplc_ir::system::{
+    End, EndCtx, ErrorReport, LowSpeed, ScanStart, Severity, Status, System, TraceRelays,
+};
+
+/// SD648: the file-register block number R addresses (004 §10.7, RSET).
+pub const R_BLOCK: u32 = 648;
+
+/// MELSEC-Q's system devices and error numbering.
+#[derive(Debug, Default)]
+pub struct Melsec;
+
+/// The MELSEC-Q system as a CPU takes it.
+pub fn system() -> Arc<dyn System> {
+    Arc::new(Melsec)
+}
+
+/// [`EndCtx::state`]: SM210 at the previous END, for its OFF→ON edge.
+const STATE_SM210: usize = 0;
+
+impl System for Melsec {
+    fn state_words(&self) -> usize {
+        1
+    }
+
+    /// Everything enabled except the error interrupts I32-I47, which need
+    /// IMASK (004 L10902-10904).
+    fn interrupt_mask(&self) -> [u16; softplc_ir::cpu::INTERRUPTS / 16] {
+        let mut m = [0xFFFF; softplc_ir::cpu::INTERRUPTS / 16];
+        m[2] = 0;
+        m
+    }
+
+    fn power_on(&self, mem: &mut DeviceMemory) {
+        scan::power_on(mem);
+    }
+
+    fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
+        scan::scan_start(mem, start);
+    }
+
+    /// The scan-time registers, the clock registers, then the user timing
+    /// clocks (counted at every END, the initial scan's too).
+    fn end(&self, cx: &mut EndCtx<'_>, end: End) {
+        scan::end(cx.mem, end);
+        let before = cx.state[STATE_SM210] != 0;
+        let sm210 = clock::registers(cx.mem, cx.clock, cx.now_us, before);
+        cx.state[STATE_SM210] = sm210 as u32;
+        crate::user_clock::end(cx.mem, cx.shared);
+    }
+
+    fn status(&self, mem: &mut DeviceMemory, status: Status) {
+        scan::status(mem, status);
+    }
+
+    fn code(&self, fault: Fault) -> Option<ErrorCode> {
+        Some(codes::code(fault))
+    }
+
+    fn message(&self, code: ErrorCode) -> &'static str {
+        codes::message(code)
+    }
+
+    fn severity(&self, code: ErrorCode) -> Severity {
+        codes::severity(code)
+    }
+
+    fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
+        errors::report(mem, report);
+    }
+
+    fn error_reset(&self, mem: &DeviceMemory, current: Option<ErrorCode>) -> Option<bool> {
+        errors::reset_request(mem, current)
+    }
+
+    fn clear_error(&self, mem: &mut DeviceMemory) {
+        errors::clear(mem);
+    }
+
+    fn low_speed(&self, mem: &mut DeviceMemory, event: LowSpeed) {
+        low_speed::event(mem, event);
+    }
+
+    fn low_speed_synchronous(&self, mem: &DeviceMemory) -> bool {
+        low_speed::synchronous(mem)
+    }
+
+    /// SD648 (RSET).
+    fn r_block(&self, map: &DeviceMap) -> Option<u32> {
+        map.index(DeviceKind::SD, R_BLOCK)
+    }
+
+    /// SM800 ready, SM802 executing, SM803 trigger, SM804 after the trigger,
+    /// SM805 complete (004 §7.12).
+    fn trace_relays(&self, map: &DeviceMap) -> Option<TraceRelays> {
+        let sm = |n| map.index(DeviceKind::SM, n);
+        Some(TraceRelays {
+            ready: sm(800)?,
+            executing: sm(802)?,
+            trigger: sm(803)?,
+            after_trigger: sm(804)?,
+            complete: sm(805)?,
+        })
+    }
+}

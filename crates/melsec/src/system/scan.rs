@@ -1,0 +1,79 @@
+//! The scan's system devices (004 App. 1, App. 2; qcpu.md §6, §8): power-on
+//! values, the relays set before the programs run, the scan-time registers
+//! at END and the operating status.
+
+use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::system::{End, ScanStart, Status};
+
+use super::devices::{sd, sd_get, sm, time_pair};
+use super::R_BLOCK;
+
+/// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default
+/// 30; the file registers' SD640 drive (1 = memory card), SD647 capacity in
+/// K words, SD648 block number 0; SD290-SD304 the device points of X Y M L B
+/// F SB V S T ST C D W SW.
+pub(crate) fn power_on(mem: &mut DeviceMemory) {
+    sd(mem, 414, 30);
+    sd(mem, 415, 30);
+    let zr = mem.map.points(DeviceKind::ZR);
+    sd(mem, 640, 1);
+    sd(mem, 647, (zr / 1024).min(u16::MAX as u32) as u16);
+    sd(mem, R_BLOCK as i64, 0);
+    use DeviceKind::*;
+    for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW]
+        .iter()
+        .enumerate()
+    {
+        let p = mem.map.points(*k);
+        sd(mem, 290 + i as i64, p.min(u16::MAX as u32) as u16);
+    }
+}
+
+/// SM400/401 always ON/OFF, SM402/403 the first-scan pulses, and the clocks
+/// SM409-SM415. The clocks start OFF at power-on and toggle every half
+/// period of the time since power-on (L9629-9638).
+pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
+    sm(mem, 400, true);
+    sm(mem, 401, false);
+    sm(mem, 402, s.first_scan);
+    sm(mem, 403, !s.first_scan);
+    let t = s.since_power_on_us;
+    let half = |us: u64| (t / us.max(1)) & 1 == 1;
+    let n414 = (sd_get(mem, 414) as i16).max(1) as u64;
+    let n415 = (sd_get(mem, 415) as i16).max(1) as u64;
+    sm(mem, 409, half(5_000));
+    sm(mem, 410, half(50_000));
+    sm(mem, 411, half(100_000));
+    sm(mem, 412, half(500_000));
+    sm(mem, 413, half(1_000_000));
+    sm(mem, 414, half(n414 * 1_000_000));
+    sm(mem, 415, half(n415 * 1_000));
+}
+
+/// SD522/SD523 the initial scan time; else SD520-SD527 the scan times, SD420
+/// the scan counter, SD412 the one-second counter (both wrap 32767 → -32768
+/// → 0).
+pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
+    if e.initial {
+        time_pair(mem, 522, e.times.current_us);
+        return;
+    }
+    let t = e.times;
+    for (reg, us) in [(520, t.current_us), (524, t.min_us), (526, t.max_us)] {
+        time_pair(mem, reg, us);
+    }
+    let count = sd_get(mem, 420).wrapping_add(1);
+    sd(mem, 420, count);
+    sd(mem, 412, (e.since_run_us / 1_000_000) as u16);
+}
+
+/// SD203 operating status, b0-b3: 0 RUN, 1 STOP, 2 PAUSE.
+pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
+    let v = match status {
+        Status::Run => 0,
+        Status::Stop => 1,
+        Status::Pause => 2,
+    };
+    let old = sd_get(mem, 203);
+    sd(mem, 203, old & !0xF | v);
+}
