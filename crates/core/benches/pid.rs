@@ -62,7 +62,7 @@ fn cpu(s: &Setup) -> (Cpu, VirtualClock) {
         Box::new(clock.clone()),
     );
     if s.params > 0 {
-        let mem = cpu.memory_mut();
+        let mem = &mut cpu;
         let mut put = |n: u32, v: i32| mem.set_word(DeviceKind::D, n as i64, v as u16).unwrap();
         put(DATA, LOOPS as i32);
         put(DATA + 1, LOOPS as i32);
@@ -106,9 +106,7 @@ fn restart(cpu: &mut Cpu, s: &Setup) {
     for i in 0..LOOPS {
         let b = IO + 10 + s.io * i;
         for w in (b + 2..b + s.io).filter(|&w| w != b + 5) {
-            cpu.memory_mut()
-                .set_word(DeviceKind::D, w as i64, 0)
-                .unwrap();
+            cpu.set_word(DeviceKind::D, w as i64, 0).unwrap();
         }
     }
 }

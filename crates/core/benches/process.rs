@@ -56,7 +56,7 @@ fn cpu(src: &str) -> (Cpu, VirtualClock) {
         .unwrap_or_else(|d| panic!("bench program loads: {d}"));
     let clock = VirtualClock::new();
     let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
-    let mem = cpu.memory_mut();
+    let mem = &mut cpu;
     let mut put = |n: u32, v: u16| mem.set_word(DeviceKind::D, n as i64, v).unwrap();
     let putf = |put: &mut dyn FnMut(u32, u16), n: u32, v: f32| {
         put(n, v.to_bits() as u16);
@@ -90,10 +90,10 @@ fn cpu(src: &str) -> (Cpu, VirtualClock) {
         putf(&mut put, t + 38, 0.2); // α
         putf(&mut put, 100 + 8 * i, 40.0 + i as f32 / 8.0); // raw input
     }
-    let sd = cpu.memory().map.index(DeviceKind::SD, 1500).unwrap() as usize;
     let dt = 0.1f32.to_bits();
-    cpu.memory_mut().words[sd] = dt as u16;
-    cpu.memory_mut().words[sd + 1] = (dt >> 16) as u16;
+    cpu.set_word(DeviceKind::SD, 1500, dt as u16).unwrap();
+    cpu.set_word(DeviceKind::SD, 1501, (dt >> 16) as u16)
+        .unwrap();
     (cpu, clock)
 }
 

@@ -172,10 +172,7 @@ fn exec_does_not_allocate() {
             // Mode changes in place (no allocation in the harness either).
             let mode = p.cpu.memory().get_word(DeviceKind::D, 615).unwrap();
             if s % 5 == 0 {
-                p.cpu
-                    .memory_mut()
-                    .set_word(DeviceKind::D, 615, mode ^ 1)
-                    .unwrap();
+                p.cpu.set_word(DeviceKind::D, 615, mode ^ 1).unwrap();
             }
             p.scan();
         }

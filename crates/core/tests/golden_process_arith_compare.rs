@@ -3,29 +3,11 @@
 
 mod common;
 use common::Plc;
-use softplc_core::program::{compile_il_in, dialect_for, ProcessSettings};
+use softplc_core::program::ProcessSettings;
 
 fn fails(p: &Plc, detail: i64) {
     assert_eq!(p.error().map(|e| e.0), Some(4100));
     assert_eq!((p.int("SD1502"), p.int("SD1503")), (detail, 1));
-}
-
-/// Load diagnostics of a process-CPU program under `s`.
-fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    let dialect = dialect_for(common::process_cpu(), s);
-    match compile_il_in(
-        "t.il",
-        src,
-        &softplc_core::profile::default_config().devices,
-        &dialect,
-    ) {
-        Ok(_) => panic!("expected diagnostics"),
-        Err(d) => {
-            d.0.iter()
-                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
-                .collect()
-        }
-    }
 }
 
 const ADD: &str = "LD SM400\nS.ADD D0 D100 D20 SD1506\nEND\n";
@@ -92,7 +74,9 @@ fn s_add_dec_29_and_dec_30() {
         arith_input_n: false,
         ..ProcessSettings::default()
     };
-    assert!(diagnostics_with(MUL, alt)[0].contains("arith_input_n = false (DEC-29)"));
+    assert!(
+        common::process_diagnostics_with(MUL, alt)[0].contains("arith_input_n = false (DEC-29)")
+    );
 }
 
 /// Either n outside 0..5 is 4100 with SD1502 = 3; an overflowing product is

@@ -101,25 +101,6 @@ fn fails(p: &Plc, detail: i64) {
     assert_eq!((p.int("SD1502"), p.int("SD1503")), (detail, 1));
 }
 
-/// Load diagnostics of a process-CPU program under `s`.
-fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    use softplc_core::program::{compile_il_in, dialect_for};
-    let dialect = dialect_for(common::process_cpu(), s);
-    match compile_il_in(
-        "t.il",
-        src,
-        &softplc_core::profile::default_config().devices,
-        &dialect,
-    ) {
-        Ok(_) => panic!("expected diagnostics"),
-        Err(d) => {
-            d.0.iter()
-                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
-                .collect()
-        }
-    }
-}
-
 const FG: &str = "LD SM400\nS.FG D0 D100 D10 D200\nS.IFG D0 D102 D10 D200\nEND\n";
 
 /// Writes SN and the (Xi, Yi) table at D200.
@@ -290,7 +271,8 @@ fn s_flt_errors_and_dec_26() {
         flt_restart_on_change: false,
         ..ProcessSettings::default()
     };
-    assert!(diagnostics_with(FLT, s)[0].contains("flt_restart_on_change = false (DEC-26)"));
+    assert!(common::process_diagnostics_with(FLT, s)[0]
+        .contains("flt_restart_on_change = false (DEC-26)"));
 }
 
 const SUM: &str = "LD SM400\nS.SUM D0 D100 D10 SD1506\nEND\n";

@@ -4,25 +4,7 @@
 
 mod common;
 use common::Plc;
-use softplc_core::program::{compile_il_in, dialect_for, ProcessSettings};
-
-/// Load diagnostics of a process-CPU program under `s`.
-fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    let dialect = dialect_for(common::process_cpu(), s);
-    match compile_il_in(
-        "t.il",
-        src,
-        &softplc_core::profile::default_config().devices,
-        &dialect,
-    ) {
-        Ok(_) => panic!("expected diagnostics"),
-        Err(d) => {
-            d.0.iter()
-                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
-                .collect()
-        }
-    }
-}
+use softplc_core::program::ProcessSettings;
 
 fn fails(p: &Plc, detail: i64) {
     assert_eq!(p.error().map(|e| e.0), Some(4100));
@@ -313,7 +295,7 @@ fn s_ded_rejects_undescribed_alternatives() {
         ded_start_without_edge: false,
         ..ProcessSettings::default()
     };
-    let d = diagnostics_with(DED, s);
+    let d = common::process_diagnostics_with(DED, s);
     assert!(
         d[0].starts_with("2:1: `S.DED`: [process] ded_start_without_edge = false (DEC-22)"),
         "{d:?}"
@@ -322,7 +304,7 @@ fn s_ded_rejects_undescribed_alternatives() {
         ded_bypass_resets: false,
         ..ProcessSettings::default()
     };
-    assert!(diagnostics_with(DED, s)[0].contains("DEC-23"));
+    assert!(common::process_diagnostics_with(DED, s)[0].contains("DEC-23"));
 }
 
 /// DEC-8: previous BW/BB are D1 as found; the hidden-copy alternative is
@@ -334,7 +316,7 @@ fn dec_8_alternative_is_rejected_where_history_is_read() {
         previous_in_block_memory: false,
         ..ProcessSettings::default()
     };
-    let d = diagnostics_with(I, alt);
+    let d = common::process_diagnostics_with(I, alt);
     assert!(
         d[0].starts_with("2:1: `S.I`: [process] previous_in_block_memory = false (DEC-8)"),
         "{d:?}"
@@ -342,7 +324,7 @@ fn dec_8_alternative_is_rejected_where_history_is_read() {
     let src = "LD SM400\nS.LIMT D0 D100 D10 SD1506\nS.> D0 D110 D20 SD1506\n\
                S.SUM D0 D120 D30 SD1506\nS.FLT D0 D130 D40 D200\nS.AMR D0 D140 D50 SD1506\n\
                S.DBND D0 D150 D60 SD1506\nS.ADD D0 D160 D70 SD1506\nEND\n";
-    let d = diagnostics_with(src, alt);
+    let d = common::process_diagnostics_with(src, alt);
     let lines: Vec<&str> = d.iter().map(|m| &m[..2]).collect();
     assert_eq!(lines, ["2:", "3:", "4:", "5:", "6:"], "{d:?}");
     let mut p = Plc::process_with("LD SM400\nS.DBND D0 D100 D10 SD1506\nEND\n", alt);

@@ -5,21 +5,7 @@
 mod common;
 use common::process::{assert_pc_error, f, loop_tag};
 use common::Plc;
-use softplc_core::program::{compile_il_in, dialect_for, ProcessSettings};
-
-/// Diagnostics of a process-CPU program compiled with `s`.
-fn diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
-    let dialect = dialect_for(common::process_cpu(), s);
-    match compile_il_in(
-        "t.il",
-        src,
-        &softplc_core::profile::default_config().devices,
-        &dialect,
-    ) {
-        Ok(_) => panic!("expected diagnostics"),
-        Err(d) => d.0.iter().map(|d| d.message.clone()).collect(),
-    }
-}
+use softplc_core::program::ProcessSettings;
 
 const DUTY: &str = "LD SM400\nS.DUTY D0 D100 SD1506 D1000\nEND\n";
 
@@ -138,7 +124,7 @@ fn s_duty_errors() {
     let mut p = duty(ProcessSettings::default());
     p.set("D0", "-1").set("D1", "-1").scan();
     assert_pc_error(&p, 1, 1);
-    let d = diagnostics_with(
+    let d = common::process_diagnostics_with(
         DUTY,
         ProcessSettings {
             duty_on_count_rounds: false,

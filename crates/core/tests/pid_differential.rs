@@ -383,10 +383,7 @@ const DATA: u32 = 500;
 const IO: u32 = 1000;
 
 fn put(p: &mut Plc, kind: DeviceKind, n: u32, v: i64) {
-    p.cpu
-        .memory_mut()
-        .set_word(kind, n as i64, v as u16)
-        .unwrap();
+    p.cpu.set_word(kind, n as i64, v as u16).unwrap();
 }
 
 fn peek(p: &Plc, n: u32) -> i16 {
@@ -475,10 +472,7 @@ fn run_case(c: &Case) -> Result<(), TestCaseError> {
                 put(&mut p, DeviceKind::D, b + off, v);
             }
         }
-        p.cpu
-            .memory_mut()
-            .set_bit(DeviceKind::SM, sm, step.sm_on)
-            .unwrap();
+        p.cpu.set_bit(DeviceKind::SM, sm, step.sm_on).unwrap();
         p.scan_time_us(step.scan_us).scan();
         prop_assert_eq!(p.state(), CpuState::Run, "error {:?}", p.error());
         model.exec(&mut words, prev_scan_us, !step.sm_on, c.free);

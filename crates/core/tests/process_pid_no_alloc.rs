@@ -86,7 +86,6 @@ fn control_instructions_do_not_allocate_in_the_scan() {
     for k in 0..200u32 {
         // PV moves; every 50 scans the first loop stops for a scan.
         p.cpu
-            .memory_mut()
             .set_word(
                 softplc_core::device::DeviceKind::D,
                 1,
@@ -95,7 +94,6 @@ fn control_instructions_do_not_allocate_in_the_scan() {
             .unwrap();
         let alm = if k % 50 == 49 { 0x4000 } else { 0 };
         p.cpu
-            .memory_mut()
             .set_word(softplc_core::device::DeviceKind::D, 2003, alm)
             .unwrap();
         p.scan();

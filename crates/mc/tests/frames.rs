@@ -258,7 +258,7 @@ fn pymcprotocol_batch_read_d100_x3() {
     );
     // pymcprotocol reads the end code at offset 9 and the words from offset 11.
     let mut cpu = cpu();
-    let mem = cpu.memory_mut();
+    let mem = &mut cpu;
     for (i, v) in [1u16, 0xFFFF, 0x1234].iter().enumerate() {
         mem.set_word(softplc_core::device::DeviceKind::D, 100 + i as i64, *v)
             .unwrap();

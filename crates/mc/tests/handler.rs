@@ -104,8 +104,8 @@ fn bit_devices_in_bit_units_and_word_units() {
     assert_eq!(r.data, [0x10, 0x11, 0x00]);
     assert_eq!(r.bits(5), Some(vec![true, false, true, true, false]));
     // Word units pack 16 points a word, the lowest number in bit 0.
-    cpu.memory_mut().set_bit(DeviceKind::M, 16, true).unwrap();
-    cpu.memory_mut().set_bit(DeviceKind::M, 31, true).unwrap();
+    cpu.set_bit(DeviceKind::M, 16, true).unwrap();
+    cpu.set_bit(DeviceKind::M, 31, true).unwrap();
     let r = ok(&mut cpu, &ascii3e("04010000M*0000000002"));
     assert_eq!(r.words(), Some(vec![0b0_1101, 0x8001]));
     // Writing a word to bit devices sets 16 points; B is numbered in hex.
@@ -157,8 +157,8 @@ fn timer_counter_and_special_devices() {
     assert_eq!(cpu.memory().get_word(DeviceKind::CN, 3).unwrap(), 10);
     assert_eq!(cpu.memory().get_word(DeviceKind::SD, 100).unwrap(), 0x1234);
     assert_eq!(cpu.memory().get_word(DeviceKind::Z, 2).unwrap(), 5);
-    cpu.memory_mut().set_bit(DeviceKind::TS, 1, true).unwrap();
-    cpu.memory_mut().set_bit(DeviceKind::CC, 2, true).unwrap();
+    cpu.set_bit(DeviceKind::TS, 1, true).unwrap();
+    cpu.set_bit(DeviceKind::CC, 2, true).unwrap();
     let r = ok(&mut cpu, &ascii3e("04010001TS0000000002"));
     assert_eq!(r.data, b"01");
     let r = ok(&mut cpu, &ascii3e("04010001CC0000020001"));
@@ -193,7 +193,7 @@ fn file_registers_r_follow_the_block_in_sd648() {
     let mut cpu = cpu();
     ok(&mut cpu, &ascii3e("14010000R*0000050001AAAA"));
     assert_eq!(cpu.memory().get_word(DeviceKind::ZR, 5).unwrap(), 0xAAAA);
-    cpu.memory_mut().set_word(DeviceKind::SD, 648, 1).unwrap();
+    cpu.set_word(DeviceKind::SD, 648, 1).unwrap();
     ok(&mut cpu, &ascii3e("14010000R*0000050001BBBB"));
     assert_eq!(
         cpu.memory().get_word(DeviceKind::ZR, 32768 + 5).unwrap(),
@@ -210,7 +210,7 @@ fn file_registers_r_follow_the_block_in_sd648() {
         &ascii3e("04010000R*0327670002"),
     );
     assert_eq!(r.end_code, EndCode::ADDRESS_RANGE);
-    cpu.memory_mut().set_word(DeviceKind::SD, 648, 15).unwrap(); // ZR 491520..524287 > 517119
+    cpu.set_word(DeviceKind::SD, 648, 15).unwrap(); // ZR 491520..524287 > 517119
     let r = call(
         &mut cpu,
         &mut Session::new(),
@@ -307,8 +307,8 @@ fn remote_reset_clears_a_stop_error_and_latch_clear_works_in_stop() {
     let mut cpu = cpu();
     let reset = bin3e(&[0x06, 0x10, 0x00, 0x00, 0x01, 0x00]);
     let latch_clear = bin3e(&[0x05, 0x10, 0x00, 0x00, 0x01, 0x00]);
-    cpu.memory_mut().set_bit(DeviceKind::L, 5, true).unwrap();
-    cpu.memory_mut().set_word(DeviceKind::D, 5, 9).unwrap();
+    cpu.set_bit(DeviceKind::L, 5, true).unwrap();
+    cpu.set_word(DeviceKind::D, 5, 9).unwrap();
     // Stop error: X1 divides by zero.
     cpu.set_input(1, true);
     cpu.scan();
@@ -337,7 +337,7 @@ fn remote_run_clear_modes() {
     });
     let (mut cpu, _) = cpu_with(cfg);
     let set = |cpu: &mut Cpu| {
-        let m = cpu.memory_mut();
+        let m = &mut *cpu;
         m.set_bit(DeviceKind::M, 1, true).unwrap();
         m.set_bit(DeviceKind::L, 1, true).unwrap();
         m.set_word(DeviceKind::D, 1, 1).unwrap();

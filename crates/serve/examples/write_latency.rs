@@ -104,9 +104,7 @@ fn main() {
     let mut b = Battery::attach(&dir, &mut cpu, false).expect("state directory");
     let mut t = Vec::new();
     for i in 0..writes {
-        cpu.memory_mut()
-            .set_word(DeviceKind::D, 0, i as u16)
-            .expect("D0");
+        cpu.set_word(DeviceKind::D, 0, i as u16).expect("D0");
         let s = Instant::now();
         b.commit(&cpu).expect("commit");
         t.push(s.elapsed());

@@ -31,26 +31,23 @@ impl Plc {
     /// Compiles `.il` text for a process CPU (Q06PHCPU) with the given
     /// process-control decisions.
     pub fn process_with(src: &str, settings: ProcessSettings) -> Plc {
-        let cfg = softplc_core::profile::config(process_cpu());
-        let dialect = dialect_for(cfg.profile, settings);
-        let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
-            .unwrap_or_else(|d| panic!("load failed:\n{d}"));
-        let clock = VirtualClock::new();
-        let mut cpu = Cpu::new(prog, cfg, Box::new(clock.clone()));
-        softplc_core::tier::apply_env(&mut cpu);
-        Plc {
-            cpu,
-            clock,
-            scan_us: 10_000,
-        }
+        Plc::compiled_for(src, process_cpu(), settings)
     }
 
     /// Compiles `.il` text for `model` (any MELSEC model: its dialect and
     /// default devices).
     pub fn on_model(src: &str, model: &str) -> Plc {
         let profile = softplc_core::profile::find(model).expect("a known model");
+        Plc::compiled_for(src, profile, ProcessSettings::default())
+    }
+
+    fn compiled_for(
+        src: &str,
+        profile: &'static softplc_core::profile::Profile,
+        settings: ProcessSettings,
+    ) -> Plc {
         let cfg = softplc_core::profile::config(profile);
-        let dialect = dialect_for(profile, ProcessSettings::default());
+        let dialect = dialect_for(profile, settings);
         let prog = compile_il_in("test.il", src, &cfg.devices, &dialect)
             .unwrap_or_else(|d| panic!("load failed:\n{d}"));
         let clock = VirtualClock::new();
@@ -171,7 +168,12 @@ impl Plc {
 /// Diagnostics of a process-CPU program that must fail to load, as
 /// `line:col: message`.
 pub fn process_diagnostics(src: &str) -> Vec<String> {
-    let dialect = dialect_for(process_cpu(), ProcessSettings::default());
+    process_diagnostics_with(src, ProcessSettings::default())
+}
+
+/// [`process_diagnostics`] under the decisions `s`.
+pub fn process_diagnostics_with(src: &str, s: ProcessSettings) -> Vec<String> {
+    let dialect = dialect_for(process_cpu(), s);
     match compile_il_in(
         "t.il",
         src,

@@ -5,6 +5,7 @@
 
 use super::*;
 use softplc_ir::access::{AccessError, DeviceSpec, RBlock, Span, Value};
+use softplc_ir::device::OutOfRange;
 
 impl Cpu {
     /// Reads a device by name (`D10:f32`, `K4M0`, `TN0`).
@@ -58,6 +59,25 @@ impl Cpu {
         self.mirror(s.kind(), s.number(), s.len());
         if !self.rt.forces.is_empty() {
             self.force_written(Some((s.kind(), s.number(), s.len())));
+        }
+        Ok(())
+    }
+
+    /// Writes word `n` of `kind` (a tool's or a test's point write; R is
+    /// block 0's, as in names).
+    pub fn set_word(&mut self, kind: DeviceKind, n: i64, v: u16) -> Result<(), OutOfRange> {
+        self.rt.mem.set_word(kind, n, v)
+    }
+
+    /// Writes bit `n` of `kind`; X goes to the input image as well and a
+    /// forced point keeps its forced value.
+    pub fn set_bit(&mut self, kind: DeviceKind, n: i64, v: bool) -> Result<(), OutOfRange> {
+        self.rt.mem.set_bit(kind, n, v)?;
+        // In range: the write above checked `n`.
+        let n = n as u32;
+        self.mirror(kind, n, 1);
+        if !self.rt.forces.is_empty() {
+            self.force_written(Some((kind, n, 1)));
         }
         Ok(())
     }

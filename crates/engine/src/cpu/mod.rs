@@ -335,10 +335,6 @@ impl Cpu {
         &self.rt.mem
     }
 
-    pub fn memory_mut(&mut self) -> &mut DeviceMemory {
-        &mut self.rt.mem
-    }
-
     /// The watchdog time the scan checks in wall-clock time (see
     /// [`wall_watchdog`]).
     pub(crate) fn wall_watchdog(&self, t: std::time::Duration) -> std::time::Duration {

@@ -71,9 +71,9 @@ pub fn word(cpu: &Cpu, kind: DeviceKind, n: i64) -> u16 {
 }
 
 pub fn set_bit(cpu: &mut Cpu, kind: DeviceKind, n: i64, v: bool) {
-    cpu.memory_mut().set_bit(kind, n, v).unwrap()
+    cpu.set_bit(kind, n, v).unwrap()
 }
 
 pub fn set_word(cpu: &mut Cpu, kind: DeviceKind, n: i64, v: u16) {
-    cpu.memory_mut().set_word(kind, n, v).unwrap()
+    cpu.set_word(kind, n, v).unwrap()
 }
