@@ -6,7 +6,7 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_mc::{decode_request, encode_response, handle, FrameError, Session};
 
@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     // Two file-register blocks instead of the 1 MB default keep runs fast.
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(DeviceKind::ZR, 65536);
     let prog = compile_il(
         "fuzz.il",

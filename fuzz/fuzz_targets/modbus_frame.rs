@@ -6,7 +6,7 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use softplc_core::device::DeviceKind;
-use softplc_core::engine::{Cpu, CpuConfig, VirtualClock};
+use softplc_core::engine::{Cpu, VirtualClock};
 use softplc_core::program::compile_il;
 use softplc_modbus::{decode, decode_exact, serve, Map, Proto, Slave};
 
@@ -23,7 +23,7 @@ fuzz_target!(|data: &[u8]| {
     // Both maps reach at most R32767 (ZR block 0): one file-register block
     // instead of the 1 MB default serves every mapped address and keeps the
     // CPU built per input small.
-    let mut cfg = CpuConfig::default();
+    let mut cfg = softplc_core::profile::default_config();
     cfg.devices.set_points(DeviceKind::ZR, 32768);
     let prog = compile_il("fuzz.il", "LD X0\nOUT Y0\nEND\n", &cfg.devices)
         .expect("the fuzz program compiles");

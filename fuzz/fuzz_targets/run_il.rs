@@ -15,7 +15,7 @@ use softplc_core::tier::{apply, Exec, Jit};
 fn cpu(data: &[u8], exec: Exec) -> Option<(Cpu, VirtualClock)> {
     let cfg = CpuConfig {
         watchdog: Duration::from_millis(20),
-        ..CpuConfig::default()
+        ..softplc_core::profile::default_config()
     };
     let prog = load_bytes("fuzz.il", data, &cfg.devices).ok()?;
     let clock = VirtualClock::new();
