@@ -144,3 +144,43 @@ pub fn renamed(
     }
     r
 }
+
+/// Operand sets of 0 to 7 operands to try each definition with: word
+/// devices, bit devices and constants (`word(i)`, `bit(i)`, `constant(i)`
+/// for the i-th operand) in a few patterns, each set once. A dialect's test
+/// adds the special forms some of its instructions need.
+pub fn operand_sets(
+    word: fn(usize) -> String,
+    bit: fn(usize) -> String,
+    constant: fn(usize) -> String,
+) -> Vec<Vec<String>> {
+    type Pattern = fn(usize) -> char;
+    let patterns: [Pattern; 10] = [
+        |_| 'w',
+        |_| 'b',
+        |_| 'k',
+        |i| if i == 0 { 'k' } else { 'w' },
+        |i| if i == 0 { 'b' } else { 'w' },
+        |i| if i == 0 { 'w' } else { 'b' },
+        |i| if i == 0 { 'w' } else { 'k' },
+        |i| if i == 1 { 'k' } else { 'w' },
+        |i| if i == 2 { 'k' } else { 'w' },
+        |i| if i >= 1 { 'k' } else { 'w' },
+    ];
+    let mut sets: Vec<Vec<String>> = Vec::new();
+    for n in 0..=7usize {
+        for p in patterns {
+            let set: Vec<String> = (0..n)
+                .map(|i| match p(i) {
+                    'w' => word(i),
+                    'b' => bit(i),
+                    _ => constant(i),
+                })
+                .collect();
+            if !sets.contains(&set) {
+                sets.push(set);
+            }
+        }
+    }
+    sets
+}

@@ -62,37 +62,11 @@ fn a_refused_operand_gives_its_own_reason_only() {
 /// Operand sets to try: devices of each kind and constants in a few
 /// patterns, then the forms some instructions need.
 fn candidates(_: &Def) -> Vec<Vec<String>> {
-    let w = |k: usize| format!("D{}", 1000 * k);
-    let b = |k: usize| format!("M{}", 100 * k);
-    let k = |k: usize| format!("K{}", k + 1);
-    type Pattern = fn(usize) -> char;
-    let patterns: [Pattern; 10] = [
-        |_| 'w',
-        |_| 'b',
-        |_| 'k',
-        |i| if i == 0 { 'k' } else { 'w' },
-        |i| if i == 0 { 'b' } else { 'w' },
-        |i| if i == 0 { 'w' } else { 'b' },
-        |i| if i == 0 { 'w' } else { 'k' },
-        |i| if i == 1 { 'k' } else { 'w' },
-        |i| if i == 2 { 'k' } else { 'w' },
-        |i| if i >= 1 { 'k' } else { 'w' },
-    ];
-    let mut sets: Vec<Vec<String>> = Vec::new();
-    for n in 0..=7usize {
-        for p in patterns {
-            let set: Vec<String> = (0..n)
-                .map(|i| match p(i) {
-                    'w' => w(i),
-                    'b' => b(i),
-                    _ => k(i),
-                })
-                .collect();
-            if !sets.contains(&set) {
-                sets.push(set);
-            }
-        }
-    }
+    let mut sets = softplc_lang::audit::operand_sets(
+        |k| format!("D{}", 1000 * k),
+        |k| format!("M{}", 100 * k),
+        |k| format!("K{}", k + 1),
+    );
     let special: &[&[&str]] = &[
         &["T0", "K10"],
         &["C0", "K10"],
