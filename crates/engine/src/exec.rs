@@ -219,9 +219,10 @@ fn enter(
 }
 
 /// Runs `code`, op `pc` of program `k.cur`. `OUT_OF_LINE`: the rarer ops
-/// run in a call ([`rare`]; the interpreter's loop then keeps its registers
-/// for the others), else inline (native code's calls, where the call costs
-/// more than it saves).
+/// (program control, master control, edges) run in a call ([`rare`]), so
+/// that the interpreter's loop keeps its registers for the others; native
+/// code's calls keep them inline, where the call would cost more than it
+/// saves.
 #[inline(always)]
 fn op<const OUT_OF_LINE: bool>(
     k: Fixed,
@@ -277,6 +278,26 @@ fn op<const OUT_OF_LINE: bool>(
     }
     let cond = *acc & *mc_on;
     match code {
+        Op::Mep(_)
+        | Op::Mef(_)
+        | Op::EdgeRelay { .. }
+        | Op::Mc(_)
+        | Op::Mcr(_)
+        | Op::Scj { .. }
+        | Op::GoEnd
+        | Op::Call(_)
+        | Op::CallFar { .. }
+        | Op::CallCommon(_)
+        | Op::Ret
+        | Op::For(_)
+        | Op::Next
+        | Op::Break(_)
+        | Op::Stop
+        | Op::Iret
+            if OUT_OF_LINE =>
+        {
+            return rare(k, locals, rt, back_jumps, code, r, pc);
+        }
         Op::Ld(i) => *acc = rt.mem.bits[*i as usize],
         Op::Ldi(i) => *acc = !rt.mem.bits[*i as usize],
         Op::And(i) => *acc &= rt.mem.bits[*i as usize],
@@ -328,6 +349,22 @@ fn op<const OUT_OF_LINE: bool>(
             r.mps >>= 1;
         }
         Op::Inv => *acc = !*acc,
+        Op::Mep(s) => {
+            let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], *acc);
+            *acc = *acc && !prev;
+        }
+        Op::Mef(s) => {
+            let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], *acc);
+            *acc = !*acc && prev;
+        }
+        Op::EdgeRelay { rising, v } => {
+            let prev = std::mem::replace(&mut rt.mem.bits[*v as usize], *acc);
+            *acc = if *rising {
+                *acc && !prev
+            } else {
+                !*acc && prev
+            };
+        }
         Op::Out(i) => rt.mem.bits[*i as usize] = cond,
         Op::Set(i) => {
             if cond {
@@ -352,6 +389,21 @@ fn op<const OUT_OF_LINE: bool>(
             ))
         }
         Op::Counter(c) => try_op!(sequence::counter(&mut rt.mem, c, cond)),
+        // MC: when the condition is OFF, everything up to MCR runs with its
+        // condition forced OFF (coils OFF, timers reset, SET/RST/counters hold).
+        Op::Mc(m) => {
+            try_op!(rt.mem.write_bit(&m.dst, cond));
+            if cond {
+                rt.mc_off &= !(1 << m.level);
+            } else {
+                rt.mc_off |= 1 << m.level;
+            }
+            *mc_on = rt.mc_off == 0 && !k.off;
+        }
+        Op::Mcr(l) => {
+            rt.mc_off &= (1u16 << l) - 1;
+            *mc_on = rt.mc_off == 0 && !k.off;
+        }
         Op::Pulse(s) => {
             let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], cond);
             if !cond || prev {
@@ -407,133 +459,6 @@ fn op<const OUT_OF_LINE: bool>(
                 back_jump!(*target);
                 next = *target as usize;
             }
-        }
-        Op::Fend | Op::End => {
-            // A scan longer than the watchdog is WDT ERROR even without a loop.
-            if rt.cpu.watchdog_start.elapsed() > k.watchdog {
-                return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
-            }
-            return Flow::Done(rt.end_checks(cur, pc));
-        }
-        Op::Nop => {}
-        // Program control, master control and edge ops: out of line, so
-        // that the loop keeps its registers for the ops above.
-        Op::Mep(..)
-        | Op::Mef(..)
-        | Op::EdgeRelay { .. }
-        | Op::Mc(..)
-        | Op::Mcr(..)
-        | Op::Scj { .. }
-        | Op::GoEnd
-        | Op::Call(..)
-        | Op::CallFar { .. }
-        | Op::CallCommon(..)
-        | Op::Ret
-        | Op::For(..)
-        | Op::Next
-        | Op::Break(..)
-        | Op::Stop
-        | Op::Iret => {
-            return if OUT_OF_LINE {
-                rare(k, locals, rt, back_jumps, code, r, pc)
-            } else {
-                rare_ops(k, locals, rt, back_jumps, code, r, pc)
-            };
-        }
-    }
-    Flow::Next(next)
-}
-
-/// [`rare_ops`] in a call, out of the interpreter's loop.
-#[cold]
-#[inline(never)]
-fn rare(
-    k: Fixed,
-    locals: &mut [ProgState],
-    rt: &mut Runtime,
-    back_jumps: &mut u32,
-    code: &Op,
-    r: &mut Rung,
-    pc: usize,
-) -> Flow {
-    rare_ops(k, locals, rt, back_jumps, code, r, pc)
-}
-
-/// The rarer ops of [`op`]: program control, master control, edges.
-// The arms read as they would in `op`'s exhaustive match (condition tests
-// inside the arm), not as match guards.
-#[allow(clippy::collapsible_match)]
-#[inline(always)]
-fn rare_ops(
-    k: Fixed,
-    locals: &mut [ProgState],
-    rt: &mut Runtime,
-    back_jumps: &mut u32,
-    code: &Op,
-    r: &mut Rung,
-    pc: usize,
-) -> Flow {
-    let (prog, cur) = (k.prog, k.cur);
-    let acc = &mut r.acc;
-    let mc_on = &mut r.mc_on;
-    let mut next = pc + 1;
-    macro_rules! try_op {
-        ($e:expr) => {
-            if let Err(code) = $e {
-                if rt.record_fault(prog, code, pc) {
-                    return Flow::Done(Outcome::Fault(code, cur, pc));
-                }
-            }
-        };
-    }
-    macro_rules! back_jump {
-        ($target:expr) => {
-            if ($target as usize) <= pc {
-                *back_jumps += 1;
-                if *back_jumps % WDT_CHECK_EVERY == 0 {
-                    // A loop that resets the watchdog (WDT) still stops on request.
-                    if rt.abort.load(std::sync::atomic::Ordering::Relaxed) {
-                        return Flow::Done(Outcome::Abort);
-                    }
-                    if rt.cpu.watchdog_start.elapsed() > k.watchdog {
-                        return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
-                    }
-                }
-            }
-        };
-    }
-    let cond = *acc & *mc_on;
-    match code {
-        Op::Mep(s) => {
-            let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], *acc);
-            *acc = *acc && !prev;
-        }
-        Op::Mef(s) => {
-            let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], *acc);
-            *acc = !*acc && prev;
-        }
-        Op::EdgeRelay { rising, v } => {
-            let prev = std::mem::replace(&mut rt.mem.bits[*v as usize], *acc);
-            *acc = if *rising {
-                *acc && !prev
-            } else {
-                !*acc && prev
-            };
-        }
-        // MC: when the condition is OFF, everything up to MCR runs with its
-        // condition forced OFF (coils OFF, timers reset, SET/RST/counters hold).
-        Op::Mc(m) => {
-            try_op!(rt.mem.write_bit(&m.dst, cond));
-            if cond {
-                rt.mc_off &= !(1 << m.level);
-            } else {
-                rt.mc_off |= 1 << m.level;
-            }
-            *mc_on = rt.mc_off == 0 && !k.off;
-        }
-        Op::Mcr(l) => {
-            rt.mc_off &= (1u16 << l) - 1;
-            *mc_on = rt.mc_off == 0 && !k.off;
         }
         // SCJ: jumps from the scan after the condition turned ON.
         Op::Scj { target, slot } => {
@@ -638,15 +563,37 @@ fn rare_ops(
                 rt.stop_request = true;
             }
         }
+        Op::Fend | Op::End => {
+            // A scan longer than the watchdog is WDT ERROR even without a loop.
+            if rt.cpu.watchdog_start.elapsed() > k.watchdog {
+                return Flow::Done(Outcome::Fault(Fault::Watchdog, cur, pc));
+            }
+            return Flow::Done(rt.end_checks(cur, pc));
+        }
+        Op::Nop => {}
         Op::Iret => {
             if rt.in_interrupt {
                 return Flow::Done(Outcome::End);
             }
             try_op!(Err::<(), _>(Fault::IretInMain));
         }
-        _ => {}
     }
     Flow::Next(next)
+}
+
+/// The rarer ops of [`op`], out of the interpreter's loop.
+#[cold]
+#[inline(never)]
+fn rare(
+    k: Fixed,
+    locals: &mut [ProgState],
+    rt: &mut Runtime,
+    back_jumps: &mut u32,
+    code: &Op,
+    r: &mut Rung,
+    pc: usize,
+) -> Flow {
+    op::<false>(k, locals, rt, back_jumps, code, r, pc)
 }
 
 /// A pass as native code sees it while one of its regions runs.
