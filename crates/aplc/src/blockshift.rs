@@ -84,7 +84,7 @@ fn bit_block(a: &mut Args<'_, '_>, k: usize, dest: bool) -> Option<BitBlock> {
             number: n,
             points: d.dev.points(),
             z: map.base(DeviceKind::Z) + z as u32,
-            block: softplc_ir::ops::Indexed::NONE,
+            window: softplc_ir::ops::Window::Device,
         })),
     };
     Some(BitBlock {

@@ -109,6 +109,7 @@ const fn d(name: &'static str, kind: DeviceKind, generic: bool, numbering: Numbe
 /// `.apl` loader resolves operands with [`devices::parse_device`]; this table
 /// describes the same names for the dialect seam.
 pub static DEVICES: DeviceTable = DeviceTable {
+    modules: false,
     defs: &[
         d("LM", DeviceKind::B, false, Numbering::Dec),
         d("SM", DeviceKind::SM, false, Numbering::Dec),

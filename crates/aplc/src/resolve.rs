@@ -211,7 +211,7 @@ fn indexed(
         number,
         points,
         z: map.base(DeviceKind::Z) + z as u32,
-        block: Indexed::NONE,
+        window: softplc_ir::ops::Window::Device,
     })
 }
 

@@ -141,6 +141,8 @@ impl System for Aplc {
         Some(ErrorCode(match fault {
             Fault::Operation => 64,
             Fault::Range => 65,
+            // The APLC has no rack: its programs cannot name a module.
+            Fault::NoModule => 65,
             Fault::Watchdog => 61,
             Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
             Fault::ForWithoutNext

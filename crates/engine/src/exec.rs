@@ -280,6 +280,7 @@ fn op<const OUT_OF_LINE: bool>(
     match code {
         Op::Mep(_)
         | Op::Mef(_)
+        | Op::DirectIn(_)
         | Op::EdgeRelay { .. }
         | Op::Mc(_)
         | Op::Mcr(_)
@@ -349,6 +350,7 @@ fn op<const OUT_OF_LINE: bool>(
             r.mps >>= 1;
         }
         Op::Inv => *acc = !*acc,
+        Op::DirectIn(n) => rt.direct_input(*n),
         Op::Mep(s) => {
             let prev = std::mem::replace(&mut locals[cur].edges[*s as usize], *acc);
             *acc = *acc && !prev;

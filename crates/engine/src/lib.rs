@@ -133,6 +133,9 @@ pub struct CpuConfig {
     /// The family's system devices and error numbering (the profile's
     /// default, or one built with the project's parameters).
     pub system: std::sync::Arc<dyn softplc_ir::system::System>,
+    /// The base units' slots and modules (empty: no I/O assignment, X and
+    /// Y plain device memory).
+    pub rack: std::sync::Arc<softplc_ir::rack::Rack>,
 }
 
 impl CpuConfig {
@@ -172,6 +175,7 @@ impl CpuConfig {
             ],
             initial_values: Vec::new(),
             system: (profile.default_system)(),
+            rack: Default::default(),
         }
     }
 }
@@ -219,6 +223,9 @@ pub(crate) struct Runtime {
     /// Input image: what the input modules present; copied to X at input
     /// refresh.
     pub inputs: Box<[bool]>,
+    /// The X the input refresh copies: (first, count) spans, every X
+    /// without a rack, the slots with inputs with one.
+    pub input_spans: Box<[(u32, u32)]>,
     /// Forced X/Y (`cpu/force.rs`).
     pub forces: Vec<cpu::Force>,
 }
@@ -292,9 +299,27 @@ impl Runtime {
     /// (at the start of a scan, and when an instruction asks mid-scan).
     pub(crate) fn refresh_inputs(&mut self) {
         let xb = self.mem.map.base(DeviceKind::X) as usize;
-        self.mem.bits[xb..xb + self.inputs.len()].copy_from_slice(&self.inputs);
+        for &(first, n) in self.input_spans.iter() {
+            let (first, n) = (first as usize, n as usize);
+            self.mem.bits[xb + first..xb + first + n]
+                .copy_from_slice(&self.inputs[first..first + n]);
+        }
         if !self.forces.is_empty() {
             self.apply_forces(DeviceKind::X);
+        }
+    }
+
+    /// Direct input: X`n` takes the input module's value now, a forced
+    /// point its forced value (004 L6054-6083, L4222-4231).
+    pub(crate) fn direct_input(&mut self, n: u32) {
+        let Some(&v) = self.inputs.get(n as usize) else {
+            return;
+        };
+        let i = (self.mem.map.base(DeviceKind::X) + n) as usize;
+        self.mem.bits[i] = v;
+        if let Some(f) = self.forces.iter_mut().find(|f| f.bit == i) {
+            f.under = v;
+            self.mem.bits[i] = f.on;
         }
     }
 

@@ -13,8 +13,12 @@ pub enum Fault {
     /// Data the instruction cannot process (division by 0, an invalid real
     /// number, an out-of-range conversion).
     Operation,
-    /// A device range exceeded (index modification, block length).
+    /// A device range exceeded (index modification, block length, an
+    /// address past a module's buffer memory).
     Range,
+    /// Buffer memory of a slot with no intelligent function module read or
+    /// written (MELSEC: SP.UNIT ERROR).
+    NoModule,
     /// FOR without NEXT reached END.
     ForWithoutNext,
     /// NEXT executed without FOR.

@@ -21,4 +21,5 @@ pub mod listing;
 mod operand;
 pub mod ops;
 pub mod profile;
+pub mod rack;
 pub mod system;

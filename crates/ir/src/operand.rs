@@ -4,7 +4,7 @@
 use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
 use crate::fault::Fault;
-use crate::ops::{BitArg, BitBlock, Block, Indexed, IndexedKind, WordArg};
+use crate::ops::{BitArg, BitBlock, Block, Indexed, IndexedKind, Window, WordArg};
 
 impl DeviceMemory {
     /// Flat index of an index-modified operand spanning `span` points.
@@ -15,9 +15,10 @@ impl DeviceMemory {
             z => self.words[z as usize] as i16 as i64,
         };
         // R: the block the selector word holds.
-        let block = match ix.block {
-            Indexed::NONE => 0,
-            _ => crate::access::selected_block(self),
+        let block = match ix.window {
+            Window::Device => 0,
+            Window::SelectedBlock => crate::access::selected_block(self),
+            Window::NoModule => return Err(Fault::NoModule),
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {

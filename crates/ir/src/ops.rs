@@ -52,15 +52,25 @@ pub struct Indexed {
     pub points: u32,
     /// Flat word index of the index register `Zn`, or [`Indexed::NONE`].
     pub z: u32,
-    /// [`Indexed::SELECTED_BLOCK`] for `R` operands (they add the
-    /// file-register block the CPU's selector word holds), else
-    /// [`Indexed::NONE`].
-    pub block: u32,
+    /// What the number is relative to: the device, the selected
+    /// file-register block, or a module that is not there.
+    pub window: Window,
 }
 
 impl Indexed {
     pub const NONE: u32 = u32::MAX;
-    pub const SELECTED_BLOCK: u32 = 0;
+}
+
+/// What an [`Indexed`] operand's number is relative to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Window {
+    /// Device number 0 of its kind.
+    Device,
+    /// `R`: the file-register block the CPU's selector word holds.
+    SelectedBlock,
+    /// `U<n>\\G<addr>` of a slot with no intelligent function module: every
+    /// access is [`crate::fault::Fault::NoModule`] (004 ch. 8).
+    NoModule,
 }
 
 /// A resolved word operand; 16-bit instructions use the low word of a constant.
@@ -228,6 +238,10 @@ pub enum Op {
     Or(u32),
     Ori(u32),
     Contact(Box<Contact>),
+    /// Direct input `DX<n>` (004 §10.2, L6054-6083): X`n` takes the input
+    /// module's value now (the contact that follows reads it), so a later
+    /// X sees what the DX read.
+    DirectIn(u32),
     Compare(Box<Compare>),
     /// A contact computed by an instruction (string comparison `LD$=` …).
     Cond(Box<CondOp>),

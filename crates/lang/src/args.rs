@@ -3,7 +3,7 @@
 use super::compile::Compiler;
 use super::dialect::Flag;
 use super::source::SourceInstr;
-use softplc_ir::device::{DeviceMap, Operand};
+use softplc_ir::device::{DeviceKind, DeviceMap, Operand, Reach};
 use softplc_ir::instr::{CpuSlot, CpuState, LocalSlot, LocalState};
 use softplc_ir::ops::{BitArg, BitBlock, Block, Num, WordArg};
 
@@ -70,13 +70,13 @@ impl<'c, 'a> Args<'c, 'a> {
     pub fn block(&mut self, k: usize) -> Option<Block> {
         let tok = &self.i.operands[k];
         let op = self.c.parse(tok)?;
-        let kind = match &op {
+        let (kind, reach) = match &op {
             Operand::Device {
                 dev,
                 digits: None,
                 bit: None,
                 ..
-            } if !dev.word_kind().is_bit() => dev.word_kind(),
+            } if !dev.word_kind().is_bit() => (dev.word_kind(), dev.reach),
             _ => {
                 self.c
                     .err(tok, format!("`{}`: a word device is needed here", tok.text));
@@ -84,10 +84,15 @@ impl<'c, 'a> Args<'c, 'a> {
             }
         };
         let start = self.c.word_device(tok, op, Num::I16, 1)?;
-        Some(Block {
-            start,
-            limit: self.c.map.base(kind) + self.c.map.points(kind),
-        })
+        let map = &self.c.map;
+        // A block in buffer memory ends with its module's.
+        let limit = match reach {
+            Reach::Unit(u) => map
+                .unit(u)
+                .map_or(0, |w| map.base(DeviceKind::G) + w.first + w.words),
+            _ => map.base(kind) + map.points(kind),
+        };
+        Some(Block { start, limit })
     }
 
     /// A bit device starting a block of bits (BKRST, SFT, BSFR …).

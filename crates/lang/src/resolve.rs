@@ -4,7 +4,9 @@
 
 use super::compile::Compiler;
 use super::source::Token;
-use softplc_ir::device::{parse_operand_in, Constant, DeviceKind, DeviceMap, DeviceName, Operand};
+use softplc_ir::device::{
+    parse_operand_in, Constant, DeviceKind, DeviceMap, DeviceName, Operand, Reach,
+};
 use softplc_ir::ops::*;
 
 impl Compiler<'_> {
@@ -58,29 +60,89 @@ impl Compiler<'_> {
         z: Option<u8>,
     ) -> Box<Indexed> {
         let z = z.map_or(Indexed::NONE, |z| self.map.base(DeviceKind::Z) + z as u32);
-        if dk == DeviceKind::R {
-            return Box::new(Indexed {
-                kind,
-                base: self.map.base(DeviceKind::ZR),
-                number,
-                points: self.map.points(DeviceKind::ZR),
-                z,
-                block: Indexed::SELECTED_BLOCK,
-            });
-        }
+        let (base, points, window) = if dk == DeviceKind::R {
+            let zr = DeviceKind::ZR;
+            (
+                self.map.base(zr),
+                self.map.points(zr),
+                Window::SelectedBlock,
+            )
+        } else {
+            (self.map.base(dk), self.map.points(dk), Window::Device)
+        };
         Box::new(Indexed {
             kind,
-            base: self.map.base(dk),
+            base,
             number,
-            points: self.map.points(dk),
+            points,
             z,
-            block: Indexed::NONE,
+            window,
         })
+    }
+
+    /// `U<unit>\\G<number>` resolved: a plain word when the module is there
+    /// and `span` words from `number` are in its buffer memory, else an
+    /// operand checked when it runs — past the end OPERATION ERROR, no
+    /// module SP.UNIT ERROR, as the CPU does (004 ch. 8, L8997).
+    fn unit_operand(
+        &self,
+        kind: IndexedKind,
+        unit: u32,
+        number: u32,
+        z: Option<u8>,
+        span: u32,
+    ) -> Result<u32, Box<Indexed>> {
+        let (base, points, window) = match self.map.unit(unit) {
+            Some(w) => (
+                self.map.base(DeviceKind::G) + w.first,
+                w.words,
+                Window::Device,
+            ),
+            None => (0, 0, Window::NoModule),
+        };
+        if z.is_none() && window == Window::Device && number as u64 + span as u64 <= points as u64 {
+            return Ok(base + number);
+        }
+        let z = z.map_or(Indexed::NONE, |z| self.map.base(DeviceKind::Z) + z as u32);
+        Err(Box::new(Indexed {
+            kind,
+            base,
+            number,
+            points,
+            z,
+            window,
+        }))
     }
 
     pub fn bit_operand(&mut self, tok: &Token) -> Option<BitArg> {
         let op = self.parse(tok)?;
         match op {
+            Operand::Device { dev, .. } if dev.reach == Reach::Direct => {
+                self.err(
+                    tok,
+                    format!("`{}`: direct access is for contacts (DX: LD, AND, OR and their forms) and coils (DY: OUT, SET, RST, PLS, PLF, FF)", tok.text),
+                );
+                None
+            }
+            Operand::Device {
+                dev,
+                digits: None,
+                bit: Some(b),
+                index,
+            } if matches!(dev.reach, Reach::Unit(_)) => {
+                let Reach::Unit(unit) = dev.reach else {
+                    return None;
+                };
+                if index.is_none() {
+                    self.note_use(tok, DeviceUse::Bit);
+                }
+                Some(
+                    match self.unit_operand(IndexedKind::WordBit(b), unit, dev.number, index, 1) {
+                        Ok(word) => BitArg::WordBit { word, bit: b },
+                        Err(ix) => BitArg::Indexed(ix),
+                    },
+                )
+            }
             Operand::Device {
                 dev,
                 digits: None,
@@ -189,6 +251,33 @@ impl Compiler<'_> {
             ) {
                 self.err(tok, format!("`{}`: timer and counter contacts and coils are driven by `OUT {}` with a set value", tok.text, tok.text));
                 return None;
+            }
+            // `DY<n>`: the output module and Y<n> at once (004 L6134-6150).
+            // The simulated output module is Y's device memory, so the
+            // coil writes Y.
+            if dev.reach == Reach::Direct && dev.kind == DeviceKind::Y {
+                if dev.number >= self.map.points(DeviceKind::Y) {
+                    self.range_err(tok, DeviceKind::Y, dev.number, &tok.text);
+                    return None;
+                }
+                self.note_use(tok, DeviceUse::Bit);
+                return Some(BitArg::Bit(self.map.base(DeviceKind::Y) + dev.number));
+            }
+        }
+        self.bit_operand(tok)
+    }
+
+    /// A contact's operand: a bit operand, or a direct input `DX<n>`, which
+    /// reads X<n> after `Op::DirectIn` has refreshed it.
+    pub fn contact_operand(&mut self, tok: &Token) -> Option<BitArg> {
+        if let Ok(Operand::Device { dev, .. }) = parse_operand_in(self.dialect.devices, &tok.text) {
+            if dev.reach == Reach::Direct && dev.kind == DeviceKind::X {
+                if dev.number >= self.map.points(DeviceKind::X) {
+                    self.range_err(tok, DeviceKind::X, dev.number, &tok.text);
+                    return None;
+                }
+                self.note_use(tok, DeviceUse::Bit);
+                return Some(BitArg::Bit(self.map.base(DeviceKind::X) + dev.number));
             }
         }
         self.bit_operand(tok)
@@ -336,6 +425,24 @@ impl Compiler<'_> {
             self.err(tok, format!("`{}` cannot be a word operand", tok.text));
             return None;
         };
+        if dev.reach == Reach::Direct {
+            self.err(
+                tok,
+                format!("`{}`: direct access is for contacts and OUT; a word operand takes X or Y with a digit specification", tok.text),
+            );
+            return None;
+        }
+        if let (Reach::Unit(unit), None, None) = (dev.reach, digits, bit) {
+            if index.is_none() {
+                self.note_use(tok, DeviceUse::Word(num));
+            }
+            return Some(
+                match self.unit_operand(IndexedKind::Word, unit, dev.number, index, words) {
+                    Ok(w) => WordArg::Word(w),
+                    Err(ix) => WordArg::Indexed(ix),
+                },
+            );
+        }
         if bit.is_some() {
             self.err(
                 tok,

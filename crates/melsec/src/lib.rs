@@ -25,6 +25,7 @@ pub mod ladder;
 pub mod limits;
 pub mod logic;
 pub mod misc;
+pub mod module_access;
 pub mod pid;
 pub mod process;
 pub mod profiles;
@@ -70,6 +71,7 @@ pub static DEFS: &[&[Def]] = &[
     file_register::DEFS,
     timing::DEFS,
     misc::DEFS,
+    module_access::DEFS,
     rejected::DEFS,
 ];
 

@@ -27,10 +27,6 @@ const QNU: &str = "a Universal model (QnU) instruction softplc does not implemen
 
 /// The rejected instructions.
 pub static DEFS: &[Def] = &[
-    Def::rejected("FROM", MODULE),
-    Def::rejected("DFRO", MODULE),
-    Def::rejected("TO", MODULE),
-    Def::rejected("DTO", MODULE),
     Def::rejected("READ", MODULE),
     Def::rejected("SREAD", MODULE),
     Def::rejected("WRITE", MODULE),

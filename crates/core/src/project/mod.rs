@@ -17,6 +17,7 @@ mod initial;
 mod latch;
 mod ports;
 mod programs;
+mod rack;
 mod settings;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
 pub use tree::line_col;
@@ -183,6 +184,9 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         "port2",
         // The OPC UA server's settings, read by `softplc serve --opcua`.
         "opcua",
+        // The rack: I/O assignment and modules (contract §5).
+        "io",
+        "slot",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -200,6 +204,17 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     if let Some(t) = table(&mut cx, "devices") {
         devices::devices(&mut cx, t, devices_at.unwrap_or(0..0), &mut config.devices);
     }
+    let empty_points = match table(&mut cx, "io") {
+        Some(t) => rack::io(&mut cx, t),
+        None => rack::EMPTY_POINTS,
+    };
+    let slots = rack::slots(&mut cx, section("slot"), empty_points);
+    let units: Vec<(u32, u32)> = slots
+        .intelligent()
+        .map(|s| (s.unit(), s.buffer_words))
+        .collect();
+    config.devices.set_units(&units);
+    config.rack = std::sync::Arc::new(slots);
     if let Some(t) = table(&mut cx, "timers") {
         settings::timers(&mut cx, t, &mut config);
     }

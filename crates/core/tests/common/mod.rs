@@ -101,6 +101,36 @@ impl Plc {
         }
     }
 
+    /// A project: `plc.toml` text and its program files (name, text), built
+    /// as `run` builds it; panics with the diagnostics if it does not load.
+    pub fn project(toml: &str, files: &[(&str, &str)]) -> Plc {
+        Plc::try_project(toml, files).unwrap_or_else(|d| panic!("load failed:\n{d}"))
+    }
+
+    /// [`Plc::project`], or the diagnostics as `line:col: message` lines.
+    pub fn try_project(toml: &str, files: &[(&str, &str)]) -> Result<Plc, String> {
+        let dir = project::scratch(toml);
+        for (name, text) in files {
+            std::fs::write(dir.join(name), text).unwrap();
+        }
+        let clock = VirtualClock::new();
+        let built = softplc_core::project::load_project(&dir)
+            .and_then(|p| p.build_cpu(Box::new(clock.clone())));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut cpu = built.map_err(|d| {
+            d.0.iter()
+                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                .collect::<Vec<_>>()
+                .join("\n")
+        })?;
+        softplc_core::tier::apply_env(&mut cpu);
+        Ok(Plc {
+            cpu,
+            clock,
+            scan_us: 10_000,
+        })
+    }
+
     /// Sets the virtual duration of each following scan.
     pub fn scan_time_us(&mut self, us: u64) -> &mut Self {
         self.scan_us = us;

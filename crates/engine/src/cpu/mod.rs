@@ -10,6 +10,7 @@
 mod door;
 mod end;
 mod force;
+mod rack;
 pub(crate) use force::Force;
 pub use force::MAX_FORCES;
 mod retained;
@@ -123,6 +124,8 @@ pub struct Cpu {
     low_last_end_us: u64,
     low_min_us: Option<u64>,
     low_max_us: u64,
+    /// The rack's modules and interrupt requests.
+    rack: rack::RackState,
 }
 
 impl Cpu {
@@ -208,10 +211,13 @@ impl Cpu {
             force_off: false,
             system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
             inputs: vec![false; x].into_boxed_slice(),
+            input_spans: rack::input_spans(&cfg.rack, x as u32),
             forces: Vec::new(),
             system: cfg.system.clone(),
         };
+        let rack = rack::RackState::new(&cfg.rack, &rt.mem);
         let mut cpu = Cpu {
+            rack,
             programs,
             natives: Vec::new(),
             tier_stats: None,

@@ -14,6 +14,8 @@ impl Cpu {
         let now = self.clock.now_us();
         if self.state != CpuState::Run {
             self.last_end_us = now;
+            // The modules go on while the CPU is stopped.
+            self.modules_end(now);
             return;
         }
         self.rt.now_us = now;
@@ -21,6 +23,7 @@ impl Cpu {
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
         self.rt.refresh_inputs();
+        self.interrupt_module_edges();
         if !self.rt.forces.is_empty() {
             self.unforce_outputs();
         }
@@ -69,6 +72,7 @@ impl Cpu {
             return;
         }
         self.end_processing(now, initial);
+        self.modules_end(now);
     }
 
     /// Runs every program of one execution type in parameter order; false on a

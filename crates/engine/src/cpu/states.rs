@@ -126,7 +126,7 @@ impl Cpu {
         }
         for k in DeviceKind::ALL {
             use DeviceKind::*;
-            if matches!(k, X | R | ZR) || k.is_system() {
+            if matches!(k, X | R | ZR) || k.is_system() || k.is_module() {
                 continue;
             }
             let start = mem.map.base(k) as usize;
@@ -153,6 +153,7 @@ impl Cpu {
         // Forces are released at power-off and RESET (docs/forcing.md).
         self.rt.forces.clear();
         self.clear_unlatched();
+        self.modules_power_on();
         self.rt.error = None;
         self.stop_error = false;
         self.rt.cpu.timer_rem.fill(0);

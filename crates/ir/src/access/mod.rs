@@ -67,6 +67,9 @@ pub enum AccessError {
     /// A point outside the configured points (`source` names the first one).
     #[error("`{device}`: {source}")]
     Range { device: String, source: OutOfRange },
+    /// Buffer memory of a unit with no intelligent function module.
+    #[error("`{device}`: no intelligent function module has unit number {unit:X} (start I/O number {unit:X}0)")]
+    NoModule { device: String, unit: u32 },
     /// Bits asked of a word device.
     #[error("`{device}` is a word device: it has no bit points")]
     NotBit { device: String },

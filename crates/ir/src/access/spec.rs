@@ -19,6 +19,9 @@ pub struct DeviceSpec {
     pub text: String,
     target: Target,
     index: Option<u8>,
+    /// `U<unit>\\G<n>`: the number is an address in that module's buffer
+    /// memory.
+    unit: Option<u32>,
     pub ty: ValueType,
 }
 
@@ -71,10 +74,15 @@ impl DeviceSpec {
             (Some(t), true) if t == "bool" || t == "bit" => ValueType::Bit,
             (Some(t), true) => return Err(format!("`{s}`: a bit device takes no type `{t}`")),
         };
+        let unit = match name.reach {
+            crate::device::Reach::Unit(u) => Some(u),
+            _ => None,
+        };
         Ok(DeviceSpec {
             text: s.to_string(),
             target,
             index,
+            unit,
             ty,
         })
     }
@@ -112,7 +120,25 @@ impl DeviceSpec {
         n: u32,
         len: u32,
     ) -> Result<Span, AccessError> {
-        mem.locate_span(kind, self.number(mem, n), len, RBlock::First)
+        let number = self.number(mem, n);
+        let Some(unit) = self.unit else {
+            return mem
+                .locate_span(kind, number, len, RBlock::First)
+                .map_err(|source| self.range_error(source));
+        };
+        // Buffer memory: the address within the module's words.
+        let w = mem.map.unit(unit).ok_or_else(|| AccessError::NoModule {
+            device: self.text.clone(),
+            unit,
+        })?;
+        if number < 0 || number + len as i64 > w.words as i64 {
+            return Err(self.range_error(OutOfRange {
+                kind,
+                number,
+                points: w.words,
+            }));
+        }
+        mem.locate_span(kind, w.first as i64 + number, len, RBlock::First)
             .map_err(|source| self.range_error(source))
     }
 
@@ -131,10 +157,9 @@ impl DeviceSpec {
     /// Reads the device as a typed value.
     pub fn read_value(&self, mem: &DeviceMemory) -> Result<Value, AccessError> {
         if let (Target::Word(k, n), ValueType::Str) = (self.target, self.ty) {
-            let first = self.number(mem, n);
             let mut bytes = Vec::new();
-            'words: for i in 0..(MAX_STR / 2) as i64 {
-                let Ok(s) = mem.locate_span(k, first + i, 1, RBlock::First) else {
+            'words: for i in 0..(MAX_STR / 2) as u32 {
+                let Ok(s) = self.span(mem, k, n + i, 1) else {
                     break;
                 };
                 for b in mem.words[s.start()].to_le_bytes() {

@@ -15,6 +15,21 @@ pub struct DeviceName {
     /// Written as plain `T`, `ST` or `C`: the contact in a bit operand, the current
     /// value in a word operand. `kind` then holds the contact kind.
     pub generic: bool,
+    /// How the device is reached: device memory, or a module of the rack.
+    pub reach: Reach,
+}
+
+/// How an operand reaches its device (004 §10.2, ch. 8).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reach {
+    /// The CPU's device memory (`X10`, `D0`).
+    Memory,
+    /// Direct access to the module on the base when the instruction runs:
+    /// `DX10` (kind X), `DY10` (kind Y).
+    Direct,
+    /// Buffer memory of the intelligent function module with this unit
+    /// number: `U2\\G11` is kind [`DeviceKind::G`], number 11, unit 2.
+    Unit(u32),
 }
 
 impl DeviceName {
@@ -106,6 +121,7 @@ pub fn parse_operand_in(table: &DeviceTable, token: &str) -> Result<Operand, Ope
         b'P' => parse_decimal(&up, 1).map(Operand::Pointer),
         b'I' => parse_decimal(&up, 1).map(Operand::Interrupt),
         b'N' => parse_decimal(&up, 1).map(Operand::Nesting),
+        b'U' if table.modules && up.contains('\\') => parse_unit(&up),
         b'J' | b'U' if up.contains('\\') => err(
             0,
             format!("`{token}`: link direct (J\\) and module (U\\G) devices are not supported"),
@@ -235,10 +251,35 @@ fn parse_real(s: &str) -> Result<f64, OperandError> {
 /// Parses a device starting at byte `from` of the upper-case token `s`.
 fn parse_device(table: &DeviceTable, s: &str, from: usize) -> Result<Operand, OperandError> {
     let t = &s[from..];
+    let direct = table.modules
+        && (t.starts_with("DX") || t.starts_with("DY"))
+        && t.as_bytes().get(2).is_some_and(u8::is_ascii_hexdigit);
+    if direct {
+        return match parse_device(table, s, from + 1)? {
+            Operand::Device {
+                dev,
+                bit: None,
+                index: None,
+                digits,
+            } => Ok(Operand::Device {
+                dev: DeviceName {
+                    reach: Reach::Direct,
+                    ..dev
+                },
+                digits,
+                bit: None,
+                index: None,
+            }),
+            _ => err(
+                from,
+                format!("`{s}`: direct access takes no bit number or index modification"),
+            ),
+        };
+    }
     if t.starts_with("DX") || t.starts_with("DY") {
         return err(
             from,
-            format!("`{s}`: direct access (DX/DY) is not supported; use X/Y"),
+            format!("`{s}`: direct access (DX/DY) is not supported by this CPU; use X/Y"),
         );
     }
     let Some(d) = table.find(t) else {
@@ -289,12 +330,66 @@ fn parse_device(table: &DeviceTable, s: &str, from: usize) -> Result<Operand, Op
             kind,
             number,
             generic,
+            reach: Reach::Memory,
         },
         digits: None,
         bit,
         index,
     })
 }
+
+/// `U<n>\\G<addr>`: buffer memory of the module at unit `n` (its start I/O
+/// number without the last hex digit, up to 3 hex digits), word `addr`
+/// (decimal, 0-65535), with a bit number `.b` or an index `Zn` (004 ch. 8).
+fn parse_unit(s: &str) -> Result<Operand, OperandError> {
+    let Some((u, g)) = s[1..].split_once('\\') else {
+        return err(0, format!("`{s}` is not a device or constant"));
+    };
+    if u.is_empty() || u.len() > 3 || !u.bytes().all(|c| c.is_ascii_hexdigit()) {
+        return err(1, format!("`{s}`: the unit `U<n>` is the module's start I/O number without its last digit, 1-3 hex digits (U2 for X/Y20)"));
+    }
+    let unit = u32::from_str_radix(u, 16).unwrap_or(0);
+    let at = u.len() + 2;
+    if !g.starts_with('G') {
+        return err(
+            at,
+            format!("`{s}`: expected `G` and a buffer-memory address after `\\`"),
+        );
+    }
+    let op = parse_device(&UNIT_WORDS, s, at)?;
+    let Operand::Device {
+        dev, bit, index, ..
+    } = op
+    else {
+        return err(at, format!("`{s}` is not a device or constant"));
+    };
+    if dev.number > 65535 {
+        return err(
+            at + 1,
+            format!("`{s}`: buffer-memory addresses are G0-G65535"),
+        );
+    }
+    Ok(Operand::Device {
+        dev: DeviceName {
+            reach: Reach::Unit(unit),
+            ..dev
+        },
+        digits: None,
+        bit,
+        index,
+    })
+}
+
+/// The `G` of `U<n>\\G<addr>`: decimal buffer-memory words.
+static UNIT_WORDS: DeviceTable = DeviceTable {
+    modules: false,
+    defs: &[super::DeviceDef {
+        name: "G",
+        kind: DeviceKind::G,
+        generic: false,
+        numbering: super::Numbering::Dec,
+    }],
+};
 
 #[cfg(test)]
 mod tests {
@@ -334,6 +429,25 @@ mod tests {
         assert_eq!(dev("FD4"), (FD, 4, None, None, None));
         assert_eq!(dev("FXF"), (FX, 0xF, None, None, None));
         assert_eq!(dev("Z15"), (Z, 15, None, None, None));
+        assert_eq!(dev("U2\\G11"), (G, 11, None, None, None));
+        assert_eq!(dev("u1f\\g65535"), (G, 65535, None, None, None));
+        assert_eq!(dev("U2\\G11Z3"), (G, 11, None, None, Some(3)));
+        assert_eq!(dev("U2\\G11.F"), (G, 11, None, Some(15), None));
+        assert_eq!(dev("DX1F"), (X, 0x1F, None, None, None));
+        assert_eq!(dev("DY10"), (Y, 0x10, None, None, None));
+    }
+
+    #[test]
+    fn reach() {
+        let reach = |s| match parse_operand(s).unwrap() {
+            Operand::Device { dev, .. } => dev.reach,
+            o => panic!("{s}: {o:?}"),
+        };
+        assert_eq!(reach("U2\\G11"), Reach::Unit(2));
+        assert_eq!(reach("U3E0\\G0"), Reach::Unit(0x3E0));
+        assert_eq!(reach("DX0"), Reach::Direct);
+        assert_eq!(reach("X0"), Reach::Memory);
+        assert_eq!(reach("D0"), Reach::Memory);
     }
 
     #[test]
@@ -389,7 +503,12 @@ mod tests {
             "H123456789",
             "E1.2.3",
             "\"ab",
-            "DX0",
+            "DX0.1",
+            "DYZ",
+            "U\\G0",
+            "U1234\\G0",
+            "U1\\D0",
+            "U1\\G65536",
             "J1\\W0",
             "K",
             "E",

@@ -41,6 +41,10 @@ pub enum DeviceKind {
     FD,
     R,
     ZR,
+    /// Buffer memory of the rack's intelligent function modules, every
+    /// module's words one after another (004 ch. 8). Programs name it
+    /// `U<n>\\G<addr>`; the map's unit windows say where each module's are.
+    G,
 }
 
 /// How a dialect writes a device's numbers: decimal, hexadecimal (MELSEC
@@ -68,14 +72,20 @@ impl Numbering {
 }
 
 impl DeviceKind {
-    pub const COUNT: usize = 29;
+    pub const COUNT: usize = 30;
     pub const ALL: [DeviceKind; Self::COUNT] = {
         use DeviceKind::*;
         [
             X, Y, M, L, F, V, B, SB, S, SM, TS, TC, STS, STC, CS, CC, FX, FY, D, W, SW, SD, Z, TN,
-            STN, CN, FD, R, ZR,
+            STN, CN, FD, R, ZR, G,
         ]
     };
+
+    /// Buffer memory of the modules: the modules' own memory, not the
+    /// CPU's, so no device clear, latch or initial value of the CPU touches it.
+    pub fn is_module(self) -> bool {
+        self == DeviceKind::G
+    }
 
     /// The system's relays and registers (SM, SD): kept through a device
     /// clear.
@@ -135,6 +145,7 @@ impl DeviceKind {
             FD => "FD",
             R => "R",
             ZR => "ZR",
+            G => "G",
         }
     }
 

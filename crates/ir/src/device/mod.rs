@@ -9,7 +9,9 @@ pub mod address;
 mod kind;
 mod table;
 
-pub use address::{parse_operand, parse_operand_in, Constant, DeviceName, Operand, OperandError};
+pub use address::{
+    parse_operand, parse_operand_in, Constant, DeviceName, Operand, OperandError, Reach,
+};
 pub use kind::{DeviceKind, Numbering};
 pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 
@@ -19,6 +21,19 @@ pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DeviceConfig {
     points: [u32; DeviceKind::COUNT],
+    /// The rack's intelligent function modules' buffer memories in `G`.
+    units: Vec<UnitWindow>,
+}
+
+/// Where one intelligent function module's buffer memory lives in `G`:
+/// `U<unit>\G<addr>` is G`first + addr` for `addr < words` (004 ch. 8).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct UnitWindow {
+    /// The module's start I/O number without its last hex digit (`U2` for X/Y20).
+    pub unit: u32,
+    /// Its word 0 in `G`.
+    pub first: u32,
+    pub words: u32,
 }
 
 impl Default for DeviceConfig {
@@ -38,6 +53,7 @@ impl DeviceConfig {
         use DeviceKind::*;
         let mut c = DeviceConfig {
             points: [0; DeviceKind::COUNT],
+            units: Vec::new(),
         };
         let t = 2048;
         let st = 0;
@@ -82,6 +98,26 @@ impl DeviceConfig {
         self.points[kind as usize]
     }
 
+    /// Places the buffer memories of the rack's intelligent function
+    /// modules, `(unit, words)` each, one after another in `G`.
+    pub fn set_units(&mut self, modules: &[(u32, u32)]) {
+        let mut first = 0;
+        self.units = modules
+            .iter()
+            .map(|&(unit, words)| {
+                let w = UnitWindow { unit, first, words };
+                first += words;
+                w
+            })
+            .collect();
+        self.points[DeviceKind::G as usize] = first;
+    }
+
+    /// The modules' buffer memories (see [`Self::set_units`]).
+    pub fn units(&self) -> &[UnitWindow] {
+        &self.units
+    }
+
     /// Sets the points of a device. Timers, retentive timers and counters keep their
     /// contact, coil and current value sizes together.
     pub fn set_points(&mut self, kind: DeviceKind, n: u32) {
@@ -116,6 +152,8 @@ pub struct DeviceMap {
     /// addresses (the dialect's: MELSEC's SD648), `u32::MAX` for none (R is
     /// block 0).
     r_block: u32,
+    /// The modules' buffer memories in `G`.
+    units: Box<[UnitWindow]>,
 }
 
 impl DeviceMap {
@@ -146,7 +184,29 @@ impl DeviceMap {
             bit_len: nb,
             word_len: nw,
             r_block: u32::MAX,
+            units: cfg.units.clone().into_boxed_slice(),
         }
+    }
+
+    /// The buffer memory of the module whose unit number (start I/O number
+    /// without its last hex digit) is `unit`, `None` for a slot with no
+    /// intelligent function module.
+    #[inline]
+    pub fn unit(&self, unit: u32) -> Option<UnitWindow> {
+        self.units.iter().find(|w| w.unit == unit).copied()
+    }
+
+    /// Every module's buffer memory, in slot order.
+    pub fn units(&self) -> &[UnitWindow] {
+        &self.units
+    }
+
+    /// The unit and address of buffer-memory word G`g`.
+    pub fn unit_of(&self, g: u32) -> Option<(u32, u32)> {
+        self.units
+            .iter()
+            .find(|w| g >= w.first && g - w.first < w.words)
+            .map(|w| (w.unit, g - w.first))
     }
 
     /// Sets the word selecting the file-register block R addresses (flat

@@ -21,6 +21,9 @@ pub struct DeviceDef {
 #[derive(Debug)]
 pub struct DeviceTable {
     pub defs: &'static [DeviceDef],
+    /// The dialect reaches the rack's modules: direct I/O `DX`/`DY` and
+    /// buffer memory `U<n>\\G<addr>` (MELSEC-Q, 004 §10.2, ch. 8).
+    pub modules: bool,
 }
 
 impl DeviceTable {
@@ -47,6 +50,7 @@ const fn def(name: &'static str, kind: DeviceKind, generic: bool) -> DeviceDef {
 
 /// The MELSEC-Q devices (004 Table 10.1): X, Y, B, SB, W, SW, FX, FY in hex.
 pub static MELSEC_Q: DeviceTable = DeviceTable {
+    modules: true,
     defs: &[
         def("STN", DeviceKind::STN, false),
         def("STS", DeviceKind::STS, false),
@@ -93,6 +97,7 @@ mod tests {
     #[test]
     fn octal_numbering() {
         static OCTAL: DeviceTable = DeviceTable {
+            modules: false,
             defs: &[
                 DeviceDef {
                     name: "X",

@@ -9,6 +9,9 @@ use softplc_ir::system::Severity;
 pub const BATTERY: ErrorCode = ErrorCode(1600);
 /// FILE OPE. ERROR: the program named by PSCAN/PSTOP/POFF/PLOW does not exist.
 pub const NO_PROGRAM: ErrorCode = ErrorCode(2410);
+/// SP.UNIT ERROR: buffer memory of a slot with no intelligent function
+/// module accessed (FROM/TO, `U\\G`; 004 L4952, L8997).
+pub const SP_UNIT: ErrorCode = ErrorCode(2110);
 /// OPERATION ERROR: data the instruction cannot process.
 pub const OPERATION: ErrorCode = ErrorCode(4100);
 /// OPERATION ERROR: device range exceeded.
@@ -25,6 +28,7 @@ pub fn code(fault: Fault) -> ErrorCode {
     match fault {
         Fault::Operation => OPERATION,
         Fault::Range => RANGE,
+        Fault::NoModule => SP_UNIT,
         Fault::ForWithoutNext => ErrorCode(4200),
         Fault::NextWithoutFor => ErrorCode(4201),
         Fault::ForNesting => ErrorCode(4202),
@@ -48,6 +52,9 @@ pub fn code(fault: Fault) -> ErrorCode {
 pub fn message(code: ErrorCode) -> &'static str {
     match code.0 {
         1600 => "BATTERY ERROR: battery-backed data lost (damaged state file)",
+        2110 => {
+            "SP.UNIT ERROR: buffer memory of a slot with no intelligent function module accessed"
+        }
         2410 => "FILE OPE. ERROR: the specified program does not exist",
         4100 => "OPERATION ERROR: the instruction cannot process this data",
         4101 => "OPERATION ERROR: device range exceeded",

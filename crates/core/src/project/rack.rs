@@ -1,0 +1,364 @@
+//! `[io]` and `[[slot]]`: the I/O assignment of the base units (004 ch. 5)
+//! and the modules in the slots (ch. 8). The assignment rules the CPU checks
+//! at power-on are load errors here, each naming the slot and quoting the
+//! CPU's `SP.UNIT LAY ERR.` (004 §5: L2408, L2707, L2721-2727).
+
+use std::ops::Range;
+
+use super::ctx::Ctx;
+use super::tree::{Entry, Item, Value};
+use softplc_ir::rack::{ModuleProfile, Rack, Slot, SlotType};
+
+/// Slots of the main base and the extension bases together (004 L2402-2413).
+pub const MAX_SLOTS: usize = 64;
+/// The last I/O number of the bases (004 L2727).
+pub const LAST_IO: u32 = 0xFFF;
+/// Points an empty slot takes by default (004 L2531-2595).
+pub const EMPTY_POINTS: u32 = 16;
+/// Points a slot may take (004 L2619-2728).
+const POINTS: &[u32] = &[0, 16, 32, 48, 64, 128, 256, 512, 1024];
+/// First interrupt pointer of the intelligent function modules' setting.
+const FIRST_MODULE_POINTER: u32 = 50;
+
+const TYPES: &[(&str, SlotType)] = &[
+    ("empty", SlotType::Empty),
+    ("input", SlotType::Input),
+    ("output", SlotType::Output),
+    ("io", SlotType::Io),
+    ("intelligent", SlotType::Intelligent),
+    ("interrupt", SlotType::Interrupt),
+];
+
+const LAY: &str = "SP.UNIT LAY ERR.";
+
+/// `[io]`: the points of an empty slot.
+pub(crate) fn io(cx: &mut Ctx, t: &[Entry]) -> u32 {
+    cx.unknown_keys(t, Some("[io]"), &["empty_points"]);
+    let Some(e) = t.iter().find(|e| e.key == "empty_points") else {
+        return EMPTY_POINTS;
+    };
+    match &e.item.value {
+        Value::Int(n) if (16..=1024).contains(n) && n % 16 == 0 => *n as u32,
+        _ => {
+            cx.error(
+                &e.item.span,
+                "empty_points must be 16-1024 points in multiples of 16",
+            );
+            EMPTY_POINTS
+        }
+    }
+}
+
+/// The `slot` entry of the top-level table: the rack in slot order.
+pub(crate) fn slots(cx: &mut Ctx, entry: Option<&Entry>, empty_points: u32) -> Rack {
+    let mut rack = Rack::default();
+    let Some(entry) = entry else {
+        return rack;
+    };
+    let tables: Vec<(&Item, &[Entry])> = match &entry.item.value {
+        Value::Array(items) => items
+            .iter()
+            .filter_map(|i| match &i.value {
+                Value::Table(t) => Some((i, t.as_slice())),
+                _ => None,
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    if !matches!(&entry.item.value, Value::Array(a) if a.len() == tables.len()) {
+        cx.error(
+            &entry.item.span,
+            "slot must be an array of tables: write a [[slot]] table for each slot",
+        );
+        return rack;
+    }
+    let mut next = 0u32;
+    let mut taken: Vec<(Range<u32>, u32)> = Vec::new();
+    let mut interrupt_module: Option<u32> = None;
+    for (index, (item, t)) in tables.iter().enumerate() {
+        let index = index as u32;
+        let Some(slot) = slot(cx, index, item, t, empty_points, next) else {
+            continue;
+        };
+        let at = &item.span;
+        let name = slot.describe();
+        if slot.start % 16 != 0 {
+            cx.error(
+                at,
+                format!(
+                    "{name}: {LAY} the start I/O number {:X} is not a multiple of 16",
+                    slot.start
+                ),
+            );
+        }
+        let io = slot.io();
+        if slot.points > 0 && io.end - 1 > LAST_IO {
+            cx.error(
+                at,
+                format!(
+                    "{name}: {LAY} its I/O numbers {:X}-{:X} go beyond {LAST_IO:X}",
+                    io.start,
+                    io.end - 1
+                ),
+            );
+        }
+        if slot.kind != SlotType::Empty && index as usize >= MAX_SLOTS {
+            cx.error(
+                at,
+                format!("{name}: {LAY} a module in slot {index} (the bases have {MAX_SLOTS} slots, 0-{})", MAX_SLOTS - 1),
+            );
+        }
+        if slot.points > 0 {
+            if let Some((r, other)) = taken
+                .iter()
+                .find(|(r, _)| r.start < io.end && io.start < r.end)
+            {
+                cx.error(
+                    at,
+                    format!(
+                        "{name}: {LAY} its I/O numbers {:X}-{:X} overlap slot {other}'s ({:X}-{:X})",
+                        io.start,
+                        io.end - 1,
+                        r.start,
+                        r.end - 1
+                    ),
+                );
+            }
+            taken.push((io.clone(), index));
+        }
+        if slot.kind == SlotType::Interrupt {
+            if let Some(first) = interrupt_module {
+                cx.error(
+                    at,
+                    format!(
+                        "{name}: one interrupt module per CPU (slot {first} has one; 004 App. 3)"
+                    ),
+                );
+            }
+            interrupt_module = Some(index);
+        }
+        next = io.end.max(next);
+        rack.slots.push(slot);
+    }
+    rack
+}
+
+/// One `[[slot]]` table; `next` is the I/O number after the previous slot.
+fn slot(
+    cx: &mut Ctx,
+    index: u32,
+    item: &Item,
+    t: &[Entry],
+    empty_points: u32,
+    next: u32,
+) -> Option<Slot> {
+    cx.unknown_keys(
+        t,
+        Some("[[slot]]"),
+        &[
+            "type",
+            "points",
+            "start",
+            "module",
+            "buffer_words",
+            "interrupts",
+        ],
+    );
+    let get = |k: &str| t.iter().find(|e| e.key == k);
+    let at = &item.span;
+    let kind = match get("type") {
+        None => {
+            cx.error(
+                at,
+                format!("slot {index}: [[slot]] needs a type (empty, input, output, io, intelligent or interrupt)"),
+            );
+            return None;
+        }
+        Some(e) => cx.choice(e, TYPES)?,
+    };
+    let module = module(cx, index, kind, get("module"), at)?;
+    let points = match get("points") {
+        Some(e) => match &e.item.value {
+            Value::Int(n) if POINTS.contains(&(*n as u32)) && *n >= 0 => *n as u32,
+            _ => {
+                cx.error(
+                    &e.item.span,
+                    format!("slot {index}: points must be one of 0, 16, 32, 48, 64, 128, 256, 512, 1024"),
+                );
+                return None;
+            }
+        },
+        None => match (kind, module) {
+            (SlotType::Empty, _) => empty_points,
+            (_, Some(m)) => m.points,
+            _ => {
+                cx.error(
+                    at,
+                    format!(
+                        "slot {index}: a {} slot needs points (16, 32, 64 …)",
+                        kind.name()
+                    ),
+                );
+                return None;
+            }
+        },
+    };
+    let start = match get("start") {
+        None => next,
+        Some(e) => {
+            let text = cx.string(e, "a hex I/O number such as \"20\" (a string)")?;
+            let digits = text.trim_start_matches("0x").trim_start_matches("0X");
+            match u32::from_str_radix(digits, 16) {
+                Ok(n) if !digits.is_empty() => n,
+                _ => {
+                    cx.error(
+                        &e.item.span,
+                        format!("slot {index}: start \"{text}\" is not a hex I/O number"),
+                    );
+                    return None;
+                }
+            }
+        }
+    };
+    let buffer_words = match (module, get("buffer_words")) {
+        (Some(m), None) if m.buffer_words > 0 => m.buffer_words,
+        (Some(m), None) if m.kind == SlotType::Intelligent => {
+            softplc_modules::generic::DEFAULT_WORDS
+        }
+        (Some(m), Some(e)) if m.buffer_words == 0 && m.kind == SlotType::Intelligent => {
+            match &e.item.value {
+                Value::Int(n) if (1..=65536).contains(n) => *n as u32,
+                _ => {
+                    cx.error(
+                        &e.item.span,
+                        format!("slot {index}: buffer_words must be 1-65536 words"),
+                    );
+                    return None;
+                }
+            }
+        }
+        (_, Some(e)) => {
+            cx.error(
+                &e.key_span,
+                format!("slot {index}: buffer_words is for a generic module only (a profile has its own buffer memory)"),
+            );
+            return None;
+        }
+        _ => 0,
+    };
+    let mut slot = Slot {
+        index,
+        kind,
+        points,
+        start,
+        module,
+        buffer_words,
+        interrupts: Vec::new(),
+    };
+    if let Some(e) = get("interrupts") {
+        slot.interrupts = interrupts(cx, &slot, e)?;
+    }
+    Some(slot)
+}
+
+/// The module of a slot: `module = "…"`, by default `generic` in an
+/// intelligent slot and `QI60` in an interrupt slot. A profile in a slot of
+/// another type is SP.UNIT LAY ERR. (004 L2721-2726).
+fn module(
+    cx: &mut Ctx,
+    index: u32,
+    kind: SlotType,
+    entry: Option<&Entry>,
+    at: &Range<usize>,
+) -> Option<Option<&'static ModuleProfile>> {
+    let Some(e) = entry else {
+        return Some(match kind {
+            SlotType::Intelligent => Some(&softplc_modules::GENERIC),
+            SlotType::Interrupt => Some(&softplc_modules::QI60),
+            _ => None,
+        });
+    };
+    let name = cx.string(e, "a module profile name (a string)")?;
+    let Some(m) = softplc_modules::find(name) else {
+        let known: Vec<&str> = softplc_modules::PROFILES.iter().map(|p| p.name).collect();
+        cx.error(
+            &e.item.span,
+            format!(
+                "slot {index}: no module profile \"{name}\" (there are: {})",
+                known.join(", ")
+            ),
+        );
+        return None;
+    };
+    if m.kind != kind {
+        cx.error(
+            at,
+            format!(
+                "slot {index}: {LAY} the {} module {} is in a slot typed {} (write type = \"{}\")",
+                m.kind.name(),
+                m.name,
+                kind.name(),
+                m.kind.name()
+            ),
+        );
+        return None;
+    }
+    Some(Some(m))
+}
+
+/// `interrupts = { 0 = "I50" }`: the interrupt pointer each of the module's
+/// interrupt causes raises (the intelligent function module's interrupt
+/// pointer setting, I50-I255; 004 L5600-5620).
+fn interrupts(cx: &mut Ctx, slot: &Slot, e: &Entry) -> Option<Vec<(u32, u32)>> {
+    let index = slot.index;
+    let causes = slot.module.map_or(0, |m| m.causes);
+    let Value::Table(t) = &e.item.value else {
+        cx.error(
+            &e.item.span,
+            format!("slot {index}: interrupts must be a table of cause = \"I50\""),
+        );
+        return None;
+    };
+    if causes == 0 {
+        cx.error(
+            &e.key_span,
+            format!(
+                "{}: this module raises no interrupts of its own setting",
+                slot.describe()
+            ),
+        );
+        return None;
+    }
+    let mut out = Vec::new();
+    for c in t {
+        let cause = match c.key.parse::<u32>() {
+            Ok(n) if n < causes => n,
+            _ => {
+                cx.error(
+                    &c.key_span,
+                    format!(
+                        "slot {index}: interrupt cause `{}` is not 0-{}",
+                        c.key,
+                        causes - 1
+                    ),
+                );
+                continue;
+            }
+        };
+        let Some(text) = cx.string(c, "an interrupt pointer such as \"I50\"") else {
+            continue;
+        };
+        let n = text
+            .strip_prefix(['I', 'i'])
+            .and_then(|d| d.parse::<u32>().ok())
+            .filter(|n| (FIRST_MODULE_POINTER..=255).contains(n));
+        match n {
+            Some(n) => out.push((cause, n)),
+            None => cx.error(
+                &c.item.span,
+                format!("slot {index}: \"{text}\" is not an intelligent module's interrupt pointer (I50-I255)"),
+            ),
+        }
+    }
+    Some(out)
+}

@@ -1,0 +1,192 @@
+//! The rack at run time (004 ch. 5, ch. 8, App. 3): the input refresh of the
+//! slots that have inputs, the simulated intelligent function modules run at
+//! END, and the interrupt requests of modules (an interrupt module's rising
+//! inputs, an intelligent module's interrupt causes).
+
+use super::*;
+use softplc_ir::rack::{Module, ModuleIo, Rack, SlotType};
+use std::ops::Range;
+
+/// A module in its slot, with where its signals and buffer memory are.
+#[derive(Debug)]
+pub(crate) struct RackModule {
+    /// Its slot in [`CpuConfig::rack`].
+    pub slot: usize,
+    pub module: Box<dyn Module>,
+    /// Its X and Y numbers (clipped to the CPU's X/Y points).
+    pub io: Range<usize>,
+    /// Its buffer memory: flat word indices.
+    pub buffer: Range<usize>,
+    /// Its interrupt causes → pointers (I50-I255).
+    pub pointers: Box<[(u32, u32)]>,
+}
+
+/// The interrupt module's inputs: X numbers and the pointer of the first.
+#[derive(Clone, Debug)]
+pub(crate) struct InterruptInputs {
+    pub io: Range<usize>,
+    pub first_pointer: u32,
+}
+
+/// What the engine keeps of the rack.
+#[derive(Debug, Default)]
+pub(crate) struct RackState {
+    pub modules: Vec<RackModule>,
+    pub interrupt_inputs: Option<InterruptInputs>,
+    /// The interrupt module's inputs at the previous input refresh.
+    pub previous: u64,
+    /// Interrupt pointers requested and not yet run: bit n of word n/64.
+    pub requests: [u64; 4],
+}
+
+impl RackState {
+    /// The modules of `rack` in a memory of `map` with `x` input points.
+    pub fn new(rack: &Rack, mem: &DeviceMemory) -> RackState {
+        let x = mem.map.points(DeviceKind::X) as usize;
+        let io = |s: &softplc_ir::rack::Slot| {
+            let r = s.io();
+            (r.start as usize).min(x)..(r.end as usize).min(x)
+        };
+        let g = mem.map.base(DeviceKind::G) as usize;
+        let mut state = RackState::default();
+        for (i, s) in rack.slots.iter().enumerate() {
+            let Some(profile) = s.module else { continue };
+            if s.kind == SlotType::Interrupt {
+                if let Some(p) = &profile.pointers {
+                    state.interrupt_inputs = Some(InterruptInputs {
+                        io: io(s),
+                        first_pointer: p.start,
+                    });
+                }
+                continue;
+            }
+            let buffer = match mem.map.unit(s.unit()) {
+                Some(w) => g + w.first as usize..g + (w.first + w.words) as usize,
+                None => 0..0,
+            };
+            state.modules.push(RackModule {
+                slot: i,
+                module: (profile.new)(s),
+                io: io(s),
+                buffer,
+                pointers: s.interrupts.clone().into_boxed_slice(),
+            });
+        }
+        state
+    }
+
+    /// Requests interrupt pointer I`n`.
+    pub fn request(&mut self, n: u32) {
+        if let Some(w) = self.requests.get_mut(n as usize / 64) {
+            *w |= 1 << (n % 64);
+        }
+    }
+}
+
+/// The X numbers the input refresh copies from the input image: every X
+/// without a rack, else the slots that have inputs.
+pub(crate) fn input_spans(rack: &Rack, x_points: u32) -> Box<[(u32, u32)]> {
+    if rack.is_empty() {
+        return Box::new([(0, x_points)]);
+    }
+    rack.slots
+        .iter()
+        .filter(|s| s.kind.has_inputs() && s.points > 0)
+        .filter_map(|s| {
+            let r = s.io();
+            (r.start < x_points).then(|| (r.start, r.end.min(x_points) - r.start))
+        })
+        .collect()
+}
+
+impl Cpu {
+    /// Power-on and RESET of the modules: their initial buffer memory and
+    /// signals.
+    pub(super) fn modules_power_on(&mut self) {
+        let rt = &mut self.rt;
+        let y = rt.mem.map.base(DeviceKind::Y) as usize;
+        for m in &mut self.rack.modules {
+            let mut io = ModuleIo {
+                buffer: &mut rt.mem.words[m.buffer.clone()],
+                x: &mut rt.inputs[m.io.clone()],
+                y: &rt.mem.bits[y + m.io.start..y + m.io.end],
+                raised: 0,
+            };
+            m.module.power_on(&mut io);
+        }
+        self.rack.previous = 0;
+        self.rack.requests = [0; 4];
+    }
+
+    /// The modules' END: each sees its Y outputs and buffer memory and
+    /// updates them; the causes they raise request their interrupt pointers.
+    pub(super) fn modules_end(&mut self, now: u64) {
+        let rt = &mut self.rt;
+        let y = rt.mem.map.base(DeviceKind::Y) as usize;
+        for m in &mut self.rack.modules {
+            let mut io = ModuleIo {
+                buffer: &mut rt.mem.words[m.buffer.clone()],
+                x: &mut rt.inputs[m.io.clone()],
+                y: &rt.mem.bits[y + m.io.start..y + m.io.end],
+                raised: 0,
+            };
+            m.module.end(&mut io, now);
+            let raised = io.raised;
+            if raised != 0 {
+                for &(cause, pointer) in m.pointers.iter() {
+                    if cause < 64 && raised >> cause & 1 != 0 {
+                        let w = &mut self.rack.requests[pointer as usize / 64];
+                        *w |= 1 << (pointer % 64);
+                    }
+                }
+            }
+        }
+    }
+
+    /// After the input refresh: a rising input of the interrupt module
+    /// requests its pointer (I0-I15, App. 3).
+    pub(super) fn interrupt_module_edges(&mut self) {
+        let Some(ii) = &self.rack.interrupt_inputs else {
+            return;
+        };
+        let xb = self.rt.mem.map.base(DeviceKind::X) as usize;
+        let mut now = 0u64;
+        for (k, b) in self.rt.mem.bits[xb + ii.io.start..xb + ii.io.end]
+            .iter()
+            .enumerate()
+        {
+            now |= (*b as u64) << k;
+        }
+        let rising = now & !self.rack.previous;
+        self.rack.previous = now;
+        let first = ii.first_pointer;
+        for k in 0..64 {
+            if rising >> k & 1 != 0 {
+                self.rack.request(first + k);
+            }
+        }
+    }
+
+    /// The simulated module in slot `slot` (a plant model's channels).
+    pub fn module_mut(&mut self, slot: usize) -> Option<&mut dyn Module> {
+        self.rack
+            .modules
+            .iter_mut()
+            .find(|m| m.slot == slot)
+            .map(|m| &mut *m.module as &mut dyn Module)
+    }
+
+    /// The module in slot `slot`.
+    pub fn module(&self, slot: usize) -> Option<&dyn Module> {
+        self.rack
+            .modules
+            .iter()
+            .find(|m| m.slot == slot)
+            .map(|m| &*m.module as &dyn Module)
+    }
+
+    /// The rack the CPU was configured with.
+    pub fn rack(&self) -> &Rack {
+        &self.cfg.rack
+    }
+}

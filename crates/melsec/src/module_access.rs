@@ -1,0 +1,181 @@
+//! Buffer memory of intelligent function modules: FROM(P), DFRO(P), TO(P),
+//! DTO(P) (Programming Manual (Common Instructions), "instructions for
+//! intelligent function modules"; 004 ch. 8, L5420-5755).
+//!
+//! `n1` is the module's start I/O number without its last hex digit (H2 for
+//! a module at X/Y20), `n2` the buffer-memory address, `n3` the number of
+//! 16-bit words (FROM, TO) or 32-bit values (DFRO, DTO). A slot with no
+//! intelligent function module is SP.UNIT ERROR (2110, L8997); a transfer
+//! past the module's buffer memory or the device's last point is 4101.
+//! `U<n>\G<addr>` operands are resolved by the compiler and need no
+//! instruction.
+
+use super::transfer::{Loc, WordBlock};
+use super::{Args, ExecCtx, Instr};
+use softplc_ir::device::{DeviceKind, DeviceMemory, Operand};
+use softplc_ir::fault::Fault;
+use softplc_ir::ops::{Num, WordArg};
+use softplc_lang::isa::{Def, Doc};
+
+/// This family's instructions.
+pub static DEFS: &[Def] = &[
+    Def::app("FROM", &MODULE, |a| from(a, 1)),
+    Def::app("DFRO", &MODULE, |a| from(a, 2)),
+    Def::app("TO", &MODULE, |a| to(a, 1)),
+    Def::app("DTO", &MODULE, |a| to(a, 2)),
+];
+
+static MODULE: Doc = Doc {
+    family: "module access",
+    cite: "PM FROM/DFRO, TO/DTO; 004 ch. 8",
+    notes: "buffer memory of the rack's intelligent slots ([[slot]]); no module → 2110, past the buffer memory or the device → 4101; n3 = 0 does nothing",
+};
+
+/// The words `words` from address `addr` of unit `unit`'s buffer memory, as
+/// a flat word index (2110 without a module, 4101 past its end).
+#[inline]
+fn buffer(mem: &DeviceMemory, unit: u16, addr: u16, words: u32) -> Result<usize, Fault> {
+    let w = mem.map.unit(unit as u32).ok_or(Fault::NoModule)?;
+    if addr as u32 + words > w.words {
+        return Err(Fault::Range);
+    }
+    Ok((mem.map.base(DeviceKind::G) + w.first + addr as u32) as usize)
+}
+
+/// Reads `n3` and returns the words it moves (`None` for 0; a negative
+/// count is 4101, as the block instructions do).
+#[inline]
+fn words(mem: &DeviceMemory, n: &WordArg, per: u32) -> Result<Option<u32>, Fault> {
+    super::transfer::count(mem, n).map(|n| n.map(|n| n * per))
+}
+
+/// FROM(P) `n1 n2 D n3` / DFRO(P): reads n3 words (DFRO: 2·n3) of buffer
+/// memory from address n2 of module n1 into the devices from D.
+#[derive(Debug)]
+struct From {
+    unit: WordArg,
+    addr: WordArg,
+    d: WordBlock,
+    n: WordArg,
+    per: u32,
+}
+
+fn from(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
+    if !a.count(&[4]) {
+        return None;
+    }
+    let unit = a.word_src(0, Num::I16);
+    let addr = a.word_src(1, Num::I16);
+    let d = WordBlock::compile(a, 2);
+    let n = a.word_src(3, Num::I16);
+    Some(Box::new(From {
+        unit: unit?,
+        addr: addr?,
+        d: d?,
+        n: n?,
+        per,
+    }))
+}
+
+impl Instr for From {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mem = &mut *cx.mem;
+        let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
+        let Some(n) = words(mem, &self.n, self.per)? else {
+            return Ok(());
+        };
+        let g = buffer(mem, unit, addr, n)?;
+        let d = self.d.resolve(mem, n)?;
+        let n = n as usize;
+        match d {
+            Loc::Word(d) => mem.words.copy_within(g..g + n, d),
+            d => {
+                for k in 0..n {
+                    let v = mem.words[g + k];
+                    d.set(mem, k, v);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Where TO takes its data: devices from S, or one constant written to
+/// every word (DTO: every pair of words).
+#[derive(Debug)]
+enum Source {
+    Block(WordBlock),
+    Const(u32),
+}
+
+/// TO(P) `n1 n2 S n3` / DTO(P): writes n3 words (DTO: 2·n3) from S into
+/// buffer memory from address n2 of module n1; a constant S is written to
+/// each of them.
+#[derive(Debug)]
+struct To {
+    unit: WordArg,
+    addr: WordArg,
+    s: Source,
+    n: WordArg,
+    per: u32,
+}
+
+fn to(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
+    if !a.count(&[4]) {
+        return None;
+    }
+    let unit = a.word_src(0, Num::I16);
+    let addr = a.word_src(1, Num::I16);
+    let s = match a.operand(2)? {
+        Operand::Const(_) => {
+            let num = if per == 2 { Num::I32 } else { Num::I16 };
+            match a.word_src(2, num)? {
+                WordArg::Const(k) => Some(Source::Const(k)),
+                _ => None,
+            }
+        }
+        _ => WordBlock::compile(a, 2).map(Source::Block),
+    };
+    let n = a.word_src(3, Num::I16);
+    Some(Box::new(To {
+        unit: unit?,
+        addr: addr?,
+        s: s?,
+        n: n?,
+        per,
+    }))
+}
+
+impl Instr for To {
+    fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
+        let mem = &mut *cx.mem;
+        let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
+        let Some(n) = words(mem, &self.n, self.per)? else {
+            return Ok(());
+        };
+        let g = buffer(mem, unit, addr, n)?;
+        let n = n as usize;
+        match &self.s {
+            Source::Const(k) => {
+                for i in 0..n {
+                    let half = if self.per == 2 && i % 2 == 1 {
+                        k >> 16
+                    } else {
+                        *k
+                    };
+                    mem.words[g + i] = half as u16;
+                }
+            }
+            Source::Block(b) => match b.resolve(mem, n as u32)? {
+                Loc::Word(s) => mem.words.copy_within(s..s + n, g),
+                s => {
+                    for k in 0..n {
+                        let v = s.get(mem, k);
+                        mem.words[g + k] = v;
+                    }
+                }
+            },
+        }
+        Ok(())
+    }
+}
