@@ -208,7 +208,7 @@ fn slot(
                 cx.error(
                     at,
                     format!(
-                        "slot {index}: a {} slot needs points (16, 32, 64 …)",
+                        "slot {index}: an {} slot needs points (16, 32, 64 …)",
                         kind.name()
                     ),
                 );
