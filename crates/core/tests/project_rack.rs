@@ -188,3 +188,44 @@ fn interrupt_pointer_settings() {
         ]
     );
 }
+
+#[test]
+fn auto_refresh_settings() {
+    let p = ok(&with(
+        "[[slot]]\ntype = \"intelligent\"\nbuffer_words = 8\n\
+         refresh = [{ buffer = 0, to = \"D10\", words = 8 }, { buffer = 4, from = \"R5\", words = 2 }]\n",
+    ));
+    let r = &p.config.rack.slots[0].refresh;
+    assert_eq!(
+        (r[0].buffer, r[0].number, r[0].words, r[0].to_cpu),
+        (0, 10, 8, true)
+    );
+    assert_eq!(
+        (r[1].device, r[1].number, r[1].to_cpu),
+        (softplc_core::device::DeviceKind::ZR, 5, false)
+    );
+    assert_eq!(
+        errors(&with(
+            "[[slot]]\ntype = \"intelligent\"\nbuffer_words = 8\nrefresh = [{ buffer = 6, to = \"D10\", words = 4 }]\n"
+        )),
+        vec!["6:12: slot 0: refresh of 4 words from G6 is outside the module's buffer memory (G0-G7)"]
+    );
+    assert_eq!(
+        errors(&with(
+            "[[slot]]\ntype = \"intelligent\"\nrefresh = [{ buffer = 0, to = \"M0\", words = 1 }]\n"
+        )),
+        vec!["5:31: slot 0: \"M0\" is not a D, W, R or ZR device"]
+    );
+    assert_eq!(
+        errors(&with(
+            "[[slot]]\ntype = \"intelligent\"\nrefresh = [{ buffer = 0, to = \"D0\", from = \"D1\", words = 1 }]\n"
+        )),
+        vec!["5:12: slot 0: a refresh has either to (module → CPU) or from (CPU → module)"]
+    );
+    assert_eq!(
+        errors(&with(
+            "[[slot]]\ntype = \"input\"\npoints = 16\nrefresh = [{ buffer = 0, to = \"D0\", words = 1 }]\n"
+        )),
+        vec!["6:11: slot 0: refresh is an array of { buffer = 11, to = \"D100\", words = 4 } tables on an intelligent module"]
+    );
+}

@@ -208,7 +208,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         Some(t) => rack::io(&mut cx, t),
         None => rack::EMPTY_POINTS,
     };
-    let slots = rack::slots(&mut cx, section("slot"), empty_points);
+    let slots = rack::slots(&mut cx, section("slot"), empty_points, &config.devices);
     if !slots.is_empty() && crate::profile::is_aplc(config.profile) {
         if let Some(e) = section("slot") {
             cx.error(
