@@ -61,23 +61,12 @@ pub(crate) fn slots(
     let Some(entry) = entry else {
         return rack;
     };
-    let tables: Vec<(&Item, &[Entry])> = match &entry.item.value {
-        Value::Array(items) => items
-            .iter()
-            .filter_map(|i| match &i.value {
-                Value::Table(t) => Some((i, t.as_slice())),
-                _ => None,
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
-    if !matches!(&entry.item.value, Value::Array(a) if a.len() == tables.len()) {
-        cx.error(
-            &entry.item.span,
-            "slot must be an array of tables: write a [[slot]] table for each slot",
-        );
+    let Some(tables) = cx.tables(
+        entry,
+        "slot must be an array of tables: write a [[slot]] table for each slot",
+    ) else {
         return rack;
-    }
+    };
     let mut next = 0u32;
     let mut taken: Vec<(Range<u32>, u32)> = Vec::new();
     let mut interrupt_module: Option<u32> = None;
