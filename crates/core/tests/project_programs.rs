@@ -43,7 +43,7 @@ fn interrupt_periods() {
     );
     assert_eq!(
         error(&with_main("[interrupts]\nperiod = \"10ms\"\n")),
-        "2:1: unknown key \"period\" in [interrupts] (expected I28, I29, I30, I31)"
+        "2:1: unknown key \"period\" in [interrupts] (expected I28, I29, I30, I31, counter_start)"
     );
 }
 

@@ -291,9 +291,14 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
 }
 
 impl Project {
-    /// The dialect the project's programs compile in (by `[cpu] model`).
+    /// The dialect the project's programs compile in (by `[cpu] model`),
+    /// with the project's rack (the interrupt pointers its slots raise).
     pub fn dialect(&self) -> crate::program::Dialect {
-        crate::profile::dialect(self.config.profile, self.process)
+        let d = crate::profile::dialect(self.config.profile, self.process);
+        crate::program::Dialect {
+            settings: d.settings.clone().with(self.config.rack.clone()),
+            ..d
+        }
     }
 
     /// Loads and compiles every program of the project (all diagnostics of all

@@ -38,8 +38,6 @@ pub(crate) struct RackState {
     pub interrupt_inputs: Option<InterruptInputs>,
     /// The interrupt module's inputs at the previous input refresh.
     pub previous: u64,
-    /// Interrupt pointers requested and not yet run: bit n of word n/64.
-    pub requests: [u64; 4],
 }
 
 impl RackState {
@@ -93,13 +91,6 @@ impl RackState {
         }
         state
     }
-
-    /// Requests interrupt pointer I`n`.
-    pub fn request(&mut self, n: u32) {
-        if let Some(w) = self.requests.get_mut(n as usize / 64) {
-            *w |= 1 << (n % 64);
-        }
-    }
 }
 
 /// The X numbers the input refresh copies from the input image: every X
@@ -134,7 +125,6 @@ impl Cpu {
             m.module.power_on(&mut io);
         }
         self.rack.previous = 0;
-        self.rack.requests = [0; 4];
     }
 
     /// The modules' END: the auto refresh CPU → module, each module sees its
@@ -167,8 +157,7 @@ impl Cpu {
             if raised != 0 {
                 for &(cause, pointer) in m.pointers.iter() {
                     if cause < 64 && raised >> cause & 1 != 0 {
-                        let w = &mut self.rack.requests[pointer as usize / 64];
-                        *w |= 1 << (pointer % 64);
+                        rt.requests.set(pointer);
                     }
                 }
             }
@@ -194,7 +183,7 @@ impl Cpu {
         let first = ii.first_pointer;
         for k in 0..64 {
             if rising >> k & 1 != 0 {
-                self.rack.request(first + k);
+                self.rt.requests.set(first + k);
             }
         }
     }
