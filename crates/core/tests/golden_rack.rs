@@ -119,3 +119,25 @@ fn direct_output() {
     p.set("X0", "1").scan();
     assert!(p.bit("Y20") && p.bit("M0"));
 }
+
+/// Names from outside (`--set`/`--show`, scenarios, HTTP): a unit with no
+/// module and an address past the module's words are errors naming them.
+#[test]
+fn buffer_memory_names_from_outside() {
+    use softplc_core::access::DeviceSpec;
+    let p = rack("END\n");
+    let read = |s: &str| p.cpu.read_device(&DeviceSpec::parse(s).unwrap());
+    assert_eq!(
+        read("U9\\G0").unwrap_err(),
+        "`U9\\G0`: no intelligent function module has unit number 9 (start I/O number 90)"
+    );
+    assert_eq!(
+        read("U3\\G100").unwrap_err(),
+        "`U3\\G100`: past the module's buffer memory (G0-G99)"
+    );
+    assert_eq!(
+        read("U3\\G99:i32").unwrap_err(),
+        "`U3\\G99:i32`: past the module's buffer memory (G0-G99)"
+    );
+    assert!(read("U3\\G98:i32").is_ok());
+}

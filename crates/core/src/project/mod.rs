@@ -209,6 +209,17 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         None => rack::EMPTY_POINTS,
     };
     let slots = rack::slots(&mut cx, section("slot"), empty_points);
+    if !slots.is_empty() && crate::profile::is_aplc(config.profile) {
+        if let Some(e) = section("slot") {
+            cx.error(
+                &e.key_span,
+                format!(
+                    "a {} has no base units: [[slot]] is for MELSEC-Q CPUs",
+                    config.profile.model
+                ),
+            );
+        }
+    }
     let units: Vec<(u32, u32)> = slots
         .intelligent()
         .map(|s| (s.unit(), s.buffer_words))

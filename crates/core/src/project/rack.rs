@@ -130,12 +130,25 @@ pub(crate) fn slots(cx: &mut Ctx, entry: Option<&Entry>, empty_points: u32) -> R
             if let Some(first) = interrupt_module {
                 cx.error(
                     at,
-                    format!(
-                        "{name}: one interrupt module per CPU (slot {first} has one; 004 App. 3)"
-                    ),
+                    format!("{name}: one interrupt module per CPU (slot {first} has one)"),
                 );
             }
             interrupt_module = Some(index);
+        }
+        for &(_, n) in &slot.interrupts {
+            if let Some(other) = rack
+                .slots
+                .iter()
+                .find(|s| s.interrupts.iter().any(|p| p.1 == n))
+            {
+                cx.error(
+                    at,
+                    format!(
+                        "{name}: interrupt pointer I{n} is already raised by slot {}",
+                        other.index
+                    ),
+                );
+            }
         }
         next = io.end.max(next);
         rack.slots.push(slot);
@@ -197,7 +210,7 @@ fn slot(
                 cx.error(
                     at,
                     format!(
-                        "slot {index}: a {} slot needs points (16, 32, 64 …)",
+                        "slot {index}: an {} slot needs points (16, 32, 64 …)",
                         kind.name()
                     ),
                 );
