@@ -390,6 +390,8 @@ impl Module for Q64ad {
         }
     }
 
+    /// An input channel reads back the value at its terminals (a second
+    /// plant model may watch the same loop).
     fn channel(&self, channel: u32) -> Option<f64> {
         let ch = (channel as usize).checked_sub(1)?;
         self.input.get(ch).copied()
