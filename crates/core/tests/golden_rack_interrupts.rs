@@ -163,6 +163,7 @@ impl Bench {
             buffer_words: 4,
             interrupts: vec![(0, 50), (1, 51)],
             refresh: Vec::new(),
+            switches: [0; 5],
         };
         let qi60 = Slot {
             index: 1,
@@ -173,6 +174,7 @@ impl Bench {
             buffer_words: 0,
             interrupts: Vec::new(),
             refresh: Vec::new(),
+            switches: [0; 5],
         };
         cfg.devices.set_units(&[(0, 4)]);
         cfg.rack = Arc::new(Rack {

@@ -143,7 +143,7 @@ fn slot_settings_are_checked() {
         errors(&with(
             "[[slot]]\ntype = \"intelligent\"\nmodule = \"Q99XX\"\n"
         )),
-        vec!["5:10: slot 0: no module profile \"Q99XX\" (there are: generic, QI60)"]
+        vec!["5:10: slot 0: no module profile \"Q99XX\" (there are: generic, QI60, Q64AD, Q62DA, Q64DA)"]
     );
     assert_eq!(
         errors(&with(

@@ -68,6 +68,10 @@ pub struct Slot {
     /// Auto refresh between its buffer memory and CPU devices at END (the
     /// intelligent function module's auto refresh setting, 004 ch. 8).
     pub refresh: Vec<AutoRefresh>,
+    /// The intelligent function module switch setting (switches 1-5 of the
+    /// I/O assignment parameter): input/output ranges, HOLD/CLEAR, modes, as
+    /// the module's manual assigns them. All 0 when the project sets none.
+    pub switches: [u16; 5],
 }
 
 /// One auto-refresh setting: `words` words between buffer-memory address
@@ -174,6 +178,10 @@ pub struct ModuleIo<'a> {
     pub y: &'a [bool],
     /// Interrupt causes it raised: bit k is cause k.
     pub raised: u64,
+    /// The CPU is in RUN or PAUSE. False in STOP (a stop error included),
+    /// when the outputs are OFF: an analog output module then clears or
+    /// holds its outputs as its HOLD/CLEAR setting says.
+    pub running: bool,
 }
 
 /// A simulated intelligent function module. It runs between scans, at END
@@ -186,7 +194,8 @@ pub trait Module: Send + fmt::Debug {
     /// signals; `now_us` is the CPU's clock.
     fn end(&mut self, io: &mut ModuleIo<'_>, now_us: u64);
     /// A channel's physical value from outside (a plant model or a
-    /// scenario): mA or V at an analog input.
+    /// scenario): mA or V at an analog input. Channels count from 1, as
+    /// the manuals' CH1.
     fn set_channel(&mut self, channel: u32, value: f64) -> Result<(), String> {
         let _ = value;
         Err(format!("this module has no input channel {channel}"))

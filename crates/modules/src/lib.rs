@@ -6,16 +6,21 @@
 
 #![forbid(unsafe_code)]
 
+pub mod analog;
 pub mod generic;
+mod q64ad;
+mod qda;
 mod qi60;
 
 use softplc_ir::rack::ModuleProfile;
 
 pub use generic::GENERIC;
+pub use q64ad::Q64AD;
+pub use qda::{Q62DA, Q64DA};
 pub use qi60::QI60;
 
 /// Every module profile, by the name `plc.toml` writes.
-pub static PROFILES: &[&ModuleProfile] = &[&GENERIC, &QI60];
+pub static PROFILES: &[&ModuleProfile] = &[&GENERIC, &QI60, &Q64AD, &Q62DA, &Q64DA];
 
 /// The profile named `name` (case-insensitive).
 pub fn find(name: &str) -> Option<&'static ModuleProfile> {
@@ -23,4 +28,27 @@ pub fn find(name: &str) -> Option<&'static ModuleProfile> {
         .iter()
         .copied()
         .find(|p| p.name.eq_ignore_ascii_case(name))
+}
+
+/// The intelligent function module switch setting of a slot holding
+/// `profile`, from plc.toml's `range` (range names, CH1 first) and
+/// `switches` (switches 1-5), checked against what the module simulates.
+/// A module without analog ranges takes any switches and no `range`.
+pub fn switch_setting(
+    profile: &ModuleProfile,
+    range: Option<&[&str]>,
+    switches: Option<[u16; 5]>,
+) -> Result<[u16; 5], String> {
+    let is = |p: &ModuleProfile| std::ptr::eq(profile, p);
+    if is(&Q64AD) {
+        q64ad::switch_setting(range, switches)
+    } else if is(&Q62DA) {
+        qda::switch_setting(2, range, switches)
+    } else if is(&Q64DA) {
+        qda::switch_setting(4, range, switches)
+    } else if range.is_some() {
+        Err(format!("the {} module has no analog ranges", profile.name))
+    } else {
+        Ok(switches.unwrap_or_default())
+    }
 }

@@ -172,6 +172,8 @@ fn slot(
             "buffer_words",
             "interrupts",
             "refresh",
+            "range",
+            "switches",
         ],
     );
     let get = |k: &str| t.iter().find(|e| e.key == k);
@@ -256,6 +258,7 @@ fn slot(
         }
         _ => 0,
     };
+    let switches = switches(cx, index, module, get("range"), get("switches"))?;
     let mut slot = Slot {
         index,
         kind,
@@ -265,6 +268,7 @@ fn slot(
         buffer_words,
         interrupts: Vec::new(),
         refresh: Vec::new(),
+        switches,
     };
     if let Some(e) = get("interrupts") {
         slot.interrupts = interrupts(cx, &slot, e)?;
@@ -318,6 +322,89 @@ fn module(
         return None;
     }
     Some(Some(m))
+}
+
+/// `range = ["4-20mA", …]` (CH1 first) and `switches = [0x0000, …]`: the
+/// module's intelligent function module switch setting (switches 1-5 as its
+/// manual assigns them), checked by the module's profile.
+fn switches(
+    cx: &mut Ctx,
+    index: u32,
+    module: Option<&'static ModuleProfile>,
+    range: Option<&Entry>,
+    raw: Option<&Entry>,
+) -> Option<[u16; 5]> {
+    let Some(first) = range.or(raw) else {
+        return Some([0; 5]);
+    };
+    let Some(m) = module else {
+        cx.error(
+            &first.key_span,
+            format!("slot {index}: {} is for a slot holding a module", first.key),
+        );
+        return None;
+    };
+    let names: Option<Vec<&str>> = match range {
+        None => None,
+        Some(e) => {
+            let names = match &e.item.value {
+                Value::Array(items) => items
+                    .iter()
+                    .map(|i| match &i.value {
+                        Value::Str(s) => Some(s.as_str()),
+                        _ => None,
+                    })
+                    .collect::<Option<Vec<&str>>>(),
+                _ => None,
+            };
+            if names.is_none() {
+                cx.error(
+                    &e.item.span,
+                    format!("slot {index}: range must be an array of range names, CH1 first, such as [\"4-20mA\", \"0-10V\"]"),
+                );
+                return None;
+            }
+            names
+        }
+    };
+    let words: Option<[u16; 5]> = match raw {
+        None => None,
+        Some(e) => {
+            let mut words = [0u16; 5];
+            let ok = match &e.item.value {
+                Value::Array(items) if items.len() <= 5 => {
+                    items.iter().zip(&mut words).all(|(i, w)| match &i.value {
+                        Value::Int(n) if (0..=0xFFFF).contains(n) => {
+                            *w = *n as u16;
+                            true
+                        }
+                        _ => false,
+                    })
+                }
+                _ => false,
+            };
+            if !ok {
+                cx.error(
+                    &e.item.span,
+                    format!(
+                        "slot {index}: switches must be up to 5 numbers 0-0xFFFF (switches 1-5)"
+                    ),
+                );
+                return None;
+            }
+            Some(words)
+        }
+    };
+    match softplc_modules::switch_setting(m, names.as_deref(), words) {
+        Ok(s) => Some(s),
+        Err(msg) => {
+            cx.error(
+                &first.item.span,
+                format!("slot {index} ({}): {msg}", m.name),
+            );
+            None
+        }
+    }
 }
 
 /// `interrupts = { 0 = "I50" }`: the interrupt pointer each of the module's

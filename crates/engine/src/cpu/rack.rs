@@ -121,6 +121,7 @@ impl Cpu {
                 x: &mut rt.inputs[m.io.clone()],
                 y: &rt.mem.bits[y + m.io.start..y + m.io.end],
                 raised: 0,
+                running: false,
             };
             m.module.power_on(&mut io);
         }
@@ -131,6 +132,9 @@ impl Cpu {
     /// Y outputs and buffer memory and updates them, the auto refresh module
     /// → CPU; the causes they raise request their interrupt pointers.
     pub(super) fn modules_end(&mut self, now: u64) {
+        // In STOP the outputs are OFF outside (`Cpu::output`); Y device memory
+        // keeps its values, so the modules are told.
+        let running = self.state != CpuState::Stop;
         let rt = &mut self.rt;
         let y = rt.mem.map.base(DeviceKind::Y) as usize;
         for m in &mut self.rack.modules {
@@ -145,6 +149,7 @@ impl Cpu {
                 x: &mut rt.inputs[m.io.clone()],
                 y: &rt.mem.bits[y + m.io.start..y + m.io.end],
                 raised: 0,
+                running,
             };
             m.module.end(&mut io, now);
             let raised = io.raised;

@@ -7,7 +7,7 @@ use softplc_core::engine::Cpu;
 use softplc_core::names::DevName;
 
 use super::fmt::Kind;
-use super::spec::Scale;
+use super::spec::{channel, Scale};
 use crate::model::{from_raw_clamped, to_raw};
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
@@ -67,22 +67,102 @@ fn decode(ty: ValueType, raw: u64) -> f64 {
     }
 }
 
+/// A channel of a simulated module in the rack, `U<n>\CH<k>`: its physical
+/// value (mA or V) through the module (`softplc_ir::rack::Module`).
+#[derive(Clone, Debug)]
+pub struct Channel {
+    slot: usize,
+    channel: u32,
+}
+
+impl Channel {
+    /// The module channel `text` names in the rack of `cpu`, or `None` when
+    /// `text` is a device name.
+    fn parse(text: &str, cpu: &Cpu) -> Option<Result<Channel, String>> {
+        let parsed = channel(text)?;
+        Some(parsed.and_then(|(unit, ch)| {
+            let text = text.trim();
+            let slot = cpu
+                .rack()
+                .unit(unit)
+                .ok_or_else(|| format!("`{text}`: no slot of the rack is unit U{unit:X}"))?;
+            let index = slot.index as usize;
+            let name = slot.describe();
+            let module = cpu
+                .module(index)
+                .ok_or_else(|| format!("`{text}`: {name} holds no simulated module"))?;
+            if module.channel(ch).is_none() {
+                return Err(format!("`{text}`: {name} has no channel CH{ch}"));
+            }
+            Ok(Channel {
+                slot: index,
+                channel: ch,
+            })
+        }))
+    }
+
+    /// The channel's physical value, NaN when the module has none.
+    #[inline]
+    fn read(&self, cpu: &Cpu) -> f64 {
+        cpu.module(self.slot)
+            .and_then(|m| m.channel(self.channel))
+            .unwrap_or(f64::NAN)
+    }
+}
+
+/// `v` mapped linearly from range `from` onto range `to`.
+#[inline]
+fn linear(v: f64, from: (f64, f64), to: (f64, f64)) -> f64 {
+    to.0 + (v - from.0) / (from.1 - from.0) * (to.1 - to.0)
+}
+
 /// A model input.
 #[derive(Clone, Debug)]
 pub enum Source {
     Const(f64),
-    Device { probe: Probe, scale: Scale },
+    Device {
+        probe: Probe,
+        scale: Scale,
+    },
+    /// An analog output's physical value, or its engineering value
+    /// (`Scale::Signal`).
+    Channel {
+        channel: Channel,
+        scale: Scale,
+    },
 }
 
 impl Source {
+    /// A model input bound to `text`, a device or a module channel.
+    pub fn new(text: &str, scale: Scale, cpu: &Cpu) -> Result<Source, String> {
+        match Channel::parse(text, cpu) {
+            Some(channel) => Ok(Source::Channel {
+                channel: channel?,
+                scale,
+            }),
+            None => Ok(Source::Device {
+                probe: Probe::new(text, cpu)?,
+                scale,
+            }),
+        }
+    }
+
     #[inline]
-    pub fn read(&self, mem: &DeviceMemory) -> f64 {
+    pub fn read(&self, cpu: &Cpu) -> f64 {
         match self {
             Source::Const(v) => *v,
-            Source::Device { probe, scale } => {
-                let v = probe.read(mem);
+            Source::Channel { channel, scale } => {
+                let x = channel.read(cpu);
                 match *scale {
-                    Scale::None => v,
+                    Scale::Signal { signal, eng } => linear(x, signal, eng),
+                    _ => x,
+                }
+            }
+            Source::Device { probe, scale } => {
+                let v = probe.read(cpu.memory());
+                match *scale {
+                    // Only module channels are bound with a signal range.
+                    Scale::None | Scale::Signal { .. } => v,
                     // A D/A module clamps the digital value to its range.
                     Scale::Analog { raw, eng } => {
                         if v.is_nan() {
@@ -109,35 +189,62 @@ impl Source {
 }
 
 /// A model output bound to a device, written as a typed value through the
-/// CPU's door (X reaches the input image, as from an input module).
+/// CPU's door (X reaches the input image, as from an input module), or to a
+/// module channel (the physical value at an analog input).
 #[derive(Clone, Debug)]
-pub struct Sink {
-    dev: DevName,
-    scale: Scale,
+pub enum Sink {
+    Device { dev: DevName, scale: Scale },
+    Channel { channel: Channel, scale: Scale },
 }
 
 impl Sink {
-    pub fn new(text: &str, scale: Scale, cpu: &Cpu) -> Result<Sink, String> {
+    pub fn new(text: &str, scale: Scale, cpu: &mut Cpu) -> Result<Sink, String> {
+        if let Some(channel) = Channel::parse(text, cpu) {
+            let channel = channel?;
+            // An output channel (D/A) refuses a value: say so now, not at
+            // every scan. The model's initial value follows at once.
+            if let Some(m) = cpu.module_mut(channel.slot) {
+                m.set_channel(channel.channel, 0.0)
+                    .map_err(|e| format!("`{}`: {e}", text.trim()))?;
+            }
+            return Ok(Sink::Channel { channel, scale });
+        }
         let probe = Probe::new(text, cpu)?;
         // LM/V are refused here, not silently at every scan.
         probe.dev.door_value(&Value::Int(0))?;
-        Ok(Sink {
+        Ok(Sink::Device {
             dev: probe.dev,
             scale,
         })
     }
 
     /// Writes the model output `v`: bits ON above 0.5; integers rounded and
-    /// clamped to the type's range (NaN is 0); `f32` as the nearest float.
+    /// clamped to the type's range (NaN is 0); `f32` as the nearest float;
+    /// a channel's physical value (NaN is 0).
     #[inline]
     pub fn write(&mut self, cpu: &mut Cpu, v: f64) {
-        let x = match self.scale {
+        let (dev, scale) = match self {
+            Sink::Channel { channel, scale } => {
+                let x = match *scale {
+                    Scale::Signal { signal, eng } => linear(v, eng, signal),
+                    _ => v,
+                };
+                let x = if x.is_nan() { 0.0 } else { x };
+                if let Some(m) = cpu.module_mut(channel.slot) {
+                    // Checked when the sink was bound.
+                    let _ = m.set_channel(channel.channel, x);
+                }
+                return;
+            }
+            Sink::Device { dev, scale } => (dev, *scale),
+        };
+        let x = match scale {
             Scale::Analog { raw, eng } => f64::from(to_raw(v, eng, raw)),
             _ => v,
         };
         let x = if x.is_nan() { 0.0 } else { x };
         let int = |lo: f64, hi: f64| Value::Int(x.round().clamp(lo, hi) as i64);
-        let value = match self.dev.ty() {
+        let value = match dev.ty() {
             ValueType::Bit => Value::Bool(x > 0.5),
             ValueType::I16 => int(-32768.0, 32767.0),
             ValueType::U16 => int(0.0, 65535.0),
@@ -148,6 +255,6 @@ impl Sink {
             ValueType::Str => return,
         };
         // A device pushed out of range by its index register is not written.
-        let _ = self.dev.write_value(cpu, &value);
+        let _ = dev.write_value(cpu, &value);
     }
 }

@@ -165,15 +165,14 @@ impl Scenario {
             for (i, b) in &m.inputs {
                 inputs[*i] = match b {
                     super::InputBinding::Const(v) => Source::Const(*v),
-                    super::InputBinding::Device { device, scale } => Source::Device {
-                        probe: Probe::new(device, &cpu).map_err(what)?,
-                        scale: *scale,
-                    },
+                    super::InputBinding::Device { device, scale } => {
+                        Source::new(device, *scale, &cpu).map_err(what)?
+                    }
                 };
             }
             let mut outputs = Vec::new();
             for (i, b) in &m.outputs {
-                outputs.push((*i, Sink::new(&b.device, b.scale, &cpu).map_err(what)?));
+                outputs.push((*i, Sink::new(&b.device, b.scale, &mut cpu).map_err(what)?));
             }
             let mut bound = Bound {
                 name: m.name.clone(),
@@ -329,9 +328,8 @@ impl Run {
         // Input refresh: the plant advances over the scan and the sensors
         // are sampled.
         for (i, m) in self.models.iter_mut().enumerate() {
-            let mem = self.cpu.memory();
             for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
-                *buf = src.read(mem);
+                *buf = src.read(&self.cpu);
             }
             m.model.step(dt, &m.in_buf, &mut m.out_buf);
             if m.model.fault().is_some() {

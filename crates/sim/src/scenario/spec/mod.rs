@@ -12,6 +12,8 @@ mod parse;
 mod peer;
 mod values;
 
+pub(crate) use values::channel;
+
 /// What the scenario runs: a program file or a project.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Source {
@@ -32,6 +34,12 @@ pub enum Scale {
     Analog { raw: (i32, i32), eng: (f64, f64) },
     /// A bit device read as a model input: `off` when OFF, `on` when ON.
     Bit { off: f64, on: f64 },
+    /// A module channel (`U<n>\CH<k>`) and an engineering value: the linear
+    /// map of `eng` onto the channel's physical `signal` (mA or V), as a
+    /// transmitter (model output → analog input) or an actuator (analog
+    /// output → model input) scales it. Not clamped: the module fixes what
+    /// is beyond its range.
+    Signal { signal: (f64, f64), eng: (f64, f64) },
 }
 
 /// Where a model input comes from.

@@ -53,8 +53,32 @@ fn pair_i32(v: &toml::Value, what: &str) -> Result<(i32, i32), String> {
     }
 }
 
+/// A module channel `U<n>\CH<k>`: the unit `n` (hex, as in `U<n>\G<addr>`)
+/// and the channel `k` (from 1, as the manuals' CH1). `None` when `text` is
+/// not written as a channel.
+pub(crate) fn channel(text: &str) -> Option<Result<(u32, u32), String>> {
+    let t = text.trim();
+    let (unit, ch) = t.split_once('\\')?;
+    let unit = unit.strip_prefix(['U', 'u'])?;
+    if ch.len() < 2 || !ch.is_char_boundary(2) || !ch[..2].eq_ignore_ascii_case("CH") {
+        return None;
+    }
+    let parsed = u32::from_str_radix(unit, 16)
+        .ok()
+        .zip(ch[2..].parse::<u32>().ok().filter(|&k| k >= 1));
+    Some(parsed.ok_or_else(|| {
+        format!("`{t}`: a module channel is written U<unit>\\CH<channel>, e.g. U2\\CH1")
+    }))
+}
+
 /// A device name in the scenario's dialect (checked against the CPU at build).
 pub(super) fn device(text: &str, what: &str, names: &Names) -> Result<DevName, String> {
+    if channel(text).is_some() {
+        return Err(format!(
+            "{what}: `{}` is a module channel: it binds a model port (check or trace the module's U\\G words)",
+            text.trim()
+        ));
+    }
     let spec = names
         .parse(text.trim())
         .map_err(|e| format!("{what}: {e}"))?;
@@ -67,13 +91,23 @@ pub(super) fn device(text: &str, what: &str, names: &Names) -> Result<DevName, S
 }
 
 /// `PORT = "DEV"`, `PORT = { device = "DEV", raw = [..], eng = [..] }` (and
-/// for inputs a constant number).
+/// for inputs a constant number); a module channel in place of DEV
+/// (`"U2\\CH1"`, `{ device = "U2\\CH1", signal = [4, 20], eng = [..] }`).
 pub(super) fn binding(
     v: &toml::Value,
     what: &str,
     input: bool,
     names: &Names,
 ) -> Result<InputBinding, String> {
+    let target = match v {
+        toml::Value::String(s) => Some(s.as_str()),
+        toml::Value::Table(t) => t.get("device").and_then(|d| d.as_str()),
+        _ => None,
+    };
+    if let Some(ch) = target.and_then(channel) {
+        ch.map_err(|e| format!("{what}: {e}"))?;
+        return channel_binding(v, what);
+    }
     let (dev, scale) = match v {
         toml::Value::String(s) => (s.clone(), Scale::None),
         toml::Value::Integer(_) | toml::Value::Float(_) if input => {
@@ -81,6 +115,11 @@ pub(super) fn binding(
         }
         toml::Value::Table(t) => {
             for k in t.keys() {
+                if k == "signal" {
+                    return Err(format!(
+                        "{what}: `signal` is for a module channel (U<n>\\CH<k>); a device takes raw = [..]"
+                    ));
+                }
                 if !["device", "raw", "eng"].contains(&k.as_str()) {
                     return Err(format!(
                         "{what}: unknown key `{k}` (keys: device, raw, eng)"
@@ -136,6 +175,58 @@ pub(super) fn binding(
         }
     };
     device(&dev, what, names)?;
+    Ok(InputBinding::Device { device: dev, scale })
+}
+
+/// A binding to a module channel: its physical value as is, or scaled from
+/// `eng` to `signal`.
+fn channel_binding(v: &toml::Value, what: &str) -> Result<InputBinding, String> {
+    let (dev, scale) = match v {
+        toml::Value::Table(t) => {
+            for k in t.keys() {
+                if k == "raw" {
+                    return Err(format!(
+                        "{what}: a module channel carries mA or V, not digital values: give signal = [..] and eng = [..]"
+                    ));
+                }
+                if !["device", "signal", "eng"].contains(&k.as_str()) {
+                    return Err(format!(
+                        "{what}: unknown key `{k}` (keys: device, signal, eng)"
+                    ));
+                }
+            }
+            let signal = t
+                .get("signal")
+                .map(|e| pair_f64(e, &format!("{what}: signal")))
+                .transpose()?;
+            let eng = t
+                .get("eng")
+                .map(|e| pair_f64(e, &format!("{what}: eng")))
+                .transpose()?;
+            let scale = match (signal, eng) {
+                (None, None) => Scale::None,
+                (Some(signal), Some(eng)) => {
+                    if signal.0 == signal.1 || eng.0 == eng.1 {
+                        return Err(format!("{what}: signal and eng ranges must not be empty"));
+                    }
+                    Scale::Signal { signal, eng }
+                }
+                _ => {
+                    return Err(format!(
+                        "{what}: give both `signal` and `eng` ranges, or neither"
+                    ))
+                }
+            };
+            let dev = t.get("device").and_then(|d| d.as_str()).unwrap_or_default();
+            (dev.trim().to_string(), scale)
+        }
+        toml::Value::String(s) => (s.trim().to_string(), Scale::None),
+        _ => {
+            return Err(format!(
+                "{what}: expected a module channel such as \"U2\\CH1\""
+            ))
+        }
+    };
     Ok(InputBinding::Device { device: dev, scale })
 }
 
