@@ -526,28 +526,16 @@ async fn clear_breakpoint(State(app): Shared, headers: HeaderMap) -> Response {
     }
 }
 
-/// Unsubscribes the names of a closed event stream.
+/// An open event stream: counted in [`App::streams`] and owning its
+/// subscription ([`monitor::Owner`]) until it is dropped.
 struct Subscription {
     app: Arc<App>,
-    names: Vec<String>,
+    owner: monitor::Owner,
 }
 
 impl Drop for Subscription {
     fn drop(&mut self) {
         self.app.streams.fetch_sub(1, Ordering::Relaxed);
-        let names = std::mem::take(&mut self.names);
-        if names.is_empty() {
-            return;
-        }
-        let app = self.app.clone();
-        if let Ok(rt) = tokio::runtime::Handle::try_current() {
-            rt.spawn(async move {
-                let _ = app
-                    .engine
-                    .at_end(move |s| monitor::unsubscribe(s, &names))
-                    .await;
-            });
-        }
     }
 }
 
@@ -566,18 +554,18 @@ async fn events(State(app): Shared, Query(q): Q) -> Response {
             format!("at most {} event streams at once", crate::MAX_STREAMS),
         );
     }
-    // From here the guard gives the stream and its names back when dropped.
-    let mut guard = Subscription {
+    // From here the guard gives the stream back when dropped, and its names
+    // with it: also when this request is abandoned before the job ran.
+    let guard = Subscription {
         app: app.clone(),
-        names: Vec::new(),
+        owner: monitor::Owner::default(),
     };
-    let sub = specs.clone();
-    match at_end(&app, move |s| monitor::subscribe(s, &sub)).await {
+    let watcher = guard.owner.watcher();
+    match at_end(&app, move |s| monitor::subscribe(s, &specs, watcher)).await {
         Ok(Ok(())) => {}
         Ok(Err(e)) => return bad(e),
         Err(e) => return e,
     }
-    guard.names = specs.iter().map(|d| d.text().to_string()).collect();
     let mut rx = app.snapshots.clone();
     rx.mark_unchanged();
     let stream =
