@@ -3,6 +3,7 @@
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
 
+mod http;
 mod names;
 mod opcua;
 mod run;
