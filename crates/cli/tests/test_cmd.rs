@@ -341,3 +341,48 @@ fn shards_partition_the_files_and_their_lines_merge_to_the_plain_totals() {
         "{text}"
     );
 }
+
+/// Issue #31 defect 7: counts that cannot be a result line's (huge, or not
+/// those of its results) are an error naming the file and line, never summed
+/// into a wrapped total that passes.
+#[test]
+fn merge_refuses_counts_that_do_not_match_the_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = |file: &str, failed: &str| {
+        format!(
+            r#"{{"file":"{file}","name":"n","passed":false,"assertions":{{"passed":1,"failed":{failed}}},"duration_s":0.1,"simulated_s":1.0,"scans":100,"results":[{{"text":"a","passed":true,"detail":""}},{{"text":"b","passed":false,"detail":"x"}}]}}"#
+        )
+    };
+    let huge = "9223372036854775808";
+    let a = dir.path().join("a.jsonl");
+    let b = dir.path().join("b.jsonl");
+    std::fs::write(&a, format!("{}\n", line("x.toml", huge))).unwrap();
+    std::fs::write(
+        &b,
+        format!("{}\n{}\n", line("y.toml", "1"), line("z.toml", huge)),
+    )
+    .unwrap();
+    let (a, b) = (a.display().to_string(), b.display().to_string());
+    let o = softplc(&["test", "--merge", &b]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{}{err}", stdout(&o));
+    assert!(err.contains(&format!("{b}:2")), "{err}");
+    assert!(err.contains("failed"), "{err}");
+    let o = softplc(&["test", "--merge", &a, &b]);
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    for bad in ["-1", "1.5", "18446744073709551616"] {
+        let c = dir.path().join("c.jsonl");
+        std::fs::write(&c, format!("{}\n", line("w.toml", bad))).unwrap();
+        let c = c.display().to_string();
+        let o = softplc(&["test", "--merge", &c]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains(&format!("{c}:1")), "{bad}: {err}");
+    }
+    // The same line with the counts of its results merges.
+    let d = dir.path().join("d.jsonl");
+    std::fs::write(&d, format!("{}\n", line("v.toml", "1"))).unwrap();
+    let o = softplc(&["test", "--merge", &d.display().to_string()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stdout(&o).lines().last(), Some("1 passed, 1 failed"));
+}
