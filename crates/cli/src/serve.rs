@@ -62,8 +62,8 @@ pub struct ServeArgs {
     /// Refuse Modbus writes (exception 01).
     #[arg(long)]
     pub modbus_read_only: bool,
-    /// Web monitor and JSON API (contract §3.1), e.g. 127.0.0.1:8080 or 8080
-    /// (a bare port binds loopback).
+    /// Web monitor and JSON API (docs/web-monitor.md), e.g. 127.0.0.1:8080 or
+    /// 8080 (a bare port binds loopback).
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
     /// Bearer token that allows writes, forcing and RUN/STOP over HTTP (also

@@ -386,3 +386,36 @@ fn merge_refuses_counts_that_do_not_match_the_results() {
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(stdout(&o).lines().last(), Some("1 passed, 1 failed"));
 }
+
+/// Issue #31: with several scenarios `--plot out.svg` writes one file per
+/// scenario and the output lists them; two scenarios of the same name do
+/// not overwrite each other's file.
+#[test]
+fn several_scenarios_list_the_files_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("out.svg").display().to_string();
+    let o = softplc(&[
+        "test",
+        "examples/sim/conveyor.toml",
+        "examples/aplc/conveyor.toml",
+        "examples/aplc/sfc.toml",
+        "--plot",
+        &svg,
+        "-q",
+    ]);
+    let text = stdout(&o);
+    assert!(o.status.success(), "{text}");
+    let files: Vec<String> = ["out-conveyor.svg", "out-aplc-conveyor.svg", "out-sfc.svg"]
+        .iter()
+        .map(|f| dir.path().join(f).display().to_string())
+        .collect();
+    let listed = format!(
+        "files written (3):\n  {}\n  {}\n  {}\n",
+        files[0], files[1], files[2]
+    );
+    assert!(text.contains(&listed), "{text}");
+    for f in &files {
+        assert!(std::path::Path::new(f).is_file(), "{f}");
+    }
+    assert!(text.lines().last().unwrap().ends_with(" passed, 0 failed"));
+}
