@@ -214,7 +214,7 @@ fn refresh(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
                 && d.index.is_none()
                 && d.n % 8 == 0 => {}
         _ => {
-            a.error(0, format!("`{}`: REF starts at X or Y, a multiple of 8 (X0, X10 …), without index (L6543-6555)", a.text(0)));
+            a.error(0, format!("`{}`: REF starts at X or Y, a multiple of 8 (X0, X10 …), without index (APLC programming manual §6.8.7)", a.text(0)));
             return None;
         }
     }
@@ -224,7 +224,7 @@ fn refresh(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
             a.error(
                 1,
                 format!(
-                    "`{}`: REF's count is a constant 8-256, a multiple of 8 (L6543-6555)",
+                    "`{}`: REF's count is a constant 8-256, a multiple of 8 (APLC programming manual §6.8.7)",
                     a.text(1)
                 ),
             );
@@ -324,7 +324,7 @@ fn asc(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
                 a.error(
                     k,
                     format!(
-                        "`{}`: ASC takes character codes 16#21-16#7E (L5678)",
+                        "`{}`: ASC takes character codes 16#21-16#7E (APLC programming manual §6.5.16)",
                         a.text(k)
                     ),
                 );

@@ -189,7 +189,7 @@ fn anb_orb(c: &mut Compiler<'_>, u: &Use<'_>) {
         c.err(
             &i.operands[0],
             format!(
-                "`{}` takes no operand (erratum of L2757-2759, L2780-2782)",
+                "`{}` takes no operand (an erratum in the APLC programming manual §5.1.8, §5.1.9)",
                 u.m
             ),
         );
@@ -247,7 +247,7 @@ fn mc(c: &mut Compiler<'_>, u: &Use<'_>) {
         c.err(
             tok,
             format!(
-                "MC {n} is already open (line {line}): nested MC need different numbers (L3012)"
+                "MC {n} is already open (line {line}): nested MC need different numbers (APLC programming manual §5.2.2)"
             ),
         );
         return;
@@ -278,7 +278,7 @@ fn mcr(c: &mut Compiler<'_>, u: &Use<'_>) {
         }
         Some(_) => c.err(
             tok,
-            format!("MCR {n} crosses an inner MC: structures may not cross (L3014)"),
+            format!("MCR {n} crosses an inner MC: structures may not cross (APLC programming manual §5.2.2)"),
         ),
         None => c.err(tok, format!("MCR {n} without a matching MC {n}")),
     }

@@ -99,7 +99,10 @@ pub fn compile(a: &mut Args<'_, '_>, spec: Spec) -> Option<Box<dyn Instr>> {
         if matches!(first, WordArg::Digits { n, .. } if n != need) {
             a.error(
                 s1,
-                format!("`{}`: a bit group here must be K{need} (L1996)", a.text(s1)),
+                format!(
+                    "`{}`: a bit group here must be K{need} (APLC programming manual §3.2.1)",
+                    a.text(s1)
+                ),
             );
             return None;
         }

@@ -290,7 +290,7 @@ pub fn call(
     if matches!(caller, PouKind::Int { .. }) {
         c.err(
             &i.mnemonic,
-            "CALL in an interrupt routine: interrupt routines cannot call subroutines (L2363)",
+            "CALL in an interrupt routine: interrupt routines cannot call subroutines (APLC programming manual §4.4.2)",
         );
         return None;
     }
@@ -304,7 +304,10 @@ pub fn call(
     let Some(n) = sbr_number(&target.text) else {
         c.err(
             target,
-            format!("`{}`: a subroutine is SBR_0-SBR_63 (L2455)", target.text),
+            format!(
+                "`{}`: a subroutine is SBR_0-SBR_63 (APLC programming manual §4.4.5)",
+                target.text
+            ),
         );
         return None;
     };
@@ -312,7 +315,7 @@ pub fn call(
         c.err(
             target,
             format!(
-                "CALL of `{}`: no POU SBR_{n} in the program (L3757)",
+                "CALL of `{}`: no POU SBR_{n} in the program (APLC programming manual §6.1.11)",
                 target.text
             ),
         );
@@ -365,7 +368,7 @@ fn params(c: &mut Compiler<'_>, callee: &Pou, i: &SourceInstr) -> Option<Vec<Par
         c.err(
             &i.operands[0],
             format!(
-                "CALL {}: takes {} argument(s) ({}), found {} (L3790)",
+                "CALL {}: takes {} argument(s) ({}), found {} (APLC programming manual §6.1.11)",
                 i.operands[0].text,
                 vars.len(),
                 names.join(", "),

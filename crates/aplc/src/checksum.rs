@@ -55,7 +55,10 @@ fn dv(a: &mut Args<'_, '_>, k: usize) -> bool {
     if !ok {
         a.error(
             k,
-            format!("`{}`: D or V is needed here (L8548-8667)", a.text(k)),
+            format!(
+                "`{}`: D or V is needed here (APLC programming manual §6.13)",
+                a.text(k)
+            ),
         );
     }
     ok

@@ -165,7 +165,10 @@ fn pou(c: &mut Compiler<'_>, unit: &Unit, p: &Pou, links: &mut Links) {
             text: "FOR".into(),
             ..tok
         };
-        c.err(&at, "FOR without its NEXT in this POU (L3580)");
+        c.err(
+            &at,
+            "FOR without its NEXT in this POU (APLC programming manual §6.1.2)",
+        );
     }
     for (n, tok) in std::mem::take(&mut c.mc_open) {
         c.err(&tok, format!("MC {n} without MCR {n}"));
@@ -182,7 +185,10 @@ fn pou(c: &mut Compiler<'_>, unit: &Unit, p: &Pou, links: &mut Links) {
             }
             // The skip of a FOR without NEXT, reported above.
             None if n > 127 => {}
-            None => c.err(&tok, format!("CJ {n}: no LBL {n} in this POU (L3646)")),
+            None => c.err(
+                &tok,
+                format!("CJ {n}: no LBL {n} in this POU (APLC programming manual §6.1.4)"),
+            ),
         }
     }
     c.labels.clear();
@@ -212,7 +218,7 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
                 ("CIRET", _) if matches!(kind, PouKind::Int { .. }) => ciret(c, i),
                 ("RET", _) if kind != PouKind::Main => c.err(
                     &i.mnemonic,
-                    "RET outside MAIN: it ends the SFC section of the main program (L3101)",
+                    "RET outside MAIN: it ends the SFC section of the main program (APLC programming manual §5.3.5)",
                 ),
                 ("RET", _) => {
                     if c.count(i, "RET", &[0]) {
@@ -221,12 +227,12 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
                 }
                 ("MC" | "MCR", _) if links.sfc.in_step() => c.err(
                     &i.mnemonic,
-                    format!("`{m}` in an SFC step: MC/MCR may not be used in steps (L2518)"),
+                    format!("`{m}` in an SFC step: MC/MCR may not be used in steps (APLC programming manual §4.5.3)"),
                 ),
                 ("SET" | "OUT", _) if links.sfc.transition(c, i, &m) => {}
                 ("CFEND", _) if kind != PouKind::Main => c.err(
                     &i.mnemonic,
-                    "CFEND outside MAIN: it ends the main program only (L3681)",
+                    "CFEND outside MAIN: it ends the main program only (APLC programming manual §6.1.5)",
                 ),
                 (_, Kind::Lower(f)) => f(c, &u),
                 (_, Kind::Rejected(why)) => {
@@ -237,7 +243,7 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
             (def.steps.count(&i.operands), Some(def.class))
         }
         _ if m == "END" => {
-            c.err(&i.mnemonic, "unknown instruction `END`: the APLC has no END, a POU ends with its last line (L3676)");
+            c.err(&i.mnemonic, "unknown instruction `END`: the APLC has no END, a POU ends with its last line (APLC programming manual §6.1.5)");
             (1, None)
         }
         _ => {
@@ -254,7 +260,10 @@ fn instr(c: &mut Compiler<'_>, unit: &Unit, kind: PouKind, i: &SourceInstr, link
 /// 002 §6.1 L3792 CSRET: with power flow, return from the subroutine.
 fn csret(c: &mut Compiler<'_>, kind: PouKind, i: &SourceInstr) {
     if !matches!(kind, PouKind::Sbr(_)) {
-        c.err(&i.mnemonic, "CSRET outside a subroutine (L3800)");
+        c.err(
+            &i.mnemonic,
+            "CSRET outside a subroutine (APLC programming manual §6.1.12)",
+        );
         return;
     }
     if !c.count(i, "CSRET", &[0]) || !c.output(i, "CSRET") {
@@ -306,7 +315,10 @@ fn call_graph(c: &mut Compiler<'_>, links: &Links) {
                     .collect();
                 bad.push((
                     tok.clone(),
-                    format!("recursive call: {} (L2353-2358)", cycle.join(" → ")),
+                    format!(
+                        "recursive call: {} (APLC programming manual §4.4.2)",
+                        cycle.join(" → ")
+                    ),
                 ));
                 continue;
             }
@@ -323,7 +335,7 @@ fn call_graph(c: &mut Compiler<'_>, links: &Links) {
         if *from == PouKind::Main && d > MAX_DEPTH {
             bad.push((
                 tok.clone(),
-                format!("calls nested {d} levels deep from MAIN, more than {MAX_DEPTH} (L2345)"),
+                format!("calls nested {d} levels deep from MAIN, more than {MAX_DEPTH} (APLC programming manual §4.4.2)"),
             ));
         }
     }

@@ -72,7 +72,7 @@ fn compile(a: &mut Args<'_, '_>, mode: Mode) -> Option<Box<dyn Instr>> {
         a.error(
             0,
             format!(
-                "`{}`: {} counts {want} (L1732-1740)",
+                "`{}`: {} counts {want} (APLC programming manual §3.1.7)",
                 a.text(0),
                 a.mnemonic()
             ),

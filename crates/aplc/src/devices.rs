@@ -339,7 +339,7 @@ pub fn parse_device(u: &str) -> Result<Option<DeviceRef>, String> {
         }
         if !dev.is_bit() || matches!(dev, Dev::T | Dev::C) {
             return Err(format!(
-                "`{u}`: a bit group needs X, Y, M, S, LM or SM (L1961-1988)"
+                "`{u}`: a bit group needs X, Y, M, S, LM or SM (APLC programming manual §3.2.1)"
             ));
         }
         if n + 4 * k as u32 > dev.points() {

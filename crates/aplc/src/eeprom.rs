@@ -74,7 +74,7 @@ fn eromwr(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
             a.error(
                 0,
                 format!(
-                    "`{}`: EROMWR writes from D6000-D6999, without index (L6579-6584)",
+                    "`{}`: EROMWR writes from D6000-D6999, without index (APLC programming manual §6.8.8)",
                     a.text(0)
                 ),
             );

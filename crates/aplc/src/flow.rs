@@ -78,7 +78,7 @@ fn lbl(c: &mut Compiler<'_>, u: &Use<'_>) {
     if let Some(&(_, line)) = c.labels.get(&n) {
         c.err(
             tok,
-            format!("LBL {n} defined twice in this POU (first at line {line}, L3621)"),
+            format!("LBL {n} defined twice in this POU (first at line {line}, APLC programming manual §6.1.3)"),
         );
         return;
     }
@@ -199,7 +199,10 @@ fn next(c: &mut Compiler<'_>, u: &Use<'_>) {
         return;
     }
     let Some(open) = c.for_open.pop() else {
-        c.err(&i.mnemonic, "NEXT without FOR (L3580)");
+        c.err(
+            &i.mnemonic,
+            "NEXT without FOR (APLC programming manual §6.1.2)",
+        );
         return;
     };
     c.emit(Op::Next);

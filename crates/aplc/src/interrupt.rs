@@ -75,7 +75,10 @@ fn ei_di(c: &mut Compiler<'_>, u: &Use<'_>) {
         return;
     }
     let Some(on) = on else {
-        return c.err(&i.mnemonic, "CIRET outside an interrupt routine (L3733)");
+        return c.err(
+            &i.mnemonic,
+            "CIRET outside an interrupt routine (APLC programming manual §6.1.9)",
+        );
     };
     let x = c.ext.len() as u32;
     let bit = c.map.base(DeviceKind::V) + EI_BIT;

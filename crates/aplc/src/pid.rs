@@ -115,7 +115,10 @@ fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         if !ok {
             a.error(
                 k,
-                format!("`{}`: PID's operands are D registers (L7662)", a.text(k)),
+                format!(
+                    "`{}`: PID's operands are D registers (APLC programming manual §6.11.1)",
+                    a.text(k)
+                ),
             );
             return None;
         }

@@ -70,12 +70,12 @@ fn event_ok(e: u32) -> Result<(), &'static str> {
     match e {
         0..=7 | 10..=17 | 26..=28 | 30..=37 => Ok(()),
         8 | 9 => Err("events 8 and 9 are reserved"),
-        18 | 19 => Err("PTO-complete interrupts (events 18, 19) are not on APLC-TCP (L671-674)"),
+        18 | 19 => Err("PTO-complete interrupts (events 18, 19) are not on APLC-TCP (APLC programming manual §1.1.1)"),
         20..=25 => {
-            Err("high-speed counter interrupts (events 20-25) are not on APLC-TCP (L671-674)")
+            Err("high-speed counter interrupts (events 20-25) are not on APLC-TCP (APLC programming manual §1.1.1)")
         }
-        29 => Err("the power-fail interrupt (event 29) is not on APLC-TCP (L671-674)"),
-        _ => Err("events are 0-7, 10-17, 26-28 and 30-37 (L10087-10105)"),
+        29 => Err("the power-fail interrupt (event 29) is not on APLC-TCP (APLC programming manual §1.1.1)"),
+        _ => Err("events are 0-7, 10-17, 26-28 and 30-37 (APLC programming manual §9.1)"),
     }
 }
 
@@ -109,7 +109,13 @@ impl Parser<'_> {
         };
         match why {
             Some(w) => {
-                self.err(t, format!("variable name `{}`: {w} (L1176)", t.text));
+                self.err(
+                    t,
+                    format!(
+                        "variable name `{}`: {w} (APLC programming manual §2.2.3)",
+                        t.text
+                    ),
+                );
                 false
             }
             None => true,
@@ -119,7 +125,10 @@ impl Parser<'_> {
     fn global(&mut self, line: &[Token], unit: &mut Unit) {
         if line.len() != 2 {
             let t = line.get(2).unwrap_or(&line[0]);
-            self.err(t, "a global variable is `NAME DEVICE` (L1174)");
+            self.err(
+                t,
+                "a global variable is `NAME DEVICE` (APLC programming manual §2.2.3)",
+            );
             return;
         }
         let (name, addr) = (&line[0], &line[1]);
@@ -132,7 +141,10 @@ impl Parser<'_> {
                 if matches!(d.dev, Dev::LM | Dev::V) {
                     self.err(
                         addr,
-                        format!("`{}`: LM and V are local, not global (L1551)", addr.text),
+                        format!(
+                            "`{}`: LM and V are local, not global (APLC programming manual §3.1.2)",
+                            addr.text
+                        ),
                     );
                     return;
                 }
@@ -183,7 +195,10 @@ impl Parser<'_> {
                 _ => {
                     self.err(
                         name,
-                        format!("`{}`: subroutines are SBR_0-SBR_63 (L2360)", name.text),
+                        format!(
+                            "`{}`: subroutines are SBR_0-SBR_63 (APLC programming manual §4.4.2)",
+                            name.text
+                        ),
                     );
                     None
                 }
@@ -233,7 +248,7 @@ impl Parser<'_> {
             _ => {
                 self.err(
                     &line[0],
-                    "a local variable is `[ADDRESS] NAME KIND TYPE` (L2365)",
+                    "a local variable is `[ADDRESS] NAME KIND TYPE` (APLC programming manual §4.4.3)",
                 );
                 return;
             }
@@ -254,7 +269,7 @@ impl Parser<'_> {
             self.err(
                 kind,
                 format!(
-                    "`{}`: MAIN and interrupt routines declare TEMP only (L2365)",
+                    "`{}`: MAIN and interrupt routines declare TEMP only (APLC programming manual §4.4.3)",
                     kind.text
                 ),
             );
@@ -289,7 +304,7 @@ impl Parser<'_> {
         if vars_of_kind >= limit || *count + n > 64 {
             self.err(
                 name,
-                "more than 16 bit or 16 word variables in one POU (L2361)",
+                "more than 16 bit or 16 word variables in one POU (APLC programming manual §4.4.2)",
             );
             return;
         }
@@ -300,7 +315,7 @@ impl Parser<'_> {
                 self.err(
                     a,
                     format!(
-                        "`{}`: variables are allocated in table order; this one is {at} (L2377)",
+                        "`{}`: variables are allocated in table order; this one is {at} (APLC programming manual §4.4.3)",
                         a.text
                     ),
                 );
@@ -437,7 +452,7 @@ pub fn parse_as_written(
                 if seen_code || !unit.pous.is_empty() {
                     p.err(
                         &line[0],
-                        "VAR_GLOBAL must come before the first POU and instruction (L2294)",
+                        "VAR_GLOBAL must come before the first POU and instruction (APLC programming manual §4.3.2)",
                     );
                 }
                 state = In::Globals;
@@ -448,7 +463,10 @@ pub fn parse_as_written(
                     .last()
                     .is_some_and(|u| u.body.is_empty() && u.vars.is_empty());
                 if !fresh || state != In::Body {
-                    p.err(&line[0], "VAR must directly follow its POU header (L2365)");
+                    p.err(
+                        &line[0],
+                        "VAR must directly follow its POU header (APLC programming manual §4.4.3)",
+                    );
                 }
                 state = In::Vars;
             }
@@ -481,7 +499,7 @@ pub fn parse_as_written(
                                 255
                             };
                             if unit.pous.iter().any(|u| matches!(u.kind, PouKind::Int { event: e, .. } if e == event || e == other)) {
-                                p.err(&line[3], format!("event {event}: one routine per event, and one edge per input (L10227)"));
+                                p.err(&line[3], format!("event {event}: one routine per event, and one edge per input (APLC programming manual §9.4)"));
                             }
                         }
                         unit.pous.push(Pou {
@@ -529,7 +547,10 @@ pub fn parse_as_written(
     }
     if headers && !unit.pous.iter().any(|u| u.kind == PouKind::Main) && p.diags.is_empty() {
         let t = lines[0][0].clone();
-        p.err(&t, "the program has no `POU MAIN` (L2237)");
+        p.err(
+            &t,
+            "the program has no `POU MAIN` (APLC programming manual §4.2.1)",
+        );
     }
     if !p.diags.is_empty() {
         return Err(p.diags);

@@ -74,7 +74,13 @@ fn compile(a: &mut Args<'_, '_>, kind: Kind) -> Option<Box<dyn Instr>> {
     let s2 = a.word_at(1, Width::W16, false);
     let dv = matches!(parse_device(&a.text(2).to_ascii_uppercase()), Ok(Some(d)) if d.group.is_none() && matches!(d.dev, Dev::D | Dev::V));
     if !dv {
-        a.error(2, format!("`{}`: the output is D or V (L7830)", a.text(2)));
+        a.error(
+            2,
+            format!(
+                "`{}`: the output is D or V (APLC programming manual §6.11.2)",
+                a.text(2)
+            ),
+        );
     }
     let d1 = a.word_at(2, Width::W16, true);
     let scans = a.word_at(3, Width::W16, false);

@@ -5,11 +5,12 @@
 
 use softplc_lang::isa::Def;
 
-const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (002 §6.10.2-9 L8136-8432 and Appendix 5 give no register map; spec aplc.md §9 item 11); use `Modbus` with the drive's own register map";
-const CLOCK: &str = "not available on APLC-TCP: no real-time clock; the clock and date/time-compare instructions are unsupported (table 1-1 L682-683, decision D6)";
+const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (APLC programming manual §6.12.2-§6.12.10 and Appendix 5 give no register map); use `Modbus` with the drive's own register map";
+const CLOCK: &str = "not available on APLC-TCP: no real-time clock; the clock and date/time-compare instructions are unsupported (APLC programming manual table 1-1, §1.1.1)";
 const HSIO: &str =
-    "not available on APLC-TCP: no high-speed I/O (table 1-1 L686, L10062, decision D7)";
-const VRRD: &str = "not available on APLC-TCP: no analog potentiometer (L677, L878, decision D7)";
+    "not available on APLC-TCP: no high-speed I/O (APLC programming manual table 1-1, §1.1.1, and chapter 8)";
+const VRRD: &str =
+    "not available on APLC-TCP: no analog potentiometer (APLC programming manual §1.1.1, §2.1.1)";
 const NONE: &str =
     "not available on APLC-TCP: the manual defines no body for it (\"无\", decision D7)";
 

@@ -58,7 +58,7 @@ pub fn bit(map: &DeviceMap, text: &str, what: BitUse) -> Result<BitArg, String> 
     }
     if d.index.is_some() {
         return Err(format!(
-            "`{text}`: this operand cannot be indexed (L2574-2575, L2738-2739)"
+            "`{text}`: this operand cannot be indexed (APLC programming manual §5.1.1, §5.1.7)"
         ));
     }
     let ok = match what {
@@ -70,7 +70,7 @@ pub fn bit(map: &DeviceMap, text: &str, what: BitUse) -> Result<BitArg, String> 
         return Err(format!(
             "`{text}` cannot be written by this instruction{}",
             if d.dev == Dev::X {
-                " (X is read-only, L1593)"
+                " (X is read-only, APLC programming manual §3.1.3)"
             } else {
                 ""
             }
@@ -78,7 +78,7 @@ pub fn bit(map: &DeviceMap, text: &str, what: BitUse) -> Result<BitArg, String> 
     }
     if what != BitUse::Contact && d.dev == Dev::SM && sm_read_only(d.n) {
         return Err(format!(
-            "`{text}` is a read-only special relay (L1827-1829)"
+            "`{text}` is a read-only special relay (APLC programming manual §3.1.9)"
         ));
     }
     let (k, n) = d
@@ -108,11 +108,15 @@ pub fn word(
         let (lo, hi) = match width {
             Width::W16 => (1, 4),
             Width::W32 => (5, 8),
-            Width::Real => return Err(format!("`{text}`: a REAL operand is D or V (L2089)")),
+            Width::Real => {
+                return Err(format!(
+                    "`{text}`: a REAL operand is D or V (APLC programming manual §3.3.2)"
+                ))
+            }
         };
         if !(lo..=hi).contains(&k) {
             return Err(format!(
-                "`{text}`: a {}-bit operand takes K{lo}-K{hi} (L2087-2088)",
+                "`{text}`: a {}-bit operand takes K{lo}-K{hi} (APLC programming manual §3.3.2)",
                 if width == Width::W16 { 16 } else { 32 }
             ));
         }
@@ -158,8 +162,13 @@ pub fn word(
         let why = match (width, d.dev) {
             (Width::W16, Dev::C) => "C200-C255 are 32-bit counters".to_string(),
             (Width::W32, Dev::C) => "a 32-bit operand takes C200-C255".to_string(),
-            (Width::Real, _) => "a REAL operand is D or V (L2089)".to_string(),
-            _ => format!("{} is not a 32-bit operand (L2088)", d.dev.name()),
+            (Width::Real, _) => {
+                "a REAL operand is D or V (APLC programming manual §3.3.2)".to_string()
+            }
+            _ => format!(
+                "{} is not a 32-bit operand (APLC programming manual §3.3.2)",
+                d.dev.name()
+            ),
         };
         return Err(format!("`{text}`: {why}"));
     }

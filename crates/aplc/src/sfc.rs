@@ -123,14 +123,14 @@ impl Sfc {
         if !c.mc_open.is_empty() {
             c.err(
                 &run[0].mnemonic,
-                "STL inside MC: MC/MCR and SFC steps may not be mixed (L2518)",
+                "STL inside MC: MC/MCR and SFC steps may not be mixed (APLC programming manual §4.5.3)",
             );
             return;
         }
         if run.len() > MAX_MERGE {
             c.err(
                 &run[MAX_MERGE].mnemonic,
-                format!("more than {MAX_MERGE} consecutive STL (L3039)"),
+                format!("more than {MAX_MERGE} consecutive STL (APLC programming manual §5.3.1)"),
             );
             return;
         }
@@ -153,7 +153,7 @@ impl Sfc {
         let mut skip = None;
         if let [(n, tok)] = steps[..] {
             if let Some(line) = self.bodies.insert(n, tok.line) {
-                c.err(tok, format!("S{n} opens a second step body (first at line {line}): each step once (L9889, D16)"));
+                c.err(tok, format!("S{n} opens a second step body (first at line {line}): each step once (APLC programming manual §7.4.1)"));
             }
             let slot = c.state_words;
             c.state_words += <Gate as LocalState>::WORDS;

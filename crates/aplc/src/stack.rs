@@ -84,7 +84,10 @@ fn count_word(a: &mut Args<'_, '_>, k: usize) -> Option<Block> {
     if !ok {
         a.error(
             k,
-            format!("`{}`: the count word is D or V (L4080-4191)", a.text(k)),
+            format!(
+                "`{}`: the count word is D or V (APLC programming manual §6.2.10)",
+                a.text(k)
+            ),
         );
         return None;
     }

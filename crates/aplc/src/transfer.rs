@@ -180,7 +180,7 @@ fn xch(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
             a.error(
                 1,
                 format!(
-                    "`{}`: both bit groups need the same K<n> (L4012-4046)",
+                    "`{}`: both bit groups need the same K<n> (APLC programming manual §6.2.8)",
                     a.text(1)
                 ),
             );

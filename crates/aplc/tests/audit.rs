@@ -51,7 +51,11 @@ static CODES: &[(u16, Cover)] = &[
     (65, Run("golden_data.rs", "divide_by_zero_is_error_69")),
     (
         66,
-        Load("golden_call.rs", "call_diagnostics", "more than 6 (L2345)"),
+        Load(
+            "golden_call.rs",
+            "call_diagnostics",
+            "more than 6 (APLC programming manual §4.4.2)",
+        ),
     ),
     (67, Run("golden_interrupt.rs", "queue_overflow_is_error_67")),
     (

@@ -28,7 +28,7 @@ fn devices() {
     );
     one(
         "LD M0\nOUT X0\n",
-        "t.apl:2:5: `X0` cannot be written by this instruction (X is read-only, L1593)",
+        "t.apl:2:5: `X0` cannot be written by this instruction (X is read-only, APLC programming manual §3.1.3)",
     );
     one(
         "LD M0\nMOV 10 X0\n",

@@ -56,7 +56,7 @@ fn call_diagnostics() {
         "POU SBR_1\nVAR\n    IN1 IN INT\n    OUT1 OUT INT\nEND_VAR\nLD SM0\nMOV #IN1 #OUT1\n";
     let e = errors(&format!("POU MAIN\nLD M0\nCALL SBR_1 3\n{sbr1}"));
     assert!(
-        e.contains("t.apl:3:6: CALL SBR_1: takes 2 argument(s) (IN1, OUT1), found 1 (L3790)"),
+        e.contains("t.apl:3:6: CALL SBR_1: takes 2 argument(s) (IN1, OUT1), found 1 (APLC programming manual §6.1.11)"),
         "{e}"
     );
     let e = errors(&format!("POU MAIN\nLD M0\nCALL SBR_1 3 4\n{sbr1}"));
@@ -73,7 +73,7 @@ fn call_diagnostics() {
     );
     let e = errors("POU MAIN\nLD M0\nCALL SBR_3\n");
     assert!(
-        e.contains("t.apl:3:6: CALL of `SBR_3`: no POU SBR_3 in the program (L3757)"),
+        e.contains("t.apl:3:6: CALL of `SBR_3`: no POU SBR_3 in the program (APLC programming manual §6.1.11)"),
         "{e}"
     );
     let e = errors("POU MAIN\nLD M0\nCALL SBR_0\nPOU SBR_0\nLD M0\nCALL SBR_0\n");
@@ -96,7 +96,7 @@ fn call_diagnostics() {
     }
     let e = errors(&deep);
     assert!(
-        e.contains("t.apl:3:6: calls nested 7 levels deep from MAIN, more than 6 (L2345)"),
+        e.contains("t.apl:3:6: calls nested 7 levels deep from MAIN, more than 6 (APLC programming manual §4.4.2)"),
         "{e}"
     );
     deep = deep.replace("CALL SBR_7\n", "OUT Y1\n");

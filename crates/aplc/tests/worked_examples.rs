@@ -3,11 +3,12 @@
 //! test's doc comment cites the example (`#N`, or a range `#N-M`; for tests
 //! of other crates, the test must exist).
 //!
-//! The table is literal so the check runs on a clean checkout; where the spec
-//! is present (`$APLC_SPEC`, else `../shared/spec/aplc.md` next to the
-//! repository) its §8 rows are parsed and must match the table one for one,
-//! id and line reference, so an example added to §8 fails here until it has a
-//! test.
+//! The table is literal, so the coverage check depends only on the
+//! repository. Comparing the table with the spec's own §8 (an example added
+//! there must get a row and a test) needs the maintainers' copy of the spec,
+//! which is not in the repository: that check is `#[ignore]`d and runs only
+//! when asked, with `APLC_SPEC=path/to/aplc.md cargo test -p softplc-aplc
+//! --test worked_examples -- --ignored`, failing without the file.
 
 use std::collections::BTreeSet;
 use std::path::PathBuf;
@@ -269,17 +270,14 @@ fn spec_rows(text: &str) -> Vec<(u32, String)> {
 }
 
 #[test]
+#[ignore = "maintainers' check against the spec outside the repository: \
+            APLC_SPEC=path/to/aplc.md cargo test -p softplc-aplc --test worked_examples -- --ignored"]
 fn table_matches_the_spec() {
-    let path = std::env::var_os("APLC_SPEC")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| crates_dir().join("../../shared/spec/aplc.md"));
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        eprintln!(
-            "{} not found: the literal table alone is checked",
-            path.display()
-        );
-        return;
+    let Some(path) = std::env::var_os("APLC_SPEC").map(PathBuf::from) else {
+        panic!("set APLC_SPEC to the spec's aplc.md to compare the table with its §8");
     };
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("APLC_SPEC={}: {e}", path.display()));
     let rows = spec_rows(&text);
     let table: Vec<(u32, String)> = EXAMPLES.iter().map(|e| (e.0, e.1.to_string())).collect();
     assert_eq!(rows, table, "spec aplc.md §8 and this table differ");

@@ -3,6 +3,7 @@
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
 
+mod http;
 mod names;
 mod opcua;
 mod run;
@@ -21,9 +22,10 @@ use clap::{Parser, Subcommand};
 
 /// softplc — a MELSEC-Q compatible soft PLC.
 ///
-/// Loads a sequence program (text mnemonic list `.il`, or a GX Works2
-/// instruction-list CSV export `.csv`) and executes it scan by scan as a
-/// Q06HCPU does: input refresh, program from step 0 to END, END processing.
+/// Loads a sequence program (text mnemonic list `.il`, a GX Works2
+/// instruction-list CSV export `.csv`, or an APLC-TCP instruction list `.apl`)
+/// or a project directory with its plc.toml, and executes it scan by scan as
+/// the CPU does: input refresh, program from step 0 to END, END processing.
 #[derive(Parser, Debug)]
 #[command(name = "softplc", version, about, long_about)]
 struct Cli {
@@ -91,8 +93,8 @@ enum Command {
     Tune(Box<tune_cmd::TuneArgs>),
     /// Run a program in real time at its constant scan period and serve it over
     /// the MC protocol (TCP, UDP) and Modbus (TCP, RTU, ASCII) until Ctrl-C or SIGTERM.
-    /// An APLC-TCP program answers Modbus with seed 002's map at unit 8 and has
-    /// no MC protocol.
+    /// An APLC-TCP program answers Modbus with the map of the APLC programming
+    /// manual (§10.4.6, Appendix 7) at unit 8 and has no MC protocol.
     ///
     /// Requests are served at END processing, so a client never sees a
     /// half-written scan. Servers bind loopback unless an address says otherwise.

@@ -24,8 +24,8 @@ use crate::stdout::{out, outln};
 
 #[derive(Args, Debug)]
 pub struct RunArgs {
-    /// Program file (.il text list or GX Works2 .csv export), or a project
-    /// directory (or its plc.toml).
+    /// Program file (.il text list, GX Works2 .csv export or APLC-TCP .apl
+    /// instruction list), or a project directory (or its plc.toml).
     pub program: PathBuf,
     /// CPU model a single program file runs on (default Q06HCPU; a process
     /// CPU, e.g. Q06PHCPU, has the process-control instructions). A project
@@ -107,6 +107,29 @@ pub struct RunArgs {
     pub stats: bool,
 }
 
+/// Why ops run in the interpreter on a tier: `; interpreted: A in runs
+/// shorter than N …, B with no native form …`, empty when every op is native.
+fn why_interpreted(s: &softplc_core::engine::tier::TierStats) -> String {
+    let other = s.ops.saturating_sub(s.native_ops + s.short_run_ops);
+    let mut why = Vec::new();
+    if s.short_run_ops > 0 {
+        why.push(format!(
+            "{} in runs shorter than {} native ops in a row (too short to pay for entering native code)",
+            s.short_run_ops, s.min_run
+        ));
+    }
+    if other > 0 {
+        why.push(format!(
+            "{other} with no native form (only contacts, coils, MOV/DMOV and comparisons on plain devices have one)"
+        ));
+    }
+    if why.is_empty() {
+        String::new()
+    } else {
+        format!("; interpreted: {}", why.join(", "))
+    }
+}
+
 /// Puts the loaded CPU on its tier (`--exec` > SOFTPLC_EXEC > `[cpu] exec` >
 /// auto); with `stats`, says which on stderr with the compile time.
 pub(crate) fn use_exec(l: &mut Loaded, flag: Option<Exec>, stats: bool) -> Result<(), ExitCode> {
@@ -115,11 +138,12 @@ pub(crate) fn use_exec(l: &mut Loaded, flag: Option<Exec>, stats: bool) -> Resul
         Ok(s) if stats => {
             match s {
                 Some(s) => eprintln!(
-                    "exec: {}, {} of {} ops native, compiled in {:.1} ms",
+                    "exec: {}, {} of {} ops native, compiled in {:.1} ms{}",
                     s.tier,
                     s.native_ops,
                     s.ops,
-                    s.compile.as_secs_f64() * 1e3
+                    s.compile.as_secs_f64() * 1e3,
+                    why_interpreted(&s),
                 ),
                 None => eprintln!("exec: interp"),
             }
@@ -201,6 +225,34 @@ fn report(diags: &Diagnostics, what: &Path) -> ExitCode {
     ExitCode::from(1)
 }
 
+/// Why a directory without plc.toml does not load, and what to give instead:
+/// a program file in it, when it has one.
+fn not_a_project(dir: &Path) -> String {
+    let mut programs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.is_file()
+                        && p.extension().is_some_and(|x| {
+                            ["il", "csv", "apl"]
+                                .iter()
+                                .any(|k| x.eq_ignore_ascii_case(k))
+                        })
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    programs.sort();
+    let hint = programs.first().map_or(String::new(), |p| {
+        format!(", or give one program file, e.g. {}", p.display())
+    });
+    format!(
+        "{}: no plc.toml in this directory: a project directory needs a plc.toml \
+         naming its CPU model and program files (see docs/plc-toml.md){hint}",
+        dir.display()
+    )
+}
+
 /// A loaded CPU and where its battery-backed memory lives.
 pub(crate) struct Loaded {
     pub cpu: Cpu,
@@ -272,6 +324,10 @@ pub(crate) fn load_with(
             ports: p.ports,
             exec: p.exec,
         });
+    }
+    if path.is_dir() {
+        eprintln!("{}", not_a_project(path));
+        return Err(ExitCode::from(1));
     }
     let model = match model.map(project::known_model).transpose() {
         Ok(m) => m,

@@ -62,14 +62,29 @@ pub struct ServeArgs {
     /// Refuse Modbus writes (exception 01).
     #[arg(long)]
     pub modbus_read_only: bool,
-    /// Web monitor and JSON API (contract §3.1), e.g. 127.0.0.1:8080 or 8080
-    /// (a bare port binds loopback).
+    /// Web monitor and JSON API (docs/web-monitor.md), e.g. 127.0.0.1:8080 or
+    /// 8080 (a bare port binds loopback).
     #[arg(long, value_name = "ADDR")]
     pub http: Option<String>,
     /// Bearer token that allows writes, forcing and RUN/STOP over HTTP (also
     /// `[http] token` in plc.toml); without one the HTTP side is read-only.
     #[arg(long, value_name = "TOKEN")]
     pub http_token: Option<String>,
+    /// Web monitor connections at once (default 64; also `[http]
+    /// max_connections`). At the limit a new connection replaces one that
+    /// never sent a whole request head, else one idle for 10 s; an event
+    /// stream or a request being answered keeps its place.
+    #[arg(long, value_name = "N")]
+    pub http_max_connections: Option<usize>,
+    /// Longest wait for a request head, also between requests on a kept-alive
+    /// connection, before the web monitor closes it (default 10s; also `[http]
+    /// header_timeout`).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub http_header_timeout: Option<Duration>,
+    /// Longest wait for a whole request body; then 408 (default 10s; also
+    /// `[http] body_timeout`).
+    #[arg(long, value_name = "DUR", value_parser = parse_duration)]
+    pub http_body_timeout: Option<Duration>,
     /// Remote password for the MC protocol: exactly 4 ASCII letters or digits,
     /// as on the QCPU. Until a connection (or UDP sender) unlocks, every MC
     /// request but unlock and loopback is refused (C201), reads included. Wrong
@@ -84,7 +99,9 @@ pub struct ServeArgs {
     /// in the state directory).
     #[arg(long, value_name = "DATETIME", value_parser = parse_datetime)]
     pub clock: Option<DateTime>,
-    /// Connections per server; the one idle longest is dropped for a new one.
+    /// Connections per MC protocol and Modbus TCP server. At the limit a new
+    /// connection replaces one that never sent a whole request, else one idle
+    /// for 10 s; with only active clients it is refused.
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub max_connections: usize,
     /// Do not ask for real-time priority. By default the engine thread asks for
@@ -113,22 +130,6 @@ pub struct ServeArgs {
     /// Print the tier and its compile time at load (on stderr).
     #[arg(long)]
     pub stats: bool,
-}
-
-/// The web monitor's token: `--http-token`, else `[http] token` (contract §3).
-fn http_token(arg: Option<&str>, table: Option<&toml::Table>) -> Result<Option<String>, String> {
-    let from_toml = match table.and_then(|t| t.get("token")) {
-        None => None,
-        Some(toml::Value::String(s)) => Some(s.clone()),
-        Some(v) => return Err(format!("[http] token: expected a string, not `{v}`")),
-    };
-    let Some(t) = arg.map(str::to_string).or(from_toml) else {
-        return Ok(None);
-    };
-    if t.is_empty() || !t.bytes().all(|b| b.is_ascii_graphic()) {
-        return Err("--http-token: the token must be printable ASCII without spaces".into());
-    }
-    Ok(Some(t))
 }
 
 /// "a" or "an" before a model name read letter by letter ("an APLC-TCP",
@@ -246,7 +247,13 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             Ok(a) => a,
             Err(e) => return fail(format!("--http {e}")),
         };
-        let token = match http_token(args.http_token.as_deref(), http.as_ref()) {
+        let flags = crate::http::Flags {
+            token: args.http_token.as_deref(),
+            max_connections: args.http_max_connections,
+            header_timeout: args.http_header_timeout,
+            body_timeout: args.http_body_timeout,
+        };
+        let (token, limits) = match crate::http::settings(&flags, http.as_ref()) {
             Ok(t) => t,
             Err(e) => return fail(e),
         };
@@ -254,11 +261,24 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             token,
             model: cpu.profile().model.to_string(),
             ladder: softplc_http::ladder::load_programs(&cpu),
+            limits,
         };
         listeners.push(softplc_http::listener(addr, cfg));
         names.push("web monitor".to_string());
-    } else if args.http_token.is_some() {
-        eprintln!("softplc: --http-token has no effect without --http");
+    } else {
+        for (flag, given) in [
+            ("--http-token", args.http_token.is_some()),
+            (
+                "--http-max-connections",
+                args.http_max_connections.is_some(),
+            ),
+            ("--http-header-timeout", args.http_header_timeout.is_some()),
+            ("--http-body-timeout", args.http_body_timeout.is_some()),
+        ] {
+            if given {
+                eprintln!("softplc: {flag} has no effect without --http");
+            }
+        }
     }
     let base = if softplc_core::project::is_project(&args.program) {
         if args.program.is_dir() {

@@ -48,7 +48,9 @@ pub struct TestArgs {
     pub trace: Vec<String>,
     /// CSV file for the trace (default: the scenario's [trace] file, else
     /// SCENARIO-STEM.trace.csv in the current directory). With several
-    /// scenarios, each file name gets -STEM before its extension.
+    /// scenarios, each file name gets -STEM before its extension (-DIR-STEM
+    /// when two scenarios have the same name); the files written are listed
+    /// after the reports.
     #[arg(long, value_name = "FILE")]
     pub trace_file: Option<PathBuf>,
     /// Trace sample period, e.g. 1s (default: every scan, or fewer for long
@@ -58,7 +60,9 @@ pub struct TestArgs {
     /// Draw the traced devices over time to this SVG file (the --trace
     /// devices, else the scenario's [plot]/[trace] devices, else the devices
     /// the assertions check). With several scenarios, each file name gets
-    /// -STEM before its extension.
+    /// -STEM before its extension (-DIR-STEM when two scenarios have the same
+    /// name): `--plot out.svg` writes out-conveyor.svg, out-sfc.svg …, listed
+    /// after the reports.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
     /// Scenarios run at the same time (default: the number of CPUs).
@@ -75,18 +79,42 @@ pub struct TestArgs {
     pub exec: Option<softplc_core::tier::Exec>,
 }
 
-/// `dir/name.ext` → `dir/name-STEM.ext` when several scenarios share a file.
-fn per_scenario(path: &Path, scenario: &Path, many: bool) -> PathBuf {
-    if !many {
-        return path.to_path_buf();
+/// What tells a scenario's files apart when several run: its file stem, or
+/// `PARENT-STEM` when an earlier scenario given has the same stem
+/// (`sim/conveyor.toml` then `aplc/conveyor.toml`: `conveyor`,
+/// `aplc-conveyor`); `None` for a single one.
+fn scenario_tag(scenario: &Path, all: &[PathBuf]) -> Option<String> {
+    if all.len() <= 1 {
+        return None;
     }
-    let stem = scenario
-        .file_stem()
-        .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
+    let stem = |p: &Path| {
+        p.file_stem()
+            .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned())
+    };
+    let own = stem(scenario);
+    let shared = all
+        .iter()
+        .find(|p| stem(p) == own)
+        .is_some_and(|first| first != scenario);
+    let parent = scenario
+        .parent()
+        .and_then(|p| p.file_name())
+        .map(|p| p.to_string_lossy().into_owned());
+    Some(match parent {
+        Some(dir) if shared => format!("{dir}-{own}"),
+        _ => own,
+    })
+}
+
+/// `dir/name.ext` → `dir/name-TAG.ext` when several scenarios share a file.
+fn per_scenario(path: &Path, tag: Option<&str>) -> PathBuf {
+    let Some(tag) = tag else {
+        return path.to_path_buf();
+    };
     let name = match (path.file_stem(), path.extension()) {
-        (Some(s), Some(e)) => format!("{}-{stem}.{}", s.to_string_lossy(), e.to_string_lossy()),
-        (Some(s), None) => format!("{}-{stem}", s.to_string_lossy()),
-        _ => stem,
+        (Some(s), Some(e)) => format!("{}-{tag}.{}", s.to_string_lossy(), e.to_string_lossy()),
+        (Some(s), None) => format!("{}-{tag}", s.to_string_lossy()),
+        _ => tag.to_string(),
     };
     path.with_file_name(name)
 }
@@ -97,10 +125,12 @@ struct Done {
     passed: usize,
     failed: usize,
     line: jsonl::Line,
+    /// Trace and plot files written.
+    written: Vec<PathBuf>,
 }
 
 /// Applies the command-line trace and plot options to a scenario.
-fn configure(sc: &mut Scenario, args: &TestArgs, many: bool) {
+fn configure(sc: &mut Scenario, args: &TestArgs, tag: Option<&str>) {
     if !args.trace.is_empty() {
         sc.trace.devices = args.trace.iter().map(|d| d.trim().to_string()).collect();
         if sc.trace.file.is_none() && args.trace_file.is_none() {
@@ -108,17 +138,18 @@ fn configure(sc: &mut Scenario, args: &TestArgs, many: bool) {
                 .file
                 .file_stem()
                 .map_or_else(|| "scenario".into(), |s| s.to_string_lossy().into_owned());
-            sc.trace.file = Some(PathBuf::from(format!("{stem}.trace.csv")));
+            let name = tag.unwrap_or(&stem);
+            sc.trace.file = Some(PathBuf::from(format!("{name}.trace.csv")));
         }
     }
     if let Some(f) = &args.trace_file {
-        sc.trace.file = Some(per_scenario(f, &sc.file, many));
+        sc.trace.file = Some(per_scenario(f, tag));
     }
     if let Some(i) = args.trace_interval {
         sc.trace.interval_us = Some(i.as_micros() as u64);
     }
     if let Some(p) = &args.plot {
-        let file = per_scenario(p, &sc.file, many);
+        let file = per_scenario(p, tag);
         let devices = if !args.trace.is_empty() {
             sc.trace.devices.clone()
         } else {
@@ -136,8 +167,13 @@ fn configure(sc: &mut Scenario, args: &TestArgs, many: bool) {
     }
 }
 
-/// Writes the trace CSV and the plot; returns lines for the report.
-fn artifacts(sc: &Scenario, outcome: &Outcome) -> Result<String, String> {
+/// Writes the trace CSV and the plot; returns lines for the report and
+/// adds the files written to `written`.
+fn artifacts(
+    sc: &Scenario,
+    outcome: &Outcome,
+    written: &mut Vec<PathBuf>,
+) -> Result<String, String> {
     let mut notes = String::new();
     let Some(trace) = &outcome.trace else {
         return Ok(notes);
@@ -146,6 +182,7 @@ fn artifacts(sc: &Scenario, outcome: &Outcome) -> Result<String, String> {
         std::fs::write(f, trace.to_csv())
             .map_err(|e| format!("cannot write {}: {e}", f.display()))?;
         notes += &format!("  trace: {} ({} samples)\n", f.display(), trace.len());
+        written.push(f.clone());
     }
     if let Some(p) = &sc.plot {
         let devices = if !p.devices.is_empty() {
@@ -158,6 +195,7 @@ fn artifacts(sc: &Scenario, outcome: &Outcome) -> Result<String, String> {
         let title = p.title.clone().unwrap_or_else(|| sc.name.clone());
         plot::write_svg(&p.file, trace, &devices, &title)?;
         notes += &format!("  plot: {}\n", p.file.display());
+        written.push(p.file.clone());
     }
     Ok(notes)
 }
@@ -169,19 +207,20 @@ fn style() -> ProgressStyle {
 }
 
 /// Loads, runs and reports one scenario file.
-fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done {
+fn run_one(path: &Path, args: &TestArgs, tag: Option<&str>, mp: &MultiProgress) -> Done {
     let began = Instant::now();
     let fail = |msg: String| Done {
         text: format!("{}\n  FAIL {msg}\n", path.display()),
         passed: 0,
         failed: 1,
         line: jsonl::Line::of_error(path, &msg, began.elapsed().as_secs_f64()),
+        written: Vec::new(),
     };
     let mut sc = match Scenario::load(path) {
         Ok(s) => s,
         Err(e) => return fail(e),
     };
-    configure(&mut sc, args, many);
+    configure(&mut sc, args, tag);
     let run = match sc.build_on(args.exec) {
         Ok(r) => r,
         Err(e) => return fail(e),
@@ -209,7 +248,8 @@ fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done
     let mut text = outcome.report(args.quiet);
     let mut failed = outcome.failed();
     let mut extra = Vec::new();
-    match artifacts(&sc, &outcome) {
+    let mut written = Vec::new();
+    match artifacts(&sc, &outcome, &mut written) {
         Ok(notes) => text += &notes,
         Err(e) => {
             text += &format!("  FAIL {e}\n");
@@ -223,6 +263,7 @@ fn run_one(path: &Path, args: &TestArgs, many: bool, mp: &MultiProgress) -> Done
         passed: outcome.passed(),
         failed,
         line,
+        written,
     }
 }
 
@@ -269,7 +310,10 @@ pub fn run(args: TestArgs) -> ExitCode {
         None => &args.scenarios,
     };
     // Per-file trace names are the same whichever shard a file lands in.
-    let many = args.scenarios.len() > 1;
+    let tags: Vec<Option<String>> = files
+        .iter()
+        .map(|f| scenario_tag(f, &args.scenarios))
+        .collect();
     let jobs = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -283,6 +327,7 @@ pub fn run(args: TestArgs) -> ExitCode {
     let slots: Mutex<(usize, Vec<Option<Done>>)> =
         Mutex::new((0, (0..files.len()).map(|_| None).collect()));
     let totals = Mutex::new((0usize, 0usize));
+    let written: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
     let next = AtomicUsize::new(0);
     std::thread::scope(|s| {
         for _ in 0..jobs {
@@ -291,7 +336,7 @@ pub fn run(args: TestArgs) -> ExitCode {
                 if i >= files.len() {
                     break;
                 }
-                let done = run_one(&files[i], &args, many, &mp);
+                let done = run_one(&files[i], &args, tags[i].as_deref(), &mp);
                 let mut g = slots.lock().unwrap_or_else(|e| e.into_inner());
                 g.1[i] = Some(done);
                 while g.0 < files.len() {
@@ -305,12 +350,30 @@ pub fn run(args: TestArgs) -> ExitCode {
                     let mut t = totals.lock().unwrap_or_else(|e| e.into_inner());
                     t.0 += d.passed;
                     t.1 += d.failed;
+                    written
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .extend(d.written);
                     g.0 += 1;
                 }
             });
         }
     });
     let (passed, failed) = *totals.lock().unwrap_or_else(|e| e.into_inner());
+    let written = written.into_inner().unwrap_or_else(|e| e.into_inner());
+    if files.len() > 1 && !written.is_empty() {
+        // One file per scenario: say which, in one place.
+        let list: String = written
+            .iter()
+            .map(|f| format!("  {}\n", f.display()))
+            .collect();
+        let text = format!("files written ({}):\n{list}", written.len());
+        if args.jsonl {
+            eprint!("{text}");
+        } else {
+            out!("{text}");
+        }
+    }
     if args.jsonl {
         eprintln!("{passed} passed, {failed} failed");
     } else {

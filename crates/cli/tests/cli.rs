@@ -359,3 +359,40 @@ fn a_reader_that_goes_away_ends_the_run_quietly() {
     assert_eq!(out.status.code(), Some(141), "stderr: {stderr}");
     assert!(!stderr.contains("panicked"), "stderr: {stderr}");
 }
+
+/// Issue #31, a newcomer's first hour: a directory without plc.toml says
+/// that a project needs one (naming the directory and a program file in
+/// it); `--stats` says why ops are not native; `run --help` lists `.apl`.
+#[test]
+fn newcomer_messages_say_what_to_do() {
+    for cmd in ["check", "run"] {
+        let o = softplc(&[cmd, "examples/aplc/"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("examples/aplc/: no plc.toml in this directory: a project directory needs a plc.toml"),
+            "{err}"
+        );
+        assert!(err.contains("e.g. examples/aplc/"), "{err}");
+        assert!(!err.contains("os error"), "{err}");
+    }
+    let o = softplc(&["check", "examples/blink.il", "--stats", "--exec", "jit"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("; interpreted: 7 in runs shorter than 8 native ops in a row"),
+        "{err}"
+    );
+    assert!(err.contains("5 with no native form"), "{err}");
+    for help in [
+        &["run", "--help"][..],
+        &["--help"][..],
+        &["serve", "--help"][..],
+    ] {
+        let o = softplc(help);
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains(".apl"), "{help:?}: {text}");
+        for label in ["seed 0", "(000)", "(002)", "DEC-", "004 L"] {
+            assert!(!text.contains(label), "{help:?} says {label}: {text}");
+        }
+    }
+}

@@ -415,7 +415,7 @@ fn multi_file_project() {
     write(&dir, "c.apl", "POU SBR_1\nLD SM0\n");
     let err = String::from_utf8_lossy(&softplc(&["check", &d]).stderr).into_owned();
     assert!(
-        err.contains("the program has no `POU MAIN` (L2237)"),
+        err.contains("the program has no `POU MAIN` (APLC programming manual §4.2.1)"),
         "{err}"
     );
     assert!(err.contains(&sub), "{err}");

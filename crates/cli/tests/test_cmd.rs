@@ -341,3 +341,81 @@ fn shards_partition_the_files_and_their_lines_merge_to_the_plain_totals() {
         "{text}"
     );
 }
+
+/// Issue #31 defect 7: counts that cannot be a result line's (huge, or not
+/// those of its results) are an error naming the file and line, never summed
+/// into a wrapped total that passes.
+#[test]
+fn merge_refuses_counts_that_do_not_match_the_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = |file: &str, failed: &str| {
+        format!(
+            r#"{{"file":"{file}","name":"n","passed":false,"assertions":{{"passed":1,"failed":{failed}}},"duration_s":0.1,"simulated_s":1.0,"scans":100,"results":[{{"text":"a","passed":true,"detail":""}},{{"text":"b","passed":false,"detail":"x"}}]}}"#
+        )
+    };
+    let huge = "9223372036854775808";
+    let a = dir.path().join("a.jsonl");
+    let b = dir.path().join("b.jsonl");
+    std::fs::write(&a, format!("{}\n", line("x.toml", huge))).unwrap();
+    std::fs::write(
+        &b,
+        format!("{}\n{}\n", line("y.toml", "1"), line("z.toml", huge)),
+    )
+    .unwrap();
+    let (a, b) = (a.display().to_string(), b.display().to_string());
+    let o = softplc(&["test", "--merge", &b]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{}{err}", stdout(&o));
+    assert!(err.contains(&format!("{b}:2")), "{err}");
+    assert!(err.contains("failed"), "{err}");
+    let o = softplc(&["test", "--merge", &a, &b]);
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    for bad in ["-1", "1.5", "18446744073709551616"] {
+        let c = dir.path().join("c.jsonl");
+        std::fs::write(&c, format!("{}\n", line("w.toml", bad))).unwrap();
+        let c = c.display().to_string();
+        let o = softplc(&["test", "--merge", &c]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains(&format!("{c}:1")), "{bad}: {err}");
+    }
+    // The same line with the counts of its results merges.
+    let d = dir.path().join("d.jsonl");
+    std::fs::write(&d, format!("{}\n", line("v.toml", "1"))).unwrap();
+    let o = softplc(&["test", "--merge", &d.display().to_string()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(stdout(&o).lines().last(), Some("1 passed, 1 failed"));
+}
+
+/// Issue #31: with several scenarios `--plot out.svg` writes one file per
+/// scenario and the output lists them; two scenarios of the same name do
+/// not overwrite each other's file.
+#[test]
+fn several_scenarios_list_the_files_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("out.svg").display().to_string();
+    let o = softplc(&[
+        "test",
+        "examples/sim/conveyor.toml",
+        "examples/aplc/conveyor.toml",
+        "examples/aplc/sfc.toml",
+        "--plot",
+        &svg,
+        "-q",
+    ]);
+    let text = stdout(&o);
+    assert!(o.status.success(), "{text}");
+    let files: Vec<String> = ["out-conveyor.svg", "out-aplc-conveyor.svg", "out-sfc.svg"]
+        .iter()
+        .map(|f| dir.path().join(f).display().to_string())
+        .collect();
+    let listed = format!(
+        "files written (3):\n  {}\n  {}\n  {}\n",
+        files[0], files[1], files[2]
+    );
+    assert!(text.contains(&listed), "{text}");
+    for f in &files {
+        assert!(std::path::Path::new(f).is_file(), "{f}");
+    }
+    assert!(text.lines().last().unwrap().ends_with(" passed, 0 failed"));
+}

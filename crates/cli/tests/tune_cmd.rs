@@ -170,3 +170,48 @@ fn fit_csv_and_errors() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown rule `pid`"));
 }
+
+/// Issue #31 defect 8: a fit whose numbers are not finite (K = inf from a
+/// step of 1e-300, R² = NaN from outputs near 1e200) is a failed fit, exit
+/// status 2, with or without --json; nothing is printed as a result.
+#[test]
+fn a_non_finite_fit_is_a_failed_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, du, scale) in [
+        ("tiny_step.csv", 1e-300, 1e10),
+        ("huge_output.csv", 1.0, 1e200),
+    ] {
+        let csv = dir.path().join(name);
+        let mut s = String::from("t,u,y\n");
+        for i in 0..100 {
+            let t = f64::from(i) * 0.5;
+            let (u, y) = if t < 10.0 {
+                (0.0, 0.0)
+            } else {
+                (du, scale * (1.0 - (-(t - 10.0) / 5.0).exp()))
+            };
+            s += &format!("{t},{u},{y}\n");
+        }
+        std::fs::write(&csv, s).unwrap();
+        for json in [false, true] {
+            let mut cmd = softplc();
+            cmd.arg("tune");
+            if json {
+                cmd.arg("--json");
+            }
+            let out = cmd.arg("--fit-csv").arg(&csv).output().unwrap();
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(
+                out.status.code(),
+                Some(2),
+                "{name}: {}{err}",
+                String::from_utf8_lossy(&out.stdout)
+            );
+            assert!(out.stdout.is_empty(), "{name}");
+            assert!(
+                err.contains(name) && err.contains("not finite"),
+                "{name}: {err}"
+            );
+        }
+    }
+}

@@ -46,7 +46,7 @@ fn port_settings_reach_the_sd_registers() {
 fn port_errors_point_at_the_value() {
     assert_eq!(
         error(&with_main(&format!("{APLC}[port1]\nprotocol = \"modbus-master\"\nbaud = 300\n"))),
-        "5:8: [port1] baud: baud 300: expected 1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 (L10381, SD120)"
+        "5:8: [port1] baud: baud 300: expected 1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 (APLC programming manual §10.3.2, SD120)"
     );
     assert_eq!(
         error(&with_main(&format!(

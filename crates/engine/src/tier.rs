@@ -67,6 +67,11 @@ pub trait NativeProgram: Send {
     fn run(&self, unit: u32, pc: u32, regs: &mut Regs, host: &mut dyn Host) -> u32;
     /// Ops of the program that run as native code.
     fn native_ops(&self) -> usize;
+    /// Ops native code could run that the interpreter runs because their
+    /// run is shorter than [`ExecTier::min_run`].
+    fn short_run_ops(&self) -> usize {
+        0
+    }
 }
 
 /// A way of executing programs other than the interpreter.
@@ -75,6 +80,10 @@ pub trait ExecTier {
     fn name(&self) -> &'static str;
     /// Compiles `prog`; an error names why (the host or the program).
     fn compile(&self, prog: &Program) -> Result<Box<dyn NativeProgram>, String>;
+    /// Fewest native ops in a row it compiles (shorter runs are interpreted).
+    fn min_run(&self) -> usize {
+        1
+    }
 }
 
 /// What [`crate::Cpu::use_tier`] did: reported by `--stats`.
@@ -85,4 +94,7 @@ pub struct TierStats {
     pub compile: Duration,
     pub ops: usize,
     pub native_ops: usize,
+    /// Ops left to the interpreter in runs shorter than `min_run`.
+    pub short_run_ops: usize,
+    pub min_run: usize,
 }

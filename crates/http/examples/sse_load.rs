@@ -52,6 +52,7 @@ fn run(clients: usize, secs: u64, copies: usize) -> ScanStats {
         token: None,
         model: "Q06HCPU".into(),
         ladder: vec![ladder],
+        limits: Default::default(),
     };
     let engine = EngineConfig {
         period: Duration::from_millis(10),

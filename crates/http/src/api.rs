@@ -33,8 +33,6 @@ use crate::App;
 type Shared = State<Arc<App>>;
 type Q = Query<std::collections::HashMap<String, String>>;
 
-/// Longest a step request waits for its scans.
-const STEP_WAIT: Duration = Duration::from_secs(60);
 /// Most scans one step request executes.
 pub const MAX_STEP: u64 = 10_000;
 
@@ -435,7 +433,8 @@ async fn cpu_reset(State(app): Shared, h: HeaderMap) -> Response {
     cpu_op(app, h, |s| s.cpu.reset()).await
 }
 
-/// `cpu/step?scans=N`: N scans from PAUSE, answered once the CPU paused again.
+/// `cpu/step?scans=N`: N scans from PAUSE, answered once the CPU paused again
+/// (no time limit: 10,000 scans at a 100 ms period take 17 minutes).
 async fn cpu_step(State(app): Shared, headers: HeaderMap, Query(q): Q) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
@@ -460,13 +459,18 @@ async fn cpu_step(State(app): Shared, headers: HeaderMap, Query(q): Q) -> Respon
         Ok(Err(e)) => return error(StatusCode::CONFLICT, e),
         Err(e) => return e,
     };
-    match tokio::time::timeout(STEP_WAIT, rx).await {
-        Ok(Ok(done)) => {
-            Json(json!({"state": done.state.as_str(), "scan": done.scan})).into_response()
-        }
-        _ => error(
-            StatusCode::GATEWAY_TIMEOUT,
-            "the step did not complete in time",
+    step_answer(rx).await
+}
+
+/// The answer of a step once its scans are done, however long they take
+/// (N scans at the constant-scan period; docs/web-monitor.md). A client that
+/// goes away meanwhile does not stop the step.
+async fn step_answer(rx: tokio::sync::oneshot::Receiver<monitor::StepDone>) -> Response {
+    match rx.await {
+        Ok(done) => Json(json!({"state": done.state.as_str(), "scan": done.scan})).into_response(),
+        Err(_) => error(
+            StatusCode::SERVICE_UNAVAILABLE,
+            "the server stopped before the step completed",
         ),
     }
 }
@@ -526,28 +530,16 @@ async fn clear_breakpoint(State(app): Shared, headers: HeaderMap) -> Response {
     }
 }
 
-/// Unsubscribes the names of a closed event stream.
+/// An open event stream: counted in [`App::streams`] and owning its
+/// subscription ([`monitor::Owner`]) until it is dropped.
 struct Subscription {
     app: Arc<App>,
-    names: Vec<String>,
+    owner: monitor::Owner,
 }
 
 impl Drop for Subscription {
     fn drop(&mut self) {
         self.app.streams.fetch_sub(1, Ordering::Relaxed);
-        let names = std::mem::take(&mut self.names);
-        if names.is_empty() {
-            return;
-        }
-        let app = self.app.clone();
-        if let Ok(rt) = tokio::runtime::Handle::try_current() {
-            rt.spawn(async move {
-                let _ = app
-                    .engine
-                    .at_end(move |s| monitor::unsubscribe(s, &names))
-                    .await;
-            });
-        }
     }
 }
 
@@ -566,18 +558,18 @@ async fn events(State(app): Shared, Query(q): Q) -> Response {
             format!("at most {} event streams at once", crate::MAX_STREAMS),
         );
     }
-    // From here the guard gives the stream and its names back when dropped.
-    let mut guard = Subscription {
+    // From here the guard gives the stream back when dropped, and its names
+    // with it: also when this request is abandoned before the job ran.
+    let guard = Subscription {
         app: app.clone(),
-        names: Vec::new(),
+        owner: monitor::Owner::default(),
     };
-    let sub = specs.clone();
-    match at_end(&app, move |s| monitor::subscribe(s, &sub)).await {
+    let watcher = guard.owner.watcher();
+    match at_end(&app, move |s| monitor::subscribe(s, &specs, watcher)).await {
         Ok(Ok(())) => {}
         Ok(Err(e)) => return bad(e),
         Err(e) => return e,
     }
-    guard.names = specs.iter().map(|d| d.text().to_string()).collect();
     let mut rx = app.snapshots.clone();
     rx.mark_unchanged();
     let stream =
@@ -606,4 +598,38 @@ async fn events(State(app): Shared, Query(q): Q) -> Response {
     Sse::new(stream)
         .keep_alive(KeepAlive::new().interval(Duration::from_secs(15)))
         .into_response()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use softplc_core::engine::CpuState;
+
+    /// Issue #31 defect 6: a step longer than any fixed wait (an hour of
+    /// scans, in tokio's virtual time) is answered when it is done.
+    #[tokio::test(start_paused = true)]
+    async fn a_long_step_is_answered_when_done() {
+        let (tx, rx) = tokio::sync::oneshot::channel();
+        tokio::spawn(async move {
+            tokio::time::sleep(Duration::from_secs(3600)).await;
+            let _ = tx.send(monitor::StepDone {
+                state: CpuState::Pause,
+                scan: 10_000,
+            });
+        });
+        let r = step_answer(rx).await;
+        assert_eq!(r.status(), StatusCode::OK);
+        let body = axum::body::to_bytes(r.into_body(), 1024).await.unwrap();
+        let j: Json_ = serde_json::from_slice(&body).unwrap();
+        assert_eq!(j, json!({"state": "PAUSE", "scan": 10_000}));
+    }
+
+    /// The engine stopped before the step ended: 503, at once.
+    #[tokio::test(start_paused = true)]
+    async fn a_step_the_engine_abandoned_is_503() {
+        let (tx, rx) = tokio::sync::oneshot::channel::<monitor::StepDone>();
+        drop(tx);
+        let r = step_answer(rx).await;
+        assert_eq!(r.status(), StatusCode::SERVICE_UNAVAILABLE);
+    }
 }

@@ -11,6 +11,7 @@
 #![forbid(unsafe_code)]
 
 pub mod api;
+pub mod door;
 pub mod ladder;
 pub mod loops;
 pub mod monitor;
@@ -36,6 +37,8 @@ pub struct HttpConfig {
     pub model: String,
     /// The program files as ladder rungs (see [`ladder::load`]).
     pub ladder: Vec<ladder::LadderProgram>,
+    /// Connections and timeouts of the door.
+    pub limits: door::Limits,
 }
 
 /// Shared by every request handler.
@@ -57,11 +60,12 @@ pub const MAX_STREAMS: usize = 128;
 pub fn listener(addr: SocketAddr, cfg: HttpConfig) -> Listener {
     Listener::tcp_with(addr, move |tcp, engine| {
         tokio::spawn(async move {
+            let limits = cfg.limits;
             let Ok(app) = start(cfg, engine).await else {
                 eprintln!("softplc: --http: the engine stopped before the web monitor started");
                 return;
             };
-            let _ = axum::serve(tcp, api::router(app)).await;
+            door::serve(tcp, api::router(app), limits).await;
         })
     })
 }

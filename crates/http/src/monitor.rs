@@ -8,13 +8,15 @@
 //!   running CPU; on its rising edge the CPU pauses;
 //! - **snapshots**: the names SSE clients subscribed to are read at most every
 //!   [`SAMPLE`] and published on a `watch` channel, so every event is one END
-//!   and nothing is read while no one watches.
+//!   and nothing is read while no one watches. A subscription belongs to its
+//!   stream ([`Owner`]): the hook drops the names of every stream that has
+//!   ended, however it ended, so no message has to reach the engine for it.
 //!
 //! All state lives in [`Monitor`], kept in `ServeState::ext` and touched only
 //! on the engine thread (requests change it with `at_end` jobs): no locks.
 
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 use std::time::{Duration, Instant};
 
 use serde_json::Value as Json;
@@ -168,13 +170,45 @@ impl Breakpoint {
     }
 }
 
+/// What an event stream holds while it lives: its subscription is read at
+/// END as long as the stream keeps its `Owner`, and released at the first
+/// END after the stream is dropped (client gone, server stopping, or the
+/// request abandoned before its subscription was even made).
+#[derive(Debug, Default)]
+pub struct Owner(Arc<()>);
+
+impl Owner {
+    /// What the engine keeps of the stream: it can tell whether it ended.
+    pub fn watcher(&self) -> Watcher {
+        Watcher(Arc::downgrade(&self.0))
+    }
+}
+
+/// The engine's side of an [`Owner`].
+#[derive(Debug, Clone)]
+pub struct Watcher(Weak<()>);
+
+impl Watcher {
+    fn ended(&self) -> bool {
+        self.0.strong_count() == 0
+    }
+}
+
+/// One stream's subscribed names, kept while its [`Owner`] lives.
+struct Stream {
+    owner: Watcher,
+    names: Vec<DevName>,
+}
+
 /// The monitor's state on the engine thread.
 #[derive(Default)]
 pub struct Monitor {
     step: Option<Step>,
     pub breakpoint: Option<Breakpoint>,
-    /// Subscribed names with their subscriber counts.
+    /// Subscribed names with their subscriber counts (over `streams`).
     subs: Vec<(DevName, usize)>,
+    /// The open event streams' subscriptions.
+    streams: Vec<Stream>,
     publish: Option<watch::Sender<Arc<Snapshot>>>,
     last: Option<Instant>,
     seq: u64,
@@ -184,6 +218,26 @@ impl Monitor {
     /// Devices SSE clients watch now (read at each published END).
     pub fn watched(&self) -> usize {
         self.subs.len()
+    }
+
+    /// Drops the subscriptions of the streams that ended.
+    fn release_ended(&mut self) {
+        let mut i = 0;
+        while i < self.streams.len() {
+            if !self.streams[i].owner.ended() {
+                i += 1;
+                continue;
+            }
+            let gone = self.streams.swap_remove(i);
+            for d in &gone.names {
+                if let Some(k) = self.subs.iter().position(|(e, _)| e.text() == d.text()) {
+                    self.subs[k].1 -= 1;
+                    if self.subs[k].1 == 0 {
+                        self.subs.swap_remove(k);
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -202,6 +256,7 @@ fn end_hook(s: &mut ServeState) {
     let state = s.cpu.state();
     let scan = s.cpu.scans();
     let mut m = std::mem::take(s.ext::<Monitor>());
+    m.release_ended();
     if let Some(st) = &mut m.step {
         if state != CpuState::Run || scan >= st.until {
             if state == CpuState::Run {
@@ -270,12 +325,17 @@ pub fn start_step(s: &mut ServeState, n: u64) -> Result<oneshot::Receiver<StepDo
 /// of one published END).
 pub const MAX_WATCHED: usize = 4096;
 
-/// Adds subscribers of `specs` (each must be readable now).
-pub fn subscribe(s: &mut ServeState, specs: &[DevName]) -> Result<(), String> {
+/// Subscribes the stream of `owner` to `specs` (each must be readable now).
+/// A stream that ended before this runs subscribes nothing.
+pub fn subscribe(s: &mut ServeState, specs: &[DevName], owner: Watcher) -> Result<(), String> {
     for d in specs {
         d.read(&s.cpu)?;
     }
     let m = s.ext::<Monitor>();
+    m.release_ended();
+    if owner.ended() {
+        return Ok(());
+    }
     let fresh = specs
         .iter()
         .filter(|d| !m.subs.iter().any(|(e, _)| e.text() == d.text()))
@@ -292,22 +352,13 @@ pub fn subscribe(s: &mut ServeState, specs: &[DevName]) -> Result<(), String> {
             None => m.subs.push((d.clone(), 1)),
         }
     }
+    m.streams.push(Stream {
+        owner,
+        names: specs.to_vec(),
+    });
     // The next END publishes the new names.
     m.last = None;
     Ok(())
-}
-
-/// Removes subscribers of `names`.
-pub fn unsubscribe(s: &mut ServeState, names: &[String]) {
-    let m = s.ext::<Monitor>();
-    for name in names {
-        if let Some(i) = m.subs.iter().position(|(e, _)| e.text() == name) {
-            m.subs[i].1 -= 1;
-            if m.subs[i].1 == 0 {
-                m.subs.swap_remove(i);
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -23,6 +23,7 @@ fn start() -> Server {
         token: Some(TOKEN.into()),
         model: softplc_core::profile::aplc().model.into(),
         ladder: vec![softplc_http::ladder::aplc::from_bytes("main.apl", APL.as_bytes()).unwrap()],
+        limits: Default::default(),
     };
     start_cpu(cpu, http)
 }

@@ -52,6 +52,10 @@ impl ExecTier for Jit {
         let plan = plan::plan(prog, self.min_run);
         Ok(Box::new(native::Compiled::new(prog, &plan)?))
     }
+
+    fn min_run(&self) -> usize {
+        self.min_run
+    }
 }
 
 /// Whether Cranelift generates code for this host; the reason when not.

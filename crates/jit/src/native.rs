@@ -120,6 +120,7 @@ pub(crate) struct Compiled {
     fns: Vec<ChunkFn>,
     entries: Vec<u32>,
     native_ops: usize,
+    short_run_ops: usize,
     /// Memory sizes the plan checked every index against.
     bit_len: usize,
     word_len: usize,
@@ -201,6 +202,7 @@ impl Compiled {
             fns,
             entries,
             native_ops: plan.native.iter().filter(|n| **n).count(),
+            short_run_ops: plan.short_run_ops,
             bit_len: prog.bit_len as usize,
             word_len: prog.word_len as usize,
         })
@@ -252,6 +254,10 @@ impl NativeProgram for Compiled {
 
     fn native_ops(&self) -> usize {
         self.native_ops
+    }
+
+    fn short_run_ops(&self) -> usize {
+        self.short_run_ops
     }
 }
 

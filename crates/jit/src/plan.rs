@@ -128,6 +128,9 @@ pub struct Plan {
     pub native: Vec<bool>,
     /// For every op, whether native code may be entered there.
     pub entry: Vec<bool>,
+    /// Ops native code could run, left to the interpreter because their run
+    /// is shorter than the minimum (`--stats` says so).
+    pub short_run_ops: usize,
 }
 
 /// Plans `prog` with native runs of at least `min_run` ops, checking every
@@ -140,10 +143,12 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
     };
     let mut steps: Vec<Option<Step>> = prog.ops.iter().map(|op| step(op, lim)).collect();
     let n = prog.ops.len();
+    let can = steps.iter().filter(|s| s.is_some()).count();
     for start in (0..n).step_by(CHUNK_OPS) {
         drop_short_runs(&mut steps[start..(start + CHUNK_OPS).min(n)], min_run);
     }
     let native: Vec<bool> = steps.iter().map(Option::is_some).collect();
+    let short_run_ops = can - native.iter().filter(|n| **n).count();
     let targets = targets(prog);
     let mut entry = vec![false; n];
     let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK_OPS));
@@ -155,6 +160,7 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
         chunks,
         native,
         entry,
+        short_run_ops,
     }
 }
 
@@ -491,9 +497,13 @@ mod tests {
         let plan = plan(&p, MIN_RUN);
         assert_eq!(plan.native, [false; 5]);
         assert!(plan.chunks[0].pieces.is_empty());
+        // Three could be native (bit 200 is beyond the program's memory):
+        // `--stats` says they are in short runs.
+        assert_eq!(plan.short_run_ops, 3);
         // A whole program of two native ops is native.
         let plan = super::plan(&program(contacts(2)), MIN_RUN);
         assert_eq!(plan.native, [true, true]);
+        assert_eq!(plan.short_run_ops, 0);
         assert_eq!(
             plan.chunks[0].pieces.last(),
             Some(&Piece::Exit(2)),

@@ -8,6 +8,7 @@
 #![deny(unsafe_code)]
 
 // pthread_setschedparam for the real-time engine thread.
+pub mod conns;
 #[allow(unsafe_code)]
 pub mod engine;
 pub mod mc;

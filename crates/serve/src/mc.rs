@@ -170,6 +170,10 @@ impl Protocol for Mc {
     fn busy(&self, _frame: &[u8]) -> Option<Vec<u8>> {
         None
     }
+
+    fn door(&self) -> &'static str {
+        "MC protocol"
+    }
 }
 
 #[cfg(test)]

@@ -75,4 +75,8 @@ impl Protocol for ModbusTcp {
         f.pdu = vec![fc | 0x80, 0x06];
         Some(f.encode())
     }
+
+    fn door(&self) -> &'static str {
+        "Modbus TCP"
+    }
 }

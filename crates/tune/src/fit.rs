@@ -120,7 +120,7 @@ pub fn fit_fopdt(data: &StepResponse) -> Result<FopdtFit, String> {
     }
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     let ss_tot: f64 = y.iter().map(|v| (v - mean) * (v - mean)).sum();
-    Ok(FopdtFit {
+    let fit = FopdtFit {
         gain,
         tau,
         dead_time,
@@ -132,7 +132,20 @@ pub fn fit_fopdt(data: &StepResponse) -> Result<FopdtFit, String> {
         },
         samples: y.len(),
         iterations,
-    })
+    };
+    // Finite samples can still overflow (a step of 1e-300 gives K = inf,
+    // outputs near 1e200 square to inf): such a fit says nothing.
+    if [fit.gain, fit.tau, fit.dead_time, fit.rms, fit.r2]
+        .iter()
+        .any(|v| !v.is_finite())
+    {
+        return Err(format!(
+            "step response: the fit is not finite (K = {}, τ = {} s, θ = {} s, RMS error {}, R² = {}): \
+             the input step or the output is too small or too large to fit; scale them",
+            fit.gain, fit.tau, fit.dead_time, fit.rms, fit.r2
+        ));
+    }
+    Ok(fit)
 }
 
 /// At most [`MAX_FIT_SAMPLES`] evenly chosen samples (the last one kept).
@@ -393,5 +406,21 @@ mod tests {
         d = sampled(1.0, 5.0, 1.0, 1.0, 0.0, 0.1, 100);
         d.t[50] = 0.0;
         assert!(fit_fopdt(&d).unwrap_err().contains("increase"));
+    }
+
+    #[test]
+    fn overflowing_fits_are_errors() {
+        // A 1e-300 step answered by 1e10: K overflows to inf.
+        let mut d = sampled(1.0, 5.0, 1.0, 1.0, 0.0, 0.5, 100);
+        d.du = 1e-300;
+        for y in &mut d.y {
+            *y *= 1e10;
+        }
+        let e = fit_fopdt(&d).unwrap_err();
+        assert!(e.contains("not finite") && e.contains("K = inf"), "{e}");
+        // Outputs near 1e200: the squared residuals overflow, R² is NaN.
+        let d = sampled(1e200, 5.0, 1.0, 1.0, 0.0, 0.5, 100);
+        let e = fit_fopdt(&d).unwrap_err();
+        assert!(e.contains("not finite"), "{e}");
     }
 }

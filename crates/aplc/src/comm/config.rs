@@ -138,7 +138,7 @@ impl PortConfig {
                 Ok("modbus-slave") => Protocol::ModbusSlave,
                 Ok("free") => Protocol::Free,
                 Ok(s) => {
-                    errors.push((i, format!("protocol `{s}`: expected \"modbus-master\", \"modbus-slave\" or \"free\" (L10341-10359; PORT0's programming protocol is not public)")));
+                    errors.push((i, format!("protocol `{s}`: expected \"modbus-master\", \"modbus-slave\" or \"free\" (APLC programming manual §10.1; PORT0's programming protocol is not public)")));
                     Protocol::Free
                 }
                 Err(e) => {
@@ -178,7 +178,7 @@ impl PortConfig {
                         c.baud = n as u32;
                         Ok(())
                     } else {
-                        Err(format!("baud {n}: expected 1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 (L10381, SD120)"))
+                        Err(format!("baud {n}: expected 1200, 2400, 4800, 9600, 19200, 38400, 57600 or 115200 (APLC programming manual §10.3.2, SD120)"))
                     }
                 }),
                 "parity" => choice(

@@ -109,7 +109,10 @@ fn xmt(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         let dv = matches!(parse_device(&a.text(1).to_ascii_uppercase()), Ok(Some(d)) if d.group.is_none() && matches!(d.dev, Dev::D | Dev::V));
         if !dv {
             let t = a.text(1).to_string();
-            a.error(1, format!("`{t}`: XMT sends from D or V (L8437)"));
+            a.error(
+                1,
+                format!("`{t}`: XMT sends from D or V (APLC programming manual §6.12.11)"),
+            );
             None
         } else {
             let r = resolve::block(a.map(), a.text(1), false);
@@ -130,7 +133,7 @@ fn rcv(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let port = channel(a, 0);
-    let dest = d_buffer(a, 1, "L8484");
+    let dest = d_buffer(a, 1, "APLC programming manual §6.12.12");
     let max = a.word_at(2, Width::W16, false);
     let port = Port::of(a, port?);
     Some(Box::new(Rcv {

@@ -70,14 +70,17 @@ fn compile(a: &mut Args<'_, '_>, read: bool) -> Option<Box<dyn Instr>> {
         let t = a.text(0).to_string();
         a.error(
             0,
-            format!("`{t}`: the inverter instructions use channel 1 (PORT1) only (L8140)"),
+            format!("`{t}`: the inverter instructions use channel 1 (PORT1) only (APLC programming manual §6.12.2)"),
         );
         None
     };
     let station = a.word_at(1, Width::W16, false);
     let register = a.word_at(2, Width::W16, false);
     let (value, dest) = if read {
-        (Some(None), d_buffer(a, 3, "L8403").map(Some))
+        (
+            Some(None),
+            d_buffer(a, 3, "APLC programming manual §6.12.10").map(Some),
+        )
     } else {
         (a.word_at(3, Width::W16, false).map(Some), Some(None))
     };

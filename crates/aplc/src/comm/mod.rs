@@ -107,7 +107,7 @@ pub(crate) fn channel(a: &mut softplc_lang::compile::Args<'_, '_>, k: usize) -> 
         "0" => {
             a.error(
                 k,
-                "channel 0 is PORT0, the USB programming port (programming protocol only, L10341); use 1 (PORT1) or 2 (PORT2)",
+                "channel 0 is PORT0, the USB programming port (programming protocol only, APLC programming manual §10.1); use 1 (PORT1) or 2 (PORT2)",
             );
             None
         }
@@ -115,7 +115,7 @@ pub(crate) fn channel(a: &mut softplc_lang::compile::Args<'_, '_>, k: usize) -> 
             let t = t.to_string();
             a.error(
                 k,
-                format!("`{t}`: the channel is the constant 1 (PORT1) or 2 (PORT2) (L8071, decision D26)"),
+                format!("`{t}`: the channel is the constant 1 (PORT1) or 2 (PORT2) (APLC programming manual §6.12.1)"),
             );
             None
         }

@@ -187,14 +187,17 @@ fn compile(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         let dv = matches!(parse_device(&a.text(1).to_ascii_uppercase()), Ok(Some(d)) if d.group.is_none() && matches!(d.dev, Dev::D | Dev::V));
         if !dv {
             let t = a.text(1).to_string();
-            a.error(1, format!("`{t}`: the request buffer S2 is D or V (L8071)"));
+            a.error(
+                1,
+                format!("`{t}`: the request buffer S2 is D or V (APLC programming manual §6.12.1)"),
+            );
             None
         } else {
             let r = resolve::block(a.map(), a.text(1), false);
             resolve::ArgsExt::check(a, 1, r)
         }
     };
-    let rx = d_buffer(a, 2, "L8071");
+    let rx = d_buffer(a, 2, "APLC programming manual §6.12.1");
     let master = Master::of(a, port?);
     Some(Box::new(ModbusInstr {
         master,

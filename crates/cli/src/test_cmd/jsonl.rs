@@ -97,6 +97,29 @@ impl Line {
         }
     }
 
+    /// A line read back is one `of_outcome` or `of_error` wrote: its counts
+    /// are those of its results, and it passed when none failed. So counts
+    /// are bounded by the line's length and a total never wraps.
+    fn check(&self) -> Result<(), String> {
+        let failed = self.results.iter().filter(|r| !r.passed).count();
+        let passed = self.results.len() - failed;
+        if self.assertions != (Counts { passed, failed }) {
+            return Err(format!(
+                "assertions {{\"passed\": {}, \"failed\": {}}} are not the counts of its {} results ({passed} passed, {failed} failed)",
+                self.assertions.passed,
+                self.assertions.failed,
+                self.results.len()
+            ));
+        }
+        if self.passed != (failed == 0) {
+            return Err(format!(
+                "\"passed\": {} with {failed} failed results",
+                self.passed
+            ));
+        }
+        Ok(())
+    }
+
     /// The line as compact JSON (no newline).
     pub fn to_json(&self) -> String {
         // A struct of strings and numbers always serializes.
@@ -106,7 +129,8 @@ impl Line {
 
 /// Reads the JSON lines of `files` (blank lines skipped) and returns them
 /// sorted by scenario file. A scenario file that appears twice (overlapping
-/// shards) is an error, as is a line that is not a result line.
+/// shards) is an error, as is a line that is not a result line: counts that
+/// are not whole numbers, or not those of the line's own results.
 pub fn merge(files: &[PathBuf]) -> Result<Vec<Line>, String> {
     let mut lines = Vec::new();
     for f in files {
@@ -116,8 +140,10 @@ pub fn merge(files: &[PathBuf]) -> Result<Vec<Line>, String> {
             if l.trim().is_empty() {
                 continue;
             }
-            let line: Line = serde_json::from_str(l)
-                .map_err(|e| format!("{}:{}: not a result line: {e}", f.display(), n + 1))?;
+            let at = || format!("{}:{}", f.display(), n + 1);
+            let line: Line =
+                serde_json::from_str(l).map_err(|e| format!("{}: not a result line: {e}", at()))?;
+            line.check().map_err(|e| format!("{}: {e}", at()))?;
             lines.push(line);
         }
     }
@@ -151,8 +177,8 @@ pub fn summary(lines: &[Line]) -> (String, Counts) {
         for r in l.results.iter().filter(|r| !r.passed) {
             s += &format!("  FAIL {}: {}\n", r.text, r.detail);
         }
-        total.passed += l.assertions.passed;
-        total.failed += l.assertions.failed;
+        total.passed = total.passed.saturating_add(l.assertions.passed);
+        total.failed = total.failed.saturating_add(l.assertions.failed);
     }
     s += &format!("{} passed, {} failed\n", total.passed, total.failed);
     (s, total)
@@ -230,6 +256,25 @@ mod tests {
         .unwrap();
         let err = merge(&[bad]).unwrap_err();
         assert!(err.contains("bad.jsonl:2: not a result line"), "{err}");
+        let mut huge = line("y.toml", 1, 1);
+        huge.assertions.failed = usize::MAX;
+        let wrapped = dir.path().join("wrapped.jsonl");
+        std::fs::write(
+            &wrapped,
+            format!("{}\n{}\n", line("x.toml", 1, 0).to_json(), huge.to_json()),
+        )
+        .unwrap();
+        let err = merge(&[wrapped]).unwrap_err();
+        assert!(err.contains("wrapped.jsonl:2: assertions"), "{err}");
+        let mut liar = line("y.toml", 1, 1);
+        liar.passed = true;
+        let lying = dir.path().join("lying.jsonl");
+        std::fs::write(&lying, liar.to_json()).unwrap();
+        let err = merge(&[lying]).unwrap_err();
+        assert!(
+            err.contains("lying.jsonl:1: \"passed\": true with 1 failed"),
+            "{err}"
+        );
         let err = merge(&[dir.path().join("missing.jsonl")]).unwrap_err();
         assert!(err.contains("missing.jsonl: cannot read"), "{err}");
     }

@@ -28,7 +28,10 @@ pub(crate) fn configure(
     let limit = std::time::Duration::from_millis(1000);
     if config.watchdog > limit {
         let at = key("watchdog").unwrap_or(0..0);
-        cx.error(&at, "watchdog: APLC-TCP allows 0-1000 ms (L1103)");
+        cx.error(
+            &at,
+            "watchdog: APLC-TCP allows 0-1000 ms (APLC programming manual §2.2.1)",
+        );
     }
     config.watchdog = config.watchdog.max(std::time::Duration::from_millis(100));
     if let Some(cs) = config.constant_scan {
@@ -36,7 +39,7 @@ pub(crate) fn configure(
             let at = key("constant_scan").unwrap_or(0..0);
             cx.error(
                 &at,
-                "constant_scan: APLC-TCP allows 0-1000 ms, not above the watchdog (L953)",
+                "constant_scan: APLC-TCP allows 0-1000 ms, not above the watchdog (APLC programming manual §2.1.4)",
             );
         }
     }
@@ -47,7 +50,7 @@ pub(crate) fn configure(
     config.latch = Vec::new();
     for e in top {
         let why = match e.key.as_str() {
-            "latch" => "APLC-TCP has no power-loss retention (L983, decision D5)",
+            "latch" => "APLC-TCP has no power-loss retention (APLC programming manual §2.1.7)",
             "interrupts" | "devices" | "timers" => "it is MELSEC-only",
             _ => continue,
         };

@@ -43,7 +43,8 @@ pub(crate) fn process(
                 cx.error(
                     &e.item.span,
                     "detail_codes = false: the manual describes no other assignment of the \
-                     SD1502 detail codes (DEC-36), so only true is accepted",
+                     SD1502 detail codes (Process Control Instructions manual §2.2.5, \
+                     chapter 14), so only true is accepted",
                 );
                 continue;
             }

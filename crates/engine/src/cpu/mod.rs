@@ -277,6 +277,8 @@ impl Cpu {
             compile: t.elapsed(),
             ops: self.programs.iter().map(|p| p.ops.len()).sum(),
             native_ops: natives.iter().map(|n| n.native_ops()).sum(),
+            short_run_ops: natives.iter().map(|n| n.short_run_ops()).sum(),
+            min_run: tier.min_run(),
         };
         self.natives = natives;
         Ok(self.tier_stats.insert(stats))

@@ -24,27 +24,37 @@ use std::path::Path;
 use softplc_aplc::pou::{Pou, PouKind};
 
 use super::build::{Builder, Notes};
-use super::{LadderProgram, Names, Section};
+use super::{LadderProgram, Names, Section, Wide};
 
 /// Reads and lays out an `.apl` file (any file name).
 pub fn from_file(path: &Path) -> Result<LadderProgram, String> {
+    from_file_wide(path, Wide::default())
+}
+
+/// [`from_file`] showing the operands of `wide` (the compiled program's
+/// 32-bit and real devices) as whole values.
+pub fn from_file_wide(path: &Path, wide: Wide) -> Result<LadderProgram, String> {
     let name = path.display().to_string();
     let bytes = softplc_core::program::read_limited(
         path,
         softplc_core::program::MAX_IL_BYTES,
         "a program file",
     )?;
-    from_bytes(&name, &bytes)
+    layout(&name, &bytes, wide)
 }
 
 /// Lays out `.apl` text (UTF-8 or GB18030 bytes) read from `name`.
 pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<LadderProgram, String> {
+    layout(name, bytes, Wide::default())
+}
+
+fn layout(name: &str, bytes: &[u8], wide: Wide) -> Result<LadderProgram, String> {
     let outline = softplc_aplc::outline(name, bytes).map_err(|d| {
         d.0.first()
             .map_or_else(|| "cannot parse".to_string(), |d| d.to_string())
     })?;
     let unit = &outline.unit;
-    let mut b = Builder::new(Names::new(softplc_core::profile::aplc(), true));
+    let mut b = Builder::new(Names::new(softplc_core::profile::aplc(), true)).with_wide(wide);
     let mut sections = Vec::new();
     let mut loops = Vec::new();
     for pou in &unit.pous {

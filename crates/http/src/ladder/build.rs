@@ -10,7 +10,7 @@
 use softplc_ir::listing::{CoilRole, Entry, Link, Listed, Role, Test};
 use softplc_ir::ops::Join;
 
-use super::{Elem, Kind, Names};
+use super::{Elem, Kind, Names, Wide};
 
 /// Contacts in series and parallel.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -140,6 +140,8 @@ pub(crate) struct Builder {
     next_id: u32,
     /// The step box drawn last, while SFC steps follow each other (a merge).
     step: Option<usize>,
+    /// The program's 32-bit and real devices.
+    wide: Wide,
 }
 
 impl Builder {
@@ -150,6 +152,12 @@ impl Builder {
         };
         b.start();
         b
+    }
+
+    /// Shows the operands of `wide` as whole values.
+    pub(crate) fn with_wide(mut self, wide: Wide) -> Builder {
+        self.wide = wide;
+        self
     }
 
     /// Rungs built so far (the one being built ends first).
@@ -273,6 +281,7 @@ impl Builder {
             names: self.names,
             aliases: notes.aliases,
             params: notes.params,
+            wide: l.operands.iter().map(|o| self.wide.get(o)).collect(),
         }
     }
 
@@ -421,7 +430,12 @@ fn take(fans: &mut Vec<FanB>, i: usize) -> Fan {
 
 /// The rungs of a program's listing (MELSEC names).
 pub fn build(entries: &[Entry]) -> Vec<Rung> {
-    let mut b = Builder::new(Names::default());
+    build_wide(entries, Wide::default())
+}
+
+/// [`build`] showing the operands of `wide` as whole values.
+pub fn build_wide(entries: &[Entry], wide: Wide) -> Vec<Rung> {
+    let mut b = Builder::new(Names::default()).with_wide(wide);
     for e in entries {
         b.entry(e);
     }

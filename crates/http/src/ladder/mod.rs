@@ -147,6 +147,9 @@ pub struct Elem {
     pub aliases: Vec<String>,
     /// A CALL's parameter names, in operand order from the second operand.
     pub params: Vec<String>,
+    /// Per operand, its width when the program uses that device only as a
+    /// 32-bit or real value ([`Wide`]); `None` for a word, a bit, a constant.
+    pub wide: Vec<Option<Num>>,
 }
 
 impl Elem {
@@ -208,7 +211,12 @@ impl Elem {
             ValueType::Bit => self.names.current_value(d)?,
             _ => d.clone(),
         };
-        Some(match self.compare_type() {
+        let wide = match self.wide.get(k).copied().flatten() {
+            Some(Num::I32) => Some("i32"),
+            Some(Num::F32) => Some("f32"),
+            _ => None,
+        };
+        Some(match self.compare_type().or(wide) {
             Some(t) if !name.contains(':') => format!("{name}:{t}"),
             _ => name,
         })
@@ -240,6 +248,48 @@ impl Elem {
     }
 }
 
+/// The devices a program uses as one 32-bit or real value
+/// (`Program::used_devices`, recorded as the compiler resolved each operand:
+/// EMOV's D0 is a real, DMOV's an integer of two words), so that a box shows
+/// the whole value rather than its first word. A device the program also
+/// uses with another width is left out: which one an instruction means is not
+/// recorded per instruction.
+#[derive(Clone, Debug, Default)]
+pub struct Wide(Vec<(String, Num)>);
+
+impl Wide {
+    pub fn of(p: &Program) -> Wide {
+        let mut wide: Vec<(String, Num)> = Vec::new();
+        let mut mixed: Vec<&str> = Vec::new();
+        for (name, how) in &p.used_devices {
+            let num = match how {
+                softplc_ir::ops::DeviceUse::Word(n) => Some(*n),
+                softplc_ir::ops::DeviceUse::Bit => None,
+            };
+            match (num, wide.iter().position(|(d, _)| d == name)) {
+                (Some(n @ (Num::I32 | Num::F32)), None) if !mixed.contains(&name.as_str()) => {
+                    wide.push((name.clone(), n))
+                }
+                (Some(n), Some(i)) if wide[i].1 == n => {}
+                (_, Some(i)) => {
+                    wide.swap_remove(i);
+                    mixed.push(name);
+                }
+                (_, None) => mixed.push(name),
+            }
+        }
+        Wide(wide)
+    }
+
+    /// The width of operand `name`, if the program uses it only that way.
+    pub fn get(&self, name: &str) -> Option<Num> {
+        self.0
+            .iter()
+            .find(|(d, _)| d.eq_ignore_ascii_case(name))
+            .map(|(_, n)| *n)
+    }
+}
+
 /// A POU of an APLC program: its rungs from `first` to the next section.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Section {
@@ -268,7 +318,12 @@ pub struct LadderProgram {
 impl LadderProgram {
     /// Lays out a compiled program from its listing.
     pub fn from_program(p: &Program) -> LadderProgram {
-        LadderProgram::from_listing(&p.file, &p.listing)
+        LadderProgram {
+            file: p.file.to_string(),
+            rungs: build::build_wide(&p.listing.entries, Wide::of(p)),
+            loops: p.listing.loops.clone(),
+            ..LadderProgram::default()
+        }
     }
 
     /// Lays out a listing (MELSEC names) read from `file`.
@@ -358,7 +413,7 @@ pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
             if format == SourceFormat::InstructionList {
                 return LadderProgram::from_program(p);
             }
-            aplc::from_file(Path::new(&p.file)).unwrap_or_else(|e| {
+            aplc::from_file_wide(Path::new(&p.file), Wide::of(p)).unwrap_or_else(|e| {
                 eprintln!("softplc: --http: no ladder for {}: {e}", p.file);
                 LadderProgram {
                     file: p.file.clone(),

@@ -342,3 +342,36 @@ fn a_loaded_program_draws_from_its_listing_as_its_source_does() {
     assert_eq!(draw(&from_program), draw(&from_source));
     assert_eq!(from_program.rungs[2].label.as_deref(), Some("P10"));
 }
+
+#[test]
+fn a_box_shows_32_bit_and_real_operands_whole() {
+    // EMOV E1.5 D0 writes D0-D1 as a real (Programming Manual §6.4): its
+    // box shows D0:f32 (1.5), not D0's low word;
+    // DMOV's 32-bit destination D10:i32. A device the program also uses as
+    // a word (D20) stays a word: its width is not one.
+    let src = "LD SM400\nEMOV E1.5 D0\nDMOV K100000 D10\nDMOV D20 D30\nMOV D20 D40\nEND\n";
+    let program = softplc_core::program::compile_il(
+        "t.il",
+        src,
+        &softplc_core::device::DeviceConfig::default(),
+    )
+    .unwrap();
+    let p = LadderProgram::from_program(&program);
+    let mut values = Vec::new();
+    for r in &p.rungs {
+        r.for_each(&mut |e| {
+            if e.kind == super::Kind::Box {
+                values.push(e.values());
+            }
+        });
+    }
+    assert_eq!(
+        values,
+        [
+            vec!["D0:f32".to_string()],
+            vec!["D10:i32".to_string()],
+            vec!["D20".to_string(), "D30:i32".to_string()],
+            vec!["D20".to_string(), "D40".to_string()],
+        ]
+    );
+}

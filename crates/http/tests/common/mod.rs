@@ -36,6 +36,11 @@ pub fn start(token: Option<&str>) -> Server {
 }
 
 pub fn start_program(src: &str, token: Option<&str>) -> Server {
+    start_limited(src, token, Default::default())
+}
+
+/// A server of `src` whose door has `limits`.
+pub fn start_limited(src: &str, token: Option<&str>, limits: softplc_http::door::Limits) -> Server {
     let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
     let source = softplc_core::program::il::parse_il("main.il", src).unwrap();
     let cpu = Cpu::new(
@@ -47,6 +52,7 @@ pub fn start_program(src: &str, token: Option<&str>) -> Server {
         token: token.map(str::to_string),
         model: "Q06HCPU".into(),
         ladder: vec![softplc_http::ladder::LadderProgram::from_source(&source)],
+        limits,
     };
     start_cpu(cpu, cfg)
 }

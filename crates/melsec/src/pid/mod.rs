@@ -162,7 +162,7 @@ pub static DEFS: &[Def] = &[
     Def::app("PIDPRMW", &COMPLETE, |a| PidPrmw::compile(a, COMP)),
     Def::rejected(
         "PID57",
-        "PID57 needs an AD57(S1) CRT controller module (QnACPU only, 001 §9.1.3), which \
+        "PID57 needs an AD57(S1) CRT controller module (QnACPU only, PID Control Instructions manual §9.1.3), which \
          softplc does not emulate; read SV/PV/MV from the PIDCONT I/O data instead",
     ),
 ];

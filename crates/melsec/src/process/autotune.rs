@@ -151,7 +151,8 @@ impl At1 {
             a.error(
                 0,
                 "S.AT1: at1_bb1_or = false asks for a BB1 the manual does not describe \
-                 (000 §13.1 L22749 names BB1 \"alarm\" only); only DEC-35 is implemented",
+                 (Process Control Instructions manual §13.1 names BB1 \"alarm\" only); only \
+                 BB1 = BB2 ∨ … ∨ BB8 is implemented",
             );
             return None;
         }

@@ -53,5 +53,6 @@ pub static FAMILIES: &[&[Def]] = &[
 pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
 
 /// Why a non-process CPU rejects them.
-pub const NEEDS_PROCESS_CPU: &str = "a process-control instruction (000): it needs a process CPU \
+pub const NEEDS_PROCESS_CPU: &str = "a process-control instruction (QnPHCPU/QnPRHCPU Programming \
+     Manual (Process Control Instructions)): it needs a process CPU \
      ([cpu] model = \"Q02PHCPU\", \"Q06PHCPU\", \"Q12PHCPU\" or \"Q25PHCPU\", or --model)";

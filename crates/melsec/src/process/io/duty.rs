@@ -51,7 +51,7 @@ impl Duty {
             a.error(
                 usize::MAX,
                 "S.DUTY: `duty_on_count_rounds = false` has no described alternative \
-                 (000 §8.5 L5938-5941 rounds the ON counter; spec DEC-12)",
+                 (Process Control Instructions manual §8.5 rounds the ON counter)",
             );
             return None;
         }

@@ -172,8 +172,8 @@ impl Velocity {
             a.error(
                 0,
                 "S.BPI: bpi_reconstructed = false asks for a form of the blend PI the manual's \
-                 text does not give (its formula is lost, 000 §9.6 L12140-12160); only the \
-                 reconstructed form (DEC-16) is implemented",
+                 text does not give (its formula is lost, Process Control Instructions manual \
+                 §9.6); only the reconstructed form is implemented",
             );
             return None;
         }

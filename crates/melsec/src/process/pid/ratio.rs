@@ -69,8 +69,8 @@ impl Ratio {
             a.error(
                 0,
                 "S.R: ratio_reconstructed = false asks for a ratio formula the manual's text \
-                 does not give (000 §9.7 L12700-12710 is garbled); only DEC-17's form is \
-                 implemented",
+                 does not give (Process Control Instructions manual §9.7: it is garbled); only \
+                 the reconstructed BW = E1·(Rn − RMIN)/(RMAX − RMIN) + BIAS is implemented",
             );
             return None;
         }
