@@ -16,7 +16,7 @@
 #![deny(unsafe_code)]
 
 pub use softplc_engine as engine;
-pub use softplc_ir::{access, device};
+pub use softplc_ir::{access, device, rack};
 pub use softplc_melsec as instructions;
 
 pub mod aplc;

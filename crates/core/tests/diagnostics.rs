@@ -60,12 +60,13 @@ fn unsupported_but_known_instruction() {
     // Its pulse form too.
     let d = one("LD X0\nPLOADP \"A.QPG\"\nEND\n");
     assert_diag(&d, "2:1", &["unsupported", "PLOADP"]);
-    // Instructions for intelligent modules say so.
-    let d = one("LD X0\nFROM H0 K0 D0 K1\nEND\n");
+    // Instructions for intelligent modules softplc does not implement say so
+    // (FROM/TO work on the rack's buffer memory: golden_rack.rs).
+    let d = one("LD X0\nUNIRD H0 K0 D0 K1\nEND\n");
     assert_diag(
         &d,
         "2:1",
-        &["unsupported", "`FROM`", "intelligent function module"],
+        &["unsupported", "`UNIRD`", "intelligent function module"],
     );
 }
 
@@ -322,9 +323,12 @@ fn interrupt_label_rules() {
     // An interrupt program must follow FEND.
     let d = one("I28\nLD X0\nOUT Y0\nEND\n");
     assert_diag(&d, "1:1", &["I28", "must follow FEND"]);
-    // Error interrupts are not implemented; I33 and I40-I49 do not exist as causes.
-    let d = one("FEND\nI32\nIRET\nEND\n");
-    assert_diag(&d, "2:1", &["unsupported", "I32"]);
+    // I33, I37 and I40-I49 have no interrupt cause (004 App. 3); I32-I39
+    // are error interrupts (golden_rack_interrupts.rs).
+    let d = one("FEND\nI33\nIRET\nEND\n");
+    assert_diag(&d, "2:1", &["not used", "I33"]);
+    let d = one("FEND\nI32\nIRET\nI45\nIRET\nEND\n");
+    assert_diag(&d, "4:1", &["not used", "I45"]);
     // Each interrupt pointer once.
     let d = one("FEND\nI29\nIRET\nI29\nIRET\nEND\n");
     assert_diag(&d, "4:1", &["duplicate interrupt pointer `I29`", "line 2"]);

@@ -119,3 +119,49 @@ fn direct_output() {
     p.set("X0", "1").scan();
     assert!(p.bit("Y20") && p.bit("M0"));
 }
+
+/// Names from outside (`--set`/`--show`, scenarios, HTTP): a unit with no
+/// module and an address past the module's words are errors naming them.
+#[test]
+fn buffer_memory_names_from_outside() {
+    use softplc_core::access::DeviceSpec;
+    let p = rack("END\n");
+    let read = |s: &str| p.cpu.read_device(&DeviceSpec::parse(s).unwrap());
+    assert_eq!(
+        read("U9\\G0").unwrap_err(),
+        "`U9\\G0`: no intelligent function module has unit number 9 (start I/O number 90)"
+    );
+    assert_eq!(
+        read("U3\\G100").unwrap_err(),
+        "`U3\\G100`: past the module's buffer memory (G0-G99)"
+    );
+    assert_eq!(
+        read("U3\\G99:i32").unwrap_err(),
+        "`U3\\G99:i32`: past the module's buffer memory (G0-G99)"
+    );
+    assert!(read("U3\\G98:i32").is_ok());
+}
+
+/// Device initial values reach buffer memory at power-on and STOP→RUN, and
+/// the auto refresh copies at END: CPU → module before the module runs,
+/// module → CPU after (004 ch. 8, L5440-5462).
+#[test]
+fn initial_values_and_auto_refresh() {
+    let toml = "[[program]]\nfile = \"main.il\"\n\
+        [[slot]]\ntype = \"intelligent\"\nbuffer_words = 20\n\
+        refresh = [{ buffer = 10, to = \"D100\", words = 2 }, { buffer = 0, from = \"W10\", words = 3 }]\n\
+        [initial]\n\"U0\\\\G5\" = 77\n";
+    let mut p = Plc::project(
+        toml,
+        &[("main.il", "LD SM400\nMOVP K9 W11\nMOV U0\\G5 D0\nEND\n")],
+    );
+    p.set("U0\\G10", "4").set("U0\\G11", "-2");
+    p.scan();
+    assert_eq!(p.int("D0"), 77, "the initial value was written at power-on");
+    // END of scan 1: W10-W12 → G0-G2, then G10-G11 → D100-D101.
+    assert_eq!(p.int("U0\\G1"), 9);
+    assert_eq!((p.int("D100"), p.int("D101")), (4, -2));
+    // A program write to G10 reaches D100 at the same END.
+    p.set("U0\\G10", "5").scan();
+    assert_eq!(p.int("D100"), 5);
+}

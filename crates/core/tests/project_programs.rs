@@ -43,7 +43,7 @@ fn interrupt_periods() {
     );
     assert_eq!(
         error(&with_main("[interrupts]\nperiod = \"10ms\"\n")),
-        "2:1: unknown key \"period\" in [interrupts] (expected I28, I29, I30, I31)"
+        "2:1: unknown key \"period\" in [interrupts] (expected I28, I29, I30, I31, counter_start)"
     );
 }
 
@@ -240,7 +240,7 @@ fn initial_values() {
 fn initial_value_devices() {
     assert_eq!(
         error(&with_main("[initial]\n\"M0\" = 1\n")),
-        "2:1: M cannot have an initial value; initial values are for TN, STN, CN (current values), D, SD, W, SW, R, ZR"
+        "2:1: M cannot have an initial value; initial values are for TN, STN, CN (current values), D, SD, W, SW, R, ZR and buffer memory U\\G"
     );
     assert_eq!(
         error(&with_main("[initial]\n\"T0\" = 5\n")),
@@ -248,7 +248,7 @@ fn initial_value_devices() {
     );
     assert_eq!(
         error(&with_main("[initial]\n\"D0.3\" = 1\n")),
-        "2:1: \"D0.3\" is a bit operand; initial values are set for word devices (TN, STN, CN (current values), D, SD, W, SW, R, ZR)"
+        "2:1: \"D0.3\" is a bit operand; initial values are set for word devices (TN, STN, CN (current values), D, SD, W, SW, R, ZR and buffer memory U\\G)"
     );
     assert_eq!(
         error(&with_main("[initial]\n\"D0Z1\" = 1\n")),

@@ -129,6 +129,9 @@ pub struct CpuConfig {
     pub latch: Vec<LatchRange>,
     /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
     pub interrupt_periods: [Duration; 4],
+    /// Interrupt counters: the counter numbers that count I0, I1 … I255
+    /// from this first one (004 L6600-6645); `None`: none.
+    pub interrupt_counters: Option<u32>,
     pub initial_values: Vec<InitialValue>,
     /// The family's system devices and error numbering (the profile's
     /// default, or one built with the project's parameters).
@@ -173,6 +176,7 @@ impl CpuConfig {
                 Duration::from_millis(20),
                 Duration::from_millis(10),
             ],
+            interrupt_counters: None,
             initial_values: Vec::new(),
             system: (profile.default_system)(),
             rack: Default::default(),
@@ -210,6 +214,10 @@ pub(crate) struct Runtime {
     pub history: std::collections::VecDeque<HistoryEntry>,
     /// An interrupt program is running (IRET ends it).
     pub in_interrupt: bool,
+    /// Interrupt pointers requested and not yet run.
+    pub requests: cpu::Requests,
+    /// The error interrupt of a stop error, to run before the CPU stops.
+    pub stop_interrupt: Option<u32>,
     /// What CPU-function instructions change: the watchdog start, the
     /// interrupt enable and mask, execution-type requests, the trace
     /// requests, the timers' remainders.
@@ -242,13 +250,17 @@ impl Runtime {
     pub(crate) fn record_fault(&mut self, prog: &Program, fault: Fault, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
-        match self.record(fault, Some(file), step, line, None) {
-            None => false,
-            Some(code) => match self.severity(code) {
-                Severity::Stop => true,
-                Severity::Continue => false,
-                Severity::Operation => self.operation_error == ErrorMode::Stop,
-            },
+        self.record(fault, Some(file), step, line, None)
+            .is_some_and(|code| self.stops(code))
+    }
+
+    /// Error `code` stops the CPU (its severity, for an operation error
+    /// the "operation error" parameter).
+    fn stops(&self, code: ErrorCode) -> bool {
+        match self.severity(code) {
+            Severity::Stop => true,
+            Severity::Continue => false,
+            Severity::Operation => self.operation_error == ErrorMode::Stop,
         }
     }
 
@@ -292,7 +304,30 @@ impl Runtime {
             time: now.to_unix(),
             detail: detail.or(step),
         });
+        self.error_interrupt(code);
         Some(code)
+    }
+
+    /// Requests the error interrupt of error `code` (004 §7.15.1): the
+    /// family names the pointer; it is taken only when EI and IMASK enable
+    /// it as the error occurs, else it is lost (QCPU User's Manual
+    /// (Function Explanation, Program Fundamentals) §3.1.3: error causes
+    /// while disabled are discarded). A stop error's runs before the CPU
+    /// stops, the others at the next interrupt service.
+    fn error_interrupt(&mut self, code: ErrorCode) {
+        let stops = self.stops(code);
+        let Some(n) = self.system.error_interrupt(code, stops) else {
+            return;
+        };
+        let n_ok = (n as usize) < softplc_ir::cpu::INTERRUPTS;
+        if !n_ok || !self.cpu.interrupt_enabled(n as usize) {
+            return;
+        }
+        if stops {
+            self.stop_interrupt = Some(n);
+        } else {
+            self.requests.set(n);
+        }
     }
 
     /// Input refresh: the input image into X, forced inputs kept forced

@@ -65,6 +65,21 @@ pub struct Slot {
     /// intelligent function module's interrupt pointer setting, I50-I255):
     /// `(cause, pointer)`.
     pub interrupts: Vec<(u32, u32)>,
+    /// Auto refresh between its buffer memory and CPU devices at END (the
+    /// intelligent function module's auto refresh setting, 004 ch. 8).
+    pub refresh: Vec<AutoRefresh>,
+}
+
+/// One auto-refresh setting: `words` words between buffer-memory address
+/// `buffer` and the CPU's word device `device` number `number`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AutoRefresh {
+    pub buffer: u32,
+    pub device: crate::device::DeviceKind,
+    pub number: u32,
+    pub words: u32,
+    /// Module → CPU (`to = "D100"`); else CPU → module (`from = "D200"`).
+    pub to_cpu: bool,
 }
 
 impl Slot {

@@ -120,6 +120,18 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn interrupt_mask(&self) -> [u16; crate::cpu::INTERRUPTS / 16] {
         [0xFFFF; crate::cpu::INTERRUPTS / 16]
     }
+    /// The interrupt pointers in priority order, highest first; a pointer
+    /// not listed never runs. Default: none (a family whose programs have
+    /// no interrupt pointers of the engine's).
+    fn interrupt_priority(&self) -> &'static [u8] {
+        &[]
+    }
+    /// The error interrupt pointer error `code` requests: the one of a stop
+    /// error when `stops`, else that of its error class; `None` for no
+    /// error interrupt.
+    fn error_interrupt(&self, _code: ErrorCode, _stops: bool) -> Option<u32> {
+        None
+    }
     /// Power-on (and RESET, remote latch clear) values of the system devices.
     fn power_on(&self, mem: &mut DeviceMemory);
     /// Right after the device initial values were written (power-on, RESET,

@@ -11,6 +11,7 @@ use super::source::{Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, To
 use softplc_ir::device::{DeviceConfig, DeviceMap};
 use softplc_ir::listing::{Entry, Listed, Listing, LoopUse, Role};
 use softplc_ir::ops::*;
+use softplc_ir::rack::Rack;
 
 pub use super::args::Args;
 pub use softplc_ir::ops::{BitBlock, Block, MAX_NESTING};
@@ -233,7 +234,11 @@ impl<'a> Compiler<'a> {
         self.after_output = true;
     }
 
-    /// An interrupt pointer `In` (004 §4.1.3): it must follow FEND, each number once.
+    /// An interrupt pointer `In` (004 §4.1.3, App. 3): it must follow FEND,
+    /// each number once. I28-I31 and I32-I39 (not I33, I37) are the CPU's
+    /// own; any other only when a slot of the rack raises it — the rack is
+    /// the `Arc<Rack>` of the dialect's settings (none: no slot), so that no
+    /// pointer whose cause cannot occur is accepted in silence.
     pub fn interrupt_label(&mut self, tok: &Token, text: &str, n: u32) {
         if n > 255 {
             return self.err(
@@ -241,10 +246,22 @@ impl<'a> Compiler<'a> {
                 format!("interrupt pointer `{text}` is out of range (I0-I255)"),
             );
         }
-        if (32..=49).contains(&n) {
+        if matches!(n, 33 | 37 | 40..=49) {
             return self.err(
                 tok,
-                format!("unsupported: `{text}` (error interrupts I32-I39 are not implemented; I33, I37 and I40-I49 are not used)"),
+                format!("interrupt pointer `{text}` is not used by the CPU (I33, I37 and I40-I49 have no interrupt cause)"),
+            );
+        }
+        // I28-I31 are the CPU's timers and I32-I39 its errors; a module's
+        // pointer only when a slot of the rack raises it (004 App. 3).
+        let rack = self.dialect.settings.get::<std::sync::Arc<Rack>>();
+        if !(28..=39).contains(&n) && !rack.is_some_and(|r| r.raises(n)) {
+            return self.err(
+                tok,
+                format!(
+                    "interrupt pointer {text}: no slot raises it (an interrupt module (QI60) raises I0-I15; \
+                     intelligent modules raise I50-I255 as their slot's interrupts = {{ 0 = \"I50\" }} sets)"
+                ),
             );
         }
         if !self.fend_seen {

@@ -252,35 +252,36 @@ impl Compiler<'_> {
                 self.err(tok, format!("`{}`: timer and counter contacts and coils are driven by `OUT {}` with a set value", tok.text, tok.text));
                 return None;
             }
-            // `DY<n>`: the output module and Y<n> at once (004 L6134-6150).
-            // The simulated output module is Y's device memory, so the
-            // coil writes Y.
-            if dev.reach == Reach::Direct && dev.kind == DeviceKind::Y {
-                if dev.number >= self.map.points(DeviceKind::Y) {
-                    self.range_err(tok, DeviceKind::Y, dev.number, &tok.text);
-                    return None;
-                }
-                self.note_use(tok, DeviceUse::Bit);
-                return Some(BitArg::Bit(self.map.base(DeviceKind::Y) + dev.number));
-            }
         }
-        self.bit_operand(tok)
+        // `DY<n>`: the output module and Y<n> at once (004 L6134-6150). The
+        // simulated output module is Y's device memory, so the coil writes Y.
+        self.direct(tok, DeviceKind::Y)
+            .unwrap_or_else(|| self.bit_operand(tok))
     }
 
     /// A contact's operand: a bit operand, or a direct input `DX<n>`, which
     /// reads X<n> after `Op::DirectIn` has refreshed it.
     pub fn contact_operand(&mut self, tok: &Token) -> Option<BitArg> {
-        if let Ok(Operand::Device { dev, .. }) = parse_operand_in(self.dialect.devices, &tok.text) {
-            if dev.reach == Reach::Direct && dev.kind == DeviceKind::X {
-                if dev.number >= self.map.points(DeviceKind::X) {
-                    self.range_err(tok, DeviceKind::X, dev.number, &tok.text);
-                    return None;
-                }
-                self.note_use(tok, DeviceUse::Bit);
-                return Some(BitArg::Bit(self.map.base(DeviceKind::X) + dev.number));
-            }
+        self.direct(tok, DeviceKind::X)
+            .unwrap_or_else(|| self.bit_operand(tok))
+    }
+
+    /// `tok` as direct access to `kind` (`DX<n>`, `DY<n>`): `None` when it
+    /// is not, else the X/Y bit (`Some(None)` after an error).
+    fn direct(&mut self, tok: &Token, kind: DeviceKind) -> Option<Option<BitArg>> {
+        let Ok(Operand::Device { dev, .. }) = parse_operand_in(self.dialect.devices, &tok.text)
+        else {
+            return None;
+        };
+        if dev.reach != Reach::Direct || dev.kind != kind {
+            return None;
         }
-        self.bit_operand(tok)
+        if dev.number >= self.map.points(kind) {
+            self.range_err(tok, kind, dev.number, &tok.text);
+            return Some(None);
+        }
+        self.note_use(tok, DeviceUse::Bit);
+        Some(Some(BitArg::Bit(self.map.base(kind) + dev.number)))
     }
 
     pub fn edge_relay(&mut self, tok: &Token) -> Option<u32> {

@@ -49,7 +49,7 @@ static BRANCH: Doc = Doc {
 static INTERRUPTS: Doc = Doc {
     family: "interrupt control",
     cite: "PM §6.7; 004 §4.1.3",
-    notes: "I28-I31 fixed-cycle interrupts; I32-I49 rejected; EI/DI without a contact (opening a rung or after an output) run at every scan, after contacts while the condition is ON",
+    notes: "I28-I31 fixed-cycle, I0-I15 from a QI60 slot, I50-I255 from intelligent modules' slot settings (else a load error), I32-I39 error interrupts (enabled by IMASK); App. 3 priorities; I33, I37, I40-I49 rejected; EI/DI without a contact (opening a rung or after an output) run at every scan, after contacts while the condition is ON",
 };
 static SUBROUTINES: Doc = Doc {
     family: "subroutine",
@@ -241,7 +241,9 @@ fn imask(c: &mut Compiler<'_>, u: &Use<'_>) {
 
 /// PM §6.7 IMASK `S`: 16 words of enable bits for I0-I255 (one bit per
 /// pointer, I0 in bit 0 of S), mirrored in SD715-SD717 and SD781-SD793. An
-/// index-modified or digit-specified S is a range error.
+/// index-modified or digit-specified S is a range error. The error
+/// interrupts I32-I39 stay disabled from power-on and RESET until IMASK
+/// enables them (004 L5019-5021, L10902-10904); the others only need EI.
 #[derive(Debug)]
 struct Imask {
     s: WordArg,

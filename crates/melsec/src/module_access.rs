@@ -31,63 +31,77 @@ static MODULE: Doc = Doc {
     notes: "buffer memory of the rack's intelligent slots ([[slot]]); no module → 2110, past the buffer memory or the device → 4101; n3 = 0 does nothing",
 };
 
-/// The words `words` from address `addr` of unit `unit`'s buffer memory, as
-/// a flat word index (2110 without a module, 4101 past its end).
-#[inline]
-fn buffer(mem: &DeviceMemory, unit: u16, addr: u16, words: u32) -> Result<usize, Fault> {
-    let w = mem.map.unit(unit as u32).ok_or(Fault::NoModule)?;
-    if addr as u32 + words > w.words {
-        return Err(Fault::Range);
-    }
-    Ok((mem.map.base(DeviceKind::G) + w.first + addr as u32) as usize)
+/// The buffer memory an instruction moves: `n1 n2 … n3` — module,
+/// address and count (of 32-bit values for DFRO/DTO).
+#[derive(Debug)]
+struct Buffer {
+    unit: WordArg,
+    addr: WordArg,
+    n: WordArg,
+    /// Words per counted value: 1, or 2 for DFRO/DTO.
+    per: u32,
 }
 
-/// Reads `n3` and returns the words it moves (`None` for 0; a negative
-/// count is 4101, as the block instructions do).
-#[inline]
-fn words(mem: &DeviceMemory, n: &WordArg, per: u32) -> Result<Option<u32>, Fault> {
-    super::transfer::count(mem, n).map(|n| n.map(|n| n * per))
+impl Buffer {
+    /// Operands 0 (n1), 1 (n2) and 3 (n3) of a four-operand instruction.
+    fn compile(a: &mut Args<'_, '_>, per: u32) -> Option<Buffer> {
+        let unit = a.word_src(0, Num::I16);
+        let addr = a.word_src(1, Num::I16);
+        let n = a.word_src(3, Num::I16);
+        Some(Buffer {
+            unit: unit?,
+            addr: addr?,
+            n: n?,
+            per,
+        })
+    }
+
+    /// The flat word index of the first word and the words moved (`None`
+    /// for n3 = 0; a negative n3 is 4101 as in the block instructions): no
+    /// module is 2110, a transfer past its buffer memory 4101.
+    #[inline]
+    fn resolve(&self, mem: &DeviceMemory) -> Result<Option<(usize, usize)>, Fault> {
+        let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
+        let Some(n) = super::transfer::count(mem, &self.n)? else {
+            return Ok(None);
+        };
+        let words = n * self.per;
+        let w = mem.map.unit(unit as u32).ok_or(Fault::NoModule)?;
+        if addr as u32 + words > w.words {
+            return Err(Fault::Range);
+        }
+        let g = mem.map.base(DeviceKind::G) + w.first + addr as u32;
+        Ok(Some((g as usize, words as usize)))
+    }
 }
 
 /// FROM(P) `n1 n2 D n3` / DFRO(P): reads n3 words (DFRO: 2·n3) of buffer
 /// memory from address n2 of module n1 into the devices from D.
 #[derive(Debug)]
 struct From {
-    unit: WordArg,
-    addr: WordArg,
+    buffer: Buffer,
     d: WordBlock,
-    n: WordArg,
-    per: u32,
 }
 
 fn from(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
     if !a.count(&[4]) {
         return None;
     }
-    let unit = a.word_src(0, Num::I16);
-    let addr = a.word_src(1, Num::I16);
+    let buffer = Buffer::compile(a, per);
     let d = WordBlock::compile(a, 2);
-    let n = a.word_src(3, Num::I16);
     Some(Box::new(From {
-        unit: unit?,
-        addr: addr?,
+        buffer: buffer?,
         d: d?,
-        n: n?,
-        per,
     }))
 }
 
 impl Instr for From {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let mem = &mut *cx.mem;
-        let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
-        let Some(n) = words(mem, &self.n, self.per)? else {
+        let Some((g, n)) = self.buffer.resolve(mem)? else {
             return Ok(());
         };
-        let g = buffer(mem, unit, addr, n)?;
-        let d = self.d.resolve(mem, n)?;
-        let n = n as usize;
-        match d {
+        match self.d.resolve(mem, n as u32)? {
             Loc::Word(d) => mem.words.copy_within(g..g + n, d),
             d => {
                 for k in 0..n {
@@ -113,19 +127,15 @@ enum Source {
 /// each of them.
 #[derive(Debug)]
 struct To {
-    unit: WordArg,
-    addr: WordArg,
+    buffer: Buffer,
     s: Source,
-    n: WordArg,
-    per: u32,
 }
 
 fn to(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
     if !a.count(&[4]) {
         return None;
     }
-    let unit = a.word_src(0, Num::I16);
-    let addr = a.word_src(1, Num::I16);
+    let buffer = Buffer::compile(a, per);
     let s = match a.operand(2)? {
         Operand::Const(_) => {
             let num = if per == 2 { Num::I32 } else { Num::I16 };
@@ -136,29 +146,22 @@ fn to(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
         }
         _ => WordBlock::compile(a, 2).map(Source::Block),
     };
-    let n = a.word_src(3, Num::I16);
     Some(Box::new(To {
-        unit: unit?,
-        addr: addr?,
+        buffer: buffer?,
         s: s?,
-        n: n?,
-        per,
     }))
 }
 
 impl Instr for To {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let mem = &mut *cx.mem;
-        let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
-        let Some(n) = words(mem, &self.n, self.per)? else {
+        let Some((g, n)) = self.buffer.resolve(mem)? else {
             return Ok(());
         };
-        let g = buffer(mem, unit, addr, n)?;
-        let n = n as usize;
         match &self.s {
             Source::Const(k) => {
                 for i in 0..n {
-                    let half = if self.per == 2 && i % 2 == 1 {
+                    let half = if self.buffer.per == 2 && i % 2 == 1 {
                         k >> 16
                     } else {
                         *k

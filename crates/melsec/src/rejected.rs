@@ -22,11 +22,19 @@ const IXDEV: &str = "IXDEV/IXSET build the IX/IXEND offset table from the device
                      between them (program structure); IX/IXEND index-modification blocks are \
                      not supported";
 const FX: &str = "not a MELSEC-Q instruction (FX series); use the comparison contacts or BKCMP";
+const REFRESH: &str = "a partial refresh of I/O or network link devices during the scan is not \
+                       implemented (the input refresh runs at scan start, DX reads a module \
+                       at once, and COM refreshes every input)";
+const DELTA: &str = "the pulse conversion of a direct output is not implemented; drive DY with \
+                     OUT, SET, RST, PLS or PLF";
 const QNU: &str = "a Universal model (QnU) instruction softplc does not implement yet (it is \
                    not in the QnH instruction set)";
 
 /// The rejected instructions.
 pub static DEFS: &[Def] = &[
+    Def::rejected("RFS", REFRESH),
+    Def::rejected("ZCOM", REFRESH),
+    Def::rejected("DELTA", DELTA),
     Def::rejected("READ", MODULE),
     Def::rejected("SREAD", MODULE),
     Def::rejected("WRITE", MODULE),

@@ -113,6 +113,31 @@ impl<'a> Ctx<'a> {
         }
     }
 
+    /// The entry's value as an array of tables (`[[name]]`), each with its
+    /// item; an empty array or any other value is the error `message`.
+    pub fn tables<'t>(
+        &mut self,
+        e: &'t Entry,
+        message: &str,
+    ) -> Option<Vec<(&'t Item, &'t [Entry])>> {
+        let tables: Vec<(&Item, &[Entry])> = match &e.item.value {
+            Value::Array(items) => items
+                .iter()
+                .filter_map(|i| match &i.value {
+                    Value::Table(t) => Some((i, t.as_slice())),
+                    _ => None,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        if matches!(&e.item.value, Value::Array(a) if a.len() == tables.len() && !a.is_empty()) {
+            Some(tables)
+        } else {
+            self.error(&e.item.span, message);
+            None
+        }
+    }
+
     /// The entry's value as a string, or an error saying what was expected.
     pub fn string<'t>(&mut self, e: &'t Entry, expected: &str) -> Option<&'t str> {
         self.item_string(&e.key, &e.item, expected)

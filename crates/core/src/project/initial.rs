@@ -5,7 +5,9 @@
 //! `D100:str`); values are TOML integers, floats (for `:f32`) or strings (text
 //! for `:str`, or a number such as `"H1F"`). The manual allows T/ST/C current
 //! values (`TN`, `STN`, `CN`), D, SD, W, SW and file registers R; ZR (the same
-//! memory, serially numbered) is accepted too.
+//! memory, serially numbered) is accepted too, and the buffer memory of the
+//! rack's intelligent modules, `U<n>\\G<addr>` (004 ch. 8: device initial
+//! values reach a module at power-on, RESET and STOP→RUN).
 
 use super::ctx::Ctx;
 use super::tree::{Entry, Value};
@@ -15,9 +17,10 @@ use crate::engine::InitialValue;
 
 const ALLOWED: &[DeviceKind] = {
     use DeviceKind::*;
-    &[TN, STN, CN, D, SD, W, SW, R, ZR]
+    &[TN, STN, CN, D, SD, W, SW, R, ZR, G]
 };
-const ALLOWED_TEXT: &str = "TN, STN, CN (current values), D, SD, W, SW, R, ZR";
+const ALLOWED_TEXT: &str =
+    "TN, STN, CN (current values), D, SD, W, SW, R, ZR and buffer memory U\\G";
 
 fn describe(ty: ValueType) -> &'static str {
     match ty {
@@ -165,7 +168,12 @@ pub(crate) fn initial(cx: &mut Ctx, t: &[Entry], devices: &DeviceConfig) -> Vec<
         } else {
             dev.kind
         };
-        let (first, last) = (dev.number, dev.number + words - 1);
+        // Buffer memory: one number space per unit.
+        let number = match dev.reach {
+            crate::device::Reach::Unit(u) => u << 16 | dev.number,
+            _ => dev.number,
+        };
+        let (first, last) = (number, number + words - 1);
         if let Some((_, _, _, other)) = taken
             .iter()
             .find(|(k, f, n, _)| *k == kind && *f <= last && first < f + n)

@@ -208,7 +208,18 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         Some(t) => rack::io(&mut cx, t),
         None => rack::EMPTY_POINTS,
     };
-    let slots = rack::slots(&mut cx, section("slot"), empty_points);
+    let slots = rack::slots(&mut cx, section("slot"), empty_points, &config.devices);
+    if !slots.is_empty() && crate::profile::is_aplc(config.profile) {
+        if let Some(e) = section("slot") {
+            cx.error(
+                &e.key_span,
+                format!(
+                    "a {} has no base units: [[slot]] is for MELSEC-Q CPUs",
+                    config.profile.model
+                ),
+            );
+        }
+    }
     let units: Vec<(u32, u32)> = slots
         .intelligent()
         .map(|s| (s.unit(), s.buffer_words))
@@ -280,9 +291,14 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
 }
 
 impl Project {
-    /// The dialect the project's programs compile in (by `[cpu] model`).
+    /// The dialect the project's programs compile in (by `[cpu] model`),
+    /// with the project's rack (the interrupt pointers its slots raise).
     pub fn dialect(&self) -> crate::program::Dialect {
-        crate::profile::dialect(self.config.profile, self.process)
+        let d = crate::profile::dialect(self.config.profile, self.process);
+        crate::program::Dialect {
+            settings: d.settings.clone().with(self.config.rack.clone()),
+            ..d
+        }
     }
 
     /// Loads and compiles every program of the project (all diagnostics of all

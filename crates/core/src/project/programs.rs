@@ -33,25 +33,12 @@ pub(crate) fn programs(
         );
         return out;
     };
-    let tables: Vec<(&Item, &[Entry])> = match &entry.item.value {
-        Value::Array(items) => items
-            .iter()
-            .filter_map(|i| match &i.value {
-                Value::Table(t) => Some((i, t.as_slice())),
-                _ => None,
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
-    let is_tables =
-        matches!(&entry.item.value, Value::Array(a) if a.len() == tables.len() && !a.is_empty());
-    if !is_tables {
-        cx.error(
-            &entry.item.span,
-            "program must be an array of tables: write a [[program]] table for each program file",
-        );
+    let Some(tables) = cx.tables(
+        entry,
+        "program must be an array of tables: write a [[program]] table for each program file",
+    ) else {
         return out;
-    }
+    };
     let max = config.profile.capacity.programs;
     if let Some((item, _)) = tables.get(max) {
         cx.error(

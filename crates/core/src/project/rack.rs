@@ -7,7 +7,8 @@ use std::ops::Range;
 
 use super::ctx::Ctx;
 use super::tree::{Entry, Item, Value};
-use softplc_ir::rack::{ModuleProfile, Rack, Slot, SlotType};
+use softplc_ir::device::{parse_operand, DeviceConfig, DeviceKind, Operand, Reach};
+use softplc_ir::rack::{AutoRefresh, ModuleProfile, Rack, Slot, SlotType};
 
 /// Slots of the main base and the extension bases together (004 L2402-2413).
 pub const MAX_SLOTS: usize = 64;
@@ -50,34 +51,28 @@ pub(crate) fn io(cx: &mut Ctx, t: &[Entry]) -> u32 {
 }
 
 /// The `slot` entry of the top-level table: the rack in slot order.
-pub(crate) fn slots(cx: &mut Ctx, entry: Option<&Entry>, empty_points: u32) -> Rack {
+pub(crate) fn slots(
+    cx: &mut Ctx,
+    entry: Option<&Entry>,
+    empty_points: u32,
+    devices: &DeviceConfig,
+) -> Rack {
     let mut rack = Rack::default();
     let Some(entry) = entry else {
         return rack;
     };
-    let tables: Vec<(&Item, &[Entry])> = match &entry.item.value {
-        Value::Array(items) => items
-            .iter()
-            .filter_map(|i| match &i.value {
-                Value::Table(t) => Some((i, t.as_slice())),
-                _ => None,
-            })
-            .collect(),
-        _ => Vec::new(),
-    };
-    if !matches!(&entry.item.value, Value::Array(a) if a.len() == tables.len()) {
-        cx.error(
-            &entry.item.span,
-            "slot must be an array of tables: write a [[slot]] table for each slot",
-        );
+    let Some(tables) = cx.tables(
+        entry,
+        "slot must be an array of tables: write a [[slot]] table for each slot",
+    ) else {
         return rack;
-    }
+    };
     let mut next = 0u32;
     let mut taken: Vec<(Range<u32>, u32)> = Vec::new();
     let mut interrupt_module: Option<u32> = None;
     for (index, (item, t)) in tables.iter().enumerate() {
         let index = index as u32;
-        let Some(slot) = slot(cx, index, item, t, empty_points, next) else {
+        let Some(slot) = slot(cx, index, item, t, empty_points, next, devices) else {
             continue;
         };
         let at = &item.span;
@@ -130,12 +125,25 @@ pub(crate) fn slots(cx: &mut Ctx, entry: Option<&Entry>, empty_points: u32) -> R
             if let Some(first) = interrupt_module {
                 cx.error(
                     at,
-                    format!(
-                        "{name}: one interrupt module per CPU (slot {first} has one; 004 App. 3)"
-                    ),
+                    format!("{name}: one interrupt module per CPU (slot {first} has one)"),
                 );
             }
             interrupt_module = Some(index);
+        }
+        for &(_, n) in &slot.interrupts {
+            if let Some(other) = rack
+                .slots
+                .iter()
+                .find(|s| s.interrupts.iter().any(|p| p.1 == n))
+            {
+                cx.error(
+                    at,
+                    format!(
+                        "{name}: interrupt pointer I{n} is already raised by slot {}",
+                        other.index
+                    ),
+                );
+            }
         }
         next = io.end.max(next);
         rack.slots.push(slot);
@@ -151,6 +159,7 @@ fn slot(
     t: &[Entry],
     empty_points: u32,
     next: u32,
+    devices: &DeviceConfig,
 ) -> Option<Slot> {
     cx.unknown_keys(
         t,
@@ -162,6 +171,7 @@ fn slot(
             "module",
             "buffer_words",
             "interrupts",
+            "refresh",
         ],
     );
     let get = |k: &str| t.iter().find(|e| e.key == k);
@@ -195,7 +205,7 @@ fn slot(
                 cx.error(
                     at,
                     format!(
-                        "slot {index}: a {} slot needs points (16, 32, 64 …)",
+                        "slot {index}: an {} slot needs points (16, 32, 64 …)",
                         kind.name()
                     ),
                 );
@@ -254,9 +264,13 @@ fn slot(
         module,
         buffer_words,
         interrupts: Vec::new(),
+        refresh: Vec::new(),
     };
     if let Some(e) = get("interrupts") {
         slot.interrupts = interrupts(cx, &slot, e)?;
+    }
+    if let Some(e) = get("refresh") {
+        slot.refresh = refresh(cx, &slot, e, devices)?;
     }
     Some(slot)
 }
@@ -359,6 +373,118 @@ fn interrupts(cx: &mut Ctx, slot: &Slot, e: &Entry) -> Option<Vec<(u32, u32)>> {
                 format!("slot {index}: \"{text}\" is not an intelligent module's interrupt pointer (I50-I255)"),
             ),
         }
+    }
+    Some(out)
+}
+
+/// Word devices an auto refresh may name.
+const REFRESH_DEVICES: &[DeviceKind] =
+    &[DeviceKind::D, DeviceKind::W, DeviceKind::R, DeviceKind::ZR];
+
+/// `refresh = [{ buffer = 11, to = "D100", words = 4 }, { buffer = 1, from
+/// = "D200", words = 2 }]`: the module's auto refresh at END (004 ch. 8,
+/// L5440-5462): `to` copies buffer memory into the CPU's devices, `from`
+/// the devices into buffer memory.
+fn refresh(
+    cx: &mut Ctx,
+    slot: &Slot,
+    e: &Entry,
+    devices: &DeviceConfig,
+) -> Option<Vec<AutoRefresh>> {
+    let index = slot.index;
+    let items: Vec<&Item> = match &e.item.value {
+        Value::Array(a) => a.iter().collect(),
+        _ => Vec::new(),
+    };
+    if items.is_empty() || slot.buffer_words == 0 {
+        cx.error(
+            &e.item.span,
+            format!("slot {index}: refresh is an array of {{ buffer = 11, to = \"D100\", words = 4 }} tables on an intelligent module"),
+        );
+        return None;
+    }
+    let mut out = Vec::new();
+    for item in items {
+        let Value::Table(t) = &item.value else {
+            cx.error(
+                &item.span,
+                format!("slot {index}: each refresh is a table {{ buffer, to or from, words }}"),
+            );
+            continue;
+        };
+        cx.unknown_keys(t, Some("refresh"), &["buffer", "to", "from", "words"]);
+        let get = |k: &str| t.iter().find(|e| e.key == k);
+        let int = |cx: &mut Ctx, k: &str| match get(k).map(|e| (&e.item.value, &e.item.span)) {
+            Some((Value::Int(n), _)) if (0..=65535).contains(n) => Some(*n as u32),
+            Some((_, span)) => {
+                cx.error(span, format!("slot {index}: refresh {k} must be 0-65535"));
+                None
+            }
+            None => {
+                cx.error(&item.span, format!("slot {index}: a refresh needs {k}"));
+                None
+            }
+        };
+        let (Some(buffer), Some(words)) = (int(cx, "buffer"), int(cx, "words")) else {
+            continue;
+        };
+        let (dev, to_cpu) = match (get("to"), get("from")) {
+            (Some(d), None) => (d, true),
+            (None, Some(d)) => (d, false),
+            _ => {
+                cx.error(&item.span, format!("slot {index}: a refresh has either to (module → CPU) or from (CPU → module)"));
+                continue;
+            }
+        };
+        let Some(text) = cx.string(dev, "a word device such as \"D100\"") else {
+            continue;
+        };
+        let target = match parse_operand(text) {
+            Ok(Operand::Device {
+                dev: d,
+                digits: None,
+                bit: None,
+                index: None,
+            }) if d.reach == Reach::Memory && REFRESH_DEVICES.contains(&d.kind) => d,
+            _ => {
+                cx.error(
+                    &dev.item.span,
+                    format!("slot {index}: \"{text}\" is not a D, W, R or ZR device"),
+                );
+                continue;
+            }
+        };
+        if words == 0 || buffer + words > slot.buffer_words {
+            cx.error(
+                &item.span,
+                format!("slot {index}: refresh of {words} words from G{buffer} is outside the module's buffer memory (G0-G{})", slot.buffer_words - 1),
+            );
+            continue;
+        }
+        let kind = if target.kind == DeviceKind::R {
+            DeviceKind::ZR
+        } else {
+            target.kind
+        };
+        let limit = if target.kind == DeviceKind::R {
+            32768
+        } else {
+            devices.points(kind)
+        };
+        if target.number as u64 + words as u64 > limit as u64 {
+            cx.error(
+                &dev.item.span,
+                format!("slot {index}: {words} words from {text} run past the last device"),
+            );
+            continue;
+        }
+        out.push(AutoRefresh {
+            buffer,
+            device: kind,
+            number: target.number,
+            words,
+            to_cpu,
+        });
     }
     Some(out)
 }

@@ -242,10 +242,15 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
     }
 }
 
-/// `[interrupts] I28` … `I31`: fixed-cycle interrupt periods (004 App. 3).
+/// `[interrupts] I28` … `I31`: fixed-cycle interrupt periods (004 App. 3);
+/// `counter_start`: the interrupt counters.
 pub(crate) fn interrupts(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
-    const KEYS: &[&str] = &["I28", "I29", "I30", "I31"];
+    const KEYS: &[&str] = &["I28", "I29", "I30", "I31", "counter_start"];
     for e in t {
+        if e.key == "counter_start" {
+            config.interrupt_counters = counter_start(cx, e, config);
+            continue;
+        }
         let up = e.key.to_ascii_uppercase();
         let Some(i) = KEYS.iter().position(|k| *k == up) else {
             let is_pointer =
@@ -272,6 +277,48 @@ pub(crate) fn interrupts(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
         }
         if let Some(d) = cx.duration(e, ranges::INTERRUPT) {
             config.interrupt_periods[i] = d;
+        }
+    }
+}
+
+/// Interrupt counters (004 L6600-6645, the counters C): 256 counters from the
+/// first one, `C<n>` counting I0, `C<n+1>` I1 … `C<n+255>` I255.
+const INTERRUPT_COUNTERS: u32 = 256;
+
+/// `counter_start = "C300"`: the first interrupt counter; the 256 counters
+/// must be within the CPU's C points.
+fn counter_start(cx: &mut Ctx, e: &Entry, config: &CpuConfig) -> Option<u32> {
+    let text = cx.string(e, "a counter such as \"C300\"")?;
+    let points = config.devices.points(crate::device::DeviceKind::CN);
+    let n = text
+        .strip_prefix(['C', 'c'])
+        .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+        .and_then(|d| d.parse::<u32>().ok());
+    match n {
+        Some(n)
+            if n.checked_add(INTERRUPT_COUNTERS)
+                .is_some_and(|end| end <= points) =>
+        {
+            Some(n)
+        }
+        Some(n) => {
+            cx.error(
+                &e.item.span,
+                format!(
+                    "counter_start \"{text}\": the {INTERRUPT_COUNTERS} interrupt counters C{n}-C{} \
+                     (one per interrupt pointer I0-I255) end past the last counter C{}",
+                    n.saturating_add(INTERRUPT_COUNTERS - 1),
+                    points.saturating_sub(1)
+                ),
+            );
+            None
+        }
+        None => {
+            cx.error(
+                &e.item.span,
+                format!("counter_start \"{text}\" is not a counter such as \"C300\""),
+            );
+            None
         }
     }
 }

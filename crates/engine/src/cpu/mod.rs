@@ -4,12 +4,15 @@
 //! `mod.rs` builds the CPU and gives access to it; [`states`] changes its
 //! operating state, [`door`] is the typed access from outside (names, spans,
 //! values, the input image), [`schedule`] runs a scan (program execution types,
-//! low-speed, fixed-scan and interrupt programs), [`end`] is END processing
+//! low-speed and fixed-scan programs), [`interrupts`] the interrupt requests
+//! and their service, [`end`] is END processing
 //! and the monitors, [`retained`] the battery-backed memory image.
 
 mod door;
 mod end;
 mod force;
+mod interrupts;
+pub(crate) use interrupts::Requests;
 mod rack;
 pub(crate) use force::Force;
 pub use force::MAX_FORCES;
@@ -104,9 +107,8 @@ pub struct Cpu {
     interrupts: Vec<Option<(usize, u32)>>,
     /// Interrupt program executions per In (monitor list, wrapping).
     int_counts: Vec<u16>,
-    /// Next occurrence of I28-I31 and causes remembered while disabled.
+    /// Next occurrence of I28-I31.
     int_due: [u64; 4],
-    int_pending: [bool; 4],
     /// The program's error reset request at the previous END, for its
     /// rising edge (`System::error_reset`).
     error_reset: bool,
@@ -207,6 +209,8 @@ impl Cpu {
             error: None,
             history: std::collections::VecDeque::with_capacity(crate::HISTORY_LEN),
             in_interrupt: false,
+            requests: Requests::default(),
+            stop_interrupt: None,
             cpu: CpuServices::new(slots.len(), timers as usize, cfg.system.interrupt_mask()),
             force_off: false,
             system_state: vec![0; cfg.system.state_words()].into_boxed_slice(),
@@ -240,7 +244,6 @@ impl Cpu {
             interrupts,
             int_counts: vec![0; 256],
             int_due: [0; 4],
-            int_pending: [false; 4],
             error_reset: false,
             trace: None,
             busy_us: 0,

@@ -19,6 +19,9 @@ pub(crate) struct RackModule {
     pub buffer: Range<usize>,
     /// Its interrupt causes → pointers (I50-I255).
     pub pointers: Box<[(u32, u32)]>,
+    /// Its auto refresh at END: flat word index in buffer memory and in the
+    /// device, words, module → CPU.
+    pub refresh: Box<[(usize, usize, usize, bool)]>,
 }
 
 /// The interrupt module's inputs: X numbers and the pointer of the first.
@@ -35,8 +38,6 @@ pub(crate) struct RackState {
     pub interrupt_inputs: Option<InterruptInputs>,
     /// The interrupt module's inputs at the previous input refresh.
     pub previous: u64,
-    /// Interrupt pointers requested and not yet run: bit n of word n/64.
-    pub requests: [u64; 4],
 }
 
 impl RackState {
@@ -64,22 +65,31 @@ impl RackState {
                 Some(w) => g + w.first as usize..g + (w.first + w.words) as usize,
                 None => 0..0,
             };
+            // Checked at load: inside the buffer memory and the device.
+            let refresh = s
+                .refresh
+                .iter()
+                .filter_map(|r| {
+                    let dev = mem.map.index(r.device, r.number)? as usize;
+                    let at = buffer.start + r.buffer as usize;
+                    (at + r.words as usize <= buffer.end).then_some((
+                        at,
+                        dev,
+                        r.words as usize,
+                        r.to_cpu,
+                    ))
+                })
+                .collect();
             state.modules.push(RackModule {
                 slot: i,
                 module: (profile.new)(s),
                 io: io(s),
                 buffer,
                 pointers: s.interrupts.clone().into_boxed_slice(),
+                refresh,
             });
         }
         state
-    }
-
-    /// Requests interrupt pointer I`n`.
-    pub fn request(&mut self, n: u32) {
-        if let Some(w) = self.requests.get_mut(n as usize / 64) {
-            *w |= 1 << (n % 64);
-        }
     }
 }
 
@@ -115,15 +125,21 @@ impl Cpu {
             m.module.power_on(&mut io);
         }
         self.rack.previous = 0;
-        self.rack.requests = [0; 4];
     }
 
-    /// The modules' END: each sees its Y outputs and buffer memory and
-    /// updates them; the causes they raise request their interrupt pointers.
+    /// The modules' END: the auto refresh CPU → module, each module sees its
+    /// Y outputs and buffer memory and updates them, the auto refresh module
+    /// → CPU; the causes they raise request their interrupt pointers.
     pub(super) fn modules_end(&mut self, now: u64) {
         let rt = &mut self.rt;
         let y = rt.mem.map.base(DeviceKind::Y) as usize;
         for m in &mut self.rack.modules {
+            let words = &mut rt.mem.words;
+            for &(g, dev, n, to_cpu) in m.refresh.iter() {
+                if !to_cpu {
+                    words.copy_within(dev..dev + n, g);
+                }
+            }
             let mut io = ModuleIo {
                 buffer: &mut rt.mem.words[m.buffer.clone()],
                 x: &mut rt.inputs[m.io.clone()],
@@ -132,11 +148,16 @@ impl Cpu {
             };
             m.module.end(&mut io, now);
             let raised = io.raised;
+            let words = &mut rt.mem.words;
+            for &(g, dev, n, to_cpu) in m.refresh.iter() {
+                if to_cpu {
+                    words.copy_within(g..g + n, dev);
+                }
+            }
             if raised != 0 {
                 for &(cause, pointer) in m.pointers.iter() {
                     if cause < 64 && raised >> cause & 1 != 0 {
-                        let w = &mut self.rack.requests[pointer as usize / 64];
-                        *w |= 1 << (pointer % 64);
+                        rt.requests.set(pointer);
                     }
                 }
             }
@@ -162,7 +183,7 @@ impl Cpu {
         let first = ii.first_pointer;
         for k in 0..64 {
             if rising >> k & 1 != 0 {
-                self.rack.request(first + k);
+                self.rt.requests.set(first + k);
             }
         }
     }

@@ -1,5 +1,5 @@
 //! One scan: the programs by execution type, low-speed programs, fixed-scan
-//! programs and the I28-I31 interrupts (004 §4.2, §4.1.3).
+//! programs and the interrupt service (004 §4.2; interrupts in `interrupts.rs`).
 
 use super::*;
 use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
@@ -65,7 +65,9 @@ impl Cpu {
             return;
         }
         if !ok {
-            // Stop error: the CPU stops at the point of detection, outputs OFF.
+            // Stop error: the CPU stops at the point of detection, outputs
+            // OFF, after its error interrupt (I32) when enabled.
+            self.run_stop_interrupt();
             self.stop_error = true;
             self.set_stop();
             self.scans += 1;
@@ -253,80 +255,6 @@ impl Cpu {
             }
         }
         true
-    }
-
-    /// Fixed-cycle interrupts I28-I31 (004 §4.1.3, App. 3): every occurrence since
-    /// the previous scan, in time order (I31 before I28 at the same instant, by
-    /// priority), runs its interrupt program when EI and IMASK allow it; a cause
-    /// occurring while disabled is remembered once and runs when enabled.
-    pub(super) fn service_interrupts(&mut self, now: u64) -> bool {
-        if self.interrupts[28..32].iter().all(Option::is_none) {
-            return true;
-        }
-        const MAX_PER_SCAN: u32 = 100_000;
-        let periods = self
-            .cfg
-            .interrupt_periods
-            .map(|p| p.as_micros().max(1) as u64);
-        let mut runs = 0;
-        loop {
-            // The earliest due cause; ties go to the higher I number.
-            let k = (0..4).rev().min_by_key(|&k| self.int_due[k]).unwrap_or(0);
-            if self.int_due[k] > now {
-                break;
-            }
-            runs += 1;
-            if runs > MAX_PER_SCAN {
-                // Pathological period/scan ratio: skip ahead instead of looping.
-                self.int_due[k] = now + periods[k];
-                continue;
-            }
-            self.int_due[k] += periods[k];
-            let n = 28 + k;
-            if self.interrupts[n].is_some() {
-                if self.rt.cpu.interrupt_enabled(n) {
-                    if !self.run_interrupt(n) {
-                        return false;
-                    }
-                } else {
-                    self.int_pending[k] = true;
-                }
-            }
-        }
-        for k in (0..4).rev() {
-            if self.int_pending[k] && self.rt.cpu.interrupt_enabled(28 + k) {
-                self.int_pending[k] = false;
-                if !self.run_interrupt(28 + k) {
-                    return false;
-                }
-            }
-        }
-        true
-    }
-
-    /// Runs interrupt program `In`, saving and restoring Z0-Z15 around it (the
-    /// default, not "high-speed execution", 004 L1270-1290).
-    pub(super) fn run_interrupt(&mut self, n: usize) -> bool {
-        let Some((i, pc)) = self.interrupts[n] else {
-            return true;
-        };
-        let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
-        let zn = self.rt.mem.map.points(DeviceKind::Z) as usize;
-        let mut z = [0u16; 16];
-        z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
-        self.rt.in_interrupt = true;
-        self.int_counts[n] = self.int_counts[n].wrapping_add(1);
-        let out = exec::run(
-            &self.programs,
-            &self.natives,
-            &mut self.locals,
-            &mut self.rt,
-            i,
-            pc as usize,
-        );
-        self.rt.in_interrupt = false;
-        self.rt.mem.words[zb..zb + zn.min(16)].copy_from_slice(&z[..zn.min(16)]);
-        self.outcome(out)
     }
 
     /// Starts (or with `None` stops) a sampling trace, sampled at END; the

@@ -154,6 +154,7 @@ impl Cpu {
         self.rt.forces.clear();
         self.clear_unlatched();
         self.modules_power_on();
+        self.interrupts_power_on();
         self.rt.error = None;
         self.stop_error = false;
         self.rt.cpu.timer_rem.fill(0);

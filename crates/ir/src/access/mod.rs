@@ -70,6 +70,9 @@ pub enum AccessError {
     /// Buffer memory of a unit with no intelligent function module.
     #[error("`{device}`: no intelligent function module has unit number {unit:X} (start I/O number {unit:X}0)")]
     NoModule { device: String, unit: u32 },
+    /// An address past a module's buffer memory.
+    #[error("`{device}`: past the module's buffer memory (G0-G{last})")]
+    PastBuffer { device: String, last: u32 },
     /// Bits asked of a word device.
     #[error("`{device}` is a word device: it has no bit points")]
     NotBit { device: String },

@@ -132,11 +132,10 @@ impl DeviceSpec {
             unit,
         })?;
         if number < 0 || number + len as i64 > w.words as i64 {
-            return Err(self.range_error(OutOfRange {
-                kind,
-                number,
-                points: w.words,
-            }));
+            return Err(AccessError::PastBuffer {
+                device: self.text.clone(),
+                last: w.words.saturating_sub(1),
+            });
         }
         mem.locate_span(kind, w.first as i64 + number, len, RBlock::First)
             .map_err(|source| self.range_error(source))

@@ -3,12 +3,14 @@
 //! ([`codes`]) and error registers, through the engine's [`System`] seam.
 //! One job per file: [`scan`] power-on, scan start, scan times and status;
 //! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
-//! low-speed registers; the user timing clocks of DUTY are `user_clock`.
+//! low-speed registers; [`interrupts`] the interrupt priorities and error
+//! interrupts; the user timing clocks of DUTY are `user_clock`.
 
 mod clock;
 pub mod codes;
 mod devices;
 mod errors;
+pub mod interrupts;
 mod low_speed;
 mod scan;
 
@@ -46,6 +48,16 @@ impl System for Melsec {
         let mut m = [0xFFFF; softplc_ir::cpu::INTERRUPTS / 16];
         m[2] = 0;
         m
+    }
+
+    /// 004 App. 3.
+    fn interrupt_priority(&self) -> &'static [u8] {
+        &interrupts::PRIORITY
+    }
+
+    /// 004 §7.15.1.
+    fn error_interrupt(&self, code: ErrorCode, stops: bool) -> Option<u32> {
+        interrupts::error_interrupt(code, stops)
     }
 
     fn power_on(&self, mem: &mut DeviceMemory) {
