@@ -65,6 +65,7 @@ pub fn router(app: Arc<App>) -> Router {
                 .delete(clear_breakpoint),
         )
         .route("/api/v1/events", get(events))
+        .route("/api/v1/rack", get(crate::rack::rack))
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)
@@ -94,7 +95,7 @@ async fn not_found() -> Response {
 pub const END_WAIT: Duration = Duration::from_secs(10);
 
 /// Runs `f` at the next END; a full queue, or no END within [`END_WAIT`], is 503.
-async fn at_end<R: Send + 'static>(
+pub(crate) async fn at_end<R: Send + 'static>(
     app: &App,
     f: impl FnOnce(&mut ServeState) -> R + Send + 'static,
 ) -> Result<R, Response> {
@@ -213,6 +214,7 @@ async fn status(State(app): Shared) -> Response {
             "breakpoint": breakpoint_json(s),
             "overruns": s.stats.overruns,
             "watched": s.ext::<Monitor>().watched(),
+            "rack": crate::rack::summary(s.cpu.rack()),
         })
     })
     .await;

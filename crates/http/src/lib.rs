@@ -17,6 +17,7 @@ pub mod loops;
 pub mod monitor;
 pub mod pages;
 pub mod process_loops;
+pub mod rack;
 pub mod values;
 
 use std::net::SocketAddr;

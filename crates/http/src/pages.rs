@@ -205,10 +205,12 @@ pub(crate) fn hex_kind(prefix: &str) -> bool {
     matches!(prefix, "X" | "Y" | "B" | "W" | "SB" | "SW" | "DX" | "DY")
 }
 
-/// `D100` → ("D", 100), `X1F` → ("X", 31).
+/// `D100` → ("D", 100), `X1F` → ("X", 31), `U2\G10` → ("U2\G", 10): the
+/// number after a unit's `\` for buffer memory.
 pub(crate) fn split_name(name: &str) -> Option<(String, u32)> {
     let u = name.trim().to_ascii_uppercase();
-    let at = u.find(|c: char| c.is_ascii_digit())?;
+    let from = u.rfind('\\').map_or(0, |b| b + 1);
+    let at = from + u[from..].find(|c: char| c.is_ascii_digit())?;
     let (p, n) = u.split_at(at);
     let n = if hex_kind(p) {
         u32::from_str_radix(n, 16).ok()?

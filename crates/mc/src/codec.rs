@@ -42,6 +42,9 @@ pub(crate) struct Reader<'a> {
     /// Absolute offset of `buf[0]` in the frame.
     base: usize,
     code: DataCode,
+    /// Devices come in the device extension specification (subcommands
+    /// 0080/0081).
+    extended: bool,
 }
 
 impl<'a> Reader<'a> {
@@ -51,7 +54,13 @@ impl<'a> Reader<'a> {
             pos: 0,
             base,
             code,
+            extended: false,
         }
+    }
+
+    /// Reads the following devices in the device extension specification.
+    pub fn set_extended(&mut self, extended: bool) {
+        self.extended = extended;
     }
 
     pub fn offset(&self) -> usize {
@@ -130,7 +139,16 @@ impl<'a> Reader<'a> {
 
     /// A device specification: binary number (3 bytes) then code (1 byte); ASCII
     /// code (2 characters) then number (6 characters, in the device's numbering).
+    /// In an extended request, the device extension specification
+    /// ([`Self::extended_device`]).
     pub fn device(&mut self) -> BodyResult<DeviceRef> {
+        if self.extended {
+            return self.extended_device();
+        }
+        self.plain_device()
+    }
+
+    fn plain_device(&mut self) -> BodyResult<DeviceRef> {
         match self.code {
             DataCode::Binary => {
                 let s = self.take(4, "device")?;
@@ -140,7 +158,7 @@ impl<'a> Reader<'a> {
                     offset: self.offset() - 1,
                     what: "unknown device code",
                 })?;
-                Ok(DeviceRef { device, number })
+                Ok(DeviceRef::new(device, number))
             }
             DataCode::Ascii => {
                 let at = self.offset();
@@ -163,8 +181,139 @@ impl<'a> Reader<'a> {
                     offset: at + 2,
                     what: "device number is not a number in the device's numbering",
                 })?;
-                Ok(DeviceRef { device, number })
+                Ok(DeviceRef::new(device, number))
             }
+        }
+    }
+
+    /// A device in the device extension specification of the Q/L format
+    /// (SLMP Reference Manual SH-080956ENG, Appendix 1 "Read/Write by Device
+    /// Extension Specification"):
+    ///
+    /// | binary (11 bytes) | ASCII (20 characters) |
+    /// |---|---|
+    /// | device modification (2) | `00` (2) |
+    /// | device number (3) | extension specification: `U` + unit (3 hex), or `0000` (4) |
+    /// | device code (1) | extension specification modification `000` (3) |
+    /// | extension specification modification (2) | device code (2) |
+    /// | extension specification: the unit, or 0 (2) | device number (6) |
+    /// | direct memory specification: `F8` module access, `00` (1) | device modification `000` (3) |
+    ///
+    /// `U<unit>\G<n>` is the module access device G (`AB`, `G*`) with the
+    /// unit (start I/O number / 16); any other device of the plain
+    /// specification is itself with extension 0. Index modification (Z) and
+    /// indirect specification are not supported (`C05C`); link direct
+    /// devices (`J`, `F9`) and the CPU buffer memory (`FA`) are not devices
+    /// of this CPU (`C05B`).
+    fn extended_device(&mut self) -> BodyResult<DeviceRef> {
+        let at = self.offset();
+        let unsupported = |offset| {
+            BodyError {
+            end_code: EndCode::REQUEST_CONTENTS,
+            offset,
+            what: "index modification and indirect specification are not supported in the device extension",
+        }
+        };
+        let no_device = |offset, what| BodyError {
+            end_code: EndCode::DEVICE,
+            offset,
+            what,
+        };
+        let (device, number, unit) = match self.code {
+            DataCode::Binary => {
+                let s = self.take(11, "device extension specification")?;
+                if s[0] != 0 || s[1] != 0 {
+                    return Err(unsupported(at));
+                }
+                if s[6] != 0 || s[7] != 0 {
+                    return Err(unsupported(at + 6));
+                }
+                let number = s[2] as u32 | (s[3] as u32) << 8 | (s[4] as u32) << 16;
+                let extension = u16::from_le_bytes([s[8], s[9]]);
+                let device = if s[5] == Device::G.binary_code() {
+                    Some(Device::G)
+                } else {
+                    Device::from_binary(s[5])
+                };
+                let device = device.ok_or(no_device(at + 5, "unknown device code"))?;
+                let unit = match (s[10], device) {
+                    (0xF8, Device::G) => Some(extension),
+                    (0x00, d) if d != Device::G && extension == 0 => None,
+                    (0xF9, _) => return Err(no_device(at + 10, "link direct devices (J\\) are not devices of this CPU")),
+                    (0xFA, _) => return Err(no_device(at + 10, "the CPU buffer memory is not a device of this CPU")),
+                    _ => {
+                        return Err(BodyError {
+                            end_code: EndCode::REQUEST_CONTENTS,
+                            offset: at + 10,
+                            what: "the direct memory specification does not match the device (F8 and G for U\\G, 00 and extension 0 otherwise)",
+                        })
+                    }
+                };
+                (device, number, unit)
+            }
+            DataCode::Ascii => {
+                let s = self.take(20, "device extension specification")?;
+                if &s[..2] != b"00" {
+                    return Err(unsupported(at));
+                }
+                let unit = match s[2] {
+                    b'U' | b'u' => Some(parse_hex(&s[3..6]).ok_or(BodyError {
+                        end_code: EndCode::ASCII_DATA,
+                        offset: at + 3,
+                        what: "the unit of U\\G is 3 hexadecimal digits",
+                    })? as u16),
+                    b'J' | b'j' => {
+                        return Err(no_device(
+                            at + 2,
+                            "link direct devices (J\\) are not devices of this CPU",
+                        ))
+                    }
+                    _ if &s[2..6] == b"0000" => None,
+                    _ => return Err(unsupported(at + 2)),
+                };
+                if &s[6..9] != b"000" {
+                    return Err(unsupported(at + 6));
+                }
+                if &s[17..20] != b"000" {
+                    return Err(unsupported(at + 17));
+                }
+                let code = [s[9], s[10]];
+                let device = if matches!(code, [b'G', b'*'] | [b'G', b' ']) {
+                    Device::G
+                } else {
+                    Device::from_ascii(code).ok_or(no_device(at + 9, "unknown device code"))?
+                };
+                let digits = &s[11..17];
+                let number = if device.is_hex() {
+                    parse_hex(digits)
+                } else {
+                    digits.iter().try_fold(0u32, |v, c| {
+                        c.is_ascii_digit().then(|| v * 10 + (c - b'0') as u32)
+                    })
+                };
+                let number = number.ok_or(BodyError {
+                    end_code: EndCode::ASCII_DATA,
+                    offset: at + 11,
+                    what: "device number is not a number in the device's numbering",
+                })?;
+                (device, number, unit)
+            }
+        };
+        match (device, unit) {
+            (Device::G, None) => Err(no_device(
+                at,
+                "buffer memory G needs a module: U<unit>\\G<address>",
+            )),
+            (d, Some(_)) if d != Device::G => Err(BodyError {
+                end_code: EndCode::REQUEST_CONTENTS,
+                offset: at,
+                what: "the extension U<unit> takes the module access device G only",
+            }),
+            _ => Ok(DeviceRef {
+                device,
+                number,
+                unit,
+            }),
         }
     }
 
@@ -243,6 +392,8 @@ impl<'a> Reader<'a> {
 pub(crate) struct Writer<'a> {
     pub out: &'a mut Vec<u8>,
     pub code: DataCode,
+    /// Devices go in the device extension specification (0080/0081).
+    pub extended: bool,
 }
 
 const HEX: &[u8; 16] = b"0123456789ABCDEF";
@@ -276,6 +427,9 @@ impl Writer<'_> {
     }
 
     pub fn device(&mut self, d: &DeviceRef) {
+        if self.extended {
+            return self.extended_device(d);
+        }
         match self.code {
             DataCode::Binary => {
                 self.out
@@ -290,6 +444,39 @@ impl Writer<'_> {
                     format!("{:06}", d.number % 1_000_000)
                 };
                 self.out.extend_from_slice(s.as_bytes());
+            }
+        }
+    }
+
+    /// The device extension specification (see [`Reader::extended_device`]).
+    fn extended_device(&mut self, d: &DeviceRef) {
+        match self.code {
+            DataCode::Binary => {
+                self.out.extend_from_slice(&[0, 0]);
+                self.out
+                    .extend_from_slice(&(d.number & 0xFF_FFFF).to_le_bytes()[..3]);
+                self.out.push(d.device.binary_code());
+                self.out.extend_from_slice(&[0, 0]);
+                self.out
+                    .extend_from_slice(&d.unit.unwrap_or(0).to_le_bytes());
+                self.out.push(if d.unit.is_some() { 0xF8 } else { 0 });
+            }
+            DataCode::Ascii => {
+                let extension = match d.unit {
+                    Some(u) => format!("U{:03X}", u & 0xFFF),
+                    None => "0000".to_string(),
+                };
+                let number = if d.device.is_hex() {
+                    format!("{:06X}", d.number & 0xFF_FFFF)
+                } else {
+                    format!("{:06}", d.number % 1_000_000)
+                };
+                self.out.extend_from_slice(b"00");
+                self.out.extend_from_slice(extension.as_bytes());
+                self.out.extend_from_slice(b"000");
+                self.out.extend_from_slice(&d.device.ascii_code());
+                self.out.extend_from_slice(number.as_bytes());
+                self.out.extend_from_slice(b"000");
             }
         }
     }

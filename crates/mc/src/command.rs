@@ -17,6 +17,25 @@
 //! | `1630` remote password unlock | `0000` | password | [`Command::Unlock`] |
 //! | `1631` remote password lock | `0000` | password | [`Command::Lock`] |
 //! | `0619` loopback test | `0000` | length, data | [`Command::Loopback`] |
+//! | `0601` intelligent function module buffer memory batch read | `0000` | start address (4), number of bytes (2), module number (2) | [`Command::BufferRead`] |
+//! | `1601` intelligent function module buffer memory batch write | `0000` | start address, number of bytes, module number, data | [`Command::BufferWrite`] |
+//! | `0401`, `1401`, `0403`, `1402` with the device extension | `0080` word units, `0081` bit units | the same, every device in the extension specification (`U<n>\G<addr>`) | [`Command::Extended`] |
+//!
+//! Buffer memory (SLMP Reference Manual SH-080956ENG §10.2 "Intelligent
+//! Function Module", commands 0601/1601; MELSEC-Q/L MC Protocol Reference
+//! Manual SH-080008): the start address is a byte address, the buffer-memory
+//! word address × 2 (softplc's simulated Q modules add no module-specific
+//! value to it); the number of bytes is 2–1920 (words × 2); the module number
+//! is the module's start I/O number / 16, the `<n>` of `U<n>\G`. Both must
+//! be even (`C05C` otherwise): buffer memory is words. The data is one word
+//! a buffer-memory address, as word devices carry it (binary 2 bytes, low
+//! byte first; ASCII 4 hexadecimal digits, upper digit first — softplc's
+//! reading of the manual's word layout).
+//!
+//! The device extension specification (SH-080956ENG Appendix 1; layout in
+//! `codec`) reaches buffer memory as the module access device G:
+//! `U3\G1` in a batch or random read or write. Subcommands 0082/0083 (the
+//! iQ-R format) answer `C059` like 0002/0003.
 //!
 //! Per-request limits (Q/L CPU, QnA-compatible 3E and 4E frames):
 //!
@@ -67,6 +86,12 @@ pub const READ_CPU_MODEL: u16 = 0x0101;
 pub const UNLOCK: u16 = 0x1630;
 pub const LOCK: u16 = 0x1631;
 pub const LOOPBACK: u16 = 0x0619;
+pub const BUFFER_READ: u16 = 0x0601;
+pub const BUFFER_WRITE: u16 = 0x1601;
+/// Subcommand bit of the device extension specification (0080/0081).
+pub const EXTENSION: u16 = 0x0080;
+/// Most bytes one buffer-memory request reads or writes (960 words).
+pub const MAX_BUFFER_BYTES: usize = 1920;
 
 /// Access unit of batch read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -147,6 +172,23 @@ pub enum Command {
     Loopback {
         data: Vec<u8>,
     },
+    /// 0601: `bytes` bytes of buffer memory from byte address `start` of the
+    /// module whose start I/O number is `module` × 16.
+    BufferRead {
+        start: u32,
+        bytes: u16,
+        module: u16,
+    },
+    /// 1601: one word a buffer-memory address from byte address `start`.
+    BufferWrite {
+        start: u32,
+        module: u16,
+        values: Vec<u16>,
+    },
+    /// A batch or random read or write (0401, 1401, 0403, 1402) whose devices
+    /// are in the device extension specification (subcommand 0080/0081): the
+    /// way to buffer memory `U<n>\G<addr>` ([`DeviceRef::module`]).
+    Extended(Box<Command>),
 }
 
 impl Command {
@@ -155,15 +197,24 @@ impl Command {
     /// it ran before acknowledging it.
     pub fn changes_memory(&self) -> bool {
         use Command::*;
-        !matches!(
-            self,
-            BatchRead { .. }
-                | RandomRead { .. }
-                | ReadCpuModel
-                | Unlock { .. }
-                | Lock { .. }
-                | Loopback { .. }
-        )
+        match self {
+            Extended(c) => c.changes_memory(),
+            _ => !matches!(
+                self,
+                BatchRead { .. }
+                    | RandomRead { .. }
+                    | BufferRead { .. }
+                    | ReadCpuModel
+                    | Unlock { .. }
+                    | Lock { .. }
+                    | Loopback { .. }
+            ),
+        }
+    }
+
+    /// Whether its devices are in the device extension specification.
+    pub fn is_extended(&self) -> bool {
+        matches!(self, Command::Extended(_))
     }
 
     /// The command and subcommand codes.
@@ -185,6 +236,12 @@ impl Command {
             Unlock { .. } => (UNLOCK, 0),
             Lock { .. } => (LOCK, 0),
             Loopback { .. } => (LOOPBACK, 0),
+            BufferRead { .. } => (BUFFER_READ, 0),
+            BufferWrite { .. } => (BUFFER_WRITE, 0),
+            Extended(c) => {
+                let (command, sub) = c.codes();
+                (command, sub | EXTENSION)
+            }
         }
     }
 
@@ -200,6 +257,16 @@ impl Command {
             end_code: EndCode::COMMAND,
             offset: subcommand_at,
             what: "subcommand not supported by this command",
+        };
+        let extended = matches!(
+            command,
+            BATCH_READ | BATCH_WRITE | RANDOM_READ | RANDOM_WRITE
+        ) && (subcommand & !1) == EXTENSION;
+        r.set_extended(extended);
+        let subcommand = if extended {
+            subcommand & !EXTENSION
+        } else {
+            subcommand
         };
         let sub = |allowed: &[u16]| {
             if allowed.contains(&subcommand) {
@@ -370,6 +437,28 @@ impl Command {
                     data: r.take(n, "loopback data")?.to_vec(),
                 }
             }
+            BUFFER_READ => {
+                sub(&[0])?;
+                let (start, bytes) = buffer_range(r)?;
+                Command::BufferRead {
+                    start,
+                    bytes: bytes as u16,
+                    module: r.u16("module number")?,
+                }
+            }
+            BUFFER_WRITE => {
+                sub(&[0])?;
+                let (start, bytes) = buffer_range(r)?;
+                let module = r.u16("module number")?;
+                let values = (0..bytes / 2)
+                    .map(|_| r.u16("write data"))
+                    .collect::<BodyResult<_>>()?;
+                Command::BufferWrite {
+                    start,
+                    module,
+                    values,
+                }
+            }
             _ => {
                 return Err(BodyError {
                     end_code: EndCode::COMMAND,
@@ -379,7 +468,11 @@ impl Command {
             }
         };
         r.finish()?;
-        Ok(cmd)
+        Ok(if extended {
+            Command::Extended(Box::new(cmd))
+        } else {
+            cmd
+        })
     }
 
     /// Appends the request data after the command and subcommand.
@@ -444,8 +537,66 @@ impl Command {
                 w.u16(data.len() as u16);
                 w.raw(data);
             }
+            BufferRead {
+                start,
+                bytes,
+                module,
+            } => {
+                w.u32(*start);
+                w.u16(*bytes);
+                w.u16(*module);
+            }
+            BufferWrite {
+                start,
+                module,
+                values,
+            } => {
+                w.u32(*start);
+                w.u16((values.len() * 2) as u16);
+                w.u16(*module);
+                for v in values {
+                    w.u16(*v);
+                }
+            }
+            Extended(c) => {
+                let plain = w.extended;
+                w.extended = true;
+                c.encode_body(w);
+                w.extended = plain;
+            }
         }
     }
+}
+
+/// The start address and number of bytes of 0601/1601: 2–1920 bytes
+/// (`C052` otherwise), both even (`C05C`: buffer memory is words).
+fn buffer_range(r: &mut Reader<'_>) -> BodyResult<(u32, usize)> {
+    let start_at = r.offset();
+    let start = r.u32("start address")?;
+    let bytes_at = r.offset();
+    let bytes = r.u16("number of bytes")? as usize;
+    if !(2..=MAX_BUFFER_BYTES).contains(&bytes) {
+        return Err(BodyError {
+            end_code: EndCode::WORD_POINTS,
+            offset: bytes_at,
+            what: "buffer memory access needs 2-1920 bytes",
+        });
+    }
+    if !bytes.is_multiple_of(2) {
+        return Err(BodyError {
+            end_code: EndCode::REQUEST_CONTENTS,
+            offset: bytes_at,
+            what: "buffer memory is words: the number of bytes must be even",
+        });
+    }
+    if !start.is_multiple_of(2) {
+        return Err(BodyError {
+            end_code: EndCode::REQUEST_CONTENTS,
+            offset: start_at,
+            what: "buffer memory is words: the start address (word address x 2) must be even",
+        });
+    }
+    Ok((start, bytes))
 }
 
 impl DataCode {

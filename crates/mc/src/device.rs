@@ -36,6 +36,13 @@
 //! In ASCII the second character of a one-letter code may be `*` or a space. The
 //! binary device number is always binary; the ASCII number is written in the
 //! device's own numbering (hexadecimal for X, Y, B, W, SB, SW, DX, DY and ZR).
+//!
+//! Buffer memory of an intelligent function module, `U<n>\G<addr>` (module
+//! access device G, binary `AB`, ASCII `G*`, decimal), is reached only through
+//! the device extension specification (subcommands 0080/0081, see
+//! [`crate::command`]): its unit number travels in the extension
+//! specification. [`Device::ALL`] lists the devices of the plain
+//! specification; G is not among them and answers `C05B` there.
 
 use softplc_core::device::DeviceKind;
 use std::fmt;
@@ -71,6 +78,9 @@ pub enum Device {
     ZR,
     DX,
     DY,
+    /// Module access device: buffer memory of the intelligent function module
+    /// a [`DeviceRef::unit`] names (extension specification only).
+    G,
 }
 
 impl Device {
@@ -114,6 +124,7 @@ impl Device {
             ZR => 0xB0,
             DX => 0xA2,
             DY => 0xA3,
+            G => 0xAB,
         }
     }
 
@@ -173,6 +184,7 @@ impl Device {
             ZR => "ZR",
             DX => "DX",
             DY => "DY",
+            G => "G",
         }
     }
 
@@ -212,6 +224,7 @@ impl Device {
             Z => DeviceKind::Z,
             R => DeviceKind::R,
             ZR => DeviceKind::ZR,
+            G => DeviceKind::G,
         }
     }
 
@@ -230,27 +243,53 @@ impl fmt::Display for Device {
 /// The largest device number a Q-format device specification carries (3 bytes).
 pub const MAX_NUMBER: u32 = 0xFF_FFFF;
 
-/// A device and a device number, e.g. `D100` or `X1F`.
+/// A device and a device number, e.g. `D100`, `X1F` or `U3\G1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct DeviceRef {
     pub device: Device,
     /// At most [`MAX_NUMBER`]; in ASCII frames a decimal device's number is at most 999999.
     pub number: u32,
+    /// Buffer memory `U<unit>\G<number>`: the module's start I/O number
+    /// divided by 16 (device [`Device::G`]); `None` for the CPU's devices.
+    pub unit: Option<u16>,
 }
 
 impl DeviceRef {
     pub fn new(device: Device, number: u32) -> DeviceRef {
-        DeviceRef { device, number }
+        DeviceRef {
+            device,
+            number,
+            unit: None,
+        }
     }
 
-    /// Parses a device name as a client writes it: `D100`, `X1F`, `ZR10`, `SN3`.
-    /// Numbers are hexadecimal for the hexadecimal devices.
+    /// Word `address` of the buffer memory of the module whose start I/O
+    /// number is `unit` × 16: `U<unit>\G<address>`.
+    pub fn module(unit: u16, address: u32) -> DeviceRef {
+        DeviceRef {
+            device: Device::G,
+            number: address,
+            unit: Some(unit),
+        }
+    }
+
+    /// Parses a device name as a client writes it: `D100`, `X1F`, `ZR10`, `SN3`,
+    /// `U3\G1`. Numbers are hexadecimal for the hexadecimal devices and the unit.
     pub fn parse(s: &str) -> Option<DeviceRef> {
         let s = s.trim();
+        let upper = s.to_ascii_uppercase();
+        if let Some((u, g)) = upper.strip_prefix('U').and_then(|r| r.split_once('\\')) {
+            let unit = u16::from_str_radix(u, 16).ok().filter(|_| u.len() <= 3)?;
+            let address = g.strip_prefix('G')?;
+            if address.is_empty() || !address.bytes().all(|c| c.is_ascii_digit()) {
+                return None;
+            }
+            let number = address.parse::<u32>().ok().filter(|n| *n <= MAX_NUMBER)?;
+            return Some(DeviceRef::module(unit, number));
+        }
         let split = s.find(|c: char| c.is_ascii_digit()).unwrap_or(s.len());
         // Hexadecimal numbers may start with a letter (XFF): try the longest
         // device name first, then shorter ones.
-        let upper = s.to_ascii_uppercase();
         for cut in (1..=split.min(2)).rev() {
             let (name, num) = upper.split_at(cut);
             let Some(device) = Device::ALL.into_iter().find(|d| d.name() == name) else {
@@ -264,7 +303,7 @@ impl DeviceRef {
             if number > MAX_NUMBER {
                 return None;
             }
-            return Some(DeviceRef { device, number });
+            return Some(DeviceRef::new(device, number));
         }
         None
     }
@@ -272,7 +311,9 @@ impl DeviceRef {
 
 impl fmt::Display for DeviceRef {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.device.is_hex() {
+        if let Some(u) = self.unit {
+            write!(f, "U{u:X}\\{}{}", self.device, self.number)
+        } else if self.device.is_hex() {
             write!(f, "{}{:X}", self.device, self.number)
         } else {
             write!(f, "{}{}", self.device, self.number)

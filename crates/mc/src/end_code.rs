@@ -13,20 +13,22 @@
 //! | `0000` | [`EndCode::OK`] | normal completion |
 //! | `C050` | [`EndCode::ASCII_DATA`] | ASCII frame: a field that must be hexadecimal (or decimal for a decimal device number) holds another character |
 //! | `C051` | [`EndCode::BIT_POINTS`] | batch read/write in bit units: 0 or more than 7168 points |
-//! | `C052` | [`EndCode::WORD_POINTS`] | batch read/write in word units: 0 or more than 960 words |
+//! | `C052` | [`EndCode::WORD_POINTS`] | batch read/write in word units: 0 or more than 960 words; buffer memory read/write (0601/1601): fewer than 2 or more than 1920 bytes |
 //! | `C053` | [`EndCode::RANDOM_BIT_POINTS`] | random write in bit units: 0 or more than 188 points |
 //! | `C054` | [`EndCode::RANDOM_WORD_POINTS`] | random read: 0 or more than 192 word + double-word points; random write in word units: 0 points or word points × 12 + double-word points × 14 > 1920 |
 //! | `C056` | [`EndCode::ADDRESS_RANGE`] | the head device plus the points runs past the last point of the device (as configured), or the device has 0 points |
 //! | `C058` | [`EndCode::ASCII_LENGTH`] | ASCII frame: the request data length does not match what the command needs |
-//! | `C059` | [`EndCode::COMMAND`] | unknown command, or a subcommand the command does not have for a Q CPU (iQ-R subcommands 0002/0003, device extension 008x) |
-//! | `C05B` | [`EndCode::DEVICE`] | unknown device code, or one a Q CPU has not (iQ-R long timers, LZ, RD, ...) |
-//! | `C05C` | [`EndCode::REQUEST_CONTENTS`] | bit-unit access to a word device; a mode or clear-mode value outside the specification; loopback length outside 1–960; password length outside 1–32 |
+//! | `C059` | [`EndCode::COMMAND`] | unknown command, or a subcommand the command does not have for a Q CPU (iQ-R subcommands 0002/0003 and 0082/0083) |
+//! | `C05B` | [`EndCode::DEVICE`] | unknown device code, or one a Q CPU has not (iQ-R long timers, LZ, RD, ...); G outside the device extension specification; link direct devices (`J\`) |
+//! | `C05C` | [`EndCode::REQUEST_CONTENTS`] | bit-unit access to a word device; a mode or clear-mode value outside the specification; loopback length outside 1–960; password length outside 1–32; an odd buffer-memory start address or number of bytes; index modification or indirect specification in the device extension |
 //! | `C05F` | [`EndCode::NOT_EXECUTABLE`] | remote RUN while a stop error is held (RESET first); remote PAUSE while in STOP |
 //! | `C060` | [`EndCode::BIT_DATA`] | bit data other than 0/1 (binary nibble or byte, ASCII character) |
 //! | `C061` | [`EndCode::DATA_LENGTH`] | binary frame: the request data length does not match what the command needs |
 //! | `C200` | [`EndCode::PASSWORD_MISMATCH`] | remote password unlock or lock with the wrong password |
 //! | `C201` | [`EndCode::PASSWORD_LOCKED`] | any request but unlock (1630) and loopback (0619) while the connection is locked by the remote password |
 //! | `4010` | [`EndCode::CPU_RUNNING`] | remote latch clear or remote RESET while the CPU is in RUN or PAUSE (both are accepted in STOP only) |
+//! | `4041` | [`EndCode::BUFFER_RANGE`] | buffer memory (0601/1601, `U<n>\G<addr>`): the range runs past the module's buffer memory |
+//! | `4043` | [`EndCode::NO_MODULE`] | buffer memory of a unit (start I/O number / 16) with no intelligent function module |
 //!
 //! Decisions: the real E71 distinguishes `C058` (ASCII) from `C061` (binary) for a
 //! length mismatch, and softplc does the same. `C05F` and `4010` for refused
@@ -74,9 +76,15 @@ impl EndCode {
     pub const PASSWORD_LOCKED: EndCode = EndCode(0xC201);
     /// CPU-detected: the request cannot be executed while the CPU is running.
     pub const CPU_RUNNING: EndCode = EndCode(0x4010);
+    /// CPU-detected: the access range exceeds the buffer memory of the
+    /// specified intelligent function module.
+    pub const BUFFER_RANGE: EndCode = EndCode(0x4041);
+    /// CPU-detected: no intelligent function module in the specified
+    /// position.
+    pub const NO_MODULE: EndCode = EndCode(0x4043);
 
     /// Every end code softplc produces, normal completion first.
-    pub const ALL: [EndCode; 17] = [
+    pub const ALL: [EndCode; 19] = [
         Self::OK,
         Self::ASCII_DATA,
         Self::BIT_POINTS,
@@ -94,6 +102,8 @@ impl EndCode {
         Self::PASSWORD_MISMATCH,
         Self::PASSWORD_LOCKED,
         Self::CPU_RUNNING,
+        Self::BUFFER_RANGE,
+        Self::NO_MODULE,
     ];
 
     pub fn is_ok(self) -> bool {
@@ -122,6 +132,10 @@ impl EndCode {
             0xC200 => "remote password error",
             0xC201 => "the port is locked by the remote password",
             0x4010 => "the request cannot be executed while the CPU module is running",
+            0x4041 => {
+                "the access range exceeds the buffer memory of the intelligent function module"
+            }
+            0x4043 => "no intelligent function module in the specified position",
             _ => "error",
         }
     }

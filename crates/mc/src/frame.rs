@@ -330,7 +330,11 @@ pub fn decode_request(buf: &[u8]) -> Result<(Request, usize), FrameError> {
 /// and returns its position.
 fn encode_head(out: &mut Vec<u8>, h: &Header, response: bool) -> usize {
     let code = h.code;
-    let mut w = Writer { out, code };
+    let mut w = Writer {
+        out,
+        code,
+        extended: false,
+    };
     let sub: u8 = match (h.frame, response) {
         (Frame::E3, false) => 0x50,
         (Frame::E4 { .. }, false) => 0x54,
@@ -360,7 +364,12 @@ fn patch_len(out: &mut [u8], at: usize, code: DataCode) {
     let width = code.width(2);
     let len = (out.len() - at - width) as u16;
     let mut v = Vec::with_capacity(width);
-    Writer { out: &mut v, code }.u16(len);
+    Writer {
+        out: &mut v,
+        code,
+        extended: false,
+    }
+    .u16(len);
     out[at..at + width].copy_from_slice(&v);
 }
 
@@ -372,6 +381,7 @@ pub fn encode_request(req: &Request) -> Vec<u8> {
     let mut w = Writer {
         out: &mut out,
         code: h.code,
+        extended: false,
     };
     w.u16(h.timer);
     let (command, subcommand) = req.command.codes();
@@ -389,6 +399,7 @@ pub fn encode_response(h: &Header, resp: &Response) -> Vec<u8> {
     let mut w = Writer {
         out: &mut out,
         code: h.code,
+        extended: false,
     };
     w.u16(resp.end_code().0);
     match resp {

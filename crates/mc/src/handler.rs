@@ -16,6 +16,12 @@
 //!   values are then written again ([`Cpu::remote_run_clear`]).
 //! - Every device access goes through `softplc_core::access` spans (R with
 //!   [`RBlock::Selected`]) and the CPU's span writes.
+//! - Buffer memory (0601/1601, and `U<n>\G<addr>` in the device extension
+//!   specification) is the module's window in the device G
+//!   (`DeviceMap::unit`). A unit with no intelligent function module answers
+//!   `4043` and a range past the module's buffer memory `4041`, the CPU's
+//!   codes for them ([`EndCode::NO_MODULE`], [`EndCode::BUFFER_RANGE`]);
+//!   nothing is written then.
 //! - Remote password: with a password configured, a [`Session`] starts locked and
 //!   refuses everything but unlock (1630) and loopback (0619) with `C201`. Unlock
 //!   with the right password unlocks the session, a wrong one answers `C200`;
@@ -26,9 +32,10 @@ use softplc_core::access::{AccessError, RBlock, Span};
 use softplc_core::engine::{Cpu, CpuState, RunClear};
 
 use crate::command::{ClearMode, Command, Unit};
-use crate::device::DeviceRef;
+use crate::device::{Device, DeviceRef};
 use crate::end_code::EndCode;
 use crate::frame::{decode_request, encode_response, FrameError, Request, Response, ResponseData};
+use softplc_core::device::DeviceKind;
 
 /// Per-connection state.
 #[derive(Clone, Debug, Default)]
@@ -227,6 +234,24 @@ fn execute(
             ResponseData::None
         }
         Loopback { data } => ResponseData::Loopback(data.clone()),
+        BufferRead {
+            start,
+            bytes,
+            module,
+        } => {
+            let s = buffer_span(cpu, *module, *start, *bytes as usize / 2)?;
+            ResponseData::Words(cpu.memory().read_span_words(&s).map_err(end_code)?)
+        }
+        BufferWrite {
+            start,
+            module,
+            values,
+        } => {
+            let s = buffer_span(cpu, *module, *start, values.len())?;
+            apply_words(cpu, s, values);
+            ResponseData::None
+        }
+        Extended(c) => return execute(c, cpu, session, password),
     })
 }
 
@@ -234,10 +259,38 @@ fn execute(
 
 /// Resolves `points` consecutive points of `d` (bits for a bit device, words
 /// for a word device), R in the block SD648 selects; `C056` past the end.
+/// Buffer memory `U<n>\G<addr>` is the module's ([`unit_span`]).
 fn locate(cpu: &Cpu, d: DeviceRef, points: usize) -> Result<Span> {
+    if d.device == Device::G {
+        let unit = d.unit.ok_or(EndCode::DEVICE)?;
+        return unit_span(cpu, unit, d.number, points);
+    }
     let points = u32::try_from(points).map_err(|_| EndCode::ADDRESS_RANGE)?;
     cpu.span(d.device.kind(), d.number, points, RBlock::Selected)
         .map_err(end_code)
+}
+
+/// `words` words of buffer memory from word `address` of the module with
+/// unit number `unit`: `4043` without an intelligent function module there,
+/// `4041` past its buffer memory.
+fn unit_span(cpu: &Cpu, unit: u16, address: u32, words: usize) -> Result<Span> {
+    let window = cpu
+        .memory()
+        .map
+        .unit(unit as u32)
+        .ok_or(EndCode::NO_MODULE)?;
+    let words = u32::try_from(words).map_err(|_| EndCode::BUFFER_RANGE)?;
+    if address as u64 + words as u64 > window.words as u64 {
+        return Err(EndCode::BUFFER_RANGE);
+    }
+    cpu.span(DeviceKind::G, window.first + address, words, RBlock::First)
+        .map_err(|_| EndCode::BUFFER_RANGE)
+}
+
+/// The buffer-memory span of 0601/1601: byte address `start` is word
+/// `start / 2` (decoding made it even).
+fn buffer_span(cpu: &Cpu, module: u16, start: u32, words: usize) -> Result<Span> {
+    unit_span(cpu, module, start / 2, words)
 }
 
 fn end_code(e: AccessError) -> EndCode {

@@ -47,6 +47,9 @@
 //! | `1630` | `0000` | remote password unlock |
 //! | `1631` | `0000` | remote password lock |
 //! | `0619` | `0000` | loopback test |
+//! | `0601` | `0000` | intelligent function module buffer memory batch read (start byte address, bytes, module number = start I/O number / 16) |
+//! | `1601` | `0000` | intelligent function module buffer memory batch write |
+//! | `0401`, `1401`, `0403`, `1402` | `0080` word units, `0081` bit units | the same with the device extension specification: `U<n>\G<addr>` (module access device G, `AB`/`G*`) and the plain devices |
 //!
 //! Anything else answers `C059`. Request formats and per-request limits are in
 //! [`command`].
@@ -69,7 +72,9 @@
 //! | DX | `A2` | `DX` | hex | R | `AF` | `R*` | dec |
 //! | DY | `A3` | `DY` | hex | ZR | `B0` | `ZR` | hex |
 //!
-//! SS/SC/SN are softplc's STS/STC/STN; DX/DY address X/Y. See [`device`].
+//! SS/SC/SN are softplc's STS/STC/STN; DX/DY address X/Y. Buffer memory
+//! `U<n>\G<addr>` is G (`AB`, `G*`, decimal) in the device extension
+//! specification only. See [`device`].
 //!
 //! # End codes
 //! | code | meaning |
@@ -77,20 +82,22 @@
 //! | `0000` | normal completion |
 //! | `C050` | ASCII data not convertible to binary |
 //! | `C051` | batch bit points outside 1–7168 |
-//! | `C052` | batch word points outside 1–960 |
+//! | `C052` | batch word points outside 1–960, buffer memory bytes outside 2–1920 |
 //! | `C053` | random write bit points outside 1–188 |
 //! | `C054` | random read points outside 1–192, random write weight over 1920 |
 //! | `C056` | device range exceeded |
 //! | `C058` | ASCII request data length mismatch |
 //! | `C059` | unknown command or subcommand |
 //! | `C05B` | unknown device code |
-//! | `C05C` | bit access to a word device, bad mode/clear mode, loopback or password length |
+//! | `C05C` | bit access to a word device, bad mode/clear mode, loopback or password length, odd buffer-memory address or bytes, index modification in the device extension |
 //! | `C05F` | remote RUN with a stop error held, remote PAUSE in STOP |
 //! | `C060` | bit data other than 0/1 |
 //! | `C061` | binary request data length mismatch |
 //! | `C200` | wrong remote password |
 //! | `C201` | connection locked by the remote password |
 //! | `4010` | remote latch clear/RESET while not in STOP |
+//! | `4041` | buffer memory past the module's last word |
+//! | `4043` | buffer memory of a unit with no intelligent function module |
 //!
 //! Sources and decisions: [`end_code`].
 

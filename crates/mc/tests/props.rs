@@ -84,7 +84,55 @@ fn any_command() -> impl Strategy<Value = Command> {
         vec(any::<u8>(), 1..=32).prop_map(|password| Command::Unlock { password }),
         vec(any::<u8>(), 1..=32).prop_map(|password| Command::Lock { password }),
         vec(any::<u8>(), 1..=960).prop_map(|data| Command::Loopback { data }),
+        (any::<u32>(), 1u16..=960, any::<u16>()).prop_map(|(start, words, module)| {
+            Command::BufferRead {
+                start: start & !1,
+                bytes: words * 2,
+                module,
+            }
+        }),
+        (any::<u32>(), any::<u16>(), vec(any::<u16>(), 1..=960)).prop_map(
+            |(start, module, values)| Command::BufferWrite {
+                start: start & !1,
+                module,
+                values,
+            }
+        ),
+        extended_command(),
     ]
+}
+
+/// Buffer memory `U<n>\G<addr>` (units an ASCII frame carries: 3 hex
+/// digits) and plain devices in the device extension specification.
+fn extended_device() -> impl Strategy<Value = DeviceRef> {
+    prop_oneof![
+        (0u16..=0xFFF, 0u32..=999_999).prop_map(|(u, n)| DeviceRef::module(u, n)),
+        any_device(),
+    ]
+}
+
+fn extended_command() -> impl Strategy<Value = Command> {
+    prop_oneof![
+        (extended_device(), 1u16..=960).prop_map(|(head, points)| Command::BatchRead {
+            unit: Unit::Word,
+            head,
+            points
+        }),
+        (extended_device(), vec(any::<u16>(), 1..=960))
+            .prop_map(|(head, values)| Command::BatchWriteWords { head, values }),
+        (
+            vec(extended_device(), 1..=96),
+            vec(extended_device(), 0..=96)
+        )
+            .prop_map(|(words, dwords)| Command::RandomRead { words, dwords }),
+        vec((extended_device(), any::<u16>()), 1..=80).prop_map(|words| {
+            Command::RandomWriteWords {
+                words,
+                dwords: vec![],
+            }
+        }),
+    ]
+    .prop_map(|c| Command::Extended(Box::new(c)))
 }
 
 fn any_request() -> impl Strategy<Value = Request> {

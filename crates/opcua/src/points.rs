@@ -253,6 +253,48 @@ mod tests {
         assert!(e.contains("D99999"), "{e}");
     }
 
+    /// Buffer memory `U<n>\\G<addr>` of the rack's modules: a device like D
+    /// (word, bit of a word, 32-bit operand); a unit with no module has no
+    /// node (the program stops at SP.UNIT ERROR when it runs there).
+    #[test]
+    fn buffer_memory_words_are_devices() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("plc.toml"),
+            "[[program]]\nfile = \"main.il\"\n\
+             [[slot]]\ntype = \"input\"\npoints = 16\n\
+             [[slot]]\ntype = \"output\"\npoints = 16\n\
+             [[slot]]\ntype = \"intelligent\"\npoints = 16\nbuffer_words = 100\n",
+        )
+        .unwrap();
+        std::fs::write(
+            dir.path().join("main.il"),
+            "LD SM400\nMOV U2\\G11 D0\nDMOV U2\\G20 D2\nMOV D1 U3\\G0\nLD U2\\G10.3\nOUT Y10\nEND\n",
+        )
+        .unwrap();
+        let c = softplc_core::project::load_project(dir.path())
+            .and_then(|p| p.build_cpu(Box::new(VirtualClock::new())))
+            .unwrap_or_else(|d| panic!("{:?}", d.0));
+        assert_eq!(
+            ids(&devices(&c, &["U2\\G99:u16".to_string()]).unwrap()),
+            [
+                ("D0", Kind::Int16),
+                ("D1", Kind::Int16),
+                ("D2", Kind::Int16),
+                ("D2:i32", Kind::Int32),
+                ("SM400", Kind::Boolean),
+                ("U2\\G10.3", Kind::Boolean),
+                ("U2\\G11", Kind::Int16),
+                ("U2\\G20", Kind::Int16),
+                ("U2\\G20:i32", Kind::Int32),
+                ("U2\\G99:u16", Kind::UInt16),
+                ("Y10", Kind::Boolean),
+            ]
+        );
+        let e = devices(&c, &["U3\\G0".to_string()]).unwrap_err();
+        assert!(e.contains("U3\\G0"), "{e}");
+    }
+
     #[test]
     fn aplc_programs_are_refused_with_the_reason() {
         let src = "LD X0\nOUT Y10\n";
