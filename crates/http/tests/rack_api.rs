@@ -20,6 +20,7 @@ fn start_rack() -> Server {
         token: Some(TOKEN.into()),
         model: "Q06HCPU".into(),
         ladder: softplc_http::ladder::load_programs(&cpu),
+        limits: Default::default(),
     };
     start_cpu(cpu, cfg)
 }
