@@ -244,6 +244,8 @@ fn shipped_examples_pass() {
         "examples/aplc/sfc.toml",
         "examples/aplc/pid_setup.toml",
         "examples/aplc/batch_mix.toml",
+        // The rack (issue #26): a Q64AD, a Q64DA and a QI60 emergency stop.
+        "examples/rack/tank.toml",
         "--plot",
         &svg,
     ]);
