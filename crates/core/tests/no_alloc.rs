@@ -6,8 +6,10 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
+use softplc_core::device::DeviceKind;
 use softplc_core::engine::{Cpu, CpuConfig, ExecType, LoadedProgram, VirtualClock};
 use softplc_core::program::compile_il;
+use softplc_core::rack::{AutoRefresh, Rack, Slot};
 use softplc_core::tier::{apply, Exec, Jit};
 
 struct Counting;
@@ -62,6 +64,12 @@ NEXT
 LD SM400
 CALL P1
 DUTY K1 K1 SM420
+LD SM400
+MOV U2\\G11 D110
+FROM H2 K11 D111 K1
+TO H2 K1 D0 K1
+LD DX2
+OUT DY10
 FEND
 P1
 LD SM400
@@ -84,10 +92,36 @@ fn scans_do_not_allocate_on_either_tier() {
 }
 
 fn scans_do_not_allocate(exec: Exec) {
-    let cfg = CpuConfig {
+    let mut cfg = CpuConfig {
         low_speed_time: Some(Duration::from_millis(1)),
         ..softplc_core::profile::default_config()
     };
+    // A rack: a Q64AD at X/Y20 (auto refresh G11 → D200) and a QI60 at
+    // X/Y40, so that buffer memory, FROM/TO, direct I/O, the modules' END
+    // and the interrupt module's edges run too.
+    let slot = |index, start, module: &'static softplc_core::rack::ModuleProfile| Slot {
+        index,
+        kind: module.kind,
+        points: 16,
+        start,
+        module: Some(module),
+        buffer_words: module.buffer_words,
+        interrupts: Vec::new(),
+        refresh: Vec::new(),
+        switches: [0; 5],
+    };
+    let mut ad = slot(0, 0x20, &softplc_modules::Q64AD);
+    ad.refresh.push(AutoRefresh {
+        buffer: 11,
+        device: DeviceKind::D,
+        number: 200,
+        words: 1,
+        to_cpu: true,
+    });
+    cfg.devices.set_units(&[(2, ad.buffer_words)]);
+    cfg.rack = std::sync::Arc::new(Rack {
+        slots: vec![ad, slot(1, 0x40, &softplc_modules::QI60)],
+    });
     let progs = [
         ("main.il", MAIN, ExecType::Scan, None),
         (
@@ -140,6 +174,7 @@ fn scans_do_not_allocate(exec: Exec) {
     let before = ALLOCS.load(Ordering::Relaxed);
     for k in 0..200 {
         cpu.set_input(2, k % 2 == 0);
+        cpu.set_input(0x40, k % 3 == 0);
         clock.advance_us(10_000);
         cpu.scan();
     }
