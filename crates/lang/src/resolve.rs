@@ -259,16 +259,25 @@ impl Compiler<'_> {
             .unwrap_or_else(|| self.bit_operand(tok))
     }
 
-    /// A contact's operand: a bit operand, or a direct input `DX<n>`, which
-    /// reads X<n> after `Op::DirectIn` has refreshed it.
-    pub fn contact_operand(&mut self, tok: &Token) -> Option<BitArg> {
-        self.direct(tok, DeviceKind::X)
-            .unwrap_or_else(|| self.bit_operand(tok))
+    /// A contact's operand: a bit operand, or a direct input `DX<n>` (then
+    /// `true`), which reads X<n> after `Op::DirectIn` has refreshed it.
+    pub fn contact_operand(&mut self, tok: &Token) -> Option<(BitArg, bool)> {
+        match self.direct(tok, DeviceKind::X) {
+            Some(direct) => direct.map(|b| (b, true)),
+            None => self.bit_operand(tok).map(|b| (b, false)),
+        }
     }
 
     /// `tok` as direct access to `kind` (`DX<n>`, `DY<n>`): `None` when it
     /// is not, else the X/Y bit (`Some(None)` after an error).
     fn direct(&mut self, tok: &Token, kind: DeviceKind) -> Option<Option<BitArg>> {
+        // Most operands are not: tell by their first letters, not a parse.
+        let t = tok.text.as_bytes();
+        let letter = kind.name().as_bytes()[0];
+        if !(t.len() > 2 && t[0].eq_ignore_ascii_case(&b'D') && t[1].eq_ignore_ascii_case(&letter))
+        {
+            return None;
+        }
         let Ok(Operand::Device { dev, .. }) = parse_operand_in(self.dialect.devices, &tok.text)
         else {
             return None;

@@ -4,7 +4,7 @@
 //! in the interpreter and [`super::sequence`].
 
 use super::annunciator::{Annunciator, Coil as AnnCoil, Ledr, List};
-use softplc_ir::device::{parse_operand, parse_operand_in, Constant, DeviceKind, Operand, Reach};
+use softplc_ir::device::{parse_operand, Constant, DeviceKind, Operand};
 use softplc_ir::kernels::basic::Move;
 use softplc_ir::ops::*;
 use softplc_lang::compile::{Compiler, MAX_MPS};
@@ -226,14 +226,14 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
     if !c.count(i, m, &[1]) {
         return;
     }
-    // `DX<n>`: X<n> takes the module's value first, then the contact reads X.
-    if let Some(n) = direct_input(c, &ops[0]) {
-        c.emit(Op::DirectIn(n));
-    }
-    let Some(src) = c.contact_operand(&ops[0]) else {
+    let Some((src, direct)) = c.contact_operand(&ops[0]) else {
         c.contact_state(i, join);
         return;
     };
+    // `DX<n>`: X<n> takes the module's value first, then the contact reads X.
+    if let (true, BitArg::Bit(b)) = (direct, &src) {
+        c.emit(Op::DirectIn(b - c.map.base(DeviceKind::X)));
+    }
     let op = match (&src, edge) {
         (BitArg::Bit(b), Edge::None) => match (join, negate) {
             (Join::Load, false) => Op::Ld(*b),
@@ -255,19 +255,6 @@ fn contact(c: &mut Compiler<'_>, u: &Use<'_>) {
         }
     };
     c.contact(i, join, op);
-}
-
-/// The X number of a direct input operand `DX<n>` (checked against the X
-/// points), `None` for any other operand.
-fn direct_input(c: &mut Compiler<'_>, tok: &Token) -> Option<u32> {
-    match parse_operand_in(c.dialect.devices, &tok.text) {
-        Ok(Operand::Device { dev, .. })
-            if dev.reach == Reach::Direct && dev.kind == DeviceKind::X =>
-        {
-            (dev.number < c.map.points(DeviceKind::X)).then_some(dev.number)
-        }
-        _ => None,
-    }
 }
 
 /// MPS nests 16 deep (PM §3.6).
