@@ -27,7 +27,18 @@ pub struct OpcuaConfig {
     pub nodes: Vec<String>,
     /// The OPC UA server's sampling floor: the constant-scan period.
     pub scan: std::time::Duration,
+    /// Sessions at most, in all and from one client address (`[opcua]
+    /// max_sessions`, `max_sessions_per_client`); connections at most
+    /// twice as many.
+    pub max_sessions: usize,
+    pub max_sessions_per_client: usize,
 }
+
+/// Sessions at most by default: a PLC's OPC UA clients are a few HMI,
+/// SCADA and historian stations.
+pub const MAX_SESSIONS: usize = 32;
+/// Sessions from one client address at most by default.
+pub const MAX_SESSIONS_PER_CLIENT: usize = 8;
 
 /// The command line's part.
 #[derive(Clone, Debug, Default)]
@@ -56,6 +67,8 @@ impl OpcuaConfig {
             "pki",
             "trust_client_certs",
             "nodes",
+            "max_sessions",
+            "max_sessions_per_client",
         ];
         if let Some(k) = t.keys().find(|k| !KEYS.contains(&k.as_str())) {
             return Err(format!(
@@ -77,6 +90,20 @@ impl OpcuaConfig {
                 Some(v) => Err(format!("[opcua] {k}: expected true or false, not `{v}`")),
             }
         };
+        let count = |k: &str, default: usize| -> Result<usize, String> {
+            match t.get(k) {
+                None => Ok(default),
+                Some(toml::Value::Integer(n)) if (1..=10_000).contains(n) => Ok(*n as usize),
+                Some(v) => Err(format!(
+                    "[opcua] {k}: expected a number from 1 to 10000, not `{v}`"
+                )),
+            }
+        };
+        let max_sessions = count("max_sessions", MAX_SESSIONS)?;
+        let max_sessions_per_client = count(
+            "max_sessions_per_client",
+            MAX_SESSIONS_PER_CLIENT.min(max_sessions),
+        )?;
         let addr = match flags.addr.clone().or(string("address")?) {
             Some(a) => softplc_serve::parse_addr(&a).map_err(|e| format!("--opcua {e}"))?,
             None => return Ok(None),
@@ -112,6 +139,8 @@ impl OpcuaConfig {
             trust_client_certs: boolean("trust_client_certs")?,
             nodes,
             scan,
+            max_sessions,
+            max_sessions_per_client,
         }))
     }
 
@@ -172,6 +201,19 @@ mod tests {
         assert!(e.contains("go together"), "{e}");
         let e = cfg(Flags::default(), "[opcua]\naddress = 4840\n").unwrap_err();
         assert!(e.contains("address: expected a string"), "{e}");
+        let e = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\nmax_sessions = 0\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("max_sessions: expected a number from 1"), "{e}");
+        let c = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\nmax_sessions = 4\n",
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!((c.max_sessions, c.max_sessions_per_client), (4, 4));
         let e = cfg(Flags::default(), "[opcua]\naddress = \"x\"\n").unwrap_err();
         assert!(e.contains("--opcua `x`"), "{e}");
     }

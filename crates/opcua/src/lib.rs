@@ -199,6 +199,14 @@ fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
     let tick = scan_ms.clamp(10.0, 100.0);
     b = b.subscription_poll_interval_ms(tick as u64);
     let limits = b.limits_mut();
+    // A client that goes away without closing its session leaves it open
+    // for its timeout (OPC UA lets it come back to it): such sessions, and
+    // those never activated, make room for new ones; one client address
+    // cannot take every session or connection (docs/opcua.md, Limits).
+    limits.max_sessions = cfg.max_sessions;
+    limits.max_sessions_per_client = cfg.max_sessions_per_client;
+    limits.max_connections = 2 * cfg.max_sessions;
+    limits.max_connections_per_client = 2 * cfg.max_sessions_per_client;
     limits.subscriptions.min_sampling_interval_ms = scan_ms;
     limits.subscriptions.min_publishing_interval_ms = tick;
     limits.subscriptions.max_monitored_items_per_sub = 100_000;

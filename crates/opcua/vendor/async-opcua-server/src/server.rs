@@ -51,6 +51,25 @@ use super::{
 
 struct ConnectionInfo {
     command_send: tokio::sync::mpsc::Sender<ControllerCommand>,
+    /// softplc patch: the client's address (none on a reverse connection).
+    client: Option<std::net::IpAddr>,
+}
+
+/// softplc patch: why a new connection from `client` is refused under the
+/// limits `max_connections` and `max_connections_per_client`, if it is.
+fn connection_refused(
+    limits: &crate::config::Limits,
+    open: &HashMap<u32, ConnectionInfo>,
+    client: std::net::IpAddr,
+) -> Option<&'static str> {
+    if limits.max_connections > 0 && open.len() >= limits.max_connections {
+        return Some("the server has its maximum number of connections");
+    }
+    let per_client = limits.max_connections_per_client;
+    if per_client > 0 && open.values().filter(|c| c.client == Some(client)).count() >= per_client {
+        return Some("the client has its maximum number of connections");
+    }
+    None
 }
 
 fn log_connection_panic(id: u32, payload: Box<dyn std::any::Any + Send>) {
@@ -373,6 +392,12 @@ impl Server {
                 rs = listener.accept() => {
                     match rs {
                         Ok((socket, addr)) => {
+                            let client = addr.ip().to_canonical();
+                            if let Some(why) = connection_refused(&self.info.config.limits, &self.connection_map, client) {
+                                warn!("Connection from {addr} closed: {why}");
+                                drop(socket);
+                                continue;
+                            }
                             info!("Accept new connection from {addr} ({connection_counter})");
                             let conn = SessionStarter::new(
                                 TcpConnector::new(socket, TransportConfig {
@@ -387,7 +412,7 @@ impl Server {
                                 self.certificate_store.clone(),
                                 self.node_managers.clone(),
                                 self.subscriptions.clone()
-                            );
+                            ).from_client(client);
 
                             let (send, recv) = tokio::sync::mpsc::channel(5);
                             let handle = tokio::spawn(async move {
@@ -402,7 +427,8 @@ impl Server {
                             });
                             self.connections.push(handle);
                             self.connection_map.insert(connection_counter, ConnectionInfo {
-                                command_send: send
+                                command_send: send,
+                                client: Some(client),
                             });
                             connection_counter += 1;
                         }
@@ -452,7 +478,8 @@ impl Server {
                     });
                     self.connections.push(handle);
                     self.connection_map.insert(connection_counter, ConnectionInfo {
-                        command_send: send
+                        command_send: send,
+                        client: None,
                     });
                     connection_counter += 1;
                 }

@@ -42,6 +42,18 @@ pub struct Limits {
     /// Maximum number of registered sessions before new ones are rejected.
     #[serde(default = "defaults::max_sessions")]
     pub max_sessions: usize,
+    /// softplc patch: maximum number of sessions created from one client
+    /// address (0: no limit).
+    #[serde(default)]
+    pub max_sessions_per_client: usize,
+    /// softplc patch: maximum number of open connections (0: no limit); a
+    /// connection over the limit is closed at once.
+    #[serde(default)]
+    pub max_connections: usize,
+    /// softplc patch: maximum number of open connections from one client
+    /// address (0: no limit).
+    #[serde(default)]
+    pub max_connections_per_client: usize,
 }
 
 impl Default for Limits {
@@ -60,6 +72,9 @@ impl Default for Limits {
             max_query_continuation_points: defaults::max_query_continuation_points(),
             operational: OperationalLimits::default(),
             max_sessions: defaults::max_sessions(),
+            max_sessions_per_client: 0,
+            max_connections: 0,
+            max_connections_per_client: 0,
         }
     }
 }
@@ -364,6 +379,9 @@ mod tests {
                 max_history_continuation_points: 500,
                 max_query_continuation_points: 500,
                 max_sessions: 20,
+                max_sessions_per_client: 0,
+                max_connections: 0,
+                max_connections_per_client: 0,
                 subscriptions: SubscriptionLimits {
                     max_subscriptions_per_session: 100,
                     max_pending_publish_requests: 20,

@@ -1,4 +1,5 @@
 use std::{
+    net::IpAddr,
     pin::Pin,
     sync::Arc,
     time::{Duration, Instant},
@@ -81,6 +82,8 @@ pub(crate) struct SessionController {
     pending_messages: FuturesUnordered<Pin<Box<PendingMessageResponse>>>,
     info: Arc<ServerInfo>,
     deadline: Instant,
+    /// softplc patch: the client's address (none on a reverse connection).
+    client: Option<IpAddr>,
 }
 
 enum RequestProcessResult {
@@ -95,6 +98,7 @@ pub(crate) struct SessionStarter<T> {
     certificate_store: Arc<RwLock<CertificateStore>>,
     node_managers: NodeManagers,
     subscriptions: Arc<SubscriptionCache>,
+    client: Option<IpAddr>,
 }
 
 impl<T: Connector> SessionStarter<T> {
@@ -113,7 +117,14 @@ impl<T: Connector> SessionStarter<T> {
             certificate_store,
             node_managers,
             subscriptions,
+            client: None,
         }
+    }
+
+    /// softplc patch: the address of the client on the other end.
+    pub(crate) fn from_client(mut self, client: IpAddr) -> Self {
+        self.client = Some(client);
+        self
     }
 
     pub(crate) async fn run(
@@ -152,7 +163,7 @@ impl<T: Connector> SessionStarter<T> {
             }
         };
 
-        let controller = SessionController::new(
+        let mut controller = SessionController::new(
             transport,
             self.session_manager,
             self.certificate_store,
@@ -160,6 +171,7 @@ impl<T: Connector> SessionStarter<T> {
             self.node_managers,
             self.subscriptions,
         );
+        controller.client = self.client;
         controller.run(command).await
     }
 }
@@ -190,6 +202,7 @@ impl SessionController {
                 + Duration::from_secs(info.config.tcp_config.hello_timeout as u64),
             info,
             pending_messages: FuturesUnordered::new(),
+            client: None,
         }
     }
 
@@ -260,6 +273,8 @@ impl SessionController {
                 }
             }
         }
+        // softplc patch: the sessions on this channel lost it.
+        trace_write_lock!(self.session_manager).channel_closed(self.channel.secure_channel_id());
     }
 
     fn response_metrics(&self, msg: &Response) {
@@ -336,7 +351,12 @@ impl SessionController {
             RequestMessage::CreateSession(request) => {
                 let _h = span.enter();
                 let mut mgr = trace_write_lock!(self.session_manager);
-                let res = mgr.create_session(&mut self.channel, &self.certificate_store, &request);
+                let res = mgr.create_session(
+                    &mut self.channel,
+                    &self.certificate_store,
+                    &request,
+                    self.client,
+                );
                 drop(mgr);
                 self.process_service_result(res, request.request_header.request_handle, id)
             }

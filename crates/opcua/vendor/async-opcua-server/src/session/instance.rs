@@ -1,4 +1,5 @@
 use std::collections::HashMap;
+use std::net::IpAddr;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -68,6 +69,13 @@ pub struct Session {
     user_token: Option<UserToken>,
     /// Whether the session has been closed.
     is_closed: bool,
+    /// softplc patch: the address of the client that created the session.
+    client: Option<IpAddr>,
+    /// softplc patch: when the session was created.
+    created_at: Instant,
+    /// softplc patch: since when the secure channel the session was last
+    /// activated on is closed (`None` while it is open).
+    detached_at: Option<Instant>,
 }
 
 impl Session {
@@ -88,6 +96,7 @@ impl Session {
         session_name: UAString,
         application_description: ApplicationDescription,
         message_security_mode: MessageSecurityMode,
+        client: Option<IpAddr>,
     ) -> Self {
         let (session_id, session_id_numeric) = next_session_id();
         Self {
@@ -120,6 +129,38 @@ impl Session {
             application_description,
             message_security_mode,
             is_closed: false,
+            client,
+            created_at: Instant::now(),
+            detached_at: None,
+        }
+    }
+
+    /// softplc patch: the address of the client that created the session.
+    pub fn client(&self) -> Option<IpAddr> {
+        self.client
+    }
+
+    /// softplc patch: since when the session has had no open secure channel
+    /// (its client went away without closing it).
+    pub fn detached_at(&self) -> Option<Instant> {
+        self.detached_at
+    }
+
+    /// softplc patch: its secure channel closed.
+    pub(crate) fn detach(&mut self) {
+        self.detached_at.get_or_insert_with(Instant::now);
+    }
+
+    /// softplc patch: whether the server may close this session to make
+    /// room for a new one — it was never activated, or its secure channel
+    /// is closed — and since when (the oldest goes first). OPC UA Part 4
+    /// §5.6.2: the server closes the oldest session that is not activated
+    /// before it reaches its maximum number of sessions.
+    pub(crate) fn evictable_since(&self) -> Option<Instant> {
+        match (self.detached_at, self.is_activated()) {
+            (Some(t), _) => Some(t),
+            (None, false) => Some(self.created_at),
+            (None, true) => None,
         }
     }
 
@@ -182,6 +223,7 @@ impl Session {
     ) {
         self.user_token = Some(user_token);
         self.secure_channel_id = secure_channel_id;
+        self.detached_at = None;
         self.session_nonce = server_nonce;
         self.user_identity = identity;
         self.locale_ids = locale_ids;

@@ -1,5 +1,6 @@
 use std::{
     collections::HashMap,
+    net::IpAddr,
     sync::{
         atomic::{AtomicU32, Ordering},
         Arc,
@@ -66,10 +67,9 @@ impl SessionManager {
         channel: &mut SecureChannel,
         certificate_store: &RwLock<CertificateStore>,
         request: &CreateSessionRequest,
+        client: Option<IpAddr>,
     ) -> Result<CreateSessionResponse, StatusCode> {
-        if self.sessions.len() >= self.info.config.limits.max_sessions {
-            return Err(StatusCode::BadTooManySessions);
-        }
+        self.make_room(client)?;
 
         // TODO: Auditing and diagnostics.
         let endpoints = self
@@ -156,6 +156,7 @@ impl SessionManager {
             request.session_name.clone(),
             request.client_description.clone(),
             channel.security_mode(),
+            client,
         );
         info!("Created new session with ID {}", session.session_id());
 
@@ -212,6 +213,75 @@ impl SessionManager {
                 StatusCode::BadUnexpectedError,
                 "Client signature verification failed, session has no client certificate",
             ))
+        }
+    }
+
+    /// softplc patch: makes room for a session of `client` under
+    /// `max_sessions_per_client` and `max_sessions` by closing the oldest
+    /// session that is not activated or whose secure channel is closed —
+    /// first among the client's own, then among all; BadTooManySessions
+    /// when every session in the way is in use.
+    fn make_room(&mut self, client: Option<IpAddr>) -> Result<(), StatusCode> {
+        let limits = &self.info.config.limits;
+        let (per_client, max) = (limits.max_sessions_per_client, limits.max_sessions);
+        if let Some(client) = client.filter(|_| per_client > 0) {
+            let of_client = |s: &Session| s.client() == Some(client);
+            if self.count(of_client) >= per_client && !self.evict_oldest(of_client) {
+                info!("Session refused: {client} has {per_client} sessions in use");
+                return Err(StatusCode::BadTooManySessions);
+            }
+        }
+        if self.sessions.len() >= max && !self.evict_oldest(|_| true) {
+            return Err(StatusCode::BadTooManySessions);
+        }
+        Ok(())
+    }
+
+    fn count(&self, of: impl Fn(&Session) -> bool) -> usize {
+        self.sessions.values().filter(|s| of(&s.read())).count()
+    }
+
+    /// softplc patch: closes the session among `of` that has been
+    /// evictable the longest ([`Session::evictable_since`]); false if none is.
+    fn evict_oldest(&mut self, of: impl Fn(&Session) -> bool) -> bool {
+        let oldest = self
+            .sessions
+            .iter()
+            .filter_map(|(id, s)| {
+                let s = s.read();
+                of(&s)
+                    .then(|| s.evictable_since())
+                    .flatten()
+                    .map(|t| (t, id))
+            })
+            .min_by_key(|(t, _)| *t)
+            .map(|(_, id)| id.clone());
+        let Some(id) = oldest else { return false };
+        info!("Session {id} closed to make room for a new one (not activated, or its client went away)");
+        self.expire_session(&id);
+        true
+    }
+
+    /// softplc patch: the secure channel `channel_id` closed. Sessions
+    /// created on it and never activated can never be activated (only on
+    /// the channel that created them): they are closed. Activated ones stay
+    /// for their timeout, for their client to activate them on a new
+    /// channel, and may be closed for a new session meanwhile.
+    pub(crate) fn channel_closed(&mut self, channel_id: u32) {
+        let mut never_activated = Vec::new();
+        for (id, s) in &self.sessions {
+            let mut s = s.write();
+            if s.secure_channel_id() != channel_id {
+                continue;
+            }
+            if s.is_activated() {
+                s.detach();
+            } else {
+                never_activated.push(id.clone());
+            }
+        }
+        for id in never_activated {
+            self.expire_session(&id);
         }
     }
 
