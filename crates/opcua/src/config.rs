@@ -48,6 +48,24 @@ pub struct Flags {
     pub pki: Option<PathBuf>,
 }
 
+/// The certificate store when neither `--opcua-pki` nor `[opcua] pki` says
+/// where: `softplc/opcua-pki` in the user's data directory
+/// (`$XDG_DATA_HOME`, else `~/.local/share`), so that the server keeps one
+/// certificate for its clients to trust and writes nothing into the current
+/// or the project directory; in the temporary directory without a home.
+pub fn default_pki() -> PathBuf {
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    env("XDG_DATA_HOME")
+        .or_else(|| env("HOME").map(|h| h.join(".local/share")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("softplc")
+        .join("opcua-pki")
+}
+
 impl OpcuaConfig {
     /// The settings from `[opcua]` (`table`, relative paths from `base`)
     /// and the command line; `None` when neither asks for the server.
@@ -118,7 +136,7 @@ impl OpcuaConfig {
         let pki = match (&flags.pki, string("pki")?) {
             (Some(p), _) => p.clone(),
             (None, Some(p)) => base.join(p),
-            (None, None) => base.join("opcua-pki"),
+            (None, None) => default_pki(),
         };
         let nodes = match t.get("nodes") {
             None => Vec::new(),
@@ -172,8 +190,10 @@ mod tests {
         .unwrap();
         assert_eq!(c.addr, "127.0.0.1:4840".parse().unwrap());
         assert_eq!(c.user, Some(("op".into(), "pw".into())));
-        assert_eq!(c.pki, PathBuf::from("/p/opcua-pki"));
+        assert_eq!(c.pki, default_pki());
+        assert!(c.pki.ends_with("softplc/opcua-pki") && c.pki.is_absolute());
         assert_eq!(c.nodes, vec!["D100:u16".to_string()]);
+        assert_eq!((c.max_sessions, c.max_sessions_per_client), (32, 8));
         assert!(!c.read_only && c.allows_none());
         // The command line wins; a non-loopback address has no security None.
         let flags = Flags {
@@ -187,6 +207,14 @@ mod tests {
         assert_eq!(c.addr.port(), 4841);
         assert!(c.read_only && !c.allows_none());
         assert_eq!(c.pki, PathBuf::from("/k"));
+        // A relative `[opcua] pki` is in the project directory.
+        let c = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\npki = \"x\"\n",
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!(c.pki, PathBuf::from("/p/x"));
     }
 
     #[test]
