@@ -20,6 +20,7 @@ and socat.
 import argparse
 import asyncio
 import json
+import logging
 import os
 import pathlib
 import re
@@ -246,6 +247,8 @@ def main():
     ap.add_argument("--softplc", default=os.environ.get("SOFTPLC", str(ROOT / "target" / "debug" / "softplc")))
     ap.add_argument("--seconds", type=float, default=60.0)
     args = ap.parse_args()
+    # asyncua warns about every revised session timeout.
+    logging.getLogger("asyncua").setLevel(logging.ERROR)
     if shutil.which("socat") is None:
         print("soak: socat is not installed", file=sys.stderr)
         return 2
