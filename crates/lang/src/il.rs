@@ -132,7 +132,11 @@ mod tests {
 
     #[test]
     fn a_plc_information_comment_names_the_model() {
-        let s = parse_il("t.il", "; Flow loop\n; PLC Information: Q06PHCPU  \nLD X0\n").unwrap();
+        let s = parse_il(
+            "t.il",
+            "; Flow loop\n; PLC Information: Q06PHCPU  \nLD X0\n",
+        )
+        .unwrap();
         let m = s.model.unwrap();
         assert_eq!((m.text.as_str(), m.line, m.col), ("Q06PHCPU", 2, 20));
         let s = parse_il("t.il", ";PLC Information: QCPU (Q mode) Q04UDEH\nEND\n").unwrap();
