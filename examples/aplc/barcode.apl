@@ -1,5 +1,5 @@
-// A barcode reader on PORT1, free port (seed 002 §10.3 L10361-10428, §6.10.11
-// L8480-8542): 9600 8N1, each code ends with CR (end character 13, SD120
+// A barcode reader on PORT1, free port (the APLC manual's §10.3 and RCV,
+// §6.10.11): 9600 8N1, each code ends with CR (end character 13, SD120
 // bit 8). RCV with SM0 re-arms the receiver once the previous code is in
 // (RX enable SM121 OFF); the frame-received interrupt (event 37, enabled by
 // SM55, §3.5) runs before MAIN in the next scan and keeps the code: D100

@@ -1,4 +1,4 @@
-/* Batch mixer: fill, mix, drain (APLC-TCP, seed 002 dialect), a small machine
+/* Batch mixer: fill, mix, drain (APLC-TCP), a small machine
    program written as SFC steps (STL, spec aplc.md §3.4).
    Inputs:  X0 start, X2 mixer running (motor feedback contact),
             X10 emergency stop (octal: input 8; held ON = everything stops).

@@ -1,4 +1,4 @@
-// Modbus master on PORT1 (seed 002 §6.10.1 L8065-8134, decision D26): a
+// Modbus master on PORT1 (the APLC manual's Modbus instruction, §6.10.1): a
 // drive (station 1) and an energy meter (station 2) on one RS-485 line,
 // polled in turn with FC 03. Each completion (SM135 done or SM136 error)
 // moves D50 to the next slave; a request starts on the rising edge of its

@@ -1,11 +1,11 @@
-/* The manual's PID setup (seed 002 §6.11.1 example, L7758-7805; spec aplc.md
-   §5.5), verbatim with its comments. The first scan (SM1) sets SV D500 = 1000
+/* The APLC manual's PID setup (the example of §6.11.1), verbatim with its
+   comments. The first scan (SM1) sets SV D500 = 1000
    and the parameter block D510-D529: Ts 500 ms, mode 7 (reverse action,
    input- and output-change alarms), filter α 70 %, Kp 100 %, TI 2.5 s,
    KD 0, TD 630 ms, the working area D517-D524 cleared, alarm limits 2000.
    With M0 ON each scan reads PV, runs PID and writes MV.
    FROM/TO address an analog module APLC-TCP does not have: they load, and
-   with power flow transfer nothing and record run error 73 (decision D7);
+   with power flow transfer nothing and record run error 73 (softplc's choice);
    in softplc the plant model of pid_setup.toml writes PV into D501 and reads
    MV from D502 instead. */
 

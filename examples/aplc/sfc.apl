@@ -1,15 +1,15 @@
-/* SFC: the structures of seed 002 chapter 7 in one flow, with the chapter's
-   step, relay and timer numbers (the manual gives them as figures; this is
-   their IL, spec aplc.md §3.4, decision D16):
-   - ladder block starting the flow at power-on: LD SM1 / SET S0 (L9690-9692);
-   - initial step S0 (S0-S19, L9696), simple sequence to S20 (L9677-9688);
-   - S20 times T2 before anything follows it (L9785-9787);
-   - selective branch: M20 → S27, M21 → S28, the user keeps them exclusive
-     (L9711-9715), and the selective merge into S29 on T12 / T13 (L9717-9719);
-   - parallel branch: M30 activates S30 and S31 together (L9727-9729), the
-     parallel merge into S32 on M31 ends both (L9731-9735);
-   - a jump (OUT S0) back to the initial step: a loop (L9757-9767);
-   - RET ends the SFC section (L3089-3101).
+/* SFC: the structures of the APLC manual's chapter 7 in one flow, with the
+   chapter's step, relay and timer numbers (the manual gives them as
+   figures; this is their IL, a merge written as a run of STLs):
+   - ladder block starting the flow at power-on: LD SM1 / SET S0;
+   - initial step S0 (S0-S19), simple sequence to S20;
+   - S20 times T2 before anything follows it;
+   - selective branch: M20 → S27, M21 → S28, the user keeps them exclusive,
+     and the selective merge into S29 on T12 / T13;
+   - parallel branch: M30 activates S30 and S31 together, the
+     parallel merge into S32 on M31 ends both;
+   - a jump (OUT S0) back to the initial step: a loop;
+   - RET ends the SFC section.
    Outputs: Y0 ready (S0), Y1 S20, Y2 S27, Y3 S28, Y4 S29, Y5 S30, Y6 S31,
    Y7 S32. X0 starts a cycle, X1 ends it. */
 

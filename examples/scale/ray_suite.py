@@ -2,9 +2,9 @@
 
 Each task runs `softplc test --jsonl --shard I/N FILES...` (one shard of the
 files, ranked by path and dealt round-robin), the driver gathers the JSON
-lines, writes them to --out and sums them with `softplc test --merge`, whose
-summary it prints; the exit status is softplc's (0 when every assertion
-passed).
+lines, writes them to --out (or, without it, to a temporary file it removes
+afterwards) and sums them with `softplc test --merge`, whose summary it
+prints; the exit status is softplc's (0 when every assertion passed).
 
     python3 examples/scale/ray_suite.py --workers 2 examples/sim/*.toml
 
@@ -18,6 +18,7 @@ import os
 import pathlib
 import subprocess
 import sys
+import tempfile
 import time
 
 import ray
@@ -48,7 +49,8 @@ def main(argv=None) -> int:
     ap.add_argument("--address", default=None, help="an existing Ray cluster, e.g. auto")
     ap.add_argument("--softplc", default=os.environ.get("SOFTPLC", "softplc"),
                     help="the softplc binary (default: $SOFTPLC, else softplc on PATH)")
-    ap.add_argument("--out", default="results.jsonl", help="merged JSON lines (default: results.jsonl)")
+    ap.add_argument("--out", default=None,
+                    help="keep the gathered JSON lines in this file (default: a temporary file, removed)")
     args = ap.parse_args(argv)
 
     shards = args.shards or len(args.files)
@@ -64,9 +66,10 @@ def main(argv=None) -> int:
         wall = time.monotonic() - start
     finally:
         ray.shutdown()
-    out = pathlib.Path(args.out)
-    out.write_text("".join(line + "\n" for line in lines))
-    merged = subprocess.run([args.softplc, "test", "--merge", str(out)], capture_output=True, text=True)
+    with tempfile.TemporaryDirectory(prefix="softplc-ray-") as tmp:
+        out = pathlib.Path(args.out or pathlib.Path(tmp) / "results.jsonl")
+        out.write_text("".join(line + "\n" for line in lines))
+        merged = subprocess.run([args.softplc, "test", "--merge", str(out)], capture_output=True, text=True)
     sys.stdout.write(merged.stdout)
     sys.stderr.write(merged.stderr)
     print(f"{len(lines)} scenario files in {shards} shards on Ray: {wall:.2f} s wall "

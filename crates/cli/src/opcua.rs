@@ -1,6 +1,6 @@
-//! `serve --opcua` (contract §3.2): the OPC UA server of softplc-opcua,
-//! built in with the cargo feature `opcua` (README); without it the options
-//! are refused with the way to build it.
+//! `serve --opcua`: the OPC UA server of softplc-opcua, built in with the
+//! cargo feature `opcua` (on by default); a build without it refuses the
+//! options with the way to build it.
 
 use std::path::Path;
 use std::time::Duration;
@@ -16,7 +16,7 @@ pub struct OpcuaArgs<'a> {
 }
 
 /// The OPC UA listener when `--opcua` or `[opcua] address` asks for one.
-/// `base` is where a relative `[opcua] pki` (default `opcua-pki`) lives.
+/// `base` is where a relative `[opcua] pki` lives.
 #[cfg(feature = "opcua")]
 pub fn listener(
     args: &OpcuaArgs,
@@ -53,8 +53,9 @@ pub fn listener(
         || table.is_some_and(|t| t.contains_key("address"));
     if asked {
         return Err(
-            "--opcua: this softplc is built without the OPC UA server; build it with \
-             `cargo build --release -p softplc --features opcua` (README)"
+            "--opcua: this softplc is built without the OPC UA server (--no-default-features); \
+             build it with the default features or `cargo build --release -p softplc \
+             --features opcua`"
                 .to_string(),
         );
     }

@@ -111,14 +111,13 @@ pub struct ServeArgs {
     pub no_realtime: bool,
     /// OPC UA server (contract §3.2), e.g. 127.0.0.1:4840 or 4840 (a bare port
     /// binds loopback; also `[opcua] address`). Security None only on loopback.
-    /// Needs the `opcua` build feature.
     #[arg(long, value_name = "ADDR")]
     pub opcua: Option<String>,
     /// Refuse OPC UA writes (BadNotWritable; also `[opcua] read_only`).
     #[arg(long)]
     pub opcua_read_only: bool,
-    /// OPC UA certificate store (default: `opcua-pki` in the project directory,
-    /// or in the current directory for a program file; also `[opcua] pki`).
+    /// OPC UA certificate store (default: softplc/opcua-pki in the user's data
+    /// directory, ~/.local/share; also `[opcua] pki`).
     #[arg(long, value_name = "DIR")]
     pub opcua_pki: Option<PathBuf>,
     /// Print scan statistics (scan time, overruns, jitter, real-time) this often.

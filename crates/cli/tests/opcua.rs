@@ -82,3 +82,38 @@ fn serve_reports_the_opcua_endpoint() {
     let _ = child.wait();
     assert!(line.contains("OPC UA on 127.0.0.1:"), "{line}");
 }
+
+/// Without `--opcua-pki` or `[opcua] pki` the certificate store is in the
+/// user's data directory: nothing is written into the current directory.
+#[cfg(feature = "opcua")]
+#[test]
+fn the_default_certificate_store_is_in_the_user_data_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let home = tempfile::tempdir().unwrap();
+    let cwd = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_softplc"))
+        .current_dir(cwd.path())
+        .env("HOME", home.path())
+        .env_remove("XDG_DATA_HOME")
+        .arg("serve")
+        .arg(program(dir.path()))
+        .args(["--opcua", "127.0.0.1:0", "--no-realtime"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let cert = home
+        .path()
+        .join(".local/share/softplc/opcua-pki/own/cert.der");
+    let end = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while !cert.exists() && std::time::Instant::now() < end {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(cert.exists(), "no certificate at {}", cert.display());
+    let written: Vec<_> = std::fs::read_dir(cwd.path()).unwrap().collect();
+    assert!(
+        written.is_empty(),
+        "written into the current directory: {written:?}"
+    );
+}

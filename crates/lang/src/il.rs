@@ -4,11 +4,18 @@ use super::source::{is_label, Diagnostic, Source, SourceInstr, SourceItem, Token
 
 /// Splits `.il` text into labels and instructions. Only lexical errors (an
 /// unterminated string) are reported here; everything else is the compiler's.
+/// A comment line `; PLC Information: Q06PHCPU` before the first
+/// instruction names the CPU model the file is written for, as the row of a
+/// GX Works2 export does ([`plc_information`]).
 pub fn parse_il(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
     let mut items = Vec::new();
     let mut diags = Vec::new();
+    let mut model = None;
     for (n, raw) in text.lines().enumerate() {
         let line = n as u32 + 1;
+        if items.is_empty() && model.is_none() {
+            model = plc_information(raw, line);
+        }
         let toks = match tokenize(raw, line) {
             Ok(t) => t,
             Err(tok) => {
@@ -37,11 +44,27 @@ pub fn parse_il(file: &str, text: &str) -> Result<Source, Vec<Diagnostic>> {
         Ok(Source {
             file: file.to_string(),
             items,
-            model: None,
+            model,
         })
     } else {
         Err(diags)
     }
+}
+
+/// The model a comment line `; PLC Information: QCPU (Q mode) Q06PH` names:
+/// its last word (`Q06PH`; `Q06PHCPU` too), like the `PLC Information:` row
+/// of a GX Works2 CSV export.
+fn plc_information(raw: &str, line: u32) -> Option<Token> {
+    let comment = raw.trim_start().strip_prefix(';')?;
+    let info = comment.trim_start().strip_prefix("PLC Information:")?;
+    let word = info.split_whitespace().last()?;
+    // The word ends the line's text.
+    let start = raw.trim_end().len() - word.len();
+    Some(Token {
+        text: word.to_string(),
+        line,
+        col: raw[..start].chars().count() as u32 + 1,
+    })
 }
 
 /// Splits one line on spaces/tabs, keeping `"quoted strings"` whole and stopping at
@@ -105,6 +128,25 @@ mod tests {
             SourceItem::Instr(i) => assert_eq!(i.operands[0].text, "\"A B;C\""),
             _ => panic!(),
         }
+    }
+
+    #[test]
+    fn a_plc_information_comment_names_the_model() {
+        let s = parse_il(
+            "t.il",
+            "; Flow loop\n; PLC Information: Q06PHCPU  \nLD X0\n",
+        )
+        .unwrap();
+        let m = s.model.unwrap();
+        assert_eq!((m.text.as_str(), m.line, m.col), ("Q06PHCPU", 2, 20));
+        let s = parse_il("t.il", ";PLC Information: QCPU (Q mode) Q04UDEH\nEND\n").unwrap();
+        assert_eq!(s.model.unwrap().text, "Q04UDEH");
+        // Only before the first instruction, and only that exact title.
+        let s = parse_il("t.il", "LD X0\n; PLC Information: Q06PHCPU\n").unwrap();
+        assert!(s.model.is_none());
+        let s = parse_il("t.il", "; PLC information Q06PHCPU\nLD X0\n").unwrap();
+        assert!(s.model.is_none());
+        assert_eq!(s.items.len(), 1);
     }
 
     #[test]

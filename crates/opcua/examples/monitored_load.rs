@@ -65,6 +65,8 @@ fn main() {
         trust_client_certs: false,
         nodes: Vec::new(),
         scan: SCAN,
+        max_sessions: softplc_opcua::config::MAX_SESSIONS,
+        max_sessions_per_client: softplc_opcua::config::MAX_SESSIONS_PER_CLIENT,
     };
     let prepared = Prepared {
         devices: points::devices(&cpu, &[]).expect("the program's devices"),

@@ -27,7 +27,18 @@ pub struct OpcuaConfig {
     pub nodes: Vec<String>,
     /// The OPC UA server's sampling floor: the constant-scan period.
     pub scan: std::time::Duration,
+    /// Sessions at most, in all and from one client address (`[opcua]
+    /// max_sessions`, `max_sessions_per_client`); connections at most
+    /// twice as many.
+    pub max_sessions: usize,
+    pub max_sessions_per_client: usize,
 }
+
+/// Sessions at most by default: a PLC's OPC UA clients are a few HMI,
+/// SCADA and historian stations.
+pub const MAX_SESSIONS: usize = 32;
+/// Sessions from one client address at most by default.
+pub const MAX_SESSIONS_PER_CLIENT: usize = 8;
 
 /// The command line's part.
 #[derive(Clone, Debug, Default)]
@@ -35,6 +46,24 @@ pub struct Flags {
     pub addr: Option<String>,
     pub read_only: bool,
     pub pki: Option<PathBuf>,
+}
+
+/// The certificate store when neither `--opcua-pki` nor `[opcua] pki` says
+/// where: `softplc/opcua-pki` in the user's data directory
+/// (`$XDG_DATA_HOME`, else `~/.local/share`), so that the server keeps one
+/// certificate for its clients to trust and writes nothing into the current
+/// or the project directory; in the temporary directory without a home.
+pub fn default_pki() -> PathBuf {
+    let env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    env("XDG_DATA_HOME")
+        .or_else(|| env("HOME").map(|h| h.join(".local/share")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("softplc")
+        .join("opcua-pki")
 }
 
 impl OpcuaConfig {
@@ -56,6 +85,8 @@ impl OpcuaConfig {
             "pki",
             "trust_client_certs",
             "nodes",
+            "max_sessions",
+            "max_sessions_per_client",
         ];
         if let Some(k) = t.keys().find(|k| !KEYS.contains(&k.as_str())) {
             return Err(format!(
@@ -77,6 +108,20 @@ impl OpcuaConfig {
                 Some(v) => Err(format!("[opcua] {k}: expected true or false, not `{v}`")),
             }
         };
+        let count = |k: &str, default: usize| -> Result<usize, String> {
+            match t.get(k) {
+                None => Ok(default),
+                Some(toml::Value::Integer(n)) if (1..=10_000).contains(n) => Ok(*n as usize),
+                Some(v) => Err(format!(
+                    "[opcua] {k}: expected a number from 1 to 10000, not `{v}`"
+                )),
+            }
+        };
+        let max_sessions = count("max_sessions", MAX_SESSIONS)?;
+        let max_sessions_per_client = count(
+            "max_sessions_per_client",
+            MAX_SESSIONS_PER_CLIENT.min(max_sessions),
+        )?;
         let addr = match flags.addr.clone().or(string("address")?) {
             Some(a) => softplc_serve::parse_addr(&a).map_err(|e| format!("--opcua {e}"))?,
             None => return Ok(None),
@@ -91,7 +136,7 @@ impl OpcuaConfig {
         let pki = match (&flags.pki, string("pki")?) {
             (Some(p), _) => p.clone(),
             (None, Some(p)) => base.join(p),
-            (None, None) => base.join("opcua-pki"),
+            (None, None) => default_pki(),
         };
         let nodes = match t.get("nodes") {
             None => Vec::new(),
@@ -112,6 +157,8 @@ impl OpcuaConfig {
             trust_client_certs: boolean("trust_client_certs")?,
             nodes,
             scan,
+            max_sessions,
+            max_sessions_per_client,
         }))
     }
 
@@ -143,8 +190,10 @@ mod tests {
         .unwrap();
         assert_eq!(c.addr, "127.0.0.1:4840".parse().unwrap());
         assert_eq!(c.user, Some(("op".into(), "pw".into())));
-        assert_eq!(c.pki, PathBuf::from("/p/opcua-pki"));
+        assert_eq!(c.pki, default_pki());
+        assert!(c.pki.ends_with("softplc/opcua-pki") && c.pki.is_absolute());
         assert_eq!(c.nodes, vec!["D100:u16".to_string()]);
+        assert_eq!((c.max_sessions, c.max_sessions_per_client), (32, 8));
         assert!(!c.read_only && c.allows_none());
         // The command line wins; a non-loopback address has no security None.
         let flags = Flags {
@@ -158,6 +207,14 @@ mod tests {
         assert_eq!(c.addr.port(), 4841);
         assert!(c.read_only && !c.allows_none());
         assert_eq!(c.pki, PathBuf::from("/k"));
+        // A relative `[opcua] pki` is in the project directory.
+        let c = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\npki = \"x\"\n",
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!(c.pki, PathBuf::from("/p/x"));
     }
 
     #[test]
@@ -172,6 +229,19 @@ mod tests {
         assert!(e.contains("go together"), "{e}");
         let e = cfg(Flags::default(), "[opcua]\naddress = 4840\n").unwrap_err();
         assert!(e.contains("address: expected a string"), "{e}");
+        let e = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\nmax_sessions = 0\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("max_sessions: expected a number from 1"), "{e}");
+        let c = cfg(
+            Flags::default(),
+            "[opcua]\naddress = \"4840\"\nmax_sessions = 4\n",
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!((c.max_sessions, c.max_sessions_per_client), (4, 4));
         let e = cfg(Flags::default(), "[opcua]\naddress = \"x\"\n").unwrap_err();
         assert!(e.contains("--opcua `x`"), "{e}");
     }

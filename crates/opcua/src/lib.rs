@@ -139,16 +139,24 @@ pub async fn serve(
     server.run_with(tcp).await
 }
 
-/// The endpoint `opc.tcp://ADDR/` with its security and limits.
-fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
-    let host = if addr.ip().is_unspecified() {
-        opcua::crypto::X509Data::computer_hostnames()
+/// The host part of the endpoint URL for a server on `addr`: the machine's
+/// name for an unspecified address, else the address itself, an IPv6 one in
+/// brackets (`opc.tcp://[::1]:4840/`, RFC 3986 §3.2.2) so that the port is
+/// not read as part of it.
+fn endpoint_host(addr: SocketAddr) -> String {
+    match addr.ip() {
+        ip if ip.is_unspecified() => opcua::crypto::X509Data::computer_hostnames()
             .into_iter()
             .next()
-            .unwrap_or_else(|| "localhost".to_string())
-    } else {
-        addr.ip().to_string()
-    };
+            .unwrap_or_else(|| "localhost".to_string()),
+        std::net::IpAddr::V4(ip) => ip.to_string(),
+        std::net::IpAddr::V6(ip) => format!("[{ip}]"),
+    }
+}
+
+/// The endpoint `opc.tcp://ADDR/` with its security and limits.
+fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
+    let host = endpoint_host(addr);
     let mut users = vec![ANONYMOUS_USER_TOKEN_ID];
     let mut b = ServerBuilder::new()
         .application_name("softplc")
@@ -199,6 +207,14 @@ fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
     let tick = scan_ms.clamp(10.0, 100.0);
     b = b.subscription_poll_interval_ms(tick as u64);
     let limits = b.limits_mut();
+    // A client that goes away without closing its session leaves it open
+    // for its timeout (OPC UA lets it come back to it): such sessions, and
+    // those never activated, make room for new ones; one client address
+    // cannot take every session or connection (docs/opcua.md, Limits).
+    limits.max_sessions = cfg.max_sessions;
+    limits.max_sessions_per_client = cfg.max_sessions_per_client;
+    limits.max_connections = 2 * cfg.max_sessions;
+    limits.max_connections_per_client = 2 * cfg.max_sessions_per_client;
     limits.subscriptions.min_sampling_interval_ms = scan_ms;
     limits.subscriptions.min_publishing_interval_ms = tick;
     limits.subscriptions.max_monitored_items_per_sub = 100_000;
@@ -208,4 +224,19 @@ fn server_builder(cfg: &OpcuaConfig, addr: SocketAddr) -> ServerBuilder {
     limits.subscriptions.max_notifications_per_publish = 1000;
     limits.operational.max_monitored_items_per_call = 100_000;
     b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn endpoint_hosts_bracket_ipv6_addresses() {
+        let host = |a: &str| endpoint_host(a.parse().unwrap());
+        assert_eq!(host("127.0.0.1:4840"), "127.0.0.1");
+        assert_eq!(host("[::1]:4840"), "[::1]");
+        assert_eq!(host("[fe80::1]:4840"), "[fe80::1]");
+        let url = format!("opc.tcp://{}:{}/", host("[::1]:4840"), 4840);
+        assert_eq!(url, "opc.tcp://[::1]:4840/");
+    }
 }

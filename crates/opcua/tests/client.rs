@@ -55,6 +55,8 @@ fn config(read_only: bool, user: Option<(&str, &str)>) -> OpcuaConfig {
         trust_client_certs: true,
         nodes: vec!["D40:u16".into(), "D42:u32".into()],
         scan: Duration::from_millis(5),
+        max_sessions: softplc_opcua::config::MAX_SESSIONS,
+        max_sessions_per_client: softplc_opcua::config::MAX_SESSIONS_PER_CLIENT,
     }
 }
 

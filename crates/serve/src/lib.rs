@@ -85,7 +85,7 @@ impl Listener {
 
 /// A Modbus RTU or ASCII slave on an opened serial line ([`serial::open`]).
 pub struct SerialSlave {
-    pub line: std::fs::File,
+    pub line: serial::SerialLine,
     pub proto: softplc_modbus::Proto,
     pub map: softplc_modbus::Map,
     pub slave: softplc_modbus::Slave,

@@ -2,15 +2,19 @@
 //! `--modbus-rtu`). A reader thread cuts frames from the line — by the function
 //! code's length (RTU) or CR LF (ASCII) and, when the line goes quiet, by the
 //! silence between frames — and the engine serves each one at END processing.
+//! A line that hangs up is reported once and reopened with a growing wait.
 
 use std::fs::{File, OpenOptions};
-use std::io::{Read, Write};
+use std::io::{ErrorKind, Read, Write};
 use std::os::fd::AsFd;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::Duration;
 
+use nix::errno::Errno;
+use nix::poll::{poll, PollFd, PollFlags, PollTimeout};
 use nix::sys::termios::{self, BaudRate, ControlFlags, SetArg, SpecialCharacterIndices};
 use softplc_modbus::{Map, Proto, Slave};
 
@@ -55,9 +59,17 @@ fn baud(b: u32) -> Result<BaudRate, String> {
     })
 }
 
-/// Opens the device in raw mode with the line settings; reads return after
-/// 100 ms of silence so partial frames can be dropped and stop is noticed.
-pub fn open(path: &Path, line: LineSettings) -> Result<File, String> {
+/// An opened serial line, with what it takes to open it again after a
+/// hang-up.
+pub struct SerialLine {
+    file: File,
+    path: PathBuf,
+    settings: LineSettings,
+}
+
+/// Opens the device in raw mode with the line settings; reads never block
+/// (the slave waits for data with `poll`).
+pub fn open(path: &Path, line: LineSettings) -> Result<SerialLine, String> {
     let f = OpenOptions::new()
         .read(true)
         .write(true)
@@ -82,14 +94,64 @@ pub fn open(path: &Path, line: LineSettings) -> Result<File, String> {
     t.control_flags
         .insert(ControlFlags::CLOCAL | ControlFlags::CREAD);
     t.control_chars[SpecialCharacterIndices::VMIN as usize] = 0;
-    t.control_chars[SpecialCharacterIndices::VTIME as usize] = 1;
+    t.control_chars[SpecialCharacterIndices::VTIME as usize] = 0;
     termios::tcsetattr(f.as_fd(), SetArg::TCSANOW, &t).map_err(|e| e.to_string())?;
-    Ok(f)
+    Ok(SerialLine {
+        file: f,
+        path: path.to_path_buf(),
+        settings: line,
+    })
 }
 
-/// Starts the slave on an opened line; it runs until `stop` is set.
+/// The silence that ends a frame (and drops an incomplete one); also how
+/// often the reader notices `stop`.
+const SILENCE: Duration = Duration::from_millis(100);
+/// The first wait before reopening a line that hung up, doubled after each
+/// failed attempt up to [`REOPEN_MAX`].
+const REOPEN_FIRST: Duration = Duration::from_millis(100);
+const REOPEN_MAX: Duration = Duration::from_secs(5);
+
+/// What waiting on the line gave.
+enum Input {
+    Bytes(usize),
+    /// [`SILENCE`] without a byte.
+    Silence,
+    /// The other end hung up (a pty whose master closed, a USB adapter
+    /// unplugged): every read would return at once with nothing.
+    HungUp(String),
+}
+
+/// Waits up to [`SILENCE`] for bytes and reads them.
+fn receive(file: &mut File, chunk: &mut [u8]) -> Input {
+    let events = {
+        let mut fds = [PollFd::new(file.as_fd(), PollFlags::POLLIN)];
+        match poll(&mut fds, PollTimeout::from(SILENCE.as_millis() as u16)) {
+            Ok(0) | Err(Errno::EINTR) => return Input::Silence,
+            Ok(_) => fds[0].revents().unwrap_or(PollFlags::empty()),
+            Err(e) => return Input::HungUp(e.to_string()),
+        }
+    };
+    if events.intersects(PollFlags::POLLHUP | PollFlags::POLLERR | PollFlags::POLLNVAL)
+        && !events.contains(PollFlags::POLLIN)
+    {
+        return Input::HungUp("hang-up".to_string());
+    }
+    match file.read(chunk) {
+        // Readable, yet nothing to read: end of file.
+        Ok(0) => Input::HungUp("end of file".to_string()),
+        Ok(n) => Input::Bytes(n),
+        Err(e) if matches!(e.kind(), ErrorKind::Interrupted | ErrorKind::WouldBlock) => {
+            Input::Silence
+        }
+        Err(e) => Input::HungUp(e.to_string()),
+    }
+}
+
+/// Starts the slave on an opened line; it runs until `stop` is set. When
+/// the line hangs up the slave says so once, then reopens the device with
+/// a growing wait (0.1 s doubled up to 5 s) and says when it serves again.
 pub fn spawn(
-    mut line: File,
+    line: SerialLine,
     proto: Proto,
     map: Map,
     slave: Slave,
@@ -97,23 +159,48 @@ pub fn spawn(
     stop: Arc<AtomicBool>,
 ) -> JoinHandle<()> {
     std::thread::spawn(move || {
+        let SerialLine {
+            file,
+            path,
+            settings,
+        } = line;
+        let name = path.display().to_string();
+        let mut file = Some(file);
+        let mut wait = REOPEN_FIRST;
         let map = Arc::new(map);
         let mut slave = Some(slave);
         let mut buf: Vec<u8> = Vec::with_capacity(512);
         let mut chunk = [0u8; 256];
         while !stop.load(Ordering::Relaxed) {
-            let n = match line.read(&mut chunk) {
-                Ok(n) => n,
-                Err(_) => {
-                    std::thread::sleep(std::time::Duration::from_millis(50));
-                    0
+            let Some(f) = file.as_mut() else {
+                sleep_unless_stopped(wait, &stop);
+                match open(&path, settings) {
+                    Ok(l) => {
+                        eprintln!("softplc: {name}: line reopened, serving again");
+                        file = Some(l.file);
+                        wait = REOPEN_FIRST;
+                    }
+                    Err(_) => wait = (wait * 2).min(REOPEN_MAX),
+                }
+                continue;
+            };
+            let n = match receive(f, &mut chunk) {
+                Input::Bytes(n) => n,
+                Input::Silence => {
+                    // Whatever is buffered is an incomplete frame.
+                    buf.clear();
+                    continue;
+                }
+                Input::HungUp(why) => {
+                    eprintln!(
+                        "softplc: {name}: the line hung up ({why}); reopening it every \
+                         {REOPEN_FIRST:?} to {REOPEN_MAX:?}"
+                    );
+                    file = None;
+                    buf.clear();
+                    continue;
                 }
             };
-            if n == 0 {
-                // Silence: whatever is buffered is an incomplete frame.
-                buf.clear();
-                continue;
-            }
             buf.extend_from_slice(&chunk[..n]);
             loop {
                 match softplc_modbus::decode(proto, &buf) {
@@ -140,8 +227,14 @@ pub fn spawn(
                         };
                         slave = Some(s);
                         if let Some(r) = reply {
-                            if line.write_all(&r).is_err() {
-                                return;
+                            if let Err(e) = f.write_all(&r) {
+                                eprintln!(
+                                    "softplc: {name}: the line hung up ({e}); reopening it \
+                                     every {REOPEN_FIRST:?} to {REOPEN_MAX:?}"
+                                );
+                                file = None;
+                                buf.clear();
+                                break;
                             }
                         }
                     }
@@ -152,4 +245,16 @@ pub fn spawn(
             }
         }
     })
+}
+
+/// Sleeps `d` in short steps, returning early once `stop` is set.
+fn sleep_unless_stopped(d: Duration, stop: &AtomicBool) {
+    let end = std::time::Instant::now() + d;
+    while !stop.load(Ordering::Relaxed) {
+        let left = end.saturating_duration_since(std::time::Instant::now());
+        if left.is_zero() {
+            return;
+        }
+        std::thread::sleep(left.min(SILENCE));
+    }
 }
