@@ -152,6 +152,27 @@ pub fn ranges_of(ranges: &[Range], channels: usize, switch1: u16) -> Result<Vec<
         .collect()
 }
 
+/// Sets signal `k` of a module's X (nothing past its points).
+pub(crate) fn set(x: &mut [bool], k: usize, on: bool) {
+    if let Some(b) = x.get_mut(k) {
+        *b = on;
+    }
+}
+
+/// Signal `k` of a module's Y (OFF past its points).
+pub(crate) fn get(y: &[bool], k: usize) -> bool {
+    y.get(k).copied().unwrap_or(false)
+}
+
+/// The setting-range word (Un\\G20): each channel's range code, CH1 in
+/// bits 0-3.
+pub(crate) fn range_codes(ranges: &[Range]) -> u16 {
+    ranges
+        .iter()
+        .enumerate()
+        .fold(0, |w, (ch, r)| w | r.code << (4 * ch))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

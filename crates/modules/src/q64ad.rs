@@ -24,7 +24,7 @@ use std::ops::RangeInclusive;
 
 use softplc_ir::rack::{Module, ModuleIo, ModuleProfile, Slot, SlotType};
 
-use crate::analog::{self, Range, MA_0_20, MA_4_20, V_0_10, V_0_5, V_10_10, V_1_5};
+use crate::analog::{self, get, set, Range, MA_0_20, MA_4_20, V_0_10, V_0_5, V_10_10, V_1_5};
 
 pub static Q64AD: ModuleProfile = ModuleProfile {
     name: "Q64AD",
@@ -301,7 +301,7 @@ impl Q64ad {
         };
         put(G_COMPLETED, s.completed);
         put(G_ERROR, s.error);
-        put(G_RANGE, range_codes(&self.ranges));
+        put(G_RANGE, analog::range_codes(&self.ranges));
         for ch in 0..CHANNELS {
             put(G_VALUE + ch, s.value[ch] as u16);
             let (max, min) = s.max_min[ch].unwrap_or((0, 0));
@@ -321,23 +321,6 @@ impl Q64ad {
         );
         set(io.x, X_ERROR, s.error != 0);
     }
-}
-
-fn range_codes(ranges: &[Range]) -> u16 {
-    ranges
-        .iter()
-        .enumerate()
-        .fold(0, |w, (ch, r)| w | r.code << (4 * ch))
-}
-
-fn set(x: &mut [bool], k: usize, on: bool) {
-    if let Some(b) = x.get_mut(k) {
-        *b = on;
-    }
-}
-
-fn get(y: &[bool], k: usize) -> bool {
-    y.get(k).copied().unwrap_or(false)
 }
 
 impl Module for Q64ad {

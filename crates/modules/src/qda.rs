@@ -18,7 +18,7 @@
 
 use softplc_ir::rack::{Module, ModuleIo, ModuleProfile, Slot, SlotType};
 
-use crate::analog::{self, Range, MA_0_20, MA_4_20, V_0_5, V_10_10, V_1_5};
+use crate::analog::{self, get, set, Range, MA_0_20, MA_4_20, V_0_5, V_10_10, V_1_5};
 
 pub static Q62DA: ModuleProfile = ModuleProfile {
     name: "Q62DA",
@@ -150,26 +150,10 @@ impl Da {
             put(G_CHECK + ch, self.check[ch]);
         }
         put(G_ERROR, 0);
-        put(
-            G_RANGE,
-            self.ranges[..self.channels]
-                .iter()
-                .enumerate()
-                .fold(0, |w, (ch, r)| w | r.code << (4 * ch)),
-        );
+        put(G_RANGE, analog::range_codes(&self.ranges[..self.channels]));
         set(io.x, X_READY, true);
         set(io.x, X_ERROR, false);
     }
-}
-
-fn set(x: &mut [bool], k: usize, on: bool) {
-    if let Some(b) = x.get_mut(k) {
-        *b = on;
-    }
-}
-
-fn get(y: &[bool], k: usize) -> bool {
-    y.get(k).copied().unwrap_or(false)
 }
 
 impl Module for Da {
