@@ -157,7 +157,13 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
         if !r.comment.is_empty() {
             let _ = write!(body, r#"<p class="note">{}</p>"#, esc(&r.comment.join(" ")));
         }
-        r.for_each(&mut |e| names.extend(e.watched()));
+        r.for_each(&mut |e| {
+            names.extend(
+                e.watched()
+                    .into_iter()
+                    .filter(|n| !prog.unreadable.contains(n)),
+            )
+        });
         names.extend(r.bus.iter().cloned());
         body.push_str(&render::svg(r, pi, k));
     }

@@ -174,3 +174,48 @@ async fn the_device_monitor_counts_buffer_memory() {
     let r = get(s.addr, "/devices?start=U2%5CG10&count=2&fmt=float").await;
     assert!(r.body.contains(r#"data-v="U2\G12:f32""#), "{}", r.body);
 }
+
+/// A program that names buffer memory of a unit with no module (it would
+/// stop with SP.UNIT ERROR 2110 when that instruction runs): its ladder
+/// draws the operand but does not watch it, so the page's other names stay
+/// live instead of the whole event list being refused.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_unit_without_a_module_does_not_silence_the_ladder() {
+    let rack = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/rack");
+    let dir = std::env::temp_dir().join(format!("softplc-rack-ladder-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(rack.join("plc.toml"), dir.join("plc.toml")).unwrap();
+    std::fs::write(
+        dir.join("main.il"),
+        "LD X0\nMOV U9\\G0 D5\nLD SM400\nMOV U2\\G11 D0\nEND\n",
+    )
+    .unwrap();
+    let cpu = softplc_core::project::load_project(&dir)
+        .and_then(|p| p.build_cpu(Box::new(MonotonicClock::default())))
+        .unwrap_or_else(|d| panic!("{:?}", d.0));
+    let _ = std::fs::remove_dir_all(&dir);
+    let cfg = HttpConfig {
+        token: Some(TOKEN.into()),
+        model: "Q06HCPU".into(),
+        ladder: softplc_http::ladder::load_programs(&cpu),
+        limits: Default::default(),
+    };
+    let s = start_cpu(cpu, cfg);
+    let r = get(s.addr, "/").await;
+    assert_eq!(r.status, 200);
+    assert!(r.body.contains("U9\\G0"), "the operand is drawn");
+    let names = r
+        .body
+        .split("data-names=\"")
+        .nth(1)
+        .and_then(|t| t.split('"').next())
+        .unwrap_or_default()
+        .to_string();
+    assert!(!names.split(',').any(|x| x == "U9\\G0"), "{names}");
+    for n in ["U2\\G11", "D0", "D5", "X0"] {
+        assert!(names.split(',').any(|x| x == n), "{n} in {names}");
+    }
+    let query = names.replace('\\', "%5C");
+    let (_, ev) = sse(s.addr, &format!("/api/v1/events?names={query}"), 1).await;
+    assert!(ev.last().unwrap().1["devices"]["U2\\G11"].is_i64());
+}

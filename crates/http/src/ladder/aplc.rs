@@ -107,6 +107,7 @@ fn layout(name: &str, bytes: &[u8], wide: Wide) -> Result<LadderProgram, String>
             .map(|c| c.text.clone())
             .collect(),
         loops,
+        unreadable: Vec::new(),
     })
 }
 

@@ -313,6 +313,10 @@ pub struct LadderProgram {
     /// The control-loop memories its instructions own, in program order
     /// (the faceplates' loops).
     pub loops: Vec<LoopUse>,
+    /// Operand names the CPU cannot read (`U9\\G0` of a unit with no
+    /// module: the program stops with SP.UNIT ERROR when it gets there),
+    /// drawn but not watched, so the page's other names stay live.
+    pub unreadable: Vec<String>,
 }
 
 impl LadderProgram {
@@ -406,6 +410,28 @@ impl LadderProgram {
 /// comments and names as written are not in the listing; a file that
 /// cannot be read shows as a note).
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
+    let mut programs = programs_of(cpu);
+    for p in &mut programs {
+        let mut names: Vec<String> = Vec::new();
+        for r in &p.rungs {
+            r.for_each(&mut |e| names.extend(e.watched()));
+        }
+        names.sort();
+        names.dedup();
+        p.unreadable = names
+            .into_iter()
+            .filter(|n| {
+                softplc_core::names::DevName::parse_for(n, cpu)
+                    .and_then(|d| d.read(cpu))
+                    .is_err()
+            })
+            .collect();
+    }
+    programs
+}
+
+/// The ladder of every program of `cpu`.
+fn programs_of(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
     let format = softplc_core::profile::source_format(cpu.profile());
     (0..cpu.program_count())
         .map(|i| {
