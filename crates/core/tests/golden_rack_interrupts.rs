@@ -142,6 +142,7 @@ static RAISER: ModuleProfile = ModuleProfile {
     causes: 2,
     manual: "test module",
     new: |_| Box::new(Raiser),
+    switches: None,
 };
 
 /// A CPU with the raiser at X/Y0 (unit 0), causes 0 and 1 → I50 and I51,
@@ -155,27 +156,10 @@ impl Bench {
     fn new(src: &str) -> Bench {
         let mut cfg = softplc_core::profile::default_config();
         let slot = Slot {
-            index: 0,
-            kind: SlotType::Intelligent,
-            points: 16,
-            start: 0,
-            module: Some(&RAISER),
-            buffer_words: 4,
             interrupts: vec![(0, 50), (1, 51)],
-            refresh: Vec::new(),
-            switches: [0; 5],
+            ..Slot::with_module(0, 0, &RAISER)
         };
-        let qi60 = Slot {
-            index: 1,
-            kind: SlotType::Interrupt,
-            points: 16,
-            start: 16,
-            module: Some(&softplc_modules::QI60),
-            buffer_words: 0,
-            interrupts: Vec::new(),
-            refresh: Vec::new(),
-            switches: [0; 5],
-        };
+        let qi60 = Slot::with_module(1, 16, &softplc_modules::QI60);
         cfg.devices.set_units(&[(0, 4)]);
         cfg.rack = Arc::new(Rack {
             slots: vec![slot, qi60],

@@ -99,18 +99,7 @@ fn scans_do_not_allocate(exec: Exec) {
     // A rack: a Q64AD at X/Y20 (auto refresh G11 → D200) and a QI60 at
     // X/Y40, so that buffer memory, FROM/TO, direct I/O, the modules' END
     // and the interrupt module's edges run too.
-    let slot = |index, start, module: &'static softplc_core::rack::ModuleProfile| Slot {
-        index,
-        kind: module.kind,
-        points: 16,
-        start,
-        module: Some(module),
-        buffer_words: module.buffer_words,
-        interrupts: Vec::new(),
-        refresh: Vec::new(),
-        switches: [0; 5],
-    };
-    let mut ad = slot(0, 0x20, &softplc_modules::Q64AD);
+    let mut ad = Slot::with_module(0, 0x20, &softplc_modules::Q64AD);
     ad.refresh.push(AutoRefresh {
         buffer: 11,
         device: DeviceKind::D,
@@ -120,7 +109,7 @@ fn scans_do_not_allocate(exec: Exec) {
     });
     cfg.devices.set_units(&[(2, ad.buffer_words)]);
     cfg.rack = std::sync::Arc::new(Rack {
-        slots: vec![ad, slot(1, 0x40, &softplc_modules::QI60)],
+        slots: vec![ad, Slot::with_module(1, 0x40, &softplc_modules::QI60)],
     });
     let progs = [
         ("main.il", MAIN, ExecType::Scan, None),

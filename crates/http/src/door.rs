@@ -26,7 +26,7 @@ use axum::response::{IntoResponse, Response};
 use axum::Router;
 use futures_util::StreamExt;
 use hyper_util::rt::{TokioIo, TokioTimer};
-use softplc_serve::conns::{Conns, Slot};
+use softplc_serve::conns::Slot;
 use tower::ServiceExt;
 
 /// The HTTP door's limits (`[http]` in plc.toml, `--http-*` options).
@@ -60,29 +60,22 @@ pub const MAX_HEAD: usize = 64 * 1024;
 
 /// Serves `router` on `listener` until the task is dropped.
 pub async fn serve(listener: tokio::net::TcpListener, router: Router, limits: Limits) {
-    let conns = Conns::new("web monitor", limits.max_connections);
     let mut http = hyper::server::conn::http1::Builder::new();
     http.timer(TokioTimer::new())
         .header_read_timeout(limits.header_timeout)
         .max_buf_size(MAX_HEAD);
     let http = Arc::new(http);
-    loop {
-        let (stream, peer) = softplc_serve::conns::accept(&listener).await;
-        let _ = stream.set_nodelay(true);
-        let Some(slot) = conns.admit(peer) else {
-            drop(stream);
-            continue;
-        };
-        let slot = Arc::new(slot);
-        let (http, router, s) = (http.clone(), router.clone(), slot.clone());
-        let task = tokio::spawn(async move {
+    let max = limits.max_connections;
+    softplc_serve::conns::serve(listener, "web monitor", max, |stream, _, slot| {
+        let (http, router) = (http.clone(), router.clone());
+        tokio::spawn(async move {
             let service = hyper::service::service_fn(move |req| {
-                request(req.map(Body::new), router.clone(), s.clone(), limits)
+                request(req.map(Body::new), router.clone(), slot.clone(), limits)
             });
             let _ = http.serve_connection(TokioIo::new(stream), service).await;
-        });
-        slot.started(task.abort_handle());
-    }
+        })
+    })
+    .await
 }
 
 /// One request: its body read whole within the body timeout, then the router.

@@ -11,6 +11,15 @@ use serde_json::json;
 use softplc_core::engine::MonotonicClock;
 use softplc_http::HttpConfig;
 
+/// The device names a page watches (its `data-names`), comma-separated.
+fn page_names(body: &str) -> String {
+    body.split("data-names=\"")
+        .nth(1)
+        .and_then(|t| t.split('"').next())
+        .unwrap_or_default()
+        .to_string()
+}
+
 fn start_rack() -> Server {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/rack");
     let cpu = softplc_core::project::load_project(&dir)
@@ -126,13 +135,7 @@ async fn the_ladder_shows_buffer_memory_live() {
     let s = start_rack();
     let r = get(s.addr, "/").await;
     assert_eq!(r.status, 200);
-    let names = r
-        .body
-        .split("data-names=\"")
-        .nth(1)
-        .and_then(|t| t.split('"').next())
-        .unwrap_or_default()
-        .to_string();
+    let names = page_names(&r.body);
     for n in [
         "U2\\G11", "D0", "D1", "U2\\G12", "U2\\G13", "U2\\G10", "U4\\G0",
     ] {
@@ -204,13 +207,7 @@ async fn a_unit_without_a_module_does_not_silence_the_ladder() {
     let r = get(s.addr, "/").await;
     assert_eq!(r.status, 200);
     assert!(r.body.contains("U9\\G0"), "the operand is drawn");
-    let names = r
-        .body
-        .split("data-names=\"")
-        .nth(1)
-        .and_then(|t| t.split('"').next())
-        .unwrap_or_default()
-        .to_string();
+    let names = page_names(&r.body);
     assert!(!names.split(',').any(|x| x == "U9\\G0"), "{names}");
     for n in ["U2\\G11", "D0", "D5", "X0"] {
         assert!(names.split(',').any(|x| x == n), "{n} in {names}");

@@ -87,6 +87,23 @@ pub struct AutoRefresh {
 }
 
 impl Slot {
+    /// Slot `index` at I/O number `start` holding `module`, with the
+    /// module's points, slot type and buffer memory and nothing else set
+    /// (a rack built without plc.toml: tests, tools).
+    pub fn with_module(index: u32, start: u32, module: &'static ModuleProfile) -> Slot {
+        Slot {
+            index,
+            kind: module.kind,
+            points: module.points,
+            start,
+            module: Some(module),
+            buffer_words: module.buffer_words,
+            interrupts: Vec::new(),
+            refresh: Vec::new(),
+            switches: [0; 5],
+        }
+    }
+
     /// Its I/O numbers.
     pub fn io(&self) -> Range<u32> {
         self.start..self.start + self.points
@@ -146,6 +163,9 @@ impl Rack {
     }
 }
 
+/// A profile's check of a slot's `range` names and `switches`.
+pub type SwitchSetting = fn(Option<&[&str]>, Option<[u16; 5]>) -> Result<[u16; 5], String>;
+
 /// A simulated module's profile: what `module = "…"` in a slot names.
 #[derive(Debug)]
 pub struct ModuleProfile {
@@ -167,6 +187,10 @@ pub struct ModuleProfile {
     pub manual: &'static str,
     /// A new module of this profile in `slot`.
     pub new: fn(&Slot) -> Box<dyn Module>,
+    /// Checks a slot's analog `range` names and `switches` (the switch
+    /// setting 1-5) and gives the switch setting; `None`: a module without
+    /// analog ranges, which takes any switches.
+    pub switches: Option<SwitchSetting>,
 }
 
 /// What a module sees and changes at END: its buffer memory, its input

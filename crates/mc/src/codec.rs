@@ -26,6 +26,23 @@ pub(crate) fn hex_digit(c: u8) -> Option<u8> {
     }
 }
 
+/// An ASCII device number at byte `offset`: hex or decimal digits as the
+/// device numbers them.
+fn ascii_number(device: Device, digits: &[u8], offset: usize) -> Result<u32, BodyError> {
+    let number = if device.is_hex() {
+        parse_hex(digits)
+    } else {
+        digits.iter().try_fold(0u32, |v, c| {
+            c.is_ascii_digit().then(|| v * 10 + (c - b'0') as u32)
+        })
+    };
+    number.ok_or(BodyError {
+        end_code: EndCode::ASCII_DATA,
+        offset,
+        what: "device number is not a number in the device's numbering",
+    })
+}
+
 /// Parses `text` as hexadecimal (at most 8 digits).
 pub(crate) fn parse_hex(text: &[u8]) -> Option<u32> {
     let mut v = 0u32;
@@ -168,19 +185,7 @@ impl<'a> Reader<'a> {
                     offset: at,
                     what: "unknown device code",
                 })?;
-                let digits = &s[2..];
-                let number = if device.is_hex() {
-                    parse_hex(digits)
-                } else {
-                    digits.iter().try_fold(0u32, |v, c| {
-                        c.is_ascii_digit().then(|| v * 10 + (c - b'0') as u32)
-                    })
-                };
-                let number = number.ok_or(BodyError {
-                    end_code: EndCode::ASCII_DATA,
-                    offset: at + 2,
-                    what: "device number is not a number in the device's numbering",
-                })?;
+                let number = ascii_number(device, &s[2..], at + 2)?;
                 Ok(DeviceRef::new(device, number))
             }
         }
@@ -283,19 +288,7 @@ impl<'a> Reader<'a> {
                 } else {
                     Device::from_ascii(code).ok_or(no_device(at + 9, "unknown device code"))?
                 };
-                let digits = &s[11..17];
-                let number = if device.is_hex() {
-                    parse_hex(digits)
-                } else {
-                    digits.iter().try_fold(0u32, |v, c| {
-                        c.is_ascii_digit().then(|| v * 10 + (c - b'0') as u32)
-                    })
-                };
-                let number = number.ok_or(BodyError {
-                    end_code: EndCode::ASCII_DATA,
-                    offset: at + 11,
-                    what: "device number is not a number in the device's numbering",
-                })?;
+                let number = ascii_number(device, &s[11..17], at + 11)?;
                 (device, number, unit)
             }
         };

@@ -35,7 +35,7 @@ use crate::command::{ClearMode, Command, Unit};
 use crate::device::{Device, DeviceRef};
 use crate::end_code::EndCode;
 use crate::frame::{decode_request, encode_response, FrameError, Request, Response, ResponseData};
-use softplc_core::device::DeviceKind;
+use softplc_core::device::{BufferError, DeviceKind};
 
 /// Per-connection state.
 #[derive(Clone, Debug, Default)]
@@ -274,16 +274,16 @@ fn locate(cpu: &Cpu, d: DeviceRef, points: usize) -> Result<Span> {
 /// unit number `unit`: `4043` without an intelligent function module there,
 /// `4041` past its buffer memory.
 fn unit_span(cpu: &Cpu, unit: u16, address: u32, words: usize) -> Result<Span> {
-    let window = cpu
+    let words = u32::try_from(words).map_err(|_| EndCode::BUFFER_RANGE)?;
+    let g = cpu
         .memory()
         .map
-        .unit(unit as u32)
-        .ok_or(EndCode::NO_MODULE)?;
-    let words = u32::try_from(words).map_err(|_| EndCode::BUFFER_RANGE)?;
-    if address as u64 + words as u64 > window.words as u64 {
-        return Err(EndCode::BUFFER_RANGE);
-    }
-    cpu.span(DeviceKind::G, window.first + address, words, RBlock::First)
+        .buffer(unit as u32, address, words)
+        .map_err(|e| match e {
+            BufferError::NoModule => EndCode::NO_MODULE,
+            BufferError::Past { .. } => EndCode::BUFFER_RANGE,
+        })?;
+    cpu.span(DeviceKind::G, g, words, RBlock::First)
         .map_err(|_| EndCode::BUFFER_RANGE)
 }
 

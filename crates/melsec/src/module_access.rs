@@ -12,7 +12,7 @@
 
 use super::transfer::{Loc, WordBlock};
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::device::{DeviceKind, DeviceMemory, Operand};
+use softplc_ir::device::{BufferError, DeviceKind, DeviceMemory, Operand};
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -66,11 +66,11 @@ impl Buffer {
             return Ok(None);
         };
         let words = n * self.per;
-        let w = mem.map.unit(unit as u32).ok_or(Fault::NoModule)?;
-        if addr as u32 + words > w.words {
-            return Err(Fault::Range);
-        }
-        let g = mem.map.base(DeviceKind::G) + w.first + addr as u32;
+        let g = match mem.map.buffer(unit as u32, addr as u32, words) {
+            Ok(g) => mem.map.base(DeviceKind::G) + g,
+            Err(BufferError::NoModule) => return Err(Fault::NoModule),
+            Err(BufferError::Past { .. }) => return Err(Fault::Range),
+        };
         Ok(Some((g as usize, words as usize)))
     }
 }

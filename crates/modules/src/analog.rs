@@ -173,6 +173,37 @@ pub(crate) fn range_codes(ranges: &[Range]) -> u16 {
         .fold(0, |w, (ch, r)| w | r.code << (4 * ch))
 }
 
+/// A slot's switch setting for an analog module with `channels` channels of
+/// `ranges`: switch 1 the `what` ranges (from `range` names or given), the
+/// switches `zero` (0-based) 0 — they select modes the simulation does not
+/// have (switch 4: the offset/gain setting mode, high resolution mode).
+pub(crate) fn switch_setting(
+    ranges: &[Range],
+    channels: usize,
+    what: &str,
+    zero: &[usize],
+    range: Option<&[&str]>,
+    switches: Option<[u16; 5]>,
+) -> Result<[u16; 5], String> {
+    let mut sw = switches.unwrap_or_default();
+    if let Some(names) = range {
+        if sw[0] != 0 {
+            return Err(format!(
+                "give the {what} ranges either as range or as switch 1, not both"
+            ));
+        }
+        sw[0] = range_switch(ranges, channels, names)?;
+    }
+    ranges_of(ranges, channels, sw[0])?;
+    if let Some(&k) = zero.iter().find(|&&k| sw[k] != 0) {
+        return Err(format!(
+            "switch {} must be 0 (normal mode, normal resolution: the offset/gain setting mode and high resolution mode are not simulated)",
+            k + 1
+        ));
+    }
+    Ok(sw)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -17,6 +17,7 @@ pub static GENERIC: ModuleProfile = ModuleProfile {
     causes: 16,
     manual: "no manual: plain buffer memory (QCPU User's Manual (Function Explanation, Program Fundamentals), ch. 8)",
     new,
+    switches: None,
 };
 
 fn new(_slot: &Slot) -> Box<dyn Module> {

@@ -39,16 +39,9 @@ pub fn switch_setting(
     range: Option<&[&str]>,
     switches: Option<[u16; 5]>,
 ) -> Result<[u16; 5], String> {
-    let is = |p: &ModuleProfile| std::ptr::eq(profile, p);
-    if is(&Q64AD) {
-        q64ad::switch_setting(range, switches)
-    } else if is(&Q62DA) {
-        qda::switch_setting(2, range, switches)
-    } else if is(&Q64DA) {
-        qda::switch_setting(4, range, switches)
-    } else if range.is_some() {
-        Err(format!("the {} module has no analog ranges", profile.name))
-    } else {
-        Ok(switches.unwrap_or_default())
+    match (profile.switches, range) {
+        (Some(check), _) => check(range, switches),
+        (None, Some(_)) => Err(format!("the {} module has no analog ranges", profile.name)),
+        (None, None) => Ok(switches.unwrap_or_default()),
     }
 }

@@ -35,6 +35,7 @@ pub static Q64AD: ModuleProfile = ModuleProfile {
     causes: 0,
     manual: "Analog-Digital Converter Module User's Manual (Q64AD, Q68ADV, Q68ADI), SH-080055",
     new,
+    switches: Some(switch_setting),
 };
 
 /// The input ranges of switch 1 (user range setting, code F, is not
@@ -149,21 +150,7 @@ pub(crate) fn switch_setting(
     range: Option<&[&str]>,
     switches: Option<[u16; 5]>,
 ) -> Result<[u16; 5], String> {
-    let mut sw = switches.unwrap_or_default();
-    if let Some(names) = range {
-        if sw[0] != 0 {
-            return Err("give the input ranges either as range or as switch 1, not both".into());
-        }
-        sw[0] = analog::range_switch(RANGES, CHANNELS, names)?;
-    }
-    analog::ranges_of(RANGES, CHANNELS, sw[0])?;
-    if let Some(k) = (1..5).find(|&k| sw[k] != 0) {
-        return Err(format!(
-            "switch {} must be 0 (normal mode, normal resolution: the offset/gain setting mode and high resolution mode are not simulated)",
-            k + 1
-        ));
-    }
-    Ok(sw)
+    analog::switch_setting(RANGES, CHANNELS, "input", &[1, 2, 3, 4], range, switches)
 }
 
 #[derive(Debug)]
@@ -396,15 +383,8 @@ mod tests {
     impl Bench {
         fn new(switch1: u16) -> Bench {
             let slot = Slot {
-                index: 0,
-                kind: SlotType::Intelligent,
-                points: 16,
-                start: 0,
-                module: Some(&Q64AD),
-                buffer_words: BUFFER_WORDS,
-                interrupts: Vec::new(),
-                refresh: Vec::new(),
                 switches: [switch1, 0, 0, 0, 0],
+                ..Slot::with_module(0, 0, &Q64AD)
             };
             let mut b = Bench {
                 module: new(&slot),

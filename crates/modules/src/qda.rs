@@ -29,6 +29,7 @@ pub static Q62DA: ModuleProfile = ModuleProfile {
     causes: 0,
     manual: MANUAL,
     new: new::<2>,
+    switches: Some(|r, s| switch_setting(2, r, s)),
 };
 
 pub static Q64DA: ModuleProfile = ModuleProfile {
@@ -40,6 +41,7 @@ pub static Q64DA: ModuleProfile = ModuleProfile {
     causes: 0,
     manual: MANUAL,
     new: new::<4>,
+    switches: Some(|r, s| switch_setting(4, r, s)),
 };
 
 const MANUAL: &str =
@@ -103,21 +105,7 @@ pub(crate) fn switch_setting(
     range: Option<&[&str]>,
     switches: Option<[u16; 5]>,
 ) -> Result<[u16; 5], String> {
-    let mut sw = switches.unwrap_or_default();
-    if let Some(names) = range {
-        if sw[0] != 0 {
-            return Err("give the output ranges either as range or as switch 1, not both".into());
-        }
-        sw[0] = analog::range_switch(RANGES, channels, names)?;
-    }
-    analog::ranges_of(RANGES, channels, sw[0])?;
-    if let Some(k) = [1, 3, 4].into_iter().find(|&k| sw[k] != 0) {
-        return Err(format!(
-            "switch {} must be 0 (normal mode, normal resolution: the offset/gain setting mode and high resolution mode are not simulated)",
-            k + 1
-        ));
-    }
-    Ok(sw)
+    analog::switch_setting(RANGES, channels, "output", &[1, 3, 4], range, switches)
 }
 
 #[derive(Debug)]
@@ -231,15 +219,8 @@ mod tests {
     impl Bench {
         fn new(profile: &'static ModuleProfile, switches: [u16; 5]) -> Bench {
             let slot = Slot {
-                index: 0,
-                kind: SlotType::Intelligent,
-                points: 16,
-                start: 0,
-                module: Some(profile),
-                buffer_words: BUFFER_WORDS,
-                interrupts: Vec::new(),
-                refresh: Vec::new(),
                 switches,
+                ..Slot::with_module(0, 0, profile)
             };
             let mut b = Bench {
                 module: (profile.new)(&slot),

@@ -16,6 +16,7 @@ pub static QI60: ModuleProfile = ModuleProfile {
     causes: 0,
     manual: "QI60 Interrupt Module User's Manual (SH-080029)",
     new,
+    switches: None,
 };
 
 fn new(_slot: &Slot) -> Box<dyn Module> {

@@ -210,6 +210,29 @@ pub async fn accept(listener: &tokio::net::TcpListener) -> (tokio::net::TcpStrea
     }
 }
 
+/// Accepts connections on `listener` for ever, at most `max` at once
+/// ([`Conns::admit`]); `spawn` starts the task that serves each admitted
+/// one (every TCP door: MC, Modbus, the web monitor).
+pub async fn serve(
+    listener: tokio::net::TcpListener,
+    door: &str,
+    max: usize,
+    mut spawn: impl FnMut(tokio::net::TcpStream, SocketAddr, Arc<Slot>) -> tokio::task::JoinHandle<()>,
+) {
+    let conns = Conns::new(door, max);
+    loop {
+        let (stream, peer) = accept(&listener).await;
+        let _ = stream.set_nodelay(true);
+        let Some(slot) = conns.admit(peer) else {
+            drop(stream);
+            continue;
+        };
+        let slot = Arc::new(slot);
+        let task = spawn(stream, peer, slot.clone());
+        slot.started(task.abort_handle());
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -16,7 +16,7 @@ use std::sync::Arc;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 
-use crate::conns::{Conns, Slot};
+use crate::conns::Slot;
 use crate::engine::{EngineHandle, ServeState};
 
 /// How much of a buffer forms the next frame.
@@ -62,24 +62,17 @@ pub async fn serve<P: Protocol>(
     engine: EngineHandle,
     max_conns: usize,
 ) {
-    let conns = Conns::new(proto.door(), max_conns);
-    loop {
-        let (stream, peer) = crate::conns::accept(&listener).await;
-        let _ = stream.set_nodelay(true);
-        let Some(slot) = conns.admit(peer) else {
-            drop(stream);
-            continue;
-        };
-        let slot = Arc::new(slot);
-        let task = tokio::spawn(connection(
+    let door = proto.door().to_string();
+    crate::conns::serve(listener, &door, max_conns, |stream, peer, slot| {
+        tokio::spawn(connection(
             stream,
             proto.clone(),
             engine.clone(),
-            slot.clone(),
+            slot,
             peer,
-        ));
-        slot.started(task.abort_handle());
-    }
+        ))
+    })
+    .await
 }
 
 async fn connection<P: Protocol>(

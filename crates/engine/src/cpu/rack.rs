@@ -19,9 +19,34 @@ pub(crate) struct RackModule {
     pub buffer: Range<usize>,
     /// Its interrupt causes → pointers (I50-I255).
     pub pointers: Box<[(u32, u32)]>,
-    /// Its auto refresh at END: flat word index in buffer memory and in the
-    /// device, words, module → CPU.
-    pub refresh: Box<[(usize, usize, usize, bool)]>,
+    /// Its auto refresh at END.
+    pub refresh: Box<[Refresh]>,
+}
+
+/// One auto refresh ([`softplc_ir::rack::AutoRefresh`]) in flat word
+/// indices.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Refresh {
+    pub buffer: usize,
+    pub device: usize,
+    pub words: usize,
+    /// Module → CPU.
+    pub to_cpu: bool,
+}
+
+impl Refresh {
+    /// Copies it in its direction when that is `to_cpu`.
+    fn run(&self, words: &mut [u16], to_cpu: bool) {
+        if self.to_cpu != to_cpu {
+            return;
+        }
+        let n = self.words;
+        if to_cpu {
+            words.copy_within(self.buffer..self.buffer + n, self.device);
+        } else {
+            words.copy_within(self.device..self.device + n, self.buffer);
+        }
+    }
 }
 
 /// The interrupt module's inputs: X numbers and the pointer of the first.
@@ -72,12 +97,12 @@ impl RackState {
                 .filter_map(|r| {
                     let dev = mem.map.index(r.device, r.number)? as usize;
                     let at = buffer.start + r.buffer as usize;
-                    (at + r.words as usize <= buffer.end).then_some((
-                        at,
-                        dev,
-                        r.words as usize,
-                        r.to_cpu,
-                    ))
+                    (at + r.words as usize <= buffer.end).then_some(Refresh {
+                        buffer: at,
+                        device: dev,
+                        words: r.words as usize,
+                        to_cpu: r.to_cpu,
+                    })
                 })
                 .collect();
             state.modules.push(RackModule {
@@ -138,11 +163,8 @@ impl Cpu {
         let rt = &mut self.rt;
         let y = rt.mem.map.base(DeviceKind::Y) as usize;
         for m in &mut self.rack.modules {
-            let words = &mut rt.mem.words;
-            for &(g, dev, n, to_cpu) in m.refresh.iter() {
-                if !to_cpu {
-                    words.copy_within(dev..dev + n, g);
-                }
+            for r in m.refresh.iter() {
+                r.run(&mut rt.mem.words, false);
             }
             let mut io = ModuleIo {
                 buffer: &mut rt.mem.words[m.buffer.clone()],
@@ -153,11 +175,8 @@ impl Cpu {
             };
             m.module.end(&mut io, now);
             let raised = io.raised;
-            let words = &mut rt.mem.words;
-            for &(g, dev, n, to_cpu) in m.refresh.iter() {
-                if to_cpu {
-                    words.copy_within(g..g + n, dev);
-                }
+            for r in m.refresh.iter() {
+                r.run(&mut rt.mem.words, true);
             }
             if raised != 0 {
                 for &(cause, pointer) in m.pointers.iter() {

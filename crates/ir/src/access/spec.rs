@@ -2,7 +2,7 @@
 
 use super::span::{RBlock, Span};
 use super::{AccessError, Value, ValueType};
-use crate::device::{parse_operand, DeviceKind, DeviceMemory, Operand, OutOfRange};
+use crate::device::{parse_operand, BufferError, DeviceKind, DeviceMemory, Operand, OutOfRange};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Target {
@@ -126,18 +126,20 @@ impl DeviceSpec {
                 .locate_span(kind, number, len, RBlock::First)
                 .map_err(|source| self.range_error(source));
         };
-        // Buffer memory: the address within the module's words.
-        let w = mem.map.unit(unit).ok_or_else(|| AccessError::NoModule {
-            device: self.text.clone(),
-            unit,
-        })?;
-        if number < 0 || number + len as i64 > w.words as i64 {
-            return Err(AccessError::PastBuffer {
+        // Buffer memory: the address within the module's words (a negative
+        // one, after index modification, is past them too).
+        let addr = u32::try_from(number).unwrap_or(u32::MAX);
+        let g = mem.map.buffer(unit, addr, len).map_err(|e| match e {
+            BufferError::NoModule => AccessError::NoModule {
                 device: self.text.clone(),
-                last: w.words.saturating_sub(1),
-            });
-        }
-        mem.locate_span(kind, w.first as i64 + number, len, RBlock::First)
+                unit,
+            },
+            BufferError::Past { last } => AccessError::PastBuffer {
+                device: self.text.clone(),
+                last,
+            },
+        })?;
+        mem.locate_span(kind, g as i64, len, RBlock::First)
             .map_err(|source| self.range_error(source))
     }
 

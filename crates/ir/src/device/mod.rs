@@ -13,6 +13,7 @@ pub use address::{
     parse_operand, parse_operand_in, Constant, DeviceName, Operand, OperandError, Reach,
 };
 pub use kind::{DeviceKind, Numbering};
+
 pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 
 /// Number of points per device kind: the "device setting" of the PLC parameters.
@@ -23,6 +24,15 @@ pub struct DeviceConfig {
     points: [u32; DeviceKind::COUNT],
     /// The rack's intelligent function modules' buffer memories in `G`.
     units: Vec<UnitWindow>,
+}
+
+/// Why buffer memory cannot be reached ([`DeviceMap::buffer`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BufferError {
+    /// No intelligent function module has the unit number.
+    NoModule,
+    /// Past the module's buffer memory, whose last address is `last`.
+    Past { last: u32 },
 }
 
 /// Where one intelligent function module's buffer memory lives in `G`:
@@ -201,12 +211,18 @@ impl DeviceMap {
         &self.units
     }
 
-    /// The unit and address of buffer-memory word G`g`.
-    pub fn unit_of(&self, g: u32) -> Option<(u32, u32)> {
-        self.units
-            .iter()
-            .find(|w| g >= w.first && g - w.first < w.words)
-            .map(|w| (w.unit, g - w.first))
+    /// The G number of `words` words from address `addr` of unit `unit`'s
+    /// buffer memory: the one check every access makes (instructions,
+    /// names, protocols).
+    #[inline]
+    pub fn buffer(&self, unit: u32, addr: u32, words: u32) -> Result<u32, BufferError> {
+        let w = self.unit(unit).ok_or(BufferError::NoModule)?;
+        if addr as u64 + words as u64 > w.words as u64 {
+            return Err(BufferError::Past {
+                last: w.words.saturating_sub(1),
+            });
+        }
+        Ok(w.first + addr)
     }
 
     /// Sets the word selecting the file-register block R addresses (flat
