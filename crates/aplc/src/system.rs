@@ -145,6 +145,15 @@ impl System for Aplc {
             Fault::NoModule => 65,
             Fault::Watchdog => 61,
             Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
+            // The APLC is never part of a multi-CPU system (a project refuses it).
+            Fault::OwnSharedMemory
+            | Fault::OtherSharedMemory
+            | Fault::NotControlled
+            | Fault::TooManyPending
+            | Fault::MultiCpuDown
+            | Fault::MultiCpuError
+            | Fault::CpuCount
+            | Fault::MultiCpuParameter => return None,
             Fault::ForWithoutNext
             | Fault::NextWithoutFor
             | Fault::ForNesting

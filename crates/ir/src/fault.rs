@@ -19,6 +19,29 @@ pub enum Fault {
     /// Buffer memory of a slot with no intelligent function module read or
     /// written (MELSEC: SP.UNIT ERROR).
     NoModule,
+    /// A program read or wrote its own CPU shared memory through `U3En\G`,
+    /// or read it with FROM (multi-CPU system; MELSEC: SP.UNIT ERROR 2114).
+    OwnSharedMemory,
+    /// A program wrote another CPU's shared memory (MELSEC: 2115).
+    OtherSharedMemory,
+    /// A program wrote the buffer memory of a module another CPU of the
+    /// multi-CPU system controls (MELSEC: 2116).
+    NotControlled,
+    /// More inter-CPU instructions waiting to complete than the CPU holds
+    /// (MELSEC: OPERATION ERROR 4107).
+    TooManyPending,
+    /// Another CPU of the multi-CPU system stopped and stops this one
+    /// (MELSEC: MULTI CPU DOWN 7000).
+    MultiCpuDown,
+    /// Another CPU of the multi-CPU system stopped; this one goes on
+    /// (MELSEC: MULTI EXE. ERROR 7010).
+    MultiCpuError,
+    /// The number of CPUs set differs from the CPUs installed (MELSEC:
+    /// PARAMETER ERROR 3010).
+    CpuCount,
+    /// The multi-CPU parameters differ from CPU 1's (MELSEC: PARAMETER
+    /// ERROR 3012).
+    MultiCpuParameter,
     /// FOR without NEXT reached END.
     ForWithoutNext,
     /// NEXT executed without FOR.

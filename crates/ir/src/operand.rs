@@ -19,6 +19,7 @@ impl DeviceMemory {
             Window::Device => 0,
             Window::SelectedBlock => crate::access::selected_block(self),
             Window::NoModule => return Err(Fault::NoModule),
+            Window::Refused(f) => return Err(f),
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {

@@ -71,6 +71,11 @@ pub enum Window {
     /// `U<n>\\G<addr>` of a slot with no intelligent function module: every
     /// access is [`crate::fault::Fault::NoModule`] (004 ch. 8).
     NoModule,
+    /// Memory the operand may not reach in its role: every access is the
+    /// fault (a multi-CPU system's own shared memory through `U3En\\G`,
+    /// another CPU's shared memory or a module another CPU controls as a
+    /// destination; 004 L8985-8998, L9199-9205).
+    Refused(crate::fault::Fault),
 }
 
 /// A resolved word operand; 16-bit instructions use the low word of a constant.

@@ -72,6 +72,10 @@ pub struct Slot {
     /// I/O assignment parameter): input/output ranges, HOLD/CLEAR, modes, as
     /// the module's manual assigns them. All 0 when the project sets none.
     pub switches: [u16; 5],
+    /// The CPU of a multi-CPU system that controls the module (1-4; 1 in a
+    /// single-CPU system): only it runs the module, writes its outputs and
+    /// buffer memory (004 L8493-8503, L9119-9215).
+    pub control_cpu: u32,
 }
 
 /// One auto-refresh setting: `words` words between buffer-memory address
@@ -101,7 +105,13 @@ impl Slot {
             interrupts: Vec::new(),
             refresh: Vec::new(),
             switches: [0; 5],
+            control_cpu: 1,
         }
+    }
+
+    /// Whether CPU `cpu` (1-4; `None` for a single CPU) controls it.
+    pub fn controlled_by(&self, cpu: Option<u32>) -> bool {
+        cpu.is_none_or(|c| c == self.control_cpu)
     }
 
     /// Its I/O numbers.

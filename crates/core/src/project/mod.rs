@@ -15,6 +15,7 @@ mod ctx;
 mod devices;
 mod initial;
 mod latch;
+pub mod multi_cpu;
 mod ports;
 mod programs;
 mod rack;
@@ -81,6 +82,8 @@ pub struct Project {
     pub ports: Vec<softplc_aplc::comm::PortConfig>,
     /// `[cpu] exec`: the execution tier (`None`: not given, auto).
     pub exec: Option<crate::tier::Exec>,
+    /// `[multi_cpu]`: the CPU's multi-CPU parameters (contract §6).
+    pub multi_cpu: Option<multi_cpu::MultiCpuParams>,
 }
 
 /// Largest `plc.toml` read.
@@ -187,6 +190,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         // The rack: I/O assignment and modules (contract §5).
         "io",
         "slot",
+        // Multi-CPU parameters (contract §6).
+        "multi_cpu",
     ];
     cx.unknown_keys(top, None, SECTIONS);
     let section = |name: &str| top.iter().find(|e| e.key == name);
@@ -260,6 +265,20 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
             settings::process(&mut cx, e, t, config.profile, &mut process);
         }
     }
+    let mut multi_cpu = None;
+    if let Some(e) = section("multi_cpu") {
+        if crate::profile::is_aplc(config.profile) {
+            cx.error(
+                &e.key_span,
+                format!(
+                    "a {} is never part of a multi-CPU system: [multi_cpu] is for MELSEC-Q CPUs",
+                    config.profile.model
+                ),
+            );
+        } else if let Some(t) = cx.table(e, "[multi_cpu]") {
+            multi_cpu = multi_cpu::multi_cpu(&mut cx, e, t, &config.devices);
+        }
+    }
     let programs = programs::programs(&mut cx, section("program"), dir, &config);
 
     if cx.has_errors() {
@@ -287,6 +306,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         process,
         ports,
         exec,
+        multi_cpu,
     })
 }
 

@@ -174,6 +174,7 @@ fn slot(
             "refresh",
             "range",
             "switches",
+            "control_cpu",
         ],
     );
     let get = |k: &str| t.iter().find(|e| e.key == k);
@@ -259,6 +260,19 @@ fn slot(
         _ => 0,
     };
     let switches = switches(cx, index, module, get("range"), get("switches"))?;
+    let control_cpu = match get("control_cpu") {
+        None => 1,
+        Some(e) => match &e.item.value {
+            Value::Int(n) if (1..=4).contains(n) => *n as u32,
+            _ => {
+                cx.error(
+                    &e.item.span,
+                    format!("slot {index}: control_cpu must be a CPU number 1-4"),
+                );
+                return None;
+            }
+        },
+    };
     let mut slot = Slot {
         index,
         kind,
@@ -269,6 +283,7 @@ fn slot(
         interrupts: Vec::new(),
         refresh: Vec::new(),
         switches,
+        control_cpu,
     };
     if let Some(e) = get("interrupts") {
         slot.interrupts = interrupts(cx, &slot, e)?;

@@ -77,6 +77,10 @@ impl RackState {
         let mut state = RackState::default();
         for (i, s) in rack.slots.iter().enumerate() {
             let Some(profile) = s.module else { continue };
+            // In a multi-CPU system only the control CPU runs a module.
+            if !s.controlled_by(mem.map.own_cpu()) {
+                continue;
+            }
             if s.kind == SlotType::Interrupt {
                 if let Some(p) = &profile.pointers {
                     state.interrupt_inputs = Some(InterruptInputs {

@@ -46,6 +46,24 @@ impl Cpu {
         }
     }
 
+    /// Records an error that comes from outside the programs (another CPU
+    /// of a multi-CPU system, a parameter check at power-on): a stop error
+    /// stops the CPU until RESET, as one of its own would. The code
+    /// recorded, `None` when the fault is no error in this family.
+    pub fn raise(&mut self, fault: softplc_ir::fault::Fault) -> Option<ErrorCode> {
+        let code = self.rt.record(fault, None, None, None, None)?;
+        if self.rt.severity(code) == softplc_ir::system::Severity::Stop {
+            self.stop_error = true;
+            self.set_stop();
+        }
+        Some(code)
+    }
+
+    /// The CPU is held in STOP by a stop error (until RESET).
+    pub fn has_stop_error(&self) -> bool {
+        self.stop_error
+    }
+
     /// PAUSE (remote PAUSE): the program stops with outputs held.
     pub fn set_pause(&mut self) -> Result<(), String> {
         match self.state {

@@ -189,6 +189,27 @@ impl DeviceMemory {
         }
     }
 
+    /// [`Self::read_span_words`] into `out` (its first `ceil(len / 16)`
+    /// words for a bit span, `len` for a word span), allocating nothing.
+    pub fn read_span_into(&self, s: &Span, out: &mut [u16]) -> Result<(), AccessError> {
+        if s.is_bit() {
+            let bits = self.bit_slice(s)?;
+            let (n, given) = (bits.len().div_ceil(16), out.len() * 16);
+            let out = out.get_mut(..n).ok_or_else(|| length(s, given))?;
+            for (w, c) in out.iter_mut().zip(bits.chunks(16)) {
+                *w = c
+                    .iter()
+                    .enumerate()
+                    .fold(0u16, |w, (i, &b)| w | (b as u16) << i);
+            }
+        } else {
+            let (words, given) = (self.word_slice(s)?, out.len());
+            let out = out.get_mut(..words.len()).ok_or_else(|| length(s, given))?;
+            out.copy_from_slice(words);
+        }
+        Ok(())
+    }
+
     /// Reads a bit span (a word span is [`AccessError::NotBit`]).
     pub fn read_span_bits(&self, s: &Span) -> Result<Vec<bool>, AccessError> {
         Ok(self.bit_slice(s)?.to_vec())

@@ -22,9 +22,31 @@ pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct DeviceConfig {
     points: [u32; DeviceKind::COUNT],
-    /// The rack's intelligent function modules' buffer memories in `G`.
+    /// The rack's intelligent function modules' buffer memories, then the
+    /// CPU shared memories of a multi-CPU system, in `G`.
     units: Vec<UnitWindow>,
+    /// The modules as [`Self::set_units`] gave them.
+    modules: Vec<(u32, u32)>,
+    /// This CPU's place in a multi-CPU system.
+    multi_cpu: Option<MultiCpu>,
 }
+
+/// A CPU's place in a multi-CPU system (004 ch. 13-19): its number, the
+/// CPUs installed, and the modules other CPUs control.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MultiCpu {
+    /// This CPU's number, 1-4.
+    pub own: u32,
+    /// CPUs installed, 2-4.
+    pub cpus: u32,
+    /// Unit numbers of the modules another CPU controls.
+    pub foreign: Vec<u32>,
+}
+
+/// Words of each CPU's shared memory (004 L9049-9111).
+pub const SHARED_MEMORY_WORDS: u32 = 4096;
+/// The unit number of CPU 1's shared memory: `U3E0\G…` (CPU n: 3E0 + n - 1).
+pub const CPU1_UNIT: u32 = 0x3E0;
 
 /// Why buffer memory cannot be reached ([`DeviceMap::buffer`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,6 +66,24 @@ pub struct UnitWindow {
     /// Its word 0 in `G`.
     pub first: u32,
     pub words: u32,
+    /// What it is to this CPU.
+    pub owner: UnitOwner,
+}
+
+/// What a unit's memory is to the CPU that reaches it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnitOwner {
+    /// An intelligent function module this CPU controls.
+    Module,
+    /// A module another CPU of the system controls: its buffer memory is
+    /// read, never written (2116, 004 L9199-9205).
+    OtherCpusModule,
+    /// This CPU's own shared memory: written by S.TO and the auto refresh;
+    /// a program's `U\G` or FROM on it is 2114 (004 L8985-8998).
+    OwnCpu,
+    /// Another CPU's shared memory: read by FROM and `U\G`, never written
+    /// (2115).
+    OtherCpu,
 }
 
 impl Default for DeviceConfig {
@@ -64,6 +104,8 @@ impl DeviceConfig {
         let mut c = DeviceConfig {
             points: [0; DeviceKind::COUNT],
             units: Vec::new(),
+            modules: Vec::new(),
+            multi_cpu: None,
         };
         let t = 2048;
         let st = 0;
@@ -111,15 +153,56 @@ impl DeviceConfig {
     /// Places the buffer memories of the rack's intelligent function
     /// modules, `(unit, words)` each, one after another in `G`.
     pub fn set_units(&mut self, modules: &[(u32, u32)]) {
+        self.modules = modules.to_vec();
+        self.place_units();
+    }
+
+    /// Makes this the configuration of CPU `multi.own` of a multi-CPU
+    /// system: every installed CPU's shared memory follows the modules'
+    /// buffer memories in `G` (`U3E0\G…` to `U3E3\G…`).
+    pub fn set_multi_cpu(&mut self, multi: MultiCpu) {
+        self.multi_cpu = Some(multi);
+        self.place_units();
+    }
+
+    /// This CPU's place in a multi-CPU system, `None` for a single CPU.
+    pub fn multi_cpu(&self) -> Option<&MultiCpu> {
+        self.multi_cpu.as_ref()
+    }
+
+    fn place_units(&mut self) {
         let mut first = 0;
-        self.units = modules
-            .iter()
-            .map(|&(unit, words)| {
-                let w = UnitWindow { unit, first, words };
-                first += words;
-                w
-            })
-            .collect();
+        let mut units = Vec::new();
+        let mut place = |unit, words, owner| {
+            units.push(UnitWindow {
+                unit,
+                first,
+                words,
+                owner,
+            });
+            first += words;
+        };
+        let multi = self.multi_cpu.as_ref();
+        for &(unit, words) in &self.modules {
+            let foreign = multi.is_some_and(|m| m.foreign.contains(&unit));
+            let owner = if foreign {
+                UnitOwner::OtherCpusModule
+            } else {
+                UnitOwner::Module
+            };
+            place(unit, words, owner);
+        }
+        if let Some(m) = multi {
+            for n in 1..=m.cpus {
+                let owner = if n == m.own {
+                    UnitOwner::OwnCpu
+                } else {
+                    UnitOwner::OtherCpu
+                };
+                place(CPU1_UNIT + n - 1, SHARED_MEMORY_WORDS, owner);
+            }
+        }
+        self.units = units;
         self.points[DeviceKind::G as usize] = first;
     }
 
@@ -162,8 +245,10 @@ pub struct DeviceMap {
     /// addresses (the dialect's: MELSEC's SD648), `u32::MAX` for none (R is
     /// block 0).
     r_block: u32,
-    /// The modules' buffer memories in `G`.
+    /// The modules' buffer memories and CPU shared memories in `G`.
     units: Box<[UnitWindow]>,
+    /// This CPU's number in a multi-CPU system, 0 for a single CPU.
+    own_cpu: u32,
 }
 
 impl DeviceMap {
@@ -195,7 +280,14 @@ impl DeviceMap {
             word_len: nw,
             r_block: u32::MAX,
             units: cfg.units.clone().into_boxed_slice(),
+            own_cpu: cfg.multi_cpu.as_ref().map_or(0, |m| m.own),
         }
+    }
+
+    /// This CPU's number (1-4) in a multi-CPU system, `None` for a single CPU.
+    #[inline]
+    pub fn own_cpu(&self) -> Option<u32> {
+        (self.own_cpu != 0).then_some(self.own_cpu)
     }
 
     /// The buffer memory of the module whose unit number (start I/O number

@@ -12,6 +12,24 @@ pub const NO_PROGRAM: ErrorCode = ErrorCode(2410);
 /// SP.UNIT ERROR: buffer memory of a slot with no intelligent function
 /// module accessed (FROM/TO, `U\\G`; 004 L4952, L8997).
 pub const SP_UNIT: ErrorCode = ErrorCode(2110);
+/// SP.UNIT ERROR: a program's `U\\G` or FROM on its own CPU shared memory
+/// (004 L8985-8998).
+pub const OWN_SHARED: ErrorCode = ErrorCode(2114);
+/// SP.UNIT ERROR: a write to another CPU's shared memory.
+pub const OTHER_SHARED: ErrorCode = ErrorCode(2115);
+/// SP.UNIT ERROR: a write to a module another CPU controls (004 L9199-9205).
+pub const NOT_CONTROLLED: ErrorCode = ErrorCode(2116);
+/// PARAMETER ERROR: the number of CPUs set is not the number installed
+/// (004 L8411-8520).
+pub const CPU_COUNT: ErrorCode = ErrorCode(3010);
+/// PARAMETER ERROR: the multi-CPU parameters differ from CPU 1's.
+pub const MULTI_CPU_PARAMETER: ErrorCode = ErrorCode(3012);
+/// OPERATION ERROR: more than 32 inter-CPU instructions pending (004 L9020-9024).
+pub const TOO_MANY_PENDING: ErrorCode = ErrorCode(4107);
+/// MULTI CPU DOWN: another CPU's stop error stops this one (004 L8521-8598).
+pub const MULTI_CPU_DOWN: ErrorCode = ErrorCode(7000);
+/// MULTI EXE. ERROR: another CPU stopped; this one goes on.
+pub const MULTI_EXE: ErrorCode = ErrorCode(7010);
 /// OPERATION ERROR: data the instruction cannot process.
 pub const OPERATION: ErrorCode = ErrorCode(4100);
 /// OPERATION ERROR: device range exceeded.
@@ -29,6 +47,14 @@ pub fn code(fault: Fault) -> ErrorCode {
         Fault::Operation => OPERATION,
         Fault::Range => RANGE,
         Fault::NoModule => SP_UNIT,
+        Fault::OwnSharedMemory => OWN_SHARED,
+        Fault::OtherSharedMemory => OTHER_SHARED,
+        Fault::NotControlled => NOT_CONTROLLED,
+        Fault::TooManyPending => TOO_MANY_PENDING,
+        Fault::MultiCpuDown => MULTI_CPU_DOWN,
+        Fault::MultiCpuError => MULTI_EXE,
+        Fault::CpuCount => CPU_COUNT,
+        Fault::MultiCpuParameter => MULTI_CPU_PARAMETER,
         Fault::ForWithoutNext => ErrorCode(4200),
         Fault::NextWithoutFor => ErrorCode(4201),
         Fault::ForNesting => ErrorCode(4202),
@@ -55,6 +81,14 @@ pub fn message(code: ErrorCode) -> &'static str {
         2110 => {
             "SP.UNIT ERROR: buffer memory of a slot with no intelligent function module accessed"
         }
+        2114 => "SP.UNIT ERROR: the program accessed its own CPU shared memory as another CPU's",
+        2115 => "SP.UNIT ERROR: the program wrote another CPU's shared memory",
+        2116 => "SP.UNIT ERROR: the program wrote to a module another CPU controls",
+        3010 => "PARAMETER ERROR: the number of CPUs set differs from the CPUs installed",
+        3012 => "PARAMETER ERROR: the multi-CPU parameters differ from CPU 1's",
+        4107 => "OPERATION ERROR: more than 32 inter-CPU instructions pending",
+        7000 => "MULTI CPU DOWN: another CPU's stop error stopped this CPU",
+        7010 => "MULTI EXE. ERROR: another CPU stopped with an error",
         2410 => "FILE OPE. ERROR: the specified program does not exist",
         4100 => "OPERATION ERROR: the instruction cannot process this data",
         4101 => "OPERATION ERROR: device range exceeded",
@@ -80,7 +114,7 @@ pub fn message(code: ErrorCode) -> &'static str {
 pub fn severity(code: ErrorCode) -> Severity {
     match code.0 {
         4100..=4199 => Severity::Operation,
-        1600 | 5010 | 9000 => Severity::Continue,
+        1600 | 5010 | 7010 | 9000 => Severity::Continue,
         _ => Severity::Stop,
     }
 }
