@@ -9,6 +9,7 @@
 //! - [`engine`]: the scan cycle and CPU functions (softplc-engine);
 //! - [`project`]: `plc.toml` projects; [`single`]: one program file on its
 //!   own; [`persist`]: latched data on disk;
+//! - [`system`]: multi-CPU systems (`system.toml`);
 //! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC);
 //! - [`tier`]: interpreter or native code (`[cpu] exec`, `--exec`, `SOFTPLC_EXEC`).
 
@@ -26,4 +27,5 @@ pub mod profile;
 pub mod program;
 pub mod project;
 pub mod single;
+pub mod system;
 pub mod tier;

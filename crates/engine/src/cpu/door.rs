@@ -94,6 +94,12 @@ impl Cpu {
         }
     }
 
+    /// The input image's X`n`: what the input module presents (OFF past
+    /// the last X).
+    pub fn input(&self, n: u32) -> bool {
+        self.rt.inputs.get(n as usize).copied().unwrap_or(false)
+    }
+
     /// Forced values win over a write by name (see [`super::force`]).
     fn force_spec(&mut self, spec: &DeviceSpec) {
         if !self.rt.forces.is_empty() {

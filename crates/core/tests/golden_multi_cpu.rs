@@ -1,0 +1,264 @@
+//! Multi-CPU systems (004 ch. 13-19, contract §6): one time for all CPUs,
+//! CPU shared memory and its auto refresh at END, the parameter checks of
+//! power-on and the propagation of stop errors. Values worked out by hand
+//! from the manual's rules and its examples.
+
+use softplc_core::access::Value;
+use softplc_core::engine::{CpuState, VirtualClock};
+use softplc_core::names::DevName;
+use softplc_core::system::System;
+use std::time::Duration;
+
+/// A system in a temporary directory: `cpus` are (plc.toml, main.il) of
+/// CPU 1, 2, …
+struct Sys {
+    _dir: tempfile::TempDir,
+    sys: System,
+    clock: VirtualClock,
+}
+
+fn system(cpus: &[(&str, &str)]) -> Sys {
+    let dir = tempfile::tempdir().unwrap();
+    let mut manifest = String::new();
+    for (i, (toml, il)) in cpus.iter().enumerate() {
+        let d = dir.path().join(format!("cpu{}", i + 1));
+        std::fs::create_dir(&d).unwrap();
+        let toml = format!("[[program]]\nfile = \"main.il\"\n{toml}");
+        std::fs::write(d.join("plc.toml"), toml).unwrap();
+        std::fs::write(d.join("main.il"), il).unwrap();
+        manifest += &format!("[[cpu]]\nproject = \"cpu{}\"\n", i + 1);
+    }
+    std::fs::write(dir.path().join("system.toml"), manifest).unwrap();
+    let clock = VirtualClock::new();
+    let c = clock.clone();
+    let mut sys = System::load(dir.path(), &mut || Box::new(c.clone())).unwrap_or_else(|d| {
+        panic!("{d}");
+    });
+    sys.schedule(Duration::from_millis(10), 0);
+    Sys {
+        _dir: dir,
+        sys,
+        clock,
+    }
+}
+
+impl Sys {
+    /// Runs to `ms` of system time.
+    fn run_ms(&mut self, ms: u64) {
+        self.sys.run_until(ms * 1000, &self.clock);
+    }
+
+    fn int(&self, cpu: usize, name: &str) -> i64 {
+        let c = self.sys.cpu(cpu);
+        let n = DevName::parse_for(name, c).unwrap();
+        match n.read(c).unwrap() {
+            Value::Int(i) => i,
+            Value::Bool(b) => b as i64,
+            v => panic!("{name}: {v:?}"),
+        }
+    }
+
+    fn bit(&self, cpu: usize, name: &str) -> bool {
+        self.int(cpu, name) != 0
+    }
+
+    fn error(&self, cpu: usize) -> Option<u16> {
+        self.sys.cpu(cpu).error().map(|e| e.code.0)
+    }
+}
+
+const TWO: &str = "[multi_cpu]\ncpus = 2\n";
+const IDLE: &str = "LD SM400\nOUT M0\nEND\n";
+
+/// SD395 is the own CPU number (004 L10426); the CPUs scan on their own
+/// constant scans in one time: 10 ms and 20 ms over 100 ms are 10 and 5
+/// scans.
+#[test]
+fn cpu_numbers_and_one_time() {
+    let cpu2 = format!("{TWO}[ras]\nconstant_scan = \"20ms\"\n");
+    let mut s = system(&[(TWO, IDLE), (&cpu2, IDLE)]);
+    s.run_ms(100);
+    assert_eq!(s.int(0, "SD395"), 1);
+    assert_eq!(s.int(1, "SD395"), 2);
+    assert_eq!(s.sys.cpu(0).scans(), 10);
+    assert_eq!(s.sys.cpu(1).scans(), 5);
+    assert_eq!(s.error(0), None);
+    assert_eq!(s.error(1), None);
+}
+
+/// The manual's example (L8780-8830, L8873-8876): setting 1, CPU 1 and
+/// CPU 2 send 2 words each from B0: CPU 1's B0-B1F, CPU 2's B20-B3F, in
+/// shared memory 800H-801H of each. Setting 2, W, 16 words each: 802H-811H.
+#[test]
+fn auto_refresh_of_the_manuals_example() {
+    let params = "[multi_cpu]\ncpus = 2\n\
+        [[multi_cpu.refresh]]\ndevice = \"B0\"\nwords = [2, 2]\n\
+        [[multi_cpu.refresh]]\ndevice = \"W100\"\nwords = [16, 16]\n";
+    let cpu1 = "LD SM400\nDMOV H12345678 K8B0\nMOV K111 W100\nMOV K126 W10F\nEND\n";
+    let cpu2 = "LD SM400\nMOV K-2 K4B20\nMOV K222 W110\nEND\n";
+    let mut s = system(&[(params, cpu1), (params, cpu2)]);
+    s.run_ms(10);
+    // CPU 1's END published B0-B1F and W100-W10F into its 800H-811H …
+    assert_eq!(s.int(0, "U3E0\\G2048"), 0x5678);
+    assert_eq!(s.int(0, "U3E0\\G2049"), 0x1234);
+    assert_eq!(s.int(0, "U3E0\\G2050"), 111);
+    assert_eq!(s.int(0, "U3E0\\G2065"), 126);
+    // … and CPU 2's END (same time, after CPU 1's) took them into its devices.
+    assert_eq!(s.int(1, "K8B0"), 0x12345678);
+    assert_eq!(s.int(1, "W100"), 111);
+    assert_eq!(s.int(1, "W10F"), 126);
+    assert_eq!(s.int(1, "U3E1\\G2048"), -2);
+    assert_eq!(s.int(1, "U3E1\\G2050"), 222);
+    // CPU 1 receives CPU 2's words at its next END.
+    assert_eq!(s.int(0, "K4B20"), 0);
+    s.run_ms(20);
+    assert_eq!(s.int(0, "K4B20"), -2);
+    assert_eq!(s.int(0, "W110"), 222);
+    // B40 onward is no one's: untouched.
+    assert_eq!(s.int(1, "K4B40"), 0);
+}
+
+/// (Buffer-memory addresses in names are decimal: 800H is `G2048`.)
+///
+/// Each CPU may refresh into its own device (L8878-8879): CPU 2 takes the
+/// same words into D500.
+#[test]
+fn refresh_devices_may_differ_per_cpu() {
+    let cpu1 = "[multi_cpu]\ncpus = 2\n[[multi_cpu.refresh]]\ndevice = \"D0\"\nwords = [2, 0]\n";
+    let cpu2 = "[multi_cpu]\ncpus = 2\n[[multi_cpu.refresh]]\ndevice = \"D500\"\nwords = [2, 0]\n";
+    let mut s = system(&[
+        (cpu1, "LD SM400\nMOV K7 D0\nMOV K8 D1\nEND\n"),
+        (cpu2, IDLE),
+    ]);
+    s.run_ms(10);
+    assert_eq!(s.int(1, "D500"), 7);
+    assert_eq!(s.int(1, "D501"), 8);
+}
+
+/// A stop error of CPU 2 with the default operation mode stops every CPU
+/// with MULTI CPU DOWN 7000; CPU 2 keeps its own code; SM244/SM245 show
+/// both stop errors in both CPUs (L8521-8598, L9577-9590).
+#[test]
+fn a_stop_error_of_cpu2_stops_all() {
+    let cpu2 = format!("{TWO}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (TWO, IDLE),
+        (&cpu2, "LD SM400\nMOV K0 D1\n/ K10 D1 D2\nEND\n"),
+    ]);
+    s.run_ms(10);
+    assert_eq!(s.error(1), Some(4100));
+    assert_eq!(s.error(0), Some(7000));
+    assert_eq!(s.sys.cpu(0).state(), CpuState::Stop);
+    // CPU 1's 7000 is a stop error too: SM244 and SM245 are ON in both.
+    for cpu in 0..2 {
+        assert!(s.bit(cpu, "SM244"));
+        assert!(s.bit(cpu, "SM245"));
+        assert!(!s.bit(cpu, "SM246"));
+    }
+    assert!(s.sys.all_stopped());
+}
+
+/// With "the others go on" for CPU 2, CPU 1 records MULTI EXE. ERROR 7010
+/// and keeps running.
+#[test]
+fn a_stop_error_of_cpu2_may_let_cpu1_go_on() {
+    let params = "[multi_cpu]\ncpus = 2\nstop_all = { 2 = false }\n";
+    let cpu2 = format!("{params}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (params, "LD SM400\nINC D0\nEND\n"),
+        (&cpu2, "LD SM400\nMOV K0 D1\n/ K10 D1 D2\nEND\n"),
+    ]);
+    s.run_ms(30);
+    assert_eq!(s.error(1), Some(4100));
+    assert_eq!(s.error(0), Some(7010));
+    assert_eq!(s.sys.cpu(0).state(), CpuState::Run);
+    assert_eq!(s.int(0, "D0"), 3);
+    assert!(s.bit(0, "SM245"));
+}
+
+/// A stop error of CPU 1 always stops the others (7000).
+#[test]
+fn a_stop_error_of_cpu1_stops_all() {
+    let params = "[multi_cpu]\ncpus = 2\nstop_all = { 2 = false }\n";
+    let cpu1 = format!("{params}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (&cpu1, "LD SM400\nMOV K0 D1\n/ K10 D1 D2\nEND\n"),
+        (params, IDLE),
+    ]);
+    s.run_ms(10);
+    assert_eq!(s.error(0), Some(4100));
+    assert_eq!(s.error(1), Some(7000));
+    assert!(s.bit(1, "SM244"));
+}
+
+/// Parameters that differ from CPU 1's stop that CPU with PARAMETER ERROR
+/// 3012 at power-on, which stops the others as any stop error (L8481,
+/// L8500-8512).
+#[test]
+fn inconsistent_parameters_are_3012() {
+    let other = "[multi_cpu]\ncpus = 2\nout_of_group_input = true\n";
+    let s = system(&[(TWO, IDLE), (other, IDLE)]);
+    assert_eq!(s.error(1), Some(3012));
+    assert_eq!(s.error(0), Some(7000));
+    // No [multi_cpu] at all is inconsistent too.
+    let s = system(&[(TWO, IDLE), ("", IDLE)]);
+    assert_eq!(s.error(1), Some(3010));
+}
+
+/// A number of CPUs other than the CPUs installed is 3010 in every CPU.
+#[test]
+fn a_wrong_number_of_cpus_is_3010() {
+    let three = "[multi_cpu]\ncpus = 3\n";
+    let s = system(&[(three, IDLE), (three, IDLE)]);
+    assert_eq!(s.error(0), Some(3010));
+    assert_eq!(s.error(1), Some(3010));
+}
+
+/// RESET of CPU 1 resets the system; RESET of CPU 2 alone brings every
+/// CPU down with 7000 (L8521-8560).
+#[test]
+fn reset_rules() {
+    let cpu2 = format!("{TWO}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (TWO, "LD SM400\nINC D0\nEND\n"),
+        (&cpu2, "LD X0\nMOV K0 D1\n/ K10 D1 D2\nEND\n"),
+    ]);
+    s.sys.cpu_mut(1).set_input(0, true);
+    s.run_ms(10);
+    assert_eq!(s.error(0), Some(7000));
+    s.sys.cpu_mut(1).set_input(0, false);
+    s.sys.reset(0).unwrap();
+    assert_eq!(s.error(0), None);
+    assert_eq!(s.error(1), None);
+    assert_eq!(s.sys.cpu(1).state(), CpuState::Run);
+    s.run_ms(20);
+    assert_eq!(s.int(0, "D0"), 1);
+    s.sys.cpu_mut(1).set_stop();
+    s.sys.reset(1).unwrap();
+    assert_eq!(s.error(0), Some(7000));
+    assert_eq!(s.error(1), Some(7000));
+    assert!(s.sys.all_stopped());
+}
+
+/// The own-operation information area (table 16.1): 0H valid, 1H the
+/// error code (SD0), 1FH the operating status; another CPU reads it.
+#[test]
+fn own_operation_information() {
+    let params = "[multi_cpu]\ncpus = 2\nstop_all = { 2 = false }\n";
+    let cpu2 = format!("{params}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (params, IDLE),
+        (&cpu2, "LD SM400\nMOV K0 D1\n/ K10 D1 D2\nEND\n"),
+    ]);
+    s.run_ms(10);
+    assert_eq!(s.int(1, "U3E1\\G0"), 1);
+    assert_eq!(s.int(0, "U3E0\\G0"), 1);
+    // CPU 2's error, as CPU 1 reads it in CPU 2's area.
+    assert_eq!(s.int(0, "U3E1\\G1"), 4100);
+    // Status (SD203): STOP is 1 in its low digit.
+    assert_eq!(s.int(0, "U3E1\\G31") & 0xF, 1);
+    // CPU 1's error 7010 reaches its area at its next END.
+    assert_eq!(s.int(1, "U3E0\\G1"), 0);
+    s.run_ms(20);
+    assert_eq!(s.int(1, "U3E0\\G1"), 7010);
+}
