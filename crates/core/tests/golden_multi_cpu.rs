@@ -200,6 +200,11 @@ fn inconsistent_parameters_are_3012() {
     let s = system(&[(TWO, IDLE), (other, IDLE)]);
     assert_eq!(s.error(1), Some(3012));
     assert_eq!(s.error(0), Some(7000));
+    // Other refresh word counts too (the devices may differ, not the counts).
+    let r = |w: &str| format!("{TWO}[[multi_cpu.refresh]]\ndevice = \"D0\"\nwords = {w}\n");
+    let s = system(&[(&r("[2, 2]"), IDLE), (&r("[4, 2]"), IDLE)]);
+    assert_eq!(s.error(1), Some(3012));
+    assert_eq!(s.error(0), Some(7000));
     // No [multi_cpu] at all is inconsistent too.
     let s = system(&[(TWO, IDLE), ("", IDLE)]);
     assert_eq!(s.error(1), Some(3010));
