@@ -8,6 +8,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use serde_json::{json, Map, Value as Json};
+use softplc_core::device::DeviceKind;
 use softplc_core::engine::{Clock, Cpu, VirtualClock};
 use softplc_core::names::DevName;
 use softplc_core::persist::{Attach, Battery};
@@ -178,7 +179,12 @@ pub fn run(args: &RunArgs) -> ExitCode {
     while scans < args.scans {
         let n = sys.cpu(0).scans() + 1;
         while let Some(w) = pending.next_if(|w| w.scan <= n) {
-            if let Err(e) = w.to.name.write(sys.cpu_mut(w.to.cpu), &w.value) {
+            // An input of a module goes to its control CPU's input image.
+            let cpu = match w.to.name.spec().bit_span() {
+                Some((DeviceKind::X, x, _)) => sys.input_owner(w.to.cpu, x),
+                _ => w.to.cpu,
+            };
+            if let Err(e) = w.to.name.write(sys.cpu_mut(cpu), &w.value) {
                 eprintln!("softplc: {e}");
                 return ExitCode::from(2);
             }

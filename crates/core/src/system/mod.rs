@@ -247,6 +247,23 @@ impl System {
         Some(i)
     }
 
+    /// The CPU (0-based) whose input image holds input X`x` as CPU `cpu`
+    /// names it: the control CPU of the slot X`x` belongs to (a write to a
+    /// module's input from outside sets the module's input, whichever CPU
+    /// names it), else `cpu` itself.
+    pub fn input_owner(&self, cpu: usize, x: u32) -> usize {
+        self.members[cpu]
+            .cpu
+            .config()
+            .rack
+            .slots
+            .iter()
+            .find(|s| s.kind.has_inputs() && s.io().contains(&x))
+            .map_or(cpu, |s| {
+                (s.control_cpu as usize - 1).min(self.members.len() - 1)
+            })
+    }
+
     /// Every CPU has stopped.
     pub fn all_stopped(&self) -> bool {
         self.members
