@@ -469,8 +469,7 @@ impl Compiler<'_> {
                 self.note_use(tok, DeviceUse::Word(num));
             }
             return Some(
-                match self.unit_operand(IndexedKind::Word, unit, dev.number, index, words, access)
-                {
+                match self.unit_operand(IndexedKind::Word, unit, dev.number, index, words, access) {
                     Ok(w) => WordArg::Word(w),
                     Err(ix) => WordArg::Indexed(ix),
                 },

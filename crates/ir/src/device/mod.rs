@@ -300,6 +300,8 @@ pub struct DeviceMap {
     units: Box<[UnitWindow]>,
     /// This CPU's number in a multi-CPU system, 0 for a single CPU.
     own_cpu: u32,
+    /// The first address of the user area of its own shared memory.
+    user_area: u32,
 }
 
 impl DeviceMap {
@@ -332,6 +334,7 @@ impl DeviceMap {
             r_block: u32::MAX,
             units: cfg.units.clone().into_boxed_slice(),
             own_cpu: cfg.multi_cpu.as_ref().map_or(0, |m| m.own),
+            user_area: REFRESH_AREA + cfg.multi_cpu.as_ref().map_or(0, |m| m.refresh_words),
         }
     }
 
@@ -339,6 +342,13 @@ impl DeviceMap {
     #[inline]
     pub fn own_cpu(&self) -> Option<u32> {
         (self.own_cpu != 0).then_some(self.own_cpu)
+    }
+
+    /// The first address of the user area of this CPU's shared memory,
+    /// right after its auto-refresh area (004 L9053): where S.TO may write.
+    #[inline]
+    pub fn shared_user_area(&self) -> u32 {
+        self.user_area
     }
 
     /// The buffer memory of the module whose unit number (start I/O number
