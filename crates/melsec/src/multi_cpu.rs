@@ -175,7 +175,7 @@ pub(crate) fn end(mem: &mut DeviceMemory, shared: &mut [u32]) {
         set(d, true);
         set(d + 1, false);
     }
-    let w = &mut *pending.0;
+    let Pending(w) = pending;
     w.copy_within(Pending::WAITING..Pending::SHOWN, Pending::SHOWN);
     w[Pending::WAITING] = 0;
 }
