@@ -326,3 +326,29 @@ fn a_different_io_assignment_is_3012() {
     let s = system(&[(&p1, IDLE), (&p2, IDLE)]);
     assert_eq!(s.error(1), Some(3012));
 }
+
+/// S.TO writes the own user area, which starts after the refresh area
+/// (004 L9049-9111): with 2 refresh words a CPU, CPU 1's user area starts at
+/// 802H. CPU 2 reads it with `U3E0\G` and FROM after CPU 1's END; S.TO into
+/// the refresh area (800H) is 4101.
+#[test]
+fn s_to_reaches_the_other_cpu() {
+    let params = "[multi_cpu]\ncpus = 2\n\
+        [[multi_cpu.refresh]]\ndevice = \"D100\"\nwords = [2, 2]\n";
+    let cpu1 = "LD SM400\nMOV K4321 D0\nS.TO H3E0 H802 D0 K1 M10\nEND\n";
+    let cpu2 = "LD SM400\nMOV U3E0\\G2050 D0\nFROM H3E0 H802 D1 K1\nEND\n";
+    let mut s = system(&[(params, cpu1), (params, cpu2)]);
+    s.run_ms(10);
+    assert_eq!(s.error(0), None);
+    assert_eq!(s.int(0, "U3E0\\G2050"), 4321);
+    // CPU 2 scanned after CPU 1's END at the same time.
+    assert_eq!(s.int(1, "D0"), 4321);
+    assert_eq!(s.int(1, "D1"), 4321);
+    // The completion device is ON from the END of the S.TO's scan.
+    assert!(s.bit(0, "M10"));
+    assert!(!s.bit(0, "M11"));
+    let cpu1 = "LD SM400\nS.TO H3E0 H800 D0 K1 M10\nEND\n";
+    let mut s = system(&[(params, cpu1), (params, IDLE)]);
+    s.run_ms(10);
+    assert_eq!(s.error(0), Some(4101));
+}

@@ -6,7 +6,7 @@
 //! (L9119-9215).
 
 use softplc_ir::access::{RBlock, Span};
-use softplc_ir::device::{DeviceKind, CPU1_UNIT, SHARED_MEMORY_WORDS};
+use softplc_ir::device::{DeviceKind, CPU1_UNIT, REFRESH_AREA, SHARED_MEMORY_WORDS};
 
 use crate::engine::Cpu;
 use crate::project::multi_cpu::MultiCpuParams;
@@ -130,7 +130,7 @@ pub(super) fn plans(
             }
         }
         // The own window: the information area, the refresh area and the user area.
-        let from_addr = crate::project::multi_cpu::REFRESH_AREA;
+        let from_addr = REFRESH_AREA;
         let user = SHARED_MEMORY_WORDS - from_addr;
         for j in (0..n).filter(|&j| j != i) {
             let other = &cpus[j];

@@ -103,10 +103,16 @@ impl System {
                 .filter(|s| s.control_cpu != own)
                 .map(|s| s.unit())
                 .collect();
+            let refresh_words = project
+                .multi_cpu
+                .as_ref()
+                .filter(|p| p.cpus == n)
+                .map_or(0, |p| p.refresh_words(i));
             project.config.devices.set_multi_cpu(MultiCpu {
                 own,
                 cpus: n,
                 foreign,
+                refresh_words,
             });
             let cpu = project.build_cpu(clock()).map_err(|mut d| {
                 for x in &mut d.0 {
