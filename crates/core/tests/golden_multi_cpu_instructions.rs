@@ -252,3 +252,19 @@ fn motion_cpu_instructions_and_s_from_are_rejected() {
         );
     }
 }
+
+/// Blocks other instructions write count as writes too: `$MOV` of a string
+/// into another CPU's memory is 2115, DATERD into it 2115, SORT in place on
+/// it 2115 (004 L8994).
+#[test]
+fn written_blocks_of_other_instructions_are_refused() {
+    for src in [
+        "LD SM400\n$MOV \"AB\" U3E1\\G2048\nEND\n",
+        "LD SM400\nDATERD U3E1\\G2048\nEND\n",
+        "LD SM400\nSORT U3E1\\G2048 K4 K1 M0 D0\nEND\n",
+    ] {
+        let mut p = cpu(1, 2, 0, src);
+        p.scan();
+        assert_stopped(&p, 2115);
+    }
+}

@@ -270,7 +270,7 @@ impl BlockAddSub {
             Some(_) => a.block(1).map(Addend::Block),
             None => None,
         };
-        let d = a.block(2);
+        let d = a.block_dest(2);
         let n = a.word_src(3, Num::I16);
         Some(Box::new(BlockAddSub {
             sub,

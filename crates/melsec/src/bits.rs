@@ -206,7 +206,7 @@ fn bkrst_target(a: &mut Args<'_, '_>) -> Option<Target> {
     if dev.kind.is_bit() {
         a.bit_block(0).map(Target::Bits)
     } else {
-        a.block(0).map(Target::Words)
+        a.block_dest(0).map(Target::Words)
     }
 }
 

@@ -78,7 +78,9 @@ fn compile_daterd(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     if !a.count(&[1]) {
         return None;
     }
-    Some(Box::new(DateRd { d: a.block(0)? }))
+    Some(Box::new(DateRd {
+        d: a.block_dest(0)?,
+    }))
 }
 
 impl Instr for DateRd {
@@ -162,7 +164,7 @@ fn compile_date_arith(a: &mut Args<'_, '_>, sub: bool) -> Option<Box<dyn Instr>>
     }
     let s1 = a.block(0);
     let s2 = a.block(1);
-    let d = a.block(2);
+    let d = a.block_dest(2);
     Some(Box::new(DateArith {
         sub,
         s1: s1?,
@@ -218,7 +220,7 @@ fn compile_hour(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I32);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(Hour { s: s?, d: d? }))
 }
 

@@ -360,7 +360,7 @@ fn block_args(a: &mut Args<'_, '_>) -> Option<BlockArgs> {
         return None;
     }
     let s = a.block(0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(BlockArgs {
         s: s?,

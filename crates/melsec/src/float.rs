@@ -183,7 +183,7 @@ fn compile_bsqr(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, if wide { Num::I32 } else { Num::I16 });
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(BcdSqrt { wide, s: s?, d: d? }))
 }
 
@@ -223,7 +223,7 @@ fn compile_btrig(a: &mut Args<'_, '_>, f: Trig) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I16);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(BcdTrig { f, s: s?, d: d? }))
 }
 

@@ -150,7 +150,8 @@ fn zstack(a: &mut Args<'_, '_>, pop: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[1]) {
         return None;
     }
-    let d = a.block(0)?;
+    // ZPUSH writes the save area, ZPOP reads it.
+    let d = if pop { a.block(0)? } else { a.block_dest(0)? };
     let map = a.map();
     Some(Box::new(ZStack {
         d,

@@ -66,7 +66,7 @@ fn fifw(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I16);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(Fifw { s: s?, d: d? }))
 }
 
@@ -117,7 +117,8 @@ fn read(a: &mut Args<'_, '_>, kind: ReadKind) -> Option<Box<dyn Instr>> {
         return None;
     }
     let d = a.word_dest(0, Num::I16, 1);
-    let s = a.block(1);
+    // The table loses the value read.
+    let s = a.block_dest(1);
     let n = if nth {
         Some(a.word_src(2, Num::I16)?)
     } else {
@@ -175,7 +176,7 @@ fn fins(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I16);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Fins {
         s: s?,

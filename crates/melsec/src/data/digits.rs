@@ -23,7 +23,7 @@ pub(super) fn dis(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I16);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Dis {
         s: s?,
@@ -121,7 +121,7 @@ pub(super) fn ndis(a: &mut Args<'_, '_>, link: bool) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s1 = a.block(0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let s2 = a.block(2);
     Some(Box::new(Ndis {
         s1: s1?,
@@ -213,7 +213,7 @@ pub(super) fn wtob(a: &mut Args<'_, '_>, to_words: bool) -> Option<Box<dyn Instr
         return None;
     }
     let s = a.block(0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Wtob {
         s: s?,

@@ -106,7 +106,8 @@ pub(super) fn sort(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn Instr>> {
     if !a.count(&[5]) {
         return None;
     }
-    let s1 = a.block(0);
+    // Sorted in place.
+    let s1 = a.block_dest(0);
     let n = a.word_src(1, Num::I16);
     let per_exec = a.word_src(2, Num::I16);
     let done = a.bit_dest(3);

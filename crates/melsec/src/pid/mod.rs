@@ -314,7 +314,7 @@ struct PidCont {
 impl PidCont {
     fn compile(a: &mut Args<'_, '_>, fam: Family) -> Option<Box<dyn Instr>> {
         let fam = prologue(a, fam, 1)?;
-        let io = a.block(0)?;
+        let io = a.block_dest(0)?;
         let map = a.map();
         let track_flag = map.index(DeviceKind::SM, fam.track_flag());
         let [lo, hi] = fam.range_registers();

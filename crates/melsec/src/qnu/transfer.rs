@@ -32,7 +32,7 @@ fn dfmov(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I32);
-    let d = a.block(1).map(WordBlock::Words);
+    let d = a.block_dest(1).map(WordBlock::Words);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Dfmov {
         s: s?,

@@ -52,7 +52,7 @@ pub(super) fn compile_to_ascii(a: &mut Args<'_, '_>, kind: ToAscii) -> Option<Bo
         _ => Num::I32,
     };
     let s = a.word_src(0, num);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(ToAsciiInstr {
         kind,
         s: s?,

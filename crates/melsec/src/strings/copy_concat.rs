@@ -20,7 +20,7 @@ pub(super) fn compile_smov(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = str_src(a, 0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     Some(Box::new(SMov { s: s?, d: d? }))
 }
 
@@ -53,7 +53,7 @@ pub(super) fn compile_sadd(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     let three = a.len() == 3;
     let s1 = if three { Some(str_src(a, 0)) } else { None };
     let s2 = str_src(a, three as usize);
-    let d = a.block(a.len() - 1);
+    let d = a.block_dest(a.len() - 1);
     let s1 = match s1 {
         Some(s) => Some(s?),
         None => None,

@@ -25,7 +25,7 @@ pub(super) fn compile_asc(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.block(0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Asc {
         s: s?,
@@ -85,7 +85,7 @@ pub(super) fn compile_hex(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.block(0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Hex {
         s: s?,

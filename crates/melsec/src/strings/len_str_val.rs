@@ -94,7 +94,7 @@ pub(super) fn compile_str(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn In
     }
     let s1 = a.block(0);
     let s2 = a.word_src(1, if wide { Num::I32 } else { Num::I16 });
-    let d = a.block(2);
+    let d = a.block_dest(2);
     Some(Box::new(StrInstr {
         wide,
         s1: s1?,
@@ -153,7 +153,7 @@ pub(super) fn compile_val(a: &mut Args<'_, '_>, wide: bool) -> Option<Box<dyn In
     }
     let num = if wide { Num::I32 } else { Num::I16 };
     let s = str_src(a, 0);
-    let d1 = a.block(1);
+    let d1 = a.block_dest(1);
     let d2 = a.word_dest(2, num, num.words());
     Some(Box::new(Val {
         wide,

@@ -58,7 +58,7 @@ pub(super) fn compile_estr(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     }
     let s1 = a.word_src(0, Num::F32);
     let s2 = a.block(1);
-    let d = a.block(2);
+    let d = a.block_dest(2);
     Some(Box::new(Estr {
         s1: s1?,
         s2: s2?,

@@ -22,7 +22,7 @@ pub(super) fn compile_side(a: &mut Args<'_, '_>, right: bool) -> Option<Box<dyn 
         return None;
     }
     let s = str_src(a, 0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Side {
         right,
@@ -70,7 +70,7 @@ pub(super) fn compile_mid(a: &mut Args<'_, '_>, write: bool) -> Option<Box<dyn I
         return None;
     }
     let s1 = str_src(a, 0);
-    let d = a.block(1);
+    let d = a.block_dest(1);
     let s2 = a.block(2);
     Some(Box::new(Mid {
         write,
