@@ -38,6 +38,7 @@
 
 mod bind;
 mod check;
+mod cpus;
 pub mod fmt;
 mod ports;
 mod run;
@@ -63,7 +64,7 @@ impl Outcome {
             self.file.display(),
             self.name,
             self.scans,
-            fmt_time(self.scans * self.scan_us),
+            fmt_time(self.simulated_us()),
             self.wall.as_secs_f64(),
             self.speed()
         )
