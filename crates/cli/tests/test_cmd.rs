@@ -246,6 +246,8 @@ fn shipped_examples_pass() {
         "examples/aplc/batch_mix.toml",
         // The rack (issue #26): a Q64AD, a Q64DA and a QI60 emergency stop.
         "examples/rack/tank.toml",
+        // A multi-CPU system: CPU 1's batch sequence, CPU 2's loop.
+        "examples/multi_cpu/line.toml",
         "--plot",
         &svg,
     ]);
@@ -260,6 +262,7 @@ fn shipped_examples_pass() {
         "autotune",
         "ratio",
         "fopdt_loop",
+        "line",
     ] {
         assert!(
             dir.path().join(format!("plot-{name}.svg")).is_file(),
