@@ -484,7 +484,14 @@ fn a_multi_cpu_scenario_traces_shards_and_merges() {
     let good = scenario(&dir, "b_good.toml", GOOD);
     let mut files = Vec::new();
     for i in 0..2 {
-        let out = softplc(&["test", "--jsonl", "--shard", &format!("{i}/2"), &good, &multi]);
+        let out = softplc(&[
+            "test",
+            "--jsonl",
+            "--shard",
+            &format!("{i}/2"),
+            &good,
+            &multi,
+        ]);
         let f = dir.path().join(format!("shard{i}.jsonl"));
         std::fs::write(&f, stdout(&out)).unwrap();
         files.push(f.display().to_string());

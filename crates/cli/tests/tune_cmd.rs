@@ -255,9 +255,7 @@ fn tune_a_loop_on_cpu2_of_a_system() {
         let line = match line {
             l if l.starts_with("program =") => "project = \".\"".to_string(),
             l if l.starts_with("cpu =") => continue,
-            l => l
-                .replace("\"D", "\"CPU2/D")
-                .replace("\"R1", "\"CPU2/R1"),
+            l => l.replace("\"D", "\"CPU2/D").replace("\"R1", "\"CPU2/R1"),
         };
         text += &line;
         text.push('\n');
@@ -304,5 +302,8 @@ fn tune_a_loop_on_cpu2_of_a_system() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--loop: `CPU3/R1000`: there is no CPU 3"), "{err}");
+    assert!(
+        err.contains("--loop: `CPU3/R1000`: there is no CPU 3"),
+        "{err}"
+    );
 }

@@ -144,10 +144,7 @@ interval = "0.5s"
 #[test]
 fn cpus_scan_at_their_own_constant_scans() {
     let count = "LD SM400\nINC D0\nEND\n";
-    let dir = system(&[
-        ("", count),
-        ("[ras]\nconstant_scan = \"30ms\"\n", count),
-    ]);
+    let dir = system(&[("", count), ("[ras]\nconstant_scan = \"30ms\"\n", count)]);
     let o = run(
         dir.path(),
         r#"duration = "1s"
@@ -185,7 +182,11 @@ at = "1s"
     );
     assert_all_pass(&o);
     assert_eq!((o.scans, o.steps), (50, 100));
-    assert!(o.header().contains(": 50 scans, 1 s simulated"), "{}", o.header());
+    assert!(
+        o.header().contains(": 50 scans, 1 s simulated"),
+        "{}",
+        o.header()
+    );
 }
 
 /// The auto refresh as the scenario sees it: the timeline writes CPU 1's
@@ -353,9 +354,7 @@ fn names_of_missing_cpus_fail_at_load() {
         e.contains("timeline #1") && e.contains("no CPU 3 (the system has CPU 1-2)"),
         "{e}"
     );
-    let e = err(
-        "duration = \"1s\"\n[[model]]\ntype = \"integrator\"\ninputs.u = \"CPU3/D0\"\n",
-    );
+    let e = err("duration = \"1s\"\n[[model]]\ntype = \"integrator\"\ninputs.u = \"CPU3/D0\"\n");
     assert!(
         e.contains("model #1 `integrator`: input `u`") && e.contains("no CPU 3"),
         "{e}"

@@ -217,4 +217,3 @@ impl Session {
         &self.labels
     }
 }
-

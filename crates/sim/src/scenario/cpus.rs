@@ -5,6 +5,9 @@
 use softplc_core::engine::{Cpu, CpuState};
 use softplc_core::system::System;
 
+// One per run, built once and never moved in the scan loop: a boxed CPU
+// would add an indirection to every access of the single CPU's loop.
+#[allow(clippy::large_enum_variant)]
 pub(super) enum Cpus {
     One(Cpu),
     System(System),

@@ -8,10 +8,10 @@ use softplc_core::system::System;
 use softplc_core::{project, single};
 
 use super::bind::{Probe, Sink, Source};
-use super::cpus::Cpus;
-use super::spec::split_cpu;
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
+use super::cpus::Cpus;
 use super::fmt::{fmt_time, Kind};
+use super::spec::split_cpu;
 use super::spec::{ExpectKind, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
 use super::trace::{Recorder, TraceData};
 use crate::model::{self, Model};

@@ -332,7 +332,12 @@ fn project_names(dir: &Path) -> (&'static Profile, Names) {
     }
 }
 
-fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &[Names]) -> Result<ModelSpec, String> {
+fn model_spec(
+    mut m: ModelDoc,
+    i: usize,
+    base: &Path,
+    names: &[Names],
+) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     // An FMU's file is relative to the scenario file.

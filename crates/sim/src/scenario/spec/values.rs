@@ -82,7 +82,9 @@ pub(crate) fn split_cpu(text: &str, cpus: usize) -> Result<(usize, &str), String
         return system::names::split(text, cpus);
     }
     let number = text.split_once('/').and_then(|(head, _)| {
-        let digits = head.get(3..).filter(|_| head[..3].eq_ignore_ascii_case("CPU"))?;
+        let digits = head
+            .get(3..)
+            .filter(|_| head[..3].eq_ignore_ascii_case("CPU"))?;
         digits.parse::<usize>().ok()
     });
     match number {
