@@ -7,6 +7,7 @@ mod http;
 mod names;
 mod opcua;
 mod run;
+mod run_system;
 mod serve;
 // The SIGINT/SIGTERM handler (libc::signal).
 #[allow(unsafe_code)]

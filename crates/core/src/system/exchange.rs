@@ -95,9 +95,13 @@ pub(super) fn plans(
                 words: words as usize,
             });
         }
-        // Each CPU's own devices, with the word counts all CPUs share.
+        // Each CPU's own devices, with the word counts all CPUs share (a CPU
+        // whose parameters differ stops with 3012 and refreshes nothing).
         let own = params[i].as_ref();
-        if let (Some(words), Some(own)) = (words_of, own) {
+        if let (Some(words), Some(own)) = (
+            words_of,
+            own.filter(|o| words_of.is_some_and(|w| w.consistent_with(o))),
+        ) {
             for (k, (set, mine)) in words.refresh.iter().zip(&own.refresh).enumerate() {
                 let dev = |cpu_index: usize| {
                     let w = set.words[cpu_index];
