@@ -241,6 +241,62 @@ at = "0.5s"
     assert_all_pass(&o);
 }
 
+/// An input of a module goes to the module's control CPU whichever CPU
+/// names it, as `--set X…` (contract §6): the input module X0-XF is
+/// CPU 2's, so CPU 1's X0 from the timeline and CPU 1's X1 from a model
+/// reach CPU 2's program; CPU 1 does not load the inputs of a module it
+/// does not control.
+#[test]
+fn inputs_of_a_module_go_to_its_control_cpu() {
+    let rack = "[[slot]]\ntype = \"input\"\npoints = 16\ncontrol_cpu = 2\n";
+    let dir = system(&[
+        (rack, "LD X0\nOUT M0\nEND\n"),
+        (rack, "LD X0\nOUT M1\nLD X1\nOUT M2\nEND\n"),
+    ]);
+    let o = run(
+        dir.path(),
+        r#"duration = "1s"
+
+[[model]]
+type = "integrator"
+params = { gain = 0, initial = 1 }
+inputs.u = 0
+outputs.y = "X1"
+
+[[timeline]]
+at = "0.5s"
+set = { X0 = 1 }
+
+[[expect]]
+device = "CPU2/M1"
+equals = true
+at = "0.5s"
+
+[[expect]]
+device = "CPU2/M1"
+never = true
+equals = true
+to = "0.5s"
+
+[[expect]]
+device = "CPU2/M2"
+equals = true
+at = "10ms"
+
+[[expect]]
+device = "CPU1/M0"
+never = true
+equals = true
+
+[[expect]]
+device = "X1"
+never = true
+equals = true
+"#,
+    );
+    assert_all_pass(&o);
+}
+
 /// A stop error of CPU 2 stops CPU 1 too (MULTI CPU DOWN, 7000, by
 /// default): the run ends at that step with one failed line per CPU.
 #[test]

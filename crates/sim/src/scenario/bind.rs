@@ -257,8 +257,8 @@ impl Sink {
         // LM/V are refused here, not silently at every scan.
         probe.dev.door_value(&Value::Int(0))?;
         Ok(Sink::Device {
+            cpu: cpus.write_owner(probe.cpu, probe.dev.spec()),
             dev: probe.dev,
-            cpu: probe.cpu,
             scale,
         })
     }

@@ -2,6 +2,8 @@
 //! in one virtual time (contract §6). Bound devices carry their CPU's index
 //! (0 for a single CPU).
 
+use softplc_core::access::DeviceSpec;
+use softplc_core::device::DeviceKind;
 use softplc_core::engine::{Cpu, CpuState};
 use softplc_core::system::System;
 
@@ -47,6 +49,16 @@ impl Cpus {
         match self {
             Cpus::One(_) => "the CPU".into(),
             Cpus::System(_) => format!("CPU {}", i + 1),
+        }
+    }
+
+    /// The CPU a write from outside to `spec`, named in CPU `cpu`, goes to:
+    /// an input of a module goes to its control CPU's input image (contract
+    /// §6, as `--set X…`), anything else to `cpu`.
+    pub fn write_owner(&self, cpu: usize, spec: &DeviceSpec) -> usize {
+        match (self, spec.bit_span()) {
+            (Cpus::System(sys), Some((DeviceKind::X, x, _))) => sys.input_owner(cpu, x),
+            _ => cpu,
         }
     }
 

@@ -246,6 +246,7 @@ impl Scenario {
                     .and_then(|v| name.door_value(&v))
                     .map_err(at)?;
                 let spec = name.spec().clone();
+                let cpu = cpus.write_owner(cpu, &spec);
                 spec.write_value(&mut scratch[cpu], &value)
                     .map_err(|e| at(e.to_string()))?;
                 writes.push(Write {
