@@ -43,7 +43,8 @@ pub struct TestArgs {
     #[arg(long, num_args = 1.., value_name = "FILE.jsonl", conflicts_with_all = ["scenarios", "shard"])]
     pub merge: Vec<PathBuf>,
     /// Record these devices (comma-separated, e.g. D610,D611,D612 or
-    /// D10:f32,Y0) to CSV, instead of the scenario's [trace] devices.
+    /// D10:f32,Y0; CPU2/D0 of a multi-CPU system) to CSV, instead of the
+    /// scenario's [trace] devices.
     #[arg(long, value_name = "DEV,...", value_delimiter = ',')]
     pub trace: Vec<String>,
     /// CSV file for the trace (default: the scenario's [trace] file, else

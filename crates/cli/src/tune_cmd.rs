@@ -22,7 +22,8 @@ pub struct TuneArgs {
     /// Its timeline is played first; its duration and [[expect]]s are not used.
     #[arg(value_name = "SCENARIO", required_unless_present = "fit_csv")]
     pub scenario: Option<PathBuf>,
-    /// Head device of the loop tag (the D2 of S.IN/S.PID/S.OUT1), e.g. R1000.
+    /// Head device of the loop tag (the D2 of S.IN/S.PID/S.OUT1), e.g. R1000;
+    /// in a multi-CPU system with its CPU's prefix, e.g. CPU2/R1000.
     #[arg(long = "loop", value_name = "DEV", required_unless_present = "fit_csv")]
     pub loop_head: Option<String>,
     /// Read PV from this device instead of the loop tag's PV (+10; written by

@@ -246,6 +246,8 @@ fn shipped_examples_pass() {
         "examples/aplc/batch_mix.toml",
         // The rack (issue #26): a Q64AD, a Q64DA and a QI60 emergency stop.
         "examples/rack/tank.toml",
+        // A multi-CPU system: CPU 1's batch sequence, CPU 2's loop.
+        "examples/multi_cpu/line.toml",
         "--plot",
         &svg,
     ]);
@@ -260,6 +262,7 @@ fn shipped_examples_pass() {
         "autotune",
         "ratio",
         "fopdt_loop",
+        "line",
     ] {
         assert!(
             dir.path().join(format!("plot-{name}.svg")).is_file(),
@@ -420,4 +423,81 @@ fn several_scenarios_list_the_files_written() {
         assert!(std::path::Path::new(f).is_file(), "{f}");
     }
     assert!(text.lines().last().unwrap().ends_with(" passed, 0 failed"));
+}
+
+/// A multi-CPU system's scenario on the command line: `--trace` takes
+/// `CPUn/` names, a `--jsonl` line counts CPU 1's scans (here at its own
+/// 20 ms constant scan: 250 in 5 s) and the simulated time, and shards of
+/// system and single-CPU scenarios merge to the plain totals.
+#[test]
+fn a_multi_cpu_scenario_traces_shards_and_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    let sys = dir.path().join("line");
+    let count = "LD SM400\nINC D0\nEND\n";
+    for (cpu, ras) in [("cpu1", "[ras]\nconstant_scan = \"20ms\"\n"), ("cpu2", "")] {
+        let d = sys.join(cpu);
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("main.il"), count).unwrap();
+        std::fs::write(
+            d.join("plc.toml"),
+            format!("{ras}[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n"),
+        )
+        .unwrap();
+    }
+    std::fs::write(
+        sys.join("system.toml"),
+        "[[cpu]]\nproject = \"cpu1\"\n[[cpu]]\nproject = \"cpu2\"\n",
+    )
+    .unwrap();
+    let multi = dir.path().join("a_multi.toml");
+    std::fs::write(
+        &multi,
+        "program = \"line\"\nscan_time = \"10ms\"\nduration = \"5s\"\n\
+         [[expect]]\ndevice = \"CPU1/D0\"\nequals = 250\nat = \"5s\"\n\
+         [[expect]]\ndevice = \"CPU2/D0\"\nequals = 500\nat = \"5s\"\n",
+    )
+    .unwrap();
+    let multi = multi.display().to_string();
+    let csv = dir.path().join("t.csv").display().to_string();
+    let out = softplc(&[
+        "test",
+        &multi,
+        "--jsonl",
+        "--trace",
+        "CPU2/D0,CPU1/D0",
+        "--trace-interval",
+        "1s",
+        "--trace-file",
+        &csv,
+    ]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "{text}");
+    let line: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(line["passed"], true, "{line}");
+    assert_eq!(line["scans"], 250, "{line}");
+    assert_eq!(line["simulated_s"], 5.0, "{line}");
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = data.lines().collect();
+    assert_eq!(lines[0], "scan,time_s,CPU2/D0,CPU1/D0");
+    assert_eq!(lines[2], "100,1.000,100,50");
+
+    let good = scenario(&dir, "b_good.toml", GOOD);
+    let mut files = Vec::new();
+    for i in 0..2 {
+        let out = softplc(&[
+            "test",
+            "--jsonl",
+            "--shard",
+            &format!("{i}/2"),
+            &good,
+            &multi,
+        ]);
+        let f = dir.path().join(format!("shard{i}.jsonl"));
+        std::fs::write(&f, stdout(&out)).unwrap();
+        files.push(f.display().to_string());
+    }
+    let merged = softplc(&["test", "--merge", &files[0], &files[1]]);
+    let text = stdout(&merged);
+    assert!(merged.status.success(), "{text}");
+    assert_eq!(text.lines().last(), Some("4 passed, 0 failed"), "{text}");
 }

@@ -215,3 +215,95 @@ fn a_non_finite_fit_is_a_failed_fit() {
         }
     }
 }
+
+/// The example's loop on CPU 2 of a multi-CPU system (CPU 1 idle): with
+/// `CPU2/` names for the loop, the plant and `--pid-constants` the session
+/// is the single CPU's, scan for scan (CPU 2 scans at the scenario's
+/// 100 ms), so the identification is exactly the same.
+#[test]
+fn tune_a_loop_on_cpu2_of_a_system() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/process");
+    let multi = "[multi_cpu]\ncpus = 2\n";
+    for (cpu, model, program) in [
+        ("cpu1", "Q06HCPU", "LD SM400\nOUT M0\nEND\n".to_string()),
+        (
+            "cpu2",
+            "Q06PHCPU",
+            std::fs::read_to_string(examples.join("temperature_loop.il")).unwrap(),
+        ),
+    ] {
+        let d = dir.path().join(cpu);
+        std::fs::create_dir(&d).unwrap();
+        std::fs::write(d.join("main.il"), program).unwrap();
+        std::fs::write(
+            d.join("plc.toml"),
+            format!("[cpu]\nmodel = \"{model}\"\n[[program]]\nfile = \"main.il\"\n{multi}"),
+        )
+        .unwrap();
+    }
+    std::fs::write(
+        dir.path().join("system.toml"),
+        "[[cpu]]\nproject = \"cpu1\"\n[[cpu]]\nproject = \"cpu2\"\n",
+    )
+    .unwrap();
+    // The example's scenario with its program replaced by the system and
+    // its names by CPU 2's.
+    let single = std::fs::read_to_string(example()).unwrap();
+    let mut text = String::new();
+    for line in single.lines() {
+        let line = match line {
+            l if l.starts_with("program =") => "project = \".\"".to_string(),
+            l if l.starts_with("cpu =") => continue,
+            l => l.replace("\"D", "\"CPU2/D").replace("\"R1", "\"CPU2/R1"),
+        };
+        text += &line;
+        text.push('\n');
+    }
+    assert!(text.contains("\"CPU2/D820\"") && text.contains("\"CPU2/R1072:f32\""));
+    let scenario = dir.path().join("loop.toml");
+    std::fs::write(&scenario, text).unwrap();
+    let svg = dir.path().join("trend.svg");
+    let tune = |path: &Path, prefix: &str| {
+        let out = softplc()
+            .arg("tune")
+            .arg(path)
+            .args(["--loop", &format!("{prefix}R1000"), "--mv0", "25"])
+            .args(["--pid-constants", &format!("{prefix}D1200"), "--json"])
+            .arg("--svg")
+            .arg(&svg)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let (one, sys) = (tune(&example(), ""), tune(&scenario, "CPU2/"));
+    assert_eq!(sys["loop_tag"], "CPU2/R1000");
+    assert_eq!(one["identification"], sys["identification"]);
+    assert_eq!(one["step_test"], sys["step_test"]);
+    assert_eq!(sys["verification"]["settled"], true);
+    let drawn = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        drawn.contains("PV CPU2/R1010") && drawn.contains("MV CPU2/R1012"),
+        "{}",
+        &drawn[..200]
+    );
+
+    // The loop's CPU must exist.
+    let out = softplc()
+        .arg("tune")
+        .arg(&scenario)
+        .args(["--loop", "CPU3/R1000"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--loop: `CPU3/R1000`: there is no CPU 3"),
+        "{err}"
+    );
+}

@@ -209,7 +209,7 @@ pub fn tune_scenario(sc: &Scenario, opts: &Options) -> Result<Report, String> {
         ));
     }
     let ct = s.read(offset::CT)?;
-    s.tag.set_mode(s.run.cpu_mut(), MODE_MAN)?;
+    s.tag.set_mode(s.run.cpu_at_mut(s.cpu_index()), MODE_MAN)?;
     if let Some(mv) = opts.initial_mv {
         s.write(offset::MV, mv)?;
     }
@@ -363,11 +363,11 @@ fn check_options(o: &Options) -> Result<(), String> {
 }
 
 fn expect_mode(s: &Session, want: u16, name: &str) -> Result<(), String> {
-    let mode = s.tag.mode(s.run.cpu())?;
+    let mode = s.tag.mode(s.cpu())?;
     if mode == want {
         return Ok(());
     }
-    let alm = s.tag.alarms(s.run.cpu())?;
+    let alm = s.tag.alarms(s.cpu())?;
     let why = if alm & ALM_SPA != 0 {
         format!(
             "; the loop is stopped (ALM {} = {alm:04X}H has SPA, b14): the program must start it",
@@ -542,11 +542,15 @@ fn verify(
     s.write(offset::D, tuning.td)?;
     let reverse = process.gain >= 0.0;
     match &o.pid_constants {
-        Some(head) => {
+        Some(given) => {
+            let (cpu, head) = s
+                .run
+                .split_name(given)
+                .map_err(|e| format!("--pid-constants: {e}"))?;
             let mtd = device_at(head, 0, "f32").map_err(|e| format!("--pid-constants: {e}"))?;
             let pn = device_at(head, 4, "u16").map_err(|e| format!("--pid-constants: {e}"))?;
-            write_value(s, &mtd, Value::Float(o.rule_options.mtd))?;
-            write_value(s, &pn, Value::Int(i64::from(!reverse)))?;
+            write_value(s, cpu, &mtd, Value::Float(o.rule_options.mtd))?;
+            write_value(s, cpu, &pn, Value::Int(i64::from(!reverse)))?;
         }
         None if !reverse => warnings.push(
             "the process gain is negative: the PID needs forward action (PN = 1); \
@@ -561,7 +565,7 @@ fn verify(
     let pv = s.pv()?;
     s.write(offset::SV, pv)?;
     s.scan_for(2.0 * ct.max(0.0) + 2.0 * s.scan_s)?;
-    s.tag.set_mode(s.run.cpu_mut(), MODE_AUT)?;
+    s.tag.set_mode(s.run.cpu_at_mut(s.cpu_index()), MODE_AUT)?;
     s.scan()?;
     expect_mode(s, MODE_AUT, "AUT")?;
     // Let the loop take over bumplessly for a few control cycles.
@@ -644,9 +648,9 @@ fn centred_mean(y: &[f64], half: usize) -> Vec<f64> {
         .collect()
 }
 
-fn write_value(s: &mut Session, d: &DeviceSpec, v: Value) -> Result<(), String> {
+fn write_value(s: &mut Session, cpu: usize, d: &DeviceSpec, v: Value) -> Result<(), String> {
     s.run
-        .cpu_mut()
+        .cpu_at_mut(cpu)
         .write_value(d, &v)
         .map_err(|e| format!("--pid-constants: {e}"))
 }

@@ -74,8 +74,11 @@ pub fn device_at(head: &str, off: u32, ty: &str) -> Result<DeviceSpec, String> {
 /// A loop tag resolved against a CPU's memory.
 #[derive(Clone, Debug)]
 pub struct LoopTag {
-    /// The head device as given.
+    /// The head device as given (with its `CPUn/` prefix in a multi-CPU
+    /// system).
     pub head: String,
+    /// The `CPUn/` prefix given, or empty.
+    prefix: String,
     mode: DeviceSpec,
     alm: DeviceSpec,
     floats: [(u32, DeviceSpec); 12],
@@ -84,13 +87,20 @@ pub struct LoopTag {
 impl LoopTag {
     /// Resolves the loop tag at `head`; the 128 words must exist in `cpu`.
     pub fn new(head: &str, cpu: &Cpu) -> Result<LoopTag, String> {
+        LoopTag::on_cpu("", head, cpu)
+    }
+
+    /// [`LoopTag::new`] for the CPU of a multi-CPU system that `prefix`
+    /// (`CPU2/`) names: `cpu` is that CPU, names in reports carry the prefix.
+    pub fn on_cpu(prefix: &str, head: &str, cpu: &Cpu) -> Result<LoopTag, String> {
         use offset::*;
         let last = device_at(head, 127, "u16")?;
         cpu.read_device(&last)
             .map_err(|e| format!("loop tag `{head}` needs 128 words: {e}"))?;
         let f = |off| Ok::<_, String>((off, device_at(head, off, "f32")?));
         Ok(LoopTag {
-            head: head.trim().to_string(),
+            head: format!("{prefix}{}", head.trim()),
+            prefix: prefix.to_string(),
             mode: device_at(head, MODE, "u16")?,
             alm: device_at(head, ALM, "u16")?,
             floats: [
@@ -154,10 +164,10 @@ impl LoopTag {
         read_u16(cpu, &self.alm)
     }
 
-    /// The name of the word at `off`, e.g. `R1010`.
+    /// The name of the word at `off`, e.g. `R1010` (`CPU2/R1010`).
     pub fn name_at(&self, off: u32) -> String {
-        device_at(&self.head, off, "u16")
-            .map(|d| d.text.trim_end_matches(":u16").to_string())
+        device_at(&self.head[self.prefix.len()..], off, "u16")
+            .map(|d| format!("{}{}", self.prefix, d.text.trim_end_matches(":u16")))
             .unwrap_or_else(|_| format!("{}+{off}", self.head))
     }
 }

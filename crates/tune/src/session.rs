@@ -2,6 +2,7 @@
 //! PV, SV and MV recorded for the plot.
 
 use softplc_core::access::{DeviceSpec, Value};
+use softplc_core::engine::Cpu;
 use softplc_sim::scenario::fmt::Kind;
 use softplc_sim::scenario::{Run, Scenario, TraceData};
 
@@ -33,8 +34,12 @@ pub struct Sample {
 pub struct Session {
     pub run: Run,
     pub tag: LoopTag,
-    /// Where PV is read (the loop tag's +10 unless `--pv` names a device).
-    pv: Option<DeviceSpec>,
+    /// The loop's CPU (0-based; a multi-CPU system's by the `CPUn/` prefix
+    /// of the loop's head).
+    cpu: usize,
+    /// Where PV is read (the loop tag's +10 unless `--pv` names a device),
+    /// and its CPU.
+    pv: Option<(usize, DeviceSpec)>,
     /// The `--pv` device holds PV in % of RH − RL (e.g. S.IN's BW).
     pv_percent: bool,
     /// Virtual time per scan, s.
@@ -55,6 +60,7 @@ struct Trend {
 
 impl Session {
     /// Builds the scenario's run and resolves the loop tag (and PV device).
+    /// In a multi-CPU system both names take `CPUn/` prefixes.
     pub fn start(
         sc: &Scenario,
         loop_head: &str,
@@ -62,26 +68,30 @@ impl Session {
         pv_percent: bool,
     ) -> Result<Session, String> {
         let run = sc.build()?;
-        let tag = LoopTag::new(loop_head, run.cpu())?;
+        let (cpu, head) = run
+            .split_name(loop_head)
+            .map_err(|e| format!("--loop: {e}"))?;
+        let given = loop_head.trim();
+        let tag = LoopTag::on_cpu(&given[..given.len() - head.len()], head, run.cpu_at(cpu))?;
+        let mut pv_name = tag.name_at(offset::PV);
         let pv = match pv_device {
             Some(d) => {
-                let spec = DeviceSpec::parse(d.trim()).map_err(|e| format!("--pv: {e}"))?;
-                run.cpu()
+                let (pv_cpu, name) = run.split_name(d).map_err(|e| format!("--pv: {e}"))?;
+                let spec = DeviceSpec::parse(name.trim()).map_err(|e| format!("--pv: {e}"))?;
+                run.cpu_at(pv_cpu)
                     .read_device(&spec)
                     .map_err(|e| format!("--pv: {e}"))?;
                 if matches!(spec.ty, softplc_core::access::ValueType::Str) {
                     return Err(format!("--pv {d}: a string cannot be a PV"));
                 }
-                Some(spec)
+                let given = d.trim();
+                pv_name = format!("{}{}", &given[..given.len() - name.len()], spec.text);
+                Some((pv_cpu, spec))
             }
             None => None,
         };
         let labels = [
-            format!(
-                "PV {}",
-                pv.as_ref()
-                    .map_or_else(|| tag.name_at(offset::PV), |p| p.text.clone())
-            ),
+            format!("PV {pv_name}"),
             format!("SV {}", tag.name_at(offset::SV)),
             format!("MV {} [%]", tag.name_at(offset::MV)),
         ];
@@ -90,6 +100,7 @@ impl Session {
             timeline_scans: sc.timeline.last().map_or(0, |e| e.scan),
             run,
             tag,
+            cpu,
             pv,
             pv_percent,
             trend: Trend {
@@ -105,12 +116,22 @@ impl Session {
         self.run.steps_done() as f64 * self.scan_s
     }
 
+    /// The loop's CPU.
+    pub fn cpu(&self) -> &Cpu {
+        self.run.cpu_at(self.cpu)
+    }
+
+    /// The loop's CPU's index (0-based), for [`Run::cpu_at_mut`].
+    pub fn cpu_index(&self) -> usize {
+        self.cpu
+    }
+
     /// PV now.
     pub fn pv(&self) -> Result<f64, String> {
         match &self.pv {
-            None => self.tag.read(self.run.cpu(), offset::PV),
-            Some(d) => {
-                let v = match self.run.cpu().read_device(d)? {
+            None => self.tag.read(self.cpu(), offset::PV),
+            Some((cpu, d)) => {
+                let v = match self.run.cpu_at(*cpu).read_device(d)? {
                     Value::Float(x) => x,
                     Value::Int(i) => i as f64,
                     Value::Bool(b) => f64::from(u8::from(b)),
@@ -127,12 +148,12 @@ impl Session {
 
     /// Reads a float of the loop tag.
     pub fn read(&self, off: u32) -> Result<f64, String> {
-        self.tag.read(self.run.cpu(), off)
+        self.tag.read(self.cpu(), off)
     }
 
     /// Writes a float of the loop tag (before the next scan).
     pub fn write(&mut self, off: u32, v: f64) -> Result<(), String> {
-        self.tag.write(self.run.cpu_mut(), off, v)
+        self.tag.write(self.run.cpu_at_mut(self.cpu), off, v)
     }
 
     /// One scan; returns its sample (and records it in the trend).

@@ -70,7 +70,7 @@ impl Line {
                 failed,
             },
             duration_s: wall,
-            simulated_s: o.scans as f64 * o.scan_us as f64 / 1e6,
+            simulated_s: o.simulated_us() as f64 / 1e6,
             scans: o.scans,
             results,
         }

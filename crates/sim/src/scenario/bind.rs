@@ -1,40 +1,54 @@
 //! Devices resolved once at build time and read/written every scan without
-//! allocation or string work.
+//! allocation or string work. A name with a `CPUn/` prefix is CPU n's of a
+//! multi-CPU system (contract §6); each binding keeps its CPU's index.
 
 use softplc_core::access::{Value, ValueType};
 use softplc_core::device::DeviceMemory;
-use softplc_core::engine::Cpu;
 use softplc_core::names::DevName;
 
+use super::cpus::Cpus;
 use super::fmt::Kind;
-use super::spec::{channel, Scale};
+use super::spec::{channel, split_cpu, Scale};
 use crate::model::{from_raw_clamped, to_raw};
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
-/// index-modified device pushed out of range by Z), named in the CPU's
+/// index-modified device pushed out of range by Z), named in its CPU's
 /// dialect (`softplc_core::names`).
 #[derive(Clone, Debug)]
 pub struct Probe {
     pub dev: DevName,
+    /// The CPU (0-based).
+    pub cpu: usize,
+    /// The name in reports: the device's, after the `CPUn/` prefix given.
+    name: String,
 }
 
 impl Probe {
-    /// Parses `text` in the dialect of `cpu` and checks it exists there.
-    pub fn new(text: &str, cpu: &Cpu) -> Result<Probe, String> {
-        let dev = DevName::parse_for(text.trim(), cpu)?;
+    /// Parses `text` in the dialect of its CPU and checks it exists there.
+    pub fn new(text: &str, cpus: &Cpus) -> Result<Probe, String> {
+        let (cpu, rest) = split_cpu(text, cpus.len())?;
+        let dev = DevName::parse_for(rest.trim(), cpus.get(cpu))?;
         if dev.ty() == ValueType::Str {
             return Err(format!("`{text}`: strings cannot be bound or checked"));
         }
-        Ok(Probe { dev })
+        let prefix = &text.trim()[..text.trim().len() - rest.len()];
+        Ok(Probe {
+            name: format!("{prefix}{}", dev.text()),
+            dev,
+            cpu,
+        })
     }
 
     pub fn name(&self) -> &str {
-        self.dev.text()
+        &self.name
     }
 
-    /// Both probes read the same value (the same storage in the same type).
+    /// Both probes read the same value (the same storage of the same CPU
+    /// in the same type).
     pub fn same(&self, other: &Probe) -> bool {
-        self.dev.spec() == other.dev.spec() && self.dev.ty() == other.dev.ty()
+        self.cpu == other.cpu
+            && self.dev.spec() == other.dev.spec()
+            && self.dev.ty() == other.dev.ty()
     }
 
     pub fn kind(&self) -> Kind {
@@ -45,8 +59,14 @@ impl Probe {
         }
     }
 
+    /// The value now in its CPU.
     #[inline]
-    pub fn read(&self, mem: &DeviceMemory) -> f64 {
+    pub fn read(&self, cpus: &Cpus) -> f64 {
+        self.read_mem(cpus.get(self.cpu).memory())
+    }
+
+    #[inline]
+    fn read_mem(&self, mem: &DeviceMemory) -> f64 {
         match self.dev.raw(mem) {
             Ok(raw) => decode(self.dev.ty(), raw),
             Err(_) => f64::NAN,
@@ -73,13 +93,21 @@ fn decode(ty: ValueType, raw: u64) -> f64 {
 pub struct Channel {
     slot: usize,
     channel: u32,
+    /// The CPU (0-based).
+    cpu: usize,
 }
 
 impl Channel {
-    /// The module channel `text` names in the rack of `cpu`, or `None` when
-    /// `text` is a device name.
-    fn parse(text: &str, cpu: &Cpu) -> Option<Result<Channel, String>> {
-        let parsed = channel(text)?;
+    /// The module channel `text` names in the rack of its CPU, or `None`
+    /// when `text` is a device name. In a multi-CPU system the module must
+    /// be one its CPU controls.
+    fn parse(text: &str, cpus: &Cpus) -> Option<Result<Channel, String>> {
+        let (own, rest) = match split_cpu(text, cpus.len()) {
+            Ok(split) => split,
+            Err(e) => return channel(text).map(|_| Err(e)),
+        };
+        let parsed = channel(rest)?;
+        let cpu = cpus.get(own);
         Some(parsed.and_then(|(unit, ch)| {
             let text = text.trim();
             let slot = cpu
@@ -88,6 +116,13 @@ impl Channel {
                 .ok_or_else(|| format!("`{text}`: no slot of the rack is unit U{unit:X}"))?;
             let index = slot.index as usize;
             let name = slot.describe();
+            if cpus.is_system() && slot.control_cpu as usize != own + 1 {
+                return Err(format!(
+                    "`{text}`: {name} is controlled by CPU {c}: bind CPU{c}/{}",
+                    rest.trim(),
+                    c = slot.control_cpu
+                ));
+            }
             let module = cpu
                 .module(index)
                 .ok_or_else(|| format!("`{text}`: {name} holds no simulated module"))?;
@@ -97,14 +132,16 @@ impl Channel {
             Ok(Channel {
                 slot: index,
                 channel: ch,
+                cpu: own,
             })
         }))
     }
 
     /// The channel's physical value, NaN when the module has none.
     #[inline]
-    fn read(&self, cpu: &Cpu) -> f64 {
-        cpu.module(self.slot)
+    fn read(&self, cpus: &Cpus) -> f64 {
+        cpus.get(self.cpu)
+            .module(self.slot)
             .and_then(|m| m.channel(self.channel))
             .unwrap_or(f64::NAN)
     }
@@ -134,32 +171,32 @@ pub enum Source {
 
 impl Source {
     /// A model input bound to `text`, a device or a module channel.
-    pub fn new(text: &str, scale: Scale, cpu: &Cpu) -> Result<Source, String> {
-        match Channel::parse(text, cpu) {
+    pub fn new(text: &str, scale: Scale, cpus: &Cpus) -> Result<Source, String> {
+        match Channel::parse(text, cpus) {
             Some(channel) => Ok(Source::Channel {
                 channel: channel?,
                 scale,
             }),
             None => Ok(Source::Device {
-                probe: Probe::new(text, cpu)?,
+                probe: Probe::new(text, cpus)?,
                 scale,
             }),
         }
     }
 
     #[inline]
-    pub fn read(&self, cpu: &Cpu) -> f64 {
+    pub fn read(&self, cpus: &Cpus) -> f64 {
         match self {
             Source::Const(v) => *v,
             Source::Channel { channel, scale } => {
-                let x = channel.read(cpu);
+                let x = channel.read(cpus);
                 match *scale {
                     Scale::Signal { signal, eng } => linear(x, signal, eng),
                     _ => x,
                 }
             }
             Source::Device { probe, scale } => {
-                let v = probe.read(cpu.memory());
+                let v = probe.read(cpus);
                 match *scale {
                     // Only module channels are bound with a signal range.
                     Scale::None | Scale::Signal { .. } => v,
@@ -193,26 +230,34 @@ impl Source {
 /// module channel (the physical value at an analog input).
 #[derive(Clone, Debug)]
 pub enum Sink {
-    Device { dev: DevName, scale: Scale },
-    Channel { channel: Channel, scale: Scale },
+    Device {
+        dev: DevName,
+        cpu: usize,
+        scale: Scale,
+    },
+    Channel {
+        channel: Channel,
+        scale: Scale,
+    },
 }
 
 impl Sink {
-    pub fn new(text: &str, scale: Scale, cpu: &mut Cpu) -> Result<Sink, String> {
-        if let Some(channel) = Channel::parse(text, cpu) {
+    pub fn new(text: &str, scale: Scale, cpus: &mut Cpus) -> Result<Sink, String> {
+        if let Some(channel) = Channel::parse(text, cpus) {
             let channel = channel?;
             // An output channel (D/A) refuses a value: say so now, not at
             // every scan. The model's initial value follows at once.
-            if let Some(m) = cpu.module_mut(channel.slot) {
+            if let Some(m) = cpus.get_mut(channel.cpu).module_mut(channel.slot) {
                 m.set_channel(channel.channel, 0.0)
                     .map_err(|e| format!("`{}`: {e}", text.trim()))?;
             }
             return Ok(Sink::Channel { channel, scale });
         }
-        let probe = Probe::new(text, cpu)?;
+        let probe = Probe::new(text, cpus)?;
         // LM/V are refused here, not silently at every scan.
         probe.dev.door_value(&Value::Int(0))?;
         Ok(Sink::Device {
+            cpu: cpus.write_owner(probe.cpu, probe.dev.spec()),
             dev: probe.dev,
             scale,
         })
@@ -222,21 +267,21 @@ impl Sink {
     /// clamped to the type's range (NaN is 0); `f32` as the nearest float;
     /// a channel's physical value (NaN is 0).
     #[inline]
-    pub fn write(&mut self, cpu: &mut Cpu, v: f64) {
-        let (dev, scale) = match self {
+    pub fn write(&mut self, cpus: &mut Cpus, v: f64) {
+        let (dev, cpu, scale) = match self {
             Sink::Channel { channel, scale } => {
                 let x = match *scale {
                     Scale::Signal { signal, eng } => linear(v, eng, signal),
                     _ => v,
                 };
                 let x = if x.is_nan() { 0.0 } else { x };
-                if let Some(m) = cpu.module_mut(channel.slot) {
+                if let Some(m) = cpus.get_mut(channel.cpu).module_mut(channel.slot) {
                     // Checked when the sink was bound.
                     let _ = m.set_channel(channel.channel, x);
                 }
                 return;
             }
-            Sink::Device { dev, scale } => (dev, *scale),
+            Sink::Device { dev, cpu, scale } => (dev, *cpu, *scale),
         };
         let x = match scale {
             Scale::Analog { raw, eng } => f64::from(to_raw(v, eng, raw)),
@@ -255,6 +300,6 @@ impl Sink {
             ValueType::Str => return,
         };
         // A device pushed out of range by its index register is not written.
-        let _ = dev.write_value(cpu, &value);
+        let _ = dev.write_value(cpus.get_mut(cpu), &value);
     }
 }

@@ -30,6 +30,13 @@
 //! A model that reports a fault in step 1 (an FMU call failed) ends the run
 //! there, before the scan, with one more failed result naming it.
 //!
+//! A multi-CPU system (a directory with `system.toml`, contract §6) runs in
+//! the same loop with the scan time as its step: in step 3 every CPU whose
+//! scan ends by the step's end scans (`System::run_until`: each at its
+//! constant scan, else once per step; equal times in CPU-number order, each
+//! followed by its END's exchange). Names take `CPUn/` prefixes, resolved
+//! against their CPU at build time; each binding keeps its CPU's index.
+//!
 //! After the scan every watched device is sampled once: the expectations are
 //! evaluated online (O(1) per expectation per scan) and the trace takes its
 //! sample when due. Nothing in the loop allocates or parses: devices are
@@ -38,6 +45,7 @@
 
 mod bind;
 mod check;
+mod cpus;
 pub mod fmt;
 mod ports;
 mod run;
@@ -63,7 +71,7 @@ impl Outcome {
             self.file.display(),
             self.name,
             self.scans,
-            fmt_time(self.scans * self.scan_us),
+            fmt_time(self.simulated_us()),
             self.wall.as_secs_f64(),
             self.speed()
         )

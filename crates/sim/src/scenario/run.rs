@@ -2,13 +2,16 @@
 
 use std::time::{Duration, Instant};
 
-use softplc_core::engine::{Cpu, CpuState, VirtualClock};
+use softplc_core::engine::{Clock, Cpu, CpuState, VirtualClock};
 use softplc_core::names::Names;
+use softplc_core::system::System;
 use softplc_core::{project, single};
 
 use super::bind::{Probe, Sink, Source};
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
+use super::cpus::Cpus;
 use super::fmt::{fmt_time, Kind};
+use super::spec::split_cpu;
 use super::spec::{ExpectKind, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
 use super::trace::{Recorder, TraceData};
 use crate::model::{self, Model};
@@ -24,9 +27,9 @@ struct Bound {
 }
 
 impl Bound {
-    fn write_outputs(&mut self, cpu: &mut Cpu) {
+    fn write_outputs(&mut self, cpus: &mut Cpus) {
         for (i, sink) in &mut self.outputs {
-            sink.write(cpu, self.out_buf[*i]);
+            sink.write(cpus, self.out_buf[*i]);
         }
     }
 }
@@ -34,15 +37,18 @@ impl Bound {
 /// A resolved timeline write: the value parsed once, written typed.
 struct Write {
     scan: u64,
+    /// The CPU (0-based).
+    cpu: usize,
     spec: softplc_core::access::DeviceSpec,
     value: softplc_core::access::Value,
 }
 
-/// A scenario ready to run: CPU powered on, every device resolved.
+/// A scenario ready to run: CPU (or every CPU of a system) powered on,
+/// every device resolved.
 pub struct Run {
     name: String,
     file: std::path::PathBuf,
-    cpu: Cpu,
+    cpus: Cpus,
     clock: VirtualClock,
     scan_us: u64,
     total: u64,
@@ -78,13 +84,16 @@ pub struct CheckResult {
 pub struct Outcome {
     pub name: String,
     pub file: std::path::PathBuf,
-    /// Scans executed (fewer than planned when the CPU stopped).
+    /// Scans executed (fewer than planned when the CPU stopped); CPU 1's
+    /// of a multi-CPU system.
     pub scans: u64,
+    /// Steps of `scan_us` run: the virtual time (the scans of a single CPU).
+    pub steps: u64,
     pub scan_us: u64,
     /// Wall-clock time of the scan loop.
     pub wall: Duration,
     /// One per expectation, in file order; a CPU stop error adds one more,
-    /// failed.
+    /// failed (one per CPU that stopped in a system).
     pub results: Vec<CheckResult>,
     pub trace: Option<TraceData>,
 }
@@ -98,9 +107,14 @@ impl Outcome {
         self.results.len() - self.passed()
     }
 
+    /// Virtual time run, µs.
+    pub fn simulated_us(&self) -> u64 {
+        self.steps * self.scan_us
+    }
+
     /// Simulated time / wall-clock time.
     pub fn speed(&self) -> f64 {
-        self.scans as f64 * self.scan_us as f64 / 1e6 / self.wall.as_secs_f64().max(1e-9)
+        self.simulated_us() as f64 / 1e6 / self.wall.as_secs_f64().max(1e-9)
     }
 }
 
@@ -108,8 +122,9 @@ impl Outcome {
 pub const PROGRESS_EVERY: u64 = 1 << 14;
 
 impl Scenario {
-    /// Loads the program or project, powers on the CPU (in virtual time, no
-    /// retained state) and resolves every device of the scenario.
+    /// Loads the program, project or multi-CPU system, powers on the CPUs
+    /// (in virtual time, no retained state) and resolves every device of
+    /// the scenario.
     pub fn build(&self) -> Result<Run, String> {
         self.build_on(None)
     }
@@ -118,6 +133,7 @@ impl Scenario {
     /// `SOFTPLC_EXEC`, else the project's `[cpu] exec`, else auto.
     pub fn build_on(&self, exec: Option<softplc_core::tier::Exec>) -> Result<Run, String> {
         let clock = VirtualClock::new();
+        let ctx = |e: String| format!("{}: {e}", self.file.display());
         let mut ports = self.ports.clone();
         let mut project_exec = None;
         let mut cpu = match &self.source {
@@ -137,22 +153,48 @@ impl Scenario {
                 proj.build_cpu(Box::new(clock.clone()))
                     .map_err(|d| format!("{d}"))?
             }
+            super::Source::System(p) => {
+                let sys = self.load_system(p, &clock, exec)?;
+                return self
+                    .build_with_ports(Cpus::System(sys), clock, &[])
+                    .map_err(ctx);
+            }
         };
         let exec = softplc_core::tier::Exec::choose(exec, project_exec)?;
         softplc_core::tier::apply(&mut cpu, exec)?;
-        let ctx = |e: String| format!("{}: {e}", self.file.display());
-        self.build_with_ports(cpu, clock, &ports).map_err(ctx)
+        self.build_with_ports(Cpus::One(cpu), clock, &ports)
+            .map_err(ctx)
+    }
+
+    /// Loads a multi-CPU system on `clock`, puts each CPU on its execution
+    /// tier and schedules the CPUs from time 0: each at its constant scan,
+    /// else at the scenario's scan time.
+    fn load_system(
+        &self,
+        path: &std::path::Path,
+        clock: &VirtualClock,
+        exec: Option<softplc_core::tier::Exec>,
+    ) -> Result<System, String> {
+        let mut sys = System::load(path, &mut || Box::new(clock.clone()) as Box<dyn Clock>)
+            .map_err(|d| format!("{d}"))?;
+        for i in 0..sys.len() {
+            let tier = softplc_core::tier::Exec::choose(exec, sys.project(i).exec)
+                .and_then(|e| softplc_core::tier::apply(sys.cpu_mut(i), e));
+            tier.map_err(|e| format!("CPU {}: {e}", i + 1))?;
+        }
+        sys.schedule(Duration::from_micros(self.scan_us), 0);
+        Ok(sys)
     }
 
     /// [`Scenario::build`] with a CPU built by the caller (it must use `clock`).
     pub fn build_with(&self, cpu: Cpu, clock: VirtualClock) -> Result<Run, String> {
-        self.build_with_ports(cpu, clock, &self.ports)
+        self.build_with_ports(Cpus::One(cpu), clock, &self.ports)
     }
 
     /// [`Scenario::build_with`] with the APLC ports the CPU was configured with.
     fn build_with_ports(
         &self,
-        mut cpu: Cpu,
+        mut cpus: Cpus,
         clock: VirtualClock,
         port_configs: &[softplc_ports::PortConfig],
     ) -> Result<Run, String> {
@@ -166,13 +208,13 @@ impl Scenario {
                 inputs[*i] = match b {
                     super::InputBinding::Const(v) => Source::Const(*v),
                     super::InputBinding::Device { device, scale } => {
-                        Source::new(device, *scale, &cpu).map_err(what)?
+                        Source::new(device, *scale, &cpus).map_err(what)?
                     }
                 };
             }
             let mut outputs = Vec::new();
             for (i, b) in &m.outputs {
-                outputs.push((*i, Sink::new(&b.device, b.scale, &mut cpu).map_err(what)?));
+                outputs.push((*i, Sink::new(&b.device, b.scale, &mut cpus).map_err(what)?));
             }
             let mut bound = Bound {
                 name: m.name.clone(),
@@ -184,27 +226,32 @@ impl Scenario {
             };
             // The sensors read their initial state at power-on.
             bound.model.outputs_now(&mut bound.out_buf);
-            bound.write_outputs(&mut cpu);
+            bound.write_outputs(&mut cpus);
             models.push(bound);
         }
 
-        // Timeline: check every value on a scratch copy of the memory.
-        let mut scratch = cpu.memory().clone();
+        // Timeline: check every value on a scratch copy of each memory.
+        let mut scratch: Vec<_> = (0..cpus.len())
+            .map(|i| cpus.get(i).memory().clone())
+            .collect();
         let mut writes = Vec::new();
-        let names = Names::of(&cpu);
+        let names: Vec<Names> = (0..cpus.len()).map(|i| Names::of(cpus.get(i))).collect();
         for e in &self.timeline {
             for (dev, value) in &e.set {
                 let at = |err: String| format!("timeline at scan {}: {err}", e.scan);
-                let name = names.parse(dev.trim()).map_err(at)?;
+                let (cpu, dev) = split_cpu(dev, cpus.len()).map_err(at)?;
+                let name = names[cpu].parse(dev.trim()).map_err(at)?;
                 let value = name
                     .parse_value(value)
                     .and_then(|v| name.door_value(&v))
                     .map_err(at)?;
                 let spec = name.spec().clone();
-                spec.write_value(&mut scratch, &value)
+                let cpu = cpus.write_owner(cpu, &spec);
+                spec.write_value(&mut scratch[cpu], &value)
                     .map_err(|e| at(e.to_string()))?;
                 writes.push(Write {
                     scan: e.scan,
+                    cpu,
                     spec,
                     value,
                 });
@@ -214,8 +261,8 @@ impl Scenario {
 
         // Watched devices and checks.
         let mut probes: Vec<Probe> = Vec::new();
-        let mut watch = |text: &str, cpu: &Cpu| -> Result<usize, String> {
-            let p = Probe::new(text, cpu)?;
+        let mut watch = |text: &str, cpus: &Cpus| -> Result<usize, String> {
+            let p = Probe::new(text, cpus)?;
             if let Some(i) = probes.iter().position(|q| q.same(&p)) {
                 return Ok(i);
             }
@@ -224,18 +271,18 @@ impl Scenario {
         };
         let mut checks = Vec::new();
         for e in &self.expects {
-            let probe = watch(&e.device, &cpu)?;
+            let probe = watch(&e.device, &cpus)?;
             let (mut sv_probe, mut sv_value) = (None, 0.0);
             if let ExpectKind::Settle { setpoint, .. } = &e.kind {
                 match setpoint {
-                    Setpoint::Device(d) => sv_probe = Some(watch(d, &cpu)?),
+                    Setpoint::Device(d) => sv_probe = Some(watch(d, &cpus)?),
                     Setpoint::Value(v) => sv_value = *v,
                 }
             }
             let mut columns = vec![probe];
             columns.extend(sv_probe);
             for s in &e.show {
-                let i = watch(s, &cpu)?;
+                let i = watch(s, &cpus)?;
                 if !columns.contains(&i) {
                     columns.push(i);
                 }
@@ -280,7 +327,7 @@ impl Scenario {
         } else {
             let tp = trace_devs
                 .iter()
-                .map(|d| Probe::new(d, &cpu).map_err(|e| format!("trace: {e}")))
+                .map(|d| Probe::new(d, &cpus).map_err(|e| format!("trace: {e}")))
                 .collect::<Result<Vec<_>, _>>()?;
             let every = match self.trace.interval_us {
                 Some(us) => (us / self.scan_us).max(1),
@@ -300,7 +347,7 @@ impl Scenario {
         Ok(Run {
             name: self.name.clone(),
             file: self.file.clone(),
-            cpu,
+            cpus,
             clock,
             scan_us: self.scan_us,
             total: self.scans,
@@ -321,7 +368,8 @@ impl Scenario {
 }
 
 impl Run {
-    /// One scan's input refresh, timeline writes and the scan itself. A
+    /// One step: the models' input refresh, the due timeline writes and the
+    /// scan (every CPU of a system whose scan ends by the step's end). A
     /// model that fails (an FMU call) stops the run before the scan: its
     /// index is returned.
     fn advance(&mut self, n: u64, dt: f64, next_write: &mut usize) -> Result<(), usize> {
@@ -329,26 +377,31 @@ impl Run {
         // are sampled.
         for (i, m) in self.models.iter_mut().enumerate() {
             for (buf, src) in m.in_buf.iter_mut().zip(&m.inputs) {
-                *buf = src.read(&self.cpu);
+                *buf = src.read(&self.cpus);
             }
             m.model.step(dt, &m.in_buf, &mut m.out_buf);
             if m.model.fault().is_some() {
                 return Err(i);
             }
-            m.write_outputs(&mut self.cpu);
+            m.write_outputs(&mut self.cpus);
         }
         for f in &self.follows {
             f.apply(&self.models[f.model()].out_buf);
         }
         while let Some(w) = self.writes.get(*next_write).filter(|w| w.scan == n) {
             // Checked on a scratch memory at build: cannot fail.
-            let _ = self.cpu.write_value(&w.spec, &w.value);
+            let _ = self.cpus.get_mut(w.cpu).write_value(&w.spec, &w.value);
             *next_write += 1;
         }
-        self.clock.advance_us(self.scan_us);
-        self.cpu.scan();
-        // The communication phase after END (L914-941).
-        self.ports.after_end(&mut self.cpu);
+        match &mut self.cpus {
+            Cpus::One(cpu) => {
+                self.clock.advance_us(self.scan_us);
+                cpu.scan();
+                // The communication phase after END (L914-941).
+                self.ports.after_end(cpu);
+            }
+            Cpus::System(sys) => sys.run_until(n * self.scan_us, &self.clock),
+        }
         Ok(())
     }
 
@@ -362,36 +415,19 @@ impl Run {
         )
     }
 
-    /// Why the CPU stopped: the error code, message and step (the APLC has
-    /// no step numbers: its file and line, contract §2).
-    fn stop_detail(&self) -> String {
-        match self.cpu.error() {
-            Some(e) => {
-                let place = match (&e.file, e.line, e.step) {
-                    (Some(f), Some(l), _) if !self.cpu.profile().step_numbers => {
-                        format!(" at {f}:{l}")
-                    }
-                    (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
-                    _ => String::new(),
-                };
-                format!(
-                    "error {} {}{place}",
-                    e.code.0,
-                    self.cpu.error_message(e.code)
-                )
-            }
-            None => "no error recorded".into(),
-        }
-    }
-
     /// Runs one scan as [`Run::run`] does (models, due timeline writes, the
     /// scan) but without expectations or trace, for drivers that act on the
     /// CPU between scans (`softplc tune`). Scans go on past the scenario's
     /// duration; the timeline simply has no more writes. Returns the virtual
-    /// time after the scan in µs, or why the CPU stopped.
+    /// time after the scan in µs, or why the CPU (any CPU of a system)
+    /// stopped.
     pub fn step(&mut self) -> Result<u64, String> {
-        if self.cpu.state() == CpuState::Stop {
-            return Err(format!("the CPU is stopped: {}", self.stop_detail()));
+        if let Some(i) = self.cpus.first_stopped() {
+            return Err(format!(
+                "{} is stopped: {}",
+                self.cpus.label(i),
+                stop_detail(self.cpus.get(i))
+            ));
         }
         let n = self.stepped + 1;
         let mut next = self.next_step_write;
@@ -404,11 +440,12 @@ impl Run {
         }
         self.next_step_write = next;
         self.stepped = n;
-        if self.cpu.state() == CpuState::Stop {
+        if let Some(i) = self.cpus.first_stopped() {
             return Err(format!(
-                "the CPU stopped at scan {n} ({}): {}",
+                "{} stopped at scan {n} ({}): {}",
+                self.cpus.label(i),
                 fmt_time(n * self.scan_us),
-                self.stop_detail()
+                stop_detail(self.cpus.get(i))
             ));
         }
         Ok(n * self.scan_us)
@@ -424,9 +461,10 @@ impl Run {
         self.scan_us
     }
 
-    /// The CPU, to write devices between [`Run::step`]s (through its door).
+    /// The CPU (CPU 1 of a system), to write devices between
+    /// [`Run::step`]s (through its door).
     pub fn cpu_mut(&mut self) -> &mut Cpu {
-        &mut self.cpu
+        self.cpus.get_mut(0)
     }
 
     /// Scans the run will execute.
@@ -434,22 +472,54 @@ impl Run {
         self.total
     }
 
-    /// The CPU (e.g. to inspect devices before or after [`Run::run`]).
+    /// The CPU (CPU 1 of a system; e.g. to inspect devices before or after
+    /// [`Run::run`]).
     pub fn cpu(&self) -> &Cpu {
-        &self.cpu
+        self.cpus.get(0)
+    }
+
+    /// Number of CPUs: 1, or those of a multi-CPU system.
+    pub fn cpu_count(&self) -> usize {
+        self.cpus.len()
+    }
+
+    /// CPU `i` (0-based: CPU 1 is 0).
+    ///
+    /// # Panics
+    /// When `i` is not below [`Run::cpu_count`].
+    pub fn cpu_at(&self, i: usize) -> &Cpu {
+        self.cpus.get(i)
+    }
+
+    /// CPU `i` (0-based), to write devices between [`Run::step`]s.
+    ///
+    /// # Panics
+    /// When `i` is not below [`Run::cpu_count`].
+    pub fn cpu_at_mut(&mut self, i: usize) -> &mut Cpu {
+        self.cpus.get_mut(i)
+    }
+
+    /// The CPU (0-based) a device name addresses and the name without its
+    /// `CPUn/` prefix (a name without one is CPU 1's).
+    pub fn split_name<'a>(&self, name: &'a str) -> Result<(usize, &'a str), String> {
+        split_cpu(name, self.cpus.len())
     }
 
     /// Runs every scan: before each, the due timeline writes and one step of
     /// every model (inputs read from the devices the last scan left, outputs
     /// written to the input image / word devices); then the scan in virtual
-    /// time; then the expectations and the trace sample. `progress` is called
-    /// with the scans done every [`PROGRESS_EVERY`] scans and at the end.
+    /// time (every CPU of a system whose scan is due); then the expectations
+    /// and the trace sample. `progress` is called with the scans done every
+    /// [`PROGRESS_EVERY`] scans and at the end. The run ends early when the
+    /// CPU (every CPU of a system) has stopped.
     pub fn run(mut self, progress: &mut dyn FnMut(u64)) -> Outcome {
         let dt = self.scan_us as f64 / 1e6;
         let start = Instant::now();
         let mut next_write = 0;
         let mut done = 0;
-        let mut stopped = None;
+        // The scan at which each CPU was first seen stopped.
+        let mut stopped: Vec<Option<u64>> = vec![None; self.cpus.len()];
+        let mut all_stopped = false;
         let mut fault = None;
         for n in 1..=self.total {
             if let Err(i) = self.advance(n, dt, &mut next_write) {
@@ -458,21 +528,25 @@ impl Run {
             }
             done = n;
             let time_us = n * self.scan_us;
-            let mem = self.cpu.memory();
             for (v, p) in self.values.iter_mut().zip(&self.probes) {
-                *v = p.read(mem);
+                *v = p.read(&self.cpus);
             }
             self.ring.push(n, &self.values);
             for c in &mut self.checks {
                 c.update(n, self.scan_us, &self.values, &self.ring, &self.names);
             }
             if let Some(r) = &mut self.recorder {
-                r.sample(n, time_us, mem);
+                r.sample(n, time_us, &self.cpus);
             }
-            if self.cpu.state() == CpuState::Stop {
-                stopped = Some(n);
+            for (i, s) in stopped.iter_mut().enumerate() {
+                if s.is_none() && self.cpus.get(i).state() == CpuState::Stop {
+                    *s = Some(n);
+                }
+            }
+            if stopped.iter().all(Option::is_some) {
+                all_stopped = true;
                 if let Some(r) = &mut self.recorder {
-                    r.take(n, time_us, self.cpu.memory());
+                    r.take(n, time_us, &self.cpus);
                 }
                 break;
             }
@@ -484,8 +558,9 @@ impl Run {
         let wall = start.elapsed();
 
         let mut results = Vec::new();
-        let why = match (stopped, fault) {
-            (Some(_), _) => "the CPU stopped",
+        let why = match (all_stopped, fault) {
+            (true, _) if self.cpus.is_system() => "every CPU stopped",
+            (true, _) => "the CPU stopped",
             (_, Some(_)) => "a model failed",
             _ => "the run ended",
         };
@@ -498,15 +573,16 @@ impl Run {
                 failure: c.failure.take(),
             });
         }
-        if let Some(n) = stopped {
-            let detail = self.stop_detail();
+        for (i, s) in stopped.iter().enumerate() {
+            let Some(n) = *s else { continue };
             results.push(CheckResult {
                 text: format!(
-                    "the CPU keeps running (stopped at {}, scan {n})",
+                    "{} keeps running (stopped at {}, scan {n})",
+                    self.cpus.label(i),
                     fmt_time(n * self.scan_us)
                 ),
                 passed: false,
-                detail,
+                detail: stop_detail(self.cpus.get(i)),
                 failure: None,
             });
         }
@@ -522,14 +598,37 @@ impl Run {
                 failure: None,
             });
         }
+        let scans = match &self.cpus {
+            Cpus::One(_) => done,
+            Cpus::System(sys) => sys.cpu(0).scans(),
+        };
         Outcome {
             name: self.name,
             file: self.file,
-            scans: done,
+            scans,
+            steps: done,
             scan_us: self.scan_us,
             wall,
             results,
             trace: self.recorder.map(|r| r.data),
         }
+    }
+}
+
+/// Why a CPU stopped: the error code, message and step (the APLC has no
+/// step numbers: its file and line, contract §2).
+fn stop_detail(cpu: &Cpu) -> String {
+    match cpu.error() {
+        Some(e) => {
+            let place = match (&e.file, e.line, e.step) {
+                (Some(f), Some(l), _) if !cpu.profile().step_numbers => {
+                    format!(" at {f}:{l}")
+                }
+                (Some(f), Some(l), Some(s)) => format!(" at step {s} ({f}:{l})"),
+                _ => String::new(),
+            };
+            format!("error {} {}{place}", e.code.0, cpu.error_message(e.code))
+        }
+        None => "no error recorded".into(),
     }
 }

@@ -3,9 +3,8 @@
 
 use std::fmt::Write as _;
 
-use softplc_core::device::DeviceMemory;
-
 use super::bind::Probe;
+use super::cpus::Cpus;
 use super::fmt::{fmt_secs, fmt_value, Kind};
 
 /// Recorded samples of some devices.
@@ -103,21 +102,21 @@ impl Recorder {
     }
 
     #[inline]
-    pub fn sample(&mut self, n: u64, time_us: u64, mem: &DeviceMemory) {
+    pub(super) fn sample(&mut self, n: u64, time_us: u64, cpus: &Cpus) {
         if n.is_multiple_of(self.every) || n == 1 || n == self.last {
-            self.take(n, time_us, mem);
+            self.take(n, time_us, cpus);
         }
     }
 
     /// Takes a sample now (e.g. the scan where the CPU stopped).
-    pub fn take(&mut self, n: u64, time_us: u64, mem: &DeviceMemory) {
+    pub(super) fn take(&mut self, n: u64, time_us: u64, cpus: &Cpus) {
         if self.data.scans.last() == Some(&n) {
             return;
         }
         self.data.scans.push(n);
         self.data.times_us.push(time_us);
         for p in &self.probes {
-            self.data.values.push(p.read(mem));
+            self.data.values.push(p.read(cpus));
         }
     }
 }

@@ -45,7 +45,7 @@ pub(super) fn expect_spec(
     t: &toml::Table,
     scan_us: u64,
     scans: u64,
-    names: &Names,
+    names: &[Names],
 ) -> Result<ExpectSpec, String> {
     for k in t.keys() {
         if !EXPECT_KEYS.contains(&k.as_str()) {

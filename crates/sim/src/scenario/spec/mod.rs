@@ -12,7 +12,7 @@ mod parse;
 mod peer;
 mod values;
 
-pub(crate) use values::channel;
+pub(crate) use values::{channel, split_cpu};
 
 /// What the scenario runs: a program file or a project.
 #[derive(Clone, Debug, PartialEq)]
@@ -21,6 +21,9 @@ pub enum Source {
     Program(PathBuf),
     /// A project directory or its `plc.toml`.
     Project(PathBuf),
+    /// A multi-CPU system: a directory with `system.toml`, or that file.
+    /// Device names take `CPUn/` prefixes (`CPU2/D0`; none is CPU 1).
+    System(PathBuf),
 }
 
 /// Scaling of a model port bound to a device.
@@ -225,15 +228,18 @@ pub struct Scenario {
     /// own with `[cpu] model`.
     pub cpu: Option<&'static Profile>,
     /// The CPU the scenario runs: `cpu`, the project's `[cpu] model`, or by
-    /// the program file (`.apl`: the APLC-TCP; else the Q06HCPU).
+    /// the program file (`.apl`: the APLC-TCP; else the Q06HCPU); CPU 1's
+    /// of a multi-CPU system.
     pub profile: &'static Profile,
-    /// What the file's device names mean: APLC names (and the programs'
-    /// global names) for an `.apl` program, `cpu = "APLC-TCP"` or an
-    /// APLC-TCP project (contract §2), else MELSEC names.
-    pub names: Names,
-    /// Virtual time per scan, µs.
+    /// What the file's device names mean, one entry per CPU (CPU 1 first;
+    /// a single CPU has one): APLC names (and the programs' global names)
+    /// for an `.apl` program, `cpu = "APLC-TCP"` or an APLC-TCP project
+    /// (contract §2), else MELSEC names.
+    pub names: Vec<Names>,
+    /// Virtual time per scan, µs: the step of a multi-CPU system, whose
+    /// CPUs scan at their own constant scan (this time without one).
     pub scan_us: u64,
-    /// Scans to run (the duration rounded up to whole scans).
+    /// Scans (steps) to run (the duration rounded up to whole scans).
     pub scans: u64,
     pub models: Vec<ModelSpec>,
     /// Sorted by scan (file order within a scan).

@@ -4,6 +4,7 @@
 use softplc_core::names::Names;
 use softplc_core::profile::{self, Profile, SourceFormat};
 use softplc_core::single;
+use softplc_core::system;
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -116,6 +117,9 @@ impl Scenario {
             _ => PathBuf::from("."),
         };
         let source = match (&doc.program, &doc.project) {
+            (Some(p), None) | (None, Some(p)) if system::is_system(&base.join(p)) => {
+                Source::System(base.join(p))
+            }
             (Some(p), None) => Source::Program(base.join(p)),
             (None, Some(p)) => Source::Project(base.join(p)),
             _ => {
@@ -128,6 +132,12 @@ impl Scenario {
             (None, _) => None,
             (Some(_), Source::Project(_)) => {
                 return Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
+            }
+            (Some(_), Source::System(_)) => {
+                return Err(
+                    "cpu: each CPU of a multi-CPU system sets its model with [cpu] model in its plc.toml"
+                        .into(),
+                )
             }
             (Some(m), Source::Program(p)) => Some(program_model(m, p)?),
         };
@@ -204,7 +214,7 @@ impl Scenario {
         let mut ports = Vec::new();
         for (n, t) in [(1u8, &doc.port1), (2, &doc.port2)] {
             let Some(t) = t else { continue };
-            if matches!(source, Source::Project(_)) || cpu_profile.doors.serial_ports == 0 {
+            if !matches!(source, Source::Program(_)) || cpu_profile.doors.serial_ports == 0 {
                 return Err(format!(
                     "[port{n}]: only for an APLC program file (a project sets its ports in plc.toml)"
                 ));
@@ -276,30 +286,58 @@ fn program_model(model: &str, program: &std::path::Path) -> Result<&'static Prof
 
 /// What the scenario's device names mean: those of the program file's model
 /// (`cpu`, else by the file name) or the project's, with the programs'
-/// global names (the APLC's). A program or project that does not load
-/// gives plain names here and its errors when the scenario is built.
-fn names_of(source: &Source, cpu: Option<&'static Profile>) -> (&'static Profile, Names) {
-    let (profile, files) = match source {
+/// global names (the APLC's); each CPU's of a multi-CPU system (CPU 1's
+/// profile is returned). A program, project or system that does not load
+/// gives plain names here (four CPUs' for a system) and its errors when the
+/// scenario is built.
+fn names_of(source: &Source, cpu: Option<&'static Profile>) -> (&'static Profile, Vec<Names>) {
+    match source {
         Source::Program(p) => {
             let d = match cpu {
                 Some(m) => m,
                 None => SourceFormat::of_file(p).default_profile(),
             };
-            (d, vec![p.clone()])
+            (d, vec![Names::of_files(d, &[p.as_path()])])
         }
-        Source::Project(p) => match softplc_core::project::load_project(p) {
-            Ok(proj) => (
-                proj.config.profile,
-                proj.programs.iter().map(|s| s.file.clone()).collect(),
-            ),
-            Err(_) => (profile::default_profile(), Vec::new()),
-        },
-    };
-    let paths: Vec<&std::path::Path> = files.iter().map(|f| f.as_path()).collect();
-    (profile, Names::of_files(profile, &paths))
+        Source::Project(p) => {
+            let (profile, names) = project_names(p);
+            (profile, vec![names])
+        }
+        Source::System(p) => {
+            let names: Vec<_> = match system::manifest::read(p) {
+                Ok((_, dirs)) => dirs.iter().map(|d| project_names(d)).collect(),
+                Err(_) => {
+                    let profile = profile::default_profile();
+                    (0..4).map(|_| (profile, Names::plain(profile))).collect()
+                }
+            };
+            (names[0].0, names.into_iter().map(|(_, n)| n).collect())
+        }
+    }
 }
 
-fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Names) -> Result<ModelSpec, String> {
+/// A project's CPU model and names (plain names of the default model when
+/// it does not load).
+fn project_names(dir: &Path) -> (&'static Profile, Names) {
+    match softplc_core::project::load_project(dir) {
+        Ok(proj) => {
+            let files: Vec<&Path> = proj.programs.iter().map(|s| s.file.as_path()).collect();
+            let profile = proj.config.profile;
+            (profile, Names::of_files(profile, &files))
+        }
+        Err(_) => {
+            let profile = profile::default_profile();
+            (profile, Names::plain(profile))
+        }
+    }
+}
+
+fn model_spec(
+    mut m: ModelDoc,
+    i: usize,
+    base: &Path,
+    names: &[Names],
+) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     // An FMU's file is relative to the scenario file.
@@ -356,7 +394,7 @@ fn timeline_entry(
     i: usize,
     scan_us: u64,
     scans: u64,
-    names: &Names,
+    names: &[Names],
     out: &mut Vec<EventSpec>,
 ) -> Result<(), String> {
     let what = format!("timeline #{}", i + 1);

@@ -3,6 +3,7 @@
 
 use softplc_core::access::ValueType;
 use softplc_core::names::{DevName, Names};
+use softplc_core::system;
 
 use super::{InputBinding, Scale};
 use crate::model;
@@ -71,15 +72,41 @@ pub(crate) fn channel(text: &str) -> Option<Result<(u32, u32), String>> {
     }))
 }
 
-/// A device name in the scenario's dialect (checked against the CPU at build).
-pub(super) fn device(text: &str, what: &str, names: &Names) -> Result<DevName, String> {
+/// The CPU (0-based) a device name addresses and the name without its
+/// `CPUn/` prefix, for `cpus` CPUs (contract §6: `CPU2/D0`; a name without
+/// a prefix is CPU 1's). A single CPU takes `CPU1/` too; in it, a name
+/// whose head is not `CPU<n>` passes whole to the CPU's own names.
+pub(crate) fn split_cpu(text: &str, cpus: usize) -> Result<(usize, &str), String> {
+    let text = text.trim();
+    if cpus > 1 {
+        return system::names::split(text, cpus);
+    }
+    let number = text.split_once('/').and_then(|(head, _)| {
+        let digits = head
+            .get(3..)
+            .filter(|_| head[..3].eq_ignore_ascii_case("CPU"))?;
+        digits.parse::<usize>().ok()
+    });
+    match number {
+        None => Ok((0, text)),
+        Some(1) => system::names::split(text, 1),
+        Some(n) => Err(format!(
+            "`{text}`: there is no CPU {n} (the scenario runs one CPU; a multi-CPU system is a directory with system.toml)"
+        )),
+    }
+}
+
+/// A device name in the scenario's dialect, `names` per CPU (checked
+/// against the CPU at build).
+pub(super) fn device(text: &str, what: &str, names: &[Names]) -> Result<DevName, String> {
+    let (cpu, text) = split_cpu(text, names.len()).map_err(|e| format!("{what}: {e}"))?;
     if channel(text).is_some() {
         return Err(format!(
             "{what}: `{}` is a module channel: it binds a model port (check or trace the module's U\\G words)",
             text.trim()
         ));
     }
-    let spec = names
+    let spec = names[cpu]
         .parse(text.trim())
         .map_err(|e| format!("{what}: {e}"))?;
     if spec.ty() == ValueType::Str {
@@ -97,14 +124,17 @@ pub(super) fn binding(
     v: &toml::Value,
     what: &str,
     input: bool,
-    names: &Names,
+    names: &[Names],
 ) -> Result<InputBinding, String> {
     let target = match v {
         toml::Value::String(s) => Some(s.as_str()),
         toml::Value::Table(t) => t.get("device").and_then(|d| d.as_str()),
         _ => None,
     };
-    if let Some(ch) = target.and_then(channel) {
+    let target = target
+        .map(|t| split_cpu(t, names.len()).map_err(|e| format!("{what}: {e}")))
+        .transpose()?;
+    if let Some(ch) = target.and_then(|(_, t)| channel(t)) {
         ch.map_err(|e| format!("{what}: {e}"))?;
         return channel_binding(v, what);
     }
