@@ -60,16 +60,21 @@ pub fn check(path: &Path, exec: Option<Exec>) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-/// A name with its CPU.
+/// A name with its CPU, and as the user wrote it.
 struct Named {
     cpu: usize,
     name: DevName,
+    text: String,
 }
 
 fn parse_name(text: &str, sys: &System) -> Result<Named, String> {
     let (cpu, rest) = names::split(text.trim(), sys.len())?;
     let name = DevName::parse_for(rest, sys.cpu(cpu))?;
-    Ok(Named { cpu, name })
+    Ok(Named {
+        cpu,
+        name,
+        text: text.trim().to_string(),
+    })
 }
 
 /// A write before CPU 1's scan `scan`.
@@ -238,13 +243,8 @@ fn report(
     for s in shows {
         match s.name.read(sys.cpu(s.cpu)) {
             Ok(v) => {
-                let shown = if s.cpu == 0 {
-                    s.name.text().to_string()
-                } else {
-                    format!("CPU{}/{}", s.cpu + 1, s.name.text())
-                };
-                text.push(format!("{shown} = {v}"));
-                devices.insert(shown, crate::run::to_json(&v));
+                text.push(format!("{} = {v}", s.text));
+                devices.insert(s.text.clone(), crate::run::to_json(&v));
             }
             Err(e) => {
                 eprintln!("softplc: {e}");

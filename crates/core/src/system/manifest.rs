@@ -79,10 +79,7 @@ pub fn read(path: &Path) -> Result<(PathBuf, Vec<PathBuf>), Diagnostics> {
         return Err(fail(
             1,
             1,
-            format!(
-                "{} CPUs: a multi-CPU system has 2-4 (004 ch. 13)",
-                cpus.len()
-            ),
+            format!("{} CPUs: a multi-CPU system has 2-4", cpus.len()),
         ));
     }
     let mut projects = Vec::new();
