@@ -8,6 +8,7 @@ mod names;
 mod opcua;
 mod run;
 mod serve;
+mod served;
 // The SIGINT/SIGTERM handler (libc::signal).
 #[allow(unsafe_code)]
 mod signal;

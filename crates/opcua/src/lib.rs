@@ -101,9 +101,9 @@ pub async fn serve(
     } = p;
     let feed = engine
         .at_end(move |s| {
-            let loops = points::loops(&s.cpu, &loops);
+            let loops = points::loops(s.cpu(), &loops);
             let space = Arc::new(Space::new(devices, loops));
-            let mem = s.cpu.memory();
+            let mem = s.cpu().memory();
             let raw: Vec<u64> = space
                 .points
                 .iter()

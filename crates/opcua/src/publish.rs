@@ -35,10 +35,10 @@ pub struct Diag {
 impl Diag {
     pub fn of(s: &ServeState) -> Diag {
         Diag {
-            state: s.cpu.state().as_str(),
-            scan: s.cpu.scans(),
+            state: s.cpu().state().as_str(),
+            scan: s.cpu().scans(),
             scan_time_us: s.stats.exec_us.min(u32::MAX as u64) as u32,
-            error_code: s.cpu.error().map_or(0, |e| e.code.0),
+            error_code: s.cpu().error().map_or(0, |e| e.code.0),
         }
     }
 
@@ -116,7 +116,7 @@ impl Feed {
     /// changed ones; returns the `seq` that covers this END.
     pub fn sample(&self, s: &ServeState) -> u64 {
         let diag = Diag::of(s);
-        let mem = s.cpu.memory();
+        let mem = s.cpu().memory();
         let Ok(mut guard) = self.pending.lock() else {
             return 0;
         };
@@ -274,9 +274,9 @@ mod tests {
         let mut s = ServeState::new(cpu);
         let feed = Feed::new(space, vec![0; 4], Diag::of(&s));
         assert_eq!(feed.sample(&s), 0, "nothing changed");
-        d0.write_value(&mut s.cpu, &Value::Int(-7)).unwrap();
+        d0.write_value(s.cpu_mut(), &Value::Int(-7)).unwrap();
         assert_eq!(feed.sample(&s), 1);
-        d0.write_value(&mut s.cpu, &Value::Int(8)).unwrap();
+        d0.write_value(s.cpu_mut(), &Value::Int(8)).unwrap();
         assert_eq!(feed.sample(&s), 2);
         let p = feed.pending.lock().unwrap();
         // D0 queued once with its latest value.

@@ -305,13 +305,15 @@ impl InMemoryNodeManagerImpl for SoftplcNodes {
                 let statuses: Vec<StatusCode> = jobs
                     .iter()
                     .map(
-                        |(k, v)| match space.points[*k].name.write_value(&mut s.cpu, v) {
+                        |(k, v)| match space.points[*k].name.write_value(s.cpu_mut(), v) {
                             Ok(()) => StatusCode::Good,
                             Err(_) => StatusCode::BadOutOfRange,
                         },
                     )
                     .collect();
-                s.wrote |= statuses.iter().any(|c| c.is_good());
+                if statuses.iter().any(|c| c.is_good()) {
+                    s.mark_wrote(0);
+                }
                 (statuses, feed.sample(s))
             })
             .await;
