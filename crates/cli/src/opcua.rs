@@ -35,9 +35,14 @@ pub fn listener(
         }
         return Ok(None);
     };
-    Ok(Some(
-        softplc_opcua::Prepared::new(cfg, state.cpu())?.listener(),
-    ))
+    let prepared = match state.cpu_count() {
+        1 => softplc_opcua::Prepared::new(cfg, state.cpu())?,
+        n => {
+            let cpus: Vec<_> = (0..n).map(|i| state.cpu_at(i)).collect();
+            softplc_opcua::Prepared::system(cfg, &cpus)?
+        }
+    };
+    Ok(Some(prepared.listener()))
 }
 
 #[cfg(not(feature = "opcua"))]
