@@ -253,7 +253,8 @@
   }
   if (names) {
     const es = new EventSource("/api/v1/events?names=" + encodeURIComponent(names));
-    es.onmessage = (e) => { const d = JSON.parse(e.data); $("#scan").textContent = d.scan; update(d.devices); };
+    // An event's scan is CPU 1's: another CPU's bar takes its scans from status.
+    es.onmessage = (e) => { const d = JSON.parse(e.data); if (!cpu || cpu === "1") $("#scan").textContent = d.scan; update(d.devices); };
     es.onerror = () => say("live values interrupted; retrying", true);
   }
 
