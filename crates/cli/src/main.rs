@@ -7,6 +7,7 @@ mod http;
 mod names;
 mod opcua;
 mod run;
+mod run_system;
 mod serve;
 mod served;
 // The SIGINT/SIGTERM handler (libc::signal).

@@ -373,6 +373,13 @@ pub fn check(
     exec: Option<Exec>,
     stats: bool,
 ) -> ExitCode {
+    if softplc_core::system::is_system(path) {
+        if model.is_some() || dialect.is_some() {
+            eprintln!("softplc: --model and --dialect do not apply to a multi-CPU system");
+            return ExitCode::from(2);
+        }
+        return crate::run_system::check(path, exec);
+    }
     match load_with(path, Box::new(VirtualClock::new()), None, dialect, model) {
         Ok(mut l) => {
             if exec.is_some() || stats {
@@ -484,6 +491,9 @@ fn parse_options(args: &RunArgs, names: &Names) -> Result<(Vec<Write>, Vec<DevNa
 }
 
 pub fn run(args: RunArgs) -> ExitCode {
+    if softplc_core::system::is_system(&args.program) {
+        return crate::run_system::run(&args);
+    }
     let clock = VirtualClock::new();
     let mut loaded = match load_with(
         &args.program,
@@ -727,7 +737,7 @@ pub(crate) fn state_error(dir: &Path, e: &PersistError) -> String {
     }
 }
 
-fn to_json(v: &Value) -> Json {
+pub(crate) fn to_json(v: &Value) -> Json {
     match v {
         Value::Bool(b) => Json::Bool(*b),
         Value::Int(i) => json!(i),

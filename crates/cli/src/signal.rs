@@ -5,21 +5,26 @@
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use std::sync::{Arc, OnceLock};
 
-static ABORT: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+static ABORT: OnceLock<Vec<Arc<AtomicBool>>> = OnceLock::new();
 /// The signal that arrived (0: none).
 static SIGNAL: AtomicI32 = AtomicI32::new(0);
 
 extern "C" fn on_signal(sig: libc::c_int) {
     // Only atomics here: async-signal-safe.
     SIGNAL.store(sig, Ordering::SeqCst);
-    if let Some(a) = ABORT.get() {
+    for a in ABORT.get().into_iter().flatten() {
         a.store(true, Ordering::SeqCst);
     }
 }
 
 /// Routes SIGINT and SIGTERM to `abort` (once per process).
 pub fn stop_on_signals(abort: Arc<AtomicBool>) {
-    if ABORT.set(abort).is_err() {
+    stop_on_signals_all(vec![abort]);
+}
+
+/// Routes SIGINT and SIGTERM to every CPU's abort flag (a multi-CPU system).
+pub fn stop_on_signals_all(aborts: Vec<Arc<AtomicBool>>) {
+    if ABORT.set(aborts).is_err() {
         return;
     }
     for sig in [libc::SIGINT, libc::SIGTERM] {

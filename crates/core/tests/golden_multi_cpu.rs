@@ -200,6 +200,11 @@ fn inconsistent_parameters_are_3012() {
     let s = system(&[(TWO, IDLE), (other, IDLE)]);
     assert_eq!(s.error(1), Some(3012));
     assert_eq!(s.error(0), Some(7000));
+    // Other refresh word counts too (the devices may differ, not the counts).
+    let r = |w: &str| format!("{TWO}[[multi_cpu.refresh]]\ndevice = \"D0\"\nwords = {w}\n");
+    let s = system(&[(&r("[2, 2]"), IDLE), (&r("[4, 2]"), IDLE)]);
+    assert_eq!(s.error(1), Some(3012));
+    assert_eq!(s.error(0), Some(7000));
     // No [multi_cpu] at all is inconsistent too.
     let s = system(&[(TWO, IDLE), ("", IDLE)]);
     assert_eq!(s.error(1), Some(3010));
@@ -261,4 +266,89 @@ fn own_operation_information() {
     assert_eq!(s.int(1, "U3E0\\G1"), 0);
     s.run_ms(20);
     assert_eq!(s.int(1, "U3E0\\G1"), 7010);
+}
+
+/// Two slots controlled by CPU 1 (16 inputs X0-XF, 16 outputs Y10-Y1F) and
+/// a generic module controlled by CPU 2 at X/Y20 (unit 2).
+const CONTROL: &str = "[[slot]]\ntype = \"input\"\npoints = 16\n\
+    [[slot]]\ntype = \"output\"\npoints = 16\n\
+    [[slot]]\ntype = \"intelligent\"\nmodule = \"generic\"\ncontrol_cpu = 2\n";
+
+/// Buffer memory of a module another CPU controls is read (L9199-9205):
+/// CPU 1 reads what CPU 2 wrote to its module, as of CPU 2's last END.
+#[test]
+fn another_cpus_module_is_read() {
+    let params = format!("{TWO}{CONTROL}");
+    let mut s = system(&[
+        (&params, "LD SM400\nMOV U2\\G0 D0\nEND\n"),
+        (&params, "LD SM400\nINC U2\\G0\nEND\n"),
+    ]);
+    s.run_ms(30);
+    assert_eq!(s.int(1, "U2\\G0"), 3);
+    // CPU 1 scans before CPU 2 at the same time: it read CPU 2's value of
+    // the scan before.
+    assert_eq!(s.int(0, "D0"), 2);
+    assert_eq!(s.int(0, "U2\\G0"), 3);
+}
+
+/// Inputs and outputs of modules another CPU controls (L9119-9215): with
+/// the out-of-group settings CPU 2 loads CPU 1's X0 and Y10; without them
+/// they stay OFF; a Y a CPU writes to a module it does not control changes
+/// only its own device memory.
+#[test]
+fn out_of_group_inputs_and_outputs() {
+    let program2 = "LD X0\nOUT M0\nLD Y10\nOUT M1\nLD SM400\nOUT Y11\nEND\n";
+    for load in [false, true] {
+        let params =
+            format!("{TWO}out_of_group_input = {load}\nout_of_group_output = {load}\n{CONTROL}");
+        let mut s = system(&[(&params, "LD X0\nOUT Y10\nEND\n"), (&params, program2)]);
+        s.sys.cpu_mut(0).set_input(0, true);
+        s.run_ms(20);
+        assert!(s.bit(0, "Y10"));
+        assert_eq!(s.bit(1, "X0"), load, "load = {load}");
+        assert_eq!(s.bit(1, "M0"), load, "load = {load}");
+        assert_eq!(s.bit(1, "M1"), load, "load = {load}");
+        // CPU 2's Y11 is its own memory only: CPU 1's Y11 (the module's) stays OFF.
+        assert!(s.bit(1, "Y11"));
+        assert!(!s.bit(0, "Y11"));
+    }
+}
+
+/// The I/O assignment is part of the consistency check: a different
+/// control CPU in CPU 2's parameters is 3012.
+#[test]
+fn a_different_io_assignment_is_3012() {
+    let p1 = format!("{TWO}{CONTROL}");
+    let p2 = format!(
+        "{TWO}{}",
+        CONTROL.replace("control_cpu = 2", "control_cpu = 1")
+    );
+    let s = system(&[(&p1, IDLE), (&p2, IDLE)]);
+    assert_eq!(s.error(1), Some(3012));
+}
+
+/// S.TO writes the own user area, which starts after the refresh area
+/// (004 L9049-9111): with 2 refresh words a CPU, CPU 1's user area starts at
+/// 802H. CPU 2 reads it with `U3E0\G` and FROM after CPU 1's END; S.TO into
+/// the refresh area (800H) is 4101.
+#[test]
+fn s_to_reaches_the_other_cpu() {
+    let params = "[multi_cpu]\ncpus = 2\n\
+        [[multi_cpu.refresh]]\ndevice = \"D100\"\nwords = [2, 2]\n";
+    let cpu1 = "LD SM400\nMOV K4321 D0\nS.TO H3E0 H802 D0 K1 M10\nEND\n";
+    let cpu2 = "LD SM400\nMOV U3E0\\G2050 D0\nFROM H3E0 H802 D1 K1\nEND\n";
+    let mut s = system(&[(params, cpu1), (params, cpu2)]);
+    s.run_ms(10);
+    assert_eq!(s.error(0), None);
+    assert_eq!(s.int(0, "U3E0\\G2050"), 4321);
+    // CPU 2 scanned after CPU 1's END at the same time.
+    assert_eq!(s.int(1, "D0"), 4321);
+    assert_eq!(s.int(1, "D1"), 4321);
+    // The completion device is ON from the END of the S.TO's scan.
+    assert!(s.bit(0, "M10"));
+    assert!(!s.bit(0, "M11"));
+    let cpu1 = "LD SM400\nS.TO H3E0 H800 D0 K1 M10\nEND\n";
+    let mut s = system(&[(params, cpu1), (params, IDLE)]);
+    s.run_ms(10);
+    assert_eq!(s.error(0), Some(4101));
 }

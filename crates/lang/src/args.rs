@@ -3,7 +3,7 @@
 use super::compile::Compiler;
 use super::dialect::Flag;
 use super::source::SourceInstr;
-use softplc_ir::device::{DeviceKind, DeviceMap, Operand, Reach};
+use softplc_ir::device::{DeviceKind, DeviceMap, Operand, Reach, UnitAccess};
 use softplc_ir::instr::{CpuSlot, CpuState, LocalSlot, LocalState};
 use softplc_ir::ops::{BitArg, BitBlock, Block, Num, WordArg};
 
@@ -66,8 +66,20 @@ impl<'c, 'a> Args<'c, 'a> {
         self.c.bit_dest(&self.i.operands[k])
     }
 
-    /// A word device starting a block (no constants, no digit specification).
+    /// A word device starting a block the instruction reads (no constants,
+    /// no digit specification).
     pub fn block(&mut self, k: usize) -> Option<Block> {
+        self.block_as(k, UnitAccess::Read)
+    }
+
+    /// A word device starting a block the instruction writes: in a
+    /// multi-CPU system, another CPU's shared memory or a module another
+    /// CPU controls is refused when it runs (`UnitOwner::refuses`).
+    pub fn block_dest(&mut self, k: usize) -> Option<Block> {
+        self.block_as(k, UnitAccess::Write)
+    }
+
+    fn block_as(&mut self, k: usize, access: UnitAccess) -> Option<Block> {
         let tok = &self.i.operands[k];
         let op = self.c.parse(tok)?;
         let (kind, reach) = match &op {
@@ -83,7 +95,7 @@ impl<'c, 'a> Args<'c, 'a> {
                 return None;
             }
         };
-        let start = self.c.word_device(tok, op, Num::I16, 1)?;
+        let start = self.c.word_device(tok, op, Num::I16, 1, access)?;
         let map = &self.c.map;
         // A block in buffer memory ends with its module's.
         let limit = match reach {

@@ -5,7 +5,7 @@
 use super::compile::Compiler;
 use super::source::Token;
 use softplc_ir::device::{
-    parse_operand_in, Constant, DeviceKind, DeviceMap, DeviceName, Operand, Reach,
+    parse_operand_in, Constant, DeviceKind, DeviceMap, DeviceName, Operand, Reach, UnitAccess,
 };
 use softplc_ir::ops::*;
 
@@ -80,10 +80,13 @@ impl Compiler<'_> {
         })
     }
 
-    /// `U<unit>\\G<number>` resolved: a plain word when the module is there
-    /// and `span` words from `number` are in its buffer memory, else an
-    /// operand checked when it runs — past the end OPERATION ERROR, no
-    /// module SP.UNIT ERROR, as the CPU does (004 ch. 8, L8997).
+    /// `U<unit>\\G<number>` resolved for `access`: a plain word when the
+    /// module is there, may be reached that way and `span` words from
+    /// `number` are in its buffer memory, else an operand checked when it
+    /// runs — past the end OPERATION ERROR, no module SP.UNIT ERROR, memory
+    /// the unit's owner refuses (a multi-CPU system's shared memories, a
+    /// module another CPU controls) that error, as the CPU does (004 ch. 8,
+    /// L8985-8998, L9199-9205).
     fn unit_operand(
         &self,
         kind: IndexedKind,
@@ -91,12 +94,15 @@ impl Compiler<'_> {
         number: u32,
         z: Option<u8>,
         span: u32,
+        access: UnitAccess,
     ) -> Result<u32, Box<Indexed>> {
         let (base, points, window) = match self.map.unit(unit) {
             Some(w) => (
                 self.map.base(DeviceKind::G) + w.first,
                 w.words,
-                Window::Device,
+                w.owner
+                    .refuses(access)
+                    .map_or(Window::Device, Window::Refused),
             ),
             None => (0, 0, Window::NoModule),
         };
@@ -114,7 +120,13 @@ impl Compiler<'_> {
         }))
     }
 
+    /// A bit operand read (contacts, sources).
     pub fn bit_operand(&mut self, tok: &Token) -> Option<BitArg> {
+        self.bit_device(tok, UnitAccess::Read)
+    }
+
+    /// A bit operand read or, with [`UnitAccess::Write`], written.
+    fn bit_device(&mut self, tok: &Token, access: UnitAccess) -> Option<BitArg> {
         let op = self.parse(tok)?;
         match op {
             Operand::Device { dev, .. } if dev.reach == Reach::Direct => {
@@ -137,7 +149,14 @@ impl Compiler<'_> {
                     self.note_use(tok, DeviceUse::Bit);
                 }
                 Some(
-                    match self.unit_operand(IndexedKind::WordBit(b), unit, dev.number, index, 1) {
+                    match self.unit_operand(
+                        IndexedKind::WordBit(b),
+                        unit,
+                        dev.number,
+                        index,
+                        1,
+                        access,
+                    ) {
                         Ok(word) => BitArg::WordBit { word, bit: b },
                         Err(ix) => BitArg::Indexed(ix),
                     },
@@ -256,7 +275,7 @@ impl Compiler<'_> {
         // `DY<n>`: the output module and Y<n> at once (004 L6134-6150). The
         // simulated output module is Y's device memory, so the coil writes Y.
         self.direct(tok, DeviceKind::Y)
-            .unwrap_or_else(|| self.bit_operand(tok))
+            .unwrap_or_else(|| self.bit_device(tok, UnitAccess::Write))
     }
 
     /// A contact's operand: a bit operand, or a direct input `DX<n>` (then
@@ -318,7 +337,7 @@ impl Compiler<'_> {
         if let Operand::Const(c) = &op {
             return self.constant(tok, c, num);
         }
-        self.word_device(tok, op, num, num.words())
+        self.word_device(tok, op, num, num.words(), UnitAccess::Read)
     }
 
     /// A word operand written as `num`, occupying `words` words.
@@ -331,7 +350,7 @@ impl Compiler<'_> {
             );
             return None;
         }
-        self.word_device(tok, op, num, words)
+        self.word_device(tok, op, num, words, UnitAccess::Write)
     }
 
     pub fn constant(&mut self, tok: &Token, c: &Constant, num: Num) -> Option<WordArg> {
@@ -418,12 +437,15 @@ impl Compiler<'_> {
         }
     }
 
+    /// A word device operand (no constant) of `words` words, read or, with
+    /// [`UnitAccess::Write`], written.
     pub fn word_device(
         &mut self,
         tok: &Token,
         op: Operand,
         num: Num,
         words: u32,
+        access: UnitAccess,
     ) -> Option<WordArg> {
         let Operand::Device {
             dev,
@@ -447,7 +469,7 @@ impl Compiler<'_> {
                 self.note_use(tok, DeviceUse::Word(num));
             }
             return Some(
-                match self.unit_operand(IndexedKind::Word, unit, dev.number, index, words) {
+                match self.unit_operand(IndexedKind::Word, unit, dev.number, index, words, access) {
                     Ok(w) => WordArg::Word(w),
                     Err(ix) => WordArg::Indexed(ix),
                 },

@@ -26,6 +26,7 @@ pub mod limits;
 pub mod logic;
 pub mod misc;
 pub mod module_access;
+pub mod multi_cpu;
 pub mod pid;
 pub mod process;
 pub mod profiles;
@@ -72,6 +73,7 @@ pub static DEFS: &[&[Def]] = &[
     timing::DEFS,
     misc::DEFS,
     module_access::DEFS,
+    multi_cpu::DEFS,
     rejected::DEFS,
 ];
 

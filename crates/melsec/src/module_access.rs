@@ -1,18 +1,24 @@
-//! Buffer memory of intelligent function modules: FROM(P), DFRO(P), TO(P),
-//! DTO(P) (Programming Manual (Common Instructions), "instructions for
-//! intelligent function modules"; 004 ch. 8, L5420-5755).
+//! Buffer memory of intelligent function modules and the CPU shared memory
+//! of a multi-CPU system: FROM(P), DFRO(P), TO(P), DTO(P) (Programming
+//! Manual (Common Instructions), "instructions for intelligent function
+//! modules"; 004 ch. 8, L5420-5755; §16.2, L8949-8998).
 //!
 //! `n1` is the module's start I/O number without its last hex digit (H2 for
-//! a module at X/Y20), `n2` the buffer-memory address, `n3` the number of
-//! 16-bit words (FROM, TO) or 32-bit values (DFRO, DTO). A slot with no
-//! intelligent function module is SP.UNIT ERROR (2110, L8997); a transfer
-//! past the module's buffer memory or the device's last point is 4101.
+//! a module at X/Y20; 3E0H-3E3H for CPU 1-4's shared memory), `n2` the
+//! buffer-memory address, `n3` the number of 16-bit words (FROM, TO) or
+//! 32-bit values (DFRO, DTO). A slot with no intelligent function module,
+//! or a CPU not installed, is SP.UNIT ERROR (2110, L8997); a transfer past
+//! the module's buffer memory or the device's last point is 4101. In a
+//! multi-CPU system FROM reads another CPU's shared memory and a module
+//! another CPU controls; FROM or TO on the own CPU's shared memory is 2114,
+//! TO to another CPU's 2115 (it writes its own with S.TO, `multi_cpu.rs`),
+//! TO to a module another CPU controls 2116 (L8994-8997, L9199-9205).
 //! `U<n>\G<addr>` operands are resolved by the compiler and need no
 //! instruction.
 
 use super::transfer::{Loc, WordBlock};
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::device::{BufferError, DeviceKind, DeviceMemory, Operand};
+use softplc_ir::device::{DeviceKind, DeviceMemory, Operand, UnitAccess};
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Num, WordArg};
 use softplc_lang::isa::{Def, Doc};
@@ -28,7 +34,7 @@ pub static DEFS: &[Def] = &[
 static MODULE: Doc = Doc {
     family: "module access",
     cite: "PM FROM/DFRO, TO/DTO; 004 ch. 8",
-    notes: "buffer memory of the rack's intelligent slots ([[slot]]); no module → 2110, past the buffer memory or the device → 4101; n3 = 0 does nothing",
+    notes: "buffer memory of the rack's intelligent slots ([[slot]]) and, in a multi-CPU system, the CPU shared memories (n1 = 3E0H-3E3H); no module or CPU → 2110, past the buffer memory or the device → 4101; n3 = 0 does nothing; FROM/TO on the own CPU's shared memory → 2114, TO to another CPU's → 2115, TO to a module another CPU controls → 2116",
 };
 
 /// The buffer memory an instruction moves: `n1 n2 … n3` — module,
@@ -58,19 +64,24 @@ impl Buffer {
 
     /// The flat word index of the first word and the words moved (`None`
     /// for n3 = 0; a negative n3 is 4101 as in the block instructions): no
-    /// module is 2110, a transfer past its buffer memory 4101.
+    /// module is 2110, memory the unit's owner refuses for `access` its
+    /// error (`DeviceMap::program_buffer`), a transfer past its buffer
+    /// memory 4101.
     #[inline]
-    fn resolve(&self, mem: &DeviceMemory) -> Result<Option<(usize, usize)>, Fault> {
+    fn resolve(
+        &self,
+        mem: &DeviceMemory,
+        access: UnitAccess,
+    ) -> Result<Option<(usize, usize)>, Fault> {
         let (unit, addr) = (mem.read16(&self.unit)?, mem.read16(&self.addr)?);
         let Some(n) = super::transfer::count(mem, &self.n)? else {
             return Ok(None);
         };
         let words = n * self.per;
-        let g = match mem.map.buffer(unit as u32, addr as u32, words) {
-            Ok(g) => mem.map.base(DeviceKind::G) + g,
-            Err(BufferError::NoModule) => return Err(Fault::NoModule),
-            Err(BufferError::Past { .. }) => return Err(Fault::Range),
-        };
+        let g = mem.map.base(DeviceKind::G)
+            + mem
+                .map
+                .program_buffer(unit as u32, addr as u32, words, access)?;
         Ok(Some((g as usize, words as usize)))
     }
 }
@@ -88,7 +99,7 @@ fn from(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
         return None;
     }
     let buffer = Buffer::compile(a, per);
-    let d = WordBlock::compile(a, 2);
+    let d = WordBlock::compile_dest(a, 2);
     Some(Box::new(From {
         buffer: buffer?,
         d: d?,
@@ -98,7 +109,7 @@ fn from(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
 impl Instr for From {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let mem = &mut *cx.mem;
-        let Some((g, n)) = self.buffer.resolve(mem)? else {
+        let Some((g, n)) = self.buffer.resolve(mem, UnitAccess::Read)? else {
             return Ok(());
         };
         match self.d.resolve(mem, n as u32)? {
@@ -155,7 +166,7 @@ fn to(a: &mut Args<'_, '_>, per: u32) -> Option<Box<dyn Instr>> {
 impl Instr for To {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let mem = &mut *cx.mem;
-        let Some((g, n)) = self.buffer.resolve(mem)? else {
+        let Some((g, n)) = self.buffer.resolve(mem, UnitAccess::Write)? else {
             return Ok(());
         };
         match &self.s {

@@ -27,6 +27,11 @@ const REFRESH: &str = "a partial refresh of I/O or network link devices during t
                        at once, and COM refreshes every input)";
 const DELTA: &str = "the pulse conversion of a direct output is not implemented; drive DY with \
                      OUT, SET, RST, PLS or PLF";
+const MOTION: &str = "it needs a motion CPU, which softplc does not simulate (the motion \
+                      instructions, S.DDWR/S.DDRD device access and S.GINT interrupt requests go \
+                      from a QCPU to a motion CPU)";
+const S_FROM: &str = "not a MELSEC-Q instruction: a QCPU reads another CPU's shared memory with \
+                      FROM or U3E0\\G-U3E3\\G operands, and writes its own with S.TO";
 const QNU: &str = "a Universal model (QnU) instruction softplc does not implement yet (it is \
                    not in the QnH instruction set)";
 
@@ -52,8 +57,15 @@ pub static DEFS: &[Def] = &[
     Def::rejected("UNIRD", MODULE),
     Def::rejected("TYPERD", MODULE),
     Def::rejected("RTWRITE", MODULE),
-    Def::rejected("S.TO", MODULE).pulse(Pulse::SPrefix),
-    Def::rejected("S.FROM", MODULE).pulse(Pulse::SPrefix),
+    Def::rejected("S.FROM", S_FROM).pulse(Pulse::SPrefix),
+    Def::rejected("S.SFCS", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.SVST", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.CHGV", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.CHGT", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.CHGA", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.DDWR", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.DDRD", MOTION).pulse(Pulse::SPrefix),
+    Def::rejected("S.GINT", MOTION).pulse(Pulse::SPrefix),
     Def::rejected("SPD", HARDWARE),
     Def::rejected("PLSY", HARDWARE),
     Def::rejected("PWM", HARDWARE),

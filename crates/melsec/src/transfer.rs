@@ -11,7 +11,7 @@
 //! families share ([`WordBlock`], [`count`], [`carry_flag`]).
 
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::device::{DeviceMemory, Operand};
+use softplc_ir::device::{DeviceMemory, Operand, UnitAccess};
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::Block;
 use softplc_ir::ops::{Num, WordArg};
@@ -119,9 +119,19 @@ impl Loc {
 }
 
 impl WordBlock {
-    /// Operand `k` as a block: a word device or a digit-specified bit device
-    /// (K1-K4), with or without index modification; no constants.
+    /// Operand `k` as a block the instruction reads: a word device or a
+    /// digit-specified bit device (K1-K4), with or without index
+    /// modification; no constants.
     pub(crate) fn compile(a: &mut Args<'_, '_>, k: usize) -> Option<WordBlock> {
+        WordBlock::compile_as(a, k, UnitAccess::Read)
+    }
+
+    /// [`Self::compile`] for a block the instruction writes (`Args::block_dest`).
+    pub(crate) fn compile_dest(a: &mut Args<'_, '_>, k: usize) -> Option<WordBlock> {
+        WordBlock::compile_as(a, k, UnitAccess::Write)
+    }
+
+    fn compile_as(a: &mut Args<'_, '_>, k: usize, access: UnitAccess) -> Option<WordBlock> {
         if let Operand::Device {
             dev,
             digits: Some(digits),
@@ -138,7 +148,11 @@ impl WordBlock {
                 digits,
             });
         }
-        a.block(k).map(WordBlock::Words)
+        let block = match access {
+            UnitAccess::Read => a.block(k),
+            UnitAccess::Write => a.block_dest(k),
+        };
+        block.map(WordBlock::Words)
     }
 
     /// The first of `n` elements; 4101 when the block would run past the last
@@ -234,7 +248,7 @@ fn bmov(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = WordBlock::compile(a, 0);
-    let d = WordBlock::compile(a, 1);
+    let d = WordBlock::compile_dest(a, 1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Bmov {
         s: s?,
@@ -294,7 +308,7 @@ fn fmov(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
         return None;
     }
     let s = a.word_src(0, Num::I16);
-    let d = WordBlock::compile(a, 1);
+    let d = WordBlock::compile_dest(a, 1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Fmov {
         s: s?,
@@ -380,8 +394,8 @@ fn bxch(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     if !a.count(&[3]) {
         return None;
     }
-    let d1 = WordBlock::compile(a, 0);
-    let d2 = WordBlock::compile(a, 1);
+    let d1 = WordBlock::compile_dest(a, 0);
+    let d2 = WordBlock::compile_dest(a, 1);
     let n = a.word_src(2, Num::I16);
     Some(Box::new(Bxch {
         d1: d1?,

@@ -6,7 +6,7 @@
 
 use super::ctx::Ctx;
 use super::tree::{Entry, Item, Value};
-use softplc_ir::device::{parse_operand, DeviceConfig, DeviceKind, Operand, Reach};
+use softplc_ir::device::{parse_operand, DeviceConfig, DeviceKind, Operand, Reach, REFRESH_AREA};
 
 /// Devices an auto-refresh setting may name (004 L8860-8868).
 const REFRESH_DEVICES: &[DeviceKind] = &[
@@ -101,9 +101,6 @@ impl MultiCpuParams {
         self.refresh.iter().map(|s| s.words[cpu]).sum()
     }
 }
-
-/// The first address of the auto-refresh area in each CPU's shared memory.
-pub const REFRESH_AREA: u32 = 0x800;
 
 /// Reads `[multi_cpu]`.
 pub(super) fn multi_cpu(

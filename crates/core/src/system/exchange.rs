@@ -6,7 +6,7 @@
 //! (L9119-9215).
 
 use softplc_ir::access::{RBlock, Span};
-use softplc_ir::device::{DeviceKind, CPU1_UNIT, SHARED_MEMORY_WORDS};
+use softplc_ir::device::{DeviceKind, CPU1_UNIT, REFRESH_AREA, SHARED_MEMORY_WORDS};
 
 use crate::engine::Cpu;
 use crate::project::multi_cpu::MultiCpuParams;
@@ -95,9 +95,13 @@ pub(super) fn plans(
                 words: words as usize,
             });
         }
-        // Each CPU's own devices, with the word counts all CPUs share.
+        // Each CPU's own devices, with the word counts all CPUs share (a CPU
+        // whose parameters differ stops with 3012 and refreshes nothing).
         let own = params[i].as_ref();
-        if let (Some(words), Some(own)) = (words_of, own) {
+        if let (Some(words), Some(own)) = (
+            words_of,
+            own.filter(|o| words_of.is_some_and(|w| w.consistent_with(o))),
+        ) {
             for (k, (set, mine)) in words.refresh.iter().zip(&own.refresh).enumerate() {
                 let dev = |cpu_index: usize| {
                     let w = set.words[cpu_index];
@@ -126,7 +130,7 @@ pub(super) fn plans(
             }
         }
         // The own window: the information area, the refresh area and the user area.
-        let from_addr = crate::project::multi_cpu::REFRESH_AREA;
+        let from_addr = REFRESH_AREA;
         let user = SHARED_MEMORY_WORDS - from_addr;
         for j in (0..n).filter(|&j| j != i) {
             let other = &cpus[j];

@@ -103,10 +103,16 @@ impl System {
                 .filter(|s| s.control_cpu != own)
                 .map(|s| s.unit())
                 .collect();
+            let refresh_words = project
+                .multi_cpu
+                .as_ref()
+                .filter(|p| p.cpus == n)
+                .map_or(0, |p| p.refresh_words(i));
             project.config.devices.set_multi_cpu(MultiCpu {
                 own,
                 cpus: n,
                 foreign,
+                refresh_words,
             });
             let cpu = project.build_cpu(clock()).map_err(|mut d| {
                 for x in &mut d.0 {
@@ -203,6 +209,11 @@ impl System {
             .unwrap_or((0, 0))
     }
 
+    /// When CPU `i` scans next, µs.
+    pub fn next_due_of(&self, i: usize) -> u64 {
+        self.members[i].next_due_us
+    }
+
     /// CPU `i`'s period, µs.
     pub fn period_us(&self, i: usize) -> u64 {
         self.members[i].period_us
@@ -218,19 +229,45 @@ impl System {
     }
 
     /// Every CPU whose END falls at or before `t_us`, in time order, on the
-    /// virtual clock `clock` the CPUs read.
+    /// virtual clock `clock` the CPUs read; the clock then reads `t_us`.
     pub fn run_until(&mut self, t_us: u64, clock: &softplc_ir::clock::VirtualClock) {
-        loop {
-            let (i, due) = self.next_due();
-            if due > t_us {
-                break;
-            }
-            let now = clock.now_us();
-            clock.advance_us(due.saturating_sub(now));
-            self.scan(i);
-        }
+        while self.scan_due(t_us, clock).is_some() {}
         let now = clock.now_us();
         clock.advance_us(t_us.saturating_sub(now));
+    }
+
+    /// The next scan if it is due at or before `t_us`: the virtual clock
+    /// `clock` moves to its time and the CPU scans; which CPU it was.
+    pub fn scan_due(
+        &mut self,
+        t_us: u64,
+        clock: &softplc_ir::clock::VirtualClock,
+    ) -> Option<usize> {
+        let (i, due) = self.next_due();
+        if due > t_us {
+            return None;
+        }
+        let now = clock.now_us();
+        clock.advance_us(due.saturating_sub(now));
+        self.scan(i);
+        Some(i)
+    }
+
+    /// The CPU (0-based) whose input image holds input X`x` as CPU `cpu`
+    /// names it: the control CPU of the slot X`x` belongs to (a write to a
+    /// module's input from outside sets the module's input, whichever CPU
+    /// names it), else `cpu` itself.
+    pub fn input_owner(&self, cpu: usize, x: u32) -> usize {
+        self.members[cpu]
+            .cpu
+            .config()
+            .rack
+            .slots
+            .iter()
+            .find(|s| s.kind.has_inputs() && s.io().contains(&x))
+            .map_or(cpu, |s| {
+                (s.control_cpu as usize - 1).min(self.members.len() - 1)
+            })
     }
 
     /// Every CPU has stopped.

@@ -16,6 +16,8 @@ pub use kind::{DeviceKind, Numbering};
 
 pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 
+use crate::fault::Fault;
+
 /// Number of points per device kind: the "device setting" of the PLC parameters.
 ///
 /// Defaults are the Q06HCPU defaults of 004 Table 3.1 (L1026-1059).
@@ -41,12 +43,22 @@ pub struct MultiCpu {
     pub cpus: u32,
     /// Unit numbers of the modules another CPU controls.
     pub foreign: Vec<u32>,
+    /// Words of this CPU's auto-refresh area (its send words over all
+    /// refresh settings): its shared memory's user area is
+    /// 800H + `refresh_words` to FFFH, where S.TO writes (004 L9053,
+    /// L9104-9110).
+    pub refresh_words: u32,
 }
 
 /// Words of each CPU's shared memory (004 L9049-9111).
 pub const SHARED_MEMORY_WORDS: u32 = 4096;
 /// The unit number of CPU 1's shared memory: `U3E0\G…` (CPU n: 3E0 + n - 1).
 pub const CPU1_UNIT: u32 = 0x3E0;
+
+/// The first address of the auto-refresh area in each CPU's shared memory
+/// (004 L9053): below it the own-operation (0-1FFH) and system
+/// (200-7FFH) areas.
+pub const REFRESH_AREA: u32 = 0x800;
 
 /// Why buffer memory cannot be reached ([`DeviceMap::buffer`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,6 +96,45 @@ pub enum UnitOwner {
     /// Another CPU's shared memory: read by FROM and `U\G`, never written
     /// (2115).
     OtherCpu,
+}
+
+/// Which way a program moves data through a unit's memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnitAccess {
+    /// A source: FROM, a `U\G` operand read.
+    Read,
+    /// A destination: TO, a `U\G` operand written.
+    Write,
+}
+
+impl UnitOwner {
+    /// The fault a program's `access` to this memory makes, `None` when it
+    /// may: its own CPU shared memory neither way (2114), another CPU's
+    /// shared memory or a module another CPU controls read only (2115,
+    /// 2116; 004 L8985-8998, L9199-9205). Names and protocols from outside
+    /// monitor every unit and ask nothing.
+    pub fn refuses(self, access: UnitAccess) -> Option<Fault> {
+        match (self, access) {
+            (UnitOwner::OwnCpu, _) => Some(Fault::OwnSharedMemory),
+            (UnitOwner::OtherCpu, UnitAccess::Write) => Some(Fault::OtherSharedMemory),
+            (UnitOwner::OtherCpusModule, UnitAccess::Write) => Some(Fault::NotControlled),
+            (UnitOwner::Module, _)
+            | (UnitOwner::OtherCpu | UnitOwner::OtherCpusModule, UnitAccess::Read) => None,
+        }
+    }
+}
+
+impl UnitWindow {
+    /// The G number of `words` words from address `addr`.
+    #[inline]
+    pub fn span(&self, addr: u32, words: u32) -> Result<u32, BufferError> {
+        if addr as u64 + words as u64 > self.words as u64 {
+            return Err(BufferError::Past {
+                last: self.words.saturating_sub(1),
+            });
+        }
+        Ok(self.first + addr)
+    }
 }
 
 impl Default for DeviceConfig {
@@ -249,6 +300,8 @@ pub struct DeviceMap {
     units: Box<[UnitWindow]>,
     /// This CPU's number in a multi-CPU system, 0 for a single CPU.
     own_cpu: u32,
+    /// The first address of the user area of its own shared memory.
+    user_area: u32,
 }
 
 impl DeviceMap {
@@ -281,6 +334,7 @@ impl DeviceMap {
             r_block: u32::MAX,
             units: cfg.units.clone().into_boxed_slice(),
             own_cpu: cfg.multi_cpu.as_ref().map_or(0, |m| m.own),
+            user_area: REFRESH_AREA + cfg.multi_cpu.as_ref().map_or(0, |m| m.refresh_words),
         }
     }
 
@@ -288,6 +342,13 @@ impl DeviceMap {
     #[inline]
     pub fn own_cpu(&self) -> Option<u32> {
         (self.own_cpu != 0).then_some(self.own_cpu)
+    }
+
+    /// The first address of the user area of this CPU's shared memory,
+    /// right after its auto-refresh area (004 L9053): where S.TO may write.
+    #[inline]
+    pub fn shared_user_area(&self) -> u32 {
+        self.user_area
     }
 
     /// The buffer memory of the module whose unit number (start I/O number
@@ -309,12 +370,25 @@ impl DeviceMap {
     #[inline]
     pub fn buffer(&self, unit: u32, addr: u32, words: u32) -> Result<u32, BufferError> {
         let w = self.unit(unit).ok_or(BufferError::NoModule)?;
-        if addr as u64 + words as u64 > w.words as u64 {
-            return Err(BufferError::Past {
-                last: w.words.saturating_sub(1),
-            });
+        w.span(addr, words)
+    }
+
+    /// [`Self::buffer`] as a program reaches it (FROM, TO): no module is
+    /// [`Fault::NoModule`], what the unit's owner refuses its fault
+    /// ([`UnitOwner::refuses`]), past its memory [`Fault::Range`].
+    #[inline]
+    pub fn program_buffer(
+        &self,
+        unit: u32,
+        addr: u32,
+        words: u32,
+        access: UnitAccess,
+    ) -> Result<u32, Fault> {
+        let w = self.unit(unit).ok_or(Fault::NoModule)?;
+        if let Some(f) = w.owner.refuses(access) {
+            return Err(f);
         }
-        Ok(w.first + addr)
+        w.span(addr, words).map_err(|_| Fault::Range)
     }
 
     /// Sets the word selecting the file-register block R addresses (flat

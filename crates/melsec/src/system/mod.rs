@@ -69,13 +69,15 @@ impl System for Melsec {
     }
 
     /// The scan-time registers, the clock registers, then the user timing
-    /// clocks (counted at every END, the initial scan's too).
+    /// clocks (counted at every END, the initial scan's too) and the
+    /// completion devices of S.TO.
     fn end(&self, cx: &mut EndCtx<'_>, end: End) {
         scan::end(cx.mem, end);
         let before = cx.state[STATE_SM210] != 0;
         let sm210 = clock::registers(cx.mem, cx.clock, cx.now_us, before);
         cx.state[STATE_SM210] = sm210 as u32;
         crate::user_clock::end(cx.mem, cx.shared);
+        crate::multi_cpu::end(cx.mem, cx.shared);
     }
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
