@@ -10,7 +10,8 @@ use softplc_core::system::System;
 
 /// One CPU or a multi-CPU system. CPU numbers are 0-based here: CPU 1 is 0.
 pub enum Cpus {
-    One(Cpu),
+    /// Boxed: a `Cpu` is large next to a `System` (which holds its CPUs).
+    One(Box<Cpu>),
     System(System),
 }
 

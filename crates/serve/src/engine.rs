@@ -109,7 +109,7 @@ pub type Hook = Box<dyn FnMut(&mut ServeState) + Send>;
 impl ServeState {
     /// One CPU (its battery is [`EngineConfig::battery`]).
     pub fn new(cpu: Cpu) -> Self {
-        Self::with(Cpus::One(cpu), vec![None])
+        Self::with(Cpus::One(Box::new(cpu)), vec![None])
     }
 
     /// A multi-CPU system, each CPU with the battery-backed memory of its
