@@ -9,6 +9,7 @@ mod opcua;
 mod run;
 mod run_system;
 mod serve;
+mod served;
 // The SIGINT/SIGTERM handler (libc::signal).
 #[allow(unsafe_code)]
 mod signal;

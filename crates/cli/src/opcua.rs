@@ -5,8 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use softplc_core::engine::Cpu;
-use softplc_serve::Listener;
+use softplc_serve::{Listener, ServeState};
 
 /// The command line's OPC UA options.
 pub struct OpcuaArgs<'a> {
@@ -23,7 +22,7 @@ pub fn listener(
     table: Option<&toml::Table>,
     base: &Path,
     scan: Duration,
-    cpu: &Cpu,
+    state: &ServeState,
 ) -> Result<Option<Listener>, String> {
     let flags = softplc_opcua::Flags {
         addr: args.addr.map(str::to_string),
@@ -36,7 +35,14 @@ pub fn listener(
         }
         return Ok(None);
     };
-    Ok(Some(softplc_opcua::Prepared::new(cfg, cpu)?.listener()))
+    let prepared = match state.cpu_count() {
+        1 => softplc_opcua::Prepared::new(cfg, state.cpu())?,
+        n => {
+            let cpus: Vec<_> = (0..n).map(|i| state.cpu_at(i)).collect();
+            softplc_opcua::Prepared::system(cfg, &cpus)?
+        }
+    };
+    Ok(Some(prepared.listener()))
 }
 
 #[cfg(not(feature = "opcua"))]
@@ -45,7 +51,7 @@ pub fn listener(
     table: Option<&toml::Table>,
     _base: &Path,
     _scan: Duration,
-    _cpu: &Cpu,
+    _state: &ServeState,
 ) -> Result<Option<Listener>, String> {
     let asked = args.addr.is_some()
         || args.read_only

@@ -9,13 +9,12 @@ use std::time::Duration;
 
 use clap::Args;
 use softplc_core::engine::calendar::DateTime;
-use softplc_core::engine::MonotonicClock;
-use softplc_core::persist::{Attach, Battery};
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
-use crate::run::{load, parse_datetime, parse_duration, report_attach, state_error, Loaded};
+use crate::run::{parse_datetime, parse_duration};
+use crate::served::{load_served, Served};
 
 #[derive(Args, Debug)]
 pub struct ServeArgs {
@@ -159,49 +158,21 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
-    let mut loaded = match load(
-        &args.program,
-        Box::new(MonotonicClock::default()),
-        Some(start),
-        args.model.as_deref(),
-    ) {
-        Ok(l) => l,
-        Err(code) => return code,
-    };
-    if let Err(code) = crate::run::use_exec(&mut loaded, args.exec, args.stats) {
-        return code;
-    }
-    let Loaded {
-        mut cpu,
-        state,
+    let Served {
+        mut state,
+        battery,
+        period,
         modbus,
         http,
         opcua,
-        on_damage,
         ports,
-        ..
-    } = loaded;
-    let period = args
-        .scan_time
-        .or(cpu.config().constant_scan)
-        .unwrap_or(Duration::from_millis(10));
-    let battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach_with(
-            &dir,
-            &mut cpu,
-            Attach {
-                restore_clock,
-                on_damage,
-            },
-        ) {
-            Ok(b) => {
-                report_attach(&dir, &b);
-                Some(b)
-            }
-            Err(e) => return fail(state_error(&dir, &e)),
-        },
-        None => None,
+        cpus,
+    } = match load_served(&args, start, restore_clock) {
+        Ok(s) => s,
+        Err(code) => return code,
     };
+    // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
+    let cpu = state.cpu();
     let doors = cpu.profile().doors;
     if doors.mc.is_none() {
         // A model without the MC protocol (the APLC-TCP speaks Modbus and free
@@ -259,7 +230,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         let cfg = softplc_http::HttpConfig {
             token,
             model: cpu.profile().model.to_string(),
-            ladder: softplc_http::ladder::load_programs(&cpu),
+            ladder: softplc_http::ladder::load_programs(cpu),
             limits,
         };
         listeners.push(softplc_http::listener(addr, cfg));
@@ -293,7 +264,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         read_only: args.opcua_read_only,
         pki: args.opcua_pki.as_deref(),
     };
-    match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &cpu) {
+    match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &state) {
         Ok(Some(l)) => {
             listeners.push(l);
             names.push("OPC UA".to_string());
@@ -376,9 +347,17 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         });
         names.push(format!("{name} on {}", path.display()));
     }
+    // Requests are served at every CPU's END: a quarter of the shortest period.
+    let shortest = match state.cpus.system() {
+        Some(_) => (0..state.cpu_count())
+            .map(|i| state.cpu_at(i).config().constant_scan.unwrap_or(period))
+            .min()
+            .unwrap_or(period),
+        None => period,
+    };
     let cfg = EngineConfig {
         period,
-        end_budget: (period / 4).max(Duration::from_micros(200)),
+        end_budget: (shortest / 4).max(Duration::from_micros(200)),
         queue: 1024,
         battery,
         log_every: args.stats_every,
@@ -387,7 +366,6 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     let program = args.program.display().to_string();
     let stop = Arc::new(AtomicBool::new(false));
-    let mut state = ServeState::new(cpu);
     // APLC PORT1/PORT2: the communication phase after every END.
     let mut ports =
         match crate::run::open_ports(&ports, args.port1.as_deref(), args.port2.as_deref()) {
@@ -401,7 +379,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     if !ports.is_empty() {
         state.add_hook(Box::new(move |st: &mut ServeState| {
-            ports.after_end(&mut st.cpu);
+            ports.after_end(st.cpu_mut());
             for e in ports.take_errors() {
                 eprintln!("softplc: {e}");
             }
@@ -414,11 +392,23 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             .map(|(n, a)| format!("{n} on {a}"))
             .collect();
         servers.extend(names.iter().skip(bound.len()).cloned());
-        eprintln!(
-            "softplc: serving {program}, constant scan {period:?}{}{}",
-            if servers.is_empty() { "" } else { "; " },
-            servers.join(", ")
-        );
+        if cpus.is_empty() {
+            eprintln!(
+                "softplc: serving {program}, constant scan {period:?}{}{}",
+                if servers.is_empty() { "" } else { "; " },
+                servers.join(", ")
+            );
+        } else {
+            eprintln!(
+                "softplc: serving the multi-CPU system {program} ({} CPUs){}{}",
+                cpus.len(),
+                if servers.is_empty() { "" } else { "; " },
+                servers.join(", ")
+            );
+            for c in &cpus {
+                eprintln!("softplc:   {c}");
+            }
+        }
     });
     match result {
         Ok(s) => {

@@ -6,6 +6,10 @@
 //! TOKEN` (cookies are never read); without a configured token they are 403,
 //! with one a missing or wrong token is 401. Every 400 is `{"error": "..."}`
 //! naming the bad name or value, and nothing of a rejected request is written.
+//!
+//! A multi-CPU system (contract §6): device names take `CPUn/` prefixes
+//! (none: CPU 1), `status` adds `"cpus"`, and `cpu/*`, `rack` and the
+//! ladder pages take `?cpu=N` (1-based, default 1).
 
 // Handlers answer with a `Response` either way; the error side is the reply.
 #![allow(clippy::result_large_err)]
@@ -23,11 +27,11 @@ use axum::routing::{get, post};
 use axum::{Json, Router};
 use serde_json::{json, Map, Value as Json_};
 use softplc_core::access::Value;
-use softplc_core::names::{DevName, Names};
+use softplc_core::names::Names;
 use softplc_serve::ServeState;
 
 use crate::monitor::{self, Breakpoint, Monitor};
-use crate::values::{self, from_json, io_name, io_point, to_json};
+use crate::values::{self, cpu_prefix, io_dev, io_name, to_json, Dev};
 use crate::App;
 
 type Shared = State<Arc<App>>;
@@ -157,18 +161,42 @@ fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, R
     serde_json::from_slice(bytes).map_err(|e| bad(format!("malformed JSON body ({what}): {e}")))
 }
 
-/// The device names of the served CPU.
-fn names(s: &ServeState) -> Names {
-    Names::plain(s.cpu.profile())
+/// The device names of CPU `cpu` (0-based).
+fn names(s: &ServeState, cpu: usize) -> Names {
+    Names::plain(s.cpu_at(cpu).profile())
 }
 
-/// The CPU's error as in contract §2 (the APLC has no step numbers).
-fn error_json(s: &ServeState) -> Json_ {
-    let steps = s.cpu.profile().step_numbers;
-    s.cpu.error().map_or(Json_::Null, |e| {
+/// The CPU a request's `?cpu=N` (1-based) names: 0-based, CPU 1 without
+/// one; 400 for a CPU the server does not run.
+pub(crate) fn cpu_param(
+    app: &App,
+    q: &std::collections::HashMap<String, String>,
+) -> Result<usize, Response> {
+    let Some(v) = q.get("cpu") else {
+        return Ok(0);
+    };
+    let n = app.names.len();
+    match v.trim().parse::<usize>() {
+        Ok(k) if (1..=n).contains(&k) => Ok(k - 1),
+        _ => Err(bad(format!(
+            "`cpu={v}`: there is no such CPU (the server runs CPU 1{})",
+            if n > 1 {
+                format!("-{n}")
+            } else {
+                String::new()
+            }
+        ))),
+    }
+}
+
+/// CPU `cpu`'s error as in contract §2 (the APLC has no step numbers).
+fn error_json(s: &ServeState, cpu: usize) -> Json_ {
+    let c = s.cpu_at(cpu);
+    let steps = c.profile().step_numbers;
+    c.error().map_or(Json_::Null, |e| {
         json!({
             "code": e.code.0,
-            "message": s.cpu.error_message(e.code),
+            "message": c.error_message(e.code),
             "step": if steps { e.step } else { None },
             "file": e.file,
             "line": e.line,
@@ -176,11 +204,15 @@ fn error_json(s: &ServeState) -> Json_ {
     })
 }
 
+/// The forced points of every CPU, named with their CPU prefixes.
 fn forced_json(s: &ServeState) -> Json_ {
     let mut m = Map::new();
-    let d = names(s);
-    for (k, n, on) in s.cpu.forced() {
-        m.insert(io_name(k, n, &d), Json_::Bool(on));
+    for i in 0..s.cpu_count() {
+        let d = names(s, i);
+        let p = cpu_prefix(i);
+        for (k, n, on) in s.cpu_at(i).forced() {
+            m.insert(format!("{p}{}", io_name(k, n, &d)), Json_::Bool(on));
+        }
     }
     Json_::Object(m)
 }
@@ -192,30 +224,54 @@ fn breakpoint_json(s: &mut ServeState) -> Json_ {
         .map_or(Json_::Null, |b| json!({ "when": b.text(), "hit": b.hit }))
 }
 
+/// Each CPU of a multi-CPU system: number, model, state, error, scans and
+/// scan times.
+fn cpus_json(s: &ServeState) -> Json_ {
+    (0..s.cpu_count())
+        .map(|i| {
+            let c = s.cpu_at(i);
+            let t = s.stats.cpus.get(i).cloned().unwrap_or_default();
+            json!({
+                "cpu": i + 1,
+                "model": c.profile().model,
+                "state": c.state().as_str(),
+                "error": error_json(s, i),
+                "scans": c.scans(),
+                "scan_time_us": {"last": t.exec_us, "min": t.exec_min_us, "max": t.exec_max_us},
+                "overruns": t.overruns,
+            })
+        })
+        .collect()
+}
+
 async fn status(State(app): Shared) -> Response {
     let model = app.cfg.model.clone();
     let r = at_end(&app, move |s| {
         let st = &s.stats;
-        let history: Vec<Json_> = s
-            .cpu
+        let cpu = s.cpu();
+        let history: Vec<Json_> = cpu
             .history()
             .map(|h| {
-                json!({"code": h.code.0, "message": s.cpu.error_message(h.code), "time": h.time, "detail": h.detail})
+                json!({"code": h.code.0, "message": cpu.error_message(h.code), "time": h.time, "detail": h.detail})
             })
             .collect();
-        json!({
-            "state": s.cpu.state().as_str(),
-            "scan": s.cpu.scans(),
+        let mut j = json!({
+            "state": cpu.state().as_str(),
+            "scan": cpu.scans(),
             "scan_time_us": {"last": st.exec_us, "min": st.exec_min_us, "max": st.exec_max_us},
-            "error": error_json(s),
+            "error": error_json(s, 0),
             "model": model,
             "history": history,
             "forced": forced_json(s),
             "breakpoint": breakpoint_json(s),
             "overruns": s.stats.overruns,
             "watched": s.ext::<Monitor>().watched(),
-            "rack": crate::rack::summary(s.cpu.rack()),
-        })
+            "rack": crate::rack::summary(s.cpu().rack()),
+        });
+        if s.cpu_count() > 1 {
+            j["cpus"] = cpus_json(s);
+        }
+        j
     })
     .await;
     match r {
@@ -225,17 +281,17 @@ async fn status(State(app): Shared) -> Response {
 }
 
 /// Reads `specs` now: `{"scan": N, "devices": {...}}`, or the first error.
-fn read_all(s: &ServeState, specs: &[DevName]) -> Result<Json_, String> {
+fn read_all(s: &ServeState, specs: &[Dev]) -> Result<Json_, String> {
     let mut m = Map::new();
     for d in specs {
-        let v = d.read(&s.cpu)?;
+        let v = d.read(s)?;
         m.insert(d.text().to_string(), to_json(&v));
     }
-    Ok(json!({"scan": s.cpu.scans(), "devices": m}))
+    Ok(json!({"scan": s.cpu().scans(), "devices": m}))
 }
 
 async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
+    let specs = match values::dev_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
@@ -248,18 +304,18 @@ async fn read_devices(State(app): Shared, Query(q): Q) -> Response {
 
 /// Writes every `(device, value)` or none: on a failure the ones written are
 /// put back before the END ends, so no scan sees a part.
-fn write_all(s: &mut ServeState, writes: &[(DevName, Value)]) -> Result<u64, String> {
-    let mut done: Vec<(&DevName, Value)> = Vec::with_capacity(writes.len());
+fn write_all(s: &mut ServeState, writes: &[(Dev, Value)]) -> Result<u64, String> {
+    let mut done: Vec<(&Dev, Value)> = Vec::with_capacity(writes.len());
     let mut fail = None;
     for (d, v) in writes {
-        let old = match d.read(&s.cpu) {
+        let old = match d.read(s) {
             Ok(o) => o,
             Err(e) => {
                 fail = Some(e);
                 break;
             }
         };
-        if let Err(e) = d.write_value(&mut s.cpu, v) {
+        if let Err(e) = d.write_value(s, v) {
             fail = Some(e);
             break;
         }
@@ -267,12 +323,14 @@ fn write_all(s: &mut ServeState, writes: &[(DevName, Value)]) -> Result<u64, Str
     }
     if let Some(e) = fail {
         for (d, old) in done.into_iter().rev() {
-            let _ = d.write_value(&mut s.cpu, &old);
+            let _ = d.write_value(s, &old);
         }
         return Err(e);
     }
-    s.wrote = true;
-    Ok(s.cpu.scans())
+    for (d, _) in writes {
+        s.mark_wrote(d.cpu);
+    }
+    Ok(s.cpu().scans())
 }
 
 async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response {
@@ -291,11 +349,11 @@ async fn write_devices(State(app): Shared, headers: HeaderMap, bytes: Body) -> R
     }
     let mut writes = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let d = match values::name(name, &app.names) {
+        let d = match values::dev(name, &app.names) {
             Ok(d) => d,
             Err(e) => return bad(e),
         };
-        match from_json(&d, v) {
+        match d.value(v) {
             Ok(v) => writes.push((d, v)),
             Err(e) => return bad(e),
         }
@@ -324,36 +382,44 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
     };
     let mut forces = Vec::with_capacity(obj.len());
     for (name, v) in &obj {
-        let (k, n) = match io_point(name, &app.names) {
+        let (cpu, k, n) = match io_dev(name, &app.names) {
             Ok(p) => p,
             Err(e) => return bad(e),
         };
         let Some(on) = v.as_bool() else {
             return bad(format!("`{name}`: a force is true or false, not `{v}`"));
         };
-        forces.push((k, n, on));
+        forces.push((cpu, k, n, on));
     }
     let r = at_end(&app, move |s| {
         // Check every point first: nothing is forced when one is refused.
         let limit = softplc_core::engine::MAX_FORCES;
-        let known = s.cpu.forced().count();
-        let fresh = forces
-            .iter()
-            .filter(|(k, n, _)| !s.cpu.forced().any(|(fk, fn_, _)| fk == *k && fn_ == *n))
-            .count();
-        if known + fresh > limit {
-            return Err(format!("at most {limit} devices can be forced"));
-        }
-        for (k, n, _) in &forces {
-            if *n >= s.cpu.memory().map.points(*k) {
-                let name = io_name(*k, *n, &names(s));
-                return Err(format!("`{name}` is beyond the CPU's points"));
+        for i in 0..s.cpu_count() {
+            let c = s.cpu_at(i);
+            let known = c.forced().count();
+            let fresh = forces
+                .iter()
+                .filter(|(cpu, k, n, _)| {
+                    *cpu == i && !c.forced().any(|(fk, fn_, _)| fk == *k && fn_ == *n)
+                })
+                .count();
+            if known + fresh > limit {
+                return Err(format!("at most {limit} devices can be forced"));
             }
         }
-        for (k, n, on) in forces {
-            s.cpu.force(k, n, on)?;
+        for (cpu, k, n, _) in &forces {
+            if *n >= s.cpu_at(*cpu).memory().map.points(*k) {
+                let name = io_name(*k, *n, &names(s, *cpu));
+                return Err(format!(
+                    "`{}{name}` is beyond the CPU's points",
+                    cpu_prefix(*cpu)
+                ));
+            }
         }
-        s.wrote = true;
+        for (cpu, k, n, on) in forces {
+            s.cpu_mut_at(cpu).force(k, n, on)?;
+            s.mark_wrote(cpu);
+        }
         Ok(json!({ "forced": forced_json(s) }))
     })
     .await;
@@ -374,16 +440,16 @@ async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Respons
     };
     let mut points = Vec::with_capacity(names.len());
     for name in &names {
-        match io_point(name, &app.names) {
+        match io_dev(name, &app.names) {
             Ok(p) => points.push(p),
             Err(e) => return bad(e),
         }
     }
     let r = at_end(&app, move |s| {
-        for (k, n) in points {
-            s.cpu.release(k, n);
+        for (cpu, k, n) in points {
+            s.cpu_mut_at(cpu).release(k, n);
+            s.mark_wrote(cpu);
         }
-        s.wrote = true;
         json!({ "forced": forced_json(s) })
     })
     .await;
@@ -393,19 +459,26 @@ async fn release(State(app): Shared, headers: HeaderMap, bytes: Body) -> Respons
     }
 }
 
-/// A remote operation answering `{"state": ...}`; a refused one is 409.
+/// A remote operation of the CPU `?cpu=N` names, answering `{"state":
+/// ...}` with that CPU's state; a refused one is 409.
 async fn cpu_op(
     app: Arc<App>,
     headers: HeaderMap,
-    op: fn(&mut ServeState) -> Result<(), String>,
+    q: &std::collections::HashMap<String, String>,
+    op: fn(&mut ServeState, usize) -> Result<(), String>,
 ) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
     }
+    let cpu = match cpu_param(&app, q) {
+        Ok(c) => c,
+        Err(r) => return r,
+    };
     let r = at_end(&app, move |s| {
-        let r = op(s);
-        s.wrote = true;
-        r.map(|_| s.cpu.state().as_str())
+        let r = op(s, cpu);
+        // A system's RESET may change every CPU.
+        (0..s.cpu_count()).for_each(|i| s.mark_wrote(i));
+        r.map(|_| s.cpu_at(cpu).state().as_str())
     })
     .await;
     match r {
@@ -415,28 +488,31 @@ async fn cpu_op(
     }
 }
 
-async fn cpu_run(State(app): Shared, h: HeaderMap) -> Response {
-    cpu_op(app, h, |s| s.cpu.set_run()).await
+async fn cpu_run(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
+    cpu_op(app, h, &q, |s, i| s.cpu_mut_at(i).set_run()).await
 }
 
-async fn cpu_stop(State(app): Shared, h: HeaderMap) -> Response {
-    cpu_op(app, h, |s| {
-        s.cpu.set_stop();
+async fn cpu_stop(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
+    cpu_op(app, h, &q, |s, i| {
+        s.cpu_mut_at(i).set_stop();
         Ok(())
     })
     .await
 }
 
-async fn cpu_pause(State(app): Shared, h: HeaderMap) -> Response {
-    cpu_op(app, h, |s| s.cpu.set_pause()).await
+async fn cpu_pause(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
+    cpu_op(app, h, &q, |s, i| s.cpu_mut_at(i).set_pause()).await
 }
 
-async fn cpu_reset(State(app): Shared, h: HeaderMap) -> Response {
-    cpu_op(app, h, |s| s.cpu.reset()).await
+/// RESET (in STOP); in a multi-CPU system CPU 1's resets every CPU and
+/// another's brings the others down (MULTI CPU DOWN).
+async fn cpu_reset(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
+    cpu_op(app, h, &q, |s, i| s.cpus.reset(i)).await
 }
 
-/// `cpu/step?scans=N`: N scans from PAUSE, answered once the CPU paused again
-/// (no time limit: 10,000 scans at a 100 ms period take 17 minutes).
+/// `cpu/step?scans=N[&cpu=K]`: N scans from PAUSE, answered once the CPU
+/// paused again (no time limit: 10,000 scans at a 100 ms period take 17
+/// minutes).
 async fn cpu_step(State(app): Shared, headers: HeaderMap, Query(q): Q) -> Response {
     if let Err(r) = authorize(&app, &headers) {
         return r;
@@ -451,9 +527,13 @@ async fn cpu_step(State(app): Shared, headers: HeaderMap, Query(q): Q) -> Respon
             ))
         }
     };
+    let cpu = match cpu_param(&app, &q) {
+        Ok(c) => c,
+        Err(r) => return r,
+    };
     let rx = match at_end(&app, move |s| {
-        s.wrote = true;
-        monitor::start_step(s, n)
+        s.mark_wrote(cpu);
+        monitor::start_step(s, cpu, n)
     })
     .await
     {
@@ -497,12 +577,12 @@ async fn set_breakpoint(State(app): Shared, headers: HeaderMap, bytes: Body) -> 
     let Some(when) = obj.get("when").and_then(Json_::as_str) else {
         return bad("expected {\"when\": \"D0 >= 100\"} (or a bit device: \"M0\")");
     };
-    let bp = match Breakpoint::parse(when, &app.names) {
+    let bp = match Breakpoint::parse_in(when, &app.names) {
         Ok(b) => b,
         Err(e) => return bad(e),
     };
     let r = at_end(&app, move |s| {
-        bp.device.read(&s.cpu)?;
+        bp.device.read(s)?;
         let mut bp = bp;
         // It pauses when the condition *becomes* true: from its value now.
         bp.prev = bp.holds(s);
@@ -547,7 +627,7 @@ impl Drop for Subscription {
 
 /// `events?names=...`: one unnamed event per published snapshot (≤ 10/s).
 async fn events(State(app): Shared, Query(q): Q) -> Response {
-    let specs = match values::name_list(q.get("names").map(String::as_str), &app.names) {
+    let specs = match values::dev_list(q.get("names").map(String::as_str), &app.names) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };

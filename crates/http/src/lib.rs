@@ -36,7 +36,8 @@ pub struct HttpConfig {
     pub token: Option<String>,
     /// The CPU model reported by `status`.
     pub model: String,
-    /// The program files as ladder rungs (see [`ladder::load`]).
+    /// The program files as ladder rungs (see [`ladder::load`]); CPU 1's
+    /// in a multi-CPU system (the others' come from their listings).
     pub ladder: Vec<ladder::LadderProgram>,
     /// Connections and timeouts of the door.
     pub limits: door::Limits,
@@ -49,9 +50,26 @@ pub struct App {
     pub snapshots: tokio::sync::watch::Receiver<Arc<monitor::Snapshot>>,
     /// Open event streams (at most [`MAX_STREAMS`]).
     pub streams: std::sync::atomic::AtomicUsize,
-    /// What device names mean for the served CPU (its dialect and global
-    /// names), read once at start.
-    pub names: softplc_core::names::Names,
+    /// What device names mean for each served CPU, CPU 1's first (its
+    /// dialect and global names), read once at start.
+    pub names: Vec<softplc_core::names::Names>,
+    /// The ladders of CPU 2-4 of a multi-CPU system.
+    pub others: Vec<Vec<ladder::LadderProgram>>,
+}
+
+impl App {
+    /// Number of CPUs served.
+    pub fn cpus(&self) -> usize {
+        self.names.len()
+    }
+
+    /// The programs of CPU `cpu` (0-based) as ladder rungs.
+    pub fn ladder(&self, cpu: usize) -> &[ladder::LadderProgram] {
+        match cpu {
+            0 => &self.cfg.ladder,
+            k => self.others.get(k - 1).map_or(&[], Vec::as_slice),
+        }
+    }
 }
 
 /// Most event streams open at once; more are 503.
@@ -76,7 +94,20 @@ pub async fn start(cfg: HttpConfig, engine: EngineHandle) -> Result<Arc<App>, so
     let (tx, rx) = tokio::sync::watch::channel(Arc::new(monitor::Snapshot::default()));
     engine.at_end(move |s| monitor::install(s, tx)).await?;
     let names = engine
-        .at_end(|s| softplc_core::names::Names::of(&s.cpu))
+        .at_end(|s| {
+            (0..s.cpu_count())
+                .map(|i| softplc_core::names::Names::of(s.cpu_at(i)))
+                .collect()
+        })
+        .await?;
+    // A system's CPUs are MELSEC CPUs: their ladders come from the programs'
+    // listings, no file is read on the engine thread.
+    let others = engine
+        .at_end(|s| {
+            (1..s.cpu_count())
+                .map(|i| ladder::load_programs(s.cpu_at(i)))
+                .collect()
+        })
         .await?;
     Ok(Arc::new(App {
         cfg,
@@ -84,5 +115,6 @@ pub async fn start(cfg: HttpConfig, engine: EngineHandle) -> Result<Arc<App>, so
         snapshots: rx,
         streams: Default::default(),
         names,
+        others,
     }))
 }

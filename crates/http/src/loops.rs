@@ -147,7 +147,7 @@ pub async fn page(
                 .map(|h| {
                     h.as_ref()
                         .and_then(|h| softplc_core::access::DeviceSpec::parse(h).ok())
-                        .and_then(|d| s.cpu.read_device(&d).ok())
+                        .and_then(|d| s.cpu().read_device(&d).ok())
                         .and_then(|v| match v {
                             softplc_core::access::Value::Int(n) => Some(n.clamp(1, 32) as u32),
                             _ => None,

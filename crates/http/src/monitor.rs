@@ -5,7 +5,8 @@
 //!   executed scans the hook pauses it again and answers the request;
 //! - **breakpoint**: "pause at END when a condition becomes true" (an
 //!   extension, docs/web-monitor.md): the condition is read at every END of a
-//!   running CPU; on its rising edge the CPU pauses;
+//!   running CPU; on its rising edge the CPU pauses (in a multi-CPU system,
+//!   the CPU of the condition's device, at its own END);
 //! - **snapshots**: the names SSE clients subscribed to are read at most every
 //!   [`SAMPLE`] and published on a `watch` channel, so every event is one END
 //!   and nothing is read while no one watches. A subscription belongs to its
@@ -22,11 +23,11 @@ use std::time::{Duration, Instant};
 use serde_json::Value as Json;
 use softplc_core::access::Value;
 use softplc_core::engine::CpuState;
-use softplc_core::names::{DevName, Names};
+use softplc_core::names::Names;
 use softplc_serve::ServeState;
 use tokio::sync::{oneshot, watch};
 
-use crate::values::to_json;
+use crate::values::{to_json, Dev};
 
 /// Snapshots are published at most this often (10 a second, contract §3.1).
 pub const SAMPLE: Duration = Duration::from_millis(100);
@@ -43,6 +44,8 @@ pub struct Snapshot {
 
 /// A running step request.
 struct Step {
+    /// The CPU stepping (0-based).
+    cpu: usize,
     until: u64,
     done: Option<oneshot::Sender<StepDone>>,
 }
@@ -81,7 +84,7 @@ impl Cmp {
 /// "Pause at END when `device op value` becomes true".
 #[derive(Clone, Debug)]
 pub struct Breakpoint {
-    pub device: DevName,
+    pub device: Dev,
     pub cmp: Cmp,
     pub value: Value,
     /// The condition at the previous END (it pauses on the rising edge).
@@ -94,6 +97,12 @@ impl Breakpoint {
     /// Parses `M0` (ON), `D0 >= 100`, `D10:f32 < 1.5`, `Y0 == false` with
     /// the served CPU's device `names`.
     pub fn parse(text: &str, names: &Names) -> Result<Breakpoint, String> {
+        Breakpoint::parse_in(text, std::slice::from_ref(names))
+    }
+
+    /// [`Breakpoint::parse`] with the names of every served CPU (CPU 1's
+    /// first): `CPU2/D0 >= 100` watches CPU 2.
+    pub fn parse_in(text: &str, cpus: &[Names]) -> Result<Breakpoint, String> {
         let t = text.trim();
         let ops = [
             ("==", Cmp::Eq),
@@ -113,7 +122,7 @@ impl Breakpoint {
             Some((i, s, c)) => (&t[..i], c, Some(t[i + s.len()..].trim())),
             None => (t, Cmp::Eq, None),
         };
-        let device = crate::values::name(name, names)?;
+        let device = crate::values::dev(name, cpus)?;
         let value = match value {
             None if device.ty() == softplc_core::access::ValueType::Bit => Value::Bool(true),
             None => {
@@ -122,6 +131,7 @@ impl Breakpoint {
                 ))
             }
             Some(v) => device
+                .name
                 .parse_value(v)
                 .map_err(|e| format!("breakpoint `{t}`: {e}"))?,
         };
@@ -145,7 +155,7 @@ impl Breakpoint {
 
     /// The condition against device memory now (false when unreadable).
     pub(crate) fn holds(&self, s: &ServeState) -> bool {
-        let Ok(v) = self.device.read(&s.cpu) else {
+        let Ok(v) = self.device.read(s) else {
             return false;
         };
         let ord = match (&v, &self.value) {
@@ -197,7 +207,7 @@ impl Watcher {
 /// One stream's subscribed names, kept while its [`Owner`] lives.
 struct Stream {
     owner: Watcher,
-    names: Vec<DevName>,
+    names: Vec<Dev>,
 }
 
 /// The monitor's state on the engine thread.
@@ -206,7 +216,7 @@ pub struct Monitor {
     step: Option<Step>,
     pub breakpoint: Option<Breakpoint>,
     /// Subscribed names with their subscriber counts (over `streams`).
-    subs: Vec<(DevName, usize)>,
+    subs: Vec<(Dev, usize)>,
     /// The open event streams' subscriptions.
     streams: Vec<Stream>,
     publish: Option<watch::Sender<Arc<Snapshot>>>,
@@ -253,30 +263,33 @@ pub fn install(s: &mut ServeState, tx: watch::Sender<Arc<Snapshot>>) {
 }
 
 fn end_hook(s: &mut ServeState) {
-    let state = s.cpu.state();
-    let scan = s.cpu.scans();
+    let scanned = s.scanned();
+    let scan = s.cpu().scans();
     let mut m = std::mem::take(s.ext::<Monitor>());
     m.release_ended();
-    if let Some(st) = &mut m.step {
-        if state != CpuState::Run || scan >= st.until {
+    if let Some(st) = m.step.as_mut().filter(|st| st.cpu == scanned) {
+        let cpu = s.cpu_mut_at(st.cpu);
+        let (state, at) = (cpu.state(), cpu.scans());
+        if state != CpuState::Run || at >= st.until {
             if state == CpuState::Run {
-                let _ = s.cpu.set_pause();
+                let _ = cpu.set_pause();
             }
             if let Some(done) = st.done.take() {
                 let _ = done.send(StepDone {
-                    state: s.cpu.state(),
-                    scan,
+                    state: cpu.state(),
+                    scan: at,
                 });
             }
             m.step = None;
         }
     }
-    if let Some(bp) = &mut m.breakpoint {
-        if s.cpu.state() == CpuState::Run {
+    if let Some(bp) = m.breakpoint.as_mut().filter(|b| b.device.cpu == scanned) {
+        if s.cpu_at(scanned).state() == CpuState::Run {
             let now = bp.holds(s);
             if now && !bp.prev {
-                let _ = s.cpu.set_pause();
-                bp.hit = Some(scan);
+                let cpu = s.cpu_mut_at(scanned);
+                let _ = cpu.set_pause();
+                bp.hit = Some(cpu.scans());
             }
             bp.prev = now;
         }
@@ -288,7 +301,7 @@ fn end_hook(s: &mut ServeState) {
             .subs
             .iter()
             .map(|(d, _)| {
-                let v = d.read(&s.cpu).map_or(Json::Null, |v| to_json(&v));
+                let v = d.read(s).map_or(Json::Null, |v| to_json(&v));
                 (d.text().to_string(), v)
             })
             .collect();
@@ -303,18 +316,25 @@ fn end_hook(s: &mut ServeState) {
     *s.ext::<Monitor>() = m;
 }
 
-/// Starts a step of `n` scans from PAUSE; the receiver gets the state after it.
-pub fn start_step(s: &mut ServeState, n: u64) -> Result<oneshot::Receiver<StepDone>, String> {
-    if s.cpu.state() != CpuState::Pause {
+/// Starts a step of `n` scans of CPU `cpu` (0-based) from PAUSE; the
+/// receiver gets the state after it.
+pub fn start_step(
+    s: &mut ServeState,
+    cpu: usize,
+    n: u64,
+) -> Result<oneshot::Receiver<StepDone>, String> {
+    let c = s.cpu_mut_at(cpu);
+    if c.state() != CpuState::Pause {
         return Err(format!(
             "step runs from PAUSE; the CPU is in {}",
-            s.cpu.state().as_str()
+            c.state().as_str()
         ));
     }
-    s.cpu.set_run()?;
+    c.set_run()?;
     let (tx, rx) = oneshot::channel();
-    let until = s.cpu.scans() + n;
+    let until = c.scans() + n;
     s.ext::<Monitor>().step = Some(Step {
+        cpu,
         until,
         done: Some(tx),
     });
@@ -327,9 +347,9 @@ pub const MAX_WATCHED: usize = 4096;
 
 /// Subscribes the stream of `owner` to `specs` (each must be readable now).
 /// A stream that ended before this runs subscribes nothing.
-pub fn subscribe(s: &mut ServeState, specs: &[DevName], owner: Watcher) -> Result<(), String> {
+pub fn subscribe(s: &mut ServeState, specs: &[Dev], owner: Watcher) -> Result<(), String> {
     for d in specs {
-        d.read(&s.cpu)?;
+        d.read(s)?;
     }
     let m = s.ext::<Monitor>();
     m.release_ended();

@@ -38,6 +38,19 @@ pub(crate) fn frame(
     names: &[String],
     body: &str,
 ) -> Html<String> {
+    frame_at(app, 0, title, page, names, body)
+}
+
+/// [`frame`] of CPU `cpu` (0-based): a multi-CPU system's pages have a tab
+/// per CPU with its state, and the bar and buttons are that CPU's.
+pub(crate) fn frame_at(
+    app: &App,
+    cpu: usize,
+    title: &str,
+    page: &str,
+    names: &[String],
+    body: &str,
+) -> Html<String> {
     let mut uniq: Vec<&str> = Vec::new();
     for n in names.iter().take(crate::values::MAX_NAMES) {
         if !uniq.contains(&n.as_str()) {
@@ -62,12 +75,32 @@ pub(crate) fn frame(
         format!(r#"<a href="{h}"{cls}>{t}</a>"#)
     })
     .collect::<String>();
+    let (cpu_attrs, tabs) = if app.cpus() > 1 {
+        let tabs: String = (1..=app.cpus())
+            .map(|n| {
+                let cls = if n == cpu + 1 { " cur" } else { "" };
+                format!(
+                    r#"<a href="/?cpu={n}" class="cpu-tab{cls}">CPU {n} <span class="state" id="cpu-state-{n}">?</span></a>"#
+                )
+            })
+            .collect();
+        (
+            format!(
+                r#" data-cpu="{}" data-prefix="{}""#,
+                cpu + 1,
+                crate::values::cpu_prefix(cpu)
+            ),
+            format!(r#"<span id="cpus">{tabs}</span>"#),
+        )
+    } else {
+        (String::new(), String::new())
+    };
     Html(format!(
         r#"<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>softplc · {title}</title>
 <link rel="stylesheet" href="/monitor.css"></head>
-<body data-page="{page}" data-names="{names}">
-<header><b>softplc</b> <span id="model">{model}</span> <nav>{nav}</nav>
+<body data-page="{page}" data-names="{names}"{cpu_attrs}>
+<header><b>softplc</b> <span id="model">{model}</span> <nav>{nav}</nav>{tabs}
 <span id="cpu"><span id="state" class="state">?</span> scan <span id="scan">?</span>
  · <span id="stime">?</span> µs <span id="err"></span></span>
 <span class="ops"><button data-op="run">RUN</button><button data-op="stop">STOP</button><button data-op="pause">PAUSE</button><button data-op="reset">RESET</button>
@@ -82,9 +115,21 @@ pub(crate) fn frame(
     ))
 }
 
-/// `/`: the ladder monitor (`?prog=I&page=P`).
+/// `/`: the ladder monitor (`?prog=I&page=P`; a multi-CPU system's CPU
+/// `?cpu=N`, default 1).
 pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
-    let progs = &app.cfg.ladder;
+    let cpu = match crate::api::cpu_param(&app, &q) {
+        Ok(c) => c,
+        Err(r) => return r,
+    };
+    let progs = app.ladder(cpu);
+    // Links keep the CPU; its names carry its prefix (none for CPU 1).
+    let at = if cpu > 0 {
+        format!("cpu={}&", cpu + 1)
+    } else {
+        String::new()
+    };
+    let prefix = crate::values::cpu_prefix(cpu);
     let pi: usize = q.get("prog").and_then(|p| p.parse().ok()).unwrap_or(0);
     let page: usize = q.get("page").and_then(|p| p.parse().ok()).unwrap_or(0);
     let mut body = String::new();
@@ -96,7 +141,7 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
             .map_or(p.file.clone(), |n| n.to_string_lossy().into_owned());
         let _ = write!(
             body,
-            r#"<a href="/?prog={i}"{cls} title="{}">{}</a>"#,
+            r#"<a href="/?{at}prog={i}"{cls} title="{}">{}</a>"#,
             esc(&p.file),
             esc(&name)
         );
@@ -104,7 +149,7 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     body.push_str("</div>");
     let Some(prog) = progs.get(pi) else {
         body.push_str("<p>No program to show.</p>");
-        return frame(&app, "Ladder", "ladder", &[], &body).into_response();
+        return frame_at(&app, cpu, "Ladder", "ladder", &[], &body).into_response();
     };
     let pages = prog.rungs.len().div_ceil(RUNGS_PER_PAGE).max(1);
     let page = page.min(pages - 1);
@@ -112,7 +157,11 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
         body.push_str(r#"<div class="pager">"#);
         for k in 0..pages {
             let cls = if k == page { " class=\"cur\"" } else { "" };
-            let _ = write!(body, r#"<a href="/?prog={pi}&page={k}"{cls}>{}</a>"#, k + 1);
+            let _ = write!(
+                body,
+                r#"<a href="/?{at}prog={pi}&page={k}"{cls}>{}</a>"#,
+                k + 1
+            );
         }
         body.push_str("</div>");
     }
@@ -161,21 +210,27 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
             names.extend(
                 e.watched()
                     .into_iter()
-                    .filter(|n| !prog.unreadable.contains(n)),
+                    .filter(|n| !prog.unreadable.contains(n))
+                    .map(|n| format!("{prefix}{n}")),
             )
         });
-        names.extend(r.bus.iter().cloned());
+        names.extend(r.bus.iter().map(|n| format!("{prefix}{n}")));
         body.push_str(&render::svg(r, pi, k));
     }
     body.push_str("</div>");
-    frame(&app, "Ladder", "ladder", &names, &body).into_response()
+    frame_at(&app, cpu, "Ladder", "ladder", &names, &body).into_response()
 }
 
-/// `/ladder.txt?prog=I`: the ladder of program I as text, with the device
-/// names of its dialect (what the snapshot tests compare).
+/// `/ladder.txt?prog=I[&cpu=N]`: the ladder of program I as text, with the
+/// device names of its dialect (what the snapshot tests compare).
 pub async fn ladder_text(State(app): State<Arc<App>>, Query(q): Q) -> Response {
+    let cpu = match crate::api::cpu_param(&app, &q) {
+        Ok(c) => c,
+        Err(r) => return r,
+    };
     let pi: usize = q.get("prog").and_then(|p| p.parse().ok()).unwrap_or(0);
-    match app.cfg.ladder.get(pi) {
+    let progs = app.ladder(cpu);
+    match progs.get(pi) {
         Some(p) => (
             [(header::CONTENT_TYPE, "text/plain; charset=utf-8")],
             render::program_text(p),
@@ -183,7 +238,7 @@ pub async fn ladder_text(State(app): State<Arc<App>>, Query(q): Q) -> Response {
             .into_response(),
         None => crate::api::error(
             StatusCode::NOT_FOUND,
-            format!("no program {pi}: there are {}", app.cfg.ladder.len()),
+            format!("no program {pi}: there are {}", progs.len()),
         ),
     }
 }
@@ -212,9 +267,14 @@ pub(crate) fn hex_kind(prefix: &str) -> bool {
 }
 
 /// `D100` → ("D", 100), `X1F` → ("X", 31), `U2\G10` → ("U2\G", 10): the
-/// number after a unit's `\` for buffer memory.
+/// number after a unit's `\` for buffer memory; a CPU prefix stays with the
+/// device (`CPU2/D5` → ("CPU2/D", 5)).
 pub(crate) fn split_name(name: &str) -> Option<(String, u32)> {
     let u = name.trim().to_ascii_uppercase();
+    if let Some((cpu, rest)) = u.split_once('/') {
+        let (p, n) = split_name(rest)?;
+        return Some((format!("{cpu}/{p}"), n));
+    }
     let from = u.rfind('\\').map_or(0, |b| b + 1);
     let at = from + u[from..].find(|c: char| c.is_ascii_digit())?;
     let (p, n) = u.split_at(at);
@@ -237,6 +297,12 @@ pub fn batch_names(start: &str, count: u32, fmt: &str) -> Result<Vec<String>, St
         "hex" => (1, ":u16"),
         _ => (1, ""),
     };
+    // `CPU2/` of a multi-CPU system's device.
+    let (cpu, p) = match p.rsplit_once('/') {
+        Some((c, d)) => (format!("{c}/"), d.to_string()),
+        None => (String::new(), p),
+    };
+    softplc_core::system::names::split(&format!("{cpu}D0"), 4)?;
     let mut names = Vec::with_capacity(count as usize);
     for k in 0..count {
         let num = n + k * step;
@@ -249,7 +315,11 @@ pub fn batch_names(start: &str, count: u32, fmt: &str) -> Result<Vec<String>, St
             .map_err(|e| e.to_string())?
             .ty
             == softplc_core::access::ValueType::Bit;
-        names.push(if bit { name } else { format!("{name}{suffix}") });
+        names.push(if bit {
+            format!("{cpu}{name}")
+        } else {
+            format!("{cpu}{name}{suffix}")
+        });
     }
     Ok(names)
 }
@@ -260,9 +330,7 @@ pub async fn devices(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     let fmt = q.get("fmt").map_or("dec", String::as_str);
     let count: u32 = q.get("count").and_then(|c| c.parse().ok()).unwrap_or(32);
     let names = match q.get("names").filter(|n| !n.trim().is_empty()) {
-        Some(list) => {
-            crate::values::spec_list(Some(list)).map(|v| v.into_iter().map(|d| d.text).collect())
-        }
+        Some(list) => crate::values::prefixed_list(Some(list)),
         None => batch_names(start, count, fmt),
     };
     let names = match names {
@@ -311,8 +379,8 @@ count <input name="count" type="number" min="1" max="{MAX_ROWS}" value="{count}"
 /// `/trend?names=D0,D1`: a live trend of END samples (SVG polylines).
 pub async fn trend(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     let list = q.get("names").map_or("D0", String::as_str);
-    let names: Vec<String> = match crate::values::spec_list(Some(list)) {
-        Ok(v) => v.into_iter().map(|d| d.text).take(8).collect(),
+    let names: Vec<String> = match crate::values::prefixed_list(Some(list)) {
+        Ok(v) => v.into_iter().take(8).collect(),
         Err(e) => {
             let mut r = frame(
                 &app,
@@ -368,6 +436,13 @@ mod tests {
             ["W1E:u16", "W1F:u16"]
         );
         assert!(batch_names("zz", 2, "dec").is_err());
+        // A multi-CPU system's device keeps its CPU.
+        assert_eq!(
+            batch_names("CPU2/X8", 2, "hex").unwrap(),
+            ["CPU2/X8", "CPU2/X9"]
+        );
+        assert_eq!(batch_names("cpu3/D0", 1, "dec").unwrap(), ["CPU3/D0"]);
+        assert!(batch_names("CPU9/D0", 1, "dec").is_err());
         assert_eq!(
             batch_names("M0", 100_000, "dec").unwrap().len(),
             MAX_ROWS as usize

@@ -4,9 +4,10 @@
 //! summary ([`summary`]). The buffer memory itself is read and written as
 //! the devices `U<n>\G<addr>` through `/api/v1/devices`.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
-use axum::extract::State;
+use axum::extract::{Query, State};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use serde_json::{json, Value as Json_};
@@ -14,10 +15,19 @@ use softplc_ir::rack::{Rack, Slot, SlotType};
 
 use crate::App;
 
-/// `GET /api/v1/rack`: `{"slots": [...]}`, one object a slot in slot order
-/// (see [`slot`]); an empty list without `[[slot]]` tables.
-pub async fn rack(State(app): State<Arc<App>>) -> Response {
-    match crate::api::at_end(&app, |s| slots(s.cpu.rack())).await {
+/// `GET /api/v1/rack[?cpu=N]`: `{"slots": [...]}`, one object a slot in
+/// slot order (see [`slot`]); an empty list without `[[slot]]` tables. A
+/// multi-CPU system's CPUs share the I/O assignment; each shows its own
+/// view (`?cpu=N`, default CPU 1).
+pub async fn rack(
+    State(app): State<Arc<App>>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Response {
+    let cpu = match crate::api::cpu_param(&app, &q) {
+        Ok(c) => c,
+        Err(r) => return r,
+    };
+    match crate::api::at_end(&app, move |s| slots(s.cpu_at(cpu).rack())).await {
         Ok(j) => Json(j).into_response(),
         Err(e) => e,
     }

@@ -1,13 +1,17 @@
 //! Device names and values of the JSON API (contract §3.1): names are those
 //! of `--show` (§2) in the program's dialect (`softplc_core::names`: MELSEC,
 //! or the APLC's octal X/Y and high-word-first pairs), values JSON booleans,
-//! numbers and strings.
+//! numbers and strings. A multi-CPU system's names carry their CPU
+//! (contract §6): `CPU2/D0` is CPU 2's D0, a name without a prefix CPU 1's
+//! ([`Dev`]).
 
 use serde_json::{json, Value as Json};
 use softplc_core::access::{DeviceSpec, Value, ValueType};
 use softplc_core::device::DeviceKind;
 use softplc_core::names::{DevName, Names};
 use softplc_core::profile;
+use softplc_core::system::names::split;
+use softplc_serve::ServeState;
 
 /// Most names in one request.
 pub const MAX_NAMES: usize = 1024;
@@ -32,6 +36,90 @@ pub fn name_list(list: Option<&str>, names: &Names) -> Result<Vec<DevName>, Stri
         .collect()
 }
 
+/// A device name of one of the served CPUs: `CPU2/D0` is CPU 2's D0, a
+/// name without a prefix (or `CPU1/`) CPU 1's.
+#[derive(Clone, Debug)]
+pub struct Dev {
+    /// The CPU, 0-based.
+    pub cpu: usize,
+    /// The name in that CPU's dialect, without the prefix.
+    pub name: DevName,
+    /// The name as given: the key in answers.
+    text: String,
+}
+
+impl Dev {
+    pub fn text(&self) -> &str {
+        &self.text
+    }
+
+    pub fn ty(&self) -> ValueType {
+        self.name.ty()
+    }
+
+    pub fn read(&self, s: &ServeState) -> Result<Value, String> {
+        self.name.read(s.cpu_at(self.cpu))
+    }
+
+    pub fn write_value(&self, s: &mut ServeState, v: &Value) -> Result<(), String> {
+        self.name.write_value(s.cpu_mut_at(self.cpu), v)
+    }
+
+    /// A JSON value in the device's type ([`from_json`]), the error naming
+    /// the device as given.
+    pub fn value(&self, v: &Json) -> Result<Value, String> {
+        from_json(&self.name, v).map_err(|e| {
+            e.replacen(
+                &format!("`{}`", self.name.text()),
+                &format!("`{}`", self.text),
+                1,
+            )
+        })
+    }
+}
+
+/// Parses a device name of the served CPUs, whose names are `cpus` (CPU 1's
+/// first), naming it in the error.
+pub fn dev(text: &str, cpus: &[Names]) -> Result<Dev, String> {
+    let text = text.trim();
+    if text.is_empty() {
+        return Err("empty device name".into());
+    }
+    let (cpu, rest) = split(text, cpus.len())?;
+    let names = cpus
+        .get(cpu)
+        .ok_or_else(|| format!("`{text}`: no such CPU"))?;
+    let name = name(rest, names).map_err(|e| {
+        if rest.len() == text.len() {
+            e
+        } else {
+            format!("`{text}`: {e}")
+        }
+    })?;
+    Ok(Dev {
+        cpu,
+        name,
+        text: text.to_string(),
+    })
+}
+
+/// Parses `names=D0,CPU2/Y0,D10:f32` for the served CPUs.
+pub fn dev_list(list: Option<&str>, cpus: &[Names]) -> Result<Vec<Dev>, String> {
+    split_names(list)?
+        .into_iter()
+        .map(|n| dev(n, cpus))
+        .collect()
+}
+
+/// The prefix of CPU `cpu`'s (0-based) names in answers: none for CPU 1.
+pub fn cpu_prefix(cpu: usize) -> String {
+    if cpu == 0 {
+        String::new()
+    } else {
+        format!("CPU{}/", cpu + 1)
+    }
+}
+
 /// Parses a MELSEC device name, naming it in the error.
 pub fn spec(text: &str) -> Result<DeviceSpec, String> {
     name(text, &Names::plain(profile::default_profile())).map(|n| n.spec().clone())
@@ -40,6 +128,19 @@ pub fn spec(text: &str) -> Result<DeviceSpec, String> {
 /// Parses `names=D0,Y0,D10:f32` as MELSEC names.
 pub fn spec_list(names: Option<&str>) -> Result<Vec<DeviceSpec>, String> {
     split_names(names)?.into_iter().map(spec).collect()
+}
+
+/// Checks `names=D0,CPU2/Y0` as MELSEC names, each with its CPU prefix
+/// (up to CPU 4); the names as given.
+pub fn prefixed_list(names: Option<&str>) -> Result<Vec<String>, String> {
+    split_names(names)?
+        .into_iter()
+        .map(|n| {
+            let (_, rest) = split(n.trim(), 4)?;
+            spec(rest)?;
+            Ok(n.trim().to_string())
+        })
+        .collect()
 }
 
 fn split_names(names: Option<&str>) -> Result<Vec<&str>, String> {
@@ -106,6 +207,17 @@ pub fn io_point(text: &str, names: &Names) -> Result<(DeviceKind, u32), String> 
     }
 }
 
+/// X`n` or Y`n` of one of the served CPUs: (CPU, X or Y, n).
+pub fn io_dev(text: &str, cpus: &[Names]) -> Result<(usize, DeviceKind, u32), String> {
+    let d = dev(text, cpus)?;
+    match d.name.spec().bit_span() {
+        Some((k @ (DeviceKind::X | DeviceKind::Y), n, 1)) if d.ty() == ValueType::Bit => {
+            Ok((d.cpu, k, n))
+        }
+        _ => Err(format!("`{}`: only X and Y points can be forced", d.text())),
+    }
+}
+
 /// The `--show` name of X`n`/Y`n` in `names`' dialect.
 pub fn io_name(kind: DeviceKind, n: u32, names: &Names) -> String {
     names.naming.io_name(kind, n)
@@ -137,6 +249,34 @@ mod tests {
         assert!(name("X8", &Names::plain(profile::aplc()))
             .unwrap_err()
             .contains("X8"));
+    }
+
+    #[test]
+    fn names_carry_their_cpu() {
+        let mel = Names::plain(profile::default_profile());
+        let two = [mel.clone(), mel.clone()];
+        let d = dev(" CPU2/D10:f32", &two).unwrap();
+        assert_eq!(
+            (d.cpu, d.text(), d.name.text()),
+            (1, "CPU2/D10:f32", "D10:f32")
+        );
+        assert_eq!(dev("D0", &two).unwrap().cpu, 0);
+        assert_eq!(dev("cpu1/M0", &two).unwrap().cpu, 0);
+        assert!(dev("CPU3/D0", &two).unwrap_err().contains("no CPU 3"));
+        assert!(dev("CPU2/QQ9", &two).unwrap_err().contains("CPU2/QQ9"));
+        // A single CPU takes CPU1/ only.
+        assert!(dev("CPU2/D0", &two[..1]).is_err());
+        let e = d.value(&json!(true)).unwrap_err();
+        assert!(e.contains("`CPU2/D10:f32`"), "{e}");
+        assert_eq!(io_dev("CPU2/Y1F", &two).unwrap(), (1, DeviceKind::Y, 0x1F));
+        assert!(io_dev("CPU2/M0", &two).is_err());
+        assert_eq!(cpu_prefix(0), "");
+        assert_eq!(cpu_prefix(3), "CPU4/");
+        assert_eq!(
+            prefixed_list(Some("D0,CPU2/D1:f32")).unwrap(),
+            ["D0", "CPU2/D1:f32"]
+        );
+        assert!(prefixed_list(Some("CPU5/D0")).is_err());
     }
 
     #[test]

@@ -29,11 +29,15 @@
 //! | `4010` | [`EndCode::CPU_RUNNING`] | remote latch clear or remote RESET while the CPU is in RUN or PAUSE (both are accepted in STOP only) |
 //! | `4041` | [`EndCode::BUFFER_RANGE`] | buffer memory (0601/1601, `U<n>\G<addr>`): the range runs past the module's buffer memory |
 //! | `4043` | [`EndCode::NO_MODULE`] | buffer memory of a unit (start I/O number / 16) with no intelligent function module |
+//! | `4B00` | [`EndCode::NO_DESTINATION`] | a multi-CPU system: the request destination module I/O number is `03E0`-`03E3` of a CPU the system does not have |
 //!
 //! Decisions: the real E71 distinguishes `C058` (ASCII) from `C061` (binary) for a
 //! length mismatch, and softplc does the same. `C05F` and `4010` for refused
 //! remote operations are softplc's choices: the SLMP manuals only say such a
-//! request "is terminated abnormally".
+//! request "is terminated abnormally". `4B00` for a destination CPU that is
+//! not there is softplc's choice too: it is the CPU's code for an error at the
+//! access destination (a wrong request destination module I/O number among its
+//! causes); the manuals at hand name no code for an absent CPU.
 
 use std::fmt;
 
@@ -82,9 +86,12 @@ impl EndCode {
     /// CPU-detected: no intelligent function module in the specified
     /// position.
     pub const NO_MODULE: EndCode = EndCode(0x4043);
+    /// CPU-detected: the request destination (module I/O number `03E0`-
+    /// `03E3`) is a CPU the multi-CPU system does not have.
+    pub const NO_DESTINATION: EndCode = EndCode(0x4B00);
 
     /// Every end code softplc produces, normal completion first.
-    pub const ALL: [EndCode; 19] = [
+    pub const ALL: [EndCode; 20] = [
         Self::OK,
         Self::ASCII_DATA,
         Self::BIT_POINTS,
@@ -104,6 +111,7 @@ impl EndCode {
         Self::CPU_RUNNING,
         Self::BUFFER_RANGE,
         Self::NO_MODULE,
+        Self::NO_DESTINATION,
     ];
 
     pub fn is_ok(self) -> bool {
@@ -136,6 +144,7 @@ impl EndCode {
                 "the access range exceeds the buffer memory of the intelligent function module"
             }
             0x4043 => "no intelligent function module in the specified position",
+            0x4B00 => "the request destination CPU does not exist",
             _ => "error",
         }
     }

@@ -22,6 +22,12 @@
 //!   `4043` and a range past the module's buffer memory `4041`, the CPU's
 //!   codes for them ([`EndCode::NO_MODULE`], [`EndCode::BUFFER_RANGE`]);
 //!   nothing is written then.
+//! - A multi-CPU system ([`Station`], contract §6) answers as one station:
+//!   the request destination module I/O number `03E0`-`03E3` addresses CPU
+//!   1-4 and `03FF` (own station) CPU 1, as does any other number; a CPU
+//!   the system does not have answers `4B00` ([`EndCode::NO_DESTINATION`]).
+//!   Remote RESET follows the system's rules ([`Station::reset`]). A single
+//!   CPU answers every I/O number itself.
 //! - Remote password: with a password configured, a [`Session`] starts locked and
 //!   refuses everything but unlock (1630) and loopback (0619) with `C201`. Unlock
 //!   with the right password unlocks the session, a wrong one answers `C200`;
@@ -30,6 +36,7 @@
 
 use softplc_core::access::{AccessError, RBlock, Span};
 use softplc_core::engine::{Cpu, CpuState, RunClear};
+use softplc_core::system::System;
 
 use crate::command::{ClearMode, Command, Unit};
 use crate::device::{Device, DeviceRef};
@@ -73,6 +80,102 @@ pub fn handle(
     }
 }
 
+/// The CPUs one MC server answers for: a CPU, or a multi-CPU system's.
+pub trait Station {
+    /// Number of CPUs (1 for a single CPU).
+    fn cpus(&self) -> usize;
+    /// CPU `i` (0-based, `i < cpus()`).
+    fn cpu_mut(&mut self, i: usize) -> &mut Cpu;
+    /// Remote RESET of CPU `i` (accepted in STOP only).
+    fn reset(&mut self, i: usize) -> std::result::Result<(), String>;
+}
+
+impl Station for Cpu {
+    fn cpus(&self) -> usize {
+        1
+    }
+
+    fn cpu_mut(&mut self, _: usize) -> &mut Cpu {
+        self
+    }
+
+    fn reset(&mut self, _: usize) -> std::result::Result<(), String> {
+        Cpu::reset(self)
+    }
+}
+
+impl Station for System {
+    fn cpus(&self) -> usize {
+        self.len()
+    }
+
+    fn cpu_mut(&mut self, i: usize) -> &mut Cpu {
+        System::cpu_mut(self, i)
+    }
+
+    /// CPU 1's RESET resets the whole system, another's brings the others
+    /// down ([`System::reset`]).
+    fn reset(&mut self, i: usize) -> std::result::Result<(), String> {
+        System::reset(self, i)
+    }
+}
+
+/// Request destination module I/O numbers of CPU 1-4 in a multi-CPU system.
+pub const CPU_IO: std::ops::RangeInclusive<u16> = 0x03E0..=0x03E3;
+
+/// The CPU (0-based) a frame's request destination module I/O number `io`
+/// addresses among `cpus`: `03E0`-`03E3` are CPU 1-4, any other number
+/// (`03FF`, the own station) CPU 1; a single CPU answers every number.
+pub fn destination(io: u16, cpus: usize) -> Result<usize> {
+    if cpus <= 1 || !CPU_IO.contains(&io) {
+        return Ok(0);
+    }
+    let i = usize::from(io - CPU_IO.start());
+    if i < cpus {
+        Ok(i)
+    } else {
+        Err(EndCode::NO_DESTINATION)
+    }
+}
+
+/// Executes `req` on the CPU of `station` its header addresses
+/// ([`destination`]). `password` is the remote password, if any.
+pub fn handle_station(
+    req: &Request,
+    station: &mut dyn Station,
+    session: &mut Session,
+    password: Option<&str>,
+) -> Response {
+    let (command, subcommand) = req.command.codes();
+    let fail = |end_code| Response::Error {
+        end_code,
+        command,
+        subcommand,
+    };
+    if locked(&req.command, session, password) {
+        return fail(EndCode::PASSWORD_LOCKED);
+    }
+    let i = match destination(req.header.io, station.cpus()) {
+        Ok(i) => i,
+        Err(e) => return fail(e),
+    };
+    if let Command::RemoteReset = req.command {
+        return match station.reset(i) {
+            Ok(()) => Response::Ok(ResponseData::None),
+            Err(_) => fail(EndCode::CPU_RUNNING),
+        };
+    }
+    handle(req, station.cpu_mut(i), session, password)
+}
+
+/// With a remote password, a session that has not unlocked may only unlock
+/// and loop back.
+fn locked(cmd: &Command, session: &Session, password: Option<&str>) -> bool {
+    password.is_some()
+        && !session.unlocked
+        && !matches!(cmd, Command::Unlock { .. } | Command::Loopback { .. })
+}
+
 /// What the server does with the bytes it has buffered.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Served {
@@ -112,10 +215,7 @@ fn execute(
     session: &mut Session,
     password: Option<&str>,
 ) -> Result<ResponseData> {
-    if password.is_some()
-        && !session.unlocked
-        && !matches!(cmd, Command::Unlock { .. } | Command::Loopback { .. })
-    {
+    if locked(cmd, session, password) {
         return Err(EndCode::PASSWORD_LOCKED);
     }
     use Command::*;

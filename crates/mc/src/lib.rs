@@ -54,6 +54,11 @@
 //! Anything else answers `C059`. Request formats and per-request limits are in
 //! [`command`].
 //!
+//! # Multi-CPU systems
+//! One server answers for every CPU of a system ([`Station`]): the request
+//! destination module I/O number `03E0`-`03E3` addresses CPU 1-4, `03FF`
+//! (and any other number) CPU 1; see [`handle_station`].
+//!
 //! # Devices
 //! | device | binary | ASCII | numbering | device | binary | ASCII | numbering |
 //! |---|---|---|---|---|---|---|---|
@@ -98,6 +103,7 @@
 //! | `4010` | remote latch clear/RESET while not in STOP |
 //! | `4041` | buffer memory past the module's last word |
 //! | `4043` | buffer memory of a unit with no intelligent function module |
+//! | `4B00` | a multi-CPU system: the request destination module I/O number `03E0`-`03E3` names a CPU it does not have |
 //!
 //! Sources and decisions: [`end_code`].
 
@@ -117,4 +123,4 @@ pub use frame::{
     decode_request, decode_response, encode_request, encode_response, DataCode, ErrorInfo, Frame,
     FrameError, Header, Rejected, Request, Response, ResponseData, ResponseFrame,
 };
-pub use handler::{handle, serve, Served, Session};
+pub use handler::{destination, handle, handle_station, serve, Served, Session, Station};

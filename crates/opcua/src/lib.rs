@@ -4,8 +4,9 @@
 //! - [`points`]: which devices the program uses and their typed nodes, and
 //!   the control loops' fields;
 //! - [`space`]: the address space (`Objects/softplc/Devices`, `Diagnostics`,
-//!   `Loops`) and its node manager, which checks writes and applies them at
-//!   END through `softplc-serve`'s queue;
+//!   `Loops`; a multi-CPU system's in a folder per CPU, `CPU1`, `CPU2` …)
+//!   and its node manager, which checks writes and applies them at END
+//!   through `softplc-serve`'s queue;
 //! - [`publish`]: values published at END, changed points only;
 //! - [`config`]: the `[opcua]` table and the command line.
 //!
@@ -73,6 +74,33 @@ impl Prepared {
         })
     }
 
+    /// The device variables of every CPU of a multi-CPU system, CPU 1's
+    /// first, with NodeIds `CPUn/<name>`; `[opcua] nodes` entries name their
+    /// CPU as `CPU2/D100` (none: CPU 1). The loops are found at the first END.
+    pub fn system(cfg: OpcuaConfig, cpus: &[&Cpu]) -> Result<Prepared, String> {
+        let mut devices = Vec::new();
+        for (i, cpu) in cpus.iter().enumerate() {
+            if !cpu.profile().doors.opcua {
+                return Err(refused(cpu.profile().model));
+            }
+            let mut extra = Vec::new();
+            for t in &cfg.nodes {
+                let (k, rest) = softplc_core::system::names::split(t.trim(), cpus.len())
+                    .map_err(|e| format!("[opcua] nodes: {e}"))?;
+                if k == i {
+                    extra.push(rest.to_string());
+                }
+            }
+            let prefix = format!("CPU{}/", i + 1);
+            devices.extend(points::devices_at(cpu, i, &prefix, &extra)?);
+        }
+        Ok(Prepared {
+            cfg,
+            devices,
+            loops: Vec::new(),
+        })
+    }
+
     /// The OPC UA server as a `softplc-serve` listener.
     pub fn listener(self) -> Listener {
         Listener::tcp_with(self.cfg.addr, move |tcp, engine| {
@@ -101,15 +129,27 @@ pub async fn serve(
     } = p;
     let feed = engine
         .at_end(move |s| {
-            let loops = points::loops(&s.cpu, &loops);
-            let space = Arc::new(Space::new(devices, loops));
-            let mem = s.cpu.memory();
+            let space = if s.cpu_count() == 1 {
+                Space::new(devices, points::loops(s.cpu(), &loops))
+            } else {
+                // A system's loops, each CPU's from its programs' listings.
+                let loops = (0..s.cpu_count())
+                    .flat_map(|i| {
+                        let cpu = s.cpu_at(i);
+                        let folder = format!("{}/Loops", space::cpu_folder(i));
+                        points::loops_at(cpu, i, &folder, &points::program_loops(cpu))
+                    })
+                    .collect();
+                Space::with_cpus(devices, loops, s.cpu_count())
+            };
+            let space = Arc::new(space);
             let raw: Vec<u64> = space
                 .points
                 .iter()
-                .map(|p| p.name.raw(mem).unwrap_or(0))
+                .map(|p| p.name.raw(s.cpu_at(p.cpu).memory()).unwrap_or(0))
                 .collect();
-            let feed = publish::Feed::new(space, raw, publish::Diag::of(s));
+            let diags = (0..space.cpus()).map(|i| publish::Diag::at(s, i)).collect();
+            let feed = publish::Feed::with_diags(space, raw, diags);
             publish::install(s, feed.clone());
             feed
         })

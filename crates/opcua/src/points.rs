@@ -46,7 +46,10 @@ impl Kind {
 /// One variable: its string NodeId, the device it shows and its type.
 #[derive(Clone, Debug)]
 pub struct Point {
-    /// The string NodeId (`D10:f32`; a loop field `/softplc/Loops/…/SV`).
+    /// The CPU (0-based) whose device it is: 0 but in a multi-CPU system.
+    pub cpu: usize,
+    /// The string NodeId (`D10:f32`; a loop field `/softplc/Loops/…/SV`; a
+    /// multi-CPU system's `CPU2/D10:f32`, `/softplc/CPU2/Loops/…/SV`).
     pub id: String,
     /// The browse and display name (`D10:f32`; `SV`).
     pub browse: String,
@@ -55,9 +58,10 @@ pub struct Point {
 }
 
 impl Point {
-    fn new(id: String, browse: String, name: DevName) -> Option<Point> {
+    fn new(cpu: usize, id: String, browse: String, name: DevName) -> Option<Point> {
         let kind = Kind::of(name.ty())?;
         Some(Point {
+            cpu,
             id,
             browse,
             name,
@@ -69,6 +73,8 @@ impl Point {
 /// A control loop's folder and its fields.
 #[derive(Clone, Debug)]
 pub struct LoopFolder {
+    /// The CPU (0-based) of the loop.
+    pub cpu: usize,
     /// The folder's browse name (`PIDCONT D600 loop 1`, `loop tag R1000`).
     pub browse: String,
     pub fields: Vec<Point>,
@@ -78,6 +84,17 @@ pub struct LoopFolder {
 /// sorted by name, each once. An `extra` name that is not a device of this
 /// CPU is an error naming it.
 pub fn devices(cpu: &Cpu, extra: &[String]) -> Result<Vec<Point>, String> {
+    devices_at(cpu, 0, "", extra)
+}
+
+/// [`devices`] of CPU `i` (0-based) of a multi-CPU system, their NodeIds
+/// after `prefix` (`CPU2/`).
+pub fn devices_at(
+    cpu: &Cpu,
+    i: usize,
+    prefix: &str,
+    extra: &[String],
+) -> Result<Vec<Point>, String> {
     let names = Names::of(cpu);
     let mut texts: Vec<String> = Vec::new();
     for i in 0..cpu.program_count() {
@@ -100,7 +117,7 @@ pub fn devices(cpu: &Cpu, extra: &[String]) -> Result<Vec<Point>, String> {
         if n.raw(cpu.memory()).is_err() {
             continue;
         }
-        out.extend(Point::new(t.clone(), t.clone(), n));
+        out.extend(Point::new(i, format!("{prefix}{t}"), t.clone(), n));
     }
     for t in extra {
         // `d100:U16` is `D100:u16`, the `--show` spelling.
@@ -113,7 +130,7 @@ pub fn devices(cpu: &Cpu, extra: &[String]) -> Result<Vec<Point>, String> {
             .map_err(|e| format!("[opcua] nodes: `{t}`: {e}"))?;
         n.raw(cpu.memory())
             .map_err(|e| format!("[opcua] nodes: `{t}`: {e}"))?;
-        let p = Point::new(key.clone(), key, n)
+        let p = Point::new(i, format!("{prefix}{key}"), key, n)
             .ok_or_else(|| format!("[opcua] nodes: `{t}`: strings have no OPC UA node"))?;
         if !out.iter().any(|q| q.id == p.id) {
             out.push(p);
@@ -140,13 +157,24 @@ pub fn program_loops(cpu: &Cpu) -> Vec<(String, Vec<LoopUse>)> {
 /// control data's count word says at the END the address space is built (1
 /// when unreadable, at most 32).
 pub fn loops(cpu: &Cpu, programs: &[(String, Vec<LoopUse>)]) -> Vec<LoopFolder> {
+    loops_at(cpu, 0, crate::space::LOOPS_ID, programs)
+}
+
+/// [`loops`] of CPU `i` (0-based), their folders under `folder_id`.
+pub fn loops_at(
+    cpu: &Cpu,
+    i: usize,
+    folder_id: &str,
+    programs: &[(String, Vec<LoopUse>)],
+) -> Vec<LoopFolder> {
     let programs = || programs.iter().map(|(f, l)| (f.as_str(), l.as_slice()));
     let names = Names::of(cpu);
     let point = |folder: &str, field: &str, device: &str| {
         let n = names.parse(device).ok()?;
         n.raw(cpu.memory()).ok()?;
         Point::new(
-            format!("{}/{folder}/{field}", crate::space::LOOPS_ID),
+            i,
+            format!("{folder_id}/{folder}/{field}"),
             field.to_string(),
             n,
         )
@@ -172,7 +200,11 @@ pub fn loops(cpu: &Cpu, programs: &[(String, Vec<LoopUse>)]) -> Vec<LoopFolder> 
             .iter()
             .filter_map(|(f, d)| point(&browse, f, d))
             .collect();
-            out.push(LoopFolder { browse, fields });
+            out.push(LoopFolder {
+                cpu: i,
+                browse,
+                fields,
+            });
         }
     }
     for l in softplc_http::process_loops::find_in(programs()) {
@@ -187,7 +219,11 @@ pub fn loops(cpu: &Cpu, programs: &[(String, Vec<LoopUse>)]) -> Vec<LoopFolder> 
         .iter()
         .filter_map(|(label, field)| point(&browse, label, &l.named(field)?))
         .collect();
-        out.push(LoopFolder { browse, fields });
+        out.push(LoopFolder {
+            cpu: i,
+            browse,
+            fields,
+        });
     }
     out
 }

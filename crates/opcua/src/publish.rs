@@ -33,12 +33,23 @@ pub struct Diag {
 }
 
 impl Diag {
+    /// CPU 1's (the only CPU's).
     pub fn of(s: &ServeState) -> Diag {
+        Diag::at(s, 0)
+    }
+
+    /// CPU `i`'s (0-based).
+    pub fn at(s: &ServeState, i: usize) -> Diag {
+        let cpu = s.cpu_at(i);
+        let exec = match i {
+            0 => s.stats.exec_us,
+            _ => s.stats.cpus.get(i).map_or(0, |c| c.exec_us),
+        };
         Diag {
-            state: s.cpu.state().as_str(),
-            scan: s.cpu.scans(),
-            scan_time_us: s.stats.exec_us.min(u32::MAX as u64) as u32,
-            error_code: s.cpu.error().map_or(0, |e| e.code.0),
+            state: cpu.state().as_str(),
+            scan: cpu.scans(),
+            scan_time_us: exec.min(u32::MAX as u64) as u32,
+            error_code: cpu.error().map_or(0, |e| e.code.0),
         }
     }
 
@@ -60,7 +71,8 @@ struct Pending {
     /// Points changed since the task last took them, each once.
     dirty: Vec<u32>,
     queued: Vec<bool>,
-    diag: Diag,
+    /// Each CPU's diagnostics, CPU 1's first.
+    diag: Vec<Diag>,
     diag_dirty: bool,
     /// When the latest END was.
     at: SystemTime,
@@ -82,6 +94,11 @@ impl Feed {
     /// A feed of the points of `space`, which start at `raw` with
     /// diagnostics `diag` (what the address space is built with).
     pub fn new(space: Arc<Space>, raw: Vec<u64>, diag: Diag) -> Arc<Feed> {
+        Feed::with_diags(space, raw, vec![diag])
+    }
+
+    /// [`Feed::new`] with each CPU's diagnostics (a multi-CPU system's).
+    pub fn with_diags(space: Arc<Space>, raw: Vec<u64>, diag: Vec<Diag>) -> Arc<Feed> {
         let n = raw.len();
         Arc::new(Feed {
             space,
@@ -104,19 +121,17 @@ impl Feed {
         &self.space
     }
 
-    /// The latest raw bits of every point and the diagnostics.
-    pub fn latest(&self) -> (Vec<u64>, Diag) {
+    /// The latest raw bits of every point and each CPU's diagnostics.
+    pub fn latest(&self) -> (Vec<u64>, Vec<Diag>) {
         match self.pending.lock() {
-            Ok(p) => (p.values.clone(), p.diag),
-            Err(e) => (e.get_ref().values.clone(), e.get_ref().diag),
+            Ok(p) => (p.values.clone(), p.diag.clone()),
+            Err(e) => (e.get_ref().values.clone(), e.get_ref().diag.clone()),
         }
     }
 
     /// Reads every point now (the engine thread, at END) and queues the
     /// changed ones; returns the `seq` that covers this END.
     pub fn sample(&self, s: &ServeState) -> u64 {
-        let diag = Diag::of(s);
-        let mem = s.cpu.memory();
         let Ok(mut guard) = self.pending.lock() else {
             return 0;
         };
@@ -125,7 +140,9 @@ impl Feed {
         for (k, point) in self.space.points.iter().enumerate() {
             // A point that cannot be read (an index register moved out of
             // range) keeps its last value.
-            let Ok(r) = point.name.raw(mem) else { continue };
+            let Ok(r) = point.name.raw(s.cpu_at(point.cpu).memory()) else {
+                continue;
+            };
             if r != p.values[k] {
                 p.values[k] = r;
                 if !p.queued[k] {
@@ -135,10 +152,13 @@ impl Feed {
                 any = true;
             }
         }
-        if diag != p.diag {
-            p.diag = diag;
-            p.diag_dirty = true;
-            any = true;
+        for (i, d) in p.diag.iter_mut().enumerate() {
+            let now = Diag::at(s, i);
+            if now != *d {
+                *d = now;
+                p.diag_dirty = true;
+                any = true;
+            }
         }
         if any {
             p.seq += 1;
@@ -190,9 +210,14 @@ pub async fn run(
         .iter()
         .map(|p| NodeId::new(ns, p.id.clone()))
         .collect();
-    let diag_ids: Vec<NodeId> = crate::space::DIAGNOSTICS
-        .iter()
-        .map(|(name, _)| NodeId::new(ns, crate::space::diagnostic_id(name)))
+    // Each CPU's diagnostics variables, in the order of `DIAGNOSTICS`.
+    let diag_ids: Vec<NodeId> = (0..space.cpus())
+        .flat_map(|cpu| {
+            let space = &space;
+            crate::space::DIAGNOSTICS
+                .iter()
+                .map(move |(name, _)| NodeId::new(ns, space.diagnostic(cpu, name)))
+        })
         .collect();
     let mut taken: Vec<u32> = Vec::new();
     let mut values: Vec<(usize, Variant)> = Vec::new();
@@ -210,7 +235,7 @@ pub async fn run(
                 values.push((k, variant(space.points[k].kind, p.values[k])));
             }
             taken.clear();
-            let diag = std::mem::take(&mut p.diag_dirty).then_some(p.diag);
+            let diag = std::mem::take(&mut p.diag_dirty).then(|| p.diag.clone());
             (p.at, diag, p.seq)
         };
         let stamp = ua_time(at);
@@ -224,9 +249,9 @@ pub async fn run(
         };
         let points = values.drain(..).map(|(k, v)| (&ids[k], None, dv(v)));
         let diags = diag
-            .map(|d| d.variants())
             .into_iter()
             .flatten()
+            .flat_map(|d| d.variants())
             .zip(&diag_ids)
             .map(|(v, id)| (id, None, dv(v)));
         // Every id is a node of this manager: set_values cannot miss one.
@@ -274,9 +299,9 @@ mod tests {
         let mut s = ServeState::new(cpu);
         let feed = Feed::new(space, vec![0; 4], Diag::of(&s));
         assert_eq!(feed.sample(&s), 0, "nothing changed");
-        d0.write_value(&mut s.cpu, &Value::Int(-7)).unwrap();
+        d0.write_value(s.cpu_mut(), &Value::Int(-7)).unwrap();
         assert_eq!(feed.sample(&s), 1);
-        d0.write_value(&mut s.cpu, &Value::Int(8)).unwrap();
+        d0.write_value(s.cpu_mut(), &Value::Int(8)).unwrap();
         assert_eq!(feed.sample(&s), 2);
         let p = feed.pending.lock().unwrap();
         // D0 queued once with its latest value.

@@ -6,6 +6,11 @@
 //!                /Loops/<loop>/SV, PV, MV, MODE, ALARM (MVMAN)
 //! ```
 //!
+//! A multi-CPU system (contract §6) has a folder per CPU, each with those
+//! three: `Objects/softplc/CPU2/Devices/D100` (NodeId `CPU2/D100`, the name
+//! with its CPU prefix), `…/CPU2/Diagnostics/State` (NodeId
+//! `/softplc/CPU2/Diagnostics/State`), `…/CPU2/Loops/<loop>/SV`.
+//!
 //! Every node is in the namespace `urn:softplc`. Folders, diagnostics and
 //! loop fields have NodeIds starting with `/` (`/softplc/Loops/…/SV`), which
 //! no device name does. Values are set by [`crate::publish`] at END; a write
@@ -56,26 +61,61 @@ pub struct Space {
     pub points: Vec<Point>,
     /// Device variables are `points[..devices]`.
     pub devices: usize,
-    /// Each loop folder's browse name and its fields' range in `points`.
-    pub loops: Vec<(String, std::ops::Range<usize>)>,
+    /// Each loop folder's CPU, browse name and its fields' range in `points`.
+    pub loops: Vec<(usize, String, std::ops::Range<usize>)>,
+    /// CPUs with a folder each (a multi-CPU system's); 0: one CPU, no CPU
+    /// folders.
+    pub cpu_folders: usize,
 }
 
 impl Space {
+    /// One CPU's space.
     pub fn new(devices: Vec<Point>, loops: Vec<LoopFolder>) -> Space {
+        Space::with_cpus(devices, loops, 0)
+    }
+
+    /// A multi-CPU system's space: a folder per CPU of `cpus`.
+    pub fn with_cpus(devices: Vec<Point>, loops: Vec<LoopFolder>, cpus: usize) -> Space {
         let n = devices.len();
         let mut points = devices;
         let mut folders = Vec::new();
         for l in loops {
             let start = points.len();
             points.extend(l.fields);
-            folders.push((l.browse, start..points.len()));
+            folders.push((l.cpu, l.browse, start..points.len()));
         }
         Space {
             points,
             devices: n,
             loops: folders,
+            cpu_folders: cpus,
         }
     }
+
+    /// CPUs whose diagnostics the space shows.
+    pub fn cpus(&self) -> usize {
+        self.cpu_folders.max(1)
+    }
+
+    /// The NodeId of CPU `cpu`'s folder `name` (`Devices`, `Diagnostics`,
+    /// `Loops`).
+    pub fn folder(&self, cpu: usize, name: &str) -> String {
+        if self.cpu_folders == 0 {
+            format!("{ROOT_ID}/{name}")
+        } else {
+            format!("{}/{name}", cpu_folder(cpu))
+        }
+    }
+
+    /// The NodeId of CPU `cpu`'s diagnostics variable `name`.
+    pub fn diagnostic(&self, cpu: usize, name: &str) -> String {
+        format!("{}/{name}", self.folder(cpu, "Diagnostics"))
+    }
+}
+
+/// The NodeId of CPU `cpu`'s (0-based) folder in a multi-CPU system.
+pub fn cpu_folder(cpu: usize) -> String {
+    format!("{ROOT_ID}/CPU{}", cpu + 1)
 }
 
 /// The raw bits of a point (as `DevName::raw`) as a value of its node's type.
@@ -147,7 +187,7 @@ impl SoftplcNodes {
         feed: Arc<crate::publish::Feed>,
     ) -> SoftplcNodes {
         let space = feed.space().clone();
-        let (raw, diag) = feed.latest();
+        let (raw, diags) = feed.latest();
         let ns =
             opcua::server::address_space::add_namespaces(context, address_space, &[NAMESPACE])[0];
         let id = |s: &str| NodeId::new(ns, s.to_string());
@@ -163,9 +203,18 @@ impl SoftplcNodes {
             "softplc",
             &ObjectId::ObjectsFolder.into(),
         );
-        folder(address_space, DEVICES_ID, "Devices", &id(ROOT_ID));
-        folder(address_space, DIAGNOSTICS_ID, "Diagnostics", &id(ROOT_ID));
-        folder(address_space, LOOPS_ID, "Loops", &id(ROOT_ID));
+        for cpu in 0..space.cpus() {
+            let parent = if space.cpu_folders == 0 {
+                id(ROOT_ID)
+            } else {
+                let c = cpu_folder(cpu);
+                folder(address_space, &c, &format!("CPU{}", cpu + 1), &id(ROOT_ID));
+                id(&c)
+            };
+            for name in ["Devices", "Diagnostics", "Loops"] {
+                folder(address_space, &space.folder(cpu, name), name, &parent);
+            }
+        }
         let writable = |p: &Point| !rule.read_only && !p.name.is_read_only();
         let mut index = HashMap::new();
         let mut variable = |a: &mut AddressSpace, k: usize, parent: &NodeId| {
@@ -190,31 +239,34 @@ impl SoftplcNodes {
             .insert(a);
             index.insert(node, k);
         };
-        let devices = id(DEVICES_ID);
         for k in 0..space.devices {
+            let devices = id(&space.folder(space.points[k].cpu, "Devices"));
             variable(address_space, k, &devices);
         }
-        for (name, range) in &space.loops {
-            let fid = format!("{LOOPS_ID}/{name}");
-            folder(address_space, &fid, name, &id(LOOPS_ID));
+        for (cpu, name, range) in &space.loops {
+            let loops = space.folder(*cpu, "Loops");
+            let fid = format!("{loops}/{name}");
+            folder(address_space, &fid, name, &id(&loops));
             for k in range.clone() {
                 variable(address_space, k, &id(&fid));
             }
         }
-        let diag_folder = id(DIAGNOSTICS_ID);
-        for ((name, ty), initial) in DIAGNOSTICS.into_iter().zip(diag.variants()) {
-            VariableBuilder::new(
-                &id(&diagnostic_id(name)),
-                QualifiedName::new(ns, name),
-                name,
-            )
-            .data_type(ty)
-            .value(initial)
-            .access_level(AccessLevel::CURRENT_READ)
-            .user_access_level(AccessLevel::CURRENT_READ)
-            .has_type_definition(VariableTypeId::BaseDataVariableType)
-            .organized_by(diag_folder.clone())
-            .insert(address_space);
+        for (cpu, diag) in diags.iter().enumerate() {
+            let diag_folder = id(&space.folder(cpu, "Diagnostics"));
+            for ((name, ty), initial) in DIAGNOSTICS.into_iter().zip(diag.variants()) {
+                VariableBuilder::new(
+                    &id(&space.diagnostic(cpu, name)),
+                    QualifiedName::new(ns, name),
+                    name,
+                )
+                .data_type(ty)
+                .value(initial)
+                .access_level(AccessLevel::CURRENT_READ)
+                .user_access_level(AccessLevel::CURRENT_READ)
+                .has_type_definition(VariableTypeId::BaseDataVariableType)
+                .organized_by(diag_folder.clone())
+                .insert(address_space);
+            }
         }
         SoftplcNodes {
             ns,
@@ -304,14 +356,17 @@ impl InMemoryNodeManagerImpl for SoftplcNodes {
             .at_end(move |s| {
                 let statuses: Vec<StatusCode> = jobs
                     .iter()
-                    .map(
-                        |(k, v)| match space.points[*k].name.write_value(&mut s.cpu, v) {
-                            Ok(()) => StatusCode::Good,
+                    .map(|(k, v)| {
+                        let p = &space.points[*k];
+                        match p.name.write_value(s.cpu_mut_at(p.cpu), v) {
+                            Ok(()) => {
+                                s.mark_wrote(p.cpu);
+                                StatusCode::Good
+                            }
                             Err(_) => StatusCode::BadOutOfRange,
-                        },
-                    )
+                        }
+                    })
                     .collect();
-                s.wrote |= statuses.iter().any(|c| c.is_good());
                 (statuses, feed.sample(s))
             })
             .await;

@@ -15,6 +15,9 @@ use std::time::{Duration, Instant};
 
 use softplc_core::engine::Cpu;
 use softplc_core::persist::Battery;
+use softplc_core::system::System;
+
+use crate::cpus::Cpus;
 
 /// Scan statistics of the real-time loop (what the CPU's SD520-SD527 show, plus
 /// the period's jitter).
@@ -43,40 +46,128 @@ pub struct ScanStats {
     /// How the real-time request went, for the log ("SCHED_FIFO priority 50",
     /// "not granted: Operation not permitted …", "not requested").
     pub realtime_note: String,
+    /// Each CPU's own scans, CPU 1 first (the fields above are the whole
+    /// loop's, their execution times CPU 1's).
+    pub cpus: Vec<CpuStats>,
+}
+
+/// One CPU's execution times and overruns (a multi-CPU system's CPUs scan
+/// at their own periods in one loop).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CpuStats {
+    /// Execution time of its last executed scan, and the least and most, µs
+    /// (as [`ScanStats::exec_us`]).
+    pub exec_us: u64,
+    pub exec_min_us: u64,
+    pub exec_max_us: u64,
+    /// Its scans whose next one was due before it ended.
+    pub overruns: u64,
+    timed: bool,
+}
+
+impl CpuStats {
+    fn record(&mut self, exec: u64) {
+        self.exec_min_us = if self.timed {
+            self.exec_min_us.min(exec)
+        } else {
+            exec
+        };
+        self.timed = true;
+        self.exec_us = exec;
+        self.exec_max_us = self.exec_max_us.max(exec);
+    }
 }
 
 /// Everything a request may touch, owned by the engine thread.
 pub struct ServeState {
-    pub cpu: Cpu,
+    /// The CPU, or a multi-CPU system's CPUs; requests address one of them.
+    pub cpus: Cpus,
     pub stats: ScanStats,
     /// Protocol state shared by all connections of one protocol (e.g. Modbus
     /// diagnostic counters), set up by the server that needs it.
     pub ext: Vec<Box<dyn std::any::Any + Send>>,
-    /// Set by a request that may have changed device memory (a write, a
-    /// remote operation): this END is committed to the state directory before
-    /// any reply goes out (acknowledged writes are never lost).
-    pub wrote: bool,
+    /// The CPUs a request may have changed the device memory of (a write, a
+    /// remote operation), one bit each ([`ServeState::mark_wrote`]): this
+    /// END is committed to their state directories before any reply goes
+    /// out (acknowledged writes are never lost).
+    wrote: u8,
+    /// Each CPU's battery-backed memory, committed after END processing.
+    batteries: Vec<Option<Battery>>,
     /// Replies of this END, sent after its commit.
     replies: Vec<Box<dyn FnOnce() + Send>>,
     /// Called on the engine thread after every scan, before the requests of
     /// its END (the web monitor's step, breakpoints and snapshots). Add one
     /// from a request with [`ServeState::add_hook`].
     hooks: Vec<Hook>,
+    /// The CPU whose scan ended last.
+    scanned: usize,
 }
 
 /// An END hook ([`ServeState::add_hook`]).
 pub type Hook = Box<dyn FnMut(&mut ServeState) + Send>;
 
 impl ServeState {
+    /// One CPU (its battery is [`EngineConfig::battery`]).
     pub fn new(cpu: Cpu) -> Self {
+        Self::with(Cpus::One(Box::new(cpu)), vec![None])
+    }
+
+    /// A multi-CPU system, each CPU with the battery-backed memory of its
+    /// project's state directory (CPU 1's first).
+    pub fn system(system: System, batteries: Vec<Option<Battery>>) -> Self {
+        let mut batteries = batteries;
+        batteries.resize_with(system.len(), || None);
+        Self::with(Cpus::System(system), batteries)
+    }
+
+    fn with(cpus: Cpus, batteries: Vec<Option<Battery>>) -> Self {
         ServeState {
-            cpu,
-            stats: ScanStats::default(),
+            stats: ScanStats {
+                cpus: vec![CpuStats::default(); cpus.len()],
+                ..ScanStats::default()
+            },
+            cpus,
             ext: Vec::new(),
-            wrote: false,
+            wrote: 0,
+            batteries,
             replies: Vec::new(),
             hooks: Vec::new(),
+            scanned: 0,
         }
+    }
+
+    /// CPU 1 (the only one of a single-CPU server).
+    pub fn cpu(&self) -> &Cpu {
+        self.cpus.get(0)
+    }
+
+    pub fn cpu_mut(&mut self) -> &mut Cpu {
+        self.cpus.get_mut(0)
+    }
+
+    /// CPU `i`, 0-based (`i <` [`Self::cpu_count`]).
+    pub fn cpu_at(&self, i: usize) -> &Cpu {
+        self.cpus.get(i)
+    }
+
+    pub fn cpu_mut_at(&mut self, i: usize) -> &mut Cpu {
+        self.cpus.get_mut(i)
+    }
+
+    /// Number of CPUs served (1-4).
+    pub fn cpu_count(&self) -> usize {
+        self.cpus.len()
+    }
+
+    /// The CPU (0-based) whose scan ended last: the END hooks run after it.
+    pub fn scanned(&self) -> usize {
+        self.scanned
+    }
+
+    /// A request changed (or may have changed) CPU `i`'s device memory: this
+    /// END is committed before its replies go out.
+    pub fn mark_wrote(&mut self, i: usize) {
+        self.wrote |= 1 << i.min(7);
     }
 
     /// Runs `hook` after every scan from the next one on, before the requests
@@ -173,7 +264,8 @@ pub struct EngineConfig {
     pub end_budget: Duration,
     /// Requests that may wait in the queue.
     pub queue: usize,
-    /// Battery-backed memory, committed after END processing.
+    /// Battery-backed memory of a single CPU, committed after END
+    /// processing (a system's are given to [`ServeState::system`]).
     pub battery: Option<Battery>,
     /// Print the scan statistics to stderr this often.
     pub log_every: Option<Duration>,
@@ -265,30 +357,39 @@ fn run(
             s.stats.realtime_note
         );
     }
-    let period = cfg.period;
-    let mut due = Instant::now();
+    if let Some(b) = cfg.battery.take() {
+        s.batteries[0] = Some(b);
+    }
+    let mut schedule = Schedule::new(&s.cpus, cfg.period);
     let mut jitter_sum = 0f64;
     let mut logged = Instant::now();
-    let mut timed = false;
     while !stop.load(Ordering::Relaxed) {
+        let (i, due) = schedule.next();
+        wait_until(due);
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
         beat.started.fetch_add(1, Ordering::Relaxed);
-        let executed = s.cpu.scans();
-        s.cpu.scan();
+        let executed = s.cpus.get(i).scans();
+        match &mut s.cpus {
+            Cpus::One(cpu) => cpu.scan(),
+            Cpus::System(sys) => sys.scan(i),
+        }
+        s.scanned = i;
         beat.finished.fetch_add(1, Ordering::Relaxed);
-        if s.cpu.scans() != executed {
+        if s.cpus.get(i).scans() != executed {
             // Only scans that executed (not STOP/PAUSE) count, as SD520.
             let exec = start.elapsed().as_micros() as u64;
-            let st = &mut s.stats;
-            st.exec_min_us = if timed {
-                st.exec_min_us.min(exec)
-            } else {
-                exec
-            };
-            timed = true;
-            st.exec_us = exec;
-            st.exec_max_us = st.exec_max_us.max(exec);
+            let c = &mut s.stats.cpus[i];
+            c.record(exec);
+            if i == 0 {
+                let st = &mut s.stats;
+                let c = &st.cpus[0];
+                (st.exec_us, st.exec_min_us, st.exec_max_us) =
+                    (c.exec_us, c.exec_min_us, c.exec_max_us);
+            }
         }
         s.run_hooks();
         // END processing: communication requests, within the budget.
@@ -304,23 +405,17 @@ fn run(
         }
         // Group commit: an END at which a request wrote is committed before any
         // reply of this END goes out, so an acknowledged write survives kill -9.
-        let wrote = std::mem::take(&mut s.wrote) && cfg.ack_after_commit;
-        let committed = match &mut cfg.battery {
-            Some(b) if wrote => b.commit(&s.cpu).map(|_| ()),
-            Some(b) => b.commit_due(&s.cpu).map(|_| ()),
-            None => Ok(()),
+        let wrote = if cfg.ack_after_commit {
+            std::mem::take(&mut s.wrote)
+        } else {
+            s.wrote = 0;
+            0
         };
-        match committed {
-            Ok(()) => s.replies.drain(..).for_each(|reply| reply()),
-            Err(e) => {
-                eprintln!("softplc: cannot save state: {e}");
-                // Not durable: no acknowledgement (the clients see "busy").
-                if wrote {
-                    s.replies.clear();
-                } else {
-                    s.replies.drain(..).for_each(|reply| reply());
-                }
-            }
+        if commit(&mut s, wrote) {
+            s.replies.drain(..).for_each(|reply| reply());
+        } else {
+            // Not durable: no acknowledgement (the clients see "busy").
+            s.replies.clear();
         }
         let busy = start.elapsed();
         let st = &mut s.stats;
@@ -343,23 +438,85 @@ fn run(
                 if st.realtime { "SCHED_FIFO" } else { "no" }
             );
         }
-        due += period;
-        let now = Instant::now();
-        if now > due {
-            // Overrun: the next scan starts at once and the schedule restarts.
+        if schedule.done(i) {
             st.overruns += 1;
-            due = now;
-            continue;
-        }
-        wait_until(due);
-    }
-    if let Some(b) = &mut cfg.battery {
-        if let Err(e) = b.commit(&s.cpu) {
-            eprintln!("softplc: cannot save state: {e}");
+            st.cpus[i].overruns += 1;
         }
     }
+    commit(&mut s, u8::MAX);
     s.replies.drain(..).for_each(|reply| reply());
     s
+}
+
+/// Commits each CPU's battery-backed memory: now for the CPUs in `wrote`
+/// (one bit each), else when its interval is due. False when a write could
+/// not be made durable.
+fn commit(s: &mut ServeState, wrote: u8) -> bool {
+    let mut durable = true;
+    for (i, b) in s.batteries.iter_mut().enumerate() {
+        let Some(b) = b else { continue };
+        let now = wrote & (1 << i.min(7)) != 0;
+        let cpu = s.cpus.get(i);
+        let r = if now {
+            b.commit(cpu).map(|_| ())
+        } else {
+            b.commit_due(cpu).map(|_| ())
+        };
+        if let Err(e) = r {
+            eprintln!("softplc: cannot save state: {e}");
+            durable &= !now;
+        }
+    }
+    durable
+}
+
+/// When each CPU scans next, on the monotonic clock: every CPU once per
+/// period (its constant scan in a system, else the engine's period) from
+/// the first scan, the earliest due first and CPU-number order among equals
+/// (as [`System::next_due`] in virtual time). After an overrun a CPU's next
+/// scan is due at once and its schedule restarts, so a slow CPU never holds
+/// the others back more than one scan.
+struct Schedule {
+    due: Vec<Instant>,
+    period: Vec<Duration>,
+}
+
+impl Schedule {
+    fn new(cpus: &Cpus, period: Duration) -> Schedule {
+        let now = Instant::now();
+        let period: Vec<Duration> = match cpus.system() {
+            None => vec![period],
+            Some(sys) => (0..sys.len())
+                .map(|i| sys.cpu(i).config().constant_scan.unwrap_or(period))
+                .collect(),
+        };
+        Schedule {
+            due: vec![now; period.len()],
+            period,
+        }
+    }
+
+    /// The CPU to scan next and when.
+    fn next(&self) -> (usize, Instant) {
+        self.due
+            .iter()
+            .copied()
+            .enumerate()
+            .min_by_key(|&(i, t)| (t, i))
+            .unwrap_or((0, Instant::now()))
+    }
+
+    /// After CPU `i`'s scan: true when it overran (its next scan was due
+    /// before this one ended).
+    fn done(&mut self, i: usize) -> bool {
+        self.due[i] += self.period[i];
+        let now = Instant::now();
+        if now > self.due[i] {
+            self.due[i] = now;
+            return true;
+        }
+        false
+    }
 }
 
 /// Real-time priority for the calling (engine) thread: SCHED_FIFO at the middle

@@ -9,6 +9,7 @@
 
 // pthread_setschedparam for the real-time engine thread.
 pub mod conns;
+pub mod cpus;
 #[allow(unsafe_code)]
 pub mod engine;
 pub mod mc;
@@ -21,7 +22,8 @@ use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-pub use engine::{Busy, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
+pub use cpus::Cpus;
+pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
 pub use tcp::{FrameLen, Protocol};
 
 /// A protocol server to start.
@@ -116,8 +118,13 @@ pub fn run(
         .worker_threads(2)
         .enable_all()
         .build()?;
-    // Stops the CPU even inside a scan that never ends.
-    let abort = state.cpu.abort_handle();
+    // Stops the CPUs even inside a scan that never ends.
+    let aborts = state.cpus.abort_handles();
+    let abort = move || {
+        for a in &aborts {
+            a.store(true, Ordering::Relaxed);
+        }
+    };
     let (handle, join) = engine::spawn(state, cfg, stop.clone());
     let lines: Vec<_> = serial
         .into_iter()
@@ -152,7 +159,7 @@ pub fn run(
         Ok(b) => b,
         Err(e) => {
             stop.store(true, Ordering::Relaxed);
-            abort.store(true, Ordering::Relaxed);
+            abort();
             let _ = join.join();
             return Err(e);
         }
@@ -185,7 +192,7 @@ pub fn run(
         }
     });
     stop.store(true, Ordering::Relaxed);
-    abort.store(true, Ordering::Relaxed);
+    abort();
     rt.shutdown_background();
     for l in lines {
         let _ = l.join();

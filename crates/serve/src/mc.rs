@@ -1,6 +1,8 @@
 //! The MC protocol (SLMP) server over TCP: 3E/4E frames, binary or ASCII,
 //! detected per frame (contract §3). Decoding and the commands are in
 //! `softplc-mc`; this adapter cuts frames from the stream and serves them at END.
+//! A multi-CPU system has one server: each frame's request destination module
+//! I/O number picks the CPU (`softplc_mc::destination`).
 //!
 //! Remote password guesses are throttled per peer address: after the n-th
 //! wrong unlock in a row from an address, unlocks from it are refused
@@ -13,7 +15,8 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use softplc_mc::{
-    decode_request, encode_response, handle, Command, EndCode, FrameError, Response, Session,
+    decode_request, destination, encode_response, handle_station, Command, EndCode, FrameError,
+    Response, Session,
 };
 
 use crate::engine::ServeState;
@@ -99,9 +102,14 @@ impl Mc {
             }
         }
         if req.command.changes_memory() {
-            s.wrote = true;
+            // An absent CPU changes nothing; a system's RESET may touch all.
+            match destination(req.header.io, s.cpu_count()) {
+                Ok(i) if !matches!(req.command, Command::RemoteReset) => s.mark_wrote(i),
+                Ok(_) => (0..s.cpu_count()).for_each(|i| s.mark_wrote(i)),
+                Err(_) => {}
+            }
         }
-        let resp = handle(&req, &mut s.cpu, session, self.password.as_deref());
+        let resp = handle_station(&req, &mut s.cpus, session, self.password.as_deref());
         if unlock {
             self.count_guess(ip, peer, matches!(resp, Response::Ok(_)), now);
         }

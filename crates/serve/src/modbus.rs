@@ -57,13 +57,13 @@ impl Protocol for ModbusTcp {
     ) -> Option<Vec<u8>> {
         let (frame, _) = decode(Proto::Tcp, frame).ok().flatten()?;
         if is_write_function(frame.function()) {
-            s.wrote = true;
+            s.mark_wrote(0);
         }
         // The lock is only ever taken on the engine thread: never contended.
         let mut slave = self.slave.lock().ok()?;
         // The slave's listen-only flag is this connection's for this request.
         slave.listen_only = session.listen_only;
-        let reply = softplc_modbus::serve(&mut slave, &self.map, &frame, &mut s.cpu);
+        let reply = softplc_modbus::serve(&mut slave, &self.map, &frame, s.cpu_mut());
         session.listen_only = std::mem::take(&mut slave.listen_only);
         reply
     }

@@ -218,9 +218,9 @@ pub fn spawn(
                         let m = map.clone();
                         let Ok((reply, s)) = engine.call(move |st| {
                             if softplc_modbus::is_write_function(frame.function()) {
-                                st.wrote = true;
+                                st.mark_wrote(0);
                             }
-                            let r = softplc_modbus::serve(&mut s, &m, &frame, &mut st.cpu);
+                            let r = softplc_modbus::serve(&mut s, &m, &frame, st.cpu_mut());
                             (r, s)
                         }) else {
                             return;

@@ -37,7 +37,7 @@ impl Protocol for Lines {
             format!("{} {}\n", s.stats.scans, n)
         } else {
             let spec = DeviceSpec::parse(text).ok()?;
-            format!("{}\n", s.cpu.read_device(&spec).ok()?)
+            format!("{}\n", s.cpu().read_device(&spec).ok()?)
         };
         Some(reply.into_bytes())
     }

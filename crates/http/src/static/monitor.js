@@ -7,6 +7,11 @@
   const $$ = (s, r) => Array.from((r || document).querySelectorAll(s));
   const page = document.body.dataset.page;
   const names = document.body.dataset.names;
+  // A multi-CPU system: this page's CPU (1-based) and the prefix of its
+  // names (none for CPU 1); the ladder shows its names without it.
+  const cpu = document.body.dataset.cpu;
+  const prefix = document.body.dataset.prefix || "";
+  const own = (n) => (prefix && !/^CPU\d\//i.test(n) ? prefix + n : n);
   let values = {};
   let forced = {};
 
@@ -38,7 +43,14 @@
   async function poll() {
     try {
       const r = await fetch("/api/v1/status", { credentials: "omit" });
-      const s = await r.json();
+      const all = await r.json();
+      // The bar shows this page's CPU; each tab its CPU's state.
+      (all.cpus || []).forEach((c) => {
+        const el = $("#cpu-state-" + c.cpu);
+        if (el) { el.textContent = c.state + (c.error ? " " + c.error.code : ""); el.className = "state s-" + c.state; }
+      });
+      const c = cpu && all.cpus ? all.cpus[Number(cpu) - 1] : null;
+      const s = c ? Object.assign({}, all, { state: c.state, scan: c.scans, scan_time_us: c.scan_time_us, error: c.error, model: c.model, overruns: c.overruns }) : all;
       $("#state").textContent = s.state;
       $("#state").className = "state s-" + s.state;
       $("#scan").textContent = s.scan;
@@ -71,7 +83,10 @@
 
   $$("button[data-op]").forEach((b) => b.addEventListener("click", async () => {
     const op = b.dataset.op;
-    const path = "/api/v1/cpu/" + op + (op === "step" ? "?scans=" + ($("#nscans").value || 1) : "");
+    const q = [];
+    if (op === "step") q.push("scans=" + ($("#nscans").value || 1));
+    if (cpu) q.push("cpu=" + cpu);
+    const path = "/api/v1/cpu/" + op + (q.length ? "?" + q.join("&") : "");
     try { const r = await api("POST", path); say(op.toUpperCase() + ": " + r.state + (r.scan != null ? " at scan " + r.scan : "")); poll(); } catch (e) {}
   }));
 
@@ -87,7 +102,7 @@
     const n = Number(text);
     return Number.isInteger(n) ? n : text.trim();
   }
-  const io = (n) => /^[XY][0-9A-F]+$/i.test(n || "");
+  const io = (n) => /^(CPU\d\/)?[XY][0-9A-F]+$/i.test(n || "");
   const menu = $("#menu");
   function showMenu(ev, name) {
     ev.preventDefault();
@@ -106,7 +121,7 @@
     menu.style.left = ev.pageX + "px"; menu.style.top = ev.pageY + "px"; menu.hidden = false;
   }
   document.addEventListener("click", (e) => { if (!menu.contains(e.target) && !e.target.closest(".el")) menu.hidden = true; });
-  $$(".el").forEach((g) => { if (g.dataset.dev) g.addEventListener("click", (e) => showMenu(e, g.dataset.dev)); });
+  $$(".el").forEach((g) => { if (g.dataset.dev) g.addEventListener("click", (e) => showMenu(e, own(g.dataset.dev))); });
   $$("td.edit").forEach((td) => {
     td.addEventListener("click", () => {
       const n = td.dataset.v; const old = values[n];
@@ -186,11 +201,13 @@
     });
   }
   function markForced() {
-    $$(".el").forEach((g) => g.classList.toggle("forced", g.dataset.dev in forced));
+    $$(".el").forEach((g) => g.classList.toggle("forced", own(g.dataset.dev) in forced));
     $$("td.fx").forEach((td) => { const f = forced[td.dataset.f]; td.textContent = f === undefined ? "" : "forced " + (f ? "ON" : "OFF"); });
   }
   function update(dev) {
     Object.assign(values, dev);
+    // The ladder's elements name this CPU's devices without the prefix.
+    if (prefix) Object.keys(dev).forEach((k) => { if (k.startsWith(prefix)) values[k.slice(prefix.length)] = dev[k]; });
     $$(".el").forEach((g) => {
       let v = values[g.dataset.dev];
       // A word-bit contact (APLC BLD D0 5): bit 5 of D0's value.
@@ -236,7 +253,8 @@
   }
   if (names) {
     const es = new EventSource("/api/v1/events?names=" + encodeURIComponent(names));
-    es.onmessage = (e) => { const d = JSON.parse(e.data); $("#scan").textContent = d.scan; update(d.devices); };
+    // An event's scan is CPU 1's: another CPU's bar takes its scans from status.
+    es.onmessage = (e) => { const d = JSON.parse(e.data); if (!cpu || cpu === "1") $("#scan").textContent = d.scan; update(d.devices); };
     es.onerror = () => say("live values interrupted; retrying", true);
   }
 

@@ -59,6 +59,11 @@ pub fn start_limited(src: &str, token: Option<&str>, limits: softplc_http::door:
 
 /// A server of `cpu` at a 5 ms constant scan with the web monitor of `http`.
 pub fn start_cpu(cpu: Cpu, http: HttpConfig) -> Server {
+    start_state(ServeState::new(cpu), http)
+}
+
+/// A server of `state` (one CPU or a multi-CPU system) at a 5 ms period.
+pub fn start_state(state: ServeState, http: HttpConfig) -> Server {
     let engine = EngineConfig {
         period: Duration::from_millis(5),
         end_budget: Duration::from_millis(2),
@@ -69,7 +74,7 @@ pub fn start_cpu(cpu: Cpu, http: HttpConfig) -> Server {
         ack_after_commit: true,
     };
     let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), http);
-    let bg = Background::start(ServeState::new(cpu), engine, vec![l], vec![]).unwrap();
+    let bg = Background::start(state, engine, vec![l], vec![]).unwrap();
     Server {
         addr: bg.addrs[0],
         bg: Some(bg),
