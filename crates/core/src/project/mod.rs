@@ -271,7 +271,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
             cx.error(
                 &e.key_span,
                 format!(
-                    "a {} is never part of a multi-CPU system: [multi_cpu] is for MELSEC-Q CPUs",
+                    "an {} is never part of a multi-CPU system: [multi_cpu] is for MELSEC-Q CPUs",
                     config.profile.model
                 ),
             );

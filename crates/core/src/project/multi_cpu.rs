@@ -188,16 +188,21 @@ fn stop_all(cx: &mut Ctx, e: &Entry, cpus: u32, out: &mut [bool; 4]) -> Option<(
         return None;
     };
     for c in t {
-        let n = match c.key.parse::<u32>() {
-            Ok(n) if (2..=cpus).contains(&n) => n,
-            _ => {
-                cx.error(
-                    &c.key_span,
-                    format!("stop_all: `{}` is not a CPU 2-{cpus} (CPU 1's stop error always stops every CPU)", c.key),
-                );
-                return None;
-            }
-        };
+        let n =
+            match c.key.parse::<u32>() {
+                Ok(n) if (2..=cpus).contains(&n) => n,
+                _ => {
+                    cx.error(
+                        &c.key_span,
+                        format!(
+                        "stop_all: `{}` is not CPU {} (CPU 1's stop error always stops every CPU)",
+                        c.key,
+                        if cpus == 2 { "2".to_string() } else { format!("2-{cpus}") }
+                    ),
+                    );
+                    return None;
+                }
+            };
         out[n as usize - 1] = cx.bool(c, "true (all stop) or false (the others go on)")?;
     }
     Some(())
@@ -232,7 +237,7 @@ fn refresh(
         _ => {
             cx.error(
                 &d.item.span,
-                format!("refresh setting {k}: device \"{text}\" must be B, M, Y, D, W, R or ZR (004 L8860-8868)"),
+                format!("refresh setting {k}: device \"{text}\" must be B, M, Y, D, W, R or ZR"),
             );
             return None;
         }
