@@ -139,6 +139,7 @@ fn scans_do_not_allocate(exec: Exec) {
             exec: *e,
             interval: *i,
             sim_time: None,
+            local_devices: true,
         })
         .collect();
     let clock = VirtualClock::new();
