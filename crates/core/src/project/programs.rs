@@ -167,7 +167,7 @@ pub(crate) fn programs(
             if crate::profile::is_aplc(config.profile) {
                 cx.error(
                     &e.key_span,
-                    format!("a {} has no local devices", config.profile.model),
+                    format!("the {} has no local devices", config.profile.model),
                 );
             } else if let Some(b) = cx.bool(
                 e,
