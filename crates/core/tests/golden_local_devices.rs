@@ -69,7 +69,11 @@ fn a_program_not_using_local_devices_runs_on_the_previous_programs() {
     let mut p = Plc::project(
         &toml(
             LOCAL_D,
-            &[("a.il", ""), ("b.il", "local_devices = false"), ("c.il", "")],
+            &[
+                ("a.il", ""),
+                ("b.il", "local_devices = false"),
+                ("c.il", ""),
+            ],
         ),
         &[("a.il", a), ("b.il", b), ("c.il", c)],
     );
@@ -323,7 +327,10 @@ fn a_local_device_is_never_latched() {
         .map(|(n, _)| n)
         .collect();
     assert!(names.contains(&"latch:D100-199".to_string()), "{names:?}");
-    assert!(!names.iter().any(|n| n.starts_with("latch:D0-")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n.starts_with("latch:D0-")),
+        "{names:?}"
+    );
 }
 
 /// Errors at the offending value, as every plc.toml key reports them.
@@ -365,7 +372,9 @@ fn plc_toml_errors() {
         ["3:17: local_devices must be true (the project's local devices, default) or false (not used), not a string"]
     );
     assert_eq!(
-        errors("[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"main.il\"\nlocal_devices = false\n"),
+        errors(
+            "[cpu]\nmodel = \"APLC-TCP\"\n[[program]]\nfile = \"main.il\"\nlocal_devices = false\n"
+        ),
         ["5:1: the APLC-TCP has no local devices"]
     );
 }

@@ -223,7 +223,8 @@ impl LocalDevices {
             Entry::Call => self.relays.map(|r| r.at_call),
             Entry::Interrupt => self.relays.map(|r| r.in_interrupts),
         };
-        if !relay.is_some_and(|b| mem.bits.get(b as usize) == Some(&true)) {
+        let on = relay.is_some_and(|b| mem.bits.get(b as usize) == Some(&true));
+        if !on {
             return None;
         }
         let back = self.owner;
@@ -325,11 +326,11 @@ pub(crate) fn without_locals(latch: &[LatchRange], locals: &[LocalRange]) -> Vec
                 })
                 .collect();
         }
-        out.extend(pieces.into_iter().map(|(start, end)| LatchRange {
-            start,
-            end,
-            ..*r
-        }));
+        out.extend(
+            pieces
+                .into_iter()
+                .map(|(start, end)| LatchRange { start, end, ..*r }),
+        );
     }
     out
 }

@@ -164,7 +164,9 @@ impl Cpu {
         z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
         self.rt.in_interrupt = true;
         self.int_counts[n] = self.int_counts[n].wrapping_add(1);
-        let back = self.rt.enter_locals(i, crate::local_devices::Entry::Interrupt);
+        let back = self
+            .rt
+            .enter_locals(i, crate::local_devices::Entry::Interrupt);
         let out = exec::run(
             &self.programs,
             &self.natives,
