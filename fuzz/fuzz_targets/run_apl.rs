@@ -9,7 +9,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let clock = VirtualClock::new();
-    let p = LoadedProgram { program, exec: Default::default(), interval: None, sim_time: None };
+    let p = LoadedProgram { program, exec: Default::default(), interval: None, sim_time: None, local_devices: true };
     if let Ok(mut cpu) = Cpu::with_programs(vec![p], softplc_core::aplc::cpu_config(), Box::new(clock.clone())) {
         for _ in 0..3 {
             clock.advance_us(10_000);

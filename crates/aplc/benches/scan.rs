@@ -50,6 +50,7 @@ fn cpu(src: &str) -> (Cpu, VirtualClock) {
         exec: Default::default(),
         interval: None,
         sim_time: None,
+        local_devices: true,
     };
     let cpu = Cpu::with_programs(vec![p], cfg, Box::new(clock.clone())).expect("cpu");
     (cpu, clock)

@@ -54,6 +54,7 @@ pub fn single_cpu(
             exec: Default::default(),
             interval: None,
             sim_time: None,
+            local_devices: true,
         }],
         cfg,
         clock,

@@ -443,6 +443,7 @@ fn low_speed_cpu(
             exec: *exec,
             interval: None,
             sim_time: Some(Duration::from_millis(*ms)),
+            local_devices: true,
         })
         .collect();
     let clock = VirtualClock::new();

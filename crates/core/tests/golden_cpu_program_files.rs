@@ -27,6 +27,7 @@ fn linked(
                 exec: *exec,
                 interval: None,
                 sim_time: None,
+                local_devices: true,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;
@@ -107,6 +108,7 @@ fn programs_must_match_the_cpus_device_points() {
         exec: ExecType::Scan,
         interval: None,
         sim_time: None,
+        local_devices: true,
     }];
     let e = Cpu::with_programs(loaded, cfg, Box::new(VirtualClock::new()))
         .err()

@@ -202,6 +202,7 @@ fn pidinit_and_pidcont_in_different_program_files() {
         exec: *e,
         interval: None,
         sim_time: None,
+        local_devices: true,
     })
     .collect();
     let clock = VirtualClock::new();

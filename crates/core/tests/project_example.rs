@@ -34,24 +34,28 @@ fn example_project_loads() {
                 exec: ExecType::Initial,
                 interval: None,
                 sim_time: None,
+                local_devices: true,
             },
             ProgramSpec {
                 file: dir.join("main.il"),
                 exec: ExecType::Scan,
                 interval: None,
                 sim_time: None,
+                local_devices: true,
             },
             ProgramSpec {
                 file: dir.join("fast.il"),
                 exec: ExecType::FixedScan,
                 interval: Some(ms(50)),
                 sim_time: None,
+                local_devices: true,
             },
             ProgramSpec {
                 file: dir.join("stats.il"),
                 exec: ExecType::Standby,
                 interval: None,
                 sim_time: None,
+                local_devices: true,
             },
         ]
     );

@@ -10,6 +10,7 @@
 //! [`Pass::op`] (through [`Host`]), so every op has the one implementation
 //! here.
 
+use super::local_devices::Entry;
 use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
 use softplc_ir::device::DeviceMemory;
@@ -496,6 +497,8 @@ fn op<const OUT_OF_LINE: bool>(
                 }
                 rt.calls.push((cur as u32, next as u32));
                 let mc_off = rt.mc_off;
+                // On the caller's local devices or its file's (004 §10.13.1 (e)).
+                let back = rt.enter_locals(*slot as usize, Entry::Call);
                 let out = run(
                     k.progs,
                     k.natives,
@@ -504,6 +507,7 @@ fn op<const OUT_OF_LINE: bool>(
                     *slot as usize,
                     *target as usize,
                 );
+                rt.leave_locals(back);
                 rt.mc_off = mc_off;
                 match out {
                     Outcome::Return => {}

@@ -10,6 +10,7 @@
 mod cpu;
 mod exec;
 mod link;
+mod local_devices;
 pub mod tier;
 pub mod trace;
 
@@ -94,6 +95,17 @@ pub struct LatchRange {
     pub clearable: bool,
 }
 
+/// A local-device range (PLC parameter "device setting", 004 §10.13.1):
+/// numbers `start..=end` of one device are each program's own. `kind` is
+/// M, V, D, or the contact kind TS, STS, CS that stands for a timer's,
+/// retentive timer's or counter's contact, coil and current value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LocalRange {
+    pub kind: DeviceKind,
+    pub start: u32,
+    pub end: u32,
+}
+
 /// A device initial value (004 §10.13.2), written at power-on and STOP→RUN.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InitialValue {
@@ -125,8 +137,12 @@ pub struct CpuConfig {
     /// Initial-program execution monitor time; `None` = off.
     pub initial_monitor: Option<Duration>,
     pub stop_to_run_output: StopToRunOutput,
-    /// Latch ranges; by default L0-L8191 is latch (1).
+    /// Latch ranges; by default L0-L8191 is latch (1). A part that is a
+    /// local device is not latched (004 L3552).
     pub latch: Vec<LatchRange>,
+    /// Local-device ranges, at most one per device (none by default: every
+    /// device is global).
+    pub local_devices: Vec<LocalRange>,
     /// Fixed-cycle interrupt periods of I28, I29, I30, I31 (default 100/40/20/10 ms).
     pub interrupt_periods: [Duration; 4],
     /// Interrupt counters: the counter numbers that count I0, I1 … I255
@@ -170,6 +186,7 @@ impl CpuConfig {
                 end: 8191,
                 clearable: true,
             }],
+            local_devices: Vec::new(),
             interrupt_periods: [
                 Duration::from_millis(100),
                 Duration::from_millis(40),
@@ -236,6 +253,8 @@ pub(crate) struct Runtime {
     pub input_spans: Box<[(u32, u32)]>,
     /// Forced X/Y (`cpu/force.rs`).
     pub forces: Vec<cpu::Force>,
+    /// The programs' local devices; `None` without local-device ranges.
+    pub local_devices: Option<local_devices::LocalDevices>,
 }
 
 /// Entries kept in the error history (004 §7.20.2).

@@ -95,6 +95,20 @@ pub struct TraceRelays {
     pub complete: u32,
 }
 
+/// Flat bit indices of the relays that choose whose local devices run
+/// (004 §10.13.1 (e), (f)): read whenever a subroutine of another file is
+/// called or an interrupt or fixed-scan program starts, so a change takes
+/// effect at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LocalDeviceRelays {
+    /// ON: a subroutine called in another file works on that file's local
+    /// devices; OFF: on the caller's.
+    pub at_call: u32,
+    /// ON: an interrupt or fixed-scan program works on its own file's local
+    /// devices; OFF: on those of the program it interrupted.
+    pub in_interrupts: u32,
+}
+
 /// What the system sees at END besides device memory.
 pub struct EndCtx<'a> {
     pub mem: &'a mut DeviceMemory,
@@ -178,6 +192,12 @@ pub trait System: Send + Sync + std::fmt::Debug {
     /// The relays of the sampling trace in a memory of `map`, `None` when
     /// the family shows none.
     fn trace_relays(&self, _map: &DeviceMap) -> Option<TraceRelays> {
+        None
+    }
+    /// The relays that choose whose local devices a called subroutine and
+    /// an interrupt or fixed-scan program use, in a memory of `map`; `None`
+    /// when the family has none (both read OFF).
+    fn local_device_relays(&self, _map: &DeviceMap) -> Option<LocalDeviceRelays> {
         None
     }
 }

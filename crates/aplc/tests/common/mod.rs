@@ -37,6 +37,7 @@ pub fn plc_with(src: &str, config: CpuConfig) -> Plc {
             exec: Default::default(),
             interval: None,
             sim_time: None,
+            local_devices: true,
         }],
         config,
         Box::new(clock.clone()),

@@ -1,5 +1,6 @@
 //! `[devices]`: device points (PLC parameter "device setting", 004 §10.2,
-//! L5952-6012) and the file register size.
+//! L5952-6012) and the file register size; its local-device ranges are
+//! `local.rs`'s.
 
 use std::ops::Range;
 
@@ -44,6 +45,8 @@ const FIXED: &[(&str, DeviceKind)] = {
 
 /// The file-register key: points of ZR (R is the first 32K of it).
 pub(crate) const FILE_REGISTER: &str = "file_register";
+/// The local-device ranges (read by `local.rs` once the points are known).
+pub(crate) const LOCAL: &str = "local";
 
 /// Points of one device: 16-point units, at most 32K (004 L5968-5970).
 const MAX_POINTS: i64 = 32 * 1024;
@@ -60,7 +63,7 @@ fn key_list() -> Vec<&'static str> {
     CHANGEABLE
         .iter()
         .map(|(k, _)| *k)
-        .chain([FILE_REGISTER])
+        .chain([FILE_REGISTER, LOCAL])
         .collect()
 }
 
@@ -71,6 +74,9 @@ pub(crate) fn devices(cx: &mut Ctx, t: &[Entry], table_at: Range<usize>, cfg: &m
     let mut seen: Vec<String> = Vec::new();
     for e in t {
         let up = e.key.to_ascii_uppercase();
+        if e.key == LOCAL {
+            continue;
+        }
         if e.key == FILE_REGISTER {
             if let Some(n) = points(cx, e, MAX_FILE_REGISTER, 1024, "1K-point (1024) units") {
                 cfg.set_points(DeviceKind::ZR, n);

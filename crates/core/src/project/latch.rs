@@ -27,7 +27,7 @@ fn family(kind: DeviceKind) -> DeviceKind {
     }
 }
 
-fn family_name(kind: DeviceKind) -> &'static str {
+pub(super) fn family_name(kind: DeviceKind) -> &'static str {
     match kind {
         DeviceKind::TS => "T",
         DeviceKind::STS => "ST",
@@ -54,11 +54,11 @@ fn allowed_list(allowed: &[DeviceKind]) -> String {
 }
 
 /// One range as read: device family, first and last number, and its text.
-struct Spec<'t> {
-    family: DeviceKind,
-    start: u32,
-    end: u32,
-    text: &'t str,
+pub(super) struct Spec<'t> {
+    pub family: DeviceKind,
+    pub start: u32,
+    pub end: u32,
+    pub text: &'t str,
 }
 
 /// Reads `[latch]` (absent: `None`) into the latch ranges of the CPU.
@@ -92,7 +92,20 @@ pub(crate) fn latch(cx: &mut Ctx, t: Option<&[Entry]>, devices: &DeviceConfig) -
             else {
                 continue;
             };
-            let Some(spec) = parse_range(cx, item, text, key, allowed, devices) else {
+            let not_allowed = |fam: DeviceKind| {
+                if allowed.contains(&fam) {
+                    None
+                } else if fam == DeviceKind::L {
+                    Some("L is always latched (latch (1)) over its whole range; put a part of it in latch2 to keep it through latch clear".to_string())
+                } else {
+                    Some(format!(
+                        "{} cannot be in {key}; {key} allows {}",
+                        family_name(fam),
+                        allowed_list(allowed)
+                    ))
+                }
+            };
+            let Some(spec) = parse_range(cx, item, text, devices, not_allowed) else {
                 continue;
             };
             if let Some(prev) = specs[n].iter().find(|s| s.family == spec.family) {
@@ -155,14 +168,14 @@ fn range(kind: DeviceKind, start: u32, end: u32, clearable: bool) -> LatchRange 
     }
 }
 
-/// `D1000-D1999` or a single device `D5`.
-fn parse_range<'t>(
+/// `D1000-D1999` or a single device `D5`, of a device family that
+/// `not_allowed` has no objection to (its message otherwise).
+pub(super) fn parse_range<'t>(
     cx: &mut Ctx,
     item: &'t Item,
     text: &'t str,
-    key: &str,
-    allowed: &[DeviceKind],
     devices: &DeviceConfig,
+    not_allowed: impl Fn(DeviceKind) -> Option<String>,
 ) -> Option<Spec<'t>> {
     let (a, b) = match text.split_once('-') {
         Some((a, b)) => (a.trim(), b.trim()),
@@ -192,16 +205,7 @@ fn parse_range<'t>(
         );
         return None;
     }
-    if !allowed.contains(&fam) {
-        let msg = if fam == DeviceKind::L {
-            "L is always latched (latch (1)) over its whole range; put a part of it in latch2 to keep it through latch clear".to_string()
-        } else {
-            format!(
-                "{} cannot be in {key}; {key} allows {}",
-                family_name(fam),
-                allowed_list(allowed)
-            )
-        };
+    if let Some(msg) = not_allowed(fam) {
         cx.error(&item.span, msg);
         return None;
     }

@@ -15,6 +15,7 @@ mod ctx;
 mod devices;
 mod initial;
 mod latch;
+mod local;
 pub mod multi_cpu;
 mod ports;
 mod programs;
@@ -48,6 +49,9 @@ pub struct ProgramSpec {
     pub interval: Option<Duration>,
     /// Simulated execution time of one run (`sim_time`, virtual time only).
     pub sim_time: Option<Duration>,
+    /// `local_devices`: the program has its own local devices (default), or
+    /// with `false` ("not used") runs on the previous program's.
+    pub local_devices: bool,
 }
 
 /// A loaded project.
@@ -254,6 +258,11 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
             state_dir = dir.join(d);
         }
     }
+    if let Some(e) = section("devices") {
+        if let Value::Table(t) = &e.item.value {
+            config.local_devices = local::local(&mut cx, t, &config.devices);
+        }
+    }
     let latch_table = table(&mut cx, "latch");
     config.latch = latch::latch(&mut cx, latch_table, &config.devices);
     if let Some(t) = table(&mut cx, "initial") {
@@ -338,6 +347,7 @@ impl Project {
                     exec: crate::engine::ExecType::Scan,
                     interval: None,
                     sim_time: None,
+                    local_devices: true,
                 });
             }
             return crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(
@@ -364,6 +374,7 @@ impl Project {
                     exec: spec.exec,
                     interval: spec.interval,
                     sim_time: spec.sim_time,
+                    local_devices: spec.local_devices,
                 }),
                 Err(d) => diags.extend(d.0),
             }

@@ -58,7 +58,7 @@ pub(crate) fn programs(
         cx.unknown_keys(
             t,
             Some("[[program]]"),
-            &["file", "type", "interval", "sim_time"],
+            &["file", "type", "interval", "sim_time", "local_devices"],
         );
         let get = |k: &str| t.iter().find(|e| e.key == k);
         // file
@@ -160,12 +160,29 @@ pub(crate) fn programs(
                 }
             }
         }
+        // local_devices: the program's "local device" file setting (004
+        // L1370-1381): true "use the PLC file setting", false "not used".
+        let mut local_devices = true;
+        if let Some(e) = get("local_devices") {
+            if crate::profile::is_aplc(config.profile) {
+                cx.error(
+                    &e.key_span,
+                    format!("the {} has no local devices", config.profile.model),
+                );
+            } else if let Some(b) = cx.bool(
+                e,
+                "true (the project's local devices, default) or false (not used)",
+            ) {
+                local_devices = b;
+            }
+        }
         if let (Some(file), Some(exec)) = (file, exec) {
             out.push(ProgramSpec {
                 file,
                 exec,
                 interval,
                 sim_time,
+                local_devices,
             });
         }
     }

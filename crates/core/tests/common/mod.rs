@@ -89,6 +89,7 @@ impl Plc {
                 exec: *exec,
                 interval: *interval,
                 sim_time: None,
+                local_devices: true,
             })
             .collect();
         let clock = VirtualClock::new();

@@ -151,8 +151,9 @@ impl Cpu {
     }
 
     /// Runs interrupt program `In`, saving and restoring Z0-Z15 around it (the
-    /// default, not "high-speed execution", 004 L1270-1290). Without a
-    /// program nothing runs.
+    /// default, not "high-speed execution", 004 L1270-1290), on its file's
+    /// local devices or the interrupted program's (004 §10.13.1 (f)).
+    /// Without a program nothing runs.
     pub(super) fn run_interrupt(&mut self, n: usize) -> bool {
         let Some((i, pc)) = self.interrupts[n] else {
             return true;
@@ -163,6 +164,9 @@ impl Cpu {
         z[..zn.min(16)].copy_from_slice(&self.rt.mem.words[zb..zb + zn.min(16)]);
         self.rt.in_interrupt = true;
         self.int_counts[n] = self.int_counts[n].wrapping_add(1);
+        let back = self
+            .rt
+            .enter_locals(i, crate::local_devices::Entry::Interrupt);
         let out = exec::run(
             &self.programs,
             &self.natives,
@@ -171,6 +175,7 @@ impl Cpu {
             i,
             pc as usize,
         );
+        self.rt.leave_locals(back);
         self.rt.in_interrupt = false;
         self.rt.mem.words[zb..zb + zn.min(16)].copy_from_slice(&z[..zn.min(16)]);
         self.outcome(out)

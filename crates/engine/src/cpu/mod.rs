@@ -45,6 +45,11 @@ pub struct LoadedProgram {
     /// constant-scan spare time or low-speed execution time low-speed programs
     /// use (004 §4.2.3).
     pub sim_time: Option<Duration>,
+    /// The program's "local device" file setting: `true` ("use the PLC
+    /// file setting", the default) gives it its own copy of the local-device
+    /// ranges; `false` ("not used") runs it on whatever local devices the
+    /// program before it left (004 L1381, §10.13.1 (d) 3)).
+    pub local_devices: bool,
 }
 
 /// One row of the program monitor list (004 §7.11, qcpu.md §4.9): execution
@@ -141,6 +146,7 @@ impl Cpu {
             exec: ExecType::Scan,
             interval: None,
             sim_time: None,
+            local_devices: true,
         };
         Cpu::with_programs(vec![p], cfg, clock)
             .expect("the program was compiled for the CPU's device points")
@@ -151,9 +157,10 @@ impl Cpu {
     /// no program defines, a common or interrupt pointer defined twice.
     pub fn with_programs(
         programs: Vec<LoadedProgram>,
-        cfg: CpuConfig,
+        mut cfg: CpuConfig,
         clock: Box<dyn Clock>,
     ) -> Result<Cpu, String> {
+        cfg.latch = crate::local_devices::without_locals(&cfg.latch, &cfg.local_devices);
         let mut mem = DeviceMemory::new(&cfg.devices);
         let r_block = cfg.system.r_block(&mem.map);
         mem.map.set_r_block(r_block);
@@ -174,6 +181,13 @@ impl Cpu {
                 exec: p.exec,
             })
             .collect();
+        let uses_locals: Vec<bool> = programs.iter().map(|p| p.local_devices).collect();
+        let local_devices = crate::local_devices::LocalDevices::new(
+            &cfg.local_devices,
+            &uses_locals,
+            &mem,
+            cfg.system.local_device_relays(&mem.map),
+        )?;
         let mut programs: Vec<Program> = programs.into_iter().map(|p| p.program).collect();
         // Compiled indices are only valid for the device layout they were compiled
         // for (004 §10: device points are a parameter).
@@ -217,6 +231,7 @@ impl Cpu {
             inputs: vec![false; x].into_boxed_slice(),
             input_spans: rack::input_spans(&cfg.rack, x as u32),
             forces: Vec::new(),
+            local_devices,
             system: cfg.system.clone(),
         };
         let rack = rack::RackState::new(&cfg.rack, &rt.mem);
@@ -344,6 +359,14 @@ impl Cpu {
 
     pub fn memory(&self) -> &DeviceMemory {
         &self.rt.mem
+    }
+
+    /// The program file (slot in parameter order) whose local devices
+    /// device memory holds — what names, MC and HTTP read and write in a
+    /// local range —, `None` when no program's are (no local devices, or
+    /// none has run since they were cleared).
+    pub fn local_devices_owner(&self) -> Option<usize> {
+        self.rt.local_devices.as_ref().and_then(|l| l.owner())
     }
 
     /// The watchdog time the scan checks in wall-clock time (see

@@ -2,6 +2,7 @@
 //! programs and the interrupt service (004 §4.2; interrupts in `interrupts.rs`).
 
 use super::*;
+use crate::local_devices::Entry;
 use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
 
 impl Cpu {
@@ -275,6 +276,13 @@ impl Cpu {
 
     pub(super) fn run_slot(&mut self, i: usize) -> bool {
         self.busy_us += self.slots[i].cost_us;
+        // Whose local devices it runs on: a fixed-scan program's are an
+        // interrupt program's (004 §10.13.1 (d), (f)).
+        let entry = match self.slots[i].exec {
+            ExecType::FixedScan => Entry::Interrupt,
+            _ => Entry::Program,
+        };
+        let back = self.rt.enter_locals(i, entry);
         let t = std::time::Instant::now();
         let out = exec::run(
             &self.programs,
@@ -284,6 +292,7 @@ impl Cpu {
             i,
             0,
         );
+        self.rt.leave_locals(back);
         let ns = t.elapsed().as_nanos() as u64;
         let s = &mut self.slots[i];
         s.count = s.count.wrapping_add(1);

@@ -196,6 +196,11 @@ impl Cpu {
         for l in &mut self.locals {
             l.clear();
         }
+        // Local devices are cleared at power-on, RESET and STOP→RUN (004
+        // L1952, §10.13.1 (g)), before the device initial values.
+        if let Some(l) = &mut self.rt.local_devices {
+            l.clear(&mut self.rt.mem, &mut self.rt.cpu.timer_rem);
+        }
         self.rt.shared.fill(0);
         for s in &mut self.slots {
             s.next_due_us = now + s.interval_us;
@@ -227,7 +232,9 @@ impl Cpu {
         self.rt.system.initialised(&mut self.rt.mem);
     }
 
-    /// Clears every device except the latch ranges and the file registers.
+    /// Clears every device except the latch ranges, the file registers and
+    /// the local devices (cleared only with the programs' copies, by
+    /// power-on, RESET and STOP→RUN: 004 §10.13.1 (g)).
     ///
     /// Only the gaps between the kept spans are written: the file registers
     /// (1 MB by default) are neither copied nor touched, so power-on and RESET
@@ -245,6 +252,10 @@ impl Cpu {
                     keep_words.push((start, len));
                 }
             }
+        }
+        if let Some(l) = &self.rt.local_devices {
+            keep_bits.extend_from_slice(l.bit_spans());
+            keep_words.extend_from_slice(l.word_spans());
         }
         fill_outside(&mut mem.bits, &mut keep_bits, false);
         fill_outside(&mut mem.words, &mut keep_words, 0);

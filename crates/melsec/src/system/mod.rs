@@ -19,7 +19,8 @@ use std::sync::Arc;
 use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{
-    End, EndCtx, ErrorReport, LowSpeed, ScanStart, Severity, Status, System, TraceRelays,
+    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, ScanStart, Severity, Status, System,
+    TraceRelays,
 };
 
 /// SD648: the file-register block number R addresses (004 §10.7, RSET).
@@ -131,6 +132,15 @@ impl System for Melsec {
             trigger: sm(803)?,
             after_trigger: sm(804)?,
             complete: sm(805)?,
+        })
+    }
+
+    /// SM776 local devices at CALL, SM777 local devices in interrupt and
+    /// fixed-scan programs (004 §10.13.1 (e), (f), App. 1).
+    fn local_device_relays(&self, map: &DeviceMap) -> Option<LocalDeviceRelays> {
+        Some(LocalDeviceRelays {
+            at_call: map.index(DeviceKind::SM, 776)?,
+            in_interrupts: map.index(DeviceKind::SM, 777)?,
         })
     }
 }
