@@ -352,3 +352,41 @@ fn s_to_reaches_the_other_cpu() {
     s.run_ms(10);
     assert_eq!(s.error(0), Some(4101));
 }
+
+/// The auto refresh runs at END in RUN, STOP and PAUSE, and not after a
+/// stop error: the others keep the last data (L8759-8766). CPU 2 writes its
+/// D2 from outside while stopped or paused; CPU 1 keeps receiving it.
+#[test]
+fn refresh_in_stop_and_pause_not_after_a_stop_error() {
+    let params = "[multi_cpu]\ncpus = 2\nstop_all = { 2 = false }\n\
+        [[multi_cpu.refresh]]\ndevice = \"D0\"\nwords = [2, 2]\n";
+    let cpu2 = format!("{params}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[
+        (params, IDLE),
+        (&cpu2, "LD X0\nMOV K0 D10\n/ K10 D10 D11\nEND\n"),
+    ]);
+    let set_d2 = |s: &mut Sys, v: u16| {
+        s.sys
+            .cpu_mut(1)
+            .set_word(softplc_core::device::DeviceKind::D, 2, v)
+            .unwrap()
+    };
+    s.sys.cpu_mut(1).set_stop();
+    set_d2(&mut s, 11);
+    s.run_ms(20);
+    assert_eq!(s.int(0, "D2"), 11, "STOP");
+    s.sys.cpu_mut(1).set_run().unwrap();
+    s.sys.cpu_mut(1).set_pause().unwrap();
+    set_d2(&mut s, 22);
+    s.run_ms(40);
+    assert_eq!(s.int(0, "D2"), 22, "PAUSE");
+    s.sys.cpu_mut(1).set_run().unwrap();
+    // The stop error: CPU 1 goes on (7010) with the last data CPU 2 sent.
+    s.sys.cpu_mut(1).set_input(0, true);
+    s.run_ms(50);
+    assert_eq!(s.error(1), Some(4100));
+    assert_eq!(s.error(0), Some(7010));
+    set_d2(&mut s, 33);
+    s.run_ms(80);
+    assert_eq!(s.int(0, "D2"), 22, "after the stop error");
+}
