@@ -92,14 +92,14 @@ pub static MIRRORS: &[Mirror] = &[
     relay(1031, 411, Start),
     relay(1032, 412, Start),
     relay(1033, 413, Start),
-    relay(1036, 400, Start), // always ON
-    relay(1037, 401, Start), // always OFF
-    relay(1038, 402, Start), // ON one scan after RUN
-    relay(1039, 403, Start), // RUN flag: OFF one scan after RUN
-    relay(1043, 805, End),   // sampling trace complete
-    relay(1044, 803, End),   // sampling trace trigger
-    relay(1046, 802, End),   // sampling trace executing
-    relay(1049, 701, End),   // characters output: 16 / up to NUL
+    relay(1036, 400, Start),         // always ON
+    relay(1037, 401, Start),         // always OFF
+    relay(1038, 402, Start),         // ON one scan after RUN
+    relay(1039, 403, Start),         // RUN flag: OFF one scan after RUN
+    relay(1043, 805, End),           // sampling trace complete
+    relay(1044, 803, End),           // sampling trace trigger
+    relay(1046, 802, End),           // sampling trace executing
+    relay(1049, 701, End),           // characters output: 16 / up to NUL
     register(1008, 0, Conv::Same),   // self-diagnostic error code
     register(1009, 62, Conv::Same),  // first annunciator
     register(1015, 203, Conv::Same), // operating status
