@@ -99,11 +99,19 @@ pub fn check_capacity(
     Ok(())
 }
 
-/// `[cpu] model` and `common_pointer`; returns the first common pointer.
+/// `[cpu] model`, `a_compatibility` and `common_pointer`; returns the first
+/// common pointer.
 pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u32> {
-    cx.unknown_keys(t, Some("[cpu]"), &["model", "common_pointer", "exec"]);
+    cx.unknown_keys(
+        t,
+        Some("[cpu]"),
+        &["model", "common_pointer", "exec", "a_compatibility"],
+    );
     if let Some(e) = t.iter().find(|e| e.key == "model") {
         model(cx, e, config);
+    }
+    if let Some(e) = t.iter().find(|e| e.key == "a_compatibility") {
+        a_compatibility(cx, e, config);
     }
     let e = t.iter().find(|e| e.key == "common_pointer")?;
     let text = cx.string(e, "a pointer such as \"P2048\"")?;
@@ -119,6 +127,25 @@ pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u
         );
     }
     n
+}
+
+/// `[cpu] a_compatibility`: the MELSEC-Q parameter "A-series CPU
+/// compatibility" (SM1000/SD1000 maintained; ON by default, 004 L5831).
+fn a_compatibility(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
+    let Some(on) = cx.bool(e, "true or false") else {
+        return;
+    };
+    if crate::profile::is_aplc(config.profile) {
+        cx.error(
+            &e.item.span,
+            format!(
+                "a_compatibility is a MELSEC-Q parameter (SM1000/SD1000); the {} has none",
+                config.profile.model
+            ),
+        );
+        return;
+    }
+    config.system = softplc_melsec::system::system_with(on);
 }
 
 /// `[cpu] exec`: "auto", "jit" or "interp" (`crate::tier`).

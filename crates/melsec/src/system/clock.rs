@@ -3,24 +3,61 @@
 //! ON the clock is read into SD210-SD213. SD210 = year (2 digits) | month,
 //! SD211 = day | hour, SD212 = minute | second, SD213 = year's first 2
 //! digits | day of week.
+//!
+//! The A-series compatibility area has the same registers on its own
+//! numbers (004 App. 1 (9), App. 2 (9)): SM1025 OFF→ON writes SD1025-SD1028,
+//! SM1026 flags invalid data, SM1028 ON reads the clock into SD1025-SD1028;
+//! SD1028 holds the day of week only (its upper digits must be 0), so a
+//! 2-digit year 80-99 is 19xx, else 20xx.
 
 use softplc_ir::calendar::{DateTime, PlcClock};
 use softplc_ir::device::DeviceMemory;
 
 use super::devices::{bcd, from_bcd, sd, sd_get, sm, sm_get};
 
-/// The clock registers; `sm210_before` is SM210 at the previous END.
-/// Returns SM210.
+/// One set of clock registers: its relays, its first register and whether
+/// its fourth register holds the century.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Registers {
+    pub set: i64,
+    pub error: i64,
+    pub read: i64,
+    pub first: i64,
+    pub century: bool,
+}
+
+/// SM210/SM211/SM213, SD210-SD213.
+pub(crate) const Q: Registers = Registers {
+    set: 210,
+    error: 211,
+    read: 213,
+    first: 210,
+    century: true,
+};
+
+/// SM1025/SM1026/SM1028, SD1025-SD1028.
+pub(crate) const A_SERIES: Registers = Registers {
+    set: 1025,
+    error: 1026,
+    read: 1028,
+    first: 1025,
+    century: false,
+};
+
+/// The clock registers `regs`; `set_before` is the set request at the
+/// previous END. Returns the set request.
 pub(crate) fn registers(
     mem: &mut DeviceMemory,
+    regs: Registers,
     clock: &mut PlcClock,
     now_us: u64,
-    sm210_before: bool,
+    set_before: bool,
 ) -> bool {
-    let sm210 = sm_get(mem, 210);
-    if sm210 && !sm210_before {
-        let r = |n| sd_get(mem, n);
-        let (a, b, c, d) = (r(210), r(211), r(212), r(213));
+    let set = sm_get(mem, regs.set);
+    if set && !set_before {
+        let r = |n| sd_get(mem, regs.first + n);
+        let (a, b, c, d) = (r(0), r(1), r(2), r(3));
+        let d = if regs.century { d } else { d & 0xFF };
         let f = |w: u16| (from_bcd(w >> 8), from_bcd(w & 0xFF));
         let ((yy, mo), (dd, hh), (mi, ss), (cc, _)) = (f(a), f(b), f(c), f(d));
         let t = (|| {
@@ -46,18 +83,19 @@ pub(crate) fn registers(
         match t.filter(DateTime::is_valid) {
             Some(t) => {
                 clock.set(t, now_us);
-                sm(mem, 211, false);
+                sm(mem, regs.error, false);
             }
-            None => sm(mem, 211, true),
+            None => sm(mem, regs.error, true),
         }
     }
-    if sm_get(mem, 213) {
+    if sm_get(mem, regs.read) {
         let t = clock.now(now_us);
         let y = t.year as u32;
-        sd(mem, 210, bcd(y % 100) << 8 | bcd(t.month));
-        sd(mem, 211, bcd(t.day) << 8 | bcd(t.hour));
-        sd(mem, 212, bcd(t.minute) << 8 | bcd(t.second));
-        sd(mem, 213, bcd(y / 100) << 8 | t.weekday() as u16);
+        let century = if regs.century { bcd(y / 100) << 8 } else { 0 };
+        sd(mem, regs.first, bcd(y % 100) << 8 | bcd(t.month));
+        sd(mem, regs.first + 1, bcd(t.day) << 8 | bcd(t.hour));
+        sd(mem, regs.first + 2, bcd(t.minute) << 8 | bcd(t.second));
+        sd(mem, regs.first + 3, century | t.weekday() as u16);
     }
-    sm210
+    set
 }

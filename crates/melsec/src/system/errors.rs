@@ -12,7 +12,8 @@ use super::devices::{bcd, sd, sd_get, sm, sm_get};
 /// operation errors; SD4 the common-information category: 4 (program error
 /// location) with SD5-SD10 the program file name (8 + "." + 3 characters,
 /// ASCII, low byte first) and SD14/SD15 the step number (low/high word), or
-/// 6 (0600H) with the annunciator number in SD16.
+/// 6 (0600H) with the annunciator number in SD16. SM5 / SM16 are ON when
+/// common / individual information is present (App. 1 L9529-9531).
 pub(crate) fn report(mem: &mut DeviceMemory, r: &ErrorReport<'_>) {
     sm(mem, 0, true);
     sm(mem, 1, true);
@@ -28,13 +29,18 @@ pub(crate) fn report(mem: &mut DeviceMemory, r: &ErrorReport<'_>) {
     if let (ANNUNCIATOR, Some(n)) = (r.code, r.detail) {
         sd(mem, 4, 0x0600);
         sd(mem, 16, n as u16);
+        sm(mem, 5, false);
+        sm(mem, 16, true);
         return;
     }
+    sm(mem, 16, false);
     let Some(step) = r.step else {
         sd(mem, 4, 0);
+        sm(mem, 5, false);
         return;
     };
     sd(mem, 4, 4);
+    sm(mem, 5, true);
     let stem = std::path::Path::new(r.file.unwrap_or(""))
         .file_stem()
         .and_then(|s| s.to_str())
@@ -64,10 +70,12 @@ pub(crate) fn reset_request(mem: &DeviceMemory, current: Option<ErrorCode>) -> O
     sm_get(mem, 50).then(|| current.is_some_and(|c| sd_get(mem, 50) / 100 == c.0 / 100))
 }
 
-/// Clears SM0/SM1/SM56 and SD0-SD26.
+/// Clears SM0/SM1/SM5/SM16/SM56 and SD0-SD26.
 pub(crate) fn clear(mem: &mut DeviceMemory) {
     sm(mem, 0, false);
     sm(mem, 1, false);
+    sm(mem, 5, false);
+    sm(mem, 16, false);
     sm(mem, 56, false);
     for n in 0..=26 {
         sd(mem, n, 0);

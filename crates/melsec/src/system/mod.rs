@@ -4,14 +4,18 @@
 //! One job per file: [`scan`] power-on, scan start, scan times and status;
 //! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
 //! low-speed registers; [`interrupts`] the interrupt priorities and error
-//! interrupts; the user timing clocks of DUTY are `user_clock`.
+//! interrupts; [`a_compat`] the A-series compatibility area SM1000/SD1000;
+//! [`rows`] every SM/SD row of the manual and what softplc does with it; the
+//! user timing clocks of DUTY are `user_clock`.
 
+pub mod a_compat;
 mod clock;
 pub mod codes;
 mod devices;
 mod errors;
 pub mod interrupts;
 mod low_speed;
+pub mod rows;
 mod scan;
 
 use std::sync::Arc;
@@ -27,20 +31,48 @@ use softplc_ir::system::{
 pub const R_BLOCK: u32 = 648;
 
 /// MELSEC-Q's system devices and error numbering.
-#[derive(Debug, Default)]
-pub struct Melsec;
-
-/// The MELSEC-Q system as a CPU takes it.
-pub fn system() -> Arc<dyn System> {
-    Arc::new(Melsec)
+#[derive(Debug)]
+pub struct Melsec {
+    /// The A-series compatibility area SM1000/SD1000 is maintained (the
+    /// parameter "A-series CPU compatibility", ON by default: 004 L5831).
+    a_compatibility: bool,
 }
 
-/// [`EndCtx::state`]: SM210 at the previous END, for its OFF→ON edge.
+impl Default for Melsec {
+    fn default() -> Self {
+        Melsec {
+            a_compatibility: true,
+        }
+    }
+}
+
+/// The MELSEC-Q system as a CPU takes it (default parameters).
+pub fn system() -> Arc<dyn System> {
+    Arc::new(Melsec::default())
+}
+
+/// The MELSEC-Q system with the A-series compatibility area on or off.
+pub fn system_with(a_compatibility: bool) -> Arc<dyn System> {
+    Arc::new(Melsec { a_compatibility })
+}
+
+/// [`EndCtx::state`]: SM210 (SM1025) at the previous END, for its OFF→ON
+/// edge.
 const STATE_SM210: usize = 0;
+const STATE_SM1025: usize = 1;
+
+impl Melsec {
+    /// Copies the A-series devices from their Q devices when the area is on.
+    fn a_refresh(&self, mem: &mut DeviceMemory) {
+        if self.a_compatibility {
+            a_compat::refresh(mem);
+        }
+    }
+}
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        1
+        2
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -63,10 +95,14 @@ impl System for Melsec {
 
     fn power_on(&self, mem: &mut DeviceMemory) {
         scan::power_on(mem);
+        self.a_refresh(mem);
     }
 
     fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
         scan::scan_start(mem, start);
+        if self.a_compatibility {
+            a_compat::scan_start(mem, start);
+        }
     }
 
     /// The scan-time registers, the clock registers, then the user timing
@@ -75,14 +111,21 @@ impl System for Melsec {
     fn end(&self, cx: &mut EndCtx<'_>, end: End) {
         scan::end(cx.mem, end);
         let before = cx.state[STATE_SM210] != 0;
-        let sm210 = clock::registers(cx.mem, cx.clock, cx.now_us, before);
+        let sm210 = clock::registers(cx.mem, clock::Q, cx.clock, cx.now_us, before);
         cx.state[STATE_SM210] = sm210 as u32;
+        if self.a_compatibility {
+            let before = cx.state[STATE_SM1025] != 0;
+            let set = clock::registers(cx.mem, clock::A_SERIES, cx.clock, cx.now_us, before);
+            cx.state[STATE_SM1025] = set as u32;
+        }
         crate::user_clock::end(cx.mem, cx.shared);
         crate::multi_cpu::end(cx.mem, cx.shared);
+        self.a_refresh(cx.mem);
     }
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
         scan::status(mem, status);
+        self.a_refresh(mem);
     }
 
     fn code(&self, fault: Fault) -> Option<ErrorCode> {
@@ -99,6 +142,7 @@ impl System for Melsec {
 
     fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
         errors::report(mem, report);
+        self.a_refresh(mem);
     }
 
     fn error_reset(&self, mem: &DeviceMemory, current: Option<ErrorCode>) -> Option<bool> {
@@ -107,6 +151,7 @@ impl System for Melsec {
 
     fn clear_error(&self, mem: &mut DeviceMemory) {
         errors::clear(mem);
+        self.a_refresh(mem);
     }
 
     fn low_speed(&self, mem: &mut DeviceMemory, event: LowSpeed) {

@@ -1,0 +1,163 @@
+//! The A-series compatibility area (004 App. 1 (9) L9760-9927, App. 2 (9)
+//! L10697-10865): SM1000-SM1255 and SD1000-SD1255 hold what a converted
+//! A-series program reads in M9000-M9255 / D9000-D9255. The parameter "A-series
+//! CPU compatibility" (004 L5831) is ON by default; plc.toml `[cpu]
+//! a_compatibility = false` turns it off, and these devices are then plain
+//! memory.
+//!
+//! The devices are set by the system only (L9762-9765): each one that has a
+//! Q device softplc maintains is copied from it ([`MIRRORS`]) when the Q device
+//! is written — at scan start for the always-ON/OFF, first-scan and clock
+//! relays, at END for the rest, and again when an error is reported or
+//! cleared and when the operating status changes. SM1034 (the 1-minute
+//! clock, L9812-9815) has no Q equivalent and is computed here; the clock
+//! data SD1025-SD1028 with its requests SM1025/SM1026/SM1028 is the clock
+//! registers' A-series set ([`super::clock::A_SERIES`]).
+
+use softplc_ir::device::DeviceMemory;
+use softplc_ir::system::ScanStart;
+
+use super::devices::{bcd, sd, sd_get, sm, sm_get};
+
+/// When an A-series device is copied from its Q device.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum At {
+    /// Before the programs run, right after the Q relay is set.
+    ScanStart,
+    /// At END (and when an error or the status changes).
+    End,
+}
+
+/// How the Q value becomes the A-series value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Conv {
+    /// The same value.
+    Same,
+    /// A time in ms as 10 ms units (SD1017-SD1019).
+    TenMs,
+    /// A binary value as BCD (SD1035: the A-series block number is BCD).
+    Bcd,
+}
+
+/// One A-series device and the Q device it mirrors.
+#[derive(Clone, Copy, Debug)]
+pub struct Mirror {
+    /// SM (relay) or SD (register).
+    pub relay: bool,
+    /// The A-series compatible number (SM1036 for M9036).
+    pub a: u32,
+    /// The Q device it is copied from.
+    pub q: u32,
+    pub conv: Conv,
+    pub at: At,
+}
+
+const fn relay(a: u32, q: u32, at: At) -> Mirror {
+    Mirror {
+        relay: true,
+        a,
+        q,
+        conv: Conv::Same,
+        at,
+    }
+}
+
+const fn register(a: u32, q: u32, conv: Conv) -> Mirror {
+    Mirror {
+        relay: false,
+        a,
+        q,
+        conv,
+        at: At::End,
+    }
+}
+
+use At::{End, ScanStart as Start};
+
+/// The A-series devices copied from a Q device, per the tables' "special
+/// relay/register for modification" column and each row's description.
+pub static MIRRORS: &[Mirror] = &[
+    relay(1008, 1, End),   // self-diagnostic error
+    relay(1009, 62, End),  // annunciator detected
+    relay(1011, 56, End),  // operation error
+    relay(1012, 700, End), // carry
+    // User timing clocks (M9020-M9024 = DUTY's clocks 0-4).
+    relay(1020, 420, End),
+    relay(1021, 421, End),
+    relay(1022, 422, End),
+    relay(1023, 423, End),
+    relay(1024, 424, End),
+    // 0.1 s, 0.2 s, 1 s, 2 s clocks (L9812-9815).
+    relay(1030, 410, Start),
+    relay(1031, 411, Start),
+    relay(1032, 412, Start),
+    relay(1033, 413, Start),
+    relay(1036, 400, Start),         // always ON
+    relay(1037, 401, Start),         // always OFF
+    relay(1038, 402, Start),         // ON one scan after RUN
+    relay(1039, 403, Start),         // RUN flag: OFF one scan after RUN
+    relay(1043, 805, End),           // sampling trace complete
+    relay(1044, 803, End),           // sampling trace trigger
+    relay(1046, 802, End),           // sampling trace executing
+    relay(1049, 701, End),           // characters output: 16 / up to NUL
+    register(1008, 0, Conv::Same),   // self-diagnostic error code
+    register(1009, 62, Conv::Same),  // first annunciator
+    register(1015, 203, Conv::Same), // operating status
+    // Scan time min/current/max in 10 ms units and current in 1 ms. The
+    // manual's modification column pairs SD1017 with SD520 and SD1018 with
+    // SD524, but its descriptions say SD1017 is the minimum and SD1018 the
+    // current scan time: SD524 is Q's minimum, SD520 its current.
+    register(1017, 524, Conv::TenMs),
+    register(1018, 520, Conv::TenMs),
+    register(1019, 526, Conv::TenMs),
+    register(1021, 520, Conv::Same),
+    register(1022, 412, Conv::Same), // 1 s counter
+    register(1035, 648, Conv::Bcd),  // file-register block number
+    register(1124, 63, Conv::Same),  // annunciators detected
+    register(1125, 64, Conv::Same),  // annunciator numbers in order
+    register(1126, 65, Conv::Same),
+    register(1127, 66, Conv::Same),
+    register(1128, 67, Conv::Same),
+    register(1129, 68, Conv::Same),
+    register(1130, 69, Conv::Same),
+    register(1131, 70, Conv::Same),
+    register(1132, 71, Conv::Same),
+];
+
+/// SM1034: the 1-minute clock, computed as the Q clocks are (OFF at
+/// power-on, toggling every 30 s).
+pub const MINUTE_CLOCK: u32 = 1034;
+
+fn copy(mem: &mut DeviceMemory, at: At) {
+    for m in MIRRORS.iter().filter(|m| m.at == at) {
+        let (a, q) = (m.a as i64, m.q as i64);
+        if m.relay {
+            let v = sm_get(mem, q);
+            sm(mem, a, v);
+        } else {
+            let v = sd_get(mem, q);
+            let v = match m.conv {
+                Conv::Same => v,
+                Conv::TenMs => v / 10,
+                Conv::Bcd => bcd(v as u32 % 100) | bcd(v as u32 / 100 % 100) << 8,
+            };
+            sd(mem, a, v);
+        }
+    }
+}
+
+/// After the Q scan-start relays: the always-ON/OFF, first-scan and clock
+/// relays, and the 1-minute clock.
+pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
+    copy(mem, At::ScanStart);
+    sm(
+        mem,
+        MINUTE_CLOCK as i64,
+        (s.since_power_on_us / 30_000_000) & 1 == 1,
+    );
+}
+
+/// After END processing, an error report or clear, a status change.
+pub(crate) fn refresh(mem: &mut DeviceMemory) {
+    copy(mem, At::End);
+}
