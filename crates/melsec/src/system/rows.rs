@@ -137,9 +137,15 @@ pub static SM: &[Row] = &[
     ),
     sm(
         240,
+        243,
+        "CPU 1-4 reset flags (multi-CPU)",
+        M("OFF: a RESET takes no time in softplc"),
+    ),
+    sm(
+        244,
         247,
-        "CPU 1-4 reset and stop-error flags (multi-CPU)",
-        N,
+        "CPU 1-4 stop-error flags (multi-CPU)",
+        M("by the multi-CPU system at every END of a CPU with a new stop error, and at power-on and RESET"),
     ),
     sm(250, 250, "read maximum loaded I/O", N),
     sm(254, 254, "all-station refresh command", H("MELSECNET/10")),
@@ -363,7 +369,12 @@ pub static SD: &[Row] = &[
         "Ethernet instruction reception status",
         H("Ethernet modules"),
     ),
-    sd(395, 395, "own CPU number (multi-CPU)", N),
+    sd(
+        395,
+        395,
+        "own CPU number (multi-CPU)",
+        M("by the multi-CPU system at power-on and RESET"),
+    ),
     sd(412, 412, "one-second counter", M("at END, from RUN")),
     sd(
         414,
