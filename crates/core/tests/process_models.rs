@@ -11,7 +11,7 @@ fn project(model: &str) -> String {
 }
 
 const PID: &str = "LD SM402\nPIDINIT D500\nLD SM400\nPIDCONT D600\nEND\n";
-const SPID: &str = "LD SM400\nS.PID D0 D100 D200 D1000\nEND\n";
+const SPID: &str = "LD SM400\nS.PID R40 R140 R240 R1000 SD1506\nEND\n";
 
 #[test]
 fn the_redundant_models_load_with_their_memory_and_model_code() {
@@ -62,8 +62,11 @@ fn the_pid_control_instructions_are_refused_on_the_qnphcpus() {
             "PIDPRMW K1 D0",
             "PID57 K1 D0 K0",
         ] {
-            let e = load_files(&project(model), &[("main.il", &format!("LD X0\n{m}\nEND\n"))])
-                .unwrap_err();
+            let e = load_files(
+                &project(model),
+                &[("main.il", &format!("LD X0\n{m}\nEND\n"))],
+            )
+            .unwrap_err();
             assert_eq!(e.len(), 1, "{model} {m}: {e:?}");
             assert!(e[0].ends_with(why), "{model} {m}: {e:?}");
         }
@@ -82,7 +85,7 @@ fn the_redundant_and_qnh_models_run_the_pid_control_instructions() {
     // Both families together on a redundant CPU.
     load_files(
         &project("Q25PRHCPU"),
-        &[("main.il", "LD SM402\nPIDINIT D500\nLD SM400\nPIDCONT D600\nS.PID D0 D100 D200 D1000\nEND\n")],
+        &[("main.il", "LD SM402\nPIDINIT D500\nLD SM400\nPIDCONT D600\nS.PID R40 R140 R240 R1000 SD1506\nEND\n")],
     )
     .unwrap();
 }

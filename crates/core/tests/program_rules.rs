@@ -14,7 +14,10 @@ fn with_fast(ty: &str) -> String {
     } else {
         ""
     };
-    format!("[[program]]\nfile = \"main.il\"\n[[program]]\nfile = \"fast.il\"\ntype = \"{ty}\"\n{interval}")
+    format!(
+        "[devices]\nST = 16\n[[program]]\nfile = \"main.il\"\n[[program]]\nfile = \"fast.il\"\n\
+         type = \"{ty}\"\n{interval}"
+    )
 }
 
 const TIMER_RULE: &str = "timers must not be used in interrupt, fixed-scan or standby programs, \
@@ -63,19 +66,30 @@ fn an_edge_relay_number_is_used_once_in_all_programs() {
     let fast = "LD X2\nEGP V1\nOUT Y2\nEND\n";
     assert_eq!(
         load_files(TWO, &[("main.il", main), ("fast.il", fast)]).unwrap_err(),
-        ["fast.il:2:1: this edge relay V is already used at main.il:5: an edge relay number \
-          may be used once in all programs (QCPU manual, edge relay V)"]
+        [
+            "fast.il:2:1: this edge relay V is already used at main.il:5: an edge relay number \
+          may be used once in all programs (QCPU manual, edge relay V)"
+        ]
     );
     // Twice in one file too.
     let main = "LD X0\nEGP V3\nOUT Y0\nLD X1\nEGP V3\nOUT Y1\nEND\n";
     assert_eq!(
         load_files(TWO, &[("main.il", main)]).unwrap_err(),
-        ["main.il:5:1: this edge relay V is already used at main.il:2: an edge relay number \
-          may be used once in all programs (QCPU manual, edge relay V)"]
+        [
+            "main.il:5:1: this edge relay V is already used at main.il:2: an edge relay number \
+          may be used once in all programs (QCPU manual, edge relay V)"
+        ]
     );
     // A local V is each file's own.
     let local = format!("{TWO}[devices]\nlocal = [\"V0-V15\"]\n");
-    load_files(&local, &[("main.il", "LD X0\nEGP V1\nOUT Y0\nEND\n"), ("fast.il", fast)]).unwrap();
+    load_files(
+        &local,
+        &[
+            ("main.il", "LD X0\nEGP V1\nOUT Y0\nEND\n"),
+            ("fast.il", fast),
+        ],
+    )
+    .unwrap();
 }
 
 #[test]
@@ -85,10 +99,12 @@ fn local_pointers_beyond_4096_points_are_error_4020() {
     // 3001 + 1096 = 4097 points.
     assert_eq!(
         load_files(TWO, &[("main.il", main), ("fast.il", fast)]).unwrap_err(),
-        ["fast.il:3:1: local pointers take 4097 points in all programs (main.il P0-P3000, \
+        [
+            "fast.il:3:1: local pointers take 4097 points in all programs (main.il P0-P3000, \
           fast.il P0-P1095), more than 4096 points (error 4020, CAN'T SET(P)): each program \
           takes P0 up to its highest local pointer (P1095 here), so number each program's \
-          pointers from P0"]
+          pointers from P0"
+        ]
     );
     // 4096 exactly fit.
     let fast = "LD X0\nCJ P1094\nP1094\nEND\n";
@@ -102,10 +118,12 @@ fn local_pointers_must_end_before_the_first_common_pointer() {
     let fast = "LD X0\nCJ P47\nP47\nEND\n";
     assert_eq!(
         load_files(&toml, &[("main.il", main), ("fast.il", fast)]).unwrap_err(),
-        ["fast.il:3:1: local pointers take 2049 points in all programs (main.il P0-P2000, \
+        [
+            "fast.il:3:1: local pointers take 2049 points in all programs (main.il P0-P2000, \
           fast.il P0-P47), more than the 2048 points before the first common pointer P2048 \
           (error 4020, CAN'T SET(P)): each program takes P0 up to its highest local pointer \
-          (P47 here), so number each program's pointers from P0"]
+          (P47 here), so number each program's pointers from P0"
+        ]
     );
     let fast = "LD X0\nCJ P46\nP46\nEND\n";
     load_files(&toml, &[("main.il", main), ("fast.il", fast)]).unwrap();

@@ -97,7 +97,12 @@ pub fn process_isa() -> &'static Isa {
     static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
         let families: Vec<&'static [Def]> = DEFS
             .iter()
-            .filter(|f| !std::ptr::eq(**f, pid::DEFS))
+            // `DEFS` are consts (no single address): the family by its names.
+            .filter(|f| {
+                !f.iter()
+                    .map(|d| d.name)
+                    .eq(pid::DEFS.iter().map(|d| d.name))
+            })
             .chain(process::FAMILIES)
             .copied()
             .collect();

@@ -18,8 +18,8 @@
 //!   with error 4020 (004 §10.9.1 (2), §10.9.2 (2)).
 
 use crate::engine::{CpuConfig, ExecType, LoadedProgram};
-use softplc_ir::device::{DeviceKind, DeviceMap};
 use crate::program::Diagnostic;
+use softplc_ir::device::{DeviceKind, DeviceMap};
 use softplc_ir::listing::Entry;
 use softplc_ir::ops::Op;
 
@@ -110,8 +110,7 @@ fn timers(l: &LoadedProgram, out: &mut Vec<Diagnostic>) {
 /// (`local_v`: the flat bit spans of the local V ranges, inclusive).
 fn edge_relays(programs: &[LoadedProgram], local_v: &[(u32, u32)], out: &mut Vec<Diagnostic>) {
     // Keyed by (the file for a local V, the V's bit).
-    let mut seen: std::collections::HashMap<(Option<usize>, u32), (&str, u32)> =
-        Default::default();
+    let mut seen: std::collections::HashMap<(Option<usize>, u32), (&str, u32)> = Default::default();
     for (i, l) in programs.iter().enumerate() {
         let p = &l.program;
         for (pc, op) in p.ops.iter().enumerate() {
