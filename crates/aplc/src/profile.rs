@@ -102,5 +102,7 @@ pub static PROFILE: Profile = Profile {
         serial_ports: 2,
         opcua: false,
     },
+    // At most 128 bit devices (and 16 words) forced at once (002 ch. 1, performance specifications note 5).
+    max_forces: 128,
     default_system: crate::system,
 };

@@ -111,12 +111,15 @@ pub fn source_format(profile: &Profile) -> SourceFormat {
 }
 
 /// The language dialect `.il`/`.csv` programs of a MELSEC model compile in:
-/// the process CPU's (with the project's `[process]` decisions), the
-/// Universal models' or MELSEC-Q's. (An APLC-TCP compiles `.apl` files:
+/// the process CPU's or the redundant CPU's (with the project's `[process]`
+/// decisions), the Universal models' or MELSEC-Q's. (An APLC-TCP compiles `.apl` files:
 /// [`crate::aplc`].)
 pub fn dialect(profile: &Profile, process: ProcessSettings) -> Dialect {
     use softplc_melsec::profiles::{FAMILY_QNPH, FAMILY_QNU};
     match profile.family {
+        FAMILY_QNPH if softplc_melsec::is_redundant_model(profile.model) => {
+            softplc_melsec::redundant_dialect(process)
+        }
         FAMILY_QNPH => softplc_melsec::process_dialect(process),
         FAMILY_QNU => softplc_melsec::qnu_dialect().clone(),
         _ => softplc_melsec::dialect().clone(),

@@ -156,3 +156,37 @@ fn the_program_computes_from_the_output_under_the_force() {
     c.release(DeviceKind::Y, 0);
     assert!(bit(&c, "Y0"));
 }
+
+#[test]
+fn a_qcpu_registers_32_forces_and_refuses_the_33rd() {
+    // 004 §7.9.3 (f): 32 devices in all can be registered for forced ON/OFF.
+    let mut c = cpu("END\n");
+    assert_eq!(c.max_forces(), 32);
+    for n in 0..16 {
+        c.force(DeviceKind::X, n, true).unwrap();
+        c.force(DeviceKind::Y, n, false).unwrap();
+    }
+    // Changing a registered force takes no new registration.
+    c.force(DeviceKind::X, 0, false).unwrap();
+    assert_eq!(
+        c.force(DeviceKind::X, 0x20, true).unwrap_err(),
+        "at most 32 devices can be forced on a Q06HCPU (release one first)"
+    );
+    assert_eq!(c.forced().count(), 32);
+    assert!(!bit(&c, "X20"));
+    c.release(DeviceKind::Y, 15);
+    c.force(DeviceKind::X, 0x20, true).unwrap();
+    assert!(bit(&c, "X20"));
+}
+
+#[test]
+fn each_model_has_its_own_force_limit() {
+    for p in softplc_core::profile::all() {
+        let want = if softplc_core::profile::is_aplc(p) {
+            128 // 128 bit devices (APLC-TCP manual, performance specifications)
+        } else {
+            32
+        };
+        assert_eq!(p.max_forces, want, "{}", p.model);
+    }
+}

@@ -46,7 +46,7 @@ fn process_settings_are_checked() {
     assert_eq!(
         errors("[cpu]\nmodel = \"Q06HCPU\"\n[process]\nieng_decreasing = false\n[[program]]\nfile = \"main.il\"\n"),
         ["3:1: [process] sets the process CPU's decisions, but the model is Q06HCPU \
-          (a process CPU is Q02PHCPU, Q06PHCPU, Q12PHCPU or Q25PHCPU)"]
+          (a process CPU is Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, Q12PRHCPU or Q25PRHCPU)"]
     );
     let e = errors(
         "[cpu]\nmodel = \"Q12PHCPU\"\n[process]\nieng_decreasing = 1\nfirmware = true\n[[program]]\nfile = \"main.il\"\n",

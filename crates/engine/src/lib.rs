@@ -16,7 +16,7 @@ pub mod trace;
 
 use std::time::Duration;
 
-pub use cpu::{Cpu, LoadedProgram, ProgramMonitor, MAX_FORCES, VIRTUAL_WATCHDOG_FLOOR};
+pub use cpu::{Cpu, LoadedProgram, ProgramMonitor, VIRTUAL_WATCHDOG_FLOOR};
 pub use softplc_ir::calendar;
 pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};

@@ -393,9 +393,9 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
     }
     let r = at_end(&app, move |s| {
         // Check every point first: nothing is forced when one is refused.
-        let limit = softplc_core::engine::MAX_FORCES;
         for i in 0..s.cpu_count() {
             let c = s.cpu_at(i);
+            let limit = c.max_forces();
             let known = c.forced().count();
             let fresh = forces
                 .iter()
@@ -404,7 +404,10 @@ async fn force(State(app): Shared, headers: HeaderMap, bytes: Body) -> Response 
                 })
                 .count();
             if known + fresh > limit {
-                return Err(format!("at most {limit} devices can be forced"));
+                return Err(format!(
+                    "at most {limit} devices can be forced on a {}",
+                    c.profile().model
+                ));
             }
         }
         for (cpu, k, n, _) in &forces {

@@ -512,3 +512,34 @@ async fn ladder_and_loop_pages_carry_element_ids_and_names() {
     assert!(r.body.contains(r#"data-v="D628""#));
     assert!(r.body.contains(r#"data-v="D512""#), "loop 2's action word");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_33rd_force_is_refused_and_nothing_of_the_request_is_forced() {
+    // A Q06HCPU registers 32 forces (QCPU manual, forced ON/OFF of I/O).
+    let s = start(Some(TOKEN));
+    let first: serde_json::Map<String, serde_json::Value> =
+        (0..32).map(|n| (format!("Y{n:X}"), json!(true))).collect();
+    let r = send(
+        s.addr,
+        "POST",
+        "/api/v1/force",
+        Some(&serde_json::Value::Object(first).to_string()),
+    )
+    .await;
+    assert_eq!(r.status, 200, "{}", r.body);
+    let r = send(
+        s.addr,
+        "POST",
+        "/api/v1/force",
+        Some(r#"{"Y0": false, "X0": true}"#),
+    )
+    .await;
+    assert_eq!(r.status, 400, "{}", r.body);
+    assert_eq!(
+        r.json()["error"],
+        "at most 32 devices can be forced on a Q06HCPU"
+    );
+    let f = get(s.addr, "/api/v1/force").await.json();
+    assert_eq!(f["forced"].as_object().unwrap().len(), 32);
+    assert_eq!(f["forced"]["Y0"], true);
+}

@@ -38,6 +38,9 @@ pub struct Profile {
     pub step_numbers: bool,
     /// The protocol doors the model has.
     pub doors: Doors,
+    /// X and Y points that can be forced ON/OFF at once: a force beyond is
+    /// refused (MELSEC-Q 32, QCPU manual "forced ON/OFF"; APLC-TCP 128 bits).
+    pub max_forces: usize,
     /// The model's system devices and error numbering with default
     /// parameters (a loader with the project's parameters builds its own).
     pub default_system: fn() -> Arc<dyn System>,

@@ -90,8 +90,33 @@ pub fn isa() -> &'static Isa {
 }
 
 /// The process CPU's instruction set (QnPHCPU, 000 §1): MELSEC-Q's and the
-/// process-control instructions; the Universal models' are rejected.
+/// process-control instructions, without the PID control instructions (001
+/// §1 point: the process CPU does not support them; they are rejected naming
+/// the process-control equivalents); the Universal models' are rejected.
 pub fn process_isa() -> &'static Isa {
+    static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
+        let families: Vec<&'static [Def]> = DEFS
+            .iter()
+            // `DEFS` are consts (no single address): the family by its names.
+            .filter(|f| {
+                !f.iter()
+                    .map(|d| d.name)
+                    .eq(pid::DEFS.iter().map(|d| d.name))
+            })
+            .chain(process::FAMILIES)
+            .copied()
+            .collect();
+        Isa::new(&families)
+            .rejecting(&[pid::DEFS], pid::NOT_ON_PROCESS_CPU)
+            .rejecting(qnu::FAMILIES, qnu::NEEDS_QNU)
+    });
+    &ISA
+}
+
+/// The redundant CPU's instruction set (QnPRHCPU): MELSEC-Q's, the PID
+/// control instructions and the process-control instructions (001 §1 point:
+/// the redundant CPU can use both); the Universal models' are rejected.
+pub fn redundant_isa() -> &'static Isa {
     static ISA: std::sync::LazyLock<Isa> = std::sync::LazyLock::new(|| {
         let families: Vec<&'static [Def]> = DEFS.iter().chain(process::FAMILIES).copied().collect();
         Isa::new(&families).rejecting(qnu::FAMILIES, qnu::NEEDS_QNU)
@@ -144,6 +169,16 @@ pub fn process_dialect(settings: process::settings::ProcessSettings) -> Dialect 
     }
 }
 
+/// The dialect of the redundant CPU models (Q12PRHCPU, Q25PRHCPU): the
+/// process CPU's with the PID control instructions, and the project's
+/// decisions (plc.toml `[process]`).
+pub fn redundant_dialect(settings: process::settings::ProcessSettings) -> Dialect {
+    Dialect {
+        isa: redundant_isa(),
+        ..process_dialect(settings)
+    }
+}
+
 /// The dialect of the Universal models (Q00UJCPU … Q26UDVCPU): MELSEC-Q's
 /// with the Universal models' instruction set.
 pub fn qnu_dialect() -> &'static Dialect {
@@ -155,7 +190,13 @@ pub fn qnu_dialect() -> &'static Dialect {
     &DIALECT
 }
 
-/// Whether `model` is a process CPU.
+/// Whether `model` is a redundant CPU (QnPRHCPU): a process CPU that also
+/// has the PID control instructions.
+pub fn is_redundant_model(model: &str) -> bool {
+    is_process_model(model) && model.contains("PRH")
+}
+
+/// Whether `model` is a process CPU (QnPHCPU or QnPRHCPU).
 pub fn is_process_model(model: &str) -> bool {
     profiles::PROFILES
         .iter()

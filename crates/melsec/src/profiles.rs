@@ -8,8 +8,10 @@ use softplc_ir::profile::{Capacity, Doors, NamedDevice, Naming, Profile};
 
 /// The family of the MELSEC-Q High Performance models (QnHCPU).
 pub const FAMILY_Q: &str = "MELSEC-Q";
-/// The process CPUs (QnPHCPU): the QnHCPU's memory plus the
-/// process-control instructions (000 §1).
+/// The process CPUs (QnPHCPU) and the redundant CPUs (QnPRHCPU): the
+/// QnHCPU's memory plus the process-control instructions (000 §1). The
+/// QnPHCPU lacks the PID control instructions, the QnPRHCPU has both (001
+/// §1 point): [`crate::is_redundant_model`].
 pub const FAMILY_QNPH: &str = "MELSEC-QnPH";
 /// The Universal models (QnUCPU): the QnHCPU's instructions plus those the
 /// Universal models add ([`crate::qnu`]).
@@ -53,6 +55,9 @@ pub fn current_value(dev: &str, kinds: &[(&str, &str)]) -> Option<String> {
     })
 }
 
+/// Forced X/Y registrations a QCPU takes; the 33rd is refused (004 §7.9.3).
+const MAX_FORCES: usize = 32;
+
 const fn model(
     model: &'static str,
     family: &'static str,
@@ -78,6 +83,7 @@ const fn model(
             serial_ports: 0,
             opcua: true,
         },
+        max_forces: MAX_FORCES,
         default_system: crate::system::system,
     }
 }
@@ -123,9 +129,10 @@ const ZR_1M: u32 = 524_288;
 const ZR_1M25: u32 = 655_360;
 
 /// The models, program files and program memory of 004 Table 3.1 (and the
-/// process CPUs of 000 §1, with the QnHCPU's memory), with the model codes
-/// the MC protocol's "read CPU model" answers (SLMP reference; none is
-/// published for the process CPUs: 0). Then the Universal models: program
+/// process and redundant CPUs of 000 §1, with the QnHCPU's memory), with the
+/// model codes the MC protocol's "read CPU model" answers (SLMP reference;
+/// none is published for the QnPHCPUs: 0). The redundant CPUs run as one
+/// CPU: redundancy (tracking, system switching) is not modelled. Then the Universal models: program
 /// memory in steps from the performance specifications of SH-080807ENG
 /// (10K … 260K steps, 1k = 1024), program files and file registers as above.
 pub static PROFILES: &[Profile] = &[
@@ -138,6 +145,8 @@ pub static PROFILES: &[Profile] = &[
     model("Q06PHCPU", FAMILY_QNPH, 60, 60, 0),
     model("Q12PHCPU", FAMILY_QNPH, 124, 124, 0),
     model("Q25PHCPU", FAMILY_QNPH, 124, 252, 0),
+    model("Q12PRHCPU", FAMILY_QNPH, 124, 124, 0x004B),
+    model("Q25PRHCPU", FAMILY_QNPH, 124, 252, 0x004C),
     qnu("Q00UJCPU", 10, qnu_devices::<ZR_NONE>, 0x0260),
     qnu("Q00UCPU", 10, qnu_devices::<ZR_128K>, 0x0261),
     qnu("Q01UCPU", 15, qnu_devices::<ZR_128K>, 0x0262),

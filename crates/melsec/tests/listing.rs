@@ -10,7 +10,7 @@ use softplc_ir::ops::{Join, Num};
 use softplc_lang::compile::{compile, listing};
 use softplc_lang::il::parse_il;
 use softplc_lang::isa::{class_of, Def};
-use softplc_melsec::{dialect, isa, process_dialect, process_isa};
+use softplc_melsec::{dialect, isa, process_isa, redundant_dialect};
 
 fn defs() -> impl Iterator<Item = &'static Def> {
     isa().all().chain(process_isa().all())
@@ -157,7 +157,7 @@ fn loop_memories_of_pid_and_process_instructions() {
     let p = compile(
         &src,
         &DeviceConfig::default(),
-        &process_dialect(Default::default()),
+        &redundant_dialect(Default::default()),
         None,
     )
     .unwrap();

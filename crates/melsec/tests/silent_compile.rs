@@ -110,8 +110,9 @@ fn candidates(_: &Def) -> Vec<Vec<String>> {
 fn no_definition_compiles_as_another_under_a_foreign_name() {
     let map = DeviceMap::new(&DeviceConfig::default());
     let bug = |d: &str| d.contains("a softplc bug");
-    // The process CPU's set: every MELSEC-Q definition and the process ones.
-    let d = softplc_melsec::process_dialect(Default::default());
+    // The redundant CPU's set: every MELSEC-Q definition (PID included) and
+    // the process ones.
+    let d = softplc_melsec::redundant_dialect(Default::default());
     {
         let r = renamed(&d, &map, "ZZ", &candidates, &bug);
         assert!(

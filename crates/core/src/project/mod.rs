@@ -20,6 +20,7 @@ pub mod multi_cpu;
 mod ports;
 mod programs;
 mod rack;
+mod rules;
 mod settings;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
 pub use tree::line_col;
@@ -387,6 +388,10 @@ impl Project {
             .map(|l| (l.program.file.as_str(), l.program.steps))
             .collect();
         settings::check_capacity(self.config.profile, &files).map_err(|d| Diagnostics(vec![d]))?;
+        let broken = rules::check(&loaded, &self.config, self.common_pointer);
+        if !broken.is_empty() {
+            return Err(Diagnostics(broken));
+        }
         crate::engine::Cpu::with_programs(loaded, self.config.clone(), clock).map_err(|e| {
             Diagnostics(vec![crate::program::Diagnostic {
                 file: self.manifest.display().to_string(),

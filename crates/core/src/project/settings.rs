@@ -25,7 +25,7 @@ pub(crate) fn process(
             &e.item.span,
             format!(
                 "[process] sets the process CPU's decisions, but the model is {model} \
-                 (a process CPU is Q02PHCPU, Q06PHCPU, Q12PHCPU or Q25PHCPU)"
+                 (a process CPU is Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU, Q12PRHCPU or Q25PRHCPU)"
             ),
         );
         return;

@@ -94,3 +94,28 @@ pub fn latch(kind: DeviceKind, start: u32, end: u32, clearable: bool) -> LatchRa
 pub fn example_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/project")
 }
+
+/// Loads a scratch project whose program files are `files` (name, text) and
+/// builds its CPU: the project, or every diagnostic as `file:line:col:
+/// message` (the file name without directory).
+pub fn load_files(toml: &str, files: &[(&str, &str)]) -> Result<Project, Vec<String>> {
+    let dir = scratch(toml);
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    let r = load_project(&dir).and_then(|p| {
+        p.build_cpu(Box::new(softplc_core::engine::VirtualClock::new()))?;
+        Ok(p)
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    r.map_err(|d| {
+        d.0.iter()
+            .map(|d| {
+                let file = Path::new(&d.file)
+                    .file_name()
+                    .map_or(String::new(), |f| f.to_string_lossy().into_owned());
+                format!("{file}:{}:{}: {}", d.line, d.col, d.message)
+            })
+            .collect()
+    })
+}

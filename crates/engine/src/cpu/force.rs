@@ -1,5 +1,5 @@
-//! Forced ON/OFF of X and Y (the web monitor's forcing, contract §3.1; modelled
-//! on iQ-R's forced ON/OFF of external I/O).
+//! Forced ON/OFF of X and Y (the web monitor's forcing, contract §3.1; 004
+//! §7.9.3 forced ON/OFF of external I/O).
 //!
 //! A forced input is written over X after the input refresh, before the
 //! programs; a forced output is written over Y after the programs (before the
@@ -27,13 +27,17 @@ pub(crate) struct Force {
     pub under: bool,
 }
 
-/// Forced devices at most (as many as iQ-R registers).
-pub const MAX_FORCES: usize = 256;
-
 impl Cpu {
+    /// Devices that can be forced at once: the model's registrations
+    /// (32 on MELSEC-Q, the 33rd refused, 004 §7.9.3).
+    pub fn max_forces(&self) -> usize {
+        self.profile().max_forces
+    }
+
     /// Forces X`n` or Y`n` ON or OFF until [`Self::release`] (or power-off,
     /// RESET). Errors for another device kind, a point beyond the CPU's X/Y
-    /// points or more than [`MAX_FORCES`] devices.
+    /// points or more devices than the model registers
+    /// ([`Self::max_forces`]).
     pub fn force(&mut self, kind: DeviceKind, n: u32, on: bool) -> Result<(), String> {
         if !matches!(kind, DeviceKind::X | DeviceKind::Y) {
             return Err(format!("only X and Y can be forced, not {kind:?}"));
@@ -48,8 +52,12 @@ impl Cpu {
         match self.rt.forces.iter_mut().find(|f| f.bit == bit) {
             Some(f) => f.on = on,
             None => {
-                if self.rt.forces.len() >= MAX_FORCES {
-                    return Err(format!("at most {MAX_FORCES} devices can be forced"));
+                let max = self.max_forces();
+                if self.rt.forces.len() >= max {
+                    return Err(format!(
+                        "at most {max} devices can be forced on a {} (release one first)",
+                        self.profile().model
+                    ));
                 }
                 let under = self.rt.mem.bits[bit];
                 self.rt.forces.push(Force {

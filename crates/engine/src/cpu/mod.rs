@@ -15,7 +15,7 @@ mod interrupts;
 pub(crate) use interrupts::Requests;
 mod rack;
 pub(crate) use force::Force;
-pub use force::MAX_FORCES;
+
 mod retained;
 mod schedule;
 mod states;

@@ -48,6 +48,15 @@ use softplc_lang::isa::{Def, Doc, LoopMemory, Pulse};
 
 pub use algo::round_word;
 
+/// Why a process CPU (QnPHCPU) rejects these instructions (001 §1 point:
+/// "the process CPU does not support the PID control instructions of this
+/// manual"; the redundant QnPRHCPU has them).
+pub const NOT_ON_PROCESS_CPU: &str = "a PID control instruction, which the process CPUs \
+     (Q02PHCPU, Q06PHCPU, Q12PHCPU, Q25PHCPU) do not have: on these models a PID loop is \
+     written with the process-control instructions (S.PID or S.2PID, between S.IN and S.OUT1); \
+     the PID control instructions run on the other MELSEC-Q models, the Universal models and \
+     the redundant Q12PRHCPU/Q25PRHCPU";
+
 /// Loops per family (001 §5.1 Table 5.2: 1..32 for High-performance/Universal
 /// QCPU and LCPU; the Basic QCPU's 8 is not modelled).
 pub const MAX_LOOPS: usize = 32;

@@ -50,9 +50,17 @@ pub static FAMILIES: &[&[Def]] = &[
 ];
 
 /// The CPU models that have these instructions.
-pub const MODELS: &[&str] = &["Q02PHCPU", "Q06PHCPU", "Q12PHCPU", "Q25PHCPU"];
+pub const MODELS: &[&str] = &[
+    "Q02PHCPU",
+    "Q06PHCPU",
+    "Q12PHCPU",
+    "Q25PHCPU",
+    "Q12PRHCPU",
+    "Q25PRHCPU",
+];
 
 /// Why a non-process CPU rejects them.
 pub const NEEDS_PROCESS_CPU: &str = "a process-control instruction (QnPHCPU/QnPRHCPU Programming \
      Manual (Process Control Instructions)): it needs a process CPU \
-     ([cpu] model = \"Q02PHCPU\", \"Q06PHCPU\", \"Q12PHCPU\" or \"Q25PHCPU\", or --model)";
+     ([cpu] model = \"Q02PHCPU\", \"Q06PHCPU\", \"Q12PHCPU\", \"Q25PHCPU\", \"Q12PRHCPU\" or \"Q25PRHCPU\", \
+     or --model)";
