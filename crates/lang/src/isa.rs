@@ -447,8 +447,8 @@ pub fn implemented_table(isa: &Isa) -> String {
             "| {} | {} | {} | {} |\n",
             names.join(", "),
             doc.family,
-            doc.cite,
-            doc.notes
+            public_text(doc.cite),
+            public_text(doc.notes)
         );
     }
     out
@@ -469,7 +469,135 @@ pub fn rejected_table(isa: &Isa) -> String {
         }
     }
     for (reason, names) in &rejected {
-        out += &format!("| {} | {} |\n", names.join(", "), reason);
+        out += &format!("| {} | {} |\n", names.join(", "), public_text(reason));
     }
     out
+}
+
+/// The manuals by the short names the generated tables use (their titles
+/// are in COMPATIBILITY.md's heading and docs/manuals.md), for the numbers
+/// the code's citations use.
+const MANUALS: &[(&str, &str)] = &[
+    ("000", "PC"),
+    ("001", "PID"),
+    ("002", "APLC"),
+    ("004", "QCPU"),
+];
+
+/// A citation or note as the generated tables show it to users: the
+/// manuals by their short names, without the line numbers and decision
+/// labels of the project's own reading notes (`004 §10.2 L5420-5755` →
+/// `QCPU §10.2`, `… (DEC-16)` → `…`).
+pub fn public_text(text: &str) -> String {
+    let mut words: Vec<String> = Vec::new();
+    let text = without_aplc_decisions(text);
+    for word in text.split(' ') {
+        // Keep the punctuation around a dropped label: `L12-34,` → `,`.
+        let core = word
+            .trim_start_matches('(')
+            .trim_end_matches([')', ',', ';', '.']);
+        let head = &word[..word.len() - word.trim_start_matches('(').len()];
+        let tail = &word[head.len() + core.len()..];
+        if is_line_label(core) || is_decision_label(core) {
+            if !head.is_empty() || !tail.is_empty() {
+                words.push(format!("{head}{tail}"));
+            }
+            continue;
+        }
+        match MANUALS.iter().find(|(n, _)| *n == core) {
+            Some((_, name)) => words.push(format!("{head}{name}{tail}")),
+            None => words.push(word.to_string()),
+        }
+    }
+    let mut out = words.join(" ").replace(" per ;", ";").replace(" per,", ",");
+    // Tidy what a dropped label leaves: `()`, `( `, ` )`, ` ,`, doubled spaces.
+    for (from, to) in [
+        ("(), ", ""),
+        (" ()", ""),
+        ("()", ""),
+        ("( ", "("),
+        (" )", ")"),
+        (" ,", ","),
+        (",)", ")"),
+        (", ,", ","),
+        ("(,", "("),
+        ("  ", " "),
+    ] {
+        while out.contains(from) {
+            out = out.replace(from, to);
+        }
+    }
+    out.trim().trim_end_matches(',').trim().to_string()
+}
+
+/// The text without `decision D7` (a numbered decision of the APLC reading
+/// notes) and the `, ` or `; ` before it.
+fn without_aplc_decisions(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find("decision D") {
+        let after = &rest[at + "decision D".len()..];
+        let digits = after.bytes().take_while(u8::is_ascii_digit).count();
+        if digits == 0 {
+            out += &rest[..at + "decision D".len()];
+            rest = after;
+            continue;
+        }
+        let before = rest[..at].trim_end_matches([',', ';', ' ']);
+        out += before;
+        rest = &after[digits..];
+    }
+    out + rest
+}
+
+/// `L1234`, `L123-456`: a line of the project's copy of a manual (three
+/// digits or more; a latch relay such as `L10` in a note stays).
+fn is_line_label(w: &str) -> bool {
+    let Some(rest) = w.strip_prefix('L') else {
+        return false;
+    };
+    let mut parts = rest.splitn(2, '-');
+    let digits =
+        |p: Option<&str>| p.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+    let first = parts.next();
+    digits(first)
+        && first.is_some_and(|f| f.len() >= 3)
+        && parts.next().is_none_or(|p| digits(Some(p)))
+}
+
+/// `DEC-16`, `DEC-1..4`: a numbered decision of the project's reading notes.
+fn is_decision_label(w: &str) -> bool {
+    w.strip_prefix("DEC-")
+        .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit() || b == b'.'))
+}
+
+#[cfg(test)]
+mod public_text_tests {
+    use super::public_text;
+
+    #[test]
+    fn labels_go_manuals_get_names() {
+        assert_eq!(public_text("004 §10.2 L5420-5755"), "QCPU §10.2");
+        assert_eq!(
+            public_text("000 §9.24 L17898-18569, §5.2.3 L2466-2500"),
+            "PC §9.24, §5.2.3"
+        );
+        assert_eq!(
+            public_text("blend PI, KP × (DVn + (CT/TI)·ΣDV) (DEC-16)"),
+            "blend PI, KP × (DVn + (CT/TI)·ΣDV)"
+        );
+        assert_eq!(
+            public_text("ANB/ORB without operand (erratum L2757); MPS depth 8 (L2808-2820)"),
+            "ANB/ORB without operand (erratum); MPS depth 8"
+        );
+        assert_eq!(
+            public_text("PM FROM/DFRO, TO/DTO; 004 ch. 8"),
+            "PM FROM/DFRO, TO/DTO; QCPU ch. 8"
+        );
+        // Devices and numbers that only look alike stay.
+        assert_eq!(
+            public_text("writes L10 and D16 (K4000)"),
+            "writes L10 and D16 (K4000)"
+        );
+    }
 }

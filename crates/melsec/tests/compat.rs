@@ -28,10 +28,10 @@ fn process_section() -> String {
     let isa = isa::Isa::new(softplc_melsec::process::FAMILIES);
     let mut out = isa::implemented_table(&isa);
     out +=
-        "\nThe decisions (plc.toml `[process]`, each `true` by default = the spec's choice):\n\n";
-    out += "| key | decision | `true` means |\n|---|---|---|\n";
+        "\nThe choices where the manual is unclear (plc.toml `[process]`, each `true` by default = softplc's reading):\n\n";
+    out += "| key | `true` means |\n|---|---|\n";
     for k in KEYS {
-        out += &format!("| `{}` | DEC-{} | {} |\n", k.name, k.dec, k.doc.trim());
+        out += &format!("| `{}` | {} |\n", k.name, isa::public_text(k.doc.trim()));
     }
     out
 }
