@@ -290,7 +290,7 @@ async fn bad_forces_are_400_and_force_nothing() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn remote_operations_and_the_scan_counter() {
-    let s = start(Some(TOKEN));
+    let s = start_remote_reset(Some(TOKEN));
     let r = send(s.addr, "POST", "/api/v1/cpu/stop", None).await;
     assert_eq!(r.json(), json!({"state": "STOP"}));
     let a = get(s.addr, "/api/v1/status").await.json()["scan"]

@@ -49,23 +49,30 @@ use softplc_core::device::{BufferError, DeviceKind};
 pub struct Session {
     unlocked: bool,
     /// The client this connection is for the remote operations: a remote
-    /// STOP or PAUSE it holds blocks other clients' (004 §7.6.5 (3)).
+    /// STOP or PAUSE it holds blocks other clients' (004 §7.6.5 (3)). One
+    /// per host ([`Session::from_peer`]).
     client: u32,
 }
 
 impl Session {
-    /// A new connection: locked if the CPU has a remote password; a client
-    /// of its own for the remote operations.
+    /// A new connection: locked if the CPU has a remote password. Its client
+    /// for the remote operations is the local one (0).
     pub fn new() -> Session {
-        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(1);
-        Session {
-            unlocked: false,
-            client: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
-        }
+        Session::default()
     }
 
-    /// The same client as another connection (a tool that reconnects).
-    pub fn with_client(client: u32) -> Session {
+    /// A connection from `peer`: connections from one host are one client
+    /// for the remote operations (a tool that reconnects keeps its remote
+    /// STOP or PAUSE), another host is another client.
+    pub fn from_peer(peer: std::net::IpAddr) -> Session {
+        let client = match peer {
+            std::net::IpAddr::V4(a) => u32::from(a),
+            std::net::IpAddr::V6(a) => {
+                let b = a.octets();
+                b.chunks(4)
+                    .fold(0, |h, c| h ^ u32::from_be_bytes([c[0], c[1], c[2], c[3]]))
+            }
+        };
         Session {
             unlocked: false,
             client,

@@ -45,9 +45,9 @@ pub enum Refusal {
 impl fmt::Display for Refusal {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Refusal::Held { by, hold } => write!(
+            Refusal::Held { hold, .. } => write!(
                 f,
-                "another client (#{by}) holds a remote {}; it must cancel it with a remote RUN first",
+                "another client holds a remote {}; it must cancel it with a remote RUN first",
                 match hold {
                     Hold::Stop => "STOP",
                     Hold::Pause => "PAUSE",
@@ -152,10 +152,8 @@ impl Cpu {
             let n = self.cfg.run_contact.unwrap_or(0);
             return Some(format!("the RUN contact (X{n:X}) is ON"));
         }
-        if let Some((by, Hold::Stop)) = self.remote.held {
-            return Some(format!(
-                "client #{by} holds a remote STOP; a remote RUN from it releases it"
-            ));
+        if let Some((_, Hold::Stop)) = self.remote.held {
+            return Some("a remote STOP holds; a remote RUN from its client releases it".into());
         }
         None
     }
@@ -174,7 +172,8 @@ impl Cpu {
     /// follows the RUN contact from the start.
     pub(super) fn remote_power_on(&mut self) {
         self.remote = RemoteState::default();
-        if self.contact(self.cfg.run_contact) {
+        // Device memory was just cleared: the input module's signal.
+        if self.cfg.run_contact.is_some_and(|n| self.input(n)) {
             self.remote.contact_stop = true;
             self.enter_stop();
         }
