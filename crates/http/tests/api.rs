@@ -512,3 +512,15 @@ async fn ladder_and_loop_pages_carry_element_ids_and_names() {
     assert!(r.body.contains(r#"data-v="D628""#));
     assert!(r.body.contains(r#"data-v="D512""#), "loop 2's action word");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn remote_reset_is_409_unless_the_parameter_allows_it() {
+    // 004 §7.6.3: remote RESET is not allowed by default.
+    let s = start(Some(TOKEN));
+    send(s.addr, "POST", "/api/v1/cpu/stop", None).await;
+    let r = send(s.addr, "POST", "/api/v1/cpu/reset", None).await;
+    assert_eq!(r.status, 409);
+    let why = r.json()["error"].as_str().unwrap().to_string();
+    assert!(why.contains("remote_reset"), "{why}");
+    assert_eq!(get(s.addr, "/api/v1/status").await.json()["state"], "STOP");
+}
