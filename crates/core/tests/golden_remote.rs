@@ -61,7 +61,10 @@ fn pause_contact_without_sm206_does_nothing() {
     let mut p = contacts();
     p.cpu.set_input(0x11, true);
     p.scans(4);
-    assert_eq!((p.state(), p.int("D0"), p.bit("SM204")), (CpuState::Run, 4, false));
+    assert_eq!(
+        (p.state(), p.int("D0"), p.bit("SM204")),
+        (CpuState::Run, 4, false)
+    );
     // SM206 turned OFF while paused ends the PAUSE as the contact would.
     p.set("M6", "1").scans(2);
     assert_eq!(p.state(), CpuState::Pause);
@@ -80,9 +83,15 @@ fn remote_pause_shows_sm204_at_the_next_end_and_pauses_one_end_later() {
     p.cpu.remote_pause(1, false).unwrap();
     assert_eq!((p.state(), p.bit("SM204")), (CpuState::Run, false));
     p.scan();
-    assert_eq!((p.int("D0"), p.bit("SM204"), p.state()), (2, true, CpuState::Run));
+    assert_eq!(
+        (p.int("D0"), p.bit("SM204"), p.state()),
+        (2, true, CpuState::Run)
+    );
     p.scan();
-    assert_eq!((p.int("D0"), p.bit("Y1"), p.state()), (3, true, CpuState::Pause));
+    assert_eq!(
+        (p.int("D0"), p.bit("Y1"), p.state()),
+        (3, true, CpuState::Pause)
+    );
     p.scans(2);
     assert_eq!(p.int("D0"), 3);
     p.cpu.remote_run(1, false).unwrap();
@@ -103,7 +112,10 @@ fn run_contact_stops_at_end_and_shows_sm203() {
     p.cpu.set_input(0x10, true);
     p.scan();
     assert_eq!(p.int("D0"), 2, "the scan runs to END, then STOP");
-    assert_eq!((p.state(), sd203(&p), p.bit("SM203")), (CpuState::Stop, 1, true));
+    assert_eq!(
+        (p.state(), sd203(&p), p.bit("SM203")),
+        (CpuState::Stop, 1, true)
+    );
     p.scans(2);
     assert_eq!(p.int("D0"), 2);
     p.cpu.set_input(0x10, false);
@@ -132,7 +144,10 @@ fn stop_has_priority_every_source_must_say_run() {
     assert_eq!(p.state(), CpuState::Run);
     // The key switch at STOP: a remote RUN leaves the CPU stopped (§7.6.5 table).
     p.cpu.set_stop();
-    assert!(matches!(p.cpu.remote_run(1, false), Err(Refusal::StopHeld(_))));
+    assert!(matches!(
+        p.cpu.remote_run(1, false),
+        Err(Refusal::StopHeld(_))
+    ));
     assert_eq!(p.state(), CpuState::Stop);
     // The RUN contact ON while the switch is at STOP; the switch to RUN
     // still leaves the contact's STOP.
@@ -177,13 +192,17 @@ fn remote_reset_only_in_stop_and_only_when_allowed() {
     p.cpu.remote_stop(1, false).unwrap();
     assert_eq!(p.cpu.remote_reset(), Err(Refusal::ResetDisabled));
     assert_eq!(p.state(), CpuState::Stop);
-    let toml = "[[program]]\nfile = \"main.il\"\n[ras]\nremote_reset = true\nrun_contact = \"X10\"\n";
+    let toml =
+        "[[program]]\nfile = \"main.il\"\n[ras]\nremote_reset = true\nrun_contact = \"X10\"\n";
     let mut p = Plc::project(toml, &[("main.il", MAIN)]);
     p.scans(3);
     p.cpu.remote_stop(1, false).unwrap();
     p.cpu.remote_reset().unwrap();
     // Power-on processing: D0 cleared, RUN (the switch at RUN, §7.6.3 (3) (c)).
-    assert_eq!((p.state(), p.int("D0"), p.cpu.remote_hold()), (CpuState::Run, 0, None));
+    assert_eq!(
+        (p.state(), p.int("D0"), p.cpu.remote_hold()),
+        (CpuState::Run, 0, None)
+    );
     // With the RUN contact ON the CPU comes out of RESET in STOP.
     p.cpu.set_input(0x10, true);
     p.scan();

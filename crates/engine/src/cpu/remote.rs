@@ -198,8 +198,8 @@ impl Cpu {
                 let _ = self.run_unless_stopped();
             }
         }
-        let by_contact = self.contact(self.cfg.pause_contact)
-            && self.rt.system.pause_enabled(&self.rt.mem);
+        let by_contact =
+            self.contact(self.cfg.pause_contact) && self.rt.system.pause_enabled(&self.rt.mem);
         let remote = matches!(self.remote.held, Some((_, Hold::Pause)));
         let requested = by_contact || remote;
         match self.state {
