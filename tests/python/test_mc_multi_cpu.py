@@ -36,7 +36,7 @@ def system(tmp_path):
         d.mkdir()
         (d / "plc.toml").write_text(
             f'[cpu]\nmodel = "{model}"\n[[program]]\nfile = "main.il"\n'
-            "[multi_cpu]\ncpus = 2\n")
+            "[multi_cpu]\ncpus = 2\n[ras]\nremote_reset = true\n")
         (d / "main.il").write_text(il)
         manifest += f'[[cpu]]\nproject = "{name}"\n'
     (tmp_path / "system.toml").write_text(manifest)

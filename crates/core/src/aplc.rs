@@ -86,6 +86,9 @@ pub fn cpu_config_with_ports(
         constant_scan,
         latch: Vec::new(),
         system: softplc_aplc::system_with_ports(ms(watchdog), constant_scan.map_or(0, ms), ports),
+        // The APLC-TCP has no remote-RESET parameter: RESET in STOP is
+        // always accepted, as before the MELSEC-Q parameter existed.
+        remote_reset: true,
         ..CpuConfig::new(crate::profile::aplc())
     }
 }

@@ -16,7 +16,7 @@ pub mod trace;
 
 use std::time::Duration;
 
-pub use cpu::{Cpu, LoadedProgram, ProgramMonitor, VIRTUAL_WATCHDOG_FLOOR};
+pub use cpu::{Cpu, Hold, LoadedProgram, ProgramMonitor, Refusal, VIRTUAL_WATCHDOG_FLOOR};
 pub use softplc_ir::calendar;
 pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
@@ -137,6 +137,13 @@ pub struct CpuConfig {
     /// Initial-program execution monitor time; `None` = off.
     pub initial_monitor: Option<Duration>,
     pub stop_to_run_output: StopToRunOutput,
+    /// The RUN-PAUSE contacts (004 §7.6.1, §7.6.2): the X number of the RUN
+    /// contact (ON = STOP) and of the PAUSE contact (ON with the family's
+    /// PAUSE enable = PAUSE); `None` = not set.
+    pub run_contact: Option<u32>,
+    pub pause_contact: Option<u32>,
+    /// Remote RESET allowed (004 §7.6.3; not by default).
+    pub remote_reset: bool,
     /// Latch ranges; by default L0-L8191 is latch (1). A part that is a
     /// local device is not latched (004 L3552).
     pub latch: Vec<LatchRange>,
@@ -180,6 +187,9 @@ impl CpuConfig {
             low_speed_time: None,
             initial_monitor: None,
             stop_to_run_output: StopToRunOutput::Previous,
+            run_contact: None,
+            pause_contact: None,
+            remote_reset: false,
             latch: vec![LatchRange {
                 kind: DeviceKind::L,
                 start: 0,

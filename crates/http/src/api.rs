@@ -507,10 +507,14 @@ async fn cpu_pause(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
     cpu_op(app, h, &q, |s, i| s.cpu_mut_at(i).set_pause()).await
 }
 
-/// RESET (in STOP); in a multi-CPU system CPU 1's resets every CPU and
-/// another's brings the others down (MULTI CPU DOWN).
+/// Remote RESET (in STOP, when `[ras] remote_reset` allows it; 409 with
+/// the reason otherwise); in a multi-CPU system CPU 1's resets every CPU
+/// and another's brings the others down (MULTI CPU DOWN).
 async fn cpu_reset(State(app): Shared, h: HeaderMap, Query(q): Q) -> Response {
-    cpu_op(app, h, &q, |s, i| s.cpus.reset(i)).await
+    cpu_op(app, h, &q, |s, i| {
+        s.cpus.remote_reset(i).map_err(|r| r.to_string())
+    })
+    .await
 }
 
 /// `cpu/step?scans=N[&cpu=K]`: N scans from PAUSE, answered once the CPU

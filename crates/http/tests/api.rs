@@ -290,7 +290,7 @@ async fn bad_forces_are_400_and_force_nothing() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn remote_operations_and_the_scan_counter() {
-    let s = start(Some(TOKEN));
+    let s = start_remote_reset(Some(TOKEN));
     let r = send(s.addr, "POST", "/api/v1/cpu/stop", None).await;
     assert_eq!(r.json(), json!({"state": "STOP"}));
     let a = get(s.addr, "/api/v1/status").await.json()["scan"]
@@ -542,4 +542,16 @@ async fn the_33rd_force_is_refused_and_nothing_of_the_request_is_forced() {
     let f = get(s.addr, "/api/v1/force").await.json();
     assert_eq!(f["forced"].as_object().unwrap().len(), 32);
     assert_eq!(f["forced"]["Y0"], true);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn remote_reset_is_409_unless_the_parameter_allows_it() {
+    // 004 §7.6.3: remote RESET is not allowed by default.
+    let s = start(Some(TOKEN));
+    send(s.addr, "POST", "/api/v1/cpu/stop", None).await;
+    let r = send(s.addr, "POST", "/api/v1/cpu/reset", None).await;
+    assert_eq!(r.status, 409);
+    let why = r.json()["error"].as_str().unwrap().to_string();
+    assert!(why.contains("remote_reset"), "{why}");
+    assert_eq!(get(s.addr, "/api/v1/status").await.json()["state"], "STOP");
 }

@@ -31,7 +31,7 @@ fn start_system(token: Option<&str>) -> Sys {
         std::fs::create_dir(&d).unwrap();
         std::fs::write(
             d.join("plc.toml"),
-            "[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n",
+            "[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n[ras]\nremote_reset = true\n",
         )
         .unwrap();
         std::fs::write(d.join("main.il"), il).unwrap();

@@ -36,6 +36,16 @@ pub enum Status {
     Pause,
 }
 
+/// The remote-operation relays a system shows (004 §7.6).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Remote {
+    /// The CPU is held in STOP by the RUN contact.
+    pub stop_by_contact: bool,
+    /// A PAUSE was requested at an END: the CPU pauses at the next END and
+    /// stays paused while the request holds.
+    pub pause: bool,
+}
+
 /// The start of a scan, before the programs run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ScanStart {
@@ -160,6 +170,13 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn end(&self, cx: &mut EndCtx<'_>, end: End);
     /// The operating state changed (or was set again).
     fn status(&self, _mem: &mut DeviceMemory, _status: Status) {}
+    /// The remote-operation state changed (or was shown again at END).
+    fn remote(&self, _mem: &mut DeviceMemory, _remote: Remote) {}
+    /// The program enables PAUSE by the PAUSE contact (MELSEC: SM206);
+    /// `false` for a family without such a relay.
+    fn pause_enabled(&self, _mem: &DeviceMemory) -> bool {
+        false
+    }
     /// The family's number for `fault`; `None` when the condition is no
     /// error in this family (nothing is recorded).
     fn code(&self, fault: Fault) -> Option<ErrorCode>;

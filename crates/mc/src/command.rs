@@ -151,8 +151,8 @@ pub enum Command {
         points: Vec<(DeviceRef, bool)>,
     },
     RemoteRun {
-        /// Mode 0003: execute even while another device holds the CPU in remote
-        /// STOP/PAUSE (softplc does not track that, so both modes behave alike).
+        /// Mode 0003: execute even while another client holds the CPU in
+        /// remote STOP/PAUSE (`Cpu::remote_run`).
         force: bool,
         clear: ClearMode,
     },

@@ -35,7 +35,7 @@
 //!   password, unlock and lock complete normally and change nothing.
 
 use softplc_core::access::{AccessError, RBlock, Span};
-use softplc_core::engine::{Cpu, CpuState, RunClear};
+use softplc_core::engine::{Cpu, CpuState, Refusal, RunClear};
 use softplc_core::system::System;
 
 use crate::command::{ClearMode, Command, Unit};
@@ -48,12 +48,40 @@ use softplc_core::device::{BufferError, DeviceKind};
 #[derive(Clone, Debug, Default)]
 pub struct Session {
     unlocked: bool,
+    /// The client this connection is for the remote operations: a remote
+    /// STOP or PAUSE it holds blocks other clients' (004 §7.6.5 (3)). One
+    /// per host ([`Session::from_peer`]).
+    client: u32,
 }
 
 impl Session {
-    /// A new connection: locked if the CPU has a remote password.
+    /// A new connection: locked if the CPU has a remote password. Its client
+    /// for the remote operations is the local one (0).
     pub fn new() -> Session {
         Session::default()
+    }
+
+    /// A connection from `peer`: connections from one host are one client
+    /// for the remote operations (a tool that reconnects keeps its remote
+    /// STOP or PAUSE), another host is another client.
+    pub fn from_peer(peer: std::net::IpAddr) -> Session {
+        let client = match peer {
+            std::net::IpAddr::V4(a) => u32::from(a),
+            std::net::IpAddr::V6(a) => {
+                let b = a.octets();
+                b.chunks(4)
+                    .fold(0, |h, c| h ^ u32::from_be_bytes([c[0], c[1], c[2], c[3]]))
+            }
+        };
+        Session {
+            unlocked: false,
+            client,
+        }
+    }
+
+    /// The client this connection is for the remote operations.
+    pub fn client(&self) -> u32 {
+        self.client
     }
 
     /// Whether the remote password has been unlocked on this connection.
@@ -86,8 +114,8 @@ pub trait Station {
     fn cpus(&self) -> usize;
     /// CPU `i` (0-based, `i < cpus()`).
     fn cpu_mut(&mut self, i: usize) -> &mut Cpu;
-    /// Remote RESET of CPU `i` (accepted in STOP only).
-    fn reset(&mut self, i: usize) -> std::result::Result<(), String>;
+    /// Remote RESET of CPU `i` (in STOP, when its parameter allows it).
+    fn remote_reset(&mut self, i: usize) -> std::result::Result<(), Refusal>;
 }
 
 impl Station for Cpu {
@@ -99,8 +127,8 @@ impl Station for Cpu {
         self
     }
 
-    fn reset(&mut self, _: usize) -> std::result::Result<(), String> {
-        Cpu::reset(self)
+    fn remote_reset(&mut self, _: usize) -> std::result::Result<(), Refusal> {
+        Cpu::remote_reset(self)
     }
 }
 
@@ -115,8 +143,8 @@ impl Station for System {
 
     /// CPU 1's RESET resets the whole system, another's brings the others
     /// down ([`System::reset`]).
-    fn reset(&mut self, i: usize) -> std::result::Result<(), String> {
-        System::reset(self, i)
+    fn remote_reset(&mut self, i: usize) -> std::result::Result<(), Refusal> {
+        System::remote_reset(self, i)
     }
 }
 
@@ -160,12 +188,21 @@ pub fn handle_station(
         Err(e) => return fail(e),
     };
     if let Command::RemoteReset = req.command {
-        return match station.reset(i) {
+        return match station.remote_reset(i) {
             Ok(()) => Response::Ok(ResponseData::None),
-            Err(_) => fail(EndCode::CPU_RUNNING),
+            Err(r) => fail(refused_reset(r)),
         };
     }
     handle(req, station.cpu_mut(i), session, password)
+}
+
+/// The end code of a refused remote RESET: `4010` outside STOP, `C05F`
+/// when the parameter does not allow it (docs/mc-protocol.md).
+fn refused_reset(r: Refusal) -> EndCode {
+    match r {
+        Refusal::ResetDisabled => EndCode::NOT_EXECUTABLE,
+        _ => EndCode::CPU_RUNNING,
+    }
 }
 
 /// With a remote password, a session that has not unlocked may only unlock
@@ -278,9 +315,10 @@ fn execute(
             }
             ResponseData::None
         }
-        RemoteRun { clear, .. } => {
+        RemoteRun { clear, force } => {
             let was_stopped = cpu.state() == CpuState::Stop;
-            cpu.set_run().map_err(|_| EndCode::NOT_EXECUTABLE)?;
+            cpu.remote_run(session.client, *force)
+                .map_err(|_| EndCode::NOT_EXECUTABLE)?;
             match (was_stopped, clear) {
                 (true, ClearMode::OutsideLatch) => cpu.remote_run_clear(RunClear::OutsideLatch),
                 (true, ClearMode::All) => cpu.remote_run_clear(RunClear::All),
@@ -289,11 +327,13 @@ fn execute(
             ResponseData::None
         }
         RemoteStop => {
-            cpu.set_stop();
+            cpu.remote_stop(session.client, false)
+                .map_err(|_| EndCode::NOT_EXECUTABLE)?;
             ResponseData::None
         }
-        RemotePause { .. } => {
-            cpu.set_pause().map_err(|_| EndCode::NOT_EXECUTABLE)?;
+        RemotePause { force } => {
+            cpu.remote_pause(session.client, *force)
+                .map_err(|_| EndCode::NOT_EXECUTABLE)?;
             ResponseData::None
         }
         RemoteLatchClear => {
@@ -301,7 +341,7 @@ fn execute(
             ResponseData::None
         }
         RemoteReset => {
-            cpu.reset().map_err(|_| EndCode::CPU_RUNNING)?;
+            cpu.remote_reset().map_err(refused_reset)?;
             ResponseData::None
         }
         ReadCpuModel => {

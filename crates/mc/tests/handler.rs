@@ -294,6 +294,9 @@ fn remote_stop_run_pause_over_the_wire() {
     cpu.scan();
     assert!(cpu.output(0));
     ok(&mut cpu, &pause);
+    // A remote PAUSE shows at the next END and takes hold at the END after.
+    cpu.scan();
+    cpu.scan();
     assert_eq!(cpu.state(), CpuState::Pause);
     ok(&mut cpu, &run);
     assert_eq!(cpu.state(), CpuState::Run);
@@ -304,7 +307,9 @@ fn remote_stop_run_pause_over_the_wire() {
 
 #[test]
 fn remote_reset_clears_a_stop_error_and_latch_clear_works_in_stop() {
-    let mut cpu = cpu();
+    let mut cfg = softplc_core::profile::default_config();
+    cfg.remote_reset = true;
+    let (mut cpu, _) = cpu_with(cfg);
     let reset = bin3e(&[0x06, 0x10, 0x00, 0x00, 0x01, 0x00]);
     let latch_clear = bin3e(&[0x05, 0x10, 0x00, 0x00, 0x01, 0x00]);
     cpu.set_bit(DeviceKind::L, 5, true).unwrap();
@@ -357,12 +362,12 @@ fn remote_run_clear_modes() {
         )
     };
     // Clear mode 01 from STOP: outside the latch ranges only; ZR and SD kept.
-    cpu.set_stop();
+    ok(&mut cpu, &ascii3e("100200000001"));
     set(&mut cpu);
     ok(&mut cpu, &ascii3e("1001000000010100"));
     assert_eq!(get(&cpu), (false, true, 0, 1, 1, 1));
     // Clear mode 02: the latch ranges too.
-    cpu.set_stop();
+    ok(&mut cpu, &ascii3e("100200000001"));
     set(&mut cpu);
     ok(&mut cpu, &ascii3e("1001000000030200"));
     assert_eq!(cpu.state(), CpuState::Run);

@@ -20,7 +20,7 @@ fn system() -> (tempfile::TempDir, System) {
         std::fs::create_dir(&d).unwrap();
         std::fs::write(
             d.join("plc.toml"),
-            format!("[cpu]\nmodel = \"{model}\"\n[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n"),
+            format!("[cpu]\nmodel = \"{model}\"\n[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n[ras]\nremote_reset = true\n"),
         )
         .unwrap();
         std::fs::write(

@@ -5,7 +5,7 @@
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-use softplc_core::engine::Cpu;
+use softplc_core::engine::{Cpu, Refusal};
 use softplc_core::system::System;
 
 /// One CPU or a multi-CPU system. CPU numbers are 0-based here: CPU 1 is 0.
@@ -57,13 +57,13 @@ impl Cpus {
         }
     }
 
-    /// Remote RESET of CPU `i` (STOP only): a system's follows
-    /// [`System::reset`] (CPU 1's resets every CPU, another's brings the
-    /// others down).
-    pub fn reset(&mut self, i: usize) -> Result<(), String> {
+    /// Remote RESET of CPU `i` (STOP only, when its parameter allows it):
+    /// a system's follows [`System::reset`] (CPU 1's resets every CPU,
+    /// another's brings the others down).
+    pub fn remote_reset(&mut self, i: usize) -> Result<(), Refusal> {
         match self {
-            Cpus::One(c) => c.reset(),
-            Cpus::System(s) => s.reset(i),
+            Cpus::One(c) => c.remote_reset(),
+            Cpus::System(s) => s.remote_reset(i),
         }
     }
 
@@ -83,7 +83,7 @@ impl softplc_mc::Station for Cpus {
         self.get_mut(i)
     }
 
-    fn reset(&mut self, i: usize) -> Result<(), String> {
-        Cpus::reset(self, i)
+    fn remote_reset(&mut self, i: usize) -> Result<(), Refusal> {
+        Cpus::remote_reset(self, i)
     }
 }

@@ -152,7 +152,8 @@ impl Protocol for Mc {
     type Session = (Session, Option<SocketAddr>);
 
     fn session(&self, peer: Option<SocketAddr>) -> Self::Session {
-        (Session::new(), peer)
+        let session = peer.map_or_else(Session::new, |p| Session::from_peer(p.ip()));
+        (session, peer)
     }
 
     fn frame_len(&self, buf: &[u8]) -> FrameLen {

@@ -62,7 +62,14 @@ pub(crate) fn configure(
     if let Some(ras) = top.iter().find(|e| e.key == "ras") {
         if let super::tree::Value::Table(t) = &ras.item.value {
             for e in t {
-                if matches!(e.key.as_str(), "operation_error" | "stop_to_run_output") {
+                if matches!(
+                    e.key.as_str(),
+                    "operation_error"
+                        | "stop_to_run_output"
+                        | "run_contact"
+                        | "pause_contact"
+                        | "remote_reset"
+                ) {
                     cx.error(
                         &e.key_span,
                         format!("[ras] {} is MELSEC-only: not in an APLC-TCP project", e.key),

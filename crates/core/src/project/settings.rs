@@ -209,6 +209,9 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
         "stop_to_run_output",
         "low_speed_time",
         "initial_monitor",
+        "run_contact",
+        "pause_contact",
+        "remote_reset",
     ];
     cx.unknown_keys(t, Some("[ras]"), KEYS);
     let mut watchdog_ok = true;
@@ -250,7 +253,35 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
                     config.initial_monitor = d;
                 }
             }
+            "run_contact" => {
+                if let Some(n) = contact(cx, e) {
+                    config.run_contact = Some(n);
+                }
+            }
+            "pause_contact" => {
+                if let Some(n) = contact(cx, e) {
+                    config.pause_contact = Some(n);
+                }
+            }
+            "remote_reset" => {
+                if let Some(b) = cx.bool(e, "true or false") {
+                    config.remote_reset = b;
+                }
+            }
             _ => {}
+        }
+    }
+    // The PAUSE contact works only with a RUN contact: the manual sets them
+    // as one parameter, "RUN-PAUSE contacts" (004 §7.6.5 *2).
+    if let (Some(e), None) = (
+        t.iter().find(|e| e.key == "pause_contact"),
+        config.run_contact,
+    ) {
+        if config.pause_contact.is_some() {
+            cx.error(
+                &e.key_span,
+                "pause_contact needs run_contact: the CPU sets them as one parameter, the RUN-PAUSE contacts",
+            );
         }
     }
     // WDT > constant scan (004 L3462-3475).
@@ -266,6 +297,29 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
                     if given { "" } else { ", the default" }
                 ),
             );
+        }
+    }
+}
+
+/// `[ras] run_contact`, `pause_contact`: an input X0-X1FFF (004 L1061).
+fn contact(cx: &mut Ctx, e: &Entry) -> Option<u32> {
+    use softplc_ir::device::{parse_operand, DeviceKind, Operand, Reach};
+    let text = cx.string(e, "an input such as \"X10\"")?;
+    match parse_operand(text) {
+        Ok(Operand::Device {
+            dev,
+            digits: None,
+            bit: None,
+            index: None,
+        }) if dev.reach == Reach::Memory && dev.kind == DeviceKind::X && dev.number <= 0x1FFF => {
+            Some(dev.number)
+        }
+        _ => {
+            cx.error(
+                &e.item.span,
+                format!("{} \"{text}\" must be an input X0-X1FFF", e.key),
+            );
+            None
         }
     }
 }

@@ -277,6 +277,13 @@ impl System {
             .all(|m| m.cpu.state() == crate::engine::CpuState::Stop)
     }
 
+    /// Remote RESET of CPU `i` (004 §7.6.3): accepted when CPU `i` is in
+    /// STOP and its own parameter allows remote RESET; then [`Self::reset`].
+    pub fn remote_reset(&mut self, i: usize) -> Result<(), crate::engine::Refusal> {
+        self.members[i].cpu.remote_reset_allowed()?;
+        self.reset(i).map_err(crate::engine::Refusal::StopHeld)
+    }
+
     /// RESET of CPU `i` (accepted in STOP): CPU 1's resets the whole
     /// system; another's resets that CPU alone, and every CPU then shows
     /// MULTI CPU DOWN (004 L8521-8560).

@@ -132,8 +132,9 @@ impl Cpu {
             t.sample(&mut self.rt.mem, self.scans, now);
         }
         if std::mem::take(&mut self.rt.stop_request) {
-            self.set_stop();
+            self.enter_stop();
         }
         self.show_status();
+        self.remote_end();
     }
 }

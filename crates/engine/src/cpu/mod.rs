@@ -15,7 +15,8 @@ mod interrupts;
 pub(crate) use interrupts::Requests;
 mod rack;
 pub(crate) use force::Force;
-
+mod remote;
+pub use remote::{Hold, Refusal};
 mod retained;
 mod schedule;
 mod states;
@@ -95,6 +96,8 @@ pub struct Cpu {
     state: CpuState,
     /// A stop error holds the CPU in STOP until RESET.
     stop_error: bool,
+    /// The STOP and PAUSE sources of the remote operations (004 §7.6).
+    remote: remote::RemoteState,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
     /// Clock reading at power-on, at the last STOP→RUN and at the last END.
@@ -247,6 +250,7 @@ impl Cpu {
             clock,
             state: CpuState::Run,
             stop_error: false,
+            remote: Default::default(),
             saved_y: vec![false; y].into_boxed_slice(),
             power_on_us: now,
             run_start_us: now,

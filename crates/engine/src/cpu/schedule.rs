@@ -17,6 +17,7 @@ impl Cpu {
             self.last_end_us = now;
             // The modules go on while the CPU is stopped.
             self.modules_end(now);
+            self.remote_end();
             return;
         }
         self.rt.now_us = now;
@@ -70,7 +71,7 @@ impl Cpu {
             // OFF, after its error interrupt (I32) when enabled.
             self.run_stop_interrupt();
             self.stop_error = true;
-            self.set_stop();
+            self.enter_stop();
             self.scans += 1;
             return;
         }

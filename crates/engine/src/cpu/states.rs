@@ -6,15 +6,24 @@ use super::*;
 use softplc_ir::system::Status;
 
 impl Cpu {
-    /// RUN (key switch or remote RUN). From STOP this is STOP→RUN: outputs per the
-    /// "STOP→RUN output" parameter, device initial values written, the initial
-    /// programs run again. Refused while a stop error is held (RESET first).
+    /// The key switch to RUN. From STOP this is STOP→RUN: outputs per the
+    /// "STOP→RUN output" parameter, device initial values written, the
+    /// initial programs run again. Refused while a stop error is held (RESET
+    /// first) or another source still says STOP (the RUN contact, a remote
+    /// STOP: 004 §7.6.1 (3)); the switch is at RUN all the same.
     pub fn set_run(&mut self) -> Result<(), String> {
+        self.set_switch_stop(false);
+        self.run_unless_stopped()
+    }
+
+    /// STOP→RUN, or PAUSE→RUN.
+    pub(super) fn go_run(&mut self) -> Result<(), String> {
         match self.state {
             CpuState::Run => Ok(()),
             CpuState::Pause => {
                 self.state = CpuState::Run;
                 self.show_status();
+                self.remote_stopped();
                 Ok(())
             }
             CpuState::Stop if self.stop_error => Err(format!(
@@ -34,9 +43,17 @@ impl Cpu {
         }
     }
 
-    /// STOP (key switch or remote STOP): the Y image is saved and the external
-    /// outputs go OFF; device memory is kept.
+    /// The key switch to STOP: the Y image is saved and the external
+    /// outputs go OFF; device memory is kept. The CPU stays stopped until
+    /// the switch is back at RUN ([`Self::set_run`]).
     pub fn set_stop(&mut self) {
+        self.set_switch_stop(true);
+        self.enter_stop();
+    }
+
+    /// STOP from any cause (the switch, a remote STOP, the RUN contact, a
+    /// stop error, the STOP instruction).
+    pub(super) fn enter_stop(&mut self) {
         if self.state != CpuState::Stop {
             let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
             let n = self.saved_y.len();
@@ -44,6 +61,7 @@ impl Cpu {
             self.state = CpuState::Stop;
             self.show_status();
         }
+        self.remote_stopped();
     }
 
     /// Records an error that comes from outside the programs (another CPU
@@ -54,7 +72,7 @@ impl Cpu {
         let code = self.rt.record(fault, None, None, None, None)?;
         if self.rt.severity(code) == softplc_ir::system::Severity::Stop {
             self.stop_error = true;
-            self.set_stop();
+            self.enter_stop();
         }
         Some(code)
     }
@@ -64,7 +82,8 @@ impl Cpu {
         self.stop_error
     }
 
-    /// PAUSE (remote PAUSE): the program stops with outputs held.
+    /// PAUSE at once (the monitor's breakpoints and steps; a remote PAUSE
+    /// is [`Self::remote_pause`]): the program stops with outputs held.
     pub fn set_pause(&mut self) -> Result<(), String> {
         match self.state {
             CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
@@ -76,9 +95,11 @@ impl Cpu {
         }
     }
 
-    /// RESET (switch or remote RESET, accepted in STOP): the same processing as
-    /// power-on — devices outside the latch ranges cleared, errors cleared — then
-    /// RUN as the key switch says.
+    /// The RESET switch (accepted in STOP; a remote RESET is
+    /// [`Self::remote_reset`]): the same processing as power-on — devices
+    /// outside the latch ranges cleared, errors cleared, the remote
+    /// operations cancelled, the key switch back at RUN — then RUN unless
+    /// the RUN contact is ON.
     pub fn reset(&mut self) -> Result<(), String> {
         if self.state != CpuState::Stop {
             return Err("RESET is accepted only in STOP".into());
@@ -188,6 +209,7 @@ impl Cpu {
         self.scans = 0;
         self.system_power_on();
         self.start_run();
+        self.remote_power_on();
     }
 
     /// Common part of power-on and STOP→RUN.

@@ -41,13 +41,27 @@ pub fn start_program(src: &str, token: Option<&str>) -> Server {
 
 /// A server of `src` whose door has `limits`.
 pub fn start_limited(src: &str, token: Option<&str>, limits: softplc_http::door::Limits) -> Server {
+    start_configured(src, token, limits, softplc_core::profile::default_config())
+}
+
+/// [`start`] on a CPU whose parameters allow remote RESET (`[ras]
+/// remote_reset = true`).
+pub fn start_remote_reset(token: Option<&str>) -> Server {
+    let mut cfg = softplc_core::profile::default_config();
+    cfg.remote_reset = true;
+    start_configured(PROGRAM, token, Default::default(), cfg)
+}
+
+/// A server of `src` on a CPU of `cfg` whose door has `limits`.
+pub fn start_configured(
+    src: &str,
+    token: Option<&str>,
+    limits: softplc_http::door::Limits,
+    cfg: softplc_core::engine::CpuConfig,
+) -> Server {
     let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
     let source = softplc_core::program::il::parse_il("main.il", src).unwrap();
-    let cpu = Cpu::new(
-        p,
-        softplc_core::profile::default_config(),
-        Box::new(MonotonicClock::default()),
-    );
+    let cpu = Cpu::new(p, cfg, Box::new(MonotonicClock::default()));
     let cfg = HttpConfig {
         token: token.map(str::to_string),
         model: "Q06HCPU".into(),

@@ -23,8 +23,8 @@ use std::sync::Arc;
 use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{
-    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, ScanStart, Severity, Status, System,
-    TraceRelays,
+    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, Remote, ScanStart, Severity, Status,
+    System, TraceRelays,
 };
 
 /// SD648: the file-register block number R addresses (004 §10.7, RSET).
@@ -126,6 +126,14 @@ impl System for Melsec {
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
         scan::status(mem, status);
         self.a_refresh(mem);
+    }
+
+    fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
+        scan::remote(mem, remote);
+    }
+
+    fn pause_enabled(&self, mem: &DeviceMemory) -> bool {
+        scan::pause_enabled(mem)
     }
 
     fn code(&self, fault: Fault) -> Option<ErrorCode> {

@@ -113,10 +113,20 @@ pub static SM: &[Row] = &[
         H("module external power"),
     ),
     sm(202, 202, "LED OFF command", N),
-    sm(203, 203, "STOP contact", N),
-    sm(204, 204, "PAUSE contact", N),
+    sm(203, 203, "STOP contact", M("ON while the RUN contact holds the CPU in STOP")),
+    sm(
+        204,
+        204,
+        "PAUSE contact",
+        M("ON from the END a PAUSE was requested at until the PAUSE ends"),
+    ),
     sm(205, 205, "STEP-RUN contact", N),
-    sm(206, 206, "PAUSE enable coil", N),
+    sm(
+        206,
+        206,
+        "PAUSE enable coil",
+        M("read at END: the PAUSE contact pauses only while it is ON"),
+    ),
     sm(
         210,
         210,

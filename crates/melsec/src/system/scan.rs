@@ -3,9 +3,9 @@
 //! at END and the operating status.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::system::{End, ScanStart, Status};
+use softplc_ir::system::{End, Remote, ScanStart, Status};
 
-use super::devices::{sd, sd_get, sm, time_pair};
+use super::devices::{sd, sd_get, sm, sm_get, time_pair};
 use super::R_BLOCK;
 
 /// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default
@@ -76,4 +76,16 @@ pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
     };
     let old = sd_get(mem, 203);
     sd(mem, 203, old & !0xF | v);
+}
+
+/// SM203 STOP contact (STOP by the RUN contact), SM204 PAUSE status
+/// contact (004 L9567, §7.6.2).
+pub(crate) fn remote(mem: &mut DeviceMemory, r: Remote) {
+    sm(mem, 203, r.stop_by_contact);
+    sm(mem, 204, r.pause);
+}
+
+/// SM206 PAUSE enable coil (004 §7.6.2 (2) (a)).
+pub(crate) fn pause_enabled(mem: &DeviceMemory) -> bool {
+    sm_get(mem, 206)
 }
