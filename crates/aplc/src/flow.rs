@@ -113,8 +113,9 @@ fn simple(c: &mut Compiler<'_>, u: &Use<'_>) {
             c.emit(Op::GoEnd);
         }
         "WDT" => c.emit_instr(false, false, Box::new(ResetWatchdog)),
+        // 002 §6.1.10: "系统将立即停止用户程序的执行", at once, not at END.
         "STOP" => {
-            c.emit(Op::Stop);
+            c.emit(Op::StopNow);
         }
         _ => c.unmatched(u),
     }
