@@ -24,7 +24,7 @@ const MAX_FOR: usize = 16;
 static DOC: Doc = Doc {
     family: "program flow",
     cite: "002 §6.1 L3601-3743",
-    notes: "FOR S runs the body S times with power flow and S > 0, else skips past NEXT (under an OFF MC the body runs once with its conditions OFF); LBL/CJ 0-127, unique per POU; CFEND in MAIN ends the scan; no END (the POU ends with its last line)",
+    notes: "FOR S runs the body S times with power flow and S > 0, else skips past NEXT (under an OFF MC the body runs once with its conditions OFF); LBL/CJ 0-127, unique per POU; CFEND in MAIN ends the scan; STOP with power flow stops the CPU at once (the rest of the scan and its END processing do not run, no error); no END (the POU ends with its last line)",
 };
 static MODULE: Doc = Doc {
     family: "peripheral",
@@ -113,8 +113,9 @@ fn simple(c: &mut Compiler<'_>, u: &Use<'_>) {
             c.emit(Op::GoEnd);
         }
         "WDT" => c.emit_instr(false, false, Box::new(ResetWatchdog)),
+        // 002 §6.1.10: "系统将立即停止用户程序的执行", at once, not at END.
         "STOP" => {
-            c.emit(Op::Stop);
+            c.emit(Op::StopNow);
         }
         _ => c.unmatched(u),
     }

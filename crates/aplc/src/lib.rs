@@ -157,9 +157,21 @@ pub fn system_with_ports(
     constant_scan_ms: u16,
     ports: Vec<comm::PortConfig>,
 ) -> Arc<dyn softplc_ir::system::System> {
+    system_with_run_input(watchdog_ms, constant_scan_ms, ports, None)
+}
+
+/// [`system_with_ports`] and the system block's run input (index 0-15 of
+/// X0-X17) that SM9 and SD9 show.
+pub fn system_with_run_input(
+    watchdog_ms: u16,
+    constant_scan_ms: u16,
+    ports: Vec<comm::PortConfig>,
+    run_input: Option<u8>,
+) -> Arc<dyn softplc_ir::system::System> {
     Arc::new(system::Aplc {
         watchdog_ms,
         constant_scan_ms,
+        run_input,
         ports,
     })
 }

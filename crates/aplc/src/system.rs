@@ -18,6 +18,9 @@ pub struct Aplc {
     pub watchdog_ms: u16,
     /// SD33: the constant scan (0 = off; SM8 ON otherwise).
     pub constant_scan_ms: u16,
+    /// The input whose OFF→ON edge in STOP starts RUN (SM9 ON, SD9 its
+    /// index 0-15: X0 is 0, X10 is 8; 002 L1113-1121, L1231-1237).
+    pub run_input: Option<u8>,
     /// PORT1/PORT2 settings (SD120-SD124, SD135-SD137, SD140-SD142,
     /// SD150-SD154 and the mailboxes' protocol words).
     pub ports: Vec<PortConfig>,
@@ -82,8 +85,35 @@ impl Aplc {
     }
 }
 
+/// SD1: the firmware version as Appendix 2 writes it (100 for 1.00):
+/// softplc's own version.
+fn firmware_version() -> u16 {
+    let n = |s: &str| s.parse::<u16>().unwrap_or(0);
+    n(env!("CARGO_PKG_VERSION_MAJOR")) * 100 + n(env!("CARGO_PKG_VERSION_MINOR")).min(99)
+}
+
+/// SD2: the user program capacity in k steps (12k steps, L655-656).
+const CAPACITY_K_STEPS: u16 = 12;
+
+/// SD10: the main module's I/O points, inputs in the high byte and outputs in
+/// the low byte: 10 inputs and 6 outputs (L644, L714-718).
+const MAIN_IO_POINTS: u16 = 10 << 8 | 6;
+
+/// SD50-SD55 keep their values at STOP→RUN (Appendix 2, L10984).
+const SD_KEPT: std::ops::RangeInclusive<i64> = 50..=55;
+
 impl System for Aplc {
+    /// Appendix 2's working-state rows: SD0 0 (the manual gives a type code
+    /// for the AT100 only), SD1 the version, SD2 the capacity, SD7/SD8 and
+    /// SD11/SD12 0 (no expansion, special or analog modules), SD10 the main
+    /// module's I/O; SM3 OFF and SD3 0 (softplc detects no system error);
+    /// SM9/SD9 the run input; SM196, SD25/SD26, SD33/SD34, SM8 below.
     fn power_on(&self, mem: &mut DeviceMemory) {
+        sd(mem, 1, firmware_version());
+        sd(mem, 2, CAPACITY_K_STEPS);
+        sd(mem, 10, MAIN_IO_POINTS);
+        sm(mem, 9, self.run_input.is_some());
+        sd(mem, 9, self.run_input.map_or(0, u16::from));
         // SM196: EEPROM write idle; SD25/SD26 initial 255 (Appendix 2).
         sm(mem, 196, true);
         sd(mem, 25, 255);
@@ -91,6 +121,20 @@ impl System for Aplc {
         sd(mem, 33, self.constant_scan_ms);
         sd(mem, 34, self.watchdog_ms);
         sm(mem, 8, self.constant_scan_ms > 0);
+    }
+
+    /// STOP→RUN: every SM (Appendix 1, L10698) and every SD but SD50-SD55
+    /// (Appendix 2, L10984) back to its power-on value, whether or not the
+    /// device values are kept; the ports follow in [`Self::initialised`].
+    fn stop_to_run(&self, mem: &mut DeviceMemory) {
+        let sm_base = mem.map.base(DeviceKind::SM) as usize;
+        let sm_n = mem.map.points(DeviceKind::SM) as usize;
+        mem.bits[sm_base..sm_base + sm_n].fill(false);
+        let sd_n = mem.map.points(DeviceKind::SD) as i64;
+        for n in (0..sd_n).filter(|n| !SD_KEPT.contains(n)) {
+            sd(mem, n, 0);
+        }
+        self.power_on(mem);
     }
 
     /// After the initial values (`[initial]`, the data block's place): the

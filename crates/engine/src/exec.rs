@@ -295,6 +295,7 @@ fn op<const OUT_OF_LINE: bool>(
         | Op::Next
         | Op::Break(_)
         | Op::Stop
+        | Op::StopNow
         | Op::Iret
             if OUT_OF_LINE =>
         {
@@ -567,6 +568,12 @@ fn op<const OUT_OF_LINE: bool>(
         Op::Stop => {
             if cond {
                 rt.stop_request = true;
+            }
+        }
+        Op::StopNow => {
+            if cond {
+                rt.stop_now = true;
+                return Flow::Done(Outcome::Abort);
             }
         }
         Op::Fend | Op::End => {

@@ -64,6 +64,19 @@ pub enum StopToRunOutput {
     Recalculate,
 }
 
+/// The external outputs while the CPU is in STOP (the APLC system block's
+/// output table, 002 §2.2.1).
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub enum StopOutputs {
+    /// All outputs OFF (MELSEC-Q; the APLC's "disable").
+    #[default]
+    Off,
+    /// Each output holds its state at RUN→STOP ("freeze").
+    Hold,
+    /// The outputs listed (Y numbers) ON, all others OFF ("configure").
+    Table(Vec<u32>),
+}
+
 /// Device clear of a remote RUN with a clear mode ([`Cpu::remote_run_clear`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RunClear {
@@ -144,6 +157,12 @@ pub struct CpuConfig {
     pub pause_contact: Option<u32>,
     /// Remote RESET allowed (004 §7.6.3; not by default).
     pub remote_reset: bool,
+    /// Device memory is kept at STOP→RUN (MELSEC-Q; the APLC's "keep device
+    /// values"); `false`: every device but X and the file registers is
+    /// cleared before the initial values (`Cpu::stop_to_run_devices`).
+    pub keep_device_values: bool,
+    /// The external outputs in STOP.
+    pub stop_outputs: StopOutputs,
     /// Latch ranges; by default L0-L8191 is latch (1). A part that is a
     /// local device is not latched (004 L3552).
     pub latch: Vec<LatchRange>,
@@ -190,6 +209,8 @@ impl CpuConfig {
             run_contact: None,
             pause_contact: None,
             remote_reset: false,
+            keep_device_values: true,
+            stop_outputs: StopOutputs::Off,
             latch: vec![LatchRange {
                 kind: DeviceKind::L,
                 start: 0,
@@ -230,6 +251,8 @@ pub(crate) struct Runtime {
     pub calls: Vec<(u32, u32)>,
     pub fors: Vec<(u32, i16)>,
     pub stop_request: bool,
+    /// A STOP that stops at once ([`softplc_ir::ops::Op::StopNow`]) ended the scan.
+    pub stop_now: bool,
     pub watchdog: Duration,
     /// Set by the host to stop the CPU even inside an endless loop; checked
     /// with the watchdog on backward jumps (`Cpu::abort_handle`).

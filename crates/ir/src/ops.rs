@@ -331,6 +331,9 @@ pub enum Op {
     Fend,
     End,
     Stop,
+    /// STOP that stops the program at once: the rest of the scan (END
+    /// processing included) does not run (the APLC's STOP, 002 §6.1.10).
+    StopNow,
     Nop,
     /// End of an interrupt program.
     Iret,

@@ -163,6 +163,10 @@ pub trait System: Send + Sync + std::fmt::Debug {
     /// directory): data of the family that outranks them (the APLC's EEPROM
     /// image into D6000-D6999, 002 table 2-2 L971-979).
     fn initialised(&self, _mem: &mut DeviceMemory) {}
+    /// STOP→RUN, before the device initial values: the family's system
+    /// devices re-initialised (the APLC's SM and SD, 002 App. 1/2). Default:
+    /// kept.
+    fn stop_to_run(&self, _mem: &mut DeviceMemory) {}
     /// Relays set before the program runs (always-ON, first scan, clocks).
     fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart);
     /// END processing: scan times, counters, clock registers, and what

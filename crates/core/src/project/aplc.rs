@@ -48,6 +48,21 @@ pub(crate) fn configure(
     config.devices = base.devices;
     config.system = base.system;
     config.latch = Vec::new();
+    // Without "keep device values" the devices are re-initialised at
+    // STOP→RUN (§2.1.6, §2.2.1): the option is off unless chosen.
+    config.keep_device_values = false;
+    if let Some(e) = top.iter().find(|e| e.key == "system_block") {
+        if let Some(t) = cx.table(e, "[system_block]") {
+            let block = super::system_block::system_block(cx, t, config);
+            let ms = |d: std::time::Duration| d.as_millis().min(u16::MAX as u128) as u16;
+            config.system = softplc_aplc::system_with_run_input(
+                ms(config.watchdog),
+                config.constant_scan.map_or(0, ms),
+                ports.to_vec(),
+                block.run_input,
+            );
+        }
+    }
     for e in top {
         let why = match e.key.as_str() {
             "latch" => "APLC-TCP has no power-loss retention (APLC programming manual §2.1.7)",

@@ -22,6 +22,7 @@ mod programs;
 mod rack;
 mod rules;
 mod settings;
+mod system_block;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};
 pub use tree::line_col;
 mod tree;
@@ -190,6 +191,8 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         // APLC-TCP serial ports (contract §3.3).
         "port1",
         "port2",
+        // The APLC-TCP system block's run settings.
+        "system_block",
         // The OPC UA server's settings, read by `softplc serve --opcua`.
         "opcua",
         // The rack: I/O assignment and modules (contract §5).
@@ -249,6 +252,11 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
     let ports = ports::ports(&mut cx, top, aplc_model, dir);
     if aplc_model {
         aplc::configure(&mut cx, top, &mut config, &ports);
+    } else if let Some(e) = section("system_block") {
+        cx.error(
+            &e.key_span,
+            "[system_block] is an APLC-TCP setting (set [cpu] model = \"APLC-TCP\")",
+        );
     }
     if let Some(t) = table(&mut cx, "clock") {
         settings::clock(&mut cx, t, &mut config);

@@ -20,6 +20,7 @@ pub use remote::{Hold, Refusal};
 mod retained;
 mod schedule;
 mod states;
+mod system_block;
 
 use std::time::Duration;
 
@@ -220,6 +221,7 @@ impl Cpu {
             calls: Vec::with_capacity(MAX_NESTING),
             fors: Vec::with_capacity(MAX_NESTING),
             stop_request: false,
+            stop_now: false,
             watchdog: wall_watchdog(cfg.watchdog, clock.is_virtual()),
             abort: Default::default(),
             operation_error: cfg.operation_error,
@@ -384,8 +386,9 @@ impl Cpu {
         self.clock.now_us()
     }
 
-    /// The external output Y`n`: the Y device while running or paused, OFF in
-    /// STOP (004 §4.4); a forced output's forced value.
+    /// The external output Y`n`: the Y device while running or paused, in
+    /// STOP as the STOP output setting says (OFF on MELSEC-Q, 004 §4.4); a
+    /// forced output's forced value.
     pub fn output(&self, n: u32) -> bool {
         if let Some(f) = self
             .rt
@@ -396,12 +399,13 @@ impl Cpu {
             // A forced output is output in every state (docs/forcing.md).
             return f.on;
         }
-        self.state != CpuState::Stop
-            && self
-                .rt
-                .mem
-                .get_bit(DeviceKind::Y, n as i64)
-                .unwrap_or(false)
+        if self.state == CpuState::Stop {
+            return self.stop_output(n);
+        }
+        self.rt
+            .mem
+            .get_bit(DeviceKind::Y, n as i64)
+            .unwrap_or(false)
     }
 
     // --- operating states (004 §4.4, §7.5, §7.8) ---

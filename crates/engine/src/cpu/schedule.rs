@@ -60,8 +60,9 @@ impl Cpu {
             self.apply_forces(DeviceKind::Y);
             self.apply_forces(DeviceKind::X);
         }
-        if !ok && self.aborted() {
-            // Stopped by the host mid-scan: STOP, no error.
+        if !ok && (self.aborted() || std::mem::take(&mut self.rt.stop_now)) {
+            // Stopped by the host or a STOP that stops at once, mid-scan:
+            // STOP, no error.
             self.set_stop();
             self.scans += 1;
             return;

@@ -37,6 +37,7 @@ impl Cpu {
                     StopToRunOutput::Previous => y.copy_from_slice(&self.saved_y),
                     StopToRunOutput::Recalculate => y.fill(false),
                 }
+                self.stop_to_run_devices();
                 self.start_run();
                 Ok(())
             }
