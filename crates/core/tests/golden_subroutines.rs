@@ -238,13 +238,45 @@ fn argument_load_errors() {
     let d = diagnostics("LD X0\nCALL P0 D0 D1 D2 D3 D4 D5\nFEND\nP0\nRET\nEND\n");
     assert!(!d.is_empty());
     let d = diagnostics("LD X0\nCALL P0 K4M0\nFEND\nP0\nRET\nEND\n");
-    assert!(d[0].contains("digit-specified argument is not supported"), "{d:?}");
+    assert!(
+        d[0].contains("digit-specified argument is not supported"),
+        "{d:?}"
+    );
     let d = diagnostics("LD X0\nMOV FD0Z0 D0\nEND\n");
     assert!(d[0].contains("cannot be index-modified"), "{d:?}");
     let d = diagnostics("LD X0\nECALL P0 D0\nEND\n");
     assert!(d[0].contains("needs a program name"), "{d:?}");
     let d = diagnostics("LD X0\nXCALL P0\nEND\n");
-    assert!(d[0].contains("not an instruction of the High Performance model"), "{d:?}");
+    assert!(
+        d[0].contains("not an instruction of the High Performance model"),
+        "{d:?}"
+    );
     let d = diagnostics("LD X0\nPLOAD \"A\"\nEND\n");
     assert!(d[0].contains("softplc has no drives"), "{d:?}");
+}
+
+#[test]
+fn fcall_off_resets_timers_and_leaves_set_alone() {
+    // The non-execution processing is that of an OFF master control: OUT T
+    // resets the timer, SET is not executed (M0 keeps ON).
+    let mut p = Plc::new(
+        "\
+LD X0
+FCALL P0
+FEND
+P0
+LD SM400
+OUT T0 K100
+SET M0
+RET
+END
+",
+    );
+    // 30 scans of 10 ms: T0 (100 ms) counts.
+    p.set("X0", "1").scans(30);
+    assert!(p.int("TN0") > 0);
+    assert!(p.bit("M0"));
+    p.set("X0", "0").scan();
+    assert_eq!(p.int("TN0"), 0);
+    assert!(p.bit("M0"));
 }

@@ -538,14 +538,20 @@ impl Compiler<'_> {
             if index.is_some() {
                 self.err(
                     tok,
-                    format!("`{}`: a function register FD cannot be index-modified", tok.text),
+                    format!(
+                        "`{}`: a function register FD cannot be index-modified",
+                        tok.text
+                    ),
                 );
                 return None;
             }
             if words > 4 {
                 self.err(
                     tok,
-                    format!("`{}`: this operand uses {words} words; a function register holds 4", tok.text),
+                    format!(
+                        "`{}`: this operand uses {words} words; a function register holds 4",
+                        tok.text
+                    ),
                 );
                 return None;
             }

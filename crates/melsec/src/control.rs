@@ -398,7 +398,10 @@ fn fn_arg(c: &mut Compiler<'_>, u: &Use<'_>, k: usize) -> Option<FnArg> {
             } else {
                 c.bit_dest(tok)?
             };
-            Some(FnArg::Bit { dev: d, back: !input })
+            Some(FnArg::Bit {
+                dev: d,
+                back: !input,
+            })
         }
         Operand::Device { .. } => {
             let dev = Args::new(c, u.instr, u.m).block_dest(k)?;
@@ -407,7 +410,10 @@ fn fn_arg(c: &mut Compiler<'_>, u: &Use<'_>, k: usize) -> Option<FnArg> {
         _ => {
             c.err(
                 tok,
-                format!("`{}`: an argument is a bit device, a word device or a constant", tok.text),
+                format!(
+                    "`{}`: an argument is a bit device, a word device or a constant",
+                    tok.text
+                ),
             );
             None
         }

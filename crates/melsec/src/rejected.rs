@@ -14,7 +14,8 @@ const DISPLAY: &str =
 const CARD: &str = "program and data files on memory cards are not modelled";
 const XCALL: &str = "XCALL is not an instruction of the High Performance model QCPU: its \
                      manuals define CALL, FCALL, ECALL and EFCALL only";
-const PROGRAM_FILES: &str = "PLOAD/PUNLOAD/PSWAP load program files from standard ROM or a memory card \
+const PROGRAM_FILES: &str =
+    "PLOAD/PUNLOAD/PSWAP load program files from standard ROM or a memory card \
                      into program memory during RUN (and need the program table fixed in STOP); \
                      softplc has no drives, and a CPU's programs are fixed when it is built";
 const CHK: &str = "CHKST/CHK/CHKCIR/CHKEND special-format failure checks work on the ladder \
