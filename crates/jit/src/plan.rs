@@ -420,6 +420,7 @@ mod tests {
             state_words: 0,
             shared_words: 0,
             common_labels: vec![],
+            local_labels: vec![],
             interrupts: vec![],
             ext: vec![],
             steps: n as u32,
