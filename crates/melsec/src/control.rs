@@ -289,10 +289,20 @@ fn call(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
-    let pulse = m.ends_with('P');
-    let base = if pulse { &m[..m.len() - 1] } else { m };
-    let file = base.starts_with('E');
-    let fcall = base.contains('F');
+    let kind = |b: &str| match b {
+        "CALL" => Some((false, false)),
+        "FCALL" => Some((false, true)),
+        "ECALL" => Some((true, false)),
+        "EFCALL" => Some((true, true)),
+        _ => None,
+    };
+    let (base, pulse) = match m.strip_suffix('P') {
+        Some(b) if kind(b).is_some() => (b, true),
+        _ => (m, false),
+    };
+    let Some((file, fcall)) = kind(base) else {
+        return c.unmatched(u);
+    };
     let first = usize::from(file);
     let counts: Vec<usize> = (first + 1..=first + 1 + MAX_ARGS).collect();
     if !c.count(i, m, &counts) || !c.output(i, m) {
