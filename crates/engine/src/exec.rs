@@ -10,6 +10,7 @@
 //! [`Pass::op`] (through [`Host`]), so every op has the one implementation
 //! here.
 
+use super::call_args;
 use super::local_devices::Entry;
 use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
@@ -17,7 +18,7 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::kernels::{basic, sequence};
 use softplc_ir::ops::MAX_NESTING;
-use softplc_ir::ops::{Edge, Join, Op, Program};
+use softplc_ir::ops::{CallArgs, Callee, Edge, Join, Op, Program};
 
 /// How a pass through the program ended.
 pub(crate) enum Outcome {
@@ -139,6 +140,49 @@ impl From<Regs> for Rung {
             mc_on: r.mc_on != 0,
         }
     }
+}
+
+/// The return address of a nested pass's call (a call with arguments): its
+/// RET ends the pass.
+const NESTED: u32 = u32::MAX;
+
+/// A call with arguments (or FCALL, ECALL): the arguments in, a nested pass
+/// over the subroutine at op `target` of program `slot` (with every
+/// condition OFF for FCALL's non-execution processing, `off`), the outputs
+/// back. `Some` outcome: the pass ended otherwise than by RET.
+#[inline(never)]
+fn call_args(
+    k: Fixed,
+    locals: &mut [ProgState],
+    rt: &mut Runtime,
+    c: &CallArgs,
+    slot: usize,
+    target: usize,
+    off: bool,
+) -> Result<Option<Outcome>, Fault> {
+    if slot >= k.progs.len() {
+        return Err(Fault::NoProgram);
+    }
+    if rt.calls.len() >= MAX_NESTING {
+        return Err(Fault::CallNesting);
+    }
+    let caller = call_args::enter(&mut rt.mem, &c.args)?;
+    rt.calls.push((k.cur as u32, NESTED));
+    let (mc_off, force_off) = (rt.mc_off, rt.force_off);
+    rt.force_off |= off;
+    // On the caller's local devices or the callee file's (004 §10.13.1 (e)).
+    let back = (slot != k.cur).then(|| rt.enter_locals(slot, Entry::Call));
+    let out = run(k.progs, k.natives, locals, rt, slot, target);
+    if let Some(back) = back {
+        rt.leave_locals(back);
+    }
+    rt.mc_off = mc_off;
+    rt.force_off = force_off;
+    call_args::leave(&mut rt.mem, &c.args, &caller)?;
+    Ok(match out {
+        Outcome::Return => None,
+        other => Some(other),
+    })
 }
 
 #[inline(never)]
@@ -291,6 +335,7 @@ fn op<const OUT_OF_LINE: bool>(
         | Op::CallFar { .. }
         | Op::CallCommon(_)
         | Op::Ret
+        | Op::CallArgs(_)
         | Op::For(_)
         | Op::Next
         | Op::Break(_)
@@ -518,9 +563,36 @@ fn op<const OUT_OF_LINE: bool>(
         }
         // Linking replaces every CallCommon; one left means a bug, not input.
         Op::CallCommon(_) => try_op!(Err::<(), _>(Fault::NoProgram)),
+        Op::CallArgs(c) => {
+            let now = match c.pulse {
+                Some(s) => {
+                    let prev = std::mem::replace(&mut locals[cur].edges[s as usize], cond);
+                    cond && !prev
+                }
+                None => cond,
+            };
+            // FCALL with its condition OFF: the non-execution processing.
+            let off = c.fcall && !cond;
+            if now || off {
+                let (slot, target) = match c.callee {
+                    Callee::Here(t) => (cur, t),
+                    Callee::Far { slot, pc } => (slot as usize, pc),
+                    // Linking resolves the others: a bug, not input.
+                    _ => (usize::MAX, 0),
+                };
+                match call_args(k, locals, rt, c, slot, target as usize, off) {
+                    Ok(None) => {}
+                    Ok(Some(out)) => return Flow::Done(out),
+                    Err(code) => try_op!(Err::<(), _>(code)),
+                }
+            }
+        }
         Op::Ret => match rt.calls.pop() {
-            // RET to another file: back to the nested pass that called it.
-            Some((slot, _)) if slot as usize != cur => return Flow::Done(Outcome::Return),
+            // RET to another file or out of a nested pass (a call with
+            // arguments): back to the pass that called it.
+            Some((slot, ret)) if slot as usize != cur || ret == NESTED => {
+                return Flow::Done(Outcome::Return)
+            }
             Some((_, ret)) => next = ret as usize,
             None => try_op!(Err::<(), _>(Fault::RetInMain)),
         },

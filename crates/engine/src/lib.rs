@@ -7,6 +7,7 @@
 
 #![forbid(unsafe_code)]
 
+mod call_args;
 mod cpu;
 mod exec;
 mod link;

@@ -325,6 +325,9 @@ pub enum Op {
         pc: u32,
     },
     Ret,
+    /// A subroutine call with arguments (FX/FY/FD), an FCALL or an ECALL:
+    /// a nested pass over the subroutine (see [`CallArgs`]).
+    CallArgs(Box<CallArgs>),
     For(Box<WordArg>),
     Next,
     Break(Box<(WordArg, u32)>),
@@ -337,6 +340,47 @@ pub enum Op {
     Nop,
     /// End of an interrupt program.
     Iret,
+}
+
+/// `CALL`/`FCALL`/`ECALL`/`EFCALL` with up to 5 arguments (004 §10.3.1,
+/// §10.9.1, L1171-1200): argument n is passed through FXn (a bit read by the
+/// subroutine), FYn (a bit it returns) or FDn (4 words, in and out).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CallArgs {
+    pub callee: Callee,
+    pub args: Box<[FnArg]>,
+    /// FCALL/EFCALL: with the condition OFF the subroutine still runs, with
+    /// every condition inside it OFF (its non-execution processing).
+    pub fcall: bool,
+    /// The pulse form's edge slot (…P: runs on the rising edge).
+    pub pulse: Option<u32>,
+}
+
+/// Where a [`CallArgs`] goes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Callee {
+    /// A pointer of this file: op index (after the compiler's fix-up).
+    Here(u32),
+    /// A common pointer of another file, before linking.
+    Common(u32),
+    /// ECALL: pointer `pointer` of program `file` (upper-case name without
+    /// extension), before linking.
+    File { file: Box<str>, pointer: u32 },
+    /// Linked: op `pc` of program `slot`.
+    Far { slot: u16, pc: u32 },
+}
+
+/// One argument of a [`CallArgs`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FnArg {
+    /// A bit device: read into FXn and FYn at the call; FYn written back
+    /// at the return when `back` (not for X and contacts).
+    Bit { dev: BitArg, back: bool },
+    /// A word device: its 4 words read into FDn at the call and written back at
+    /// the return when `back`.
+    Word { dev: Block, back: bool },
+    /// A constant: FDn's 4 words (sign-extended), nothing written back.
+    Const([u16; 4]),
 }
 
 /// FOR/NEXT and CALL nesting (programming manual: 16 levels).
@@ -390,6 +434,9 @@ pub struct Program {
     pub shared_words: u32,
     /// Common pointers defined in this file: (Pn, op index).
     pub common_labels: Vec<(u32, u32)>,
+    /// Local pointers defined in this file: (Pn, op index), ascending (ECALL
+    /// reaches them from other files, 004 §10.9.1).
+    pub local_labels: Vec<(u32, u32)>,
     /// Interrupt pointers of this file: (In, op index), ascending.
     pub interrupts: Vec<(u8, u32)>,
     /// Family instructions referenced by [`Op::Ext`].

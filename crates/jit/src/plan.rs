@@ -16,7 +16,9 @@
 //! native ops fewer than [`MIN_RUN`] in a row between interpreted ones are
 //! interpreted with them, and a chunk without such a run has no native code.
 
-use softplc_ir::ops::{BitArg, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg};
+use softplc_ir::ops::{
+    BitArg, Callee, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg,
+};
 
 /// Most ops compiled into one function, so compile time stays linear in the
 /// program's length (Cranelift's register allocation is superlinear in a
@@ -258,6 +260,11 @@ fn targets(prog: &Program) -> Vec<bool> {
                 t[(*target as usize).min(n)] = true;
                 t[pc + 1] = true;
             }
+            Op::CallArgs(c) => {
+                if let Callee::Here(target) = c.callee {
+                    t[(target as usize).min(n)] = true;
+                }
+            }
             Op::For(_) => t[pc + 1] = true,
             Op::Break(b) => t[(b.1 as usize).min(n)] = true,
             Op::Pulse(_) => t[pc + 2] = true,
@@ -413,6 +420,7 @@ mod tests {
             state_words: 0,
             shared_words: 0,
             common_labels: vec![],
+            local_labels: vec![],
             interrupts: vec![],
             ext: vec![],
             steps: n as u32,

@@ -102,7 +102,7 @@ impl<'c, 'a> Args<'c, 'a> {
             Reach::Unit(u) => map
                 .unit(u)
                 .map_or(0, |w| map.base(DeviceKind::G) + w.first + w.words),
-            _ => map.base(kind) + map.points(kind),
+            _ => map.word_at(kind, map.points(kind)),
         };
         Some(Block { start, limit })
     }

@@ -416,10 +416,16 @@ impl<'a> Compiler<'a> {
                         *t = target
                     }
                     Op::Break(b) => b.1 = target,
+                    Op::CallArgs(c) => c.callee = Callee::Here(target),
                     _ => {}
                 },
                 None if p >= self.common_from && matches!(self.ops[at], Op::Call(_)) => {
                     self.ops[at] = Op::CallCommon(p);
+                }
+                None if p >= self.common_from && matches!(self.ops[at], Op::CallArgs(_)) => {
+                    if let Op::CallArgs(c) = &mut self.ops[at] {
+                        c.callee = Callee::Common(p);
+                    }
                 }
                 None if p >= self.common_from => self.err(
                     &tok,
@@ -460,6 +466,16 @@ impl<'a> Compiler<'a> {
                 v
             },
             ext: self.ext,
+            local_labels: {
+                let mut v: Vec<(u32, u32)> = self
+                    .labels
+                    .iter()
+                    .filter(|(n, _)| **n < self.common_from)
+                    .map(|(n, (at, _))| (*n, *at))
+                    .collect();
+                v.sort_unstable();
+                v
+            },
             common_labels: self
                 .labels
                 .iter()

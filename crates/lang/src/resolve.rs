@@ -203,7 +203,7 @@ impl Compiler<'_> {
                         None,
                     )),
                     None => BitArg::WordBit {
-                        word: self.map.base(dev.kind) + dev.number,
+                        word: self.map.word_at(dev.kind, dev.number),
                         bit: b,
                     },
                     Some(z) => BitArg::Indexed(self.indexed(
@@ -532,7 +532,30 @@ impl Compiler<'_> {
             self.range_err(tok, kind, dev.number, &tok.text);
             return None;
         }
-        if index.is_none() && dev.number as u64 + words as u64 > points as u64 {
+        // FD: 4 words a point, an operand within its point, no index
+        // modification (004 §10.3.1 (2)(c)).
+        if kind == DeviceKind::FD {
+            if index.is_some() {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: a function register FD cannot be index-modified",
+                        tok.text
+                    ),
+                );
+                return None;
+            }
+            if words > 4 {
+                self.err(
+                    tok,
+                    format!(
+                        "`{}`: this operand uses {words} words; a function register holds 4",
+                        tok.text
+                    ),
+                );
+                return None;
+            }
+        } else if index.is_none() && dev.number as u64 + words as u64 > points as u64 {
             let last = name_of(&dev, kind, dev.number + words - 1);
             self.err(
                 tok,
@@ -550,7 +573,7 @@ impl Compiler<'_> {
             None if kind == DeviceKind::R => {
                 WordArg::Indexed(self.computed(IndexedKind::Word, kind, dev.number, None))
             }
-            None => WordArg::Word(self.map.base(kind) + dev.number),
+            None => WordArg::Word(self.map.word_at(kind, dev.number)),
             Some(z) => WordArg::Indexed(self.indexed(IndexedKind::Word, kind, dev.number, z)),
         })
     }

@@ -25,6 +25,9 @@ pub static DEFS: &[Def] = &[
     Def::lower("IMASK", Class::Output, &INTERRUPTS, imask),
     Def::lower("IRET", Class::Standalone, &INTERRUPTS, iret),
     Def::lower("CALL", Class::Output, &SUBROUTINES, call).pulse(Pulse::Suffix),
+    Def::lower("FCALL", Class::Output, &SUBROUTINES, call).pulse(Pulse::Suffix),
+    Def::lower("ECALL", Class::Output, &SUBROUTINES, call).pulse(Pulse::Suffix),
+    Def::lower("EFCALL", Class::Output, &SUBROUTINES, call).pulse(Pulse::Suffix),
     Def::lower("RET", Class::Standalone, &SUBROUTINES, ret).steps(Steps::Basic),
     Def::lower("FOR", Class::Standalone, &LOOPS, for_),
     Def::lower("NEXT", Class::Standalone, &LOOPS, next).steps(Steps::Basic),
@@ -54,7 +57,7 @@ static INTERRUPTS: Doc = Doc {
 static SUBROUTINES: Doc = Doc {
     family: "subroutine",
     cite: "PM §7.6; 004 §10.9",
-    notes: "16 levels; common pointers reach other files; no FX/FY/FD arguments",
+    notes: "16 levels; common pointers reach other files; up to 5 arguments: argument n is FXn/FYn (bit) or FDn (4 words), copied in at the call and FY/FD copied back at RET; FCALL runs the subroutine with every condition OFF while its own is OFF; ECALL \"FILE\" Pn reaches a local pointer of another file (unknown file or pointer: load error)",
 };
 static LOOPS: Doc = Doc {
     family: "structure creation",
@@ -278,27 +281,152 @@ fn iret(c: &mut Compiler<'_>, u: &Use<'_>) {
     }
 }
 
+/// PM §7.6 CALL(P)/FCALL(P)/ECALL(P)/EFCALL(P) `[\"file\"] Pn [S1 … S5]`
+/// (004 L1171-1200, §10.3.1, §10.9.1). CALL without arguments is a jump
+/// into the subroutine (a pass over another file for a common pointer);
+/// the others are [`Op::CallArgs`], a nested pass with the arguments.
 fn call(c: &mut Compiler<'_>, u: &Use<'_>) {
     let i = u.instr;
     let m = u.m;
     let ops = &u.instr.operands;
-    if ops.len() > 1 {
-        c.err(
-            &ops[1],
-            "unsupported: CALL with arguments (FX/FY/FD) is not implemented yet",
-        );
+    let kind = |b: &str| match b {
+        "CALL" => Some((false, false)),
+        "FCALL" => Some((false, true)),
+        "ECALL" => Some((true, false)),
+        "EFCALL" => Some((true, true)),
+        _ => None,
+    };
+    let (base, pulse) = match m.strip_suffix('P') {
+        Some(b) if kind(b).is_some() => (b, true),
+        _ => (m, false),
+    };
+    let Some((file, fcall)) = kind(base) else {
+        return c.unmatched(u);
+    };
+    let first = usize::from(file);
+    let counts: Vec<usize> = (first + 1..=first + 1 + MAX_ARGS).collect();
+    if !c.count(i, m, &counts) || !c.output(i, m) {
         return;
     }
-    if !c.count(i, m, &[1]) || !c.output(i, m) {
-        return;
-    }
-    if let Some(p) = c.pointer(&ops[0]) {
-        if m == "CALLP" {
-            let s = c.slot();
-            c.emit(Op::Pulse(s));
+    if base == "CALL" && ops.len() == 1 {
+        if let Some(p) = c.pointer(&ops[0]) {
+            if pulse {
+                let s = c.slot();
+                c.emit(Op::Pulse(s));
+            }
+            let at = c.emit(Op::Call(0));
+            c.fixups.push((at, p, ops[0].clone()));
         }
-        let at = c.emit(Op::Call(0));
-        c.fixups.push((at, p, ops[0].clone()));
+        return;
+    }
+    let callee = if file {
+        match c.parse(&ops[0]) {
+            Some(Operand::Const(Constant::Str(s))) if !s.is_empty() && s.len() <= 8 => {
+                Some(s.to_ascii_uppercase())
+            }
+            Some(_) => {
+                return c.err(
+                    &ops[0],
+                    format!("`{m}` needs a program name such as \"SUB\" (up to 8 characters)"),
+                )
+            }
+            None => return,
+        }
+    } else {
+        None
+    };
+    let p = c.pointer(&ops[first]);
+    let mut args = Vec::new();
+    for k in first + 1..ops.len() {
+        if let Some(a) = fn_arg(c, u, k) {
+            args.push(a);
+        }
+    }
+    let Some(p) = p else { return };
+    if args.len() != ops.len() - first - 1 {
+        return;
+    }
+    let callee = match callee {
+        Some(f) => Callee::File {
+            file: f.into(),
+            pointer: p,
+        },
+        None => Callee::Here(0),
+    };
+    let x = CallArgs {
+        callee,
+        args: args.into_boxed_slice(),
+        fcall,
+        pulse: pulse.then(|| c.slot()),
+    };
+    let at = c.emit(Op::CallArgs(Box::new(x)));
+    if !file {
+        c.fixups.push((at, p, ops[first].clone()));
+    }
+}
+
+/// Arguments of a subroutine call: S1-S5 (PM §7.6).
+const MAX_ARGS: usize = 5;
+
+/// Operand `k` as an argument (004 §10.3.1 (2)): a bit device passes through
+/// FXn/FYn (FY written back except to X and contacts, which a subroutine
+/// cannot output to), a word device through FDn's 4 words, a constant into
+/// FDn only.
+fn fn_arg(c: &mut Compiler<'_>, u: &Use<'_>, k: usize) -> Option<FnArg> {
+    let tok = &u.instr.operands[k];
+    match c.parse(tok)? {
+        Operand::Const(Constant::Int { value, .. }) => {
+            let v = value as u64;
+            Some(FnArg::Const([
+                v as u16,
+                (v >> 16) as u16,
+                (v >> 32) as u16,
+                (v >> 48) as u16,
+            ]))
+        }
+        Operand::Const(Constant::Real(v)) => {
+            let b = (v as f32).to_bits();
+            Some(FnArg::Const([b as u16, (b >> 16) as u16, 0, 0]))
+        }
+        Operand::Device {
+            digits: Some(_), ..
+        } => {
+            c.err(
+                tok,
+                format!(
+                    "`{}`: a digit-specified argument is not supported; pass the bit device or a word device",
+                    tok.text
+                ),
+            );
+            None
+        }
+        Operand::Device { dev, bit, .. } if bit.is_some() || dev.kind.is_bit() => {
+            use DeviceKind::*;
+            let input = matches!(dev.kind, X | FX | TS | TC | STS | STC | CS | CC);
+            let d = if input {
+                c.bit_operand(tok)?
+            } else {
+                c.bit_dest(tok)?
+            };
+            Some(FnArg::Bit {
+                dev: d,
+                back: !input,
+            })
+        }
+        Operand::Device { .. } => {
+            let dev = Args::new(c, u.instr, u.m).block_dest(k)?;
+            Some(FnArg::Word { dev, back: true })
+        }
+        _ => {
+            c.err(
+                tok,
+                format!(
+                    "`{}`: an argument is a bit device, a word device or a constant",
+                    tok.text
+                ),
+            );
+            None
+        }
     }
 }
 

@@ -12,8 +12,12 @@ const HARDWARE: &str =
 const DISPLAY: &str =
     "it needs the CPU's display or a peripheral keyboard, which softplc does not model";
 const CARD: &str = "program and data files on memory cards are not modelled";
-const CALLS: &str = "subroutine calls with arguments or into another file's local pointers are \
-                     not implemented; use CALL with a common pointer";
+const XCALL: &str = "XCALL is not an instruction of the High Performance model QCPU: its \
+                     manuals define CALL, FCALL, ECALL and EFCALL only";
+const PROGRAM_FILES: &str =
+    "PLOAD/PUNLOAD/PSWAP load program files from standard ROM or a memory card \
+                     into program memory during RUN (and need the program table fixed in STOP); \
+                     softplc has no drives, and a CPU's programs are fixed when it is built";
 const CHK: &str = "CHKST/CHK/CHKCIR/CHKEND special-format failure checks work on the ladder \
                    pattern programmed around them (program structure)";
 const IX: &str = "IX/IXEND index-modification blocks (the devices of the enclosed ladder would \
@@ -79,19 +83,16 @@ pub static DEFS: &[Def] = &[
     Def::rejected("KEY", DISPLAY),
     Def::rejected("MSG", DISPLAY),
     Def::rejected("COMRD", "device comments are not loaded"),
-    Def::rejected("PLOAD", CARD),
-    Def::rejected("PUNLOAD", CARD),
-    Def::rejected("PSWAP", CARD),
+    Def::rejected("PLOAD", PROGRAM_FILES),
+    Def::rejected("PUNLOAD", PROGRAM_FILES),
+    Def::rejected("PSWAP", PROGRAM_FILES),
     Def::rejected("FWRITE", CARD),
     Def::rejected("FREAD", CARD),
     Def::rejected(
         "QDRSET",
         "softplc has a single file-register file; select blocks with RSET",
     ),
-    Def::rejected("FCALL", CALLS),
-    Def::rejected("ECALL", CALLS),
-    Def::rejected("EFCALL", CALLS),
-    Def::rejected("XCALL", CALLS),
+    Def::rejected("XCALL", XCALL),
     Def::rejected(
         "ROTC",
         "rotary table shortest-direction control is not implemented: its counting and drive \

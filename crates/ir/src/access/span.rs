@@ -147,7 +147,8 @@ impl DeviceMemory {
             }
             self.map.base(DeviceKind::ZR) as i64 + zr
         } else {
-            self.map.base(kind) as i64 + number
+            // FD: a point's first word (points are 4 words apart).
+            self.map.base(kind) as i64 + number * kind.words_per_point() as i64
         };
         Ok(Span {
             kind,

@@ -93,6 +93,18 @@ impl DeviceKind {
         matches!(self, DeviceKind::SM | DeviceKind::SD)
     }
 
+    /// Words each point occupies: 4 for the function registers FD (004
+    /// §10.3.1 (2)(c): "1 point occupies 4 words", for 16-, 32- and 64-bit
+    /// arguments), 1 for every other word device.
+    #[inline]
+    pub fn words_per_point(self) -> u32 {
+        if self == DeviceKind::FD {
+            4
+        } else {
+            1
+        }
+    }
+
     #[inline]
     pub fn is_bit(self) -> bool {
         (self as u8) <= (DeviceKind::FY as u8)

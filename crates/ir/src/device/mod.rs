@@ -320,7 +320,7 @@ impl DeviceMap {
                 nb += n;
             } else {
                 base[k as usize] = nw;
-                nw += n;
+                nw += n * k.words_per_point();
             }
         }
         // R is a window onto ZR: its base is block 0. Program operands on R are
@@ -415,7 +415,14 @@ impl DeviceMap {
     /// Flat index of device `kind` number `n`, or `None` when out of range.
     #[inline]
     pub fn index(&self, kind: DeviceKind, n: u32) -> Option<u32> {
-        (n < self.points(kind)).then(|| self.base(kind) + n)
+        (n < self.points(kind)).then(|| self.word_at(kind, n))
+    }
+
+    /// Flat index of the first word (or the bit) of point `n` of `kind`,
+    /// unchecked: FD points are 4 words apart.
+    #[inline]
+    pub fn word_at(&self, kind: DeviceKind, n: u32) -> u32 {
+        self.base(kind) + n * kind.words_per_point()
     }
 
     pub fn bit_len(&self) -> u32 {
@@ -463,7 +470,7 @@ impl DeviceMemory {
                 points,
             });
         }
-        Ok((self.map.base(kind) + n as u32) as usize)
+        Ok(self.map.word_at(kind, n as u32) as usize)
     }
 
     /// Reads one bit device (`kind` must be a bit kind).
