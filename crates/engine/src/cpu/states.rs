@@ -164,19 +164,7 @@ impl Cpu {
                 }
             }
         }
-        for k in DeviceKind::ALL {
-            use DeviceKind::*;
-            if matches!(k, X | R | ZR) || k.is_system() || k.is_module() {
-                continue;
-            }
-            let start = mem.map.base(k) as usize;
-            let len = mem.map.points(k) as usize;
-            if k.is_bit() {
-                mem.bits[start..start + len].fill(false);
-            } else {
-                mem.words[start..start + len].fill(0);
-            }
-        }
+        clear_user_devices(mem);
         for (start, v) in saved_bits {
             mem.bits[start..start + v.len()].copy_from_slice(&v);
         }
@@ -319,5 +307,24 @@ fn fill_outside<T: Copy>(v: &mut [T], keep: &mut [(usize, usize)], value: T) {
     }
     if at < v.len() {
         v[at..].fill(value);
+    }
+}
+
+/// Clears every device but X (refreshed from the input image), the file
+/// registers and the system and module devices: the device clear of a
+/// remote RUN and of the APLC's STOP→RUN without "keep device values".
+pub(super) fn clear_user_devices(mem: &mut DeviceMemory) {
+    for k in DeviceKind::ALL {
+        use DeviceKind::*;
+        if matches!(k, X | R | ZR) || k.is_system() || k.is_module() {
+            continue;
+        }
+        let start = mem.map.base(k) as usize;
+        let len = mem.map.points(k) as usize;
+        if k.is_bit() {
+            mem.bits[start..start + len].fill(false);
+        } else {
+            mem.words[start..start + len].fill(0);
+        }
     }
 }

@@ -14,20 +14,7 @@ impl Cpu {
     /// family re-initialises its system devices (`System::stop_to_run`).
     pub(super) fn stop_to_run_devices(&mut self) {
         if !self.cfg.keep_device_values {
-            let mem = &mut self.rt.mem;
-            for k in DeviceKind::ALL {
-                use DeviceKind::*;
-                if matches!(k, X | R | ZR) || k.is_system() || k.is_module() {
-                    continue;
-                }
-                let start = mem.map.base(k) as usize;
-                let len = mem.map.points(k) as usize;
-                if k.is_bit() {
-                    mem.bits[start..start + len].fill(false);
-                } else {
-                    mem.words[start..start + len].fill(0);
-                }
-            }
+            super::states::clear_user_devices(&mut self.rt.mem);
             self.rt.cpu.timer_rem.fill(0);
         }
         self.rt.system.stop_to_run(&mut self.rt.mem);
