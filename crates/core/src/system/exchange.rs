@@ -31,10 +31,12 @@ pub(super) struct Copy {
 }
 
 /// Everything CPU `i`'s END moves, in order.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub(super) struct EndPlan {
     /// SD → own shared memory (own-operation information).
     pub own_info: Vec<Copy>,
+    /// The information area's valid flag (address 0H) in own shared memory.
+    pub valid: Span,
     /// Own send devices → own refresh area.
     pub publish: Vec<Copy>,
     /// The CPU's shared memory and controlled modules' buffer memories,
@@ -85,9 +87,16 @@ pub(super) fn plans(
         .first()
         .and_then(|p| p.as_ref())
         .filter(|p| p.cpus as usize == n);
-    let mut plans = vec![EndPlan::default(); n];
+    let mut plans = Vec::with_capacity(n);
     for (i, cpu) in cpus.iter().enumerate() {
-        let plan = &mut plans[i];
+        let mut plan = EndPlan {
+            own_info: Vec::new(),
+            valid: shared(cpu, i, 0, 1)?,
+            publish: Vec::new(),
+            mirror: Vec::new(),
+            io: Vec::new(),
+            import: Vec::new(),
+        };
         for &(addr, sd, words) in OWN_INFO {
             plan.own_info.push(Copy {
                 from: span(cpu, DeviceKind::SD, sd, words)?,
@@ -181,6 +190,7 @@ pub(super) fn plans(
                 }
             }
         }
+        plans.push(plan);
     }
     Ok(plans)
 }

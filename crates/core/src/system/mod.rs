@@ -356,7 +356,7 @@ impl System {
         for c in &plan.own_info {
             copy(scratch, cpu, None, c);
         }
-        let _ = cpu.set_word(DeviceKind::G, valid_flag(cpu, i), 1);
+        let _ = cpu.write_span_words(&plan.valid, &[1]);
         // No auto refresh after a stop error: the others keep the last data
         // (L8759-8766).
         if !stopped {
@@ -458,14 +458,6 @@ fn rack_key(cpu: &Cpu) -> Vec<SlotKey> {
             )
         })
         .collect()
-}
-
-/// The G number of CPU `i`'s own valid flag (address 0H).
-fn valid_flag(cpu: &Cpu, i: usize) -> i64 {
-    cpu.memory()
-        .map
-        .buffer(crate::device::CPU1_UNIT + i as u32, 0, 1)
-        .map_or(-1, i64::from)
 }
 
 /// CPUs `i` and `j` (different) at once.
