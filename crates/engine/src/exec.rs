@@ -146,6 +146,35 @@ impl From<Regs> for Rung {
 /// RET ends the pass.
 const NESTED: u32 = u32::MAX;
 
+/// A nested pass over program `slot` from op `target` until its RET (a
+/// CALL into another file, a call with arguments): `ret` is pushed as the
+/// caller's return (`(file, op)`, or [`NESTED`]), the callee file's local
+/// devices are swapped in when `callee_locals` (and SM776 says so), and the
+/// caller's master-control state comes back after it. The caller checks
+/// the nesting depth.
+fn nested_pass(
+    k: Fixed,
+    locals: &mut [ProgState],
+    rt: &mut Runtime,
+    ret: (u32, u32),
+    slot: usize,
+    target: usize,
+    callee_locals: bool,
+) -> Outcome {
+    rt.calls.push(ret);
+    let mc_off = rt.mc_off;
+    // On the caller's local devices or the callee file's (004 §10.13.1 (e)).
+    let back = if callee_locals {
+        rt.enter_locals(slot, Entry::Call)
+    } else {
+        None
+    };
+    let out = run(k.progs, k.natives, locals, rt, slot, target);
+    rt.leave_locals(back);
+    rt.mc_off = mc_off;
+    out
+}
+
 /// A call with arguments (or FCALL, ECALL): the arguments in, a nested pass
 /// over the subroutine at op `target` of program `slot` (with every
 /// condition OFF for FCALL's non-execution processing, `off`), the outputs
@@ -167,16 +196,17 @@ fn call_args(
         return Err(Fault::CallNesting);
     }
     let caller = call_args::enter(&mut rt.mem, &c.args)?;
-    rt.calls.push((k.cur as u32, NESTED));
-    let (mc_off, force_off) = (rt.mc_off, rt.force_off);
+    let force_off = rt.force_off;
     rt.force_off |= off;
-    // On the caller's local devices or the callee file's (004 §10.13.1 (e)).
-    let back = (slot != k.cur).then(|| rt.enter_locals(slot, Entry::Call));
-    let out = run(k.progs, k.natives, locals, rt, slot, target);
-    if let Some(back) = back {
-        rt.leave_locals(back);
-    }
-    rt.mc_off = mc_off;
+    let out = nested_pass(
+        k,
+        locals,
+        rt,
+        (k.cur as u32, NESTED),
+        slot,
+        target,
+        slot != k.cur,
+    );
     rt.force_off = force_off;
     call_args::leave(&mut rt.mem, &c.args, &caller)?;
     Ok(match out {
@@ -541,21 +571,9 @@ fn op<const OUT_OF_LINE: bool>(
                     try_op!(Err::<(), _>(Fault::CallNesting));
                     return Flow::Next(next);
                 }
-                rt.calls.push((cur as u32, next as u32));
-                let mc_off = rt.mc_off;
-                // On the caller's local devices or its file's (004 §10.13.1 (e)).
-                let back = rt.enter_locals(*slot as usize, Entry::Call);
-                let out = run(
-                    k.progs,
-                    k.natives,
-                    locals,
-                    rt,
-                    *slot as usize,
-                    *target as usize,
-                );
-                rt.leave_locals(back);
-                rt.mc_off = mc_off;
-                match out {
+                let ret = (cur as u32, next as u32);
+                let (slot, target) = (*slot as usize, *target as usize);
+                match nested_pass(k, locals, rt, ret, slot, target, true) {
                     Outcome::Return => {}
                     other => return Flow::Done(other),
                 }
