@@ -4,7 +4,7 @@
 
 mod common;
 use common::Plc;
-use softplc_melsec::system::a_compat::{Conv, MIRRORS};
+use softplc_melsec::system::a_compat::{mirrors, Conv};
 
 /// The relays a converted program reads every scan, copied into M.
 const PROG: &str = "\
@@ -95,7 +95,7 @@ END
     );
     p.scan_time_us(23_000);
     let check = |p: &Plc, when: &str| {
-        for m in MIRRORS {
+        for m in mirrors() {
             if m.relay {
                 let (a, q) = (format!("SM{}", m.a), format!("SM{}", m.q));
                 assert_eq!(p.bit(&a), p.bit(&q), "{a} = {q} {when}");

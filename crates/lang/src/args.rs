@@ -79,7 +79,9 @@ impl<'c, 'a> Args<'c, 'a> {
         self.block_as(k, UnitAccess::Write)
     }
 
-    fn block_as(&mut self, k: usize, access: UnitAccess) -> Option<Block> {
+    /// A word device starting a block the instruction reads or, with
+    /// [`UnitAccess::Write`], writes ([`Self::block`], [`Self::block_dest`]).
+    pub fn block_as(&mut self, k: usize, access: UnitAccess) -> Option<Block> {
         let tok = &self.i.operands[k];
         let op = self.c.parse(tok)?;
         let (kind, reach) = match &op {

@@ -7,7 +7,7 @@
 
 use super::transfer::{count, Loc, WordBlock};
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::device::{DeviceKind, DeviceMemory, UnitOwner, SHARED_MEMORY_WORDS};
+use softplc_ir::device::{DeviceKind, DeviceMemory, UnitOwner};
 use softplc_ir::fault::Fault;
 use softplc_ir::instr::CpuSlot;
 use softplc_ir::ops::{BitBlock, Num, WordArg};
@@ -121,10 +121,13 @@ impl STo {
             UnitOwner::OtherCpu => return Err(Fault::OtherSharedMemory),
             UnitOwner::Module | UnitOwner::OtherCpusModule => return Err(Fault::Operation),
         }
-        if addr < mem.map.shared_user_area() || addr + n > SHARED_MEMORY_WORDS {
+        // Below the user area is 4101, as past the shared memory (the
+        // window's range check, FROM's too).
+        if addr < mem.map.shared_user_area() {
             return Err(Fault::Range);
         }
-        let g = mem.map.base(DeviceKind::G) + w.first + addr;
+        let first = w.span(addr, n).map_err(|_| Fault::Range)?;
+        let g = mem.map.base(DeviceKind::G) + first;
         Ok((g as usize, n as usize))
     }
 }

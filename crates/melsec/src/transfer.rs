@@ -148,11 +148,7 @@ impl WordBlock {
                 digits,
             });
         }
-        let block = match access {
-            UnitAccess::Read => a.block(k),
-            UnitAccess::Write => a.block_dest(k),
-        };
-        block.map(WordBlock::Words)
+        a.block_as(k, access).map(WordBlock::Words)
     }
 
     /// The first of `n` elements; 4101 when the block would run past the last

@@ -16,17 +16,6 @@ use super::tree::{Entry, Item, Value};
 use crate::device::{parse_operand, DeviceConfig, DeviceKind, Operand};
 use crate::engine::LatchRange;
 
-/// A device as named in a latch range: T, ST and C stand for all their parts.
-fn family(kind: DeviceKind) -> DeviceKind {
-    use DeviceKind::*;
-    match kind {
-        TS | TC | TN => TS,
-        STS | STC | STN => STS,
-        CS | CC | CN => CS,
-        k => k,
-    }
-}
-
 pub(super) fn family_name(kind: DeviceKind) -> &'static str {
     match kind {
         DeviceKind::TS => "T",
@@ -197,8 +186,8 @@ pub(super) fn parse_range<'t>(
         );
         return None;
     };
-    let fam = family(first.kind);
-    if family(last.kind) != fam {
+    let fam = first.kind.range_kind();
+    if last.kind.range_kind() != fam {
         cx.error(
             &item.span,
             format!("\"{text}\": a range must start and end in the same device"),

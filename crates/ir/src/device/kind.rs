@@ -93,6 +93,27 @@ impl DeviceKind {
         matches!(self, DeviceKind::SM | DeviceKind::SD)
     }
 
+    /// The contact, coil and current-value kinds of a timer, retentive
+    /// timer or counter point, whichever of them `self` is (TS, TC, TN for
+    /// TC): they are sized, latched and made local together. `None` for
+    /// every other kind.
+    pub fn timer_parts(self) -> Option<&'static [DeviceKind; 3]> {
+        use DeviceKind::*;
+        match self {
+            TS | TC | TN => Some(&[TS, TC, TN]),
+            STS | STC | STN => Some(&[STS, STC, STN]),
+            CS | CC | CN => Some(&[CS, CC, CN]),
+            _ => None,
+        }
+    }
+
+    /// The kind that names a range of this kind's points: the contact
+    /// (TS, STS, CS) for any part of a timer, retentive timer or counter
+    /// ([`Self::timer_parts`]), else `self`.
+    pub fn range_kind(self) -> DeviceKind {
+        self.timer_parts().map_or(self, |p| p[0])
+    }
+
     /// Words each point occupies: 4 for the function registers FD (004
     /// §10.3.1 (2)(c): "1 point occupies 4 words", for 16-, 32- and 64-bit
     /// arguments), 1 for every other word device.

@@ -265,22 +265,16 @@ impl DeviceConfig {
     /// Sets the points of a device. Timers, retentive timers and counters keep their
     /// contact, coil and current value sizes together.
     pub fn set_points(&mut self, kind: DeviceKind, n: u32) {
-        use DeviceKind::*;
-        let group: &[DeviceKind] = match kind {
-            TS | TC | TN => &[TS, TC, TN],
-            STS | STC | STN => &[STS, STC, STN],
-            CS | CC | CN => &[CS, CC, CN],
-            _ => &[],
-        };
-        if group.is_empty() {
-            self.points[kind as usize] = n;
-        } else {
-            for k in group {
-                self.points[*k as usize] = n;
+        match kind.timer_parts() {
+            Some(parts) => {
+                for k in parts {
+                    self.points[*k as usize] = n;
+                }
             }
+            None => self.points[kind as usize] = n,
         }
-        if kind == ZR {
-            self.points[R as usize] = n.min(32768);
+        if kind == DeviceKind::ZR {
+            self.points[DeviceKind::R as usize] = n.min(32768);
         }
     }
 }

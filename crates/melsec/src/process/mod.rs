@@ -49,16 +49,6 @@ pub static FAMILIES: &[&[Def]] = &[
     autotune::DEFS,
 ];
 
-/// The CPU models that have these instructions.
-pub const MODELS: &[&str] = &[
-    "Q02PHCPU",
-    "Q06PHCPU",
-    "Q12PHCPU",
-    "Q25PHCPU",
-    "Q12PRHCPU",
-    "Q25PRHCPU",
-];
-
 /// Why a non-process CPU rejects them.
 pub const NEEDS_PROCESS_CPU: &str = "a process-control instruction (QnPHCPU/QnPRHCPU Programming \
      Manual (Process Control Instructions)): it needs a process CPU \

@@ -6,10 +6,10 @@
 //! memory.
 //!
 //! The devices are set by the system only (L9762-9765): each one that has a
-//! Q device softplc maintains is copied from it ([`MIRRORS`]) when the Q device
-//! is written — at scan start for the always-ON/OFF, first-scan and clock
-//! relays, at END for the rest, and again when an error is reported or
-//! cleared and when the operating status changes. SM1034 (the 1-minute
+//! Q device softplc maintains is copied from it when the Q device is written
+//! — at scan start for the always-ON/OFF, first-scan and clock relays
+//! ([`AT_SCAN_START`]), at END for the rest ([`AT_END`]), and again when an
+//! error is reported or cleared and when the operating status changes. SM1034 (the 1-minute
 //! clock, L9812-9815) has no Q equivalent and is computed here; the clock
 //! data SD1025-SD1028 with its requests SM1025/SM1026/SM1028 is the clock
 //! registers' A-series set ([`super::clock::A_SERIES`]).
@@ -18,15 +18,6 @@ use softplc_ir::device::DeviceMemory;
 use softplc_ir::system::ScanStart;
 
 use super::devices::{bcd, sd, sd_get, sm, sm_get};
-
-/// When an A-series device is copied from its Q device.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum At {
-    /// Before the programs run, right after the Q relay is set.
-    ScanStart,
-    /// At END (and when an error or the status changes).
-    End,
-}
 
 /// How the Q value becomes the A-series value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,16 +40,14 @@ pub struct Mirror {
     /// The Q device it is copied from.
     pub q: u32,
     pub conv: Conv,
-    pub at: At,
 }
 
-const fn relay(a: u32, q: u32, at: At) -> Mirror {
+const fn relay(a: u32, q: u32) -> Mirror {
     Mirror {
         relay: true,
         a,
         q,
         conv: Conv::Same,
-        at,
     }
 }
 
@@ -68,38 +57,42 @@ const fn register(a: u32, q: u32, conv: Conv) -> Mirror {
         a,
         q,
         conv,
-        at: At::End,
     }
 }
 
-use At::{End, ScanStart as Start};
-
-/// The A-series devices copied from a Q device, per the tables' "special
-/// relay/register for modification" column and each row's description.
-pub static MIRRORS: &[Mirror] = &[
-    relay(1008, 1, End),   // self-diagnostic error
-    relay(1009, 62, End),  // annunciator detected
-    relay(1011, 56, End),  // operation error
-    relay(1012, 700, End), // carry
-    // User timing clocks (M9020-M9024 = DUTY's clocks 0-4).
-    relay(1020, 420, End),
-    relay(1021, 421, End),
-    relay(1022, 422, End),
-    relay(1023, 423, End),
-    relay(1024, 424, End),
+/// The relays copied at scan start, right after their Q relays are set
+/// (the always-ON/OFF, first-scan and clock relays). A table of its own so
+/// that each copy walks only its own entries.
+pub static AT_SCAN_START: &[Mirror] = &[
     // 0.1 s, 0.2 s, 1 s, 2 s clocks (L9812-9815).
-    relay(1030, 410, Start),
-    relay(1031, 411, Start),
-    relay(1032, 412, Start),
-    relay(1033, 413, Start),
-    relay(1036, 400, Start),         // always ON
-    relay(1037, 401, Start),         // always OFF
-    relay(1038, 402, Start),         // ON one scan after RUN
-    relay(1039, 403, Start),         // RUN flag: OFF one scan after RUN
-    relay(1043, 805, End),           // sampling trace complete
-    relay(1044, 803, End),           // sampling trace trigger
-    relay(1046, 802, End),           // sampling trace executing
-    relay(1049, 701, End),           // characters output: 16 / up to NUL
+    relay(1030, 410),
+    relay(1031, 411),
+    relay(1032, 412),
+    relay(1033, 413),
+    relay(1036, 400), // always ON
+    relay(1037, 401), // always OFF
+    relay(1038, 402), // ON one scan after RUN
+    relay(1039, 403), // RUN flag: OFF one scan after RUN
+];
+
+/// The devices copied at END (and when an error is reported or cleared and
+/// when the status changes), per the tables' "special relay/register for
+/// modification" column and each row's description.
+pub static AT_END: &[Mirror] = &[
+    relay(1008, 1),   // self-diagnostic error
+    relay(1009, 62),  // annunciator detected
+    relay(1011, 56),  // operation error
+    relay(1012, 700), // carry
+    // User timing clocks (M9020-M9024 = DUTY's clocks 0-4).
+    relay(1020, 420),
+    relay(1021, 421),
+    relay(1022, 422),
+    relay(1023, 423),
+    relay(1024, 424),
+    relay(1043, 805),                // sampling trace complete
+    relay(1044, 803),                // sampling trace trigger
+    relay(1046, 802),                // sampling trace executing
+    relay(1049, 701),                // characters output: 16 / up to NUL
     register(1008, 0, Conv::Same),   // self-diagnostic error code
     register(1009, 62, Conv::Same),  // first annunciator
     register(1015, 203, Conv::Same), // operating status
@@ -124,12 +117,17 @@ pub static MIRRORS: &[Mirror] = &[
     register(1132, 71, Conv::Same),
 ];
 
+/// Every A-series device copied from a Q device.
+pub fn mirrors() -> impl Iterator<Item = &'static Mirror> {
+    AT_SCAN_START.iter().chain(AT_END)
+}
+
 /// SM1034: the 1-minute clock, computed as the Q clocks are (OFF at
 /// power-on, toggling every 30 s).
 pub const MINUTE_CLOCK: u32 = 1034;
 
-fn copy(mem: &mut DeviceMemory, at: At) {
-    for m in MIRRORS.iter().filter(|m| m.at == at) {
+fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
+    for m in mirrors {
         let (a, q) = (m.a as i64, m.q as i64);
         if m.relay {
             let v = sm_get(mem, q);
@@ -149,7 +147,7 @@ fn copy(mem: &mut DeviceMemory, at: At) {
 /// After the Q scan-start relays: the always-ON/OFF, first-scan and clock
 /// relays, and the 1-minute clock.
 pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
-    copy(mem, At::ScanStart);
+    copy(mem, AT_SCAN_START);
     sm(
         mem,
         MINUTE_CLOCK as i64,
@@ -159,5 +157,5 @@ pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
 
 /// After END processing, an error report or clear, a status change.
 pub(crate) fn refresh(mem: &mut DeviceMemory) {
-    copy(mem, At::End);
+    copy(mem, AT_END);
 }
