@@ -115,25 +115,15 @@ pub(crate) struct LocalDevices {
     relays: Option<LocalDeviceRelays>,
 }
 
-/// The device kinds a local range of `kind` covers: a timer, retentive
-/// timer or counter range its contact, coil and current value.
-fn parts(kind: DeviceKind) -> Option<&'static [DeviceKind]> {
+/// The kinds a local range of `kind` covers: a timer's, retentive timer's
+/// or counter's contact, coil and current value together; M, V and D
+/// alone; `None` for a device that cannot be local.
+fn parts(kind: &DeviceKind) -> Option<&[DeviceKind]> {
     use DeviceKind::*;
-    Some(match kind {
-        M => &[M],
-        V => &[V],
-        D => &[D],
-        TS | TC | TN => &[TS, TC, TN],
-        STS | STC | STN => &[STS, STC, STN],
-        CS | CC | CN => &[CS, CC, CN],
-        _ => return None,
-    })
-}
-
-/// The contact kind that names a timer's, retentive timer's or counter's
-/// parts in a range (as latch ranges name them).
-fn family(kind: DeviceKind) -> DeviceKind {
-    parts(kind).map_or(kind, |p| p[0])
+    match kind {
+        M | V | D => Some(std::slice::from_ref(kind)),
+        _ => kind.timer_parts().map(|p| p.as_slice()),
+    }
 }
 
 impl LocalDevices {
@@ -152,7 +142,7 @@ impl LocalDevices {
         let map = &mem.map;
         let mut spans = Spans::default();
         for r in ranges {
-            let Some(kinds) = parts(r.kind) else {
+            let Some(kinds) = parts(&r.kind) else {
                 return Err(format!(
                     "{} cannot be a local device: local devices are M, V, T, ST, C and D",
                     r.kind
@@ -171,12 +161,12 @@ impl LocalDevices {
                     spans.words.push((start, len));
                 }
             }
-            let rem_base = match family(r.kind) {
+            let rem_base = match r.kind.range_kind() {
                 DeviceKind::TS => Some(0),
                 DeviceKind::STS => Some(map.points(DeviceKind::TS)),
                 _ => None,
             };
-            let timers = map.points(family(r.kind));
+            let timers = map.points(r.kind.range_kind());
             if let Some(base) = rem_base.filter(|_| r.start <= r.end && r.start < timers) {
                 let len = (r.end.min(timers - 1) - r.start + 1) as usize;
                 spans.rems.push(((base + r.start) as usize, len));
@@ -307,7 +297,10 @@ pub(crate) fn without_locals(latch: &[LatchRange], locals: &[LocalRange]) -> Vec
     let mut out = Vec::with_capacity(latch.len());
     for r in latch {
         let mut pieces = vec![(r.start, r.end)];
-        for l in locals.iter().filter(|l| family(l.kind) == family(r.kind)) {
+        for l in locals
+            .iter()
+            .filter(|l| l.kind.range_kind() == r.kind.range_kind())
+        {
             pieces = pieces
                 .into_iter()
                 .flat_map(|(a, b)| {

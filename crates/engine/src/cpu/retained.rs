@@ -150,13 +150,10 @@ fn latch_kind_spans(
     mem: &DeviceMemory,
     r: &crate::LatchRange,
 ) -> Vec<(DeviceKind, bool, usize, usize)> {
-    use DeviceKind::*;
-    let kinds: &[DeviceKind] = match r.kind {
-        TS | TC | TN => &[TS, TC, TN],
-        STS | STC | STN => &[STS, STC, STN],
-        CS | CC | CN => &[CS, CC, CN],
-        _ => std::slice::from_ref(&r.kind),
-    };
+    let kinds: &[DeviceKind] = r
+        .kind
+        .timer_parts()
+        .map_or(std::slice::from_ref(&r.kind), |p| p.as_slice());
     kinds
         .iter()
         .filter_map(|k| {
