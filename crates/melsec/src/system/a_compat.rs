@@ -9,7 +9,7 @@
 //! Q device softplc maintains is copied from it when the Q device is written
 //! — at scan start for the always-ON/OFF, first-scan and clock relays
 //! ([`AT_SCAN_START`]), at END for the rest ([`AT_END`]), and again when an
-//! error is reported or cleared and when the operating status changes. SM1034 (the 1-minute
+//! error is reported or cleared; SD1015 also when the operating status changes. SM1034 (the 1-minute
 //! clock, L9812-9815) has no Q equivalent and is computed here; the clock
 //! data SD1025-SD1028 with its requests SM1025/SM1026/SM1028 is the clock
 //! registers' A-series set ([`super::clock::A_SERIES`]).
@@ -75,9 +75,12 @@ pub static AT_SCAN_START: &[Mirror] = &[
     relay(1039, 403), // RUN flag: OFF one scan after RUN
 ];
 
-/// The devices copied at END (and when an error is reported or cleared and
-/// when the status changes), per the tables' "special relay/register for
-/// modification" column and each row's description.
+/// SD1015, the operating status: the mirror of SD203.
+const OPERATING_STATUS: Mirror = register(1015, 203, Conv::Same);
+
+/// The devices copied at END (and when an error is reported or cleared),
+/// per the tables' "special relay/register for modification" column and
+/// each row's description.
 pub static AT_END: &[Mirror] = &[
     relay(1008, 1),   // self-diagnostic error
     relay(1009, 62),  // annunciator detected
@@ -89,13 +92,13 @@ pub static AT_END: &[Mirror] = &[
     relay(1022, 422),
     relay(1023, 423),
     relay(1024, 424),
-    relay(1043, 805),                // sampling trace complete
-    relay(1044, 803),                // sampling trace trigger
-    relay(1046, 802),                // sampling trace executing
-    relay(1049, 701),                // characters output: 16 / up to NUL
-    register(1008, 0, Conv::Same),   // self-diagnostic error code
-    register(1009, 62, Conv::Same),  // first annunciator
-    register(1015, 203, Conv::Same), // operating status
+    relay(1043, 805),               // sampling trace complete
+    relay(1044, 803),               // sampling trace trigger
+    relay(1046, 802),               // sampling trace executing
+    relay(1049, 701),               // characters output: 16 / up to NUL
+    register(1008, 0, Conv::Same),  // self-diagnostic error code
+    register(1009, 62, Conv::Same), // first annunciator
+    OPERATING_STATUS,
     // Scan time min/current/max in 10 ms units and current in 1 ms. The
     // manual's modification column pairs SD1017 with SD520 and SD1018 with
     // SD524, but its descriptions say SD1017 is the minimum and SD1018 the
@@ -158,4 +161,10 @@ pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
 /// After END processing, an error report or clear, a status change.
 pub(crate) fn refresh(mem: &mut DeviceMemory) {
     copy(mem, AT_END);
+}
+
+/// After the operating status changed (also in STOP, where no END runs):
+/// SD1015, the only A-series device SD203 feeds.
+pub(crate) fn status(mem: &mut DeviceMemory) {
+    copy(mem, &[OPERATING_STATUS]);
 }

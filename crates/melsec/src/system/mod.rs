@@ -125,7 +125,9 @@ impl System for Melsec {
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
         scan::status(mem, status);
-        self.a_refresh(mem);
+        if self.a_compatibility {
+            a_compat::status(mem);
+        }
     }
 
     fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
