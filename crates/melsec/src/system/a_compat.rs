@@ -9,8 +9,8 @@
 //! Q device softplc maintains is copied from it when the Q device is written
 //! — at scan start for the always-ON/OFF, first-scan and clock relays
 //! ([`AT_SCAN_START`]), at END for the rest ([`AT_END`]), and again when an
-//! error is reported or cleared; SD1015 also when the operating status changes. SM1034 (the 1-minute
-//! clock, L9812-9815) has no Q equivalent and is computed here; the clock
+//! error is reported or cleared; SD1015 also when the operating status
+//! changes. SM1034 (the 1-minute clock, L9812-9815) has no Q equivalent and is computed here; the clock
 //! data SD1025-SD1028 with its requests SM1025/SM1026/SM1028 is the clock
 //! registers' A-series set ([`super::clock::A_SERIES`]).
 
