@@ -10,9 +10,9 @@
 //! — at scan start for the always-ON/OFF, first-scan and clock relays
 //! ([`AT_SCAN_START`]), at END for the rest ([`AT_END`]), and again when an
 //! error is reported or cleared; SD1015 also when the operating status
-//! changes. SM1034 (the 1-minute clock, L9812-9815) has no Q equivalent and is computed here; the clock
-//! data SD1025-SD1028 with its requests SM1025/SM1026/SM1028 is the clock
-//! registers' A-series set ([`super::clock::A_SERIES`]).
+//! changes. SM1034 (the 1-minute clock, L9812-9815) has no Q equivalent
+//! and is computed here; the clock data SD1025-SD1028 with its requests
+//! SM1025/SM1026/SM1028 is the clock registers' A-series set ([`super::clock::A_SERIES`]).
 
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::system::ScanStart;
