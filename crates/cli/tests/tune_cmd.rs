@@ -3,7 +3,7 @@
 //! K, τ, θ and verifies a loop that settles.
 
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Output};
 
 fn softplc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_softplc"))
@@ -11,6 +11,17 @@ fn softplc() -> Command {
 
 fn example() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/process/fopdt_loop.toml")
+}
+
+/// The JSON a run printed; the run must succeed (else its stderr is shown).
+#[track_caller]
+fn json_of(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 fn within(v: f64, want: f64, rel: f64) -> bool {
@@ -72,12 +83,7 @@ fn tune_the_example_as_json() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let j = json_of(&out);
     // The plant: K = 0.8 C/% = 0.4 %/% of 0..200 C, τ = 90 s, θ = 15 s, with
     // 0.05 C of noise on the measurement (measured: K 0.8008, τ 90.01 s,
     // θ 14.97 s).
@@ -138,12 +144,7 @@ fn fit_csv_and_errors() {
         .arg(&csv)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let j = json_of(&out);
     assert!(within(j["fit"]["gain"].as_f64().unwrap(), 2.0, 1e-6), "{j}");
     assert!(within(j["fit"]["tau"].as_f64().unwrap(), 40.0, 1e-4), "{j}");
     assert!(
@@ -274,12 +275,7 @@ fn tune_a_loop_on_cpu2_of_a_system() {
             .arg(&svg)
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+        json_of(&out)
     };
     let (one, sys) = (tune(&example(), ""), tune(&scenario, "CPU2/"));
     assert_eq!(sys["loop_tag"], "CPU2/R1000");

@@ -54,6 +54,13 @@ fn run(dir: &Path, text: &str) -> Outcome {
         .run(&mut |_| {})
 }
 
+/// Runs the scenario `text` (as [`load`] writes it) on a new system of
+/// `cpus` (as [`system`] builds it).
+fn run_on(cpus: &[(&str, &str)], text: &str) -> Outcome {
+    let dir = system(cpus);
+    run(dir.path(), text)
+}
+
 #[track_caller]
 fn assert_all_pass(o: &Outcome) {
     let report = o.report(false);
@@ -67,12 +74,11 @@ fn assert_all_pass(o: &Outcome) {
 /// timeline's CPU2/X0 at 0.5 s reaches CPU 2's program in that step.
 #[test]
 fn a_model_the_timeline_and_checks_on_cpu2() {
-    let dir = system(&[
-        ("", IDLE),
-        ("", "LD SM400\nMOV K1000 D820\nLD X0\nOUT Y0\nEND\n"),
-    ]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[
+            ("", IDLE),
+            ("", "LD SM400\nMOV K1000 D820\nLD X0\nOUT Y0\nEND\n"),
+        ],
         r#"duration = "1s"
 
 [[model]]
@@ -144,9 +150,8 @@ interval = "0.5s"
 #[test]
 fn cpus_scan_at_their_own_constant_scans() {
     let count = "LD SM400\nINC D0\nEND\n";
-    let dir = system(&[("", count), ("[ras]\nconstant_scan = \"30ms\"\n", count)]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[("", count), ("[ras]\nconstant_scan = \"30ms\"\n", count)],
         r#"duration = "1s"
 
 [[expect]]
@@ -174,9 +179,8 @@ at = "1s"
     assert_eq!((o.scans, o.steps), (100, 100));
 
     // CPU 1 at 20 ms: 50 of its scans in the 100 steps of 1 s.
-    let dir = system(&[("[ras]\nconstant_scan = \"20ms\"\n", count), ("", count)]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[("[ras]\nconstant_scan = \"20ms\"\n", count), ("", count)],
         "duration = \"1s\"\n[[expect]]\ndevice = \"CPU2/D0\"\nequals = 100\nat = \"1s\"\n\
          [[expect]]\ndevice = \"D0\"\nequals = 50\nat = \"1s\"\n",
     );
@@ -195,12 +199,11 @@ at = "1s"
 /// it to D1 in its next scan. CPU 2's D1002 goes back to CPU 1 alike.
 #[test]
 fn the_auto_refresh_between_steps() {
-    let dir = system(&[
-        ("", IDLE),
-        ("", "LD SM400\nMOV D1000 D1\nMOV K7 D1002\nEND\n"),
-    ]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[
+            ("", IDLE),
+            ("", "LD SM400\nMOV D1000 D1\nMOV K7 D1002\nEND\n"),
+        ],
         r#"duration = "1s"
 
 [[timeline]]
@@ -249,12 +252,11 @@ at = "0.5s"
 #[test]
 fn inputs_of_a_module_go_to_its_control_cpu() {
     let rack = "[[slot]]\ntype = \"input\"\npoints = 16\ncontrol_cpu = 2\n";
-    let dir = system(&[
-        (rack, "LD X0\nOUT M0\nEND\n"),
-        (rack, "LD X0\nOUT M1\nLD X1\nOUT M2\nEND\n"),
-    ]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[
+            (rack, "LD X0\nOUT M0\nEND\n"),
+            (rack, "LD X0\nOUT M1\nLD X1\nOUT M2\nEND\n"),
+        ],
         r#"duration = "1s"
 
 [[model]]
@@ -301,9 +303,8 @@ equals = true
 /// default): the run ends at that step with one failed line per CPU.
 #[test]
 fn a_stop_error_of_cpu2_stops_the_system_and_the_run() {
-    let dir = system(&[("", IDLE), ("", "LD X0\n/ K1 K0 D0\nEND\n")]);
-    let o = run(
-        dir.path(),
+    let o = run_on(
+        &[("", IDLE), ("", "LD X0\n/ K1 K0 D0\nEND\n")],
         r#"duration = "1s"
 
 [[timeline]]

@@ -209,7 +209,7 @@ pub fn tune_scenario(sc: &Scenario, opts: &Options) -> Result<Report, String> {
         ));
     }
     let ct = s.read(offset::CT)?;
-    s.tag.set_mode(s.run.cpu_at_mut(s.cpu_index()), MODE_MAN)?;
+    s.set_mode(MODE_MAN)?;
     if let Some(mv) = opts.initial_mv {
         s.write(offset::MV, mv)?;
     }
@@ -565,7 +565,7 @@ fn verify(
     let pv = s.pv()?;
     s.write(offset::SV, pv)?;
     s.scan_for(2.0 * ct.max(0.0) + 2.0 * s.scan_s)?;
-    s.tag.set_mode(s.run.cpu_at_mut(s.cpu_index()), MODE_AUT)?;
+    s.set_mode(MODE_AUT)?;
     s.scan()?;
     expect_mode(s, MODE_AUT, "AUT")?;
     // Let the loop take over bumplessly for a few control cycles.

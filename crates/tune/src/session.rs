@@ -121,11 +121,6 @@ impl Session {
         self.run.cpu_at(self.cpu)
     }
 
-    /// The loop's CPU's index (0-based), for [`Run::cpu_at_mut`].
-    pub fn cpu_index(&self) -> usize {
-        self.cpu
-    }
-
     /// PV now.
     pub fn pv(&self) -> Result<f64, String> {
         match &self.pv {
@@ -154,6 +149,11 @@ impl Session {
     /// Writes a float of the loop tag (before the next scan).
     pub fn write(&mut self, off: u32, v: f64) -> Result<(), String> {
         self.tag.write(self.run.cpu_at_mut(self.cpu), off, v)
+    }
+
+    /// Sets the loop's operation mode (before the next scan).
+    pub fn set_mode(&mut self, mode: u16) -> Result<(), String> {
+        self.tag.set_mode(self.run.cpu_at_mut(self.cpu), mode)
     }
 
     /// One scan; returns its sample (and records it in the trend).

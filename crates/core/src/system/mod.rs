@@ -18,10 +18,12 @@
 //! constant scan, else the driver's default), the earliest due first and
 //! CPUs due at the same time in CPU-number order.
 
+mod cpus;
 mod exchange;
 pub mod manifest;
 pub mod names;
 
+pub use cpus::Cpus;
 pub use manifest::{is_system, SYSTEM_MANIFEST};
 
 use std::path::{Path, PathBuf};

@@ -6,10 +6,10 @@ use softplc_core::access::{Value, ValueType};
 use softplc_core::device::DeviceMemory;
 use softplc_core::names::DevName;
 
-use super::cpus::Cpus;
 use super::fmt::Kind;
 use super::spec::{channel, split_cpu, Scale};
 use crate::model::{from_raw_clamped, to_raw};
+use softplc_core::system::Cpus;
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
 /// index-modified device pushed out of range by Z), named in its CPU's
@@ -116,7 +116,7 @@ impl Channel {
                 .ok_or_else(|| format!("`{text}`: no slot of the rack is unit U{unit:X}"))?;
             let index = slot.index as usize;
             let name = slot.describe();
-            if cpus.is_system() && slot.control_cpu as usize != own + 1 {
+            if cpus.system().is_some() && slot.control_cpu as usize != own + 1 {
                 return Err(format!(
                     "`{text}`: {name} is controlled by CPU {c}: bind CPU{c}/{}",
                     rest.trim(),

@@ -45,7 +45,6 @@
 
 mod bind;
 mod check;
-mod cpus;
 pub mod fmt;
 mod ports;
 mod run;

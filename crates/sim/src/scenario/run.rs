@@ -4,12 +4,11 @@ use std::time::{Duration, Instant};
 
 use softplc_core::engine::{Clock, Cpu, CpuState, VirtualClock};
 use softplc_core::names::Names;
-use softplc_core::system::System;
+use softplc_core::system::{Cpus, System};
 use softplc_core::{project, single};
 
 use super::bind::{Probe, Sink, Source};
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
-use super::cpus::Cpus;
 use super::fmt::{fmt_time, Kind};
 use super::spec::split_cpu;
 use super::spec::{ExpectKind, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
@@ -425,7 +424,7 @@ impl Run {
         if let Some(i) = self.cpus.first_stopped() {
             return Err(format!(
                 "{} is stopped: {}",
-                self.cpus.label(i),
+                label(&self.cpus, i),
                 stop_detail(self.cpus.get(i))
             ));
         }
@@ -443,7 +442,7 @@ impl Run {
         if let Some(i) = self.cpus.first_stopped() {
             return Err(format!(
                 "{} stopped at scan {n} ({}): {}",
-                self.cpus.label(i),
+                label(&self.cpus, i),
                 fmt_time(n * self.scan_us),
                 stop_detail(self.cpus.get(i))
             ));
@@ -559,7 +558,7 @@ impl Run {
 
         let mut results = Vec::new();
         let why = match (all_stopped, fault) {
-            (true, _) if self.cpus.is_system() => "every CPU stopped",
+            (true, _) if self.cpus.system().is_some() => "every CPU stopped",
             (true, _) => "the CPU stopped",
             (_, Some(_)) => "a model failed",
             _ => "the run ended",
@@ -578,7 +577,7 @@ impl Run {
             results.push(CheckResult {
                 text: format!(
                     "{} keeps running (stopped at {}, scan {n})",
-                    self.cpus.label(i),
+                    label(&self.cpus, i),
                     fmt_time(n * self.scan_us)
                 ),
                 passed: false,
@@ -612,6 +611,14 @@ impl Run {
             results,
             trace: self.recorder.map(|r| r.data),
         }
+    }
+}
+
+/// How reports name CPU `i`: "the CPU", or "CPU n" in a system.
+fn label(cpus: &Cpus, i: usize) -> String {
+    match cpus {
+        Cpus::One(_) => "the CPU".into(),
+        Cpus::System(_) => format!("CPU {}", i + 1),
     }
 }
 

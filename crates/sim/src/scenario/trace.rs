@@ -4,8 +4,8 @@
 use std::fmt::Write as _;
 
 use super::bind::Probe;
-use super::cpus::Cpus;
 use super::fmt::{fmt_secs, fmt_value, Kind};
+use softplc_core::system::Cpus;
 
 /// Recorded samples of some devices.
 #[derive(Clone, Debug, Default, PartialEq)]

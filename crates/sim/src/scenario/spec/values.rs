@@ -81,16 +81,10 @@ pub(crate) fn split_cpu(text: &str, cpus: usize) -> Result<(usize, &str), String
     if cpus > 1 {
         return system::names::split(text, cpus);
     }
-    let number = text.split_once('/').and_then(|(head, _)| {
-        let digits = head
-            .get(3..)
-            .filter(|_| head[..3].eq_ignore_ascii_case("CPU"))?;
-        digits.parse::<usize>().ok()
-    });
-    match number {
+    match system::names::prefix(text) {
         None => Ok((0, text)),
-        Some(1) => system::names::split(text, 1),
-        Some(n) => Err(format!(
+        Some((1, rest)) => Ok((0, rest)),
+        Some((n, _)) => Err(format!(
             "`{text}`: there is no CPU {n} (the scenario runs one CPU; a multi-CPU system is a directory with system.toml)"
         )),
     }
