@@ -534,23 +534,19 @@ pub fn run(args: RunArgs) -> ExitCode {
     };
     // Power-on: latched devices, file registers and the error history come back.
     let mut battery = match args.state.clone().or(state) {
-        Some(dir) => match Battery::attach_with(
-            &dir,
-            &mut cpu,
-            Attach {
+        Some(dir) => {
+            let how = Attach {
                 restore_clock: false,
                 on_damage,
-            },
-        ) {
-            Ok(b) => {
-                report_attach(&dir, &b);
-                Some(b)
+            };
+            match power_on(&dir, &mut cpu, how) {
+                Ok(b) => Some(b),
+                Err(e) => {
+                    eprintln!("softplc: {e}");
+                    return ExitCode::from(2);
+                }
             }
-            Err(e) => {
-                eprintln!("softplc: {}", state_error(&dir, &e));
-                return ExitCode::from(2);
-            }
-        },
+        }
         None => None,
     };
     // Ctrl-C/SIGTERM and --timeout stop the CPU, even mid-scan.
@@ -715,8 +711,17 @@ pub fn run(args: RunArgs) -> ExitCode {
     }
 }
 
+/// Power-on of `cpu` from the state directory `dir`: its battery-backed
+/// memory, the warnings printed ([`report_attach`]); the error names the
+/// directory ([`state_error`]).
+pub(crate) fn power_on(dir: &Path, cpu: &mut Cpu, how: Attach) -> Result<Battery, String> {
+    let b = Battery::attach_with(dir, cpu, how).map_err(|e| state_error(dir, &e))?;
+    report_attach(dir, &b);
+    Ok(b)
+}
+
 /// Prints the warnings of a power-on from a state directory.
-pub(crate) fn report_attach(dir: &Path, b: &Battery) {
+fn report_attach(dir: &Path, b: &Battery) {
     for w in b.warnings() {
         eprintln!("softplc: {}: {w}", dir.display());
     }
@@ -730,7 +735,7 @@ pub(crate) fn report_attach(dir: &Path, b: &Battery) {
 }
 
 /// A state-directory error, naming the directory once.
-pub(crate) fn state_error(dir: &Path, e: &PersistError) -> String {
+fn state_error(dir: &Path, e: &PersistError) -> String {
     match e {
         PersistError::Locked { .. } => e.to_string(),
         _ => format!("state directory {}: {e}", dir.display()),

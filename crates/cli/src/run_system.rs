@@ -9,13 +9,14 @@ use std::process::ExitCode;
 
 use serde_json::{json, Map, Value as Json};
 use softplc_core::device::DeviceKind;
+use softplc_core::engine::tier::TierStats;
 use softplc_core::engine::{Clock, Cpu, VirtualClock};
 use softplc_core::names::DevName;
 use softplc_core::persist::{Attach, Battery};
 use softplc_core::system::{names, System};
 use softplc_core::tier::{self, Exec};
 
-use crate::run::{report_attach, state_error, RunArgs};
+use crate::run::{power_on, RunArgs};
 use crate::stdout::outln;
 
 /// Loads a system on `clock` (every CPU reads it) and puts each CPU on its tier.
@@ -29,14 +30,25 @@ fn load(path: &Path, clock: &VirtualClock, exec: Option<Exec>) -> Result<System,
             ExitCode::from(1)
         })?;
     for i in 0..sys.len() {
-        let own = sys.project(i).exec;
-        let applied = Exec::choose(exec, own).and_then(|e| tier::apply(sys.cpu_mut(i), e));
-        if let Err(e) = applied {
-            eprintln!("softplc: CPU {}: {e}", i + 1);
-            return Err(ExitCode::from(2));
-        }
+        use_tier(&mut sys, i, exec)?;
     }
     Ok(sys)
+}
+
+/// Puts CPU `i` of `sys` on the tier `exec` (the command line's) or else its
+/// project chooses; the error is printed with the CPU's number.
+pub(crate) fn use_tier(
+    sys: &mut System,
+    i: usize,
+    exec: Option<Exec>,
+) -> Result<Option<TierStats>, ExitCode> {
+    let own = sys.project(i).exec;
+    Exec::choose(exec, own)
+        .and_then(|e| tier::apply(sys.cpu_mut(i), e))
+        .map_err(|e| {
+            eprintln!("softplc: CPU {}: {e}", i + 1);
+            ExitCode::from(2)
+        })
 }
 
 /// `softplc check SYSTEM`: every CPU's programs compile and link.
@@ -164,13 +176,10 @@ pub fn run(args: &RunArgs) -> ExitCode {
             restore_clock: false,
             on_damage,
         };
-        match Battery::attach_with(&dir, sys.cpu_mut(i), attach) {
-            Ok(b) => {
-                report_attach(&dir, &b);
-                batteries.push(Some(b));
-            }
+        match power_on(&dir, sys.cpu_mut(i), attach) {
+            Ok(b) => batteries.push(Some(b)),
             Err(e) => {
-                eprintln!("softplc: CPU {}: {}", i + 1, state_error(&dir, &e));
+                eprintln!("softplc: CPU {}: {e}", i + 1);
                 return ExitCode::from(2);
             }
         }

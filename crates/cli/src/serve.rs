@@ -348,13 +348,8 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         names.push(format!("{name} on {}", path.display()));
     }
     // Requests are served at every CPU's END: a quarter of the shortest period.
-    let shortest = match state.cpus.system() {
-        Some(_) => (0..state.cpu_count())
-            .map(|i| state.cpu_at(i).config().constant_scan.unwrap_or(period))
-            .min()
-            .unwrap_or(period),
-        None => period,
-    };
+    let shortest = state.cpus.periods(period).into_iter().min();
+    let shortest = shortest.unwrap_or(period);
     let cfg = EngineConfig {
         period,
         end_budget: (shortest / 4).max(Duration::from_micros(200)),

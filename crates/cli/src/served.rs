@@ -11,10 +11,10 @@ use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::{Clock, Cpu, MonotonicClock};
 use softplc_core::persist::{Attach, Battery, OnDamage};
 use softplc_core::system::System;
-use softplc_core::tier::{self, Exec};
 use softplc_serve::ServeState;
 
-use crate::run::{load, report_attach, sanitize, state_error, use_exec, Loaded};
+use crate::run::{load, power_on, sanitize, use_exec, Loaded};
+use crate::run_system::use_tier;
 use crate::serve::ServeArgs;
 
 /// The loaded CPUs and CPU 1's settings for the doors.
@@ -124,22 +124,19 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
     let period = args.scan_time.unwrap_or(DEFAULT_PERIOD);
     let mut batteries = Vec::new();
     let mut cpus = Vec::new();
-    for (i, m) in system.members_mut().iter_mut().enumerate() {
-        let cpu = &mut m.cpu;
-        cpu.set_calendar_unix_us(start.to_unix() * 1_000_000);
-        let exec = Exec::choose(args.exec, m.project.exec)
-            .and_then(|e| tier::apply(cpu, e))
-            .map_err(|e| {
-                eprintln!("softplc: CPU {}: {e}", i + 1);
-                ExitCode::from(2)
-            })?;
+    for i in 0..system.len() {
+        system
+            .cpu_mut(i)
+            .set_calendar_unix_us(start.to_unix() * 1_000_000);
+        let exec = use_tier(&mut system, i, args.exec)?;
         if args.stats {
             let t = exec.map_or("interp".to_string(), |s| s.tier.to_string());
             eprintln!("exec: CPU {}: {t}", i + 1);
         }
-        let dir = m.project.state_dir.clone();
+        let m = &mut system.members_mut()[i];
+        let cpu = &mut m.cpu;
         batteries.push(Some(attach(
-            &dir,
+            &m.project.state_dir,
             cpu,
             restore_clock,
             m.project.state_on_damage,
@@ -173,21 +170,12 @@ fn attach(
     restore_clock: bool,
     on_damage: OnDamage,
 ) -> Result<Battery, ExitCode> {
-    match Battery::attach_with(
-        dir,
-        cpu,
-        Attach {
-            restore_clock,
-            on_damage,
-        },
-    ) {
-        Ok(b) => {
-            report_attach(dir, &b);
-            Ok(b)
-        }
-        Err(e) => {
-            eprintln!("softplc: {}", state_error(dir, &e));
-            Err(ExitCode::from(2))
-        }
-    }
+    let how = Attach {
+        restore_clock,
+        on_damage,
+    };
+    power_on(dir, cpu, how).map_err(|e| {
+        eprintln!("softplc: {e}");
+        ExitCode::from(2)
+    })
 }

@@ -97,15 +97,7 @@ pub fn handle(
     session: &mut Session,
     password: Option<&str>,
 ) -> Response {
-    let (command, subcommand) = req.command.codes();
-    match execute(&req.command, cpu, session, password) {
-        Ok(data) => Response::Ok(data),
-        Err(end_code) => Response::Error {
-            end_code,
-            command,
-            subcommand,
-        },
-    }
+    handle_station(req, cpu, session, password)
 }
 
 /// The CPUs one MC server answers for: a CPU, or a multi-CPU system's.
@@ -175,25 +167,14 @@ pub fn handle_station(
     password: Option<&str>,
 ) -> Response {
     let (command, subcommand) = req.command.codes();
-    let fail = |end_code| Response::Error {
-        end_code,
-        command,
-        subcommand,
-    };
-    if locked(&req.command, session, password) {
-        return fail(EndCode::PASSWORD_LOCKED);
+    match execute(req, station, session, password) {
+        Ok(data) => Response::Ok(data),
+        Err(end_code) => Response::Error {
+            end_code,
+            command,
+            subcommand,
+        },
     }
-    let i = match destination(req.header.io, station.cpus()) {
-        Ok(i) => i,
-        Err(e) => return fail(e),
-    };
-    if let Command::RemoteReset = req.command {
-        return match station.remote_reset(i) {
-            Ok(()) => Response::Ok(ResponseData::None),
-            Err(r) => fail(refused_reset(r)),
-        };
-    }
-    handle(req, station.cpu_mut(i), session, password)
 }
 
 /// The end code of a refused remote RESET: `4010` outside STOP, `C05F`
@@ -203,14 +184,6 @@ fn refused_reset(r: Refusal) -> EndCode {
         Refusal::ResetDisabled => EndCode::NOT_EXECUTABLE,
         _ => EndCode::CPU_RUNNING,
     }
-}
-
-/// With a remote password, a session that has not unlocked may only unlock
-/// and loop back.
-fn locked(cmd: &Command, session: &Session, password: Option<&str>) -> bool {
-    password.is_some()
-        && !session.unlocked
-        && !matches!(cmd, Command::Unlock { .. } | Command::Loopback { .. })
 }
 
 /// What the server does with the bytes it has buffered.
@@ -246,15 +219,34 @@ pub fn serve(buf: &[u8], cpu: &mut Cpu, session: &mut Session, password: Option<
 
 type Result<T> = std::result::Result<T, EndCode>;
 
+/// `req` on the CPU of `station` its header addresses; with a remote
+/// password, a session that has not unlocked may only unlock and loop back.
 fn execute(
-    cmd: &Command,
-    cpu: &mut Cpu,
+    req: &Request,
+    station: &mut dyn Station,
     session: &mut Session,
     password: Option<&str>,
 ) -> Result<ResponseData> {
-    if locked(cmd, session, password) {
+    let cmd = &req.command;
+    let locked = password.is_some()
+        && !session.unlocked
+        && !matches!(cmd, Command::Unlock { .. } | Command::Loopback { .. });
+    if locked {
         return Err(EndCode::PASSWORD_LOCKED);
     }
+    let i = destination(req.header.io, station.cpus())?;
+    run(cmd, station, i, session, password)
+}
+
+/// `cmd` on CPU `i` of `station`.
+fn run(
+    cmd: &Command,
+    station: &mut dyn Station,
+    i: usize,
+    session: &mut Session,
+    password: Option<&str>,
+) -> Result<ResponseData> {
+    let cpu = station.cpu_mut(i);
     use Command::*;
     Ok(match cmd {
         BatchRead { unit, head, points } => {
@@ -341,7 +333,8 @@ fn execute(
             ResponseData::None
         }
         RemoteReset => {
-            cpu.remote_reset().map_err(refused_reset)?;
+            // A system's RESET may reach the other CPUs (`Station::remote_reset`).
+            station.remote_reset(i).map_err(refused_reset)?;
             ResponseData::None
         }
         ReadCpuModel => {
@@ -391,7 +384,7 @@ fn execute(
             apply_words(cpu, s, values);
             ResponseData::None
         }
-        Extended(c) => return execute(c, cpu, session, password),
+        Extended(c) => return run(c, station, i, session, password),
     })
 }
 

@@ -484,12 +484,7 @@ struct Schedule {
 impl Schedule {
     fn new(cpus: &Cpus, period: Duration) -> Schedule {
         let now = Instant::now();
-        let period: Vec<Duration> = match cpus.system() {
-            None => vec![period],
-            Some(sys) => (0..sys.len())
-                .map(|i| sys.cpu(i).config().constant_scan.unwrap_or(period))
-                .collect(),
-        };
+        let period = cpus.periods(period);
         Schedule {
             due: vec![now; period.len()],
             period,
