@@ -67,6 +67,8 @@ impl Compiler<'_> {
                 self.map.points(zr),
                 Window::SelectedBlock,
             )
+        } else if dk == DeviceKind::ZR {
+            (self.map.base(dk), self.map.points(dk), Window::FileRegister)
         } else {
             (self.map.base(dk), self.map.points(dk), Window::Device)
         };
