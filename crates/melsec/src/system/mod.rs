@@ -191,6 +191,9 @@ impl System for Melsec {
 
     fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
         errors::report(mem, report);
+        if self.params.a_compatibility {
+            a_compat::operation_error(mem, report);
+        }
         self.a_refresh(mem);
     }
 
