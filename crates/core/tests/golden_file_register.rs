@@ -197,3 +197,17 @@ fn standard_ram_file_registers_outside_the_range_set_no_flag() {
     assert_eq!(p.int("D0"), 0);
     assert!(!p.bit("SM672"));
 }
+
+/// The APLC-TCP has no file-register file to name: the key is refused.
+#[test]
+fn file_register_name_is_refused_on_an_aplc() {
+    let toml = "[cpu]\nmodel = \"APLC-TCP\"\n[devices]\nfile_register_name = \"MAIN\"\n\
+                [[program]]\nfile = \"a.apl\"\n";
+    let err = Plc::try_project(toml, &[("a.apl", "")])
+        .err()
+        .unwrap_or_default();
+    assert!(
+        err.contains("file_register_name is a MELSEC-Q parameter"),
+        "{err}"
+    );
+}
