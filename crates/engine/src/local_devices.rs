@@ -185,6 +185,11 @@ impl LocalDevices {
         }))
     }
 
+    /// Whether program `slot` has its own local devices.
+    pub(crate) fn used_by(&self, slot: usize) -> bool {
+        slot < self.nobody() && matches!(self.copies.get(slot), Some(Some(_)))
+    }
+
     /// The copy of nobody's values.
     fn nobody(&self) -> usize {
         self.copies.len() - 1

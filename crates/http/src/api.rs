@@ -281,7 +281,7 @@ async fn status(State(app): Shared) -> Response {
 }
 
 /// Reads `specs` now: `{"scan": N, "devices": {...}}`, or the first error.
-fn read_all(s: &ServeState, specs: &[Dev]) -> Result<Json_, String> {
+fn read_all(s: &mut ServeState, specs: &[Dev]) -> Result<Json_, String> {
     let mut m = Map::new();
     for d in specs {
         let v = d.read(s)?;

@@ -154,7 +154,7 @@ impl Breakpoint {
     }
 
     /// The condition against device memory now (false when unreadable).
-    pub(crate) fn holds(&self, s: &ServeState) -> bool {
+    pub(crate) fn holds(&self, s: &mut ServeState) -> bool {
         let Ok(v) = self.device.read(s) else {
             return false;
         };

@@ -5,6 +5,7 @@
 //! user typed (kept in `sessionStorage`, sent as `Authorization: Bearer`,
 //! never a cookie).
 
+use crate::ladder::LadderProgram;
 use std::collections::HashMap;
 use std::fmt::Write;
 use std::sync::Arc;
@@ -136,9 +137,7 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     body.push_str(r#"<div class="tabs">"#);
     for (i, p) in progs.iter().enumerate() {
         let cls = if i == pi { " class=\"cur\"" } else { "" };
-        let name = std::path::Path::new(&p.file)
-            .file_name()
-            .map_or(p.file.clone(), |n| n.to_string_lossy().into_owned());
+        let name = short_file(&p.file);
         let _ = write!(
             body,
             r#"<a href="/?{at}prog={i}"{cls} title="{}">{}</a>"#,
@@ -211,7 +210,7 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
                 e.watched()
                     .into_iter()
                     .filter(|n| !prog.unreadable.contains(n))
-                    .map(|n| format!("{prefix}{n}")),
+                    .map(|n| watched(&prefix, n, prog)),
             )
         });
         names.extend(r.bus.iter().map(|n| format!("{prefix}{n}")));
@@ -219,6 +218,24 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
     }
     body.push_str("</div>");
     frame_at(&app, cpu, "Ladder", "ladder", &names, &body).into_response()
+}
+
+/// The name a program's ladder watches for operand `n`: with the CPU's
+/// prefix, and `@FILE` when the program has its own copy of it (a local
+/// device), so that the page shows that program's values.
+fn watched(prefix: &str, n: String, prog: &LadderProgram) -> String {
+    if prog.local.contains(&n) {
+        format!("{prefix}{n}@{}", short_file(&prog.file))
+    } else {
+        format!("{prefix}{n}")
+    }
+}
+
+/// A program file's name without its directory.
+fn short_file(file: &str) -> String {
+    std::path::Path::new(file)
+        .file_name()
+        .map_or(file.to_string(), |n| n.to_string_lossy().into_owned())
 }
 
 /// `/ladder.txt?prog=I[&cpu=N]`: the ladder of program I as text, with the

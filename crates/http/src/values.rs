@@ -8,6 +8,7 @@
 use serde_json::{json, Value as Json};
 use softplc_core::access::{DeviceSpec, Value, ValueType};
 use softplc_core::device::DeviceKind;
+use softplc_core::engine::Cpu;
 use softplc_core::names::{DevName, Names};
 use softplc_core::profile;
 use softplc_core::system::names::split;
@@ -37,13 +38,18 @@ pub fn name_list(list: Option<&str>, names: &Names) -> Result<Vec<DevName>, Stri
 }
 
 /// A device name of one of the served CPUs: `CPU2/D0` is CPU 2's D0, a
-/// name without a prefix (or `CPU1/`) CPU 1's.
+/// name without a prefix (or `CPU1/`) CPU 1's. A suffix `@PROGRAM` names
+/// the program file whose local devices it means (`D0@main`): the
+/// monitor's chosen program (QCPU manual §10.13.1); without it a local
+/// device is device memory's, the program's that ran last.
 #[derive(Clone, Debug)]
 pub struct Dev {
     /// The CPU, 0-based.
     pub cpu: usize,
     /// The name in that CPU's dialect, without the prefix.
     pub name: DevName,
+    /// The program file after `@`, as given.
+    program: Option<String>,
     /// The name as given: the key in answers.
     text: String,
 }
@@ -57,12 +63,41 @@ impl Dev {
         self.name.ty()
     }
 
-    pub fn read(&self, s: &ServeState) -> Result<Value, String> {
-        self.name.read(s.cpu_at(self.cpu))
+    pub fn read(&self, s: &mut ServeState) -> Result<Value, String> {
+        self.on(s, |name, cpu| name.read(cpu))
     }
 
     pub fn write_value(&self, s: &mut ServeState, v: &Value) -> Result<(), String> {
-        self.name.write_value(s.cpu_mut_at(self.cpu), v)
+        self.on(s, |name, cpu| name.write_value(cpu, v))
+    }
+
+    /// Runs `f` on this name's CPU, with its program's local devices in
+    /// device memory when it names a program.
+    fn on<R>(
+        &self,
+        s: &mut ServeState,
+        f: impl FnOnce(&DevName, &mut Cpu) -> Result<R, String>,
+    ) -> Result<R, String> {
+        let cpu = s.cpu_mut_at(self.cpu);
+        let Some(program) = &self.program else {
+            return f(&self.name, cpu);
+        };
+        let Some(slot) = cpu.program_slot(program) else {
+            let files: Vec<String> = (0..cpu.program_count())
+                .map(|i| {
+                    let file = &cpu.program_at(i).file;
+                    std::path::Path::new(file)
+                        .file_name()
+                        .map_or(file.clone(), |f| f.to_string_lossy().into_owned())
+                })
+                .collect();
+            return Err(format!(
+                "`{}`: no program file `{program}` (the programs: {})",
+                self.text,
+                files.join(", ")
+            ));
+        };
+        cpu.with_local_devices_of(slot, |cpu| f(&self.name, cpu))
     }
 
     /// A JSON value in the device's type ([`from_json`]), the error naming
@@ -89,6 +124,13 @@ pub fn dev(text: &str, cpus: &[Names]) -> Result<Dev, String> {
     let names = cpus
         .get(cpu)
         .ok_or_else(|| format!("`{text}`: no such CPU"))?;
+    let (rest, program) = match rest.rsplit_once('@') {
+        Some((_, p)) if p.trim().is_empty() => {
+            return Err(format!("`{text}`: a program file name after `@`"))
+        }
+        Some((dev, p)) => (dev.trim_end(), Some(p.trim().to_string())),
+        None => (rest, None),
+    };
     let name = name(rest, names).map_err(|e| {
         if rest.len() == text.len() {
             e
@@ -99,6 +141,7 @@ pub fn dev(text: &str, cpus: &[Names]) -> Result<Dev, String> {
     Ok(Dev {
         cpu,
         name,
+        program,
         text: text.to_string(),
     })
 }
@@ -130,14 +173,18 @@ pub fn spec_list(names: Option<&str>) -> Result<Vec<DeviceSpec>, String> {
     split_names(names)?.into_iter().map(spec).collect()
 }
 
-/// Checks `names=D0,CPU2/Y0` as MELSEC names, each with its CPU prefix
+/// Checks `names=D0,CPU2/Y0,D0@main` as MELSEC names, each with its CPU prefix
 /// (up to CPU 4); the names as given.
 pub fn prefixed_list(names: Option<&str>) -> Result<Vec<String>, String> {
     split_names(names)?
         .into_iter()
         .map(|n| {
             let (_, rest) = split(n.trim(), 4)?;
-            spec(rest)?;
+            // `D0@main`: a program's local device, checked when read.
+            spec(
+                rest.rsplit_once('@')
+                    .map_or(rest, |(dev, _)| dev.trim_end()),
+            )?;
             Ok(n.trim().to_string())
         })
         .collect()

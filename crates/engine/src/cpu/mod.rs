@@ -389,6 +389,20 @@ impl Cpu {
         r
     }
 
+    /// Whether program file `slot` has its own copy of device `kind` `n`: it
+    /// uses local devices and the device is in a local range.
+    pub fn is_local_to(&self, slot: usize, kind: DeviceKind, n: u32) -> bool {
+        self.rt
+            .local_devices
+            .as_ref()
+            .is_some_and(|l| l.used_by(slot))
+            && self
+                .cfg
+                .local_devices
+                .iter()
+                .any(|r| r.kind.range_kind() == kind.range_kind() && (r.start..=r.end).contains(&n))
+    }
+
     /// The program file named `name`: its file name as given in the
     /// project, or that name's last component with or without its
     /// extension, in any case.

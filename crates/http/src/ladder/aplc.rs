@@ -108,6 +108,7 @@ fn layout(name: &str, bytes: &[u8], wide: Wide) -> Result<LadderProgram, String>
             .collect(),
         loops,
         unreadable: Vec::new(),
+        local: Vec::new(),
     })
 }
 

@@ -317,6 +317,9 @@ pub struct LadderProgram {
     /// module: the program stops with SP.UNIT ERROR when it gets there),
     /// drawn but not watched, so the page's other names stay live.
     pub unreadable: Vec<String>,
+    /// Operand names of which this program has its own copy (local
+    /// devices): the page watches them as `NAME@FILE`, this program's.
+    pub local: Vec<String>,
 }
 
 impl LadderProgram {
@@ -411,20 +414,28 @@ impl LadderProgram {
 /// cannot be read shows as a note).
 pub fn load_programs(cpu: &softplc_core::engine::Cpu) -> Vec<LadderProgram> {
     let mut programs = programs_of(cpu);
-    for p in &mut programs {
+    for (slot, p) in programs.iter_mut().enumerate() {
         let mut names: Vec<String> = Vec::new();
         for r in &p.rungs {
             r.for_each(&mut |e| names.extend(e.watched()));
         }
         names.sort();
         names.dedup();
+        let parsed = |n: &String| softplc_core::names::DevName::parse_for(n, cpu);
+        p.local = names
+            .iter()
+            .filter(|n| {
+                parsed(n).is_ok_and(|d| {
+                    d.spec()
+                        .device()
+                        .is_some_and(|(kind, at)| cpu.is_local_to(slot, kind, at))
+                })
+            })
+            .cloned()
+            .collect();
         p.unreadable = names
             .into_iter()
-            .filter(|n| {
-                softplc_core::names::DevName::parse_for(n, cpu)
-                    .and_then(|d| d.read(cpu))
-                    .is_err()
-            })
+            .filter(|n| parsed(n).and_then(|d| d.read(cpu)).is_err())
             .collect();
     }
     programs

@@ -11,7 +11,11 @@
   // names (none for CPU 1); the ladder shows its names without it.
   const cpu = document.body.dataset.cpu;
   const prefix = document.body.dataset.prefix || "";
-  const own = (n) => (prefix && !/^CPU\d\//i.test(n) ? prefix + n : n);
+  // A ladder watches a program's local devices as NAME@FILE; its
+  // elements name them without the suffix.
+  const local = {};
+  (names || "").split(",").forEach((w) => { const m = /^(?:CPU\d\/)?(.*)@[^@]*$/i.exec(w); if (m) local[m[1]] = w; });
+  const own = (n) => local[n] || (prefix && !/^CPU\d\//i.test(n) ? prefix + n : n);
   let values = {};
   let forced = {};
 
@@ -208,6 +212,7 @@
     Object.assign(values, dev);
     // The ladder's elements name this CPU's devices without the prefix.
     if (prefix) Object.keys(dev).forEach((k) => { if (k.startsWith(prefix)) values[k.slice(prefix.length)] = dev[k]; });
+    Object.keys(local).forEach((n) => { if (local[n] in dev) values[n] = dev[local[n]]; });
     $$(".el").forEach((g) => {
       let v = values[g.dataset.dev];
       // A word-bit contact (APLC BLD D0 5): bit 5 of D0's value.

@@ -96,6 +96,18 @@ impl DeviceSpec {
         }
     }
 
+    /// The device kind and number named, before index modification and
+    /// without a module's buffer memory (`None` for `U<n>\\G<addr>`).
+    pub fn device(&self) -> Option<(DeviceKind, u32)> {
+        if self.unit.is_some() {
+            return None;
+        }
+        Some(match self.target {
+            Target::Bit(k, n) | Target::WordBit(k, n, _) | Target::Word(k, n) => (k, n),
+            Target::Digits(k, n, _) => (k, n),
+        })
+    }
+
     fn number(&self, mem: &DeviceMemory, n: u32) -> i64 {
         let z = self
             .index
