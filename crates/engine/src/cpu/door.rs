@@ -86,6 +86,9 @@ impl Cpu {
     /// refresh and stays until set again.
     pub fn set_input(&mut self, n: u32, on: bool) {
         if let Some(b) = self.rt.inputs.get_mut(n as usize) {
+            if on && !*b {
+                self.input_rises |= rise_bit(n);
+            }
             *b = on;
         }
         let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
@@ -125,8 +128,16 @@ impl Cpu {
                 self.rt.inputs.get_mut(n as usize),
                 self.rt.mem.get_bit(DeviceKind::X, n as i64),
             ) {
+                if v && !*b {
+                    self.input_rises |= rise_bit(n);
+                }
                 *b = v;
             }
         }
     }
+}
+
+/// X`n`'s bit in [`Cpu`]'s record of rising inputs (X0-X63; 0 beyond).
+fn rise_bit(n: u32) -> u64 {
+    1u64.checked_shl(n).unwrap_or(0)
 }
