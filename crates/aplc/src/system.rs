@@ -10,7 +10,7 @@ use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{End, EndCtx, ErrorReport, ScanStart, Severity, System};
 
 use crate::comm::{mailbox, PortConfig, Regs, IDLE};
-use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
+use crate::devices::{EEPROM_FIRST, EEPROM_WORDS, INPUT_EDGES};
 
 /// The APLC-TCP's system devices, with the system block's times.
 #[derive(Debug, Default)]
@@ -195,6 +195,8 @@ impl System for Aplc {
         let toggle = !first_scan && !mem.get_bit(DeviceKind::SM, 15).unwrap_or(true);
         sm(mem, 15, toggle);
         catch_pulses(mem, start.input_rises);
+        let edges = (start.input_rises & 0xFF) as u16 | ((start.input_falls & 0xFF) as u16) << 8;
+        let _ = mem.set_word(DeviceKind::SW, INPUT_EDGES as i64, edges);
     }
 
     /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,

@@ -105,6 +105,9 @@ pub struct Cpu {
     /// scan start (the pulse catch) or, in STOP, since the last END (the
     /// run input).
     input_rises: u64,
+    /// Bit n: X`n` (X0-X63) turned OFF in the input image since the last
+    /// scan start.
+    input_falls: u64,
     /// The STOP instruction stopped the CPU (the switch stays at RUN for
     /// the run input, `system_block.rs`); cleared by the next STOP or RUN.
     stopped_by_instruction: bool,
@@ -262,6 +265,7 @@ impl Cpu {
             remote: Default::default(),
             saved_y: vec![false; y].into_boxed_slice(),
             input_rises: 0,
+            input_falls: 0,
             stopped_by_instruction: false,
             power_on_us: now,
             run_start_us: now,

@@ -35,6 +35,7 @@ impl Cpu {
             since_run_us: now - self.run_start_us,
             first_scan: self.first_scan,
             input_rises: std::mem::take(&mut self.input_rises),
+            input_falls: std::mem::take(&mut self.input_falls),
         };
         self.rt.system.scan_start(&mut self.rt.mem, start);
         let initial =

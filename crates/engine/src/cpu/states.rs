@@ -233,6 +233,7 @@ impl Cpu {
         self.first_scan = true;
         // The pulses caught in STOP are not shown (002 App. 1 SM90-SM97).
         self.input_rises = 0;
+        self.input_falls = 0;
         self.stopped_by_instruction = false;
         self.state = CpuState::Run;
         self.show_status();

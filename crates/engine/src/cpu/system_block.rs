@@ -49,6 +49,7 @@ impl Cpu {
     /// error and the programming tool as the ways to STOP.
     pub(super) fn run_input_end(&mut self) {
         let rises = std::mem::take(&mut self.input_rises);
+        self.input_falls = 0;
         let Some(n) = self.cfg.run_input else {
             return;
         };
