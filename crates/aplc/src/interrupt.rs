@@ -33,7 +33,7 @@ use crate::devices::{EI_BIT, INPUT_EDGES, INT_ANY_BIT, INT_BITS, MAX_INT};
 static DOC: Doc = Doc {
     family: "interrupts",
     cite: "002 ch. 9 L10064-10310, §6.1 L3699-3733",
-    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial 34-37 (PORT1, SM52-SM55) from the communication phase; PORT0's 30-33 never occur",
+    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47; also of a pulse that ended between two scans), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial 34-37 (PORT1, SM52-SM55) from the communication phase; PORT0's 30-33 never occur",
 };
 
 pub static DEFS: &[Def] = &[

@@ -54,7 +54,7 @@ POU INT_0 EVENT 0\nLD SM0\nINC D1\nPOU INT_5 EVENT 11\nLD SM0\nINC D2\nLD M5\nCI
     assert_eq!(p.int("D1"), 1, "DI: no new requests");
 }
 
-/// §9.1 events 0 and 11 (L10085-10095): an input turned ON and OFF again
+/// §9.1 events 0 and 11 (L10088, L10097): an input turned ON and OFF again
 /// between two scans (never ON in X) still gives its rising event, one
 /// turned OFF and ON again its falling event.
 #[test]
