@@ -174,6 +174,11 @@ pub const INT_BITS: u32 = MC_BITS + 6;
 /// Interrupt routines a program can have: 16 edge, 3 timed, 8 serial events.
 pub const MAX_INT: u32 = 32;
 
+/// The hidden word (kind SW, after the ports' mailboxes) where each scan
+/// start leaves the changes of X0-X7 in the input image since the previous
+/// one: rises in the low byte, falls in the high byte (the edge interrupts).
+pub const INPUT_EDGES: u32 = 2 * crate::comm::mailbox::SIZE;
+
 /// The EROMWR area D6000-D6999 (L985-991): its first register and size. Its
 /// EEPROM image is ZR0-ZR999, the "saved" marks ZR1000-ZR1999.
 pub const EEPROM_FIRST: u32 = 6000;
@@ -203,8 +208,8 @@ pub fn device_config() -> DeviceConfig {
         (DeviceKind::CS, CN_WORDS),
         // Hidden: the EEPROM image of D6000-D6999 and its "saved" marks.
         (DeviceKind::ZR, 2 * EEPROM_WORDS),
-        // Hidden: the ports' mailboxes (comm::mailbox).
-        (DeviceKind::SW, 2 * crate::comm::mailbox::SIZE),
+        // Hidden: the ports' mailboxes (comm::mailbox), the input edges.
+        (DeviceKind::SW, INPUT_EDGES + 1),
     ] {
         c.set_points(k, n);
     }

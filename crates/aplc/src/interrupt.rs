@@ -3,7 +3,9 @@
 //!
 //! Decision (virtual time): events are taken at the start of each scan,
 //! before MAIN, in the order they occurred: the edges of X0-X7 since the
-//! previous scan (events 0-7 rising, 10-17 falling, enabled by SM40-SM47) and
+//! previous scan (events 0-7 rising, 10-17 falling, enabled by SM40-SM47;
+//! also those of a pulse that ended before the scan, which the input image
+//! recorded: at most one event an edge) and
 //! the timed interrupts 0-2 (events 26-28, period SD66-SD68 in ms, 1-32767,
 //! enabled by SM66-SM68; enabling restarts the timing, L10151). An event
 //! needs the global enable (EI) too. The 8-deep FIFO holds what one scan
@@ -26,12 +28,12 @@ use softplc_lang::compile::Compiler;
 use softplc_lang::isa::{Class, Def, Doc, Steps, Use};
 
 use crate::comm::mailbox;
-use crate::devices::{EI_BIT, INT_ANY_BIT, INT_BITS, MAX_INT};
+use crate::devices::{EI_BIT, INPUT_EDGES, INT_ANY_BIT, INT_BITS, MAX_INT};
 
 static DOC: Doc = Doc {
     family: "interrupts",
     cite: "002 ch. 9 L10064-10310, §6.1 L3699-3733",
-    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial 34-37 (PORT1, SM52-SM55) from the communication phase; PORT0's 30-33 never occur",
+    notes: "events taken at each scan start before MAIN: X0-X7 edges (SM40-SM47; also of a pulse that ended between two scans), timed 0-2 (SD66-SD68 ms, SM66-SM68), global EI/DI; 8-deep FIFO, overflow error 67; CIRET returns early; serial 34-37 (PORT1, SM52-SM55) from the communication phase; PORT0's 30-33 never occur",
 };
 
 pub static DEFS: &[Def] = &[
@@ -159,6 +161,8 @@ struct Dispatch {
     v: u32,
     /// PORT1's mailbox word of serial events.
     events: u32,
+    /// The input edges the scan start recorded (`devices::INPUT_EDGES`).
+    edges: u32,
     state: LocalSlot<DispatchState>,
 }
 
@@ -191,20 +195,29 @@ impl Instr for Scan {
         let mut st = cx.local(&d.state);
         let ei = cx.mem.bits[(d.v + EI_BIT) as usize];
         let mut lost = false;
-        // X0-X7 edges since the previous scan.
+        // X0-X7 edges since the previous scan: X's change, and the changes
+        // of the input image the scan start recorded (a pulse that ended
+        // before the scan). A program binds one edge of an input (§9.4), so
+        // the order of its rising and falling events never matters.
         let prev = st.prev_x;
         let mut now_x = 0u32;
         for k in 0..8 {
             now_x |= (cx.mem.bits[(d.x + k) as usize] as u32) << k;
         }
         st.prev_x = now_x;
+        let edges = std::mem::take(&mut cx.mem.words[d.edges as usize]) as u32;
+        let rises = (now_x & !prev) | (edges & 0xFF);
+        let falls = (!now_x & prev) | (edges >> 8);
         for k in 0..8u32 {
-            let (was, is) = (prev >> k & 1 != 0, now_x >> k & 1 != 0);
-            if was == is || !ei || !cx.mem.bits[(d.sm + 40 + k) as usize] {
+            if !ei || !cx.mem.bits[(d.sm + 40 + k) as usize] {
                 continue;
             }
-            let event = if is { k } else { 10 + k };
-            d.push(&mut st, event as u8, &mut lost);
+            if rises >> k & 1 != 0 {
+                d.push(&mut st, k as u8, &mut lost);
+            }
+            if falls >> k & 1 != 0 {
+                d.push(&mut st, 10 + k as u8, &mut lost);
+            }
         }
         // Timed interrupts 0-2: SM66-SM68, SD66-SD68.
         let now_ms = cx.now_us / 1000;
@@ -286,6 +299,7 @@ pub fn dispatch(c: &mut Compiler<'_>, events: &[u8]) -> Vec<usize> {
         sd: map.base(DeviceKind::SD),
         v: map.base(DeviceKind::V),
         events: map.base(DeviceKind::SW) + mailbox::base(1) + mailbox::EVENTS,
+        edges: map.base(DeviceKind::SW) + INPUT_EDGES,
         state: LocalSlot::new(c.state_words),
     };
     let pop = Dispatch {

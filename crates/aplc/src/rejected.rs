@@ -5,7 +5,7 @@
 
 use softplc_lang::isa::Def;
 
-const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (APLC programming manual §6.12.2-§6.12.10 and Appendix 5 give no register map); use `Modbus` with the drive's own register map";
+const INVERTER: &str = "not available in softplc: the manual names the inverter action but not the register or value the inverter receives for it (APLC programming manual §6.12.2-§6.12.10 and Appendix 5 give no register map, and no public Modbus register map of the EV-series drives it names could be found); use `Modbus` or `EVWRT` with the drive's own register map";
 const CLOCK: &str = "not available on APLC-TCP: no real-time clock; the clock and date/time-compare instructions are unsupported (APLC programming manual table 1-1, §1.1.1)";
 const HSIO: &str =
     "not available on APLC-TCP: no high-speed I/O (APLC programming manual table 1-1, §1.1.1, and chapter 8)";

@@ -1,15 +1,16 @@
 //! APLC-TCP system devices through the engine's [`System`] seam (spec
 //! aplc.md §7.1-§7.2, §1.9, decision D14): SM0/SM1/SM2, the clocks SM10-SM15,
 //! the scan times SD30-SD32, the run-error flags SM20-SM22 and the SD20-SD24
-//! history; error numbering of Appendix 6 (L11239-11289); D6000-D6999
-//! loaded from the EEPROM at power-on and STOP→RUN.
+//! history, the pulse catch SM90-SM97, the positioning parameters'
+//! initial values SD84-SD89; error numbering of Appendix 6 (L11239-11289);
+//! D6000-D6999 loaded from the EEPROM at power-on and STOP→RUN.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{End, EndCtx, ErrorReport, ScanStart, Severity, System};
 
 use crate::comm::{mailbox, PortConfig, Regs, IDLE};
-use crate::devices::{EEPROM_FIRST, EEPROM_WORDS};
+use crate::devices::{EEPROM_FIRST, EEPROM_WORDS, INPUT_EDGES};
 
 /// The APLC-TCP's system devices, with the system block's times.
 #[derive(Debug, Default)]
@@ -18,8 +19,9 @@ pub struct Aplc {
     pub watchdog_ms: u16,
     /// SD33: the constant scan (0 = off; SM8 ON otherwise).
     pub constant_scan_ms: u16,
-    /// The input whose OFF→ON edge in STOP starts RUN (SM9 ON, SD9 its
-    /// index 0-15: X0 is 0, X10 is 8; 002 L1113-1121, L1231-1237).
+    /// The run input (SM9 ON, SD9 its index 0-15: X0 is 0, X10 is 8; 002
+    /// L1113-1121, L1231-1237); the engine's `CpuConfig::run_input` waits
+    /// for it.
     pub run_input: Option<u8>,
     /// PORT1/PORT2 settings (SD120-SD124, SD135-SD137, SD140-SD142,
     /// SD150-SD154 and the mailboxes' protocol words).
@@ -99,6 +101,34 @@ const CAPACITY_K_STEPS: u16 = 12;
 /// the low byte: 10 inputs and 6 outputs (L644, L714-718).
 const MAIN_IO_POINTS: u16 = 10 << 8 | 6;
 
+/// 002 App. 1 SM90-SM97 (L10783-10797), pulse catch: each rising edge of
+/// X0-X7 sets its relay, which stays ON until the program (R/W) or STOP→RUN
+/// clears it. softplc's inputs change between scans, so an edge is any
+/// OFF→ON change of the input image since the previous scan start — also
+/// one turned OFF again before the scan, which X itself never shows. The
+/// exceptions (a port used by HCNT or SPD) cannot occur: APLC-TCP has no
+/// high-speed I/O (both are rejected at load).
+fn catch_pulses(mem: &mut DeviceMemory, rises: u64) {
+    for k in 0..8 {
+        if rises >> k & 1 != 0 {
+            sm(mem, 90 + k, true);
+        }
+    }
+}
+
+/// SD84-SD89, the positioning parameters' initial values (App. 2
+/// L11065-11070): base speed 0, top speed 100000 (SD85 high word, SD86 low),
+/// acceleration time 100 ms, envelope rise and fall 100 ms. Only the
+/// positioning instructions, which APLC-TCP does not have, read them.
+const POSITIONING: [(i64, u16); 6] = [
+    (84, 0),
+    (85, (100_000u32 >> 16) as u16),
+    (86, 100_000u32 as u16),
+    (87, 100),
+    (88, 100),
+    (89, 100),
+];
+
 /// SD50-SD55 keep their values at STOP→RUN (Appendix 2, L10984).
 const SD_KEPT: std::ops::RangeInclusive<i64> = 50..=55;
 
@@ -121,6 +151,9 @@ impl System for Aplc {
         sd(mem, 33, self.constant_scan_ms);
         sd(mem, 34, self.watchdog_ms);
         sm(mem, 8, self.constant_scan_ms > 0);
+        for (n, v) in POSITIONING {
+            sd(mem, n, v);
+        }
     }
 
     /// STOP→RUN: every SM (Appendix 1, L10698) and every SD but SD50-SD55
@@ -161,6 +194,9 @@ impl System for Aplc {
         sm(mem, 14, half(1_800_000_000));
         let toggle = !first_scan && !mem.get_bit(DeviceKind::SM, 15).unwrap_or(true);
         sm(mem, 15, toggle);
+        catch_pulses(mem, start.input_rises);
+        let edges = (start.input_rises & 0xFF) as u16 | ((start.input_falls & 0xFF) as u16) << 8;
+        let _ = mem.set_word(DeviceKind::SW, INPUT_EDGES as i64, edges);
     }
 
     /// Housekeeping: the timers (D21); SD30/SD31/SD32: current, minimum,

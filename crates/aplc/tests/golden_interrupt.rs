@@ -54,6 +54,25 @@ POU INT_0 EVENT 0\nLD SM0\nINC D1\nPOU INT_5 EVENT 11\nLD SM0\nINC D2\nLD M5\nCI
     assert_eq!(p.int("D1"), 1, "DI: no new requests");
 }
 
+/// §9.1 events 0 and 11 (L10088, L10097): an input turned ON and OFF again
+/// between two scans (never ON in X) still gives its rising event, one
+/// turned OFF and ON again its falling event.
+#[test]
+fn edge_interrupts_of_a_pulse_between_scans() {
+    let src = "POU MAIN\nLD SM1\nSET SM40\nSET SM41\nEI\n\
+POU INT_0 EVENT 0\nLD SM0\nINC D1\nPOU INT_1 EVENT 11\nLD SM0\nINC D2\n";
+    let mut p = plc(src);
+    p.set("X1", "1").scan();
+    p.set("X0", "1").set("X0", "0").scan();
+    assert!(!p.bit("X0"));
+    assert_eq!((p.int("D1"), p.int("D2")), (1, 0), "X0's rising edge");
+    p.set("X1", "0").set("X1", "1").scan();
+    assert!(p.bit("X1"));
+    assert_eq!((p.int("D1"), p.int("D2")), (1, 1), "X1's falling edge");
+    p.scans(2);
+    assert_eq!((p.int("D1"), p.int("D2")), (1, 1), "no edge, no event");
+}
+
 /// §8.5 #79: eight requests are queued, further ones are lost with error 67.
 #[test]
 fn queue_overflow_is_error_67() {

@@ -156,3 +156,126 @@ fn stop_instruction_outputs_follow_the_table() {
     assert!(!p.running());
     assert!(p.cpu.output(5));
 }
+
+/// A CPU whose run input is X3 (SM9 ON, SD9 = 3).
+fn run_input_plc(src: &str) -> common::Plc {
+    let mut c = config();
+    c.run_input = Some(3);
+    c.system = softplc_aplc::system_with_run_input(200, 0, Vec::new(), Some(3));
+    plc_with(src, c)
+}
+
+/// §2.3.2 "复位方式" (L1225-1229): with the run input, power-on enters RUN
+/// only when the input is ON; "输入点开机模式" (L1231-1235): in STOP, its
+/// OFF→ON change starts RUN; the next scan is the first (SM1).
+#[test]
+fn run_input_waits_at_power_on_for_its_rising_edge() {
+    let mut p = run_input_plc("LD SM0\nOUT M0\nLD SM1\nOUT M1\n");
+    assert!(!p.running(), "X3 OFF at power-on: STOP");
+    p.scans(2);
+    assert!(!p.running() && !p.bit("M0"));
+    assert!(p.bit("SM9"));
+    assert_eq!(p.int("SD9"), 3);
+    p.set("X3", "1").scan();
+    assert!(p.running(), "the rising edge at END in STOP starts RUN");
+    p.scan();
+    assert!(p.bit("M0") && p.bit("M1"), "the first scan after STOP→RUN");
+    // §2.3.2's ways to STOP are the STOP instruction, an error and the
+    // programming tool: the input going OFF is not one of them.
+    p.set("X3", "0").scans(2);
+    assert!(p.running() && p.bit("M0"));
+}
+
+/// Power-on (RESET) with the input ON enters RUN at once; without it the
+/// RESET leaves the CPU in STOP.
+#[test]
+fn run_input_on_at_reset_runs() {
+    let mut p = run_input_plc("LD SM0\nOUT M0\n");
+    p.set("X3", "1");
+    p.cpu.set_stop();
+    p.cpu.reset().unwrap();
+    assert!(p.running());
+    p.cpu.set_stop();
+    p.set("X3", "0");
+    p.cpu.reset().unwrap();
+    assert!(!p.running());
+}
+
+/// After the STOP instruction (the switch still at RUN) the input must go
+/// OFF and ON again: an input held ON is no change. An ON pulse that ends
+/// between two ENDs is an edge all the same.
+#[test]
+fn run_input_restarts_after_the_stop_instruction() {
+    let mut p = run_input_plc("LD X0\nSTOP\n");
+    p.set("X3", "1").scan();
+    assert!(p.running());
+    p.set("X0", "1").scan();
+    assert!(!p.running(), "STOP instruction");
+    p.set("X0", "0").scans(2);
+    assert!(!p.running(), "X3 still ON: no OFF→ON change");
+    p.set("X3", "0").scan();
+    p.set("X3", "1").set("X3", "0").scan();
+    assert!(p.running(), "a pulse shorter than a scan starts RUN");
+}
+
+/// "模式选择开关应处于 ON 位置" (L1237): with the switch at STOP the input does
+/// not start RUN; the switch to RUN does, whatever the input.
+#[test]
+fn run_input_needs_the_switch_at_run() {
+    let mut p = run_input_plc("LD SM0\nOUT M0\n");
+    p.cpu.set_stop();
+    p.set("X3", "1").scan();
+    assert!(!p.running(), "the switch is at STOP");
+    p.set("X3", "0").scan();
+    p.cpu.set_run().unwrap();
+    assert!(p.running(), "the switch to RUN");
+}
+
+/// App. 1 SM90-SM97 (L10783-10797): the rising edge of X0-X7 sets the
+/// relay, which stays ON until the program resets it; an input turned ON
+/// and OFF again between two scans is caught although X0 never shows it.
+#[test]
+fn pulse_catch_holds_each_rising_edge() {
+    let src = "LD SM90\nOUT M0\nLD SM97\nOUT M7\nLD M10\nRST SM90\n";
+    let mut p = plc(src);
+    p.scan();
+    assert!(!p.bit("M0"));
+    p.set("X0", "1").set("X0", "0").scan();
+    assert!(!p.bit("X0") && p.bit("M0") && p.bit("SM90"));
+    p.scans(2);
+    assert!(p.bit("M0"), "held until the program resets it");
+    p.set("M10", "1").scan().set("M10", "0").scan();
+    assert!(!p.bit("SM90") && !p.bit("M0"));
+    // X7 is SM97; X10 (input 8) has no pulse catch.
+    p.set("X7", "1").set("X10", "1").scan();
+    assert!(p.bit("M7") && p.bit("SM97"));
+    assert!(!p.bit("SM100"));
+    // An input held ON is no new edge after the program reset the relay.
+    p.set("X0", "1").scan();
+    assert!(p.bit("SM90"));
+    p.set("M10", "1").scan().set("M10", "0").scans(2);
+    assert!(p.bit("X0") && !p.bit("SM90"));
+}
+
+/// "由 STOP 到 RUN 时清除" (L10794): an edge in STOP is not shown after
+/// STOP→RUN, nor one caught before it.
+#[test]
+fn pulse_catch_is_cleared_at_stop_to_run() {
+    let mut p = plc("LD SM0\nOUT M0\n");
+    p.set("X1", "1").scan();
+    assert!(p.bit("SM91"));
+    p.cpu.set_stop();
+    p.set("X2", "1").scan();
+    p.cpu.set_run().unwrap();
+    p.scan();
+    assert!(!p.bit("SM91") && !p.bit("SM92"));
+}
+
+/// App. 2 L11065-11070: the positioning parameters' initial values; SD85
+/// (high word) and SD86 hold 100000 = 16#0001_86A0.
+#[test]
+fn positioning_registers_start_at_their_initial_values() {
+    let p = plc("LD SM0\nOUT M0\n");
+    let got: Vec<i64> = (84..=89).map(|n| p.int(&format!("SD{n}"))).collect();
+    assert_eq!(got, [0, 1, 0x86A0u16 as i16 as i64, 100, 100, 100]);
+}

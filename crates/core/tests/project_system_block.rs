@@ -48,6 +48,10 @@ fn run_input_reaches_sm9_and_sd9() {
     let cpu = proj.build_cpu(Box::new(VirtualClock::new())).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     let mem = cpu.memory();
+    // X12 OFF at power-on: the CPU waits in STOP for its rising edge
+    // (§2.3.2, L1225-1229).
+    assert_eq!(proj.config.run_input, Some(10));
+    assert_eq!(cpu.state(), softplc_core::engine::CpuState::Stop);
     assert!(mem.get_bit(DeviceKind::SM, 9).unwrap());
     assert_eq!(mem.get_word(DeviceKind::SD, 9).unwrap(), 10);
     assert_eq!(mem.get_word(DeviceKind::SD, 10).unwrap(), 0x0A06);
@@ -70,6 +74,12 @@ fn errors_point_at_the_value() {
     assert_eq!(
         error(&with_main(&format!("{APLC}[system_block]\nstop_outputs = \"freeze\"\n"))),
         "4:16: stop_outputs must be \"off\", \"hold\" or an array of the Y outputs ON in STOP (such as [\"Y0\", \"Y5\"])"
+    );
+    assert_eq!(
+        error(&with_main(&format!(
+            "{APLC}[system_block]\ninterrupt_priority = \"high\"\n"
+        ))),
+        "4:1: [system_block] interrupt_priority is not a setting in softplc: interrupt routines run one after another at the start of a scan and take no time, so one can never interrupt another, the only thing a priority level could change; waiting events run first in, first out (APLC programming manual §2.2.1, §9.2)"
     );
     assert_eq!(
         error(&with_main("[system_block]\nkeep_device_values = true\n")),

@@ -164,6 +164,10 @@ pub struct CpuConfig {
     pub keep_device_values: bool,
     /// The external outputs in STOP.
     pub stop_outputs: StopOutputs,
+    /// The APLC's run input (002 §2.2.1, §2.3.2): the X number whose
+    /// OFF→ON change in STOP starts RUN, and without which power-on and
+    /// RESET stay in STOP; `None` = not set.
+    pub run_input: Option<u32>,
     /// Latch ranges; by default L0-L8191 is latch (1). A part that is a
     /// local device is not latched (004 L3552).
     pub latch: Vec<LatchRange>,
@@ -212,6 +216,7 @@ impl CpuConfig {
             remote_reset: false,
             keep_device_values: true,
             stop_outputs: StopOutputs::Off,
+            run_input: None,
             latch: vec![LatchRange {
                 kind: DeviceKind::L,
                 start: 0,

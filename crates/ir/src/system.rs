@@ -54,6 +54,12 @@ pub struct ScanStart {
     pub since_run_us: u64,
     /// The first scan after power-on, RESET or STOP→RUN.
     pub first_scan: bool,
+    /// Bit n: input X`n` (X0-X63) turned ON in the input image since the
+    /// previous scan's start, however briefly (the APLC's pulse catch and
+    /// edge interrupts).
+    pub input_rises: u64,
+    /// Bit n: input X`n` turned OFF in the input image since then.
+    pub input_falls: u64,
 }
 
 /// END processing of a scan.

@@ -54,6 +54,7 @@ pub(crate) fn configure(
     if let Some(e) = top.iter().find(|e| e.key == "system_block") {
         if let Some(t) = cx.table(e, "[system_block]") {
             let block = super::system_block::system_block(cx, t, config);
+            config.run_input = block.run_input.map(u32::from);
             let ms = |d: std::time::Duration| d.as_millis().min(u16::MAX as u128) as u16;
             config.system = softplc_aplc::system_with_run_input(
                 ms(config.watchdog),

@@ -1,6 +1,7 @@
 //! `[system_block]` of an APLC-TCP project: the system block's run settings
 //! (the APLC programming manual §2.2.1): the output table in STOP, "keep
-//! device values" at STOP→RUN and the run input. Each error at its key.
+//! device values" at STOP→RUN and the run input; the interrupt priority is
+//! refused with its reason. Each error at its key.
 
 use softplc_aplc::devices::{parse_device, Dev};
 
@@ -17,7 +18,12 @@ pub(crate) struct SystemBlock {
 
 /// Reads `[system_block]` into `config`.
 pub(crate) fn system_block(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> SystemBlock {
-    const KEYS: &[&str] = &["stop_outputs", "keep_device_values", "run_input"];
+    const KEYS: &[&str] = &[
+        "stop_outputs",
+        "keep_device_values",
+        "run_input",
+        "interrupt_priority",
+    ];
     cx.unknown_keys(t, Some("[system_block]"), KEYS);
     let mut out = SystemBlock::default();
     for e in t {
@@ -33,11 +39,19 @@ pub(crate) fn system_block(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) ->
                 }
             }
             "run_input" => out.run_input = run_input(cx, e),
+            "interrupt_priority" => cx.error(&e.key_span, INTERRUPT_PRIORITY),
             _ => {}
         }
     }
     out
 }
+
+/// The system block's interrupt priority page (two levels, low and high,
+/// §2.2.1) has no setting in softplc: the interrupt routines run one after
+/// another between scans and take no time, so no event can arrive while a
+/// routine runs, and §9.2 fixes the order of those waiting (first in, first
+/// out); a level has nothing to change.
+const INTERRUPT_PRIORITY: &str = "[system_block] interrupt_priority is not a setting in softplc: interrupt routines run one after another at the start of a scan and take no time, so one can never interrupt another, the only thing a priority level could change; waiting events run first in, first out (APLC programming manual §2.2.1, §9.2)";
 
 /// `"off"` (disable), `"hold"` (freeze) or the outputs ON in STOP as an
 /// array of Y devices (configure; the others OFF).

@@ -86,7 +86,8 @@ impl Cpu {
     /// refresh and stays until set again.
     pub fn set_input(&mut self, n: u32, on: bool) {
         if let Some(b) = self.rt.inputs.get_mut(n as usize) {
-            *b = on;
+            let was = std::mem::replace(b, on);
+            self.input_changed(n, was, on);
         }
         let _ = self.rt.mem.set_bit(DeviceKind::X, n as i64, on);
         if !self.rt.forces.is_empty() {
@@ -125,8 +126,27 @@ impl Cpu {
                 self.rt.inputs.get_mut(n as usize),
                 self.rt.mem.get_bit(DeviceKind::X, n as i64),
             ) {
+                let was = *b;
                 *b = v;
+                self.input_changed(n, was, v);
             }
+        }
+    }
+}
+
+/// X`n`'s bit in [`Cpu`]'s records of changed inputs (X0-X63; 0 beyond).
+fn input_bit(n: u32) -> u64 {
+    1u64.checked_shl(n).unwrap_or(0)
+}
+
+impl Cpu {
+    /// Records a change of the input image's X`n` (the pulse catch and the
+    /// edge interrupts of the scan to come see it even if it is undone).
+    fn input_changed(&mut self, n: u32, was: bool, is: bool) {
+        match (was, is) {
+            (false, true) => self.input_rises |= input_bit(n),
+            (true, false) => self.input_falls |= input_bit(n),
+            _ => {}
         }
     }
 }

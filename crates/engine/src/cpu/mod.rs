@@ -101,6 +101,16 @@ pub struct Cpu {
     remote: remote::RemoteState,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
+    /// Bit n: X`n` (X0-X63) turned ON in the input image since the last
+    /// scan start (the pulse catch) or, in STOP, since the last END (the
+    /// run input).
+    input_rises: u64,
+    /// Bit n: X`n` (X0-X63) turned OFF in the input image since the last
+    /// scan start.
+    input_falls: u64,
+    /// The STOP instruction stopped the CPU (the switch stays at RUN for
+    /// the run input, `system_block.rs`); cleared by the next STOP or RUN.
+    stopped_by_instruction: bool,
     /// Clock reading at power-on, at the last STOP→RUN and at the last END.
     power_on_us: u64,
     run_start_us: u64,
@@ -254,6 +264,9 @@ impl Cpu {
             stop_error: false,
             remote: Default::default(),
             saved_y: vec![false; y].into_boxed_slice(),
+            input_rises: 0,
+            input_falls: 0,
+            stopped_by_instruction: false,
             power_on_us: now,
             run_start_us: now,
             last_end_us: now,

@@ -18,6 +18,7 @@ impl Cpu {
             // The modules go on while the CPU is stopped.
             self.modules_end(now);
             self.remote_end();
+            self.run_input_end();
             return;
         }
         self.rt.now_us = now;
@@ -33,6 +34,8 @@ impl Cpu {
             since_power_on_us: now - self.power_on_us,
             since_run_us: now - self.run_start_us,
             first_scan: self.first_scan,
+            input_rises: std::mem::take(&mut self.input_rises),
+            input_falls: std::mem::take(&mut self.input_falls),
         };
         self.rt.system.scan_start(&mut self.rt.mem, start);
         let initial =
@@ -60,10 +63,12 @@ impl Cpu {
             self.apply_forces(DeviceKind::Y);
             self.apply_forces(DeviceKind::X);
         }
-        if !ok && (self.aborted() || std::mem::take(&mut self.rt.stop_now)) {
+        let stop_instruction = std::mem::take(&mut self.rt.stop_now);
+        if !ok && (self.aborted() || stop_instruction) {
             // Stopped by the host or a STOP that stops at once, mid-scan:
             // STOP, no error.
             self.set_stop();
+            self.stopped_by_instruction = stop_instruction;
             self.scans += 1;
             return;
         }

@@ -48,6 +48,7 @@ impl Cpu {
     /// outputs go OFF; device memory is kept. The CPU stays stopped until
     /// the switch is back at RUN ([`Self::set_run`]).
     pub fn set_stop(&mut self) {
+        self.stopped_by_instruction = false;
         self.set_switch_stop(true);
         self.enter_stop();
     }
@@ -199,6 +200,7 @@ impl Cpu {
         self.system_power_on();
         self.start_run();
         self.remote_power_on();
+        self.run_input_power_on();
     }
 
     /// Common part of power-on and STOP→RUN.
@@ -229,6 +231,10 @@ impl Cpu {
         self.low_first = true;
         self.initial_pending = true;
         self.first_scan = true;
+        // The pulses caught in STOP are not shown (002 App. 1 SM90-SM97).
+        self.input_rises = 0;
+        self.input_falls = 0;
+        self.stopped_by_instruction = false;
         self.state = CpuState::Run;
         self.show_status();
     }
