@@ -220,25 +220,9 @@ fn interpret<const NATIVE: bool>(
     k: Fixed,
     locals: &mut [ProgState],
     rt: &mut Runtime,
-    r: Rung,
+    mut r: Rung,
     start: usize,
 ) -> Outcome {
-    // A fresh local, built field by field: the argument itself arrives
-    // behind a pointer (the ABI passes a struct of this size by reference),
-    // and used in place it would keep the rung registers in memory, loaded
-    // and stored by every op.
-    let Rung {
-        acc,
-        blocks,
-        mps,
-        mc_on,
-    } = r;
-    let mut r = Rung {
-        acc,
-        blocks,
-        mps,
-        mc_on,
-    };
     let ops = &k.prog.ops[..];
     let native = k.natives.get(k.cur);
     let entries: &[u32] = native.map_or(&[], |n| n.entries());
@@ -390,9 +374,7 @@ fn op<const OUT_OF_LINE: bool>(
         | Op::Iret
             if OUT_OF_LINE =>
         {
-            let (flow, after) = rare(k, locals, rt, back_jumps, code, *r, pc);
-            *r = after;
-            return flow;
+            return rare(k, locals, rt, back_jumps, code, r, pc);
         }
         Op::Ld(i) => *acc = rt.mem.bits[*i as usize],
         Op::Ldi(i) => *acc = !rt.mem.bits[*i as usize],
@@ -702,9 +684,7 @@ fn op<const OUT_OF_LINE: bool>(
     Flow::Next(next)
 }
 
-/// The rarer ops of [`op`], out of the interpreter's loop. The rung
-/// registers go in and come back by value: a pointer to them would keep them
-/// in memory for every op of the loop.
+/// The rarer ops of [`op`], out of the interpreter's loop.
 #[cold]
 #[inline(never)]
 fn rare(
@@ -713,11 +693,10 @@ fn rare(
     rt: &mut Runtime,
     back_jumps: &mut u32,
     code: &Op,
-    mut r: Rung,
+    r: &mut Rung,
     pc: usize,
-) -> (Flow, Rung) {
-    let flow = op::<false>(k, locals, rt, back_jumps, code, &mut r, pc);
-    (flow, r)
+) -> Flow {
+    op::<false>(k, locals, rt, back_jumps, code, r, pc)
 }
 
 /// A pass as native code sees it while one of its regions runs.
