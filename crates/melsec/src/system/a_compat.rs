@@ -16,10 +16,10 @@
 //! SD1010 (D9010, L10743), the step of the latest operation error, is
 //! written when the error is reported ([`operation_error`]).
 
-use softplc_ir::device::DeviceMemory;
+use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::system::{ErrorReport, ScanStart, Severity};
 
-use super::devices::{bcd, sd, sd_get, sm, sm_get};
+use super::devices::{bcd, sd, sm};
 
 /// How the Q value becomes the A-series value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -132,19 +132,23 @@ pub fn mirrors() -> impl Iterator<Item = &'static Mirror> {
 pub const MINUTE_CLOCK: u32 = 1034;
 
 fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
+    // The flat places from SM's and SD's bases, not a lookup per device.
+    let map = &mem.map;
+    let (sm_at, sm_n) = (map.base(DeviceKind::SM), map.points(DeviceKind::SM));
+    let (sd_at, sd_n) = (map.base(DeviceKind::SD), map.points(DeviceKind::SD));
     for m in mirrors {
-        let (a, q) = (m.a as i64, m.q as i64);
         if m.relay {
-            let v = sm_get(mem, q);
-            sm(mem, a, v);
-        } else {
-            let v = sd_get(mem, q);
+            if m.a < sm_n && m.q < sm_n {
+                mem.bits[(sm_at + m.a) as usize] = mem.bits[(sm_at + m.q) as usize];
+            }
+        } else if m.a < sd_n && m.q < sd_n {
+            let v = mem.words[(sd_at + m.q) as usize];
             let v = match m.conv {
                 Conv::Same => v,
                 Conv::TenMs => v / 10,
                 Conv::Bcd => bcd(v as u32 % 100) | bcd(v as u32 / 100 % 100) << 8,
             };
-            sd(mem, a, v);
+            mem.words[(sd_at + m.a) as usize] = v;
         }
     }
 }
