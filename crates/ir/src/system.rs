@@ -26,6 +26,13 @@ pub enum Severity {
     /// An operation error: stops or continues as the CPU's "operation error"
     /// parameter says.
     Operation,
+    /// An intelligent function module program execution error (a program's
+    /// access to a module's buffer memory): as the CPU's parameter for that
+    /// error class says.
+    ModuleAccess,
+    /// A file access error (an instruction naming a file that is not
+    /// there): as the CPU's parameter for that error class says.
+    FileAccess,
 }
 
 /// The operating state a system shows (004 §4.4).
@@ -79,6 +86,26 @@ pub struct ErrorReport<'a> {
     pub at: DateTime,
     /// Detail an instruction reported with the error (an annunciator number).
     pub detail: Option<u32>,
+    /// The module a module-access error names.
+    pub module: Option<ModuleRef>,
+    /// The set and measured times of a time error (watchdog, constant scan).
+    pub time: Option<ErrorTimes>,
+}
+
+/// A module an error names: its start I/O number and the slot holding it,
+/// or for a multi-CPU system's CPU shared memory the CPU number (1-4);
+/// `None` when neither holds that I/O number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ModuleRef {
+    pub io: u32,
+    pub slot: Option<u32>,
+}
+
+/// The time a time error was set to exceed and the time measured, µs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ErrorTimes {
+    pub set_us: u64,
+    pub measured_us: u64,
 }
 
 /// Low-speed program execution (004 §4.2.3).

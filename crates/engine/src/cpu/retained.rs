@@ -104,7 +104,7 @@ impl Cpu {
     /// history; with `stop` the CPU holds it as a stop error (RESET clears it).
     pub fn report_battery_error(&mut self, stop: bool) {
         self.rt
-            .record(crate::Fault::Battery, None, None, None, None);
+            .record(crate::Fault::Battery, None, None, None, None, None);
         if stop {
             self.stop_error = true;
             self.enter_stop();

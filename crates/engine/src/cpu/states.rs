@@ -70,8 +70,8 @@ impl Cpu {
     /// stops the CPU until RESET, as one of its own would. The code
     /// recorded, `None` when the fault is no error in this family.
     pub fn raise(&mut self, fault: softplc_ir::fault::Fault) -> Option<ErrorCode> {
-        let code = self.rt.record(fault, None, None, None, None)?;
-        if self.rt.severity(code) == softplc_ir::system::Severity::Stop {
+        let code = self.rt.record(fault, None, None, None, None, None)?;
+        if self.rt.stops(code) {
             self.stop_error = true;
             self.enter_stop();
         }
