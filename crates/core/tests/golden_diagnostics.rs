@@ -6,7 +6,7 @@
 
 mod common;
 use common::project::errors;
-use common::{assert_running, assert_stopped, Plc};
+use common::{assert_stopped, Plc};
 use softplc_core::engine::{CpuConfig, CpuState};
 use std::time::Duration;
 
@@ -95,7 +95,8 @@ fn sp_unit_error_names_the_slot_and_io_number() {
         ("LD SM400\nFROM H0 K0 D0 K1\nEND\n", 0, 0x00),
         ("LD SM400\nMOV K1 U2\\G0Z0\nEND\n", 1, 0x20),
         ("LD SM400\nTO H4 K0 K1 K1\nEND\n", 3, 0x40),
-        ("LD SM400\nMOV U9\\G0 D0\nEND\n", 0xFFFF, 0x90),
+        // FFFFH read as a signed word.
+        ("LD SM400\nMOV U9\\G0 D0\nEND\n", -1, 0x90),
     ] {
         let mut p = Plc::project(RACK, &[("main.il", program)]);
         p.scan();
@@ -154,7 +155,7 @@ fn module_error_may_continue() {
         &[("main.il", "LD SM400\nFROM H0 K0 D0 K1\nINC D1\nEND\n")],
     );
     p.scans(2);
-    assert_running(&p);
+    assert_eq!(p.state(), CpuState::Run);
     assert_eq!(p.int("SD0"), 2110);
     assert_eq!(p.int("D1"), 2);
     // The default stops.
