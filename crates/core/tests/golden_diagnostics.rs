@@ -25,7 +25,9 @@ const RACK: &str = "[[program]]\nfile = \"main.il\"\n\
     [[slot]]\ntype = \"intelligent\"\nmodule = \"generic\"\n";
 
 fn words(p: &Plc, first: u32, n: u32) -> Vec<i64> {
-    (first..first + n).map(|d| p.int(&format!("SD{d}"))).collect()
+    (first..first + n)
+        .map(|d| p.int(&format!("SD{d}")))
+        .collect()
 }
 
 /// PRG.TIME OVER (5010): common information "time (set value)" (SD4 low
@@ -163,10 +165,7 @@ fn module_error_may_continue() {
     p.scan();
     assert_stopped(&p, 2110);
     // Cleared by SM50 with 2110 in SD50, the condition gone.
-    let mut p = Plc::project(
-        &toml,
-        &[("main.il", "LD X5\nFROM H0 K0 D0 K1\nEND\n")],
-    );
+    let mut p = Plc::project(&toml, &[("main.il", "LD X5\nFROM H0 K0 D0 K1\nEND\n")]);
     p.set("X5", "1").scan();
     assert_eq!(p.int("SD0"), 2110);
     p.set("X5", "0").set("SD50", "2110").set("SM50", "1").scan();
@@ -206,7 +205,10 @@ fn hardware_error_classes_are_refused() {
         let e = errors(&toml);
         assert_eq!(e.len(), 1, "{e:?}");
         assert!(e[0].starts_with(&format!("4:1: [ras] {key}: ")), "{e:?}");
-        assert!(e[0].contains("never occurs (QCPU manual §7.15 (3))"), "{e:?}");
+        assert!(
+            e[0].contains("never occurs (QCPU manual §7.15 (3))"),
+            "{e:?}"
+        );
     }
     let e = errors("[[program]]\nfile = \"main.il\"\n[ras]\nmodule_eror = \"stop\"\n");
     assert_eq!(

@@ -400,10 +400,7 @@ fn a_parameter_error_names_the_parameter_file() {
     let s = system(&[(three, IDLE), (three, IDLE)]);
     assert_eq!(s.error(0), Some(3010));
     let sd: Vec<i64> = (4..=11).map(|n| s.int(0, &format!("SD{n}"))).collect();
-    assert_eq!(
-        sd,
-        [2, 0, 0x4150, 0x4152, 0x204D, 0x2020, 0x512E, 0x4150]
-    );
+    assert_eq!(sd, [2, 0, 0x4150, 0x4152, 0x204D, 0x2020, 0x512E, 0x4150]);
     assert!(s.bit(0, "SM5"));
     assert!(!s.bit(0, "SM16"));
 }

@@ -466,7 +466,8 @@ impl Runtime {
     }
 
     /// Serves what an instruction asked for when it returns
-    /// ([`CpuServices::pending`]): an input refresh, a continuation error.
+    /// ([`CpuServices::pending`]): an input refresh, a continuation error,
+    /// the clear of the latest error.
     #[cold]
     #[inline(never)]
     pub(crate) fn serve_requests(&mut self) {
@@ -474,7 +475,19 @@ impl Runtime {
         if std::mem::take(&mut self.cpu.input_refresh) {
             self.refresh_inputs();
         }
+        if std::mem::take(&mut self.cpu.clear_error) {
+            self.clear_continuation_error();
+        }
         self.record_report();
+    }
+
+    /// Clears the latest error when it does not stop the CPU (the error
+    /// reset of the program: SM50/SD50 at END, LEDR at once).
+    pub(crate) fn clear_continuation_error(&mut self) {
+        if self.error.as_ref().is_some_and(|e| !self.stops(e.code)) {
+            self.error = None;
+            self.system.clear_error(&mut self.mem);
+        }
     }
 
     /// Records the continuation error an instruction reported

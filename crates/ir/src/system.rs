@@ -53,6 +53,19 @@ pub struct Remote {
     pub pause: bool,
 }
 
+/// What the CPU's front panel shows besides device memory: its switch and
+/// LEDs (004 §7.19).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Panel {
+    pub status: Status,
+    /// The key switch is at STOP.
+    pub switch_stop: bool,
+    /// The CPU is held in STOP by a stop error.
+    pub stop_error: bool,
+    /// Forced I/O is registered.
+    pub forced: bool,
+}
+
 /// The start of a scan, before the programs run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ScanStart {
@@ -203,6 +216,10 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn status(&self, _mem: &mut DeviceMemory, _status: Status) {}
     /// The remote-operation state changed (or was shown again at END).
     fn remote(&self, _mem: &mut DeviceMemory, _remote: Remote) {}
+    /// The front panel, shown at every END (in every state) and whenever the
+    /// operating state, the switch or the remote operations change; the
+    /// system's own words ([`EndCtx::state`]) for its edge memories.
+    fn panel(&self, _mem: &mut DeviceMemory, _state: &mut [u32], _panel: Panel) {}
     /// The program enables PAUSE by the PAUSE contact (MELSEC: SM206);
     /// `false` for a family without such a relay.
     fn pause_enabled(&self, _mem: &DeviceMemory) -> bool {

@@ -196,7 +196,9 @@ pub(crate) fn timers(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
 /// hardware softplc does not have: their keys are refused with the reason.
 fn ras_class_without_hardware(key: &str) -> Option<&'static str> {
     Some(match key {
-        "extension_instruction_error" => "no instruction softplc runs raises an extension instruction error",
+        "extension_instruction_error" => {
+            "no instruction softplc runs raises an extension instruction error"
+        }
         "fuse_blown_error" => "softplc has no output modules with fuses (FUSE BREAK OFF)",
         "io_verify_error" => "softplc's I/O modules never change while it runs (UNIT VERIFY ERR.)",
         "memory_card_access_error" | "memory_card_operation_error" => {

@@ -101,10 +101,8 @@ impl Cpu {
         let current = self.rt.error.as_ref().map(|e| e.code);
         let request = self.rt.system.error_reset(&self.rt.mem, current);
         if let (Some(names_it), false) = (request, self.error_reset) {
-            let clearable = current.is_some_and(|c| !self.rt.stops(c));
-            if names_it && clearable {
-                self.rt.error = None;
-                self.rt.system.clear_error(&mut self.rt.mem);
+            if names_it {
+                self.rt.clear_continuation_error();
             }
         }
         self.error_reset = request.is_some();

@@ -119,9 +119,7 @@ impl UnitOwner {
         match (self, access) {
             (UnitOwner::OwnCpu, _) => Some(Fault::OwnSharedMemory { unit }),
             (UnitOwner::OtherCpu, UnitAccess::Write) => Some(Fault::OtherSharedMemory { unit }),
-            (UnitOwner::OtherCpusModule, UnitAccess::Write) => {
-                Some(Fault::NotControlled { unit })
-            }
+            (UnitOwner::OtherCpusModule, UnitAccess::Write) => Some(Fault::NotControlled { unit }),
             (UnitOwner::Module, _)
             | (UnitOwner::OtherCpu | UnitOwner::OtherCpusModule, UnitAccess::Read) => None,
         }
@@ -382,7 +380,9 @@ impl DeviceMap {
         words: u32,
         access: UnitAccess,
     ) -> Result<u32, Fault> {
-        let w = self.unit(unit).ok_or(Fault::NoModule { unit: unit as u16 })?;
+        let w = self
+            .unit(unit)
+            .ok_or(Fault::NoModule { unit: unit as u16 })?;
         if let Some(f) = w.owner.refuses(access, unit) {
             return Err(f);
         }

@@ -175,3 +175,20 @@ pub fn information(code: ErrorCode) -> (Common, Individual) {
         _ => (Common::Program, Individual::None),
     }
 }
+
+/// The LED display cause number of error `code` (004 §7.19.2, L5392-5406):
+/// 2 SP.UNIT ERROR, 3 OPERATION ERROR, 4 FILE OPE. ERROR, 5 PRG.TIME OVER,
+/// 6 CHK, 7 annunciator, 9 BATTERY ERROR; `None` for a cause the table
+/// does not list (stop errors always show).
+pub fn led_cause(code: ErrorCode) -> Option<u8> {
+    Some(match code.0 {
+        2110..=2119 => 2,
+        4100..=4199 => 3,
+        2410..=2419 => 4,
+        5010 | 5011 => 5,
+        9010 => 6,
+        9000 => 7,
+        1600 => 9,
+        _ => return None,
+    })
+}

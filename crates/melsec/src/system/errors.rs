@@ -27,6 +27,11 @@ pub(crate) fn report(mem: &mut DeviceMemory, r: &ErrorReport<'_>) {
         sm(mem, 56, true);
     }
     sd(mem, 0, r.code.0);
+    if r.code == codes::BATTERY {
+        // Battery low, latched and current (App. 1 L9535-9536).
+        sm(mem, 51, true);
+        sm(mem, 52, true);
+    }
     for n in 5..=26 {
         sd(mem, n, 0);
     }
@@ -102,7 +107,10 @@ fn program_location(mem: &mut DeviceMemory, reg: i64, r: &ErrorReport<'_>) -> bo
 /// extension in two.
 fn file_name(mem: &mut DeviceMemory, reg: i64, stem: &str, ext: [u8; 4]) {
     let mut name = [b' '; 8];
-    let upper = stem.bytes().filter(u8::is_ascii).map(|b| b.to_ascii_uppercase());
+    let upper = stem
+        .bytes()
+        .filter(u8::is_ascii)
+        .map(|b| b.to_ascii_uppercase());
     for (d, s) in name.iter_mut().zip(upper) {
         *d = s;
     }
@@ -119,8 +127,12 @@ pub(crate) fn reset_request(mem: &DeviceMemory, current: Option<ErrorCode>) -> O
     sm_get(mem, 50).then(|| current.is_some_and(|c| sd_get(mem, 50) / 100 == c.0 / 100))
 }
 
-/// Clears SM0/SM1/SM5/SM16/SM56 and SD0-SD26.
+/// Clears SM0/SM1/SM5/SM16/SM56 and SD0-SD26; a BATTERY ERROR cleared
+/// turns SM52 (battery low now) OFF, SM51 stays latched (App. 1 L9535-9536).
 pub(crate) fn clear(mem: &mut DeviceMemory) {
+    if sd_get(mem, 0) == codes::BATTERY.0 {
+        sm(mem, 52, false);
+    }
     sm(mem, 0, false);
     sm(mem, 1, false);
     sm(mem, 5, false);

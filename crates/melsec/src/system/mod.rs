@@ -4,7 +4,8 @@
 //! One job per file: [`scan`] power-on, scan start, scan times and status;
 //! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
 //! low-speed registers; [`interrupts`] the interrupt priorities and error
-//! interrupts; [`a_compat`] the A-series compatibility area SM1000/SD1000;
+//! interrupts; [`panel`] the switch and LEDs (SD200-SD209); [`a_compat`]
+//! the A-series compatibility area SM1000/SD1000;
 //! [`rows`] every SM/SD row of the manual and what softplc does with it; the
 //! user timing clocks of DUTY are `user_clock`.
 
@@ -15,6 +16,7 @@ mod devices;
 mod errors;
 pub mod interrupts;
 mod low_speed;
+pub(crate) mod panel;
 pub mod rows;
 mod scan;
 
@@ -23,8 +25,8 @@ use std::sync::Arc;
 use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{
-    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, Remote, ScanStart, Severity, Status,
-    System, TraceRelays,
+    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, Panel, Remote, ScanStart, Severity,
+    Status, System, TraceRelays,
 };
 
 /// SD648: the file-register block number R addresses (004 §10.7, RSET).
@@ -72,7 +74,7 @@ impl Melsec {
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        2
+        2 + panel::STATE_WORDS
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -95,6 +97,7 @@ impl System for Melsec {
 
     fn power_on(&self, mem: &mut DeviceMemory) {
         scan::power_on(mem);
+        panel::power_on(mem);
         self.a_refresh(mem);
     }
 
@@ -132,6 +135,10 @@ impl System for Melsec {
 
     fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
         scan::remote(mem, remote);
+    }
+
+    fn panel(&self, mem: &mut DeviceMemory, state: &mut [u32], panel: Panel) {
+        panel::show(mem, state, panel);
     }
 
     fn pause_enabled(&self, mem: &DeviceMemory) -> bool {

@@ -88,7 +88,12 @@ pub static SM: &[Row] = &[
         "error reset",
         M("read at END: clears the error whose code is in SD50"),
     ),
-    sm(51, 52, "battery low (latched, current)", H("battery")),
+    sm(
+        51,
+        52,
+        "battery low (latched, current)",
+        M("ON with BATTERY ERROR 1600 (softplc: the state directory was found damaged); SM52 OFF when the error is cleared"),
+    ),
     sm(53, 53, "AC/DC DOWN detected", H("power supply module")),
     sm(56, 56, "operation error", M("ON at an operation error")),
     sm(60, 60, "fuse blown", H("output module fuses")),
@@ -104,7 +109,7 @@ pub static SM: &[Row] = &[
         "annunciator detected",
         M("ON while an annunciator F is ON"),
     ),
-    sm(80, 80, "CHK detected", N),
+    sm(80, 80, "CHK detected (CHK is rejected at load)", N),
     sm(90, 99, "SFC step transition watchdog started", N),
     sm(
         120,
@@ -112,7 +117,12 @@ pub static SM: &[Row] = &[
         "external power supply OFF",
         H("module external power"),
     ),
-    sm(202, 202, "LED OFF command", N),
+    sm(
+        202,
+        202,
+        "LED OFF command",
+        M("read at END: OFF→ON turns the LEDs SD202 names off in SD201 (USER until the annunciator list changes; BOOT is never lit)"),
+    ),
     sm(203, 203, "STOP contact", M("ON while the RUN contact holds the CPU in STOP")),
     sm(
         204,
@@ -249,7 +259,12 @@ pub static SM: &[Row] = &[
     ),
     sm(704, 704, "block comparison all match", M("BKCMP")),
     sm(707, 707, "real-number processing: speed / accuracy", N),
-    sm(710, 710, "CHK instruction priority", N),
+    sm(
+        710,
+        710,
+        "CHK instruction priority (CHK is rejected at load)",
+        N,
+    ),
     sm(715, 715, "EI flag", M("ON while interrupts are enabled")),
     sm(720, 721, "comment read complete, file being accessed", N),
     sm(
@@ -320,16 +335,31 @@ pub static SD: &[Row] = &[
         "module with external power OFF",
         H("module external power"),
     ),
-    sd(200, 200, "switch status", N),
-    sd(201, 202, "LED status, LED OFF pattern", N),
+    sd(
+        200,
+        200,
+        "switch status",
+        M("at END and when the key switch moves: 0 RUN, 1 STOP (HTTP/run's run and stop are the key switch); memory card and DIP switches OFF"),
+    ),
+    sd(
+        201,
+        201,
+        "LED status",
+        M("at END and state changes, two bits an LED (RUN, ERROR, USER, BAT., BOOT, MODE): see the note \"LEDs (SD201) and LEDR\""),
+    ),
+    sd(202, 202, "LED OFF pattern", M("read with SM202: b4 USER, b8 BOOT")),
     sd(
         203,
         203,
         "CPU operating status",
         M("bits 0-3: RUN/STOP/PAUSE; the cause bits are not written"),
     ),
-    sd(206, 206, "device test mode", N),
-    sd(207, 209, "LED display priority", N),
+    sd(
+        207,
+        209,
+        "LED display priority",
+        M("4321H, 8765H, 00A9H at power-on; read for SD201 and LEDR"),
+    ),
     sd(
         210,
         213,
@@ -358,7 +388,12 @@ pub static SD: &[Row] = &[
         "device points X Y M L B F SB V S T ST C D W SW",
         M("written at power-on"),
     ),
-    sd(315, 315, "time reserved for communication processing", N),
+    sd(
+        315,
+        315,
+        "time reserved for communication processing (not read: `serve` answers the queued requests at every END within its own budget)",
+        N,
+    ),
     sd(
         340,
         368,
@@ -479,7 +514,7 @@ pub static A_SM: &[Row] = &[
         1006,
         1007,
         "battery low, latched (M9006, M9007)",
-        H("battery"),
+        MIRROR_END,
     ),
     a_sm(
         1008,
@@ -710,7 +745,7 @@ pub static A_SD: &[Row] = &[
         1038,
         1039,
         "LED display priority (D9038, D9039 = SD207, SD208)",
-        N,
+        MIRROR_END,
     ),
     sd(1044, 1044, "sampling trace timing (D9044)", N),
     sd(
