@@ -219,3 +219,28 @@ fn hardware_error_classes_are_refused() {
     assert_eq!(e.len(), 1, "{e:?}");
     assert!(e[0].starts_with("4:16:"), "{e:?}");
 }
+
+/// A continuing SP.UNIT ERROR runs I34 and a continuing FILE OPE. ERROR
+/// I36 at the next interrupt service (004 §7.15.1, L5008-5010), once IMASK
+/// enables them (they are disabled at power-on).
+#[test]
+fn continuing_class_errors_run_their_interrupt_pointers() {
+    let enable = "LD SM402\nFMOV HFFFF D300 K16\nIMASK D300\nEI\n";
+    let program = format!(
+        "{enable}LD X5\nFROM H0 K0 D0 K1\nLD X6\nPSCAN \"NONE\"\nFEND\n\
+         I34\nLD SM400\nINC D234\nIRET\nI36\nLD SM400\nINC D236\nIRET\nEND\n"
+    );
+    let toml =
+        format!("{RACK}[ras]\nmodule_error = \"continue\"\nfile_access_error = \"continue\"\n");
+    let mut p = Plc::project(&toml, &[("main.il", &program)]);
+    p.scan();
+    p.set("X5", "1").scan();
+    assert_eq!(p.int("SD0"), 2110);
+    p.set("X5", "0").scan();
+    assert_eq!((p.int("D234"), p.int("D236")), (1, 0));
+    p.set("X6", "1").scan();
+    assert_eq!(p.int("SD0"), 2410);
+    p.set("X6", "0").scan();
+    assert_eq!((p.int("D234"), p.int("D236")), (1, 1));
+    assert_eq!(p.state(), CpuState::Run);
+}
