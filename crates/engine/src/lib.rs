@@ -307,6 +307,15 @@ pub(crate) struct Runtime {
     pub local_devices: Option<local_devices::LocalDevices>,
 }
 
+/// What an error names besides where it happened (its error information).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Named {
+    /// The set and measured times of a time error.
+    pub time: Option<ErrorTimes>,
+    /// The module or CPU that caused it.
+    pub module: Option<ModuleRef>,
+}
+
 /// Entries kept in the error history (004 §7.20.2).
 pub const HISTORY_LEN: usize = 16;
 
@@ -324,7 +333,8 @@ impl Runtime {
             set_us: self.watchdog_set.as_micros() as u64,
             measured_us: self.cpu.watchdog_start.elapsed().as_micros() as u64,
         });
-        self.record(fault, Some(file), step, line, None, time)
+        let named = Named { time, module: None };
+        self.record(fault, Some(file), step, line, None, named)
             .is_some_and(|code| self.stops(code))
     }
 
@@ -363,8 +373,8 @@ impl Runtime {
 
     /// Records a self-diagnostic error in the system devices, the latest
     /// error and the error history; the code recorded, `None` when `fault`
-    /// is no error in this family. `time`: the set and measured times of a
-    /// time error.
+    /// is no error in this family. `named`: what the error names besides
+    /// its location (a module-access fault's module is found here).
     pub(crate) fn record(
         &mut self,
         fault: Fault,
@@ -372,7 +382,7 @@ impl Runtime {
         step: Option<u32>,
         line: Option<u32>,
         detail: Option<u32>,
-        time: Option<ErrorTimes>,
+        named: Named,
     ) -> Option<ErrorCode> {
         let now = self.clock.now(self.now_us);
         let code = self.system.code(fault)?;
@@ -382,8 +392,8 @@ impl Runtime {
             step,
             at: now,
             detail,
-            module: self.module_of(fault),
-            time,
+            module: named.module.or_else(|| self.module_of(fault)),
+            time: named.time,
         };
         self.system.report_error(&mut self.mem, &report);
         self.error = Some(CpuError {
@@ -494,7 +504,7 @@ impl Runtime {
     /// ([`CpuServices::report`]): an annunciator and its number.
     fn record_report(&mut self) {
         if let Some((fault, detail)) = self.cpu.report.take() {
-            self.record(fault, None, None, None, Some(detail), None);
+            self.record(fault, None, None, None, Some(detail), Named::default());
         }
     }
 

@@ -86,14 +86,12 @@ impl Cpu {
                     set_us: cs.as_micros() as u64,
                     measured_us: scan_us,
                 };
-                self.rt.record(
-                    crate::Fault::ScanOverrun,
-                    None,
-                    None,
-                    None,
-                    None,
-                    Some(time),
-                );
+                let named = crate::Named {
+                    time: Some(time),
+                    module: None,
+                };
+                self.rt
+                    .record(crate::Fault::ScanOverrun, None, None, None, None, named);
             }
         }
         // The program's error reset request, on its rising edge: clears the

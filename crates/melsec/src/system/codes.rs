@@ -161,9 +161,10 @@ pub enum Individual {
 /// - PARAMETER ERROR the parameter file (drive 0, PARAM.QPA);
 /// - WDT ERROR and PRG.TIME OVER the time set and the time measured;
 /// - an annunciator its number (the instruction location is not recorded);
-/// - MULTI CPU DOWN / MULTI EXE. ERROR and BATTERY ERROR nothing (softplc
-///   does not pass the other CPU's number, and its battery is a state
-///   directory, no drive);
+/// - MULTI CPU DOWN / MULTI EXE. ERROR the CPU that caused it (SD5 its
+///   number, SD6 its I/O number, App. 2 SD5 *1);
+/// - BATTERY ERROR nothing (softplc's battery is a state directory, no
+///   drive);
 /// - every other error the program location where an instruction raised it.
 pub fn information(code: ErrorCode) -> (Common, Individual) {
     match code.0 {
@@ -171,7 +172,8 @@ pub fn information(code: ErrorCode) -> (Common, Individual) {
         3000..=3999 => (Common::File, Individual::None),
         5000 | 5001 | 5010 | 5011 => (Common::Time, Individual::Time),
         9000 => (Common::None, Individual::Annunciator),
-        1600 | 7000 | 7010 => (Common::None, Individual::None),
+        7000 | 7010 => (Common::Module, Individual::None),
+        1600 => (Common::None, Individual::None),
         _ => (Common::Program, Individual::None),
     }
 }

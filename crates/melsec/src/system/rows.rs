@@ -313,7 +313,7 @@ pub static SD: &[Row] = &[
         5,
         15,
         "common information",
-        M("slot and I/O number (SP.UNIT ERROR), drive and parameter file (PARAMETER ERROR), time set (WDT ERROR, PRG.TIME OVER), program file and step (other instruction errors; SFC pattern, block and step 0)"),
+        M("slot and I/O number (SP.UNIT ERROR), CPU and I/O number (MULTI CPU DOWN, MULTI EXE. ERROR), drive and parameter file (PARAMETER ERROR), time set (WDT ERROR, PRG.TIME OVER), program file and step (other instruction errors; SFC pattern, block and step 0)"),
     ),
     sd(
         16,
