@@ -222,13 +222,13 @@ impl System for Aplc {
             Fault::Operation => 64,
             Fault::Range => 65,
             // The APLC has no rack: its programs cannot name a module.
-            Fault::NoModule => 65,
+            Fault::NoModule { .. } => 65,
             Fault::Watchdog => 61,
             Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
             // The APLC is never part of a multi-CPU system (a project refuses it).
-            Fault::OwnSharedMemory
-            | Fault::OtherSharedMemory
-            | Fault::NotControlled
+            Fault::OwnSharedMemory { .. }
+            | Fault::OtherSharedMemory { .. }
+            | Fault::NotControlled { .. }
             | Fault::TooManyPending
             | Fault::MultiCpuDown
             | Fault::MultiCpuError

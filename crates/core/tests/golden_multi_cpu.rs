@@ -390,3 +390,31 @@ fn refresh_in_stop_and_pause_not_after_a_stop_error() {
     s.run_ms(80);
     assert_eq!(s.int(0, "D2"), 22, "after the stop error");
 }
+
+/// A PARAMETER ERROR carries the parameter file as common information
+/// (App. 2 SD4 = 2, L10182-10230): SD5 drive 0, SD6-SD9 "PARAM   ", SD10/
+/// SD11 ".QPA", two ASCII characters a word, the first in the low byte.
+#[test]
+fn a_parameter_error_names_the_parameter_file() {
+    let three = "[multi_cpu]\ncpus = 3\n";
+    let s = system(&[(three, IDLE), (three, IDLE)]);
+    assert_eq!(s.error(0), Some(3010));
+    let sd: Vec<i64> = (4..=11).map(|n| s.int(0, &format!("SD{n}"))).collect();
+    assert_eq!(sd, [2, 0, 0x4150, 0x4152, 0x204D, 0x2020, 0x512E, 0x4150]);
+    assert!(s.bit(0, "SM5"));
+    assert!(!s.bit(0, "SM16"));
+}
+
+/// MULTI CPU DOWN names the CPU whose stop error caused it (App. 2 SD4 = 1,
+/// SD5 *1: the PLC number; SD6 its I/O number, CPU 2 = 3E10H).
+#[test]
+fn multi_cpu_down_names_the_cpu_that_stopped() {
+    let cpu2 = format!("{TWO}[ras]\noperation_error = \"stop\"\n");
+    let mut s = system(&[(TWO, IDLE), (&cpu2, "LD SM400\n/ K1 K0 D0\nEND\n")]);
+    s.run_ms(20);
+    assert_eq!(s.error(1), Some(4100));
+    assert_eq!(s.error(0), Some(7000));
+    let sd: Vec<i64> = (4..=6).map(|n| s.int(0, &format!("SD{n}"))).collect();
+    assert_eq!(sd, [1, 2, 0x3E10]);
+    assert!(s.bit(0, "SM5"));
+}

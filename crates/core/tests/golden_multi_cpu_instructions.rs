@@ -83,6 +83,12 @@ fn own_shared_memory_is_2114() {
     ] {
         stops_at(cpu(1, 2, 0, src), 2114, step, src);
     }
+    // The error names CPU 1's shared memory: SD4 = 0401H, SD5 the CPU
+    // number, SD6 its I/O number 3E00H (App. 2 SD5 *1, L10182-10200).
+    let mut p = cpu(1, 2, 0, "LD SM400\nMOV U3E0\\G2048 D0\nEND\n");
+    p.scan();
+    assert_eq!(p.int("SD4"), 0x0401);
+    assert_eq!((p.int("SD5"), p.int("SD6")), (1, 0x3E00));
     // The MOV before the error ran.
     let mut p = cpu(1, 2, 0, "LD SM400\nMOV K7 D0\nMOV U3E0\\G2048 D1\nEND\n");
     p.scan();

@@ -27,7 +27,7 @@ use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 pub use softplc_ir::profile::Profile;
-use softplc_ir::system::{ErrorReport, Severity};
+use softplc_ir::system::{ErrorReport, ErrorTimes, ModuleRef, Severity};
 
 /// Operating state of the CPU (004 §4.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,7 +47,9 @@ impl CpuState {
     }
 }
 
-/// What to do on an operation error (PLC RAS parameter, 004 L4911-4922).
+/// What to do on an error of a class the PLC RAS parameter sets (004
+/// L4911-4922: operation error, intelligent module program execution error,
+/// file access error).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ErrorMode {
     #[default]
@@ -138,6 +140,10 @@ pub struct CpuConfig {
     /// Watchdog time, measured in wall-clock time (default 200 ms, 004 L4850).
     pub watchdog: Duration,
     pub operation_error: ErrorMode,
+    /// Intelligent function module program execution errors (SP.UNIT ERROR).
+    pub module_error: ErrorMode,
+    /// File access errors (FILE OPE. ERROR).
+    pub file_error: ErrorMode,
     /// Low-speed timer base (default 100 ms) and high-speed timer base (10 ms).
     pub timer_low: Duration,
     pub timer_high: Duration,
@@ -197,6 +203,8 @@ impl CpuConfig {
             devices: (profile.default_devices)(),
             watchdog: Duration::from_millis(200),
             operation_error: ErrorMode::Stop,
+            module_error: ErrorMode::Stop,
+            file_error: ErrorMode::Stop,
             timer_low: Duration::from_millis(100),
             timer_high: Duration::from_millis(10),
             clock_start: calendar::DateTime {
@@ -260,10 +268,18 @@ pub(crate) struct Runtime {
     /// A STOP that stops at once ([`softplc_ir::ops::Op::StopNow`]) ended the scan.
     pub stop_now: bool,
     pub watchdog: Duration,
+    /// The watchdog time as set (the parameter, or the initial execution
+    /// monitor time while the initial programs run): the error information
+    /// of WDT ERROR.
+    pub watchdog_set: Duration,
     /// Set by the host to stop the CPU even inside an endless loop; checked
     /// with the watchdog on backward jumps (`Cpu::abort_handle`).
     pub abort: std::sync::Arc<std::sync::atomic::AtomicBool>,
     pub operation_error: ErrorMode,
+    pub module_error: ErrorMode,
+    pub file_error: ErrorMode,
+    /// The base units' slots: the slot a module-access error names.
+    pub rack: std::sync::Arc<softplc_ir::rack::Rack>,
     /// The latest error and whether it stopped the CPU.
     pub error: Option<CpuError>,
     /// Error history, oldest first, at most [`HISTORY_LEN`] entries.
@@ -296,6 +312,15 @@ pub(crate) struct Runtime {
     pub local_devices: Option<local_devices::LocalDevices>,
 }
 
+/// What an error names besides where it happened (its error information).
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Named {
+    /// The set and measured times of a time error.
+    pub time: Option<ErrorTimes>,
+    /// The module or CPU that caused it.
+    pub module: Option<ModuleRef>,
+}
+
 /// Entries kept in the error history (004 §7.20.2).
 pub const HISTORY_LEN: usize = 16;
 
@@ -308,18 +333,42 @@ impl Runtime {
     pub(crate) fn record_fault(&mut self, prog: &Program, fault: Fault, pc: usize) -> bool {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
-        self.record(fault, Some(file), step, line, None)
+        // WDT ERROR: the time set and the time the scan had taken.
+        let time = (fault == Fault::Watchdog).then(|| ErrorTimes {
+            set_us: self.watchdog_set.as_micros() as u64,
+            measured_us: self.cpu.watchdog_start.elapsed().as_micros() as u64,
+        });
+        let named = Named { time, module: None };
+        self.record(fault, Some(file), step, line, None, named)
             .is_some_and(|code| self.stops(code))
     }
 
-    /// Error `code` stops the CPU (its severity, for an operation error
-    /// the "operation error" parameter).
-    fn stops(&self, code: ErrorCode) -> bool {
-        match self.severity(code) {
-            Severity::Stop => true,
-            Severity::Continue => false,
-            Severity::Operation => self.operation_error == ErrorMode::Stop,
-        }
+    /// Error `code` stops the CPU (its severity, for an error of a class
+    /// the PLC RAS parameter sets that class's mode).
+    pub(crate) fn stops(&self, code: ErrorCode) -> bool {
+        let mode = match self.severity(code) {
+            Severity::Stop => return true,
+            Severity::Continue => return false,
+            Severity::Operation => self.operation_error,
+            Severity::ModuleAccess => self.module_error,
+            Severity::FileAccess => self.file_error,
+        };
+        mode == ErrorMode::Stop
+    }
+
+    /// The module a module-access fault names: its start I/O number and
+    /// the slot that holds it (a CPU shared memory: the CPU number).
+    fn module_of(&self, fault: Fault) -> Option<ModuleRef> {
+        let unit = fault.unit()?;
+        let io = unit << 4;
+        let cpus = softplc_ir::device::CPU1_UNIT..softplc_ir::device::CPU1_UNIT + 4;
+        let slot = if cpus.contains(&unit) {
+            Some(unit - softplc_ir::device::CPU1_UNIT + 1)
+        } else {
+            let slot = self.rack.slots.iter().find(|s| s.io().contains(&io));
+            slot.map(|s| s.index)
+        };
+        Some(ModuleRef { io, slot })
     }
 
     /// What error `code` does to the CPU.
@@ -329,7 +378,8 @@ impl Runtime {
 
     /// Records a self-diagnostic error in the system devices, the latest
     /// error and the error history; the code recorded, `None` when `fault`
-    /// is no error in this family.
+    /// is no error in this family. `named`: what the error names besides
+    /// its location (a module-access fault's module is found here).
     pub(crate) fn record(
         &mut self,
         fault: Fault,
@@ -337,6 +387,7 @@ impl Runtime {
         step: Option<u32>,
         line: Option<u32>,
         detail: Option<u32>,
+        named: Named,
     ) -> Option<ErrorCode> {
         let now = self.clock.now(self.now_us);
         let code = self.system.code(fault)?;
@@ -346,6 +397,8 @@ impl Runtime {
             step,
             at: now,
             detail,
+            module: named.module.or_else(|| self.module_of(fault)),
+            time: named.time,
         };
         self.system.report_error(&mut self.mem, &report);
         self.error = Some(CpuError {
@@ -428,7 +481,8 @@ impl Runtime {
     }
 
     /// Serves what an instruction asked for when it returns
-    /// ([`CpuServices::pending`]): an input refresh, a continuation error.
+    /// ([`CpuServices::pending`]): an input refresh, a continuation error,
+    /// the clear of the latest error.
     #[cold]
     #[inline(never)]
     pub(crate) fn serve_requests(&mut self) {
@@ -436,14 +490,26 @@ impl Runtime {
         if std::mem::take(&mut self.cpu.input_refresh) {
             self.refresh_inputs();
         }
+        if std::mem::take(&mut self.cpu.clear_error) {
+            self.clear_continuation_error();
+        }
         self.record_report();
+    }
+
+    /// Clears the latest error when it does not stop the CPU (the error
+    /// reset of the program: SM50/SD50 at END, LEDR at once).
+    pub(crate) fn clear_continuation_error(&mut self) {
+        if self.error.as_ref().is_some_and(|e| !self.stops(e.code)) {
+            self.error = None;
+            self.system.clear_error(&mut self.mem);
+        }
     }
 
     /// Records the continuation error an instruction reported
     /// ([`CpuServices::report`]): an annunciator and its number.
     fn record_report(&mut self) {
         if let Some((fault, detail)) = self.cpu.report.take() {
-            self.record(fault, None, None, None, Some(detail));
+            self.record(fault, None, None, None, Some(detail), Named::default());
         }
     }
 

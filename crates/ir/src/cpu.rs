@@ -47,6 +47,9 @@ pub struct CpuServices {
     pub report: Option<(Fault, u32)>,
     /// An input refresh an instruction asked for (served right after it).
     pub input_refresh: bool,
+    /// An instruction asked to clear the latest continuation error (MELSEC
+    /// LEDR when an error outranks the annunciators); served right after it.
+    pub clear_error: bool,
     /// Something above waits for the engine when the instruction returns.
     pub pending: bool,
 }
@@ -65,6 +68,7 @@ impl CpuServices {
             timer_rem: vec![0; timers].into_boxed_slice(),
             report: None,
             input_refresh: false,
+            clear_error: false,
             pending: false,
         }
     }
@@ -122,6 +126,13 @@ impl CpuServices {
     /// detail; the engine records it when the instruction returns.
     pub fn report(&mut self, fault: Fault, detail: u32) {
         self.report = Some((fault, detail));
+        self.pending = true;
+    }
+
+    /// Clears the latest error if it does not stop the CPU, right after the
+    /// instruction returns (as the family's error reset does).
+    pub fn clear_error(&mut self) {
+        self.clear_error = true;
         self.pending = true;
     }
 

@@ -17,16 +17,18 @@ pub enum Fault {
     /// address past a module's buffer memory).
     Range,
     /// Buffer memory of a slot with no intelligent function module read or
-    /// written (MELSEC: SP.UNIT ERROR).
-    NoModule,
+    /// written (MELSEC: SP.UNIT ERROR). `unit`: the unit number accessed
+    /// (the start I/O number without its last hex digit), for the error
+    /// information.
+    NoModule { unit: u16 },
     /// A program read or wrote its own CPU shared memory through `U3En\G`,
     /// or read it with FROM (multi-CPU system; MELSEC: SP.UNIT ERROR 2114).
-    OwnSharedMemory,
+    OwnSharedMemory { unit: u16 },
     /// A program wrote another CPU's shared memory (MELSEC: 2115).
-    OtherSharedMemory,
+    OtherSharedMemory { unit: u16 },
     /// A program wrote the buffer memory of a module another CPU of the
     /// multi-CPU system controls (MELSEC: 2116).
-    NotControlled,
+    NotControlled { unit: u16 },
     /// More inter-CPU instructions waiting to complete than the CPU holds
     /// (MELSEC: OPERATION ERROR 4107).
     TooManyPending,
@@ -77,6 +79,19 @@ pub enum Fault {
     /// A family's own error, for the few instructions that raise a number
     /// of their family (the MELSEC PID's 4103, the APLC's 67, 69, 70, 73).
     Family(ErrorCode),
+}
+
+impl Fault {
+    /// The unit number a module-access fault names, `None` for the others.
+    pub fn unit(self) -> Option<u32> {
+        match self {
+            Fault::NoModule { unit }
+            | Fault::OwnSharedMemory { unit }
+            | Fault::OtherSharedMemory { unit }
+            | Fault::NotControlled { unit } => Some(unit as u32),
+            _ => None,
+        }
+    }
 }
 
 /// The latest self-diagnostic error, with where it happened.

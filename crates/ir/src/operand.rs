@@ -20,7 +20,7 @@ impl DeviceMemory {
         let block = match ix.window {
             Window::Device | Window::FileRegister => 0,
             Window::SelectedBlock => crate::access::selected_block(self),
-            Window::NoModule => return Err(Fault::NoModule),
+            Window::NoModule(unit) => return Err(Fault::NoModule { unit }),
             Window::Refused(f) => return Err(f),
         };
         let n = r_to_zr(block, ix.number as i64 + z);

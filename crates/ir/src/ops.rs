@@ -71,8 +71,8 @@ pub enum Window {
     /// `ZR`: file registers numbered from ZR0.
     FileRegister,
     /// `U<n>\\G<addr>` of a slot with no intelligent function module: every
-    /// access is [`crate::fault::Fault::NoModule`] (004 ch. 8).
-    NoModule,
+    /// access is [`crate::fault::Fault::NoModule`] naming its unit (004 ch. 8).
+    NoModule(u16),
     /// Memory the operand may not reach in its role: every access is the
     /// fault (a multi-CPU system's own shared memory through `U3En\\G`,
     /// another CPU's shared memory or a module another CPU controls as a

@@ -26,6 +26,13 @@ pub enum Severity {
     /// An operation error: stops or continues as the CPU's "operation error"
     /// parameter says.
     Operation,
+    /// An intelligent function module program execution error (a program's
+    /// access to a module's buffer memory): as the CPU's parameter for that
+    /// error class says.
+    ModuleAccess,
+    /// A file access error (an instruction naming a file that is not
+    /// there): as the CPU's parameter for that error class says.
+    FileAccess,
 }
 
 /// The operating state a system shows (004 §4.4).
@@ -44,6 +51,19 @@ pub struct Remote {
     /// A PAUSE was requested at an END: the CPU pauses at the next END and
     /// stays paused while the request holds.
     pub pause: bool,
+}
+
+/// What the CPU's front panel shows besides device memory: its switch and
+/// LEDs (004 §7.19).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Panel {
+    pub status: Status,
+    /// The key switch is at STOP.
+    pub switch_stop: bool,
+    /// The CPU is held in STOP by a stop error.
+    pub stop_error: bool,
+    /// Forced I/O is registered.
+    pub forced: bool,
 }
 
 /// The start of a scan, before the programs run.
@@ -85,6 +105,26 @@ pub struct ErrorReport<'a> {
     pub at: DateTime,
     /// Detail an instruction reported with the error (an annunciator number).
     pub detail: Option<u32>,
+    /// The module a module-access error names.
+    pub module: Option<ModuleRef>,
+    /// The set and measured times of a time error (watchdog, constant scan).
+    pub time: Option<ErrorTimes>,
+}
+
+/// A module an error names: its start I/O number and the slot holding it,
+/// or for a multi-CPU system's CPU shared memory the CPU number (1-4);
+/// `None` when neither holds that I/O number.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ModuleRef {
+    pub io: u32,
+    pub slot: Option<u32>,
+}
+
+/// The time a time error was set to exceed and the time measured, µs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ErrorTimes {
+    pub set_us: u64,
+    pub measured_us: u64,
 }
 
 /// Low-speed program execution (004 §4.2.3).
@@ -182,6 +222,10 @@ pub trait System: Send + Sync + std::fmt::Debug {
     fn status(&self, _mem: &mut DeviceMemory, _status: Status) {}
     /// The remote-operation state changed (or was shown again at END).
     fn remote(&self, _mem: &mut DeviceMemory, _remote: Remote) {}
+    /// The front panel, shown at every END (in every state) and whenever the
+    /// operating state, the switch or the remote operations change; the
+    /// system's own words ([`EndCtx::state`]) for its edge memories.
+    fn panel(&self, _mem: &mut DeviceMemory, _state: &mut [u32], _panel: Panel) {}
     /// The program enables PAUSE by the PAUSE contact (MELSEC: SM206);
     /// `false` for a family without such a relay.
     fn pause_enabled(&self, _mem: &DeviceMemory) -> bool {

@@ -110,10 +110,10 @@ impl Compiler<'_> {
                 self.map.base(DeviceKind::G) + w.first,
                 w.words,
                 w.owner
-                    .refuses(access)
+                    .refuses(access, unit)
                     .map_or(Window::Device, Window::Refused),
             ),
-            None => (0, 0, Window::NoModule),
+            None => (0, 0, Window::NoModule(unit as u16)),
         };
         if z.is_none() && window == Window::Device && number as u64 + span as u64 <= points as u64 {
             return Ok(base + number);

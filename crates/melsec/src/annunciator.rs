@@ -121,9 +121,14 @@ impl Instr for Annunciator {
 }
 
 /// 004 §10.2.4 LEDR (and ANR): turns OFF the annunciator shown first (SD62)
-/// and removes it from the list.
+/// and removes it from the list; but when a continuation error outranks
+/// the annunciators in the LED display priority (SD207-SD209), LEDR clears
+/// that error instead and the annunciator stays (L6294-6297).
 #[derive(Debug)]
 pub(crate) struct Ledr {
+    /// LEDR: a continuation error that outranks the annunciators first;
+    /// ANR: annunciators only.
+    pub errors_first: bool,
     /// Flat bit index of F0 and the F points.
     pub f: usize,
     pub points: usize,
@@ -133,6 +138,10 @@ pub(crate) struct Ledr {
 impl Instr for Ledr {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let Some(l) = self.list else { return Ok(()) };
+        if self.errors_first && crate::system::panel::ledr_clears_error(cx.mem) {
+            cx.cpu.clear_error();
+            return Ok(());
+        }
         let first = l.sd(cx.mem, 64);
         if l.sd(cx.mem, 63) > 0 {
             if (first as usize) < self.points {

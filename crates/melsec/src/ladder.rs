@@ -44,9 +44,14 @@ pub static DEFS: &[Def] = &[
     Def::coil("PLF", CoilRole::Pulse, &COILS, pls).steps(Steps::Fixed(2)),
     Def::coil("FF", CoilRole::Pulse, &COILS, pls).steps(Steps::Fixed(2)),
     Def::lower("OUTH", Class::Output, &TIMERS, out).steps(Steps::Rule(outh_steps)),
-    Def::lower("LEDR", Class::Output, &ANNUNCIATORS, ledr),
+    Def::lower("LEDR", Class::Output, &ANNUNCIATORS, |c, u| {
+        ledr(c, u, true)
+    }),
     Def::lower("ANS", Class::Output, &ANNUNCIATORS, ans),
-    Def::lower("ANR", Class::Output, &ANNUNCIATORS, ledr).pulse(Pulse::Suffix),
+    Def::lower("ANR", Class::Output, &ANNUNCIATORS, |c, u| {
+        ledr(c, u, false)
+    })
+    .pulse(Pulse::Suffix),
     Def::lower("MC", Class::Output, &MASTER_CONTROL, mc).steps(Steps::Fixed(2)),
     Def::lower("MCR", Class::Standalone, &MASTER_CONTROL, mcr).steps(Steps::Basic),
     Def::lower("NOP", Class::Standalone, &END, nop).steps(Steps::Basic),
@@ -148,7 +153,7 @@ static TIMERS: Doc = Doc {
 static ANNUNCIATORS: Doc = Doc {
     family: "annunciator",
     cite: "004 §10.2.4",
-    notes: "OUT/SET/RST F, SD62-SD79 list, SM62, error 9000 logged; ANS = OUT T + SET F on the timer's contact",
+    notes: "OUT/SET/RST F, SD62-SD79 list, SM62, error 9000 logged; ANS = OUT T + SET F on the timer's contact; LEDR clears a continuation error that outranks the annunciators (SD207-SD209) first, ANR annunciators only",
 };
 static MASTER_CONTROL: Doc = Doc {
     family: "master control",
@@ -373,13 +378,16 @@ fn pls(c: &mut Compiler<'_>, u: &Use<'_>) {
     }
 }
 
-fn ledr(c: &mut Compiler<'_>, u: &Use<'_>) {
+/// LEDR (`errors_first`: a continuation error that outranks the
+/// annunciators is cleared first) and ANR (annunciators only).
+fn ledr(c: &mut Compiler<'_>, u: &Use<'_>, errors_first: bool) {
     let i = u.instr;
     let m = u.m;
     // ANR resets the annunciator shown first (SD62), as LEDR does for
     // annunciators; ANRP (its pulse form) on the rising edge.
     if c.count(i, m, &[0]) && c.output(i, m) {
         let x = Ledr {
+            errors_first,
             f: c.map.base(DeviceKind::F) as usize,
             points: c.map.points(DeviceKind::F) as usize,
             list: List::of(c.map),

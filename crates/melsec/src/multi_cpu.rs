@@ -115,10 +115,13 @@ impl STo {
         let unit = mem.read16(&self.unit)? as u32;
         let addr = mem.read16(&self.addr)? as u32;
         let n = count(mem, &self.n)?.unwrap_or(0);
-        let w = mem.map.unit(unit).ok_or(Fault::NoModule)?;
+        let w = mem
+            .map
+            .unit(unit)
+            .ok_or(Fault::NoModule { unit: unit as u16 })?;
         match w.owner {
             UnitOwner::OwnCpu => {}
-            UnitOwner::OtherCpu => return Err(Fault::OtherSharedMemory),
+            UnitOwner::OtherCpu => return Err(Fault::OtherSharedMemory { unit: unit as u16 }),
             UnitOwner::Module | UnitOwner::OtherCpusModule => return Err(Fault::Operation),
         }
         // Below the user area is 4101, as past the shared memory (the

@@ -19,7 +19,9 @@ const PROGRAM_FILES: &str =
                      into program memory during RUN (and need the program table fixed in STOP); \
                      softplc has no drives, and a CPU's programs are fixed when it is built";
 const CHK: &str = "CHKST/CHK/CHKCIR/CHKEND special-format failure checks work on the ladder \
-                   pattern programmed around them (program structure)";
+                   pattern programmed around them (program structure); the QCPU manual in hand \
+                   names them only through their error (<CHK>ERR, SM80, SM710, I39), not \
+                   their operands or checks";
 const IX: &str = "IX/IXEND index-modification blocks (the devices of the enclosed ladder would \
                   be modified by the offset table) are not implemented";
 const IXDEV: &str = "IXDEV/IXSET build the IX/IXEND offset table from the devices of the ladder \

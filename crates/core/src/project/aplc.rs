@@ -81,6 +81,8 @@ pub(crate) fn configure(
                 if matches!(
                     e.key.as_str(),
                     "operation_error"
+                        | "module_error"
+                        | "file_access_error"
                         | "stop_to_run_output"
                         | "run_contact"
                         | "pause_contact"

@@ -202,6 +202,25 @@ pub(crate) fn timers(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
     }
 }
 
+/// The PLC RAS error classes (004 §7.15 (3), L4911-4922) whose errors need
+/// hardware softplc does not have: their keys are refused with the reason.
+fn ras_class_without_hardware(key: &str) -> Option<&'static str> {
+    Some(match key {
+        "extension_instruction_error" => {
+            "no instruction softplc runs raises an extension instruction error"
+        }
+        "fuse_blown_error" => "softplc has no output modules with fuses (FUSE BREAK OFF)",
+        "io_verify_error" => "softplc's I/O modules never change while it runs (UNIT VERIFY ERR.)",
+        "memory_card_access_error" | "memory_card_operation_error" => {
+            "softplc has no memory card (ICM.OPE.ERROR)"
+        }
+        "external_power_error" => {
+            "the manual reserves it for future use and softplc has no external power supply"
+        }
+        _ => return None,
+    })
+}
+
 /// An optional time setting: a duration or `"off"`.
 fn optional(cx: &mut Ctx, e: &Entry, range: super::units::Range) -> Option<Option<Duration>> {
     if matches!(&e.item.value, Value::Str(s) if s == "off") {
@@ -222,8 +241,22 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
         "run_contact",
         "pause_contact",
         "remote_reset",
+        "module_error",
+        "file_access_error",
     ];
-    cx.unknown_keys(t, Some("[ras]"), KEYS);
+    for e in t {
+        if let Some(why) = ras_class_without_hardware(&e.key) {
+            cx.error(
+                &e.key_span,
+                format!(
+                    "[ras] {}: {why}, so the error class never occurs (QCPU manual §7.15 (3))",
+                    e.key
+                ),
+            );
+        } else if !KEYS.contains(&e.key.as_str()) {
+            cx.unknown_key(e, Some("[ras]"), KEYS);
+        }
+    }
     let mut watchdog_ok = true;
     let mut constant_scan_at = None;
     for e in t {
@@ -238,10 +271,14 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
                     constant_scan_at = Some(e);
                 }
             }
-            "operation_error" => {
+            "operation_error" | "module_error" | "file_access_error" => {
                 let choices = [("stop", ErrorMode::Stop), ("continue", ErrorMode::Continue)];
                 if let Some(m) = cx.choice(e, &choices) {
-                    config.operation_error = m;
+                    match e.key.as_str() {
+                        "operation_error" => config.operation_error = m,
+                        "module_error" => config.module_error = m,
+                        _ => config.file_error = m,
+                    }
                 }
             }
             "stop_to_run_output" => {

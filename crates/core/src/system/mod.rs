@@ -302,7 +302,7 @@ impl System {
             self.power_on_checks(Some(i));
             for (j, m) in self.members.iter_mut().enumerate() {
                 if j != i || !m.cpu.has_stop_error() {
-                    m.cpu.raise(Fault::MultiCpuDown);
+                    m.cpu.raise_by_cpu(Fault::MultiCpuDown, i as u32 + 1);
                 }
                 m.down = true;
             }
@@ -415,7 +415,7 @@ impl System {
             if j == i || m.cpu.has_stop_error() {
                 continue;
             }
-            m.cpu.raise(fault);
+            m.cpu.raise_by_cpu(fault, i as u32 + 1);
             if all_stop {
                 // Stopped by the system: not a cause to propagate again.
                 m.down = true;

@@ -1,7 +1,7 @@
 //! END processing, the calendar clock, and the monitors (004 §4.3).
 
 use super::*;
-use softplc_ir::system::{End, EndCtx, ScanTimes, Severity};
+use softplc_ir::system::{End, EndCtx, ScanTimes};
 
 impl Cpu {
     /// The calendar clock now, µs since 1970.
@@ -82,8 +82,16 @@ impl Cpu {
         // MELSEC, 004 §7.1).
         if let Some(cs) = self.cfg.constant_scan {
             if scan_us > cs.as_micros() as u64 && !initial {
+                let time = softplc_ir::system::ErrorTimes {
+                    set_us: cs.as_micros() as u64,
+                    measured_us: scan_us,
+                };
+                let named = crate::Named {
+                    time: Some(time),
+                    module: None,
+                };
                 self.rt
-                    .record(crate::Fault::ScanOverrun, None, None, None, None);
+                    .record(crate::Fault::ScanOverrun, None, None, None, None, named);
             }
         }
         // The program's error reset request, on its rising edge: clears the
@@ -91,10 +99,8 @@ impl Cpu {
         let current = self.rt.error.as_ref().map(|e| e.code);
         let request = self.rt.system.error_reset(&self.rt.mem, current);
         if let (Some(names_it), false) = (request, self.error_reset) {
-            let clearable = current.is_some_and(|c| self.rt.severity(c) != Severity::Stop);
-            if names_it && clearable {
-                self.rt.error = None;
-                self.rt.system.clear_error(&mut self.rt.mem);
+            if names_it {
+                self.rt.clear_continuation_error();
             }
         }
         self.error_reset = request.is_some();

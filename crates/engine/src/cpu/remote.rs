@@ -18,7 +18,7 @@
 use std::fmt;
 
 use super::*;
-use softplc_ir::system::Remote;
+use softplc_ir::system::{Panel, Remote, Status};
 
 /// A remote operation a client holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -141,6 +141,7 @@ impl Cpu {
     /// The key switch at STOP ([`Cpu::set_stop`]) or RUN ([`Cpu::set_run`]).
     pub(super) fn set_switch_stop(&mut self, stop: bool) {
         self.remote.switch_stop = stop;
+        self.show_remote();
     }
 
     /// The source other than the CPU itself that keeps it in STOP, if any.
@@ -239,5 +240,18 @@ impl Cpu {
             pause: self.remote.pause_status,
         };
         self.rt.system.remote(&mut self.rt.mem, r);
+        let status = match self.state {
+            CpuState::Run => Status::Run,
+            CpuState::Stop => Status::Stop,
+            CpuState::Pause => Status::Pause,
+        };
+        let panel = Panel {
+            status,
+            switch_stop: self.remote.switch_stop,
+            stop_error: self.stop_error,
+            forced: !self.rt.forces.is_empty(),
+        };
+        let rt = &mut self.rt;
+        rt.system.panel(&mut rt.mem, &mut rt.system_state, panel);
     }
 }

@@ -103,8 +103,14 @@ impl Cpu {
     /// error (MELSEC's BATTERY ERROR) in the system devices and the error
     /// history; with `stop` the CPU holds it as a stop error (RESET clears it).
     pub fn report_battery_error(&mut self, stop: bool) {
-        self.rt
-            .record(crate::Fault::Battery, None, None, None, None);
+        self.rt.record(
+            crate::Fault::Battery,
+            None,
+            None,
+            None,
+            None,
+            Default::default(),
+        );
         if stop {
             self.stop_error = true;
             self.enter_stop();

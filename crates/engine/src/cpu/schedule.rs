@@ -44,12 +44,14 @@ impl Cpu {
         let ok = if initial {
             // The initial execution monitor time, when set, replaces the WDT for
             // the initial programs (004 L1446-1503).
-            let wdt = self.rt.watchdog;
+            let (wdt, set) = (self.rt.watchdog, self.rt.watchdog_set);
             if let Some(t) = self.cfg.initial_monitor {
                 self.rt.watchdog = self.wall_watchdog(t);
+                self.rt.watchdog_set = t;
             }
             let ok = self.service_interrupts(now) && self.run_type(ExecType::Initial);
             self.rt.watchdog = wdt;
+            self.rt.watchdog_set = set;
             ok
         } else {
             self.service_interrupts(now)

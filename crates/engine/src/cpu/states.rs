@@ -71,8 +71,32 @@ impl Cpu {
     /// stops the CPU until RESET, as one of its own would. The code
     /// recorded, `None` when the fault is no error in this family.
     pub fn raise(&mut self, fault: softplc_ir::fault::Fault) -> Option<ErrorCode> {
-        let code = self.rt.record(fault, None, None, None, None)?;
-        if self.rt.severity(code) == softplc_ir::system::Severity::Stop {
+        self.raise_named(fault, crate::Named::default())
+    }
+
+    /// [`Self::raise`] for an error another CPU of a multi-CPU system
+    /// caused: the error information names CPU `cpu` (1-4) and its I/O
+    /// number (3E00H for CPU 1 …).
+    pub fn raise_by_cpu(&mut self, fault: softplc_ir::fault::Fault, cpu: u32) -> Option<ErrorCode> {
+        let unit = softplc_ir::device::CPU1_UNIT + cpu.saturating_sub(1);
+        let module = softplc_ir::system::ModuleRef {
+            io: unit << 4,
+            slot: Some(cpu),
+        };
+        let named = crate::Named {
+            time: None,
+            module: Some(module),
+        };
+        self.raise_named(fault, named)
+    }
+
+    fn raise_named(
+        &mut self,
+        fault: softplc_ir::fault::Fault,
+        named: crate::Named,
+    ) -> Option<ErrorCode> {
+        let code = self.rt.record(fault, None, None, None, None, named)?;
+        if self.rt.stops(code) {
             self.stop_error = true;
             self.enter_stop();
         }

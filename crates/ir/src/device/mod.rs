@@ -120,11 +120,13 @@ impl UnitOwner {
     /// shared memory or a module another CPU controls read only (2115,
     /// 2116; 004 L8985-8998, L9199-9205). Names and protocols from outside
     /// monitor every unit and ask nothing.
-    pub fn refuses(self, access: UnitAccess) -> Option<Fault> {
+    /// `unit` is the unit number the fault names.
+    pub fn refuses(self, access: UnitAccess, unit: u32) -> Option<Fault> {
+        let unit = unit as u16;
         match (self, access) {
-            (UnitOwner::OwnCpu, _) => Some(Fault::OwnSharedMemory),
-            (UnitOwner::OtherCpu, UnitAccess::Write) => Some(Fault::OtherSharedMemory),
-            (UnitOwner::OtherCpusModule, UnitAccess::Write) => Some(Fault::NotControlled),
+            (UnitOwner::OwnCpu, _) => Some(Fault::OwnSharedMemory { unit }),
+            (UnitOwner::OtherCpu, UnitAccess::Write) => Some(Fault::OtherSharedMemory { unit }),
+            (UnitOwner::OtherCpusModule, UnitAccess::Write) => Some(Fault::NotControlled { unit }),
             (UnitOwner::Module, _)
             | (UnitOwner::OtherCpu | UnitOwner::OtherCpusModule, UnitAccess::Read) => None,
         }
@@ -389,8 +391,10 @@ impl DeviceMap {
         words: u32,
         access: UnitAccess,
     ) -> Result<u32, Fault> {
-        let w = self.unit(unit).ok_or(Fault::NoModule)?;
-        if let Some(f) = w.owner.refuses(access) {
+        let w = self
+            .unit(unit)
+            .ok_or(Fault::NoModule { unit: unit as u16 })?;
+        if let Some(f) = w.owner.refuses(access, unit) {
             return Err(f);
         }
         w.span(addr, words).map_err(|_| Fault::Range)

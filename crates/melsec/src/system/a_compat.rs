@@ -84,6 +84,8 @@ const OPERATING_STATUS: Mirror = register(1015, 203, Conv::Same);
 /// per the tables' "special relay/register for modification" column and
 /// each row's description.
 pub static AT_END: &[Mirror] = &[
+    relay(1006, 52),  // battery low
+    relay(1007, 51),  // battery low, latched
     relay(1008, 1),   // self-diagnostic error
     relay(1009, 62),  // annunciator detected
     relay(1011, 56),  // operation error
@@ -111,6 +113,8 @@ pub static AT_END: &[Mirror] = &[
     register(1021, 520, Conv::Same),
     register(1022, 412, Conv::Same), // 1 s counter
     register(1035, 648, Conv::Bcd),  // file-register block number
+    register(1038, 207, Conv::Same), // LED display priority 1-4
+    register(1039, 208, Conv::Same), // LED display priority 5-8
     register(1124, 63, Conv::Same),  // annunciators detected
     register(1125, 64, Conv::Same),  // annunciator numbers in order
     register(1126, 65, Conv::Same),

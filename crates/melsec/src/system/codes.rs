@@ -46,10 +46,10 @@ pub fn code(fault: Fault) -> ErrorCode {
     match fault {
         Fault::Operation => OPERATION,
         Fault::Range => RANGE,
-        Fault::NoModule => SP_UNIT,
-        Fault::OwnSharedMemory => OWN_SHARED,
-        Fault::OtherSharedMemory => OTHER_SHARED,
-        Fault::NotControlled => NOT_CONTROLLED,
+        Fault::NoModule { .. } => SP_UNIT,
+        Fault::OwnSharedMemory { .. } => OWN_SHARED,
+        Fault::OtherSharedMemory { .. } => OTHER_SHARED,
+        Fault::NotControlled { .. } => NOT_CONTROLLED,
         Fault::TooManyPending => TOO_MANY_PENDING,
         Fault::MultiCpuDown => MULTI_CPU_DOWN,
         Fault::MultiCpuError => MULTI_EXE,
@@ -108,13 +108,89 @@ pub fn message(code: ErrorCode) -> &'static str {
     }
 }
 
-/// Operation errors (41xx) follow the "operation error" parameter; BATTERY
-/// ERROR, PRG.TIME OVER and annunciators keep the CPU running; everything
-/// else stops it.
+/// What an error does (004 §7.15 (3), L4911-4922, and the self-diagnostics
+/// list L4932-4995): operation errors (41xx) follow the "operation error"
+/// parameter, SP.UNIT ERROR (21xx) the "intelligent module program
+/// execution error" parameter, FILE OPE. ERROR (24xx) the "file access
+/// error" parameter (L4957); BATTERY ERROR, PRG.TIME OVER, MULTI EXE.
+/// ERROR and annunciators keep the CPU running; everything else stops it.
 pub fn severity(code: ErrorCode) -> Severity {
     match code.0 {
         4100..=4199 => Severity::Operation,
+        2110..=2119 => Severity::ModuleAccess,
+        2410..=2419 => Severity::FileAccess,
         1600 | 5010 | 7010 | 9000 => Severity::Continue,
         _ => Severity::Stop,
     }
+}
+
+/// The kinds of common error information SD5-SD15 holds, numbered as SD4's
+/// low byte (004 App. 2 SD4, L10153-10180).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Common {
+    None = 0,
+    /// Slot (or CPU) number and I/O number.
+    Module = 1,
+    /// Drive and file name.
+    File = 2,
+    /// The time set.
+    Time = 3,
+    /// Program file name and step.
+    Program = 4,
+}
+
+/// The kinds of individual error information SD16-SD26 holds, numbered as
+/// SD4's high byte (L10153-10180). Parameter numbers (5) and CHK failure
+/// numbers (7) are not listed: softplc raises no error that carries one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Individual {
+    None = 0,
+    /// The time measured.
+    Time = 3,
+    /// Program file name and step.
+    Program = 4,
+    /// The annunciator number.
+    Annunciator = 6,
+}
+
+/// The information an error with `code` carries, one table for every error
+/// softplc raises (App. 2 SD4-SD26 describe the layouts; which error
+/// carries which follows the QCPU error-code list):
+/// - SP.UNIT ERROR names the module (its slot and I/O number) and the
+///   program location of the access;
+/// - PARAMETER ERROR the parameter file (drive 0, PARAM.QPA);
+/// - WDT ERROR and PRG.TIME OVER the time set and the time measured;
+/// - an annunciator its number (the instruction location is not recorded);
+/// - MULTI CPU DOWN / MULTI EXE. ERROR the CPU that caused it (SD5 its
+///   number, SD6 its I/O number, App. 2 SD5 *1);
+/// - BATTERY ERROR nothing (softplc's battery is a state directory, no
+///   drive);
+/// - every other error the program location where an instruction raised it.
+pub fn information(code: ErrorCode) -> (Common, Individual) {
+    match code.0 {
+        2110..=2119 => (Common::Module, Individual::Program),
+        3000..=3999 => (Common::File, Individual::None),
+        5000 | 5001 | 5010 | 5011 => (Common::Time, Individual::Time),
+        9000 => (Common::None, Individual::Annunciator),
+        7000 | 7010 => (Common::Module, Individual::None),
+        1600 => (Common::None, Individual::None),
+        _ => (Common::Program, Individual::None),
+    }
+}
+
+/// The LED display cause number of error `code` (004 §7.19.2, L5392-5406):
+/// 2 SP.UNIT ERROR, 3 OPERATION ERROR, 4 FILE OPE. ERROR, 5 PRG.TIME OVER,
+/// 6 CHK, 7 annunciator, 9 BATTERY ERROR; `None` for a cause the table
+/// does not list (stop errors always show).
+pub fn led_cause(code: ErrorCode) -> Option<u8> {
+    Some(match code.0 {
+        2110..=2119 => 2,
+        4100..=4199 => 3,
+        2410..=2419 => 4,
+        5010 | 5011 => 5,
+        9010 => 6,
+        9000 => 7,
+        1600 => 9,
+        _ => return None,
+    })
 }

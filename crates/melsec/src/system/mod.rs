@@ -4,9 +4,9 @@
 //! One job per file: [`scan`] power-on, scan start, scan times and status;
 //! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
 //! low-speed registers; [`interrupts`] the interrupt priorities and error
-//! interrupts; [`a_compat`] the A-series compatibility area SM1000/SD1000;
-//! [`file_register`] SM640, SM672, SD640-SD647; [`bases`] SD240-SD244,
-//! SM250/SD250;
+//! interrupts; [`panel`] the switch and LEDs (SD200-SD209); [`a_compat`]
+//! the A-series compatibility area SM1000/SD1000; [`file_register`] SM640,
+//! SM672, SD640-SD647; [`bases`] SD240-SD244, SM250/SD250;
 //! [`rows`] every SM/SD row of the manual and what softplc does with it; the
 //! user timing clocks of DUTY are `user_clock`.
 
@@ -19,6 +19,7 @@ mod errors;
 pub mod file_register;
 pub mod interrupts;
 mod low_speed;
+pub(crate) mod panel;
 pub mod rows;
 mod scan;
 
@@ -27,8 +28,8 @@ use std::sync::Arc;
 use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{
-    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, Remote, ScanStart, Severity, Status,
-    System, TraceRelays,
+    End, EndCtx, ErrorReport, LocalDeviceRelays, LowSpeed, Panel, Remote, ScanStart, Severity,
+    Status, System, TraceRelays,
 };
 
 /// SD648: the file-register block number R addresses (004 §10.7, RSET).
@@ -106,7 +107,7 @@ impl Melsec {
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        3
+        3 + panel::STATE_WORDS
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -131,6 +132,7 @@ impl System for Melsec {
         scan::power_on(mem);
         self.params.file_register.power_on(mem);
         self.params.bases.power_on(mem);
+        panel::power_on(mem);
         self.a_refresh(mem);
     }
 
@@ -171,6 +173,10 @@ impl System for Melsec {
 
     fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
         scan::remote(mem, remote);
+    }
+
+    fn panel(&self, mem: &mut DeviceMemory, state: &mut [u32], panel: Panel) {
+        panel::show(mem, state, panel);
     }
 
     fn pause_enabled(&self, mem: &DeviceMemory) -> bool {
