@@ -110,8 +110,11 @@ impl Cpu {
     /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
     /// virtual time, so a pass always fits the spare time). The system shows
     /// the pass, the program running and each completed cycle
-    /// (`System::low_speed`).
-    pub(super) fn run_low_speed(&mut self, _now: u64) -> bool {
+    /// (`System::low_speed`). The low-speed programs run in their own
+    /// context (`switch_low_speed_context`), swapped in and out only here:
+    /// a project without low-speed programs pays nothing.
+    pub(super) fn run_low_speed(&mut self, now: u64) -> bool {
+        self.low_used_us = 0;
         // The low-speed programs in parameter order, without allocating.
         let n_low = self
             .slots
@@ -121,7 +124,27 @@ impl Cpu {
         if n_low == 0 {
             return true;
         }
+        self.switch_low_speed_context();
+        let ok = self.low_speed_pass(now, n_low);
+        self.switch_low_speed_context();
+        ok
+    }
 
+    /// Control passes between the scan programs and the low-speed programs
+    /// (both ways): each side keeps its own Z0-Z15, saved when it is left
+    /// and restored when it is entered again (004 §10.6.1), and its own
+    /// time for the timers — the scan time for the scan programs', the
+    /// time between the last two low-speed ENDs for the low-speed programs'
+    /// (§10.2.10 (f)).
+    fn switch_low_speed_context(&mut self) {
+        let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+        let n = (self.rt.mem.map.points(DeviceKind::Z) as usize).min(self.low_z.len());
+        self.rt.mem.words[zb..zb + n].swap_with_slice(&mut self.low_z[..n]);
+        std::mem::swap(&mut self.rt.scan_us, &mut self.low_timer_us);
+    }
+
+    /// The low-speed programs of this scan, in their context.
+    fn low_speed_pass(&mut self, now: u64, n_low: usize) -> bool {
         let first = self.low_first;
         self.low_speed(LowSpeed::Pass { first });
         let sync = self.rt.system.low_speed_synchronous(&self.rt.mem);
@@ -149,7 +172,7 @@ impl Cpu {
                     return false;
                 }
             }
-            self.low_speed_end();
+            self.low_speed_end(now + self.busy_us);
             return true;
         }
         let mut used = 0u64;
@@ -181,7 +204,7 @@ impl Cpu {
             self.low_pos += 1;
             if self.low_pos == n_low {
                 self.low_pos = 0;
-                self.low_speed_end();
+                self.low_speed_end(now + self.busy_us + used);
                 if sync {
                     // Synchronous: no second cycle in the same scan.
                     break;
@@ -189,6 +212,7 @@ impl Cpu {
             }
         }
         self.busy_us += used;
+        self.low_used_us = used;
         self.low_speed(LowSpeed::Running(None));
         true
     }
@@ -216,10 +240,15 @@ impl Cpu {
         ok
     }
 
-    /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
-    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — and
-    /// its minimum and maximum to the system.
-    pub(super) fn low_speed_end(&mut self) {
+    /// Low-speed END processing (004 §4.2.3 (5)) at engine time `at`: the
+    /// low-speed scan time — the execution time of the cycle's low-speed
+    /// programs (§4.2.3 (6)) — and its minimum and maximum to the system,
+    /// the low-speed execution monitor (§4.2.3 (7): PRG.TIME OVER, a
+    /// continuation error), and the time the low-speed programs' timers add
+    /// from now: the engine time since the previous low-speed END, over
+    /// which each timer coil of the cycle ran once (§10.2.10 (f)). Called in
+    /// the low-speed context, where that time is `rt.scan_us`.
+    pub(super) fn low_speed_end(&mut self, at: u64) {
         let us = std::mem::take(&mut self.low_exec_us);
         if !self.low_first {
             self.low_max_us = self.low_max_us.max(us);
@@ -231,6 +260,15 @@ impl Cpu {
             max_us: self.low_max_us,
         };
         self.low_speed(LowSpeed::End(times));
+        if let Some(limit) = self.cfg.low_speed_monitor {
+            if us > limit.as_micros() as u64 {
+                self.rt
+                    .record(crate::Fault::LowSpeedOverrun, None, None, None, None);
+            }
+        }
+        let cycle = at.saturating_sub(self.low_last_end_us);
+        self.rt.scan_us = cycle.min(u32::MAX as u64) as u32;
+        self.low_last_end_us = at;
         self.low_first = false;
     }
 

@@ -196,6 +196,8 @@ impl Cpu {
         // "Scans executed since power-on": RESET is power-on processing, and
         // the system's scan counter restarts from 0 with it (004 L10434).
         self.scans = 0;
+        // The low-speed programs' index registers are device memory too.
+        self.low_z = Default::default();
         self.system_power_on();
         self.start_run();
         self.remote_power_on();
@@ -223,6 +225,7 @@ impl Cpu {
         self.run_start_us = now;
         self.last_end_us = now;
         self.low_last_end_us = now;
+        self.low_timer_us = 0;
         self.low_exec_us = 0;
         self.low_pos = 0;
         self.low_left_us = 0;
