@@ -63,8 +63,29 @@ pub struct End {
     /// initial scan time, min/max are not updated.
     pub initial: bool,
     pub times: ScanTimes,
+    /// Where the scan time went.
+    pub split: ScanSplit,
     /// Engine time since the last STOP→RUN, µs.
     pub since_run_us: u64,
+}
+
+/// Where a scan's time went, µs of engine time (programs take their
+/// simulated execution time, none without one). The parts add up to the
+/// scan time: END processing is what no program and no constant-scan wait
+/// took.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ScanSplit {
+    /// The scan programs, with the fixed-scan programs that ran in the scan.
+    pub programs_us: u64,
+    /// The low-speed programs in this scan.
+    pub low_speed_us: u64,
+    /// The low-speed programs since the current low-speed cycle began (0
+    /// when one has just ended).
+    pub low_speed_cycle_us: u64,
+    /// The constant-scan wait (0 without constant scan).
+    pub wait_us: u64,
+    /// END processing: the rest of the scan time.
+    pub end_us: u64,
 }
 
 /// An error being recorded.
@@ -199,6 +220,8 @@ pub trait System: Send + Sync + std::fmt::Debug {
     }
     /// Clears the error registers after an error reset.
     fn clear_error(&self, _mem: &mut DeviceMemory) {}
+    /// Program `slot` (in parameter order, from 0) starts running.
+    fn program(&self, _mem: &mut DeviceMemory, _slot: usize) {}
     /// Low-speed program execution.
     fn low_speed(&self, _mem: &mut DeviceMemory, _event: LowSpeed) {}
     /// Low-speed programs run synchronously: at most one cycle a scan.

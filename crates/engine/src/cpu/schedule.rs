@@ -22,6 +22,7 @@ impl Cpu {
         }
         self.rt.now_us = now;
         self.busy_us = 0;
+        self.low_used_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
         self.rt.refresh_inputs();
@@ -114,7 +115,6 @@ impl Cpu {
     /// context (`switch_low_speed_context`), swapped in and out only here:
     /// a project without low-speed programs pays nothing.
     pub(super) fn run_low_speed(&mut self, now: u64) -> bool {
-        self.low_used_us = 0;
         // The low-speed programs in parameter order, without allocating.
         let n_low = self
             .slots
@@ -316,6 +316,7 @@ impl Cpu {
 
     pub(super) fn run_slot(&mut self, i: usize) -> bool {
         self.busy_us += self.slots[i].cost_us;
+        self.rt.system.program(&mut self.rt.mem, i);
         // Whose local devices it runs on: a fixed-scan program's are an
         // interrupt program's (004 §10.13.1 (d), (f)).
         let entry = match self.slots[i].exec {

@@ -164,6 +164,10 @@ impl System for Melsec {
         self.a_refresh(mem);
     }
 
+    fn program(&self, mem: &mut DeviceMemory, slot: usize) {
+        scan::program(mem, slot);
+    }
+
     fn low_speed(&self, mem: &mut DeviceMemory, event: LowSpeed) {
         low_speed::event(mem, event);
     }

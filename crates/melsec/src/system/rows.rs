@@ -399,7 +399,12 @@ pub static SD: &[Row] = &[
         "low-speed scan counter",
         M("at the end of each low-speed cycle"),
     ),
-    sd(500, 500, "program being executed", N),
+    sd(
+        500,
+        500,
+        "program being executed",
+        M("its number in the program list, from 1, as each program starts"),
+    ),
     sd(
         510,
         510,
@@ -420,9 +425,12 @@ pub static SD: &[Row] = &[
     ),
     sd(
         540,
-        548,
+        549,
         "END processing, constant-scan wait and execution times",
-        N,
+        M(
+            "at END, in virtual time: programs take their simulated execution time, \
+             END processing is the rest of the scan time",
+        ),
     ),
     sd(
         550,
