@@ -28,12 +28,31 @@ pub enum Severity {
     Operation,
 }
 
-/// The operating state a system shows (004 §4.4).
+/// The operating state a system shows (004 §4.4), STOP and PAUSE with
+/// what caused them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
     Run,
-    Stop,
-    Pause,
+    Stop(Cause),
+    Pause(Cause),
+}
+
+/// What stopped or paused the CPU (004 App. 2 SD203): the first cause
+/// holds while the CPU stays stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cause {
+    /// The RUN/STOP key switch (softplc: the host's STOP, e.g. `run`'s
+    /// Ctrl-C, the HTTP monitor's stop).
+    Switch,
+    /// The RUN or PAUSE contact.
+    Contact,
+    /// A remote operation from a client (MC protocol, the web monitor's
+    /// PAUSE and breakpoints).
+    Remote,
+    /// The STOP instruction.
+    Instruction,
+    /// A stop error.
+    Error,
 }
 
 /// The remote-operation relays a system shows (004 §7.6).

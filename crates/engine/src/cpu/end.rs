@@ -153,7 +153,7 @@ impl Cpu {
             t.sample(&mut self.rt.mem, self.scans, now);
         }
         if std::mem::take(&mut self.rt.stop_request) {
-            self.enter_stop();
+            self.enter_stop(softplc_ir::system::Cause::Instruction);
         }
         self.show_status();
         self.remote_end();

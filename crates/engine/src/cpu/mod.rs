@@ -103,6 +103,8 @@ pub struct Cpu {
     stop_error: bool,
     /// The STOP and PAUSE sources of the remote operations (004 §7.6).
     remote: remote::RemoteState,
+    /// What stopped or paused the CPU (shown while it is stopped or paused).
+    cause: softplc_ir::system::Cause,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
     /// Clock reading at power-on, at the last STOP→RUN and at the last END.
@@ -266,6 +268,7 @@ impl Cpu {
             state: CpuState::Run,
             stop_error: false,
             remote: Default::default(),
+            cause: softplc_ir::system::Cause::Switch,
             saved_y: vec![false; y].into_boxed_slice(),
             power_on_us: now,
             run_start_us: now,

@@ -107,7 +107,7 @@ impl Cpu {
             .record(crate::Fault::Battery, None, None, None, None);
         if stop {
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(softplc_ir::system::Cause::Error);
         }
     }
 

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::local_devices::Entry;
-use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
+use softplc_ir::system::{Cause, LowSpeed, ScanStart, ScanTimes};
 
 impl Cpu {
     /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
@@ -61,10 +61,15 @@ impl Cpu {
             self.apply_forces(DeviceKind::Y);
             self.apply_forces(DeviceKind::X);
         }
-        if !ok && (self.aborted() || std::mem::take(&mut self.rt.stop_now)) {
+        if !ok && (self.aborted() || self.rt.stop_now) {
             // Stopped by the host or a STOP that stops at once, mid-scan:
             // STOP, no error.
-            self.set_stop();
+            let cause = match std::mem::take(&mut self.rt.stop_now) {
+                true => Cause::Instruction,
+                false => Cause::Switch,
+            };
+            self.set_switch_stop(true);
+            self.enter_stop(cause);
             self.scans += 1;
             return;
         }
@@ -73,7 +78,7 @@ impl Cpu {
             // OFF, after its error interrupt (I32) when enabled.
             self.run_stop_interrupt();
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(Cause::Error);
             self.scans += 1;
             return;
         }

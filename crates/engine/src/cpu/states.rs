@@ -3,7 +3,7 @@
 
 use super::retained::latch_spans;
 use super::*;
-use softplc_ir::system::Status;
+use softplc_ir::system::{Cause, Status};
 
 impl Cpu {
     /// The key switch to RUN. From STOP this is STOP→RUN: outputs per the
@@ -49,13 +49,15 @@ impl Cpu {
     /// the switch is back at RUN ([`Self::set_run`]).
     pub fn set_stop(&mut self) {
         self.set_switch_stop(true);
-        self.enter_stop();
+        self.enter_stop(Cause::Switch);
     }
 
     /// STOP from any cause (the switch, a remote STOP, the RUN contact, a
-    /// stop error, the STOP instruction).
-    pub(super) fn enter_stop(&mut self) {
+    /// stop error, the STOP instruction); an already stopped CPU keeps its
+    /// first cause.
+    pub(super) fn enter_stop(&mut self, cause: Cause) {
         if self.state != CpuState::Stop {
+            self.cause = cause;
             let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
             let n = self.saved_y.len();
             self.saved_y.copy_from_slice(&self.rt.mem.bits[yb..yb + n]);
@@ -73,7 +75,7 @@ impl Cpu {
         let code = self.rt.record(fault, None, None, None, None)?;
         if self.rt.severity(code) == softplc_ir::system::Severity::Stop {
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(Cause::Error);
         }
         Some(code)
     }
@@ -90,6 +92,7 @@ impl Cpu {
             CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
             _ => {
                 self.state = CpuState::Pause;
+                self.cause = Cause::Remote;
                 self.show_status();
                 Ok(())
             }
@@ -290,8 +293,8 @@ impl Cpu {
     pub(super) fn show_status(&mut self) {
         let status = match self.state {
             CpuState::Run => Status::Run,
-            CpuState::Stop => Status::Stop,
-            CpuState::Pause => Status::Pause,
+            CpuState::Stop => Status::Stop(self.cause),
+            CpuState::Pause => Status::Pause(self.cause),
         };
         self.rt.system.status(&mut self.rt.mem, status);
     }

@@ -334,7 +334,10 @@ pub static SD: &[Row] = &[
         203,
         203,
         "CPU operating status",
-        M("bits 0-3: RUN/STOP/PAUSE; the cause bits are not written"),
+        M(
+            "bits 0-3 RUN/STOP/PAUSE, bits 4-7 the cause: key switch (the host's STOP), \
+             RUN or PAUSE contact, remote operation, STOP instruction, error",
+        ),
     ),
     sd(206, 206, "device test mode", N),
     sd(207, 209, "LED display priority", N),

@@ -3,7 +3,7 @@
 //! at END and the operating status.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::system::{End, Remote, ScanStart, Status};
+use softplc_ir::system::{Cause, End, Remote, ScanStart, Status};
 
 use super::devices::{sd, sd_get, sm, sm_get, time_pair};
 use super::R_BLOCK;
@@ -82,15 +82,27 @@ pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
     sd(mem, 412, (e.since_run_us / 1_000_000) as u16);
 }
 
-/// SD203 operating status, b0-b3: 0 RUN, 1 STOP, 2 PAUSE.
+/// SD203 operating status (App. 2 L10333): b0-b3 0 RUN, 1 STOP, 2 PAUSE;
+/// b4-b7 the STOP/PAUSE cause, 0 the key switch, 1 the remote contact, 2 a
+/// remote operation (peripheral, computer), 3 an instruction in the
+/// program, 4 an error (0 in RUN); the first cause holds while stopped
+/// (App. 2's figure is lost in 004: the codes are the QCPU User's Manual's,
+/// qcpu.md §8 SD203).
 pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
+    let cause = |c: Cause| match c {
+        Cause::Switch => 0,
+        Cause::Contact => 1,
+        Cause::Remote => 2,
+        Cause::Instruction => 3,
+        Cause::Error => 4,
+    };
     let v = match status {
         Status::Run => 0,
-        Status::Stop => 1,
-        Status::Pause => 2,
+        Status::Stop(c) => 1 | cause(c) << 4,
+        Status::Pause(c) => 2 | cause(c) << 4,
     };
     let old = sd_get(mem, 203);
-    sd(mem, 203, old & !0xF | v);
+    sd(mem, 203, old & !0xFF | v);
 }
 
 /// SD500: the number of the program running (its place in the parameter's
