@@ -18,6 +18,10 @@ pub enum Status {
     /// The manual marks it unusable on a Q CPU (A-series compatibility
     /// rows marked ✕); plain memory.
     NotOnQ,
+    /// A relay or register of SFC programs, which softplc does not load
+    /// (the step relay S in a sequence program is a load error); plain
+    /// memory.
+    NoSfc,
 }
 
 /// One row (or a range of rows sharing a name).
@@ -31,7 +35,7 @@ pub struct Row {
     pub status: Status,
 }
 
-use Status::{Maintained as M, NoHardware as H, NotImplemented as N, NotOnQ as X};
+use Status::{Maintained as M, NoHardware as H, NoSfc as SFC, NotImplemented as N, NotOnQ as X};
 
 const fn sm(first: u32, last: u32, name: &'static str, status: Status) -> Row {
     Row {
@@ -105,7 +109,7 @@ pub static SM: &[Row] = &[
         M("ON while an annunciator F is ON"),
     ),
     sm(80, 80, "CHK detected", N),
-    sm(90, 99, "SFC step transition watchdog started", N),
+    sm(90, 99, "SFC step transition watchdog started", SFC),
     sm(
         120,
         120,
@@ -166,7 +170,7 @@ pub static SM: &[Row] = &[
         H("MELSECNET/10"),
     ),
     sm(280, 280, "CC-Link error", H("CC-Link")),
-    sm(320, 327, "SFC program and its modes", N),
+    sm(320, 327, "SFC program and its modes", SFC),
     sm(
         330,
         330,
@@ -279,7 +283,7 @@ pub static SM: &[Row] = &[
         "trace executing, trigger, after trigger, complete",
         M("sampling trace"),
     ),
-    sm(820, 825, "SFC step trace", N),
+    sm(820, 825, "SFC step trace", SFC),
     sm(826, 826, "trace error", N),
     sm(910, 910, "RKEY registered", H("peripheral keyboard")),
 ];
@@ -300,7 +304,12 @@ pub static SD: &[Row] = &[
         "common information: program file name",
         M("for errors located in a program"),
     ),
-    sd(11, 13, "common information: SFC block, step, transition", N),
+    sd(
+        11,
+        13,
+        "common information: SFC block, step, transition",
+        SFC,
+    ),
     sd(
         14,
         15,
@@ -321,7 +330,7 @@ pub static SD: &[Row] = &[
         "annunciators: first, count, numbers in order",
         M("SET/RST/OUT F, LEDR"),
     ),
-    sd(90, 99, "SFC step transition watchdog settings", N),
+    sd(90, 99, "SFC step transition watchdog settings", SFC),
     sd(
         120,
         120,
@@ -615,7 +624,12 @@ pub static A_SM: &[Row] = &[
         "CHG not executable, SEG switch (M9051, M9052)",
         N,
     ),
-    a_sm(1055, 1055, "status latch complete (M9055 = SM808)", N),
+    a_sm(
+        1055,
+        1055,
+        "status latch complete (M9055 = SM808, status latch: QnA only)",
+        X,
+    ),
     a_sm(
         1056,
         1061,
@@ -634,25 +648,25 @@ pub static A_SM: &[Row] = &[
         1100,
         1104,
         "SFC program flags (M9100-M9104 = SM320-SM324)",
-        N,
+        SFC,
     ),
     a_sm(
         1108,
         1114,
         "step transition watchdog started (M9108-M9114 = SM90-SM96)",
-        N,
+        SFC,
     ),
     a_sm(
         1180,
         1182,
         "active step trace (M9180-M9182 = SM825, SM822, SM821)",
-        N,
+        SFC,
     ),
     a_sm(
         1196,
         1196,
         "operation output at block stop (M9196 = SM325)",
-        N,
+        SFC,
     ),
     a_sm(
         1197,
@@ -736,9 +750,14 @@ pub static A_SD: &[Row] = &[
         1049,
         1054,
         "SFC work area and error information (D9049-D9054)",
-        N,
+        SFC,
     ),
-    sd(1055, 1055, "status latch step (D9055 = SD812)", N),
+    sd(
+        1055,
+        1055,
+        "status latch step (D9055 = SD812, status latch: QnA only)",
+        X,
+    ),
     sd(1060, 1060, "software version (D9060 = SD392)", N),
     sd(
         1072,
@@ -768,7 +787,7 @@ pub static A_SD: &[Row] = &[
         1108,
         1114,
         "step transition monitoring timer settings (D9108-D9114)",
-        N,
+        SFC,
     ),
     sd(
         1116,
@@ -805,6 +824,7 @@ pub fn table(rows: &[Row]) -> String {
             Status::NoHardware(what) => format!("no such hardware ({what}): reads 0"),
             Status::NotImplemented => "not implemented: plain memory".to_string(),
             Status::NotOnQ => "not usable on a Q CPU (manual): plain memory".to_string(),
+            Status::NoSfc => "SFC programs are not accepted: plain memory".to_string(),
         };
         out += &format!("| {dev} | {} | {status} |\n", r.name);
     }
