@@ -135,14 +135,19 @@ pub enum LowSpeed {
 }
 
 /// Flat bit indices of the relays that show a sampling trace's state; the
-/// trigger relay is also an input (turning it ON triggers the trace).
+/// start and trigger relays are also inputs (turning the start relay OFF
+/// aborts the trace, ON starts it again; turning the trigger relay ON
+/// triggers it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TraceRelays {
     pub ready: u32,
+    pub start: u32,
     pub executing: u32,
     pub trigger: u32,
     pub after_trigger: u32,
     pub complete: u32,
+    /// ON when a sample could not be taken.
+    pub error: u32,
 }
 
 /// Flat bit indices of the relays that choose whose local devices run

@@ -304,9 +304,14 @@ impl Cpu {
     }
 
     /// Starts (or with `None` stops) a sampling trace, sampled at END; the
-    /// system's relays show its state.
+    /// system's relays show its state. Starting it turns the start relay
+    /// ON, as a start request from a peripheral does (004 §7.12 (1) (f) 2)):
+    /// the program aborts the trace by turning it OFF.
     pub fn set_trace(&mut self, trace: Option<crate::trace::Trace>) {
         let relays = self.rt.system.trace_relays(&self.rt.mem.map);
+        if let (Some(r), true) = (relays, trace.is_some()) {
+            self.rt.mem.bits[r.start as usize] = true;
+        }
         self.trace = trace.map(|t| t.with_relays(relays));
     }
 

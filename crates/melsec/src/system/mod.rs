@@ -60,6 +60,8 @@ pub fn system_with(a_compatibility: bool) -> Arc<dyn System> {
 /// edge.
 const STATE_SM210: usize = 0;
 const STATE_SM1025: usize = 1;
+/// SM1047 after the previous END's mirrors (`a_compat::trace_start`).
+const STATE_SM1047: usize = 2;
 
 impl Melsec {
     /// Copies the A-series devices from their Q devices when the area is on.
@@ -72,7 +74,7 @@ impl Melsec {
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        2
+        3
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -120,7 +122,14 @@ impl System for Melsec {
         }
         crate::user_clock::end(cx.mem, cx.shared);
         crate::multi_cpu::end(cx.mem, cx.shared);
+        if self.a_compatibility {
+            a_compat::trace_start(cx.mem, cx.state[STATE_SM1047] != 0);
+        }
         self.a_refresh(cx.mem);
+        if self.a_compatibility {
+            let sm1047 = devices::sm_get(cx.mem, a_compat::TRACE_START as i64);
+            cx.state[STATE_SM1047] = sm1047 as u32;
+        }
     }
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
@@ -181,16 +190,19 @@ impl System for Melsec {
         map.index(DeviceKind::SD, R_BLOCK)
     }
 
-    /// SM800 ready, SM802 executing, SM803 trigger, SM804 after the trigger,
-    /// SM805 complete (004 §7.12).
+    /// SM800 ready, SM801 start, SM802 executing, SM803 trigger, SM804
+    /// after the trigger, SM805 complete, SM826 trace error (004 §7.12 (1)
+    /// (f), L4590-4615).
     fn trace_relays(&self, map: &DeviceMap) -> Option<TraceRelays> {
         let sm = |n| map.index(DeviceKind::SM, n);
         Some(TraceRelays {
             ready: sm(800)?,
+            start: sm(801)?,
             executing: sm(802)?,
             trigger: sm(803)?,
             after_trigger: sm(804)?,
             complete: sm(805)?,
+            error: sm(826)?,
         })
     }
 

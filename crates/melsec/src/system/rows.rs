@@ -276,7 +276,12 @@ pub static SM: &[Row] = &[
         M("read by CALL and the interrupt programs"),
     ),
     sm(800, 800, "trace ready", M("sampling trace")),
-    sm(801, 801, "trace start", N),
+    sm(
+        801,
+        801,
+        "trace start",
+        M("read at END: OFF aborts the sampling trace, ON starts it again; a start turns it ON"),
+    ),
     sm(
         802,
         805,
@@ -284,7 +289,12 @@ pub static SM: &[Row] = &[
         M("sampling trace"),
     ),
     sm(820, 825, "SFC step trace", SFC),
-    sm(826, 826, "trace error", N),
+    sm(
+        826,
+        826,
+        "trace error",
+        M("ON when a traced device cannot be read; OFF when the trace starts again"),
+    ),
     sm(910, 910, "RKEY registered", H("peripheral keyboard")),
 ];
 
@@ -611,7 +621,12 @@ pub static A_SM: &[Row] = &[
         "sampling trace executing (M9046 = SM802)",
         MIRROR_END,
     ),
-    a_sm(1047, 1047, "sampling trace start (M9047 = SM801)", N),
+    a_sm(
+        1047,
+        1047,
+        "sampling trace start (M9047 = SM801)",
+        M("copy of SM801 at END; a change the program made is copied to SM801 first"),
+    ),
     a_sm(
         1049,
         1049,
