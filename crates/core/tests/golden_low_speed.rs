@@ -214,3 +214,30 @@ fn low_speed_monitor_in_plc_toml() {
     .unwrap();
     assert!(e.contains("low_speed_monitor") || e.contains("10ms"), "{e}");
 }
+
+#[test]
+fn fixed_scan_programs_get_the_index_registers_back_after_them() {
+    // 004 §10.6.2 (1), the default (not "high-speed execution"): a fixed-scan
+    // program receives the interrupted program's Z0-Z15 (the figure: Z0 = 6
+    // becomes 3 in it) and the interrupted program has its values back.
+    let mut p = Plc::with_programs(
+        &[
+            (
+                "LD SM400\nMOV Z0 D0\nMOV K6 Z0\nEND\n",
+                ExecType::Scan,
+                None,
+            ),
+            (
+                "LD SM400\nMOV Z0 D10\nMOV K3 Z0\nEND\n",
+                ExecType::FixedScan,
+                Some(Duration::from_millis(10)),
+            ),
+        ],
+        softplc_core::profile::default_config(),
+    );
+    // Scan 1 (t = 10 ms): the fixed-scan program runs first, on Z0 = 0.
+    p.scan();
+    assert_eq!((p.int("D0"), p.int("D10"), p.int("Z0")), (0, 0, 6));
+    p.scan();
+    assert_eq!((p.int("D0"), p.int("D10"), p.int("Z0")), (6, 6, 6));
+}

@@ -66,8 +66,8 @@ pub struct ProgramMonitor {
     pub max: Duration,
 }
 
-/// The index registers kept apart for low-speed programs: Z0-Z15
-/// (004 §10.6.1).
+/// The index registers kept apart for low-speed programs and saved around
+/// fixed-scan programs: Z0-Z15 (004 §10.6.1, §10.6.2).
 const LOW_Z: usize = 16;
 
 /// Scheduling state of a program file in the CPU.

@@ -286,7 +286,10 @@ impl Cpu {
 
     /// Fixed-scan programs whose interval has elapsed, in parameter order. In
     /// virtual time a scan is instantaneous, so every interval that elapsed since
-    /// the last scan runs the program once, before the scan programs.
+    /// the last scan runs the program once, before the scan programs. Like an
+    /// interrupt program, each run gets the index registers Z0-Z15 of the
+    /// program it interrupts, which get their values back after it (004
+    /// §10.6.2 (1), the default: not "high-speed execution").
     pub(super) fn run_fixed_scan(&mut self, now: u64) -> bool {
         for i in 0..self.slots.len() {
             if self.slots[i].exec != ExecType::FixedScan {
@@ -295,7 +298,13 @@ impl Cpu {
             while self.slots[i].next_due_us <= now {
                 let iv = self.slots[i].interval_us.max(1);
                 self.slots[i].next_due_us += iv;
-                if !self.run_slot(i) {
+                let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+                let zn = (self.rt.mem.map.points(DeviceKind::Z) as usize).min(LOW_Z);
+                let mut z = [0u16; LOW_Z];
+                z[..zn].copy_from_slice(&self.rt.mem.words[zb..zb + zn]);
+                let ok = self.run_slot(i);
+                self.rt.mem.words[zb..zb + zn].copy_from_slice(&z[..zn]);
+                if !ok {
                     return false;
                 }
             }
