@@ -179,3 +179,16 @@ fn off_in_plc_toml() {
         "{err}"
     );
 }
+
+/// D9010 = SD1010: the step of an operation error, written at each one (004
+/// App. 2 L10743), the same step as SD14.
+#[test]
+fn sd1010_is_the_step_of_the_operation_error() {
+    let mut p = Plc::new("LD SM400\nMOV K0 D1\nLD X0\n/ D0 D1 D2\nEND\n");
+    p.scan();
+    assert_eq!(p.int("SD1010"), 0);
+    p.set("X0", "1").scan();
+    assert_eq!(p.int("SD0"), 4100);
+    assert!(p.int("SD14") > 0);
+    assert_eq!(p.int("SD1010"), p.int("SD14"));
+}

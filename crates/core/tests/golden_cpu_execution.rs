@@ -408,8 +408,16 @@ fn file_register_blocks_with_rset() {
     assert_eq!((p.int("ZR5"), p.int("ZR32773")), (11, 22));
     assert_eq!((p.int("D0"), p.int("D1")), (22, 11));
     assert_eq!((p.int("SD647"), p.int("SD648")), (505, 0));
-    // Block 16 does not exist (16 × 32768 ≥ 517120): 4101.
+    // Block 16 is beyond the registered file registers (16 × 32768 ≥
+    // 517120): RSET selects it with no error, and R there is outside the
+    // registered range, which is no error either (004 §10.7.5 (1);
+    // golden_file_register.rs).
     p.set("X0", "1").scan();
+    assert_eq!((p.state(), p.int("SD0")), (CpuState::Run, 0));
+    assert_eq!(p.int("SD648"), 16);
+    // RSET K32 is past the largest file (blocks 0-31): 4101.
+    let mut p = Plc::new("LD SM400\nRSET K32\nEND\n");
+    p.scan();
     assert_eq!((p.state(), p.int("SD0")), (CpuState::Stop, 4101));
 }
 

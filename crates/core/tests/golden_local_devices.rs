@@ -390,3 +390,46 @@ fn plc_toml_accepts_every_local_device() {
     assert_eq!(p.config.local_devices.len(), 6);
     assert!(!p.programs[0].local_devices);
 }
+
+/// The monitor with a chosen program (L4152-4157, L7562-7686): outside the
+/// scan, `with_local_devices_of` shows a program's own copy, a write there
+/// lands in that copy, and device memory gets the last program's back.
+///
+/// A: INC D0, D100 := D0. B: D0 += 10, D101 := D0. After 3 scans A's D0 is
+/// 3 and B's 30; device memory holds B's (it ran last). Write 7 into A's
+/// D0: the next scan A counts on from it (D100 = 8) and B from 30 (40).
+#[test]
+fn the_monitor_reads_and_writes_a_chosen_programs_local_devices() {
+    const B10: &str = "LD SM400\n+ K10 D0\nMOV D0 D101\nEND\n";
+    let mut p = Plc::project(
+        &toml(LOCAL_D, &[("a.il", ""), ("b.il", "")]),
+        &[("a.il", A), ("b.il", B10)],
+    );
+    p.scans(3);
+    let d0 = softplc_core::access::DeviceSpec::parse("D0").unwrap();
+    let read = |c: &mut softplc_core::engine::Cpu| match c.read_device(&d0) {
+        Ok(softplc_core::access::Value::Int(i)) => i,
+        v => panic!("{v:?}"),
+    };
+    let a = p.cpu.program_slot("A").unwrap();
+    assert_eq!(p.cpu.program_slot("b.il"), Some(1));
+    assert_eq!(p.cpu.program_slot("c"), None);
+    assert_eq!(p.cpu.with_local_devices_of(a, read), 3);
+    assert_eq!(p.cpu.with_local_devices_of(1, read), 30);
+    assert_eq!(p.int("D0"), 30);
+    assert_eq!(p.cpu.local_devices_owner(), Some(1));
+    p.cpu
+        .with_local_devices_of(a, |c| c.write_device(&d0, "7"))
+        .unwrap();
+    assert_eq!(p.int("D0"), 30);
+    p.scans(1);
+    assert_eq!((p.int("D100"), p.int("D101")), (8, 40));
+    // A global device reads the same from every program.
+    assert_eq!(
+        p.cpu
+            .with_local_devices_of(a, |c| c
+                .read_device(&softplc_core::access::DeviceSpec::parse("D101").unwrap()))
+            .unwrap(),
+        softplc_core::access::Value::Int(40)
+    );
+}

@@ -121,7 +121,7 @@ fn fixed_devices_cannot_be_changed() {
     );
     assert_eq!(
         error(&with_main("[devices]\nQ = 16\n")),
-        "2:1: unknown key \"Q\" in [devices] (expected M, L, F, V, B, T, ST, C, D, W, file_register, local)"
+        "2:1: unknown key \"Q\" in [devices] (expected M, L, F, V, B, T, ST, C, D, W, file_register, file_register_name, local)"
     );
 }
 

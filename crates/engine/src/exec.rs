@@ -220,9 +220,25 @@ fn interpret<const NATIVE: bool>(
     k: Fixed,
     locals: &mut [ProgState],
     rt: &mut Runtime,
-    mut r: Rung,
+    r: Rung,
     start: usize,
 ) -> Outcome {
+    // A fresh local, built field by field: the argument itself arrives
+    // behind a pointer (the ABI passes a struct of this size by reference),
+    // and used in place it would keep the rung registers in memory, loaded
+    // and stored by every op.
+    let Rung {
+        acc,
+        blocks,
+        mps,
+        mc_on,
+    } = r;
+    let mut r = Rung {
+        acc,
+        blocks,
+        mps,
+        mc_on,
+    };
     let ops = &k.prog.ops[..];
     let native = k.natives.get(k.cur);
     let entries: &[u32] = native.map_or(&[], |n| n.entries());
@@ -374,7 +390,9 @@ fn op<const OUT_OF_LINE: bool>(
         | Op::Iret
             if OUT_OF_LINE =>
         {
-            return rare(k, locals, rt, back_jumps, code, r, pc);
+            let (flow, after) = rare(k, locals, rt, back_jumps, code, *r, pc);
+            *r = after;
+            return flow;
         }
         Op::Ld(i) => *acc = rt.mem.bits[*i as usize],
         Op::Ldi(i) => *acc = !rt.mem.bits[*i as usize],
@@ -684,7 +702,9 @@ fn op<const OUT_OF_LINE: bool>(
     Flow::Next(next)
 }
 
-/// The rarer ops of [`op`], out of the interpreter's loop.
+/// The rarer ops of [`op`], out of the interpreter's loop. The rung
+/// registers go in and come back by value: a pointer to them would keep them
+/// in memory for every op of the loop.
 #[cold]
 #[inline(never)]
 fn rare(
@@ -693,10 +713,11 @@ fn rare(
     rt: &mut Runtime,
     back_jumps: &mut u32,
     code: &Op,
-    r: &mut Rung,
+    mut r: Rung,
     pc: usize,
-) -> Flow {
-    op::<false>(k, locals, rt, back_jumps, code, r, pc)
+) -> (Flow, Rung) {
+    let flow = op::<false>(k, locals, rt, back_jumps, code, &mut r, pc);
+    (flow, r)
 }
 
 /// A pass as native code sees it while one of its regions runs.

@@ -236,6 +236,20 @@ impl LocalDevices {
         }
     }
 
+    /// Program `slot`'s local devices into device memory for a look from
+    /// outside (a monitor with a chosen program): the owner to give device
+    /// memory back to afterwards, `None` when it holds `slot`'s already or
+    /// `slot` does not use local devices (then it sees device memory as it
+    /// is, as when it runs).
+    fn show(&mut self, slot: usize, mem: &mut DeviceMemory, rem: &mut [u32]) -> Option<usize> {
+        if self.owner == slot || !matches!(self.copies.get(slot), Some(Some(_))) {
+            return None;
+        }
+        let back = self.owner;
+        self.switch(slot, mem, rem);
+        Some(back)
+    }
+
     /// Power-on, RESET and STOP→RUN: every program's local devices and
     /// their place in device memory cleared (004 §10.13.1 (g)).
     pub(crate) fn clear(&mut self, mem: &mut DeviceMemory, rem: &mut [u32]) {
@@ -278,6 +292,15 @@ impl Runtime {
         match &mut self.local_devices {
             None => None,
             Some(l) => l.enter(slot, entry, &mut self.mem, &mut self.cpu.timer_rem),
+        }
+    }
+
+    /// Program `slot`'s local devices into device memory for a look from
+    /// outside; what [`Self::leave_locals`] needs to put them back.
+    pub(crate) fn show_locals(&mut self, slot: usize) -> Option<usize> {
+        match &mut self.local_devices {
+            None => None,
+            Some(l) => l.show(slot, &mut self.mem, &mut self.cpu.timer_rem),
         }
     }
 

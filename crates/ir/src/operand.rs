@@ -1,5 +1,7 @@
 //! Reading and writing resolved operands. Index-modified operands are bounds
-//! checked here: an effective device outside its range is `Fault::Range`, never a panic.
+//! checked here: an effective device outside its range is `Fault::Range`, never a panic,
+//! except file registers wholly outside the registered range, which the CPU
+//! reads and writes with no error (004 §10.7.5 (1)).
 
 use crate::access::r_to_zr;
 use crate::device::DeviceMemory;
@@ -16,16 +18,30 @@ impl DeviceMemory {
         };
         // R: the block the selector word holds.
         let block = match ix.window {
-            Window::Device => 0,
+            Window::Device | Window::FileRegister => 0,
             Window::SelectedBlock => crate::access::selected_block(self),
             Window::NoModule => return Err(Fault::NoModule),
             Window::Refused(f) => return Err(f),
         };
         let n = r_to_zr(block, ix.number as i64 + z);
         if n < 0 || n + span as i64 > ix.points as i64 {
-            return Err(Fault::Range);
+            return self.outside(ix, n, span);
         }
         Ok((ix.base as i64 + n) as usize)
+    }
+
+    /// An effective device past its range. File registers (R, ZR) wholly
+    /// outside the registered range are no error: they read 0 and writes
+    /// are ignored (004 §10.7.5 (1), L7180-7194). Anything else, and an
+    /// operand that starts inside the file registers and runs past their
+    /// end (one access softplc cannot split), is `Fault::Range`.
+    #[cold]
+    fn outside(&self, ix: &Indexed, n: i64, span: u32) -> Result<usize, Fault> {
+        let file_register = matches!(ix.window, Window::SelectedBlock | Window::FileRegister);
+        if file_register && n >= ix.points as i64 {
+            return self.outside_file_registers(span);
+        }
+        Err(Fault::Range)
     }
 
     fn indexed_words(&self, ix: &Indexed, words: u32) -> Result<usize, Fault> {

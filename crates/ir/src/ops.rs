@@ -68,6 +68,8 @@ pub enum Window {
     Device,
     /// `R`: the file-register block the CPU's selector word holds.
     SelectedBlock,
+    /// `ZR`: file registers numbered from ZR0.
+    FileRegister,
     /// `U<n>\\G<addr>` of a slot with no intelligent function module: every
     /// access is [`crate::fault::Fault::NoModule`] (004 ch. 8).
     NoModule,

@@ -37,6 +37,13 @@ impl Compiler<'_> {
             let last = last.trim_start_matches(kind.name());
             format!("`{text}` is out of range ({name}0-{name}{last})")
         };
+        // A constant beyond the file registers is refused here; an indexed
+        // one runs with the CPU's rule (no error, reads 0: 004 §10.7.5 (1)).
+        let msg = if matches!(kind, DeviceKind::R | DeviceKind::ZR) {
+            format!("{msg}: beyond the registered file registers ([devices] file_register); a CPU would read 0 there with no error (QCPU manual §10.7.5), so softplc refuses the device number at load")
+        } else {
+            msg
+        };
         self.err(tok, msg);
     }
 
@@ -67,6 +74,8 @@ impl Compiler<'_> {
                 self.map.points(zr),
                 Window::SelectedBlock,
             )
+        } else if dk == DeviceKind::ZR {
+            (self.map.base(dk), self.map.points(dk), Window::FileRegister)
         } else {
             (self.map.base(dk), self.map.points(dk), Window::Device)
         };

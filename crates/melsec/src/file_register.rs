@@ -1,10 +1,12 @@
 //! File registers (004 §10.7): RSET selects the block that `R0`-`R32767`
 //! address (block k covers ZR k×32768 … k×32768+32767; the block number is in
 //! SD648, which `R` operands read when they execute); ZRRDB/ZRWRB read and
-//! write them byte by byte.
+//! write them byte by byte. Reading or writing R or ZR outside the
+//! registered range is no error (004 §10.7.5 (1), L7180-7194): reads give 0,
+//! writes are ignored, and SM672 turns ON at END when the file registers are
+//! on the memory card (`system::file_register`).
 
 use super::{Args, ExecCtx, Instr};
-use softplc_ir::access::R_BLOCK;
 use softplc_ir::device::DeviceKind;
 use softplc_ir::fault::Fault;
 use softplc_ir::ops::{Num, WordArg};
@@ -20,7 +22,7 @@ pub static DEFS: &[Def] = &[
 static FILE_REGISTER_SWITCHING: Doc = Doc {
     family: "file register switching",
     cite: "PM §7.14; 004 §10.7",
-    notes: "block in SD648; a block beyond the file register size → 4101",
+    notes: "block 0-31 in SD648, one beyond the registered file registers too (its R read 0, writes ignored, no error); a negative block or one past 31 → 4101",
 };
 static BYTE_ACCESS: Doc = Doc {
     family: "file register byte access",
@@ -30,16 +32,20 @@ static BYTE_ACCESS: Doc = Doc {
 
 /// `RSET S`: S = block number.
 ///
-/// Decision: a block that does not exist in the configured file-register size
-/// (block × 32768 ≥ ZR points) or a negative number is error 4101 and the block
-/// stays as it was; the manual leaves accesses to unregistered areas undefined
-/// (004 L7180-7194), softplc refuses to select them.
+/// A block beyond the registered file registers is selected with no error:
+/// the manual has the program check SD647 before it switches (004 §10.7.5
+/// (2) (a)) and makes accesses outside the registered range no error
+/// (§10.7.5 (1)). Decision: a negative block or one past 31 (the largest
+/// file-register file, 1018K points = ZR0-1042431, Table 10.1, holds blocks
+/// 0-31) is error 4101 and the block stays as it was.
 #[derive(Debug)]
 struct Rset {
     s: WordArg,
     sd648: usize,
-    blocks: i64,
 }
+
+/// The last block of the largest file-register file (1042432 points).
+const LAST_BLOCK: i64 = 31;
 
 fn compile_rset(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     if !a.count(&[1]) {
@@ -47,18 +53,16 @@ fn compile_rset(a: &mut Args<'_, '_>) -> Option<Box<dyn Instr>> {
     }
     let s = a.word_src(0, Num::I16)?;
     let map = a.map();
-    let points = map.points(DeviceKind::ZR) as i64;
     Some(Box::new(Rset {
         s,
         sd648: (map.base(DeviceKind::SD) + crate::system::R_BLOCK) as usize,
-        blocks: (points + R_BLOCK as i64 - 1) / R_BLOCK as i64,
     }))
 }
 
 impl Instr for Rset {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         let block = cx.mem.read16(&self.s)? as i16 as i64;
-        if block < 0 || block >= self.blocks {
+        if !(0..=LAST_BLOCK).contains(&block) {
             return Err(Fault::Range);
         }
         cx.mem.words[self.sd648] = block as u16;

@@ -90,10 +90,23 @@ const fn model(
 
 /// A Universal model: program files, program memory, the default devices
 /// with its file registers and the MC model code.
-const fn qnu(model: &'static str, k_steps: u32, devices: fn() -> DeviceConfig, mc: u16) -> Profile {
+/// `ZR` is the points of its standard RAM's file registers.
+const fn qnu<const ZR: u32>(model: &'static str, k_steps: u32, mc: u16) -> Profile {
     Profile {
-        default_devices: devices,
+        default_devices: qnu_devices::<ZR>,
+        default_system: crate::system::qnu_system::<ZR>,
         ..self::model(model, FAMILY_QNU, QNU_PROGRAMS, k_steps, mc)
+    }
+}
+
+/// File-register points `profile`'s standard RAM holds (SD640 reports a
+/// file this size or smaller there): a Universal model's default file
+/// registers, a QnHCPU's or QnPHCPU's 32K (004 §10.7.1 (1)).
+pub fn standard_ram(profile: &Profile) -> u32 {
+    if profile.family == FAMILY_QNU {
+        (profile.default_devices)().points(DeviceKind::ZR)
+    } else {
+        crate::system::file_register::QNH_STANDARD_RAM
     }
 }
 
@@ -147,29 +160,29 @@ pub static PROFILES: &[Profile] = &[
     model("Q25PHCPU", FAMILY_QNPH, 124, 252, 0),
     model("Q12PRHCPU", FAMILY_QNPH, 124, 124, 0x004B),
     model("Q25PRHCPU", FAMILY_QNPH, 124, 252, 0x004C),
-    qnu("Q00UJCPU", 10, qnu_devices::<ZR_NONE>, 0x0260),
-    qnu("Q00UCPU", 10, qnu_devices::<ZR_128K>, 0x0261),
-    qnu("Q01UCPU", 15, qnu_devices::<ZR_128K>, 0x0262),
-    qnu("Q02UCPU", 20, qnu_devices::<ZR_128K>, 0x0263),
-    qnu("Q03UDCPU", 30, qnu_devices::<ZR_192K>, 0x0268),
-    qnu("Q03UDECPU", 30, qnu_devices::<ZR_192K>, 0x0268),
-    qnu("Q03UDVCPU", 30, qnu_devices::<ZR_192K>, 0x0366),
-    qnu("Q04UDHCPU", 40, qnu_devices::<ZR_256K>, 0x0269),
-    qnu("Q04UDEHCPU", 40, qnu_devices::<ZR_256K>, 0x0269),
-    qnu("Q04UDVCPU", 40, qnu_devices::<ZR_256K>, 0x0367),
-    qnu("Q06UDHCPU", 60, qnu_devices::<ZR_768K>, 0x026A),
-    qnu("Q06UDEHCPU", 60, qnu_devices::<ZR_768K>, 0x026A),
-    qnu("Q06UDVCPU", 60, qnu_devices::<ZR_768K>, 0x0368),
-    qnu("Q10UDHCPU", 100, qnu_devices::<ZR_1M>, 0x0266),
-    qnu("Q10UDEHCPU", 100, qnu_devices::<ZR_1M>, 0x0266),
-    qnu("Q13UDHCPU", 130, qnu_devices::<ZR_1M>, 0x026B),
-    qnu("Q13UDEHCPU", 130, qnu_devices::<ZR_1M>, 0x026B),
-    qnu("Q13UDVCPU", 130, qnu_devices::<ZR_1M>, 0x036A),
-    qnu("Q20UDHCPU", 200, qnu_devices::<ZR_1M25>, 0x0267),
-    qnu("Q20UDEHCPU", 200, qnu_devices::<ZR_1M25>, 0x0267),
-    qnu("Q26UDHCPU", 260, qnu_devices::<ZR_1M25>, 0x026C),
-    qnu("Q26UDEHCPU", 260, qnu_devices::<ZR_1M25>, 0x026C),
-    qnu("Q26UDVCPU", 260, qnu_devices::<ZR_1M25>, 0x036C),
+    qnu::<ZR_NONE>("Q00UJCPU", 10, 0x0260),
+    qnu::<ZR_128K>("Q00UCPU", 10, 0x0261),
+    qnu::<ZR_128K>("Q01UCPU", 15, 0x0262),
+    qnu::<ZR_128K>("Q02UCPU", 20, 0x0263),
+    qnu::<ZR_192K>("Q03UDCPU", 30, 0x0268),
+    qnu::<ZR_192K>("Q03UDECPU", 30, 0x0268),
+    qnu::<ZR_192K>("Q03UDVCPU", 30, 0x0366),
+    qnu::<ZR_256K>("Q04UDHCPU", 40, 0x0269),
+    qnu::<ZR_256K>("Q04UDEHCPU", 40, 0x0269),
+    qnu::<ZR_256K>("Q04UDVCPU", 40, 0x0367),
+    qnu::<ZR_768K>("Q06UDHCPU", 60, 0x026A),
+    qnu::<ZR_768K>("Q06UDEHCPU", 60, 0x026A),
+    qnu::<ZR_768K>("Q06UDVCPU", 60, 0x0368),
+    qnu::<ZR_1M>("Q10UDHCPU", 100, 0x0266),
+    qnu::<ZR_1M>("Q10UDEHCPU", 100, 0x0266),
+    qnu::<ZR_1M>("Q13UDHCPU", 130, 0x026B),
+    qnu::<ZR_1M>("Q13UDEHCPU", 130, 0x026B),
+    qnu::<ZR_1M>("Q13UDVCPU", 130, 0x036A),
+    qnu::<ZR_1M25>("Q20UDHCPU", 200, 0x0267),
+    qnu::<ZR_1M25>("Q20UDEHCPU", 200, 0x0267),
+    qnu::<ZR_1M25>("Q26UDHCPU", 260, 0x026C),
+    qnu::<ZR_1M25>("Q26UDEHCPU", 260, 0x026C),
+    qnu::<ZR_1M25>("Q26UDVCPU", 260, 0x036C),
 ];
 
 /// The profile a project gets without `[cpu] model` (and `run` without

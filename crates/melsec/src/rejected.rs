@@ -90,7 +90,7 @@ pub static DEFS: &[Def] = &[
     Def::rejected("FREAD", CARD),
     Def::rejected(
         "QDRSET",
-        "softplc has a single file-register file; select blocks with RSET",
+        "QDRSET selects the file-register file the programs use (QCPU manual §10.7.3 (1) (a)); softplc has one file-register file per project ([devices] file_register, file_register_name): select blocks with RSET",
     ),
     Def::rejected("XCALL", XCALL),
     Def::rejected(

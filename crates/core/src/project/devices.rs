@@ -45,6 +45,8 @@ const FIXED: &[(&str, DeviceKind)] = {
 
 /// The file-register key: points of ZR (R is the first 32K of it).
 pub(crate) const FILE_REGISTER: &str = "file_register";
+/// The file-register file's name (SD641-SD646).
+pub(crate) const FILE_REGISTER_NAME: &str = "file_register_name";
 /// The local-device ranges (read by `local.rs` once the points are known).
 pub(crate) const LOCAL: &str = "local";
 
@@ -63,18 +65,34 @@ fn key_list() -> Vec<&'static str> {
     CHANGEABLE
         .iter()
         .map(|(k, _)| *k)
-        .chain([FILE_REGISTER, LOCAL])
+        .chain([FILE_REGISTER, FILE_REGISTER_NAME, LOCAL])
         .collect()
 }
 
-/// Reads `[devices]` into `cfg`; `table_at` is the span of the table, where
-/// errors about the totals are reported.
-pub(crate) fn devices(cx: &mut Ctx, t: &[Entry], table_at: Range<usize>, cfg: &mut DeviceConfig) {
+/// Reads `[devices]` into `cfg` and the file-register file's name into
+/// `file_register_name`; `table_at` is the span of the table, where errors
+/// about the totals are reported.
+pub(crate) fn devices(
+    cx: &mut Ctx,
+    t: &[Entry],
+    table_at: Range<usize>,
+    cfg: &mut DeviceConfig,
+    file_register_name: &mut [u8; 8],
+) {
     let mut bad = false;
     let mut seen: Vec<String> = Vec::new();
     for e in t {
         let up = e.key.to_ascii_uppercase();
         if e.key == LOCAL {
+            continue;
+        }
+        if e.key == FILE_REGISTER_NAME {
+            if let Some(text) = cx.string(e, "a file name such as \"MAIN\"") {
+                match softplc_melsec::system::file_register::file_name(text) {
+                    Ok(name) => *file_register_name = name,
+                    Err(msg) => cx.error(&e.item.span, msg),
+                }
+            }
             continue;
         }
         if e.key == FILE_REGISTER {

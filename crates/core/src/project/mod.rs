@@ -210,13 +210,16 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
 
     let mut common_pointer = None;
     let mut exec = None;
+    let mut melsec = softplc_melsec::system::Params::default();
     if let Some(t) = table(&mut cx, "cpu") {
-        common_pointer = settings::cpu(&mut cx, t, &mut config);
+        common_pointer = settings::cpu(&mut cx, t, &mut config, &mut melsec);
         exec = settings::exec(&mut cx, t);
     }
     let devices_at = section("devices").map(|e| e.item.span.clone());
     if let Some(t) = table(&mut cx, "devices") {
-        devices::devices(&mut cx, t, devices_at.unwrap_or(0..0), &mut config.devices);
+        let at = devices_at.unwrap_or(0..0);
+        let name = &mut melsec.file_register.name;
+        devices::devices(&mut cx, t, at, &mut config.devices, name);
     }
     let empty_points = match table(&mut cx, "io") {
         Some(t) => rack::io(&mut cx, t),
@@ -239,6 +242,7 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         .map(|s| (s.unit(), s.buffer_words))
         .collect();
     config.devices.set_units(&units);
+    melsec.bases = softplc_melsec::system::bases::Bases::of(&slots);
     config.rack = std::sync::Arc::new(slots);
     if let Some(t) = table(&mut cx, "timers") {
         settings::timers(&mut cx, t, &mut config);
@@ -250,6 +254,20 @@ pub fn load_str(name: &str, src: &str, dir: &Path) -> Result<Project, Diagnostic
         settings::interrupts(&mut cx, t, &mut config);
     }
     let aplc_model = crate::profile::is_aplc(config.profile);
+    if !aplc_model {
+        melsec.file_register.standard_ram = softplc_melsec::profiles::standard_ram(config.profile);
+        config.system = softplc_melsec::system::system_from(melsec);
+    } else if let Some(Value::Table(t)) = section("devices").map(|e| &e.item.value) {
+        if let Some(e) = t.iter().find(|e| e.key == devices::FILE_REGISTER_NAME) {
+            cx.error(
+                &e.key_span,
+                format!(
+                    "file_register_name is a MELSEC-Q parameter (SD641-SD646); the {} has none",
+                    config.profile.model
+                ),
+            );
+        }
+    }
     let ports = ports::ports(&mut cx, top, aplc_model, dir);
     if aplc_model {
         aplc::configure(&mut cx, top, &mut config, &ports);

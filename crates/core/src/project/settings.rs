@@ -101,7 +101,12 @@ pub fn check_capacity(
 
 /// `[cpu] model`, `a_compatibility` and `common_pointer`; returns the first
 /// common pointer.
-pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u32> {
+pub(crate) fn cpu(
+    cx: &mut Ctx,
+    t: &[Entry],
+    config: &mut CpuConfig,
+    melsec: &mut softplc_melsec::system::Params,
+) -> Option<u32> {
     cx.unknown_keys(
         t,
         Some("[cpu]"),
@@ -111,7 +116,7 @@ pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u
         model(cx, e, config);
     }
     if let Some(e) = t.iter().find(|e| e.key == "a_compatibility") {
-        a_compatibility(cx, e, config);
+        a_compatibility(cx, e, config, melsec);
     }
     let e = t.iter().find(|e| e.key == "common_pointer")?;
     let text = cx.string(e, "a pointer such as \"P2048\"")?;
@@ -131,7 +136,12 @@ pub(crate) fn cpu(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) -> Option<u
 
 /// `[cpu] a_compatibility`: the MELSEC-Q parameter "A-series CPU
 /// compatibility" (SM1000/SD1000 maintained; ON by default, 004 L5831).
-fn a_compatibility(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
+fn a_compatibility(
+    cx: &mut Ctx,
+    e: &Entry,
+    config: &CpuConfig,
+    melsec: &mut softplc_melsec::system::Params,
+) {
     let Some(on) = cx.bool(e, "true or false") else {
         return;
     };
@@ -145,7 +155,7 @@ fn a_compatibility(cx: &mut Ctx, e: &Entry, config: &mut CpuConfig) {
         );
         return;
     }
-    config.system = softplc_melsec::system::system_with(on);
+    melsec.a_compatibility = on;
 }
 
 /// `[cpu] exec`: "auto", "jit" or "interp" (`crate::tier`).

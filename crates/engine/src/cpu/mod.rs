@@ -394,6 +394,38 @@ impl Cpu {
         self.rt.local_devices.as_ref().and_then(|l| l.owner())
     }
 
+    /// Runs `f` on this CPU with device memory holding program file
+    /// `slot`'s local devices, as that program sees them when it runs: the
+    /// monitor's "chosen program" (004 §10.13.1). What `f` writes to a
+    /// local device stays in that program's copy; the devices of the
+    /// program whose local devices were in memory come back afterwards. A
+    /// program without local devices (or a CPU without them) sees device
+    /// memory as it is. Between scans only: at END, in STOP or PAUSE.
+    pub fn with_local_devices_of<R>(&mut self, slot: usize, f: impl FnOnce(&mut Cpu) -> R) -> R {
+        let back = self.rt.show_locals(slot);
+        let r = f(self);
+        self.rt.leave_locals(back);
+        r
+    }
+
+    /// The program file named `name`: its file name as given in the
+    /// project, or that name's last component with or without its
+    /// extension, in any case.
+    pub fn program_slot(&self, name: &str) -> Option<usize> {
+        let name = name.to_ascii_lowercase();
+        self.programs.iter().position(|p| {
+            let path = std::path::Path::new(&p.file);
+            let full = p.file.to_ascii_lowercase();
+            let file = path
+                .file_name()
+                .map(|f| f.to_string_lossy().to_ascii_lowercase());
+            let stem = path
+                .file_stem()
+                .map(|f| f.to_string_lossy().to_ascii_lowercase());
+            full == name || file.as_deref() == Some(&name) || stem.as_deref() == Some(&name)
+        })
+    }
+
     /// The watchdog time the scan checks in wall-clock time (see
     /// [`wall_watchdog`]).
     pub(crate) fn wall_watchdog(&self, t: std::time::Duration) -> std::time::Duration {

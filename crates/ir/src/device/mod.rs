@@ -17,6 +17,13 @@ pub use kind::{DeviceKind, Numbering};
 pub use table::{DeviceDef, DeviceTable, MELSEC_Q};
 
 use crate::fault::Fault;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Words past the last device where a program's access to file registers
+/// outside the registered range goes (004 §10.7.5 (1)): reads give 0,
+/// writes are dropped when END clears it. Enough for any block a 16-bit
+/// count names.
+pub const FILE_REGISTER_VOID: u32 = 65536;
 
 /// Number of points per device kind: the "device setting" of the PLC parameters.
 ///
@@ -292,6 +299,8 @@ pub struct DeviceMap {
     r_block: u32,
     /// The modules' buffer memories and CPU shared memories in `G`.
     units: Box<[UnitWindow]>,
+    /// Flat index of the first of the [`FILE_REGISTER_VOID`] words.
+    void: u32,
     /// This CPU's number in a multi-CPU system, 0 for a single CPU.
     own_cpu: u32,
     /// The first address of the user area of its own shared memory.
@@ -320,13 +329,15 @@ impl DeviceMap {
         // R is a window onto ZR: its base is block 0. Program operands on R are
         // `Indexed` and add the selected block (`r_block`) when they run.
         base[DeviceKind::R as usize] = base[DeviceKind::ZR as usize];
+        let void = nw;
         DeviceMap {
             base,
             points,
             bit_len: nb,
-            word_len: nw,
+            word_len: nw + FILE_REGISTER_VOID,
             r_block: u32::MAX,
             units: cfg.units.clone().into_boxed_slice(),
+            void,
             own_cpu: cfg.multi_cpu.as_ref().map_or(0, |m| m.own),
             user_area: REFRESH_AREA + cfg.multi_cpu.as_ref().map_or(0, |m| m.refresh_words),
         }
@@ -434,6 +445,20 @@ pub struct DeviceMemory {
     pub map: DeviceMap,
     pub bits: Box<[bool]>,
     pub words: Box<[u16]>,
+    /// A program reached file registers outside the registered range since
+    /// the last [`DeviceMemory::take_file_register_miss`].
+    file_register_miss: Miss,
+}
+
+/// A flag the read path sets through `&self` (only when an access misses,
+/// so in-range accesses pay nothing).
+#[derive(Debug, Default)]
+struct Miss(AtomicBool);
+
+impl Clone for Miss {
+    fn clone(&self) -> Self {
+        Miss(AtomicBool::new(self.0.load(Ordering::Relaxed)))
+    }
 }
 
 /// A device access outside the configured points (MELSEC error 4101 at run time).
@@ -452,7 +477,34 @@ impl DeviceMemory {
             bits: vec![false; map.bit_len() as usize].into_boxed_slice(),
             words: vec![0; map.word_len() as usize].into_boxed_slice(),
             map,
+            file_register_miss: Miss::default(),
         }
+    }
+
+    /// Where `words` words of file registers wholly outside the registered
+    /// range are read and written: no error, reads 0, writes ignored (004
+    /// §10.7.5 (1), L7180-7194; the manual's "undefined" standard RAM reads
+    /// as 0 too). Records the miss for the system (MELSEC's SM672). A span
+    /// longer than the void is [`Fault::Range`].
+    #[cold]
+    pub fn outside_file_registers(&self, words: u32) -> Result<usize, Fault> {
+        if words > FILE_REGISTER_VOID {
+            return Err(Fault::Range);
+        }
+        self.file_register_miss.0.store(true, Ordering::Relaxed);
+        Ok(self.map.void as usize)
+    }
+
+    /// Whether a program reached file registers outside the registered range
+    /// since the last call (END processing asks); clears the record and the
+    /// void, so what was written there is dropped.
+    pub fn take_file_register_miss(&mut self) -> bool {
+        let missed = self.file_register_miss.0.swap(false, Ordering::Relaxed);
+        if missed {
+            let void = self.map.void as usize;
+            self.words[void..void + FILE_REGISTER_VOID as usize].fill(0);
+        }
+        missed
     }
 
     fn locate(&self, kind: DeviceKind, n: i64) -> Result<usize, OutOfRange> {

@@ -13,9 +13,11 @@
 //! changes. SM1034 (the 1-minute clock, L9812-9815) has no Q equivalent
 //! and is computed here; the clock data SD1025-SD1028 with its requests
 //! SM1025/SM1026/SM1028 is the clock registers' A-series set ([`super::clock::A_SERIES`]).
+//! SD1010 (D9010, L10743), the step of the latest operation error, is
+//! written when the error is reported ([`operation_error`]).
 
 use softplc_ir::device::DeviceMemory;
-use softplc_ir::system::ScanStart;
+use softplc_ir::system::{ErrorReport, ScanStart, Severity};
 
 use super::devices::{bcd, sd, sd_get, sm, sm_get};
 
@@ -183,4 +185,19 @@ pub(crate) fn refresh(mem: &mut DeviceMemory) {
 /// SD1015, the only A-series device SD203 feeds.
 pub(crate) fn status(mem: &mut DeviceMemory) {
     copy(mem, &[OPERATING_STATUS]);
+}
+
+/// SD1010 (D9010): the step of an operation error, in binary, updated at
+/// each one (004 App. 2 L10743); the low 16 bits of a larger step.
+pub const OPERATION_ERROR_STEP: u32 = 1010;
+
+/// After an error is reported: an operation error located at a step
+/// writes its step into SD1010.
+pub(crate) fn operation_error(mem: &mut DeviceMemory, r: &ErrorReport<'_>) {
+    if super::codes::severity(r.code) != Severity::Operation {
+        return;
+    }
+    if let Some(step) = r.step {
+        sd(mem, OPERATION_ERROR_STEP as i64, step as u16);
+    }
 }

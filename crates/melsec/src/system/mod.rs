@@ -5,14 +5,18 @@
 //! [`errors`] SD0-SD26 and SM50; [`clock`] SD210-SD213; [`low_speed`] the
 //! low-speed registers; [`interrupts`] the interrupt priorities and error
 //! interrupts; [`a_compat`] the A-series compatibility area SM1000/SD1000;
+//! [`file_register`] SM640, SM672, SD640-SD647; [`bases`] SD240-SD244,
+//! SM250/SD250;
 //! [`rows`] every SM/SD row of the manual and what softplc does with it; the
 //! user timing clocks of DUTY are `user_clock`.
 
 pub mod a_compat;
+pub mod bases;
 mod clock;
 pub mod codes;
 mod devices;
 mod errors;
+pub mod file_register;
 pub mod interrupts;
 mod low_speed;
 pub mod rows;
@@ -31,17 +35,29 @@ use softplc_ir::system::{
 pub const R_BLOCK: u32 = 648;
 
 /// MELSEC-Q's system devices and error numbering.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Melsec {
-    /// The A-series compatibility area SM1000/SD1000 is maintained (the
-    /// parameter "A-series CPU compatibility", ON by default: 004 L5831).
-    a_compatibility: bool,
+    params: Params,
 }
 
-impl Default for Melsec {
+/// The project's parameters the system devices report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Params {
+    /// The A-series compatibility area SM1000/SD1000 is maintained (the
+    /// parameter "A-series CPU compatibility", ON by default: 004 L5831).
+    pub a_compatibility: bool,
+    /// The file-register file (SD640-SD646).
+    pub file_register: file_register::FileRegisterFile,
+    /// The base units the rack fills (SD240-SD244, SD250).
+    pub bases: bases::Bases,
+}
+
+impl Default for Params {
     fn default() -> Self {
-        Melsec {
+        Params {
             a_compatibility: true,
+            file_register: Default::default(),
+            bases: Default::default(),
         }
     }
 }
@@ -51,22 +67,40 @@ pub fn system() -> Arc<dyn System> {
     Arc::new(Melsec::default())
 }
 
+/// The MELSEC-Q system of a Universal model whose standard RAM holds
+/// `ZR` file-register points (default parameters).
+pub fn qnu_system<const ZR: u32>() -> Arc<dyn System> {
+    let mut params = Params::default();
+    params.file_register.standard_ram = ZR;
+    system_from(params)
+}
+
 /// The MELSEC-Q system with the A-series compatibility area on or off.
 pub fn system_with(a_compatibility: bool) -> Arc<dyn System> {
-    Arc::new(Melsec { a_compatibility })
+    system_from(Params {
+        a_compatibility,
+        ..Params::default()
+    })
+}
+
+/// The MELSEC-Q system with a project's parameters.
+pub fn system_from(params: Params) -> Arc<dyn System> {
+    Arc::new(Melsec { params })
 }
 
 /// [`EndCtx::state`]: SM210 (SM1025) at the previous END, for its OFF→ON
 /// edge.
 const STATE_SM210: usize = 0;
 const STATE_SM1025: usize = 1;
+/// SM250 at the previous END, for its OFF→ON edge.
+const STATE_SM250: usize = 2;
 /// SM1047 after the previous END's mirrors (`a_compat::trace_start`).
-const STATE_SM1047: usize = 2;
+const STATE_SM1047: usize = 3;
 
 impl Melsec {
     /// Copies the A-series devices from their Q devices when the area is on.
     fn a_refresh(&self, mem: &mut DeviceMemory) {
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             a_compat::refresh(mem);
         }
     }
@@ -74,7 +108,7 @@ impl Melsec {
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        3
+        4
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -97,36 +131,41 @@ impl System for Melsec {
 
     fn power_on(&self, mem: &mut DeviceMemory) {
         scan::power_on(mem);
+        self.params.file_register.power_on(mem);
+        self.params.bases.power_on(mem);
         self.a_refresh(mem);
     }
 
     fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
         scan::scan_start(mem, start);
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             a_compat::scan_start(mem, start);
         }
     }
 
     /// The scan-time registers, the clock registers, then the user timing
     /// clocks (counted at every END, the initial scan's too) and the
-    /// completion devices of S.TO.
+    /// completion devices of S.TO; SM672 and SD250.
     fn end(&self, cx: &mut EndCtx<'_>, end: End) {
         scan::end(cx.mem, end);
+        self.params.file_register.end(cx.mem);
+        let sm250 = self.params.bases.end(cx.mem, cx.state[STATE_SM250] != 0);
+        cx.state[STATE_SM250] = sm250 as u32;
         let before = cx.state[STATE_SM210] != 0;
         let sm210 = clock::registers(cx.mem, clock::Q, cx.clock, cx.now_us, before);
         cx.state[STATE_SM210] = sm210 as u32;
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             let before = cx.state[STATE_SM1025] != 0;
             let set = clock::registers(cx.mem, clock::A_SERIES, cx.clock, cx.now_us, before);
             cx.state[STATE_SM1025] = set as u32;
         }
         crate::user_clock::end(cx.mem, cx.shared);
         crate::multi_cpu::end(cx.mem, cx.shared);
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             a_compat::trace_start(cx.mem, cx.state[STATE_SM1047] != 0);
         }
         self.a_refresh(cx.mem);
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             let sm1047 = devices::sm_get(cx.mem, a_compat::TRACE_START as i64);
             cx.state[STATE_SM1047] = sm1047 as u32;
         }
@@ -134,7 +173,7 @@ impl System for Melsec {
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
         scan::status(mem, status);
-        if self.a_compatibility {
+        if self.params.a_compatibility {
             a_compat::status(mem);
         }
     }
@@ -161,6 +200,9 @@ impl System for Melsec {
 
     fn report_error(&self, mem: &mut DeviceMemory, report: &ErrorReport<'_>) {
         errors::report(mem, report);
+        if self.params.a_compatibility {
+            a_compat::operation_error(mem, report);
+        }
         self.a_refresh(mem);
     }
 

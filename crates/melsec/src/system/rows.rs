@@ -22,6 +22,9 @@ pub enum Status {
     /// (the step relay S in a sequence program is a load error); plain
     /// memory.
     NoSfc,
+    /// Plain memory by design; the text says why (a feature softplc does
+    /// not offer, a word the program owns).
+    Plain(&'static str),
 }
 
 /// One row (or a range of rows sharing a name).
@@ -35,7 +38,9 @@ pub struct Row {
     pub status: Status,
 }
 
-use Status::{Maintained as M, NoHardware as H, NoSfc as SFC, NotImplemented as N, NotOnQ as X};
+use Status::{
+    Maintained as M, NoHardware as H, NoSfc as SFC, NotImplemented as N, NotOnQ as X, Plain as P,
+};
 
 const fn sm(first: u32, last: u32, name: &'static str, status: Status) -> Row {
     Row {
@@ -161,7 +166,12 @@ pub static SM: &[Row] = &[
         "CPU 1-4 stop-error flags (multi-CPU)",
         M("by the multi-CPU system at every END of a CPU with a new stop error, and at power-on and RESET"),
     ),
-    sm(250, 250, "read maximum loaded I/O", N),
+    sm(
+        250,
+        250,
+        "read maximum loaded I/O",
+        M("OFF→ON at END loads SD250"),
+    ),
     sm(254, 254, "all-station refresh command", H("MELSECNET/10")),
     sm(
         255,
@@ -177,7 +187,12 @@ pub static SM: &[Row] = &[
         "low-speed program execution mode",
         M("read: OFF asynchronous, ON synchronous"),
     ),
-    sm(390, 390, "access execution flag", N),
+    sm(
+        390,
+        390,
+        "access execution flag",
+        P("it reports the intelligent function modules' dedicated instructions, which are rejected at load; FROM/TO and U\\G complete within the instruction"),
+    ),
     sm(400, 400, "always ON", M("set at scan start")),
     sm(401, 401, "always OFF", M("set at scan start")),
     sm(
@@ -234,10 +249,30 @@ pub static SM: &[Row] = &[
         "memory card remove/insert enable",
         H("memory card"),
     ),
-    sm(640, 640, "file register in use", N),
-    sm(650, 650, "comment in use", N),
-    sm(660, 660, "boot operation", N),
-    sm(672, 672, "memory card A file register out of range", N),
+    sm(
+        640,
+        640,
+        "file register in use",
+        M("ON at power-on when the project has file registers"),
+    ),
+    sm(
+        650,
+        650,
+        "comment in use",
+        P("no comment files: COMRD is rejected at load"),
+    ),
+    sm(
+        660,
+        660,
+        "boot operation",
+        P("no boot from a card: softplc runs the project's files"),
+    ),
+    sm(
+        672,
+        672,
+        "memory card A file register out of range",
+        M("ON at END after a program reached file registers on the card outside the registered range; the program resets it"),
+    ),
     sm(700, 700, "carry flag", M("the instructions that carry")),
     sm(
         701,
@@ -252,10 +287,20 @@ pub static SM: &[Row] = &[
         M("read by SER and SORT"),
     ),
     sm(704, 704, "block comparison all match", M("BKCMP")),
-    sm(707, 707, "real-number processing: speed / accuracy", N),
+    sm(
+        707,
+        707,
+        "real-number processing: speed / accuracy",
+        P("read by nothing: reals are computed in double precision, the accuracy-oriented processing, whatever it holds"),
+    ),
     sm(710, 710, "CHK instruction priority", N),
     sm(715, 715, "EI flag", M("ON while interrupts are enabled")),
-    sm(720, 721, "comment read complete, file being accessed", N),
+    sm(
+        720,
+        721,
+        "comment read complete, file being accessed",
+        P("COMRD, PRC, LEDC, FWRITE and FREAD are rejected at load"),
+    ),
     sm(
         736,
         738,
@@ -268,7 +313,12 @@ pub static SM: &[Row] = &[
         "PID bumpless processing",
         M("read by the PID instructions"),
     ),
-    sm(775, 775, "link refresh at COM", N),
+    sm(
+        775,
+        775,
+        "link refresh at COM",
+        P("read by nothing: COM refreshes the inputs, and softplc has no network link to refresh"),
+    ),
     sm(
         776,
         777,
@@ -367,8 +417,18 @@ pub static SD: &[Row] = &[
         M("read with SM213, written with SM210"),
     ),
     sd(220, 227, "LED display data", H("CPU front display")),
-    sd(240, 244, "base mode, extension bases, slots", N),
-    sd(250, 250, "maximum loaded I/O", N),
+    sd(
+        240,
+        244,
+        "base mode, extension bases, A/Q bases, slots",
+        M("at power-on from the rack: automatic mode, 8-slot Q bases (slots 0-7 the main base, 8-15 extension base 1, …)"),
+    ),
+    sd(
+        250,
+        250,
+        "maximum loaded I/O",
+        M("when SM250 turns ON: the modules' last I/O number, its top two hex digits + 1"),
+    ),
     sd(
         251,
         251,
@@ -465,17 +525,47 @@ pub static SD: &[Row] = &[
         640,
         640,
         "file register drive",
-        M("1 (memory card) at power-on"),
+        M("at power-on: 3 (standard RAM) when the file fits it, else 1 (memory card A); 0 without file registers"),
     ),
-    sd(641, 646, "file register file name", N),
+    sd(
+        641,
+        646,
+        "file register file name",
+        M("at power-on: [devices] file_register_name (default MAIN), extension QDR"),
+    ),
     sd(647, 647, "file register capacity", M("written at power-on")),
     sd(648, 648, "file register block number", M("RSET")),
-    sd(650, 656, "comment drive and file name", N),
-    sd(660, 666, "boot file drive and name", N),
-    sd(705, 706, "mask pattern", N),
+    sd(
+        650,
+        656,
+        "comment drive and file name",
+        P("no comment files: COMRD is rejected at load"),
+    ),
+    sd(
+        660,
+        666,
+        "boot file drive and name",
+        P("no boot from a card: softplc runs the project's files"),
+    ),
+    sd(
+        705,
+        706,
+        "mask pattern",
+        P("read by nothing: its enable relay SM705 is not among the QnH relays, and block instructions run unmasked"),
+    ),
     sd(715, 717, "IMASK pattern I0-I47", M("IMASK, EI/DI")),
-    sd(718, 719, "accumulator", N),
-    sd(720, 720, "PLOAD program number", N),
+    sd(
+        718,
+        719,
+        "accumulator",
+        P("work registers the program owns, in place of the A-series accumulator"),
+    ),
+    sd(
+        720,
+        720,
+        "PLOAD program number",
+        P("PLOAD is rejected at load"),
+    ),
     sd(736, 736, "PKEY input", H("peripheral keyboard")),
     sd(738, 769, "MSG text", H("peripheral display")),
     sd(
@@ -533,7 +623,12 @@ pub static A_SM: &[Row] = &[
     ),
     a_sm(1011, 1011, "operation error (M9011 = SM56)", MIRROR_END),
     a_sm(1012, 1012, "carry (M9012 = SM700)", MIRROR_END),
-    a_sm(1016, 1017, "data memory clear flags (M9016, M9017)", N),
+    a_sm(
+        1016,
+        1017,
+        "data memory clear flags (M9016, M9017)",
+        P("no Q device sets them: a Q CPU takes the clear mode with the remote RUN command, as softplc does"),
+    ),
     a_sm(
         1020,
         1024,
@@ -568,7 +663,7 @@ pub static A_SM: &[Row] = &[
         1029,
         1029,
         "batch processing of data communication requests (M9029)",
-        N,
+        P("read by nothing: softplc serves every queued request at END, within a time budget"),
     ),
     a_sm(
         1030,
@@ -614,7 +709,12 @@ pub static A_SM: &[Row] = &[
         "sampling trace trigger (M9044 = SM803)",
         MIRROR_END,
     ),
-    a_sm(1045, 1045, "watchdog timer reset (M9045)", N),
+    a_sm(
+        1045,
+        1045,
+        "watchdog timer reset (M9045)",
+        P("read by nothing: ZCOM is rejected at load; WDT resets the watchdog"),
+    ),
     a_sm(
         1046,
         1046,
@@ -637,7 +737,7 @@ pub static A_SM: &[Row] = &[
         1051,
         1052,
         "CHG not executable, SEG switch (M9051, M9052)",
-        N,
+        P("no Q device sets them: a Q CPU has no CHG, and SEG is always the 7-segment decode"),
     ),
     a_sm(
         1055,
@@ -649,7 +749,7 @@ pub static A_SM: &[Row] = &[
         1056,
         1061,
         "P, I set requests and completions (M9056-M9061)",
-        N,
+        P("read by nothing: pointer settings are not changed online"),
     ),
     a_sm(
         1070,
@@ -657,8 +757,18 @@ pub static A_SM: &[Row] = &[
         "A8UPU/A8PUJ search time (M9070)",
         H("A8UPU/A8PUJ"),
     ),
-    a_sm(1084, 1084, "error check inhibit (M9084)", N),
-    a_sm(1091, 1091, "instruction error flag (M9091)", N),
+    a_sm(
+        1084,
+        1084,
+        "error check inhibit (M9084)",
+        P("read by nothing: the checks it inhibits (fuses, I/O verify, battery) are of hardware softplc does not have"),
+    ),
+    a_sm(
+        1091,
+        1091,
+        "instruction error flag (M9091)",
+        P("no Q device sets it: softplc's errors have no detailed code (SD1091)"),
+    ),
     a_sm(
         1100,
         1104,
@@ -717,7 +827,12 @@ pub static A_SD: &[Row] = &[
         "first annunciator number (D9009 = SD62)",
         MIRROR_END,
     ),
-    sd(1010, 1010, "operation error step (D9010)", N),
+    sd(
+        1010,
+        1010,
+        "operation error step (D9010)",
+        M("the step of each operation error, when it is reported"),
+    ),
     sd(1011, 1011, "operation error step, latched (D9011)", X),
     sd(1014, 1014, "I/O control mode (D9014)", X),
     sd(
@@ -773,7 +888,12 @@ pub static A_SD: &[Row] = &[
         "status latch step (D9055 = SD812, status latch: QnA only)",
         X,
     ),
-    sd(1060, 1060, "software version (D9060 = SD392)", N),
+    sd(
+        1060,
+        1060,
+        "software version (D9060 = SD392)",
+        P("no Q device sets it: softplc has no system software version"),
+    ),
     sd(
         1072,
         1072,
@@ -790,7 +910,7 @@ pub static A_SD: &[Row] = &[
         1090,
         1091,
         "microcomputer subroutine address, detailed error code (D9090, D9091)",
-        N,
+        P("no Q device sets them: a Q CPU has no microcomputer programs, and softplc's errors no detailed code"),
     ),
     sd(
         1100,
@@ -840,6 +960,7 @@ pub fn table(rows: &[Row]) -> String {
             Status::NotImplemented => "not implemented: plain memory".to_string(),
             Status::NotOnQ => "not usable on a Q CPU (manual): plain memory".to_string(),
             Status::NoSfc => "SFC programs are not accepted: plain memory".to_string(),
+            Status::Plain(why) => format!("plain memory: {why}"),
         };
         out += &format!("| {dev} | {} | {status} |\n", r.name);
     }

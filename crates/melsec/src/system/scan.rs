@@ -9,15 +9,12 @@ use super::devices::{sd, sd_get, sm, sm_get, time_pair};
 use super::R_BLOCK;
 
 /// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default
-/// 30; the file registers' SD640 drive (1 = memory card), SD647 capacity in
-/// K words, SD648 block number 0; SD290-SD304 the device points of X Y M L B
-/// F SB V S T ST C D W SW.
+/// 30; the file registers' SD648 block number 0 (the rest of them:
+/// `file_register`); SD290-SD304 the device points of X Y M L B F SB V S T
+/// ST C D W SW.
 pub(crate) fn power_on(mem: &mut DeviceMemory) {
     sd(mem, 414, 30);
     sd(mem, 415, 30);
-    let zr = mem.map.points(DeviceKind::ZR);
-    sd(mem, 640, 1);
-    sd(mem, 647, (zr / 1024).min(u16::MAX as u32) as u16);
     sd(mem, R_BLOCK as i64, 0);
     use DeviceKind::*;
     for (i, k) in [X, Y, M, L, B, F, SB, V, S, TS, STS, CS, D, W, SW]
