@@ -224,7 +224,10 @@ impl System for Aplc {
             // The APLC has no rack: its programs cannot name a module.
             Fault::NoModule { .. } => 65,
             Fault::Watchdog => 61,
-            Fault::ScanOverrun | Fault::Annunciator | Fault::PointerTwice => return None,
+            Fault::ScanOverrun
+            | Fault::LowSpeedOverrun
+            | Fault::Annunciator
+            | Fault::PointerTwice => return None,
             // The APLC is never part of a multi-CPU system (a project refuses it).
             Fault::OwnSharedMemory { .. }
             | Fault::OtherSharedMemory { .. }

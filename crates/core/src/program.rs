@@ -122,6 +122,11 @@ pub fn load_single_or(
     let program = softplc_lang::compile(&src, &devices, &dialect, None)?;
     crate::project::check_capacity(profile, &[(program.file.as_str(), program.steps)])
         .map_err(|d| Diagnostics(vec![d]))?;
+    let mut broken = Vec::new();
+    crate::project::step_relays(&program, &mut broken);
+    if !broken.is_empty() {
+        return Err(Diagnostics(broken));
+    }
     Ok((profile, program))
 }
 

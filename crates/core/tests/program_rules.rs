@@ -128,3 +128,44 @@ fn local_pointers_must_end_before_the_first_common_pointer() {
     let fast = "LD X0\nCJ P46\nP46\nEND\n";
     load_files(&toml, &[("main.il", main), ("fast.il", fast)]).unwrap();
 }
+
+const STEP_RELAY_RULE: &str = "the step relay S is a device of SFC programs only; a sequence \
+     program that uses it stops the CPU with an SFC error (QCPU manual §10.2.9), and softplc \
+     loads no SFC program: use M or L instead";
+
+#[test]
+fn the_step_relay_s_in_a_sequence_program_is_refused() {
+    // 004 §10.2.9 (L6380-6382): S used as an internal relay in a sequence
+    // program is an SFC error that stops the CPU. Plain, digit-specified and
+    // index-modified operands; SB, SM, SD and SW are other devices.
+    let main = "LD SM400\nOUT S0\nMOV K4S16 D0\nLD S2Z1\nOUT SB0\nLD SM0\nMOV SD0 SW0\nEND\n";
+    assert_eq!(
+        load_files(TWO, &[("main.il", main)]).unwrap_err(),
+        [
+            format!("main.il:2:1: `S0`: {STEP_RELAY_RULE}"),
+            format!("main.il:3:1: `K4S16`: {STEP_RELAY_RULE}"),
+            format!("main.il:4:1: `S2Z1`: {STEP_RELAY_RULE}"),
+        ]
+    );
+    // The same rule for one file on its own (`softplc run`/`check`).
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("main.il");
+    std::fs::write(&path, main).unwrap();
+    let fallback = softplc_core::profile::find("Q06HCPU").unwrap();
+    let d = softplc_core::program::load_single_or(&path, None, fallback).unwrap_err();
+    assert_eq!(d.0.len(), 3);
+    assert!(
+        d.0[0].message.contains("step relay S"),
+        "{}",
+        d.0[0].message
+    );
+}
+
+#[test]
+fn sfc_programs_are_not_accepted() {
+    // An SFC program's devices (block BL, transition TR) are no devices of
+    // a sequence program: such a file does not load.
+    let main = "LD SM400\nLD BL1\\S0\nOUT Y0\nEND\n";
+    let e = load_files(TWO, &[("main.il", main)]).unwrap_err();
+    assert!(e[0].starts_with("main.il:2:"), "{e:?}");
+}

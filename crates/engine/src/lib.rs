@@ -154,6 +154,10 @@ pub struct CpuConfig {
     pub constant_scan: Option<Duration>,
     /// Low-speed program execution time per scan; `None` = use constant-scan spare time.
     pub low_speed_time: Option<Duration>,
+    /// Low-speed execution monitor time (10-2000 ms): a low-speed scan time
+    /// measured longer at low-speed END is PRG.TIME OVER (004 §4.2.3 (7));
+    /// `None` = off.
+    pub low_speed_monitor: Option<Duration>,
     /// Initial-program execution monitor time; `None` = off.
     pub initial_monitor: Option<Duration>,
     pub stop_to_run_output: StopToRunOutput,
@@ -217,6 +221,7 @@ impl CpuConfig {
             },
             constant_scan: None,
             low_speed_time: None,
+            low_speed_monitor: None,
             initial_monitor: None,
             stop_to_run_output: StopToRunOutput::Previous,
             run_contact: None,

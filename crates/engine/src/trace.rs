@@ -3,8 +3,11 @@
 //! with an optional trigger after which a set number of samples completes the
 //! trace. Samples go into a ring buffer allocated once, so tracing does not
 //! allocate while scanning. The family's relays ([`TraceRelays`]: MELSEC's
-//! SM800-SM805) show its state: ready, executing, trigger, after trigger,
-//! complete; turning the trigger relay ON triggers it.
+//! SM800-SM805 and SM826) show its state: ready, executing, trigger, after
+//! trigger, complete, error (a device that could not be read); turning the
+//! trigger relay ON triggers it, turning the start relay OFF aborts it (the
+//! samples are cleared and the relays but ready turn OFF) and ON again
+//! starts it anew (004 §7.12 (1) (d), (f)).
 
 use softplc_ir::access::{DeviceSpec, Value, ValueType};
 use softplc_ir::device::DeviceMemory;
@@ -78,6 +81,8 @@ pub struct Trace {
     /// Trigger device and trigger relay at the previous END (edges).
     trigger_before: bool,
     relay_before: bool,
+    /// Aborted by the start relay: no samples until it is ON again.
+    aborted: bool,
     /// The relays showing the trace's state (set by the CPU).
     relays: Option<TraceRelays>,
     /// Samples still to take after the trigger; `None` before the trigger.
@@ -98,6 +103,7 @@ impl Trace {
             last_sample_us: None,
             trigger_before: true,
             relay_before: true,
+            aborted: false,
             relays: None,
             remaining: None,
             complete: false,
@@ -121,6 +127,23 @@ impl Trace {
     /// END processing: takes a sample when due.
     pub(crate) fn sample(&mut self, mem: &mut DeviceMemory, scan: u64, now_us: u64) {
         self.show(mem, |r| r.ready, true);
+        let started = self.relays.is_none_or(|r| mem.bits[r.start as usize]);
+        match (started, self.aborted) {
+            (false, false) => {
+                // Aborted: the trace count is cleared (§7.12 (1) (d) 1)).
+                self.aborted = true;
+                self.reset(mem);
+                self.show(mem, |r| r.executing, false);
+                return;
+            }
+            (false, true) => return,
+            (true, true) => {
+                // Started again (§7.12 (1) (d) 2)).
+                self.aborted = false;
+                self.show(mem, |r| r.error, false);
+            }
+            (true, false) => {}
+        }
         if self.complete {
             return;
         }
@@ -163,8 +186,17 @@ impl Trace {
         }
         let n = self.cfg.devices.len();
         let row = &mut self.values[self.next * n..(self.next + 1) * n];
+        let mut unreadable = false;
         for (v, d) in row.iter_mut().zip(&self.cfg.devices) {
-            *v = d.read_raw(mem).unwrap_or(0);
+            *v = d.read_raw(mem).unwrap_or_else(|_| {
+                unreadable = true;
+                0
+            });
+        }
+        if unreadable {
+            // A device outside the CPU's points: the trace error (SM826),
+            // the sample keeps 0 for it.
+            self.show(mem, |r| r.error, true);
         }
         self.stamps[self.next] = (scan, now_us);
         self.next = (self.next + 1) % self.cfg.capacity;

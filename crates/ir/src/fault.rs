@@ -71,6 +71,8 @@ pub enum Fault {
     Watchdog,
     /// The scan exceeded the constant-scan period.
     ScanOverrun,
+    /// A low-speed scan exceeded the low-speed execution monitor time.
+    LowSpeedOverrun,
     /// Battery-backed data was lost (softplc: the state directory was found
     /// damaged at power-on).
     Battery,

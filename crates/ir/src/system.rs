@@ -35,12 +35,31 @@ pub enum Severity {
     FileAccess,
 }
 
-/// The operating state a system shows (004 §4.4).
+/// The operating state a system shows (004 §4.4), STOP and PAUSE with
+/// what caused them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
     Run,
-    Stop,
-    Pause,
+    Stop(Cause),
+    Pause(Cause),
+}
+
+/// What stopped or paused the CPU (004 App. 2 SD203): the first cause
+/// holds while the CPU stays stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cause {
+    /// The RUN/STOP key switch (softplc: the host's STOP, e.g. `run`'s
+    /// Ctrl-C, the HTTP monitor's stop).
+    Switch,
+    /// The RUN or PAUSE contact.
+    Contact,
+    /// A remote operation from a client (MC protocol, the web monitor's
+    /// PAUSE and breakpoints).
+    Remote,
+    /// The STOP instruction.
+    Instruction,
+    /// A stop error.
+    Error,
 }
 
 /// The remote-operation relays a system shows (004 §7.6).
@@ -89,8 +108,29 @@ pub struct End {
     /// initial scan time, min/max are not updated.
     pub initial: bool,
     pub times: ScanTimes,
+    /// Where the scan time went.
+    pub split: ScanSplit,
     /// Engine time since the last STOP→RUN, µs.
     pub since_run_us: u64,
+}
+
+/// Where a scan's time went, µs of engine time (programs take their
+/// simulated execution time, none without one). The parts add up to the
+/// scan time: END processing is what no program and no constant-scan wait
+/// took.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ScanSplit {
+    /// The scan programs, with the fixed-scan programs that ran in the scan.
+    pub programs_us: u64,
+    /// The low-speed programs in this scan.
+    pub low_speed_us: u64,
+    /// The low-speed programs since the current low-speed cycle began (0
+    /// when one has just ended).
+    pub low_speed_cycle_us: u64,
+    /// The constant-scan wait (0 without constant scan).
+    pub wait_us: u64,
+    /// END processing: the rest of the scan time.
+    pub end_us: u64,
 }
 
 /// An error being recorded.
@@ -141,14 +181,19 @@ pub enum LowSpeed {
 }
 
 /// Flat bit indices of the relays that show a sampling trace's state; the
-/// trigger relay is also an input (turning it ON triggers the trace).
+/// start and trigger relays are also inputs (turning the start relay OFF
+/// aborts the trace, ON starts it again; turning the trigger relay ON
+/// triggers it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TraceRelays {
     pub ready: u32,
+    pub start: u32,
     pub executing: u32,
     pub trigger: u32,
     pub after_trigger: u32,
     pub complete: u32,
+    /// ON when a sample could not be taken.
+    pub error: u32,
 }
 
 /// Flat bit indices of the relays that choose whose local devices run
@@ -249,6 +294,8 @@ pub trait System: Send + Sync + std::fmt::Debug {
     }
     /// Clears the error registers after an error reset.
     fn clear_error(&self, _mem: &mut DeviceMemory) {}
+    /// Program `slot` (in parameter order, from 0) starts running.
+    fn program(&self, _mem: &mut DeviceMemory, _slot: usize) {}
     /// Low-speed program execution.
     fn low_speed(&self, _mem: &mut DeviceMemory, _event: LowSpeed) {}
     /// Low-speed programs run synchronously: at most one cycle a scan.

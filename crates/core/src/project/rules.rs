@@ -12,6 +12,10 @@
 //!   runs (004 §10.2.6 (1)(b)): two `EGP`/`EGF` sharing one V would each see
 //!   the other's result as their previous one. A load error too (no code in
 //!   the manual).
+//! - The step relay `S` is a device of SFC programs only: a sequence program
+//!   that uses it stops the CPU with an SFC error (004 §10.2.9, L6380-6382).
+//!   softplc loads no SFC program, so every `S` operand is refused at load,
+//!   naming the file and line (the single-file loader checks it too).
 //! - Local pointers: each program takes P0 up to its highest local pointer,
 //!   and all programs together at most 4096 points, or before the first
 //!   common pointer when `[cpu] common_pointer` is set; beyond, the CPU stops
@@ -19,9 +23,9 @@
 
 use crate::engine::{CpuConfig, ExecType, LoadedProgram};
 use crate::program::Diagnostic;
-use softplc_ir::device::{DeviceKind, DeviceMap};
+use softplc_ir::device::{parse_operand_in, DeviceKind, DeviceMap, Operand, MELSEC_Q};
 use softplc_ir::listing::Entry;
-use softplc_ir::ops::Op;
+use softplc_ir::ops::{Op, Program};
 
 /// Pointer points of a CPU (004 §10.9: P0-P4095).
 const POINTERS: u32 = 4096;
@@ -35,6 +39,7 @@ pub(crate) fn check(
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     for l in programs {
+        step_relays(&l.program, &mut out);
         timers(l, &mut out);
     }
     // Local V (004 §10.13.1) is each file's own: the same number in two
@@ -57,6 +62,33 @@ fn at(file: &str, line: u32, message: String) -> Diagnostic {
         line,
         col: 1,
         message,
+    }
+}
+
+/// Every instruction of sequence program `p` with an `S` operand (plain,
+/// digit-specified or index-modified).
+pub(crate) fn step_relays(p: &Program, out: &mut Vec<Diagnostic>) {
+    for e in &p.listing.entries {
+        let Entry::Instr(i) = e else {
+            continue;
+        };
+        let step = i.operands.iter().find(|o| {
+            matches!(
+                parse_operand_in(&MELSEC_Q, &o.to_ascii_uppercase()),
+                Ok(Operand::Device { dev, .. }) if dev.kind == DeviceKind::S
+            )
+        });
+        if let Some(op) = step {
+            out.push(at(
+                &p.file,
+                i.line,
+                format!(
+                    "`{op}`: the step relay S is a device of SFC programs only; a sequence \
+                     program that uses it stops the CPU with an SFC error (QCPU manual \
+                     §10.2.9), and softplc loads no SFC program: use M or L instead"
+                ),
+            ));
+        }
     }
 }
 

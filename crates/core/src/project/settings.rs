@@ -237,6 +237,7 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
         "operation_error",
         "stop_to_run_output",
         "low_speed_time",
+        "low_speed_monitor",
         "initial_monitor",
         "run_contact",
         "pause_contact",
@@ -293,6 +294,11 @@ pub(crate) fn ras(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
             "low_speed_time" => {
                 if let Some(d) = optional(cx, e, ranges::LOW_SPEED_TIME) {
                     config.low_speed_time = d;
+                }
+            }
+            "low_speed_monitor" => {
+                if let Some(d) = optional(cx, e, ranges::LOW_SPEED_MONITOR) {
+                    config.low_speed_monitor = d;
                 }
             }
             "initial_monitor" => {

@@ -109,6 +109,9 @@ pub(crate) mod ranges {
     pub const CONSTANT_SCAN: Range = Range::ms(500, 2_000_000, 500);
     /// Low-speed program execution time: 1-2000 ms in 1 ms units (004 L1576-1590).
     pub const LOW_SPEED_TIME: Range = Range::ms(1_000, 2_000_000, 1_000);
+    /// Low-speed execution monitor time: 10-2000 ms in 1 ms units (004
+    /// §4.2.3 (7) L1724-1737).
+    pub const LOW_SPEED_MONITOR: Range = Range::ms(10_000, 2_000_000, 1_000);
     /// Initial execution monitor time: 10-2000 ms in 10 ms units (004 L1446-1503).
     pub const INITIAL_MONITOR: Range = Range::ms(10_000, 2_000_000, 10_000);
     /// Low-speed timer base: 1-1000 ms in 1 ms units (004 L1026-1059).

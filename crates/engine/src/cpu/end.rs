@@ -1,7 +1,7 @@
 //! END processing, the calendar clock, and the monitors (004 §4.3).
 
 use super::*;
-use softplc_ir::system::{End, EndCtx, ScanTimes};
+use softplc_ir::system::{End, EndCtx, ScanSplit, ScanTimes};
 
 impl Cpu {
     /// The calendar clock now, µs since 1970.
@@ -50,6 +50,26 @@ impl Cpu {
         }
     }
 
+    /// Where the scan time `scan_us` went (004 App. 2 SD540-SD549): the
+    /// programs' simulated execution times, the constant-scan wait (the
+    /// constant scan less the scan's execution time), and END processing,
+    /// the rest — in virtual time the scan time the driver gave beyond the
+    /// programs' execution (with none set, all of it).
+    fn scan_split(&self, scan_us: u64) -> ScanSplit {
+        let busy = self.busy_us;
+        let wait_us = self
+            .cfg
+            .constant_scan
+            .map_or(0, |c| (c.as_micros() as u64).saturating_sub(busy));
+        ScanSplit {
+            programs_us: busy - self.low_used_us.min(busy),
+            low_speed_us: self.low_used_us,
+            low_speed_cycle_us: self.low_exec_us,
+            wait_us,
+            end_us: scan_us.saturating_sub(busy).saturating_sub(wait_us),
+        }
+    }
+
     /// END processing: scan-time measurement, constant-scan overrun, error
     /// reset requests, the system's END (scan and clock registers, what
     /// instructions left for END), execution-type changes, the sampling
@@ -72,6 +92,7 @@ impl Cpu {
                 min_us: self.min_scan_us.unwrap_or(0),
                 max_us: self.max_scan_us.unwrap_or(0),
             },
+            split: self.scan_split(scan_us),
             since_run_us: now - self.run_start_us,
         };
         if !initial {
@@ -138,7 +159,7 @@ impl Cpu {
             t.sample(&mut self.rt.mem, self.scans, now);
         }
         if std::mem::take(&mut self.rt.stop_request) {
-            self.enter_stop();
+            self.enter_stop(softplc_ir::system::Cause::Instruction);
         }
         self.show_status();
         self.remote_end();

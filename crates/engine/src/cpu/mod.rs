@@ -66,6 +66,10 @@ pub struct ProgramMonitor {
     pub max: Duration,
 }
 
+/// The index registers kept apart for low-speed programs and saved around
+/// fixed-scan programs: Z0-Z15 (004 §10.6.1, §10.6.2).
+const LOW_Z: usize = 16;
+
 /// Scheduling state of a program file in the CPU.
 struct Slot {
     exec: ExecType,
@@ -99,6 +103,8 @@ pub struct Cpu {
     stop_error: bool,
     /// The STOP and PAUSE sources of the remote operations (004 §7.6).
     remote: remote::RemoteState,
+    /// What stopped or paused the CPU (shown while it is stopped or paused).
+    cause: softplc_ir::system::Cause,
     /// Y device memory saved at RUN→STOP (STOP→RUN output mode "previous").
     saved_y: Box<[bool]>,
     /// Bit n: X`n` (X0-X63) turned ON in the input image since the last
@@ -142,7 +148,16 @@ pub struct Cpu {
     low_exec_us: u64,
     /// Low-speed scan bookkeeping (first cycle, scan times).
     low_first: bool,
+    /// Engine time of the last low-speed END.
     low_last_end_us: u64,
+    /// The low-speed side of the context swapped at each switch between
+    /// scan and low-speed programs (`Cpu::switch_low_speed_context`): its
+    /// index registers Z0-Z15 (004 §10.6.1) and the time its timers add
+    /// (§10.2.10 (f)).
+    low_z: [u16; LOW_Z],
+    low_timer_us: u32,
+    /// Simulated time the low-speed programs used in this scan, µs.
+    low_used_us: u64,
     low_min_us: Option<u64>,
     low_max_us: u64,
     /// The rack's modules and interrupt requests.
@@ -267,6 +282,7 @@ impl Cpu {
             state: CpuState::Run,
             stop_error: false,
             remote: Default::default(),
+            cause: softplc_ir::system::Cause::Switch,
             saved_y: vec![false; y].into_boxed_slice(),
             input_rises: 0,
             input_falls: 0,
@@ -290,6 +306,9 @@ impl Cpu {
             low_exec_us: 0,
             low_first: true,
             low_last_end_us: 0,
+            low_z: [0; LOW_Z],
+            low_timer_us: 0,
+            low_used_us: 0,
             low_min_us: None,
             low_max_us: 0,
         };

@@ -18,7 +18,7 @@
 use std::fmt;
 
 use super::*;
-use softplc_ir::system::{Panel, Remote, Status};
+use softplc_ir::system::{Cause, Panel, Remote, Status};
 
 /// A remote operation a client holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -93,7 +93,7 @@ impl Cpu {
     pub fn remote_stop(&mut self, client: u32, force: bool) -> Result<(), Refusal> {
         self.check_holder(client, force)?;
         self.remote.held = Some((client, Hold::Stop));
-        self.enter_stop();
+        self.enter_stop(Cause::Remote);
         Ok(())
     }
 
@@ -176,7 +176,7 @@ impl Cpu {
         // Device memory was just cleared: the input module's signal.
         if self.cfg.run_contact.is_some_and(|n| self.input(n)) {
             self.remote.contact_stop = true;
-            self.enter_stop();
+            self.enter_stop(Cause::Contact);
         }
         self.show_remote();
     }
@@ -193,7 +193,7 @@ impl Cpu {
         if run_contact != self.remote.contact_stop {
             self.remote.contact_stop = run_contact;
             if run_contact {
-                self.enter_stop();
+                self.enter_stop(Cause::Contact);
             } else if self.state == CpuState::Stop && !self.stop_error {
                 // The contact released: RUN unless another source says STOP.
                 let _ = self.run_unless_stopped();
@@ -207,6 +207,11 @@ impl Cpu {
             CpuState::Run if requested => {
                 if self.remote.pause_status {
                     self.state = CpuState::Pause;
+                    self.cause = if by_contact {
+                        Cause::Contact
+                    } else {
+                        Cause::Remote
+                    };
                     self.show_status();
                 } else {
                     self.remote.pause_status = true;
@@ -242,8 +247,8 @@ impl Cpu {
         self.rt.system.remote(&mut self.rt.mem, r);
         let status = match self.state {
             CpuState::Run => Status::Run,
-            CpuState::Stop => Status::Stop,
-            CpuState::Pause => Status::Pause,
+            CpuState::Stop => Status::Stop(self.cause),
+            CpuState::Pause => Status::Pause(self.cause),
         };
         let panel = Panel {
             status,

@@ -113,7 +113,7 @@ impl Cpu {
         );
         if stop {
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(softplc_ir::system::Cause::Error);
         }
     }
 

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::local_devices::Entry;
-use softplc_ir::system::{LowSpeed, ScanStart, ScanTimes};
+use softplc_ir::system::{Cause, LowSpeed, ScanStart, ScanTimes};
 
 impl Cpu {
     /// Executes one scan. In RUN: input refresh, fixed-scan programs that are due,
@@ -23,6 +23,7 @@ impl Cpu {
         }
         self.rt.now_us = now;
         self.busy_us = 0;
+        self.low_used_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
         self.rt.refresh_inputs();
@@ -69,7 +70,12 @@ impl Cpu {
         if !ok && (self.aborted() || stop_instruction) {
             // Stopped by the host or a STOP that stops at once, mid-scan:
             // STOP, no error.
-            self.set_stop();
+            let cause = match stop_instruction {
+                true => Cause::Instruction,
+                false => Cause::Switch,
+            };
+            self.set_switch_stop(true);
+            self.enter_stop(cause);
             self.stopped_by_instruction = stop_instruction;
             self.scans += 1;
             return;
@@ -79,7 +85,7 @@ impl Cpu {
             // OFF, after its error interrupt (I32) when enabled.
             self.run_stop_interrupt();
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(Cause::Error);
             self.scans += 1;
             return;
         }
@@ -117,8 +123,10 @@ impl Cpu {
     /// One pass of the low-speed programs (see ARCHITECTURE.md: execution takes no
     /// virtual time, so a pass always fits the spare time). The system shows
     /// the pass, the program running and each completed cycle
-    /// (`System::low_speed`).
-    pub(super) fn run_low_speed(&mut self, _now: u64) -> bool {
+    /// (`System::low_speed`). The low-speed programs run in their own
+    /// context (`switch_low_speed_context`), swapped in and out only here:
+    /// a project without low-speed programs pays nothing.
+    pub(super) fn run_low_speed(&mut self, now: u64) -> bool {
         // The low-speed programs in parameter order, without allocating.
         let n_low = self
             .slots
@@ -128,7 +136,27 @@ impl Cpu {
         if n_low == 0 {
             return true;
         }
+        self.switch_low_speed_context();
+        let ok = self.low_speed_pass(now, n_low);
+        self.switch_low_speed_context();
+        ok
+    }
 
+    /// Control passes between the scan programs and the low-speed programs
+    /// (both ways): each side keeps its own Z0-Z15, saved when it is left
+    /// and restored when it is entered again (004 §10.6.1), and its own
+    /// time for the timers — the scan time for the scan programs', the
+    /// time between the last two low-speed ENDs for the low-speed programs'
+    /// (§10.2.10 (f)).
+    fn switch_low_speed_context(&mut self) {
+        let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+        let n = (self.rt.mem.map.points(DeviceKind::Z) as usize).min(self.low_z.len());
+        self.rt.mem.words[zb..zb + n].swap_with_slice(&mut self.low_z[..n]);
+        std::mem::swap(&mut self.rt.scan_us, &mut self.low_timer_us);
+    }
+
+    /// The low-speed programs of this scan, in their context.
+    fn low_speed_pass(&mut self, now: u64, n_low: usize) -> bool {
         let first = self.low_first;
         self.low_speed(LowSpeed::Pass { first });
         let sync = self.rt.system.low_speed_synchronous(&self.rt.mem);
@@ -156,7 +184,7 @@ impl Cpu {
                     return false;
                 }
             }
-            self.low_speed_end();
+            self.low_speed_end(now + self.busy_us);
             return true;
         }
         let mut used = 0u64;
@@ -188,7 +216,7 @@ impl Cpu {
             self.low_pos += 1;
             if self.low_pos == n_low {
                 self.low_pos = 0;
-                self.low_speed_end();
+                self.low_speed_end(now + self.busy_us + used);
                 if sync {
                     // Synchronous: no second cycle in the same scan.
                     break;
@@ -196,6 +224,7 @@ impl Cpu {
             }
         }
         self.busy_us += used;
+        self.low_used_us = used;
         self.low_speed(LowSpeed::Running(None));
         true
     }
@@ -223,10 +252,15 @@ impl Cpu {
         ok
     }
 
-    /// Low-speed END processing (004 §4.2.3 (5)): the low-speed scan time — the
-    /// execution time of the cycle's low-speed programs (§4.2.3 (6)) — and
-    /// its minimum and maximum to the system.
-    pub(super) fn low_speed_end(&mut self) {
+    /// Low-speed END processing (004 §4.2.3 (5)) at engine time `at`: the
+    /// low-speed scan time — the execution time of the cycle's low-speed
+    /// programs (§4.2.3 (6)) — and its minimum and maximum to the system,
+    /// the low-speed execution monitor (§4.2.3 (7): PRG.TIME OVER, a
+    /// continuation error), and the time the low-speed programs' timers add
+    /// from now: the engine time since the previous low-speed END, over
+    /// which each timer coil of the cycle ran once (§10.2.10 (f)). Called in
+    /// the low-speed context, where that time is `rt.scan_us`.
+    pub(super) fn low_speed_end(&mut self, at: u64) {
         let us = std::mem::take(&mut self.low_exec_us);
         if !self.low_first {
             self.low_max_us = self.low_max_us.max(us);
@@ -238,6 +272,25 @@ impl Cpu {
             max_us: self.low_max_us,
         };
         self.low_speed(LowSpeed::End(times));
+        if let Some(limit) = self.cfg.low_speed_monitor {
+            let set_us = limit.as_micros() as u64;
+            if us > set_us {
+                // PRG.TIME OVER names the time set and the time measured.
+                let time = softplc_ir::system::ErrorTimes {
+                    set_us,
+                    measured_us: us,
+                };
+                let named = crate::Named {
+                    time: Some(time),
+                    module: None,
+                };
+                self.rt
+                    .record(crate::Fault::LowSpeedOverrun, None, None, None, None, named);
+            }
+        }
+        let cycle = at.saturating_sub(self.low_last_end_us);
+        self.rt.scan_us = cycle.min(u32::MAX as u64) as u32;
+        self.low_last_end_us = at;
         self.low_first = false;
     }
 
@@ -250,7 +303,10 @@ impl Cpu {
 
     /// Fixed-scan programs whose interval has elapsed, in parameter order. In
     /// virtual time a scan is instantaneous, so every interval that elapsed since
-    /// the last scan runs the program once, before the scan programs.
+    /// the last scan runs the program once, before the scan programs. Like an
+    /// interrupt program, each run gets the index registers Z0-Z15 of the
+    /// program it interrupts, which get their values back after it (004
+    /// §10.6.2 (1), the default: not "high-speed execution").
     pub(super) fn run_fixed_scan(&mut self, now: u64) -> bool {
         for i in 0..self.slots.len() {
             if self.slots[i].exec != ExecType::FixedScan {
@@ -259,7 +315,13 @@ impl Cpu {
             while self.slots[i].next_due_us <= now {
                 let iv = self.slots[i].interval_us.max(1);
                 self.slots[i].next_due_us += iv;
-                if !self.run_slot(i) {
+                let zb = self.rt.mem.map.base(DeviceKind::Z) as usize;
+                let zn = (self.rt.mem.map.points(DeviceKind::Z) as usize).min(LOW_Z);
+                let mut z = [0u16; LOW_Z];
+                z[..zn].copy_from_slice(&self.rt.mem.words[zb..zb + zn]);
+                let ok = self.run_slot(i);
+                self.rt.mem.words[zb..zb + zn].copy_from_slice(&z[..zn]);
+                if !ok {
                     return false;
                 }
             }
@@ -268,9 +330,14 @@ impl Cpu {
     }
 
     /// Starts (or with `None` stops) a sampling trace, sampled at END; the
-    /// system's relays show its state.
+    /// system's relays show its state. Starting it turns the start relay
+    /// ON, as a start request from a peripheral does (004 §7.12 (1) (f) 2)):
+    /// the program aborts the trace by turning it OFF.
     pub fn set_trace(&mut self, trace: Option<crate::trace::Trace>) {
         let relays = self.rt.system.trace_relays(&self.rt.mem.map);
+        if let (Some(r), true) = (relays, trace.is_some()) {
+            self.rt.mem.bits[r.start as usize] = true;
+        }
         self.trace = trace.map(|t| t.with_relays(relays));
     }
 
@@ -285,6 +352,7 @@ impl Cpu {
 
     pub(super) fn run_slot(&mut self, i: usize) -> bool {
         self.busy_us += self.slots[i].cost_us;
+        self.rt.system.program(&mut self.rt.mem, i);
         // Whose local devices it runs on: a fixed-scan program's are an
         // interrupt program's (004 §10.13.1 (d), (f)).
         let entry = match self.slots[i].exec {

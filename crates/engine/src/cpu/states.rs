@@ -3,7 +3,7 @@
 
 use super::retained::latch_spans;
 use super::*;
-use softplc_ir::system::Status;
+use softplc_ir::system::{Cause, Status};
 
 impl Cpu {
     /// The key switch to RUN. From STOP this is STOP→RUN: outputs per the
@@ -50,13 +50,15 @@ impl Cpu {
     pub fn set_stop(&mut self) {
         self.stopped_by_instruction = false;
         self.set_switch_stop(true);
-        self.enter_stop();
+        self.enter_stop(Cause::Switch);
     }
 
     /// STOP from any cause (the switch, a remote STOP, the RUN contact, a
-    /// stop error, the STOP instruction).
-    pub(super) fn enter_stop(&mut self) {
+    /// stop error, the STOP instruction); an already stopped CPU keeps its
+    /// first cause.
+    pub(super) fn enter_stop(&mut self, cause: Cause) {
         if self.state != CpuState::Stop {
+            self.cause = cause;
             let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
             let n = self.saved_y.len();
             self.saved_y.copy_from_slice(&self.rt.mem.bits[yb..yb + n]);
@@ -98,7 +100,7 @@ impl Cpu {
         let code = self.rt.record(fault, None, None, None, None, named)?;
         if self.rt.stops(code) {
             self.stop_error = true;
-            self.enter_stop();
+            self.enter_stop(Cause::Error);
         }
         Some(code)
     }
@@ -115,6 +117,7 @@ impl Cpu {
             CpuState::Stop => Err("PAUSE is possible only from RUN".into()),
             _ => {
                 self.state = CpuState::Pause;
+                self.cause = Cause::Remote;
                 self.show_status();
                 Ok(())
             }
@@ -221,6 +224,8 @@ impl Cpu {
         // "Scans executed since power-on": RESET is power-on processing, and
         // the system's scan counter restarts from 0 with it (004 L10434).
         self.scans = 0;
+        // The low-speed programs' index registers are device memory too.
+        self.low_z = Default::default();
         self.system_power_on();
         self.start_run();
         self.remote_power_on();
@@ -249,6 +254,7 @@ impl Cpu {
         self.run_start_us = now;
         self.last_end_us = now;
         self.low_last_end_us = now;
+        self.low_timer_us = 0;
         self.low_exec_us = 0;
         self.low_pos = 0;
         self.low_left_us = 0;
@@ -317,8 +323,8 @@ impl Cpu {
     pub(super) fn show_status(&mut self) {
         let status = match self.state {
             CpuState::Run => Status::Run,
-            CpuState::Stop => Status::Stop,
-            CpuState::Pause => Status::Pause,
+            CpuState::Stop => Status::Stop(self.cause),
+            CpuState::Pause => Status::Pause(self.cause),
         };
         self.rt.system.status(&mut self.rt.mem, status);
     }

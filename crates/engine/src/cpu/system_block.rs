@@ -36,7 +36,8 @@ impl Cpu {
     pub(super) fn run_input_power_on(&mut self) {
         if let Some(n) = self.cfg.run_input {
             if !self.input(n) {
-                self.enter_stop();
+                // The run input stands in for the RUN switch.
+                self.enter_stop(softplc_ir::system::Cause::Switch);
             }
         }
     }

@@ -19,7 +19,7 @@
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::system::{ErrorReport, ScanStart, Severity};
 
-use super::devices::{bcd, sd, sm};
+use super::devices::{bcd, sd, sm, sm_get};
 
 /// How the Q value becomes the A-series value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,6 +97,7 @@ pub static AT_END: &[Mirror] = &[
     relay(1023, 423),
     relay(1024, 424),
     relay(1043, 805),               // sampling trace complete
+    relay(1047, 801),               // sampling trace start (also an input: `TRACE_START`)
     relay(1044, 803),               // sampling trace trigger
     relay(1046, 802),               // sampling trace executing
     relay(1049, 701),               // characters output: 16 / up to NUL
@@ -129,6 +130,21 @@ pub static AT_END: &[Mirror] = &[
 /// Every A-series device copied from a Q device.
 pub fn mirrors() -> impl Iterator<Item = &'static Mirror> {
     AT_SCAN_START.iter().chain(AT_END)
+}
+
+/// SM1047 (M9047), SM801's A-series name: a converted program starts and
+/// aborts the sampling trace with it (L9835), so a change the program made
+/// since the last END is copied to SM801 before SM801 is mirrored back
+/// ([`trace_start`]).
+pub const TRACE_START: u32 = 1047;
+
+/// At END, before the mirrors: SM1047 changed since the last END (`before`,
+/// its value after that END's mirrors) turns SM801 the same way.
+pub(crate) fn trace_start(mem: &mut DeviceMemory, before: bool) {
+    let a = sm_get(mem, TRACE_START as i64);
+    if a != before {
+        sm(mem, 801, a);
+    }
 }
 
 /// SM1034: the 1-minute clock, computed as the Q clocks are (OFF at

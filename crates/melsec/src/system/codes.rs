@@ -38,6 +38,9 @@ pub const RANGE: ErrorCode = ErrorCode(4101);
 pub const WDT: ErrorCode = ErrorCode(5000);
 /// PRG.TIME OVER: scan longer than the constant scan.
 pub const PRG_TIME_OVER: ErrorCode = ErrorCode(5010);
+/// PRG.TIME OVER: low-speed scan longer than the low-speed execution
+/// monitor time (004 §4.2.3 (7), §7.19.2 factor 5).
+pub const LOW_SPEED_TIME_OVER: ErrorCode = ErrorCode(5011);
 /// F****: an annunciator turned ON.
 pub const ANNUNCIATOR: ErrorCode = ErrorCode(9000);
 
@@ -68,6 +71,7 @@ pub fn code(fault: Fault) -> ErrorCode {
         Fault::PointerTwice => ErrorCode(4021),
         Fault::Watchdog => WDT,
         Fault::ScanOverrun => PRG_TIME_OVER,
+        Fault::LowSpeedOverrun => LOW_SPEED_TIME_OVER,
         Fault::Battery => BATTERY,
         Fault::Annunciator => ANNUNCIATOR,
         Fault::Family(c) => c,
@@ -103,6 +107,7 @@ pub fn message(code: ErrorCode) -> &'static str {
         4223 => "CAN'T EXECUTE(I): IRET executed outside an interrupt program",
         5000 => "WDT ERROR: scan time exceeded the watchdog",
         5010 => "PRG.TIME OVER: scan time exceeded the constant scan",
+        5011 => "PRG.TIME OVER: low-speed scan time exceeded the low-speed execution monitor time",
         9000 => "F****: annunciator ON",
         _ => "error",
     }
@@ -119,7 +124,7 @@ pub fn severity(code: ErrorCode) -> Severity {
         4100..=4199 => Severity::Operation,
         2110..=2119 => Severity::ModuleAccess,
         2410..=2419 => Severity::FileAccess,
-        1600 | 5010 | 7010 | 9000 => Severity::Continue,
+        1600 | 5010 | 5011 | 7010 | 9000 => Severity::Continue,
         _ => Severity::Stop,
     }
 }

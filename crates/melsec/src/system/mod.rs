@@ -95,6 +95,8 @@ const STATE_SM210: usize = 0;
 const STATE_SM1025: usize = 1;
 /// SM250 at the previous END, for its OFF→ON edge.
 const STATE_SM250: usize = 2;
+/// SM1047 after the previous END's mirrors (`a_compat::trace_start`).
+const STATE_SM1047: usize = 3;
 
 impl Melsec {
     /// Copies the A-series devices from their Q devices when the area is on.
@@ -107,7 +109,7 @@ impl Melsec {
 
 impl System for Melsec {
     fn state_words(&self) -> usize {
-        3 + panel::STATE_WORDS
+        4 + panel::STATE_WORDS
     }
 
     /// Everything enabled except the error interrupts I32-I47, which need
@@ -161,7 +163,14 @@ impl System for Melsec {
         }
         crate::user_clock::end(cx.mem, cx.shared);
         crate::multi_cpu::end(cx.mem, cx.shared);
+        if self.params.a_compatibility {
+            a_compat::trace_start(cx.mem, cx.state[STATE_SM1047] != 0);
+        }
         self.a_refresh(cx.mem);
+        if self.params.a_compatibility {
+            let sm1047 = devices::sm_get(cx.mem, a_compat::TRACE_START as i64);
+            cx.state[STATE_SM1047] = sm1047 as u32;
+        }
     }
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
@@ -212,6 +221,10 @@ impl System for Melsec {
         self.a_refresh(mem);
     }
 
+    fn program(&self, mem: &mut DeviceMemory, slot: usize) {
+        scan::program(mem, slot);
+    }
+
     fn low_speed(&self, mem: &mut DeviceMemory, event: LowSpeed) {
         low_speed::event(mem, event);
     }
@@ -225,16 +238,19 @@ impl System for Melsec {
         map.index(DeviceKind::SD, R_BLOCK)
     }
 
-    /// SM800 ready, SM802 executing, SM803 trigger, SM804 after the trigger,
-    /// SM805 complete (004 §7.12).
+    /// SM800 ready, SM801 start, SM802 executing, SM803 trigger, SM804
+    /// after the trigger, SM805 complete, SM826 trace error (004 §7.12 (1)
+    /// (f), L4590-4615).
     fn trace_relays(&self, map: &DeviceMap) -> Option<TraceRelays> {
         let sm = |n| map.index(DeviceKind::SM, n);
         Some(TraceRelays {
             ready: sm(800)?,
+            start: sm(801)?,
             executing: sm(802)?,
             trigger: sm(803)?,
             after_trigger: sm(804)?,
             complete: sm(805)?,
+            error: sm(826)?,
         })
     }
 

@@ -18,6 +18,10 @@ pub enum Status {
     /// The manual marks it unusable on a Q CPU (A-series compatibility
     /// rows marked ✕); plain memory.
     NotOnQ,
+    /// A relay or register of SFC programs, which softplc does not load
+    /// (the step relay S in a sequence program is a load error); plain
+    /// memory.
+    NoSfc,
     /// Plain memory by design; the text says why (a feature softplc does
     /// not offer, a word the program owns).
     Plain(&'static str),
@@ -34,7 +38,9 @@ pub struct Row {
     pub status: Status,
 }
 
-use Status::{Maintained as M, NoHardware as H, NotImplemented as N, NotOnQ as X, Plain as P};
+use Status::{
+    Maintained as M, NoHardware as H, NoSfc as SFC, NotImplemented as N, NotOnQ as X, Plain as P,
+};
 
 const fn sm(first: u32, last: u32, name: &'static str, status: Status) -> Row {
     Row {
@@ -112,8 +118,8 @@ pub static SM: &[Row] = &[
         "annunciator detected",
         M("ON while an annunciator F is ON"),
     ),
-    sm(80, 80, "CHK detected (CHK is rejected at load)", N),
-    sm(90, 99, "SFC step transition watchdog started", N),
+    sm(80, 80, "CHK detected", P("CHK is rejected at load")),
+    sm(90, 99, "SFC step transition watchdog started", SFC),
     sm(
         120,
         120,
@@ -184,7 +190,7 @@ pub static SM: &[Row] = &[
         H("MELSECNET/10"),
     ),
     sm(280, 280, "CC-Link error", H("CC-Link")),
-    sm(320, 327, "SFC program and its modes", N),
+    sm(320, 327, "SFC program and its modes", SFC),
     sm(
         330,
         330,
@@ -335,15 +341,25 @@ pub static SM: &[Row] = &[
         M("read by CALL and the interrupt programs"),
     ),
     sm(800, 800, "trace ready", M("sampling trace")),
-    sm(801, 801, "trace start", N),
+    sm(
+        801,
+        801,
+        "trace start",
+        M("read at END: OFF aborts the sampling trace, ON starts it again; a start turns it ON"),
+    ),
     sm(
         802,
         805,
         "trace executing, trigger, after trigger, complete",
         M("sampling trace"),
     ),
-    sm(820, 825, "SFC step trace", N),
-    sm(826, 826, "trace error", N),
+    sm(820, 825, "SFC step trace", SFC),
+    sm(
+        826,
+        826,
+        "trace error",
+        M("ON when a traced device cannot be read; OFF when the trace starts again"),
+    ),
     sm(910, 910, "RKEY registered", H("peripheral keyboard")),
 ];
 
@@ -376,7 +392,7 @@ pub static SD: &[Row] = &[
         "annunciators: first, count, numbers in order",
         M("SET/RST/OUT F, LEDR"),
     ),
-    sd(90, 99, "SFC step transition watchdog settings", N),
+    sd(90, 99, "SFC step transition watchdog settings", SFC),
     sd(
         120,
         120,
@@ -400,7 +416,10 @@ pub static SD: &[Row] = &[
         203,
         203,
         "CPU operating status",
-        M("bits 0-3: RUN/STOP/PAUSE; the cause bits are not written"),
+        M(
+            "bits 0-3 RUN/STOP/PAUSE, bits 4-7 the cause: key switch (the host's STOP), \
+             RUN or PAUSE contact, remote operation, STOP instruction, error",
+        ),
     ),
     sd(
         207,
@@ -484,7 +503,12 @@ pub static SD: &[Row] = &[
         "low-speed scan counter",
         M("at the end of each low-speed cycle"),
     ),
-    sd(500, 500, "program being executed", N),
+    sd(
+        500,
+        500,
+        "program being executed",
+        M("its number in the program list, from 1, as each program starts"),
+    ),
     sd(
         510,
         510,
@@ -505,9 +529,12 @@ pub static SD: &[Row] = &[
     ),
     sd(
         540,
-        548,
+        549,
         "END processing, constant-scan wait and execution times",
-        N,
+        M(
+            "at END, in virtual time: programs take their simulated execution time, \
+             END processing is the rest of the scan time",
+        ),
     ),
     sd(
         550,
@@ -716,7 +743,12 @@ pub static A_SM: &[Row] = &[
         "sampling trace executing (M9046 = SM802)",
         MIRROR_END,
     ),
-    a_sm(1047, 1047, "sampling trace start (M9047 = SM801)", N),
+    a_sm(
+        1047,
+        1047,
+        "sampling trace start (M9047 = SM801)",
+        M("copy of SM801 at END; a change the program made is copied to SM801 first"),
+    ),
     a_sm(
         1049,
         1049,
@@ -729,7 +761,12 @@ pub static A_SM: &[Row] = &[
         "CHG not executable, SEG switch (M9051, M9052)",
         P("no Q device sets them: a Q CPU has no CHG, and SEG is always the 7-segment decode"),
     ),
-    a_sm(1055, 1055, "status latch complete (M9055 = SM808)", N),
+    a_sm(
+        1055,
+        1055,
+        "status latch complete (M9055 = SM808, status latch: QnA only)",
+        X,
+    ),
     a_sm(
         1056,
         1061,
@@ -758,25 +795,25 @@ pub static A_SM: &[Row] = &[
         1100,
         1104,
         "SFC program flags (M9100-M9104 = SM320-SM324)",
-        N,
+        SFC,
     ),
     a_sm(
         1108,
         1114,
         "step transition watchdog started (M9108-M9114 = SM90-SM96)",
-        N,
+        SFC,
     ),
     a_sm(
         1180,
         1182,
         "active step trace (M9180-M9182 = SM825, SM822, SM821)",
-        N,
+        SFC,
     ),
     a_sm(
         1196,
         1196,
         "operation output at block stop (M9196 = SM325)",
-        N,
+        SFC,
     ),
     a_sm(
         1197,
@@ -865,9 +902,14 @@ pub static A_SD: &[Row] = &[
         1049,
         1054,
         "SFC work area and error information (D9049-D9054)",
-        N,
+        SFC,
     ),
-    sd(1055, 1055, "status latch step (D9055 = SD812)", N),
+    sd(
+        1055,
+        1055,
+        "status latch step (D9055 = SD812, status latch: QnA only)",
+        X,
+    ),
     sd(
         1060,
         1060,
@@ -902,7 +944,7 @@ pub static A_SD: &[Row] = &[
         1108,
         1114,
         "step transition monitoring timer settings (D9108-D9114)",
-        N,
+        SFC,
     ),
     sd(
         1116,
@@ -939,6 +981,7 @@ pub fn table(rows: &[Row]) -> String {
             Status::NoHardware(what) => format!("no such hardware ({what}): reads 0"),
             Status::NotImplemented => "not implemented: plain memory".to_string(),
             Status::NotOnQ => "not usable on a Q CPU (manual): plain memory".to_string(),
+            Status::NoSfc => "SFC programs are not accepted: plain memory".to_string(),
             Status::Plain(why) => format!("plain memory: {why}"),
         };
         out += &format!("| {dev} | {} | {status} |\n", r.name);

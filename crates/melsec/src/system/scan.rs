@@ -3,7 +3,7 @@
 //! at END and the operating status.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
-use softplc_ir::system::{End, Remote, ScanStart, Status};
+use softplc_ir::system::{Cause, End, Remote, ScanStart, Status};
 
 use super::devices::{sd, sd_get, sm, sm_get, time_pair};
 use super::R_BLOCK;
@@ -49,14 +49,29 @@ pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
 
 /// SD522/SD523 the initial scan time; else SD520-SD527 the scan times, SD420
 /// the scan counter, SD412 the one-second counter (both wrap 32767 → -32768
-/// → 0).
+/// → 0), and the scan's split (App. 2 L10459-10478, each a ms word and a
+/// 100 µs word 0-900 as SD520/SD521): SD540/SD541 END processing, SD542/SD543
+/// the constant-scan wait, SD544/SD545 the low-speed programs' time in the
+/// current low-speed cycle (0 after a low-speed END), SD546/SD547 the
+/// low-speed programs' time in this scan, SD548/SD549 the scan programs'
+/// (App. 2 prints the last pair as SD548/SD559, its list L1323 SD548/SD549).
 pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
     if e.initial {
         time_pair(mem, 522, e.times.current_us);
         return;
     }
     let t = e.times;
-    for (reg, us) in [(520, t.current_us), (524, t.min_us), (526, t.max_us)] {
+    let s = e.split;
+    for (reg, us) in [
+        (520, t.current_us),
+        (524, t.min_us),
+        (526, t.max_us),
+        (540, s.end_us),
+        (542, s.wait_us),
+        (544, s.low_speed_cycle_us),
+        (546, s.low_speed_us),
+        (548, s.programs_us),
+    ] {
         time_pair(mem, reg, us);
     }
     let count = sd_get(mem, 420).wrapping_add(1);
@@ -64,15 +79,33 @@ pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
     sd(mem, 412, (e.since_run_us / 1_000_000) as u16);
 }
 
-/// SD203 operating status, b0-b3: 0 RUN, 1 STOP, 2 PAUSE.
+/// SD203 operating status (App. 2 L10333): b0-b3 0 RUN, 1 STOP, 2 PAUSE;
+/// b4-b7 the STOP/PAUSE cause, 0 the key switch, 1 the remote contact, 2 a
+/// remote operation (peripheral, computer), 3 an instruction in the
+/// program, 4 an error (0 in RUN); the first cause holds while stopped
+/// (App. 2's figure is lost in 004: the codes are the QCPU User's Manual's,
+/// qcpu.md §8 SD203).
 pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
+    let cause = |c: Cause| match c {
+        Cause::Switch => 0,
+        Cause::Contact => 1,
+        Cause::Remote => 2,
+        Cause::Instruction => 3,
+        Cause::Error => 4,
+    };
     let v = match status {
         Status::Run => 0,
-        Status::Stop => 1,
-        Status::Pause => 2,
+        Status::Stop(c) => 1 | cause(c) << 4,
+        Status::Pause(c) => 2 | cause(c) << 4,
     };
     let old = sd_get(mem, 203);
-    sd(mem, 203, old & !0xF | v);
+    sd(mem, 203, old & !0xFF | v);
+}
+
+/// SD500: the number of the program running (its place in the parameter's
+/// program list, from 1; App. 2 L10443).
+pub(crate) fn program(mem: &mut DeviceMemory, slot: usize) {
+    sd(mem, 500, (slot + 1).min(u16::MAX as usize) as u16);
 }
 
 /// SM203 STOP contact (STOP by the RUN contact), SM204 PAUSE status
