@@ -140,6 +140,21 @@ impl Station for System {
     }
 }
 
+/// What a driver runs, one CPU or a system: as the one or the other.
+impl Station for softplc_core::system::Cpus {
+    fn cpus(&self) -> usize {
+        self.len()
+    }
+
+    fn cpu_mut(&mut self, i: usize) -> &mut Cpu {
+        self.get_mut(i)
+    }
+
+    fn remote_reset(&mut self, i: usize) -> std::result::Result<(), Refusal> {
+        softplc_core::system::Cpus::remote_reset(self, i)
+    }
+}
+
 /// Request destination module I/O numbers of CPU 1-4 in a multi-CPU system.
 pub const CPU_IO: std::ops::RangeInclusive<u16> = 0x03E0..=0x03E3;
 

@@ -17,7 +17,7 @@ use softplc_core::engine::Cpu;
 use softplc_core::persist::Battery;
 use softplc_core::system::System;
 
-use crate::cpus::Cpus;
+use softplc_core::system::Cpus;
 
 /// Scan statistics of the real-time loop (what the CPU's SD520-SD527 show, plus
 /// the period's jitter).
@@ -109,7 +109,7 @@ pub type Hook = Box<dyn FnMut(&mut ServeState) + Send>;
 impl ServeState {
     /// One CPU (its battery is [`EngineConfig::battery`]).
     pub fn new(cpu: Cpu) -> Self {
-        Self::with(Cpus::One(Box::new(cpu)), vec![None])
+        Self::with(Cpus::One(cpu), vec![None])
     }
 
     /// A multi-CPU system, each CPU with the battery-backed memory of its

@@ -9,7 +9,7 @@
 
 // pthread_setschedparam for the real-time engine thread.
 pub mod conns;
-pub mod cpus;
+
 #[allow(unsafe_code)]
 pub mod engine;
 pub mod mc;
@@ -22,8 +22,8 @@ use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-pub use cpus::Cpus;
 pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
+pub use softplc_core::system::Cpus;
 pub use tcp::{FrameLen, Protocol};
 
 /// A protocol server to start.

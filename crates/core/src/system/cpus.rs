@@ -1,8 +1,9 @@
-//! What a driver runs (`softplc serve`, the scenarios): one CPU or a
-//! multi-CPU system, CPU `i` 0-based (a single CPU is 0).
+//! What a driver runs (`softplc serve`, the scenarios, `tune`): one CPU or
+//! a multi-CPU system, CPU `i` 0-based (a single CPU is 0).
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
+use std::time::Duration;
 
 use super::System;
 use crate::access::DeviceSpec;
@@ -52,6 +53,18 @@ impl Cpus {
     /// Every CPU, CPU 1 first.
     pub fn iter(&self) -> impl Iterator<Item = &Cpu> {
         (0..self.len()).map(|i| self.get(i))
+    }
+
+    /// Each CPU's scan period, CPU 1 first: a system's CPU scans at its
+    /// constant scan, else at `default`; a single CPU at `default` (which
+    /// the caller chose from the command line and its project).
+    pub fn periods(&self, default: Duration) -> Vec<Duration> {
+        match self {
+            Cpus::One(_) => vec![default],
+            Cpus::System(s) => (0..s.len())
+                .map(|i| s.cpu(i).config().constant_scan.unwrap_or(default))
+                .collect(),
+        }
     }
 
     /// The multi-CPU system, when running one.
