@@ -226,3 +226,39 @@ fn contact_parameters_are_checked() {
     assert!(load("remote_reset = 1").contains("true or false"));
     assert_eq!(load("run_contact = \"x1fff\"\npause_contact = \"X0\""), "");
 }
+
+/// A converted A-series program enables PAUSE with M9040 (SM1040 = SM206,
+/// QCPU App. 1) and reads the contacts as M9041/M9042 (SM1041 = SM204,
+/// SM1042 = SM203). The A-series compatibility area is on by default.
+#[test]
+fn a_series_pause_enable_and_contacts_sm1040_to_sm1042() {
+    const A_MAIN: &str = "LD SM400\nINC D0\nLD M6\nOUT SM1040\nEND\n";
+    let mut p = Plc::project(CONTACTS, &[("main.il", A_MAIN)]);
+    // SM1040 ON, the PAUSE contact ON: SM204 and SM1041 at the END of
+    // the scan that sees the contact, PAUSE at the next END.
+    p.set("M6", "1").scan();
+    p.cpu.set_input(0x11, true);
+    p.scan();
+    assert_eq!((p.bit("SM204"), p.bit("SM1041")), (true, true));
+    p.scan();
+    assert_eq!(p.state(), CpuState::Pause);
+    // Without SM1040 (nor SM206) the contact does nothing.
+    let mut q = Plc::project(CONTACTS, &[("main.il", A_MAIN)]);
+    q.cpu.set_input(0x11, true);
+    q.scans(3);
+    assert_eq!((q.state(), q.bit("SM1041")), (CpuState::Run, false));
+    // The RUN contact holds the CPU in STOP: SM203 and SM1042 ON.
+    q.cpu.set_input(0x10, true);
+    q.scans(2);
+    assert_eq!(
+        (q.state(), q.bit("SM203"), q.bit("SM1042")),
+        (CpuState::Stop, true, true)
+    );
+    // With the area off, SM1040 enables nothing.
+    let off = format!("{CONTACTS}[cpu]\na_compatibility = false\n");
+    let mut r = Plc::project(&off, &[("main.il", A_MAIN)]);
+    r.set("M6", "1").scan();
+    r.cpu.set_input(0x11, true);
+    r.scans(3);
+    assert_eq!(r.state(), CpuState::Run);
+}

@@ -74,7 +74,8 @@ fn a_series_statuses_match_the_mirrors() {
     for m in AT_SCAN_START {
         assert!(m.relay, "only relays are set at scan start: {m:?}");
     }
-    let computed_sm = [MINUTE_CLOCK, 1025, 1026, 1028];
+    // SM1040 is read (the PAUSE enable), not written.
+    let computed_sm = [MINUTE_CLOCK, 1025, 1026, 1028, 1040];
     for r in rows::A_SM.iter().chain(rows::A_SD) {
         if !matches!(r.status, Status::Maintained(_)) {
             continue;

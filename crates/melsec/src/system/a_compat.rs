@@ -129,7 +129,7 @@ pub static AT_END: &[Mirror] = &[
 
 /// Every A-series device copied from a Q device.
 pub fn mirrors() -> impl Iterator<Item = &'static Mirror> {
-    AT_SCAN_START.iter().chain(AT_END)
+    AT_SCAN_START.iter().chain(AT_END).chain(AT_REMOTE)
 }
 
 /// SM1047 (M9047), SM801's A-series name: a converted program starts and
@@ -171,6 +171,21 @@ fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
             mem.words[(sd_at + m.a) as usize] = v;
         }
     }
+}
+
+/// The A-series PAUSE and STOP contacts, M9041 = SM204 and M9042 = SM203,
+/// after the remote-operation relays are written.
+pub(crate) fn remote(mem: &mut DeviceMemory) {
+    copy(mem, AT_REMOTE);
+}
+
+/// The relays copied when the remote-operation relays are written.
+pub static AT_REMOTE: &[Mirror] = &[relay(1041, 204), relay(1042, 203)];
+
+/// M9040 (SM1040), the A-series PAUSE enable: a converted program sets it
+/// where a Q program sets SM206 (004 App. 1 SM1040 = SM206).
+pub(crate) fn pause_enabled(mem: &DeviceMemory) -> bool {
+    mem.get_bit(DeviceKind::SM, 1040).unwrap_or(false)
 }
 
 /// After the Q scan-start relays: the always-ON/OFF, first-scan and clock

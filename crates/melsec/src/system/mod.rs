@@ -182,14 +182,18 @@ impl System for Melsec {
 
     fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
         scan::remote(mem, remote);
+        if self.params.a_compatibility {
+            a_compat::remote(mem);
+        }
     }
 
     fn panel(&self, mem: &mut DeviceMemory, state: &mut [u32], panel: Panel) {
         panel::show(mem, state, panel);
     }
 
+    /// SM206, or its A-series twin SM1040 (M9040) while the area is on.
     fn pause_enabled(&self, mem: &DeviceMemory) -> bool {
-        scan::pause_enabled(mem)
+        scan::pause_enabled(mem) || (self.params.a_compatibility && a_compat::pause_enabled(mem))
     }
 
     fn code(&self, fault: Fault) -> Option<ErrorCode> {

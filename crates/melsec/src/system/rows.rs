@@ -38,9 +38,7 @@ pub struct Row {
     pub status: Status,
 }
 
-use Status::{
-    Maintained as M, NoHardware as H, NoSfc as SFC, NotImplemented as N, NotOnQ as X, Plain as P,
-};
+use Status::{Maintained as M, NoHardware as H, NoSfc as SFC, NotOnQ as X, Plain as P};
 
 const fn sm(first: u32, last: u32, name: &'static str, status: Status) -> Row {
     Row {
@@ -139,7 +137,7 @@ pub static SM: &[Row] = &[
         "PAUSE contact",
         M("ON from the END a PAUSE was requested at until the PAUSE ends"),
     ),
-    sm(205, 205, "STEP-RUN contact", N),
+    sm(205, 205, "STEP-RUN contact", H("no STEP-RUN position of the key switch")),
     sm(
         206,
         206,
@@ -468,8 +466,8 @@ pub static SD: &[Row] = &[
     sd(
         315,
         315,
-        "time reserved for communication processing (not read: `serve` answers the queued requests at every END within its own budget)",
-        N,
+        "time reserved for communication processing",
+        P("not read: `serve` answers the queued requests at every END within its own budget"),
     ),
     sd(
         340,
@@ -715,9 +713,15 @@ pub static A_SM: &[Row] = &[
     ),
     a_sm(
         1040,
+        1040,
+        "PAUSE enable (M9040 = SM206)",
+        M("read with SM206: either enables PAUSE by the PAUSE contact or a remote PAUSE"),
+    ),
+    a_sm(
+        1041,
         1042,
-        "PAUSE enable, PAUSE and STOP contacts (M9040-M9042 = SM206, SM204, SM203)",
-        N,
+        "PAUSE and STOP contacts (M9041, M9042 = SM204, SM203)",
+        M("copies of SM204 and SM203 when those are written"),
     ),
     a_sm(
         1043,
@@ -897,7 +901,12 @@ pub static A_SD: &[Row] = &[
         "LED display priority (D9038, D9039 = SD207, SD208)",
         MIRROR_END,
     ),
-    sd(1044, 1044, "sampling trace timing (D9044)", N),
+    sd(
+        1044,
+        1044,
+        "sampling trace timing (D9044)",
+        P("not read: the sampling trace is configured from outside (`--trace`, the monitor)"),
+    ),
     sd(
         1049,
         1054,
