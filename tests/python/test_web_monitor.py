@@ -186,3 +186,31 @@ def test_aplc_ladder_follows_an_octal_write(aplc_monitor, browser):
     page.wait_for_function(f"!document.querySelector('{motor}').classList.contains('on')", timeout=5000)
     assert api(port, "GET", "/api/v1/devices?names=Y0")["devices"]["Y0"] is False
     assert not page.eval_on_selector(motor, "e => e.classList.contains('pw')")
+
+
+def test_each_programs_ladder_shows_its_own_local_devices(tmp_path, browser):
+    """Local devices (QCPU manual §10.13.1): a.il turns its own M0 ON, b.il
+    its own M0 OFF, and b.il runs last, so device memory's M0 is OFF. The
+    ladder page of a.il watches `M0@a.il` and shows a.il's M0 ON; b.il's page
+    shows its M0 OFF."""
+    (tmp_path / "plc.toml").write_text(
+        '[devices]\nlocal = ["M0-M9"]\n'
+        '[[program]]\nfile = "a.il"\n[[program]]\nfile = "b.il"\n')
+    (tmp_path / "a.il").write_text("LD SM400\nOUT M0\nLD M0\nOUT Y0\nEND\n")
+    (tmp_path / "b.il").write_text("LD SM401\nOUT M0\nLD M0\nOUT Y1\nEND\n")
+    for port in serve(tmp_path):
+        devices = api(port, "GET", "/api/v1/devices?names=M0,M0@a,M0@b,Y0,Y1")["devices"]
+        assert devices == {"M0": False, "M0@a": True, "M0@b": False, "Y0": True, "Y1": False}
+        page = browser.new_page(viewport={"width": 1200, "height": 800})
+        page.goto(f"http://127.0.0.1:{port}/?prog=0")
+        assert "M0@a.il" in page.get_attribute("body", "data-names").split(",")
+        contact = "#e0-2"  # a.il's LD M0 (ids: program, element)
+        assert page.get_attribute(contact, "data-dev") == "M0"
+        page.wait_for_selector(contact + ".on", timeout=5000)
+        page.goto(f"http://127.0.0.1:{port}/?prog=1")
+        assert "M0@b.il" in page.get_attribute("body", "data-names").split(",")
+        # b.il's M0 stays OFF once live values have arrived (its SM401 too).
+        page.wait_for_function("document.querySelector('#state').textContent === 'RUN'")
+        time.sleep(0.5)
+        assert page.get_attribute("#e1-2", "data-dev") == "M0"  # b.il's LD M0
+        assert not page.eval_on_selector("#e1-2", "e => e.classList.contains('on')")
