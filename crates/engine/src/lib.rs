@@ -326,6 +326,19 @@ pub(crate) struct Named {
     pub module: Option<ModuleRef>,
 }
 
+impl Named {
+    /// A time error's information: the time set and the time measured, µs.
+    pub(crate) fn time(set_us: u64, measured_us: u64) -> Named {
+        Named {
+            time: Some(ErrorTimes {
+                set_us,
+                measured_us,
+            }),
+            module: None,
+        }
+    }
+}
+
 /// Entries kept in the error history (004 §7.20.2).
 pub const HISTORY_LEN: usize = 16;
 
@@ -339,11 +352,14 @@ impl Runtime {
         let step = prog.op_step.get(pc).copied();
         let (file, line) = prog.source_of(pc);
         // WDT ERROR: the time set and the time the scan had taken.
-        let time = (fault == Fault::Watchdog).then(|| ErrorTimes {
-            set_us: self.watchdog_set.as_micros() as u64,
-            measured_us: self.cpu.watchdog_start.elapsed().as_micros() as u64,
-        });
-        let named = Named { time, module: None };
+        let named = if fault == Fault::Watchdog {
+            Named::time(
+                self.watchdog_set.as_micros() as u64,
+                self.cpu.watchdog_start.elapsed().as_micros() as u64,
+            )
+        } else {
+            Named::default()
+        };
         self.record(fault, Some(file), step, line, None, named)
             .is_some_and(|code| self.stops(code))
     }

@@ -103,14 +103,7 @@ impl Cpu {
         // MELSEC, 004 §7.1).
         if let Some(cs) = self.cfg.constant_scan {
             if scan_us > cs.as_micros() as u64 && !initial {
-                let time = softplc_ir::system::ErrorTimes {
-                    set_us: cs.as_micros() as u64,
-                    measured_us: scan_us,
-                };
-                let named = crate::Named {
-                    time: Some(time),
-                    module: None,
-                };
+                let named = crate::Named::time(cs.as_micros() as u64, scan_us);
                 self.rt
                     .record(crate::Fault::ScanOverrun, None, None, None, None, named);
             }

@@ -276,14 +276,7 @@ impl Cpu {
             let set_us = limit.as_micros() as u64;
             if us > set_us {
                 // PRG.TIME OVER names the time set and the time measured.
-                let time = softplc_ir::system::ErrorTimes {
-                    set_us,
-                    measured_us: us,
-                };
-                let named = crate::Named {
-                    time: Some(time),
-                    module: None,
-                };
+                let named = crate::Named::time(set_us, us);
                 self.rt
                     .record(crate::Fault::LowSpeedOverrun, None, None, None, None, named);
             }
