@@ -10,8 +10,6 @@ mod common;
 
 use common::*;
 use serde_json::json;
-use softplc_core::engine::MonotonicClock;
-use softplc_http::HttpConfig;
 
 const A: &str = "LD SM400\nMOV K3 D0\nMOV D0 D100\nEND\n";
 const B: &str = "LD SM400\nMOV K30 D0\nMOV D0 D101\nEND\n";
@@ -21,7 +19,7 @@ struct Project {
     _dir: tempfile::TempDir,
 }
 
-fn start_project() -> Project {
+fn start_two_programs() -> Project {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(
         dir.path().join("plc.toml"),
@@ -30,17 +28,8 @@ fn start_project() -> Project {
     .unwrap();
     std::fs::write(dir.path().join("a.il"), A).unwrap();
     std::fs::write(dir.path().join("b.il"), B).unwrap();
-    let cpu = softplc_core::project::load_project(dir.path())
-        .and_then(|p| p.build_cpu(Box::new(MonotonicClock::default())))
-        .unwrap_or_else(|d| panic!("{:?}", d.0));
-    let cfg = HttpConfig {
-        token: Some(TOKEN.into()),
-        model: "Q06HCPU".into(),
-        ladder: softplc_http::ladder::load_programs(&cpu),
-        limits: Default::default(),
-    };
     Project {
-        server: start_cpu(cpu, cfg),
+        server: common::start_project(dir.path()),
         _dir: dir,
     }
 }
@@ -58,7 +47,7 @@ fn page_names(body: &str) -> Vec<String> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn each_programs_local_devices_read_and_written_by_name() {
-    let p = start_project();
+    let p = start_two_programs();
     let addr = p.server.addr;
     let r = get(
         addr,
@@ -93,7 +82,7 @@ async fn each_programs_local_devices_read_and_written_by_name() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_programs_ladder_watches_its_own_local_devices() {
-    let p = start_project();
+    let p = start_two_programs();
     let a = get(p.server.addr, "/?prog=0").await;
     assert_eq!(a.status, 200);
     let names = page_names(&a.body);

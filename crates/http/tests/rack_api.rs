@@ -21,17 +21,7 @@ fn page_names(body: &str) -> String {
 }
 
 fn start_rack() -> Server {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/rack");
-    let cpu = softplc_core::project::load_project(&dir)
-        .and_then(|p| p.build_cpu(Box::new(MonotonicClock::default())))
-        .unwrap_or_else(|d| panic!("{:?}", d.0));
-    let cfg = HttpConfig {
-        token: Some(TOKEN.into()),
-        model: "Q06HCPU".into(),
-        ladder: softplc_http::ladder::load_programs(&cpu),
-        limits: Default::default(),
-    };
-    start_cpu(cpu, cfg)
+    start_project(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/rack"))
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -71,6 +71,21 @@ pub fn start_configured(
     start_cpu(cpu, cfg)
 }
 
+/// A server of the project in `dir` (plc.toml and its programs) with the
+/// token and its programs' ladders.
+pub fn start_project(dir: &std::path::Path) -> Server {
+    let cpu = softplc_core::project::load_project(dir)
+        .and_then(|p| p.build_cpu(Box::new(MonotonicClock::default())))
+        .unwrap_or_else(|d| panic!("{:?}", d.0));
+    let cfg = HttpConfig {
+        token: Some(TOKEN.into()),
+        model: "Q06HCPU".into(),
+        ladder: softplc_http::ladder::load_programs(&cpu),
+        limits: Default::default(),
+    };
+    start_cpu(cpu, cfg)
+}
+
 /// A server of `cpu` at a 5 ms constant scan with the web monitor of `http`.
 pub fn start_cpu(cpu: Cpu, http: HttpConfig) -> Server {
     start_state(ServeState::new(cpu), http)
