@@ -348,8 +348,13 @@ fn run(
     stop: Arc<AtomicBool>,
     beat: &Heartbeat,
 ) -> ServeState {
-    let (granted, note) = if cfg.realtime {
+    // A loop that scans as fast as it can must not hold a CPU core at
+    // real-time priority.
+    let flat_out = s.time_scale() == Some(crate::TimeScale::Max);
+    let (granted, note) = if cfg.realtime && !flat_out {
         set_realtime()
+    } else if flat_out {
+        (false, "not requested (virtual time as fast as possible)".to_string())
     } else {
         (false, "not requested".to_string())
     };

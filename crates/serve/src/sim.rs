@@ -221,6 +221,14 @@ impl ServeState {
         })
     }
 
+    /// Lockstep without a running advance: held at virtual time `now_us`.
+    fn hold_at(&mut self, now_us: u64) {
+        let hold = self.sim.as_mut().and_then(|s| s.hold.as_mut());
+        if let Some(h) = hold.filter(|h| h.pending.is_none()) {
+            h.until_us = now_us;
+        }
+    }
+
     /// At the END that completes an advance: its answer goes out with this
     /// END's replies.
     fn complete_advance(&mut self) {
@@ -301,9 +309,19 @@ pub(crate) fn run(
         sys.schedule(cfg.period, clock.now_us());
     }
     let mut pace = Pace::new(scale, clock.now_us());
+    // The time this loop last set (or found) on the clock.
+    let mut set_us = clock.now_us();
     let mut jitter_sum = 0f64;
     let mut logged = Instant::now();
     while !stop.load(Ordering::Relaxed) {
+        let now = clock.now_us();
+        if now != set_us {
+            // A request set the clock (a restored state): pace, and hold,
+            // from the time it set.
+            pace.restart(now);
+            s.hold_at(now);
+            set_us = now;
+        }
         if s.held() {
             between_scans(&mut s, rx, cfg, stop, None);
             // An advance's scans are paced from its start.
@@ -324,6 +342,7 @@ pub(crate) fn run(
         let start = Instant::now();
         let jitter = real.map_or(0, |t| start.saturating_duration_since(t).as_micros() as u64);
         clock.advance_us(due.saturating_sub(clock.now_us()));
+        set_us = clock.now_us();
         scan_cpu(&mut s, i, start, beat);
         s.run_hooks();
         s.complete_advance();
