@@ -37,7 +37,10 @@ fn bad_options_are_refused_naming_them() {
     }
     // Only the web monitor's advance moves a held CPU.
     let err = refused(&[&p, "--lockstep"]);
-    assert!(err.contains("--lockstep") && err.contains("--http"), "{err}");
+    assert!(
+        err.contains("--lockstep") && err.contains("--http"),
+        "{err}"
+    );
     let err = refused(&[&p, "--lockstep", "--http", "127.0.0.1:0"]);
     assert!(err.contains("--lockstep") && err.contains("token"), "{err}");
 }
@@ -60,7 +63,13 @@ fn serve(args: &[&str]) -> Serve {
     let mut child = softplc()
         .arg("serve")
         .args(args)
-        .args(["--http", "127.0.0.1:0", "--http-token", TOKEN, "--no-realtime"])
+        .args([
+            "--http",
+            "127.0.0.1:0",
+            "--http-token",
+            TOKEN,
+            "--no-realtime",
+        ])
         .stderr(Stdio::piped())
         .stdout(Stdio::null())
         .spawn()
@@ -109,7 +118,10 @@ fn a_lockstep_program_runs_when_advanced() {
     let s = serve(&[&p, "--lockstep", "--scan-time", "20ms"]);
     assert!(s.banner.contains("lockstep"), "{}", s.banner);
     let (code, st) = http(s.port, "GET", "/api/v1/status", "");
-    assert_eq!((code, &st["scan"], &st["time_ms"]), (200, &0.into(), &0.0.into()));
+    assert_eq!(
+        (code, &st["scan"], &st["time_ms"]),
+        (200, &0.into(), &0.0.into())
+    );
     let (code, done) = http(s.port, "POST", "/api/v1/sim/advance", r#"{"ms": 50}"#);
     assert_eq!(
         (code, done),

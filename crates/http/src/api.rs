@@ -152,7 +152,10 @@ pub(crate) type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
 
 /// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
 /// with `{"error": ...}`.
-pub(crate) fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, Response> {
+pub(crate) fn body<T: serde::de::DeserializeOwned>(
+    bytes: &Body,
+    what: &str,
+) -> Result<T, Response> {
     let bytes = bytes.as_ref().map_err(|r| {
         error(
             r.status(),

@@ -69,9 +69,9 @@ fn parse(obj: &Map<String, Value>) -> Result<Advance, String> {
         },
         "ms" => match v.as_f64() {
             // To the nanosecond first, so that 0.3 ms is 300 µs, not 301.
-            Some(t) if t > 0.0 && t <= 1e12 => Ok(Advance::Us(
-                ((t * 1e6).round() as u64).div_ceil(1000),
-            )),
+            Some(t) if t > 0.0 && t <= 1e12 => {
+                Ok(Advance::Us(((t * 1e6).round() as u64).div_ceil(1000)))
+            }
             _ => Err(format!(
                 "`ms`: expected a virtual time in ms more than 0, not `{v}`"
             )),

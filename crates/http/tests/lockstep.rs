@@ -43,7 +43,10 @@ async fn an_advance_runs_exactly_its_scans_and_the_cpu_holds_between() {
     let srv = start_virtual(SRC, TimeScale::Max, true);
     // Held before scan 1, at power-on.
     let st = status(&srv).await;
-    assert_eq!((st["scan"].clone(), st["time_ms"].clone()), (json!(0), json!(0.0)));
+    assert_eq!(
+        (st["scan"].clone(), st["time_ms"].clone()),
+        (json!(0), json!(0.0))
+    );
     assert_eq!(
         advanced(&srv, r#"{"scans": 5}"#).await,
         json!({"scan": 5, "time_ms": 50.0})
@@ -70,7 +73,10 @@ async fn an_advance_runs_exactly_its_scans_and_the_cpu_holds_between() {
         json!({"scan": 12, "time_ms": 120.0})
     );
     let st = status(&srv).await;
-    assert_eq!((st["scan"].clone(), st["time_ms"].clone()), (json!(12), json!(120.0)));
+    assert_eq!(
+        (st["scan"].clone(), st["time_ms"].clone()),
+        (json!(12), json!(120.0))
+    );
     // SD412 counts seconds since RUN in virtual time: 0 at scan 99 (0.99 s),
     // 1 at scan 100.
     advanced(&srv, r#"{"scans": 87}"#).await;
@@ -232,11 +238,17 @@ async fn time_scale_4_runs_virtual_time_at_4x_real_time() {
 async fn time_scale_max_runs_as_fast_as_possible() {
     let srv = start_virtual(SRC, TimeScale::Max, false);
     let (virt, real) = virtual_over(&srv, Duration::from_secs(2)).await;
-    assert!(virt >= 10.0 * real, "{virt} ms of virtual time in {real} ms");
+    assert!(
+        virt >= 10.0 * real,
+        "{virt} ms of virtual time in {real} ms"
+    );
     let d = devices(&srv, "D100,SD520").await;
     assert_eq!(d["devices"]["SD520"], 10);
     // Every scan is 10 ms of virtual time.
     let st = status(&srv).await;
-    let (scan, time) = (st["scan"].as_f64().unwrap(), st["time_ms"].as_f64().unwrap());
+    let (scan, time) = (
+        st["scan"].as_f64().unwrap(),
+        st["time_ms"].as_f64().unwrap(),
+    );
     assert_eq!(time, scan * 10.0);
 }

@@ -354,7 +354,10 @@ fn run(
     let (granted, note) = if cfg.realtime && !flat_out {
         set_realtime()
     } else if flat_out {
-        (false, "not requested (virtual time as fast as possible)".to_string())
+        (
+            false,
+            "not requested (virtual time as fast as possible)".to_string(),
+        )
     } else {
         (false, "not requested".to_string())
     };
