@@ -28,6 +28,9 @@ impl Broker {
     /// Parses `--mqtt URL`.
     pub fn parse(text: &str) -> Result<Broker, String> {
         let bad = |why: &str| format!("--mqtt `{text}`: {why} (e.g. mqtt://127.0.0.1:1883)");
+        if !text.contains("://") {
+            return Err(bad("expected mqtt://HOST[:PORT] or mqtts://HOST[:PORT]"));
+        }
         let url = url::Url::parse(text).map_err(|e| bad(&e.to_string()))?;
         let tls = match url.scheme() {
             "mqtt" | "tcp" => false,
@@ -190,7 +193,7 @@ mod tests {
         assert_eq!((b.host.as_str(), b.port), ("::1", 1884));
         assert_eq!(b.display(), "mqtt://[::1]:1884");
         for (bad, why) in [
-            ("127.0.0.1:1883", "scheme `127.0.0.1`"),
+            ("127.0.0.1:1883", "expected mqtt://HOST[:PORT]"),
             ("http://h", "scheme `http`"),
             ("mqtt://h/plant", "the topic prefix is --mqtt-topic"),
             ("mqtt://", "--mqtt `mqtt://`"),
