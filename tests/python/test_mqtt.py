@@ -4,6 +4,7 @@ change with their scan, `$state` online and `offline` as the last will,
 writes from PREFIX/set/DEV only with --mqtt-write, bad writes logged and
 ignored, and a broker that is down never stalls the scan."""
 import json
+import os
 import shutil
 import signal
 import subprocess
@@ -222,3 +223,69 @@ def test_the_compose_example_serves_and_publishes(broker):
     finally:
         sub.close()
         stop(proc)
+
+
+def make_certs(d):
+    """A CA and a certificate for localhost/127.0.0.1 signed by it (openssl)."""
+    def ssl(*a):
+        subprocess.run(["openssl", *a], check=True, capture_output=True)
+    ssl("req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", d / "ca.key", "-out",
+        d / "ca.pem", "-days", "2", "-subj", "/CN=softplc test CA")
+    ssl("req", "-newkey", "rsa:2048", "-nodes", "-keyout", d / "server.key", "-out",
+        d / "server.csr", "-subj", "/CN=localhost")
+    (d / "ext.cnf").write_text("subjectAltName=DNS:localhost,IP:127.0.0.1\n")
+    ssl("x509", "-req", "-in", d / "server.csr", "-CA", d / "ca.pem", "-CAkey", d / "ca.key",
+        "-CAcreateserial", "-out", d / "server.pem", "-days", "2", "-extfile", d / "ext.cnf")
+
+
+@pytest.mark.skipif(shutil.which("openssl") is None, reason="openssl is not installed")
+def test_mqtts_with_the_brokers_ca_and_a_refused_certificate_without_it(tmp_path):
+    make_certs(tmp_path)
+    port = free_port()
+    conf = tmp_path / "tls.conf"
+    # Started as root (CI), mosquitto switches to its own user, which cannot
+    # read the test's private directory: `user root` keeps it root.
+    user = "user root\n" if os.geteuid() == 0 else ""
+    conf.write_text(f"listener {port} 127.0.0.1\nallow_anonymous true\npersistence false\n{user}"
+                    f"cafile {tmp_path / 'ca.pem'}\ncertfile {tmp_path / 'server.pem'}\n"
+                    f"keyfile {tmp_path / 'server.key'}\n")
+    b = subprocess.Popen([MOSQUITTO, "-c", str(conf)], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL)
+    try:
+        wait_port(port, b)
+        seen = []
+        c = mqtt.Client(mqtt.CallbackAPIVersion.VERSION2)
+        c.tls_set(ca_certs=str(tmp_path / "ca.pem"))
+        c.on_message = lambda c, u, m: seen.append((m.topic, m.payload.decode()))
+        c.connect("localhost", port)
+        c.subscribe("secure/#", qos=1)
+        c.loop_start()
+        hp = free_port()
+        base = [BINARY, "serve", str(HERE / "serve_test.il"), "--no-realtime", "--http",
+                f"127.0.0.1:{hp}", "--mqtt", f"mqtts://localhost:{port}", "--mqtt-topic",
+                "secure", "--mqtt-publish", "D101"]
+        proc = subprocess.Popen([*base, "--mqtt-ca", str(tmp_path / "ca.pem")],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        try:
+            wait_port(hp, proc)
+            end = time.time() + 10
+            while ("secure/$state", "online") not in seen and time.time() < end:
+                time.sleep(0.05)
+            assert ("secure/$state", "online") in seen, seen
+        finally:
+            stop(proc)
+        c.loop_stop()
+        # Without the CA the broker's certificate is refused, and said so.
+        hp = free_port()
+        base[base.index("--http") + 1] = f"127.0.0.1:{hp}"
+        proc = subprocess.Popen(base, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        try:
+            wait_port(hp, proc)
+            time.sleep(1.0)
+        finally:
+            stop(proc)
+        err = proc.stderr.read().decode()
+        assert "invalid peer certificate" in err, err
+    finally:
+        b.terminate()
+        b.wait(timeout=10)

@@ -160,7 +160,7 @@ async fn run(p: Prepared, engine: EngineHandle) {
                 Err(e) => {
                     if connected || !told_down {
                         eprintln!(
-                            "softplc: --mqtt: {}: {e}; retrying (every {} s at most)",
+                            "softplc: --mqtt: {}: {e}; retrying with backoff (at least every {} s)",
                             cfg.broker.display(),
                             BACKOFF_MAX.as_secs()
                         );
