@@ -280,10 +280,11 @@ impl Pace {
     }
 
     /// When virtual time `v_us` is due in real time (`None`: at once).
+    /// The factor is at least 0.01, so the duration is finite.
     fn real(&self, v_us: u64) -> Option<Instant> {
         let f = self.factor?;
         let us = v_us.saturating_sub(self.origin_us) as f64 / f;
-        Some(self.origin + Duration::from_secs_f64(us / 1e6))
+        self.origin.checked_add(Duration::from_secs_f64(us / 1e6))
     }
 }
 
@@ -406,5 +407,36 @@ fn between_scans(
             // Every door has gone (shutting down): only `stop` is left.
             Err(RecvTimeoutError::Disconnected) => std::thread::sleep(wait),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_scales() {
+        assert_eq!(TimeScale::parse("max"), Ok(TimeScale::Max));
+        assert_eq!(TimeScale::parse(" MAX "), Ok(TimeScale::Max));
+        assert_eq!(TimeScale::parse("0.01"), Ok(TimeScale::Factor(0.01)));
+        assert_eq!(TimeScale::parse("4"), Ok(TimeScale::Factor(4.0)));
+        assert_eq!(TimeScale::parse("1000"), Ok(TimeScale::Factor(1000.0)));
+        for bad in ["0.0099", "1000.5", "0", "-2", "NaN", "inf", "", "fast"] {
+            assert!(TimeScale::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn virtual_time_is_due_at_its_share_of_real_time() {
+        let mut p = Pace::new(TimeScale::Factor(4.0), 1_000);
+        p.restart(1_000);
+        // 10 ms of virtual time after the origin is 2.5 ms of real time.
+        assert_eq!(
+            p.real(11_000).unwrap() - p.origin,
+            Duration::from_micros(2_500)
+        );
+        // Before the origin: at once, at the origin.
+        assert_eq!(p.real(0), Some(p.origin));
+        assert_eq!(Pace::new(TimeScale::Max, 0).real(10_000), None);
     }
 }
