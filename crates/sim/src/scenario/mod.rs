@@ -45,7 +45,9 @@
 
 mod bind;
 mod check;
+mod client;
 pub mod fmt;
+mod plcs;
 mod ports;
 mod run;
 mod spec;
@@ -53,9 +55,11 @@ mod trace;
 
 pub use check::{Failure, HISTORY_AFTER, HISTORY_BEFORE};
 pub use run::{CheckResult, Outcome, Run, PROGRESS_EVERY};
+pub use plcs::Plcs;
 pub use spec::{
-    Band, Cond, EventSpec, ExpectKind, ExpectSpec, InputBinding, ModelSpec, OutputBinding,
-    PeerKind, PeerSpec, PlotSpec, Scale, Scenario, ScriptStep, Setpoint, Source, TraceSpec,
+    Band, BlockSpec, ClientProtocol, ClientSpec, Cond, EventSpec, ExpectKind, ExpectSpec,
+    InputBinding, Layout, LinkSpec, ModelSpec, OutputBinding, PeerKind, PeerSpec, PlcSpec,
+    PlotSpec, PortRef, Remote, Scale, Scenario, ScriptStep, Setpoint, Source, TraceSpec,
     DEFAULT_MAX_SAMPLES,
 };
 pub use trace::TraceData;

@@ -15,7 +15,7 @@ mod values;
 
 pub use fleet::{BlockSpec, ClientProtocol, ClientSpec, LinkSpec, PlcSpec, PortRef, Remote};
 pub use values::Layout;
-pub(crate) use values::{channel, split_cpu};
+pub(crate) use values::channel;
 
 /// What the scenario runs: a program file or a project.
 #[derive(Clone, Debug, PartialEq)]
