@@ -46,7 +46,7 @@ fn assert_all_pass(o: &Outcome) {
 
 #[test]
 fn the_example_line_passes() {
-    let mut sc = Scenario::load(&fleet_dir().join("line.toml")).unwrap();
+    let mut sc = Scenario::load(&fleet_dir().join("serial_line.toml")).unwrap();
     sc.plot = None; // do not rewrite the committed SVG
     assert_eq!(sc.plcs.len(), 3);
     assert_eq!(sc.links.len(), 1);
@@ -54,13 +54,13 @@ fn the_example_line_passes() {
     let o = sc.build().unwrap().run(&mut |_| {});
     assert_all_pass(&o);
     assert_eq!(o.results.len(), 10);
-    assert!(fleet_dir().join("line.svg").exists());
+    assert!(fleet_dir().join("serial_line.svg").exists());
 }
 
 #[test]
 fn a_fleet_runs_the_same_bit_for_bit_twice() {
     let trace = || {
-        let mut sc = Scenario::load(&fleet_dir().join("line.toml")).unwrap();
+        let mut sc = Scenario::load(&fleet_dir().join("serial_line.toml")).unwrap();
         sc.plot = None;
         sc.trace.interval_us = Some(sc.scan_us); // every step
         let o = sc.build().unwrap().run(&mut |_| {});
