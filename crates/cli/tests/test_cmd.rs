@@ -542,8 +542,16 @@ fn a_fleet_traces_devices_of_several_plcs() {
     let plot = std::fs::read_to_string(&svg).unwrap();
     assert!(plot.contains("tank/D0") && plot.contains("master/D302"));
     // An unknown PLC in --trace is an error naming it.
-    let out = softplc(&["test", "examples/fleet/serial_line.toml", "--trace", "pump/D0"]);
+    let out = softplc(&[
+        "test",
+        "examples/fleet/serial_line.toml",
+        "--trace",
+        "pump/D0",
+    ]);
     let text = stdout(&out);
     assert!(!out.status.success(), "{text}");
-    assert!(text.contains("`pump/D0`: no PLC is named `pump` (PLCs: master, tank, supervisor)"), "{text}");
+    assert!(
+        text.contains("`pump/D0`: no PLC is named `pump` (PLCs: master, tank, supervisor)"),
+        "{text}"
+    );
 }

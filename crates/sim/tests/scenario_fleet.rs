@@ -17,7 +17,10 @@ fn write(dir: &Path, text: &str) -> PathBuf {
     let text = text
         .replace("MASTER", &ex.join("master.apl").display().to_string())
         .replace("TANK", &ex.join("tank.apl").display().to_string())
-        .replace("SUPERVISOR", &ex.join("supervisor.il").display().to_string());
+        .replace(
+            "SUPERVISOR",
+            &ex.join("supervisor.il").display().to_string(),
+        );
     let path = dir.join("fleet.toml");
     std::fs::write(&path, text).unwrap();
     path
@@ -328,7 +331,9 @@ address = 2
 
 #[test]
 fn a_link_to_an_unknown_plc_names_it_with_its_line() {
-    let e = load_err(&format!("{TWO}\n[[link]]\na = \"master:port1\"\nb = \"pump:port1\"\n"));
+    let e = load_err(&format!(
+        "{TWO}\n[[link]]\na = \"master:port1\"\nb = \"pump:port1\"\n"
+    ));
     assert!(
         e.ends_with("fleet.toml: 22:5: [[link]] #1 b: no PLC is named `pump` (PLCs: master, tank)"),
         "{e}"
@@ -337,7 +342,9 @@ fn a_link_to_an_unknown_plc_names_it_with_its_line() {
 
 #[test]
 fn a_link_to_an_unknown_port_is_an_error() {
-    let e = load_err(&format!("{TWO}\n[[link]]\na = \"master:port3\"\nb = \"tank:port1\"\n"));
+    let e = load_err(&format!(
+        "{TWO}\n[[link]]\na = \"master:port3\"\nb = \"tank:port1\"\n"
+    ));
     assert!(
         e.ends_with("21:5: [[link]] #1 a: `master:port3`: unknown port `port3` (port1 or port2)"),
         "{e}"
@@ -350,11 +357,18 @@ fn a_port_linked_twice_is_an_error() {
         "{TWO}\n[[link]]\na = \"master:port1\"\nb = \"tank:port1\"\n\n[[link]]\na = \"tank:port1\"\nb = \"master:port2\"\n"
     ));
     assert!(
-        e.ends_with("25:5: [[link]] #2 a: `tank:port1` is linked twice (also in [[link]] #1 (line 21))"),
+        e.ends_with(
+            "25:5: [[link]] #2 a: `tank:port1` is linked twice (also in [[link]] #1 (line 21))"
+        ),
         "{e}"
     );
-    let e = load_err(&format!("{TWO}\n[[link]]\na = \"tank:port1\"\nb = \"tank:port1\"\n"));
-    assert!(e.contains("[[link]] #1 b: `tank:port1` is linked twice (also in its own `a`)"), "{e}");
+    let e = load_err(&format!(
+        "{TWO}\n[[link]]\na = \"tank:port1\"\nb = \"tank:port1\"\n"
+    ));
+    assert!(
+        e.contains("[[link]] #1 b: `tank:port1` is linked twice (also in its own `a`)"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -370,7 +384,9 @@ fn a_link_to_a_plc_without_serial_ports_is_an_error() {
 
 #[test]
 fn a_port_without_settings_is_an_error() {
-    let e = load_err(&format!("{TWO}\n[[link]]\na = \"master:port2\"\nb = \"tank:port1\"\n"));
+    let e = load_err(&format!(
+        "{TWO}\n[[link]]\na = \"master:port2\"\nb = \"tank:port1\"\n"
+    ));
     assert!(
         e.ends_with("[[link]] #1 (line 21): `master:port2` has no settings ([port2] in its [[plc]] table, or in its plc.toml)"),
         "{e}"
@@ -379,8 +395,14 @@ fn a_port_without_settings_is_an_error() {
 
 #[test]
 fn mismatched_settings_name_both_ends() {
-    let text = TWO.replacen("baud = 9600\naddress = 2", "baud = 19200\nparity = \"odd\"\naddress = 2", 1);
-    let e = load_err(&format!("{text}\n[[link]]\na = \"master:port1\"\nb = \"tank:port1\"\n"));
+    let text = TWO.replacen(
+        "baud = 9600\naddress = 2",
+        "baud = 19200\nparity = \"odd\"\naddress = 2",
+        1,
+    );
+    let e = load_err(&format!(
+        "{text}\n[[link]]\na = \"master:port1\"\nb = \"tank:port1\"\n"
+    ));
     assert!(
         e.ends_with("[[link]] #1 (line 22): the two ends do not agree: `master:port1` has 9600 baud, parity even, 8 data bits, 1 stop bits, `tank:port1` has 19200 baud, parity odd, 8 data bits, 1 stop bits"),
         "{e}"
@@ -391,32 +413,48 @@ fn mismatched_settings_name_both_ends() {
 fn duplicate_plc_names_are_an_error() {
     let text = TWO.replace("name = \"tank\"", "name = \"master\"");
     let e = load_err(&text);
-    assert!(e.ends_with("fleet.toml: 13:8: [[plc]] #2 `master`: two PLCs are named `master`"), "{e}");
+    assert!(
+        e.ends_with("fleet.toml: 13:8: [[plc]] #2 `master`: two PLCs are named `master`"),
+        "{e}"
+    );
     let e = load_err(&TWO.replace("name = \"tank\"", "name = \"tank 2\""));
     assert!(e.contains("`tank 2` is not a plain name"), "{e}");
 }
 
 #[test]
 fn device_names_must_name_a_known_plc() {
-    let e = load_err(&format!("{TWO}\n[[expect]]\ndevice = \"pump/D0\"\nat = \"1s\"\nequals = 0\n"));
+    let e = load_err(&format!(
+        "{TWO}\n[[expect]]\ndevice = \"pump/D0\"\nat = \"1s\"\nequals = 0\n"
+    ));
     assert!(
-        e.contains("expect #1 (pump/D0): device: `pump/D0`: no PLC is named `pump` (PLCs: master, tank)"),
+        e.contains(
+            "expect #1 (pump/D0): device: `pump/D0`: no PLC is named `pump` (PLCs: master, tank)"
+        ),
         "{e}"
     );
     let e = load_err(&format!("{TWO}\n[trace]\ndevices = [\"D0\"]\n"));
     assert!(
-        e.contains("trace: `D0`: name the PLC it belongs to, as in `master/D0` (PLCs: master, tank)"),
+        e.contains(
+            "trace: `D0`: name the PLC it belongs to, as in `master/D0` (PLCs: master, tank)"
+        ),
         "{e}"
     );
-    let e = load_err(&format!("{TWO}\n[[timeline]]\nat = 0\nset = {{ \"tank/CPU2/D0\" = 1 }}\n"));
-    assert!(e.contains("timeline #1: PLC `tank`: `CPU2/D0`: there is no CPU 2"), "{e}");
+    let e = load_err(&format!(
+        "{TWO}\n[[timeline]]\nat = 0\nset = {{ \"tank/CPU2/D0\" = 1 }}\n"
+    ));
+    assert!(
+        e.contains("timeline #1: PLC `tank`: `CPU2/D0`: there is no CPU 2"),
+        "{e}"
+    );
 }
 
 #[test]
 fn single_plc_keys_do_not_mix_with_plc_tables() {
     let e = load_err(&format!("program = \"TANK\"\n{TWO}"));
     assert!(
-        e.ends_with("program: a key of a single-PLC scenario; with [[plc]] tables each PLC gives its own"),
+        e.ends_with(
+            "program: a key of a single-PLC scenario; with [[plc]] tables each PLC gives its own"
+        ),
         "{e}"
     );
     let e = load_err(&format!("{TWO}\n[port2]\nprotocol = \"free\"\n"));
@@ -428,19 +466,33 @@ fn peers_and_clients_name_their_plc() {
     let e = load_err(&format!(
         "{TWO}\n[[peer]]\nport = 1\ntype = \"modbus-slave\"\nstation = 3\n"
     ));
-    assert!(e.contains("peer #1: `plc` is required with [[plc]] tables"), "{e}");
+    assert!(
+        e.contains("peer #1: `plc` is required with [[plc]] tables"),
+        "{e}"
+    );
     let e = load_err(&format!(
         "{TWO}\n[[link]]\na = \"master:port1\"\nb = \"tank:port1\"\n\n[[peer]]\nplc = \"tank\"\nport = 1\ntype = \"modbus-slave\"\nstation = 3\n"
     ));
-    assert!(e.contains("peer #1: PORT1 is linked to another PLC ([[link]]): a linked port takes no [[peer]]"), "{e}");
+    assert!(
+        e.contains(
+            "peer #1: PORT1 is linked to another PLC ([[link]]): a linked port takes no [[peer]]"
+        ),
+        "{e}"
+    );
     let e = load_err(&format!(
         "{TWO}\n[[client]]\nplc = \"tank\"\nprotocol = \"mc\"\nevery = \"1s\"\nread = {{ from = \"D0\", to = \"master/D0\" }}\n"
     ));
-    assert!(e.contains("[[client]] #1 `client #1` protocol: tank (APLC-TCP) has no MC protocol door"), "{e}");
+    assert!(
+        e.contains("[[client]] #1 `client #1` protocol: tank (APLC-TCP) has no MC protocol door"),
+        "{e}"
+    );
     let e = load_err(&format!(
         "{TWO}\n[[client]]\nplc = \"tank\"\nprotocol = \"modbus\"\nevery = \"1s\"\nread = {{ from = 0, to = \"line9/D0\" }}\n"
     ));
-    assert!(e.contains("read.to: `line9/D0`: no PLC is named `line9`"), "{e}");
+    assert!(
+        e.contains("read.to: `line9/D0`: no PLC is named `line9`"),
+        "{e}"
+    );
 }
 
 /// A peer on a port of a fleet's PLC: the single-PLC serial peers work

@@ -72,7 +72,11 @@ impl Client {
                 .spec()
                 .device()
                 .filter(|(k, _)| !k.is_bit())
-                .ok_or_else(|| err(format!("`{text}`: a client copies words: name a word device")))?;
+                .ok_or_else(|| {
+                    err(format!(
+                        "`{text}`: a client copies words: name a word device"
+                    ))
+                })?;
             let span = plcs
                 .get(cpu)
                 .span(kind, number, u32::from(count), RBlock::First)
@@ -92,9 +96,8 @@ impl Client {
             ClientProtocol::Mc => Door::Mc(Session::new()),
             ClientProtocol::Modbus => {
                 let table = modbus.cloned().unwrap_or_default();
-                let preset = Preset::find(profile.doors.modbus).ok_or_else(|| {
-                    format!("{what}: {} has no Modbus map", profile.model)
-                })?;
+                let preset = Preset::find(profile.doors.modbus)
+                    .ok_or_else(|| format!("{what}: {} has no Modbus map", profile.model))?;
                 let map = Map::from_toml_with(&table, preset)
                     .map_err(|e| format!("{what}: [modbus]: {e}"))?;
                 let slave = Slave::from_toml_with(&table, profile.doors.modbus_unit)
@@ -166,10 +169,7 @@ impl Client {
     fn fail(&mut self, now_us: u64, e: String) {
         self.failed += 1;
         if self.first_error.is_none() {
-            self.first_error = Some(format!(
-                "at {}: {e}",
-                super::fmt::fmt_time(now_us)
-            ));
+            self.first_error = Some(format!("at {}: {e}", super::fmt::fmt_time(now_us)));
         }
     }
 
@@ -195,8 +195,7 @@ impl Client {
                     command,
                 });
                 let (req, _) = decode_request(&frame).map_err(|e| e.to_string())?;
-                let resp =
-                    softplc_mc::handle_station(&req, &mut unit.cpus, session, None);
+                let resp = softplc_mc::handle_station(&req, &mut unit.cpus, session, None);
                 let bytes = encode_response(&req.header, &resp);
                 let (reply, _) = decode_response(&bytes).map_err(|e| e.to_string())?;
                 if reply.end_code != softplc_mc::EndCode::OK {
@@ -204,7 +203,11 @@ impl Client {
                 }
                 Ok(reply.words().unwrap_or_default())
             }
-            Some(Door::Modbus { slave, map, unit: id }) => {
+            Some(Door::Modbus {
+                slave,
+                map,
+                unit: id,
+            }) => {
                 self.transaction = self.transaction.wrapping_add(1);
                 let pdu = match op {
                     Op::Read(Target::Register(a), n) => {
@@ -270,4 +273,3 @@ pub(super) fn result(c: &Client) -> Option<(String, String)> {
         )
     })
 }
-

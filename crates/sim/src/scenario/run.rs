@@ -140,7 +140,15 @@ impl Scenario {
         if !self.plcs.is_empty() {
             return self.build_fleet(clock, exec).map_err(ctx);
         }
-        let loaded = self.load_plc(&self.source, self.cpu, self.profile, &self.ports, self.scan_us, &clock, exec)?;
+        let one = PlcSpec {
+            name: String::new(),
+            source: self.source.clone(),
+            cpu: self.cpu,
+            profile: self.profile,
+            scan_us: self.scan_us,
+            ports: self.ports.clone(),
+        };
+        let loaded = self.load_plc(&one, &clock, exec)?;
         self.build_with_ports(loaded.cpus, clock, &loaded.ports)
             .map_err(ctx)
     }
@@ -148,18 +156,20 @@ impl Scenario {
     /// Loads one PLC's program, project or system on `clock`: its CPUs on
     /// their execution tier, its APLC port settings and its project's
     /// `[modbus]` table.
-    #[allow(clippy::too_many_arguments)]
     fn load_plc(
         &self,
-        source: &super::Source,
-        cpu: Option<&'static softplc_core::profile::Profile>,
-        profile: &'static softplc_core::profile::Profile,
-        ports: &[softplc_ports::PortConfig],
-        scan_us: u64,
+        plc: &PlcSpec,
         clock: &VirtualClock,
         exec: Option<softplc_core::tier::Exec>,
     ) -> Result<Loaded, String> {
-        let mut ports = ports.to_vec();
+        let PlcSpec {
+            source,
+            cpu,
+            profile,
+            scan_us,
+            ..
+        } = plc;
+        let mut ports = plc.ports.clone();
         let mut project_exec = None;
         let mut modbus = None;
         let mut cpu = match source {
@@ -181,7 +191,7 @@ impl Scenario {
                     .map_err(|d| format!("{d}"))?
             }
             super::Source::System(p) => {
-                let sys = self.load_system(p, clock, exec, scan_us)?;
+                let sys = self.load_system(p, clock, exec, *scan_us)?;
                 return Ok(Loaded {
                     cpus: Cpus::System(sys),
                     ports: Vec::new(),
@@ -210,23 +220,15 @@ impl Scenario {
         let mut modbus = Vec::new();
         let mut layout = Vec::new();
         for p in &self.plcs {
-            let PlcSpec {
-                name,
-                source,
-                cpu,
-                profile,
-                scan_us,
-                ports,
-            } = p;
             let loaded = self
-                .load_plc(source, *cpu, profile, ports, *scan_us, &clock, exec)
-                .map_err(|e| format!("PLC `{name}`: {e}"))?;
-            layout.push((name.clone(), loaded.cpus.len()));
+                .load_plc(p, &clock, exec)
+                .map_err(|e| format!("PLC `{}`: {e}", p.name))?;
+            layout.push((p.name.clone(), loaded.cpus.len()));
             units.push(Plc {
                 cpus: loaded.cpus,
                 ports: softplc_ports::Ports::new(),
-                period_us: *scan_us,
-                next_due_us: clock.now_us() + scan_us,
+                period_us: p.scan_us,
+                next_due_us: clock.now_us() + p.scan_us,
             });
             configs.push(loaded.ports);
             modbus.push(loaded.modbus);

@@ -1,7 +1,7 @@
 //! The `[[expect]]` tables of a scenario file: keys, checks and their labels.
 
-use softplc_core::access::ValueType;
 use super::values::Space;
+use softplc_core::access::ValueType;
 
 use super::values::{device, number, scan_at, scan_before, time_us};
 use super::{Band, Cond, ExpectKind, ExpectSpec, Setpoint};

@@ -130,10 +130,15 @@ pub struct ClientSpec {
     pub write: Option<BlockSpec<String, Remote>>,
 }
 
-/// `line:col: ` of a spanned value.
+/// `line:col` of a spanned value.
 pub(super) fn at<T>(text: &str, v: &toml::Spanned<T>) -> String {
     let (line, col) = softplc_core::project::line_col(text, v.span().start);
     format!("{line}:{col}")
+}
+
+/// The line of a spanned value.
+fn line_of<T>(text: &str, v: &toml::Spanned<T>) -> u32 {
+    softplc_core::project::line_col(text, v.span().start).0
 }
 
 /// A PLC name is a plain identifier: a letter or `_`, then letters,
@@ -150,27 +155,34 @@ pub(super) fn check_name(name: &str) -> Result<(), String> {
         ));
     }
     if softplc_core::system::names::prefix(&format!("{name}/D0")).is_some() {
-        return Err(format!("`{name}` is how a CPU of a system is named: choose another"));
+        return Err(format!(
+            "`{name}` is how a CPU of a system is named: choose another"
+        ));
     }
     Ok(())
 }
 
 /// The PLC called `name` among `plcs`.
 pub(super) fn find_plc(plcs: &[PlcSpec], name: &str) -> Result<usize, String> {
-    plcs.iter().position(|p| p.name == name.trim()).ok_or_else(|| {
-        format!(
-            "no PLC is named `{}` (PLCs: {})",
-            name.trim(),
-            plcs.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
-        )
-    })
+    plcs.iter()
+        .position(|p| p.name == name.trim())
+        .ok_or_else(|| {
+            format!(
+                "no PLC is named `{}` (PLCs: {})",
+                name.trim(),
+                plcs.iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
 }
 
 /// `"line1:port1"`: a PLC and its PORT1 or PORT2.
 fn port_ref(text: &str, plcs: &[PlcSpec]) -> Result<PortRef, String> {
-    let (plc, port) = text.split_once(':').ok_or_else(|| {
-        format!("`{text}`: expected PLC:PORT, e.g. \"line1:port1\"")
-    })?;
+    let (plc, port) = text
+        .split_once(':')
+        .ok_or_else(|| format!("`{text}`: expected PLC:PORT, e.g. \"line1:port1\""))?;
     let i = find_plc(plcs, plc)?;
     let port = match port.trim().to_ascii_lowercase().as_str() {
         "port1" => 1,
@@ -224,7 +236,7 @@ pub(super) fn links(
         out.push(LinkSpec {
             a: ends[0],
             b: ends[1],
-            what: format!("[[link]] #{} (line {})", i + 1, at(text, &d.a).split(':').next().unwrap_or("?")),
+            what: format!("[[link]] #{} (line {})", i + 1, line_of(text, &d.a)),
         });
     }
     Ok(out)
@@ -241,7 +253,10 @@ pub(super) fn clients(
 ) -> Result<Vec<ClientSpec>, String> {
     let mut out = Vec::new();
     for (i, d) in docs.into_iter().enumerate() {
-        let name = d.name.clone().unwrap_or_else(|| format!("client #{}", i + 1));
+        let name = d
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("client #{}", i + 1));
         let what = format!("[[client]] #{} `{name}`", i + 1);
         let plc = find_plc(plcs, d.plc.get_ref())
             .map_err(|e| format!("{}: {what} plc: {e}", at(text, &d.plc)))?;
@@ -271,7 +286,9 @@ pub(super) fn clients(
             return Err(format!("{what} every: must be more than 0"));
         }
         if d.unit.is_some() && protocol == ClientProtocol::Mc {
-            return Err(format!("{what} unit: a Modbus unit id; MC frames have none"));
+            return Err(format!(
+                "{what} unit: a Modbus unit id; MC frames have none"
+            ));
         }
         if d.read.is_none() && d.write.is_none() {
             return Err(format!("{what}: give `read`, `write` or both"));
@@ -282,7 +299,9 @@ pub(super) fn clients(
                     if softplc_mc::DeviceRef::parse(s).is_some() {
                         Ok(Remote::Device(s.trim().to_string()))
                     } else {
-                        Err(format!("{what} {key}: `{s}` is not an MC device name (D0, W1F, R10 …)"))
+                        Err(format!(
+                            "{what} {key}: `{s}` is not an MC device name (D0, W1F, R10 …)"
+                        ))
                     }
                 }
                 (ClientProtocol::Modbus, toml::Value::Integer(n)) if (0..=65535).contains(n) => {

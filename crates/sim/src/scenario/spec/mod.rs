@@ -14,8 +14,8 @@ mod peer;
 mod values;
 
 pub use fleet::{BlockSpec, ClientProtocol, ClientSpec, LinkSpec, PlcSpec, PortRef, Remote};
-pub use values::Layout;
 pub(crate) use values::channel;
+pub use values::Layout;
 
 /// What the scenario runs: a program file or a project.
 #[derive(Clone, Debug, PartialEq)]

@@ -248,12 +248,10 @@ impl Scenario {
                         i + 1
                     ))
                 }
-                (None, false) => {
-                    return Err(format!(
-                        "peer #{}: `plc` is required with [[plc]] tables: the PLC whose port it is on",
-                        i + 1
-                    ))
-                }
+                (None, false) => return Err(format!(
+                    "peer #{}: `plc` is required with [[plc]] tables: the PLC whose port it is on",
+                    i + 1
+                )),
                 (Some(v), false) => {
                     let name = v.as_str().unwrap_or_default();
                     Some(
@@ -337,10 +335,7 @@ impl Scenario {
 }
 
 /// The `cpu` key of a scenario (or a `[[plc]]`) whose source is `source`.
-fn single_cpu(
-    cpu: &Option<String>,
-    source: &Source,
-) -> Result<Option<&'static Profile>, String> {
+fn single_cpu(cpu: &Option<String>, source: &Source) -> Result<Option<&'static Profile>, String> {
     match (cpu, source) {
         (None, _) => Ok(None),
         (Some(_), Source::Project(_)) => {
@@ -471,12 +466,7 @@ fn project_names(dir: &Path) -> (&'static Profile, Names) {
     }
 }
 
-fn model_spec(
-    mut m: ModelDoc,
-    i: usize,
-    base: &Path,
-    names: &Space,
-) -> Result<ModelSpec, String> {
+fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Space) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     // An FMU's file is relative to the scenario file.

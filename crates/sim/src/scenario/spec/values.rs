@@ -121,7 +121,8 @@ impl Layout {
         let mut first = 0;
         for (name, cpus) in plcs {
             if name == head.trim() {
-                let (cpu, rest) = split_cpu(rest, *cpus).map_err(|e| format!("PLC `{name}`: {e}"))?;
+                let (cpu, rest) =
+                    split_cpu(rest, *cpus).map_err(|e| format!("PLC `{name}`: {e}"))?;
                 return Ok((first + cpu, rest));
             }
             first += cpus;
@@ -179,7 +180,10 @@ pub struct Space {
 /// A device name in the scenario's dialect, `names` per CPU (checked
 /// against the CPU at build).
 pub(super) fn device(text: &str, what: &str, names: &Space) -> Result<DevName, String> {
-    let (cpu, text) = names.layout.split(text).map_err(|e| format!("{what}: {e}"))?;
+    let (cpu, text) = names
+        .layout
+        .split(text)
+        .map_err(|e| format!("{what}: {e}"))?;
     if channel(text).is_some() {
         return Err(format!(
             "{what}: `{}` is a module channel: it binds a model port (check or trace the module's U\\G words)",
