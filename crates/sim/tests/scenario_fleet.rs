@@ -528,3 +528,183 @@ equals = 321
 "#);
     assert_all_pass(&o);
 }
+
+/// Two free ports linked at 9600 baud 8N1 (1042 µs a character): the
+/// sender's XMT of "Hi\r" in scan 1 leaves after its END at 1000 µs, the
+/// bytes arrive at 2042, 3084 and 4126 µs, and the receiver's RCV (end
+/// character CR) takes each at its first END at or after it: "H" at
+/// 3 ms, "i" at 4 ms, the CR and the completion at 5 ms.
+#[test]
+fn free_ports_talk_over_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("send.apl"),
+        "LD SM1\nMOV 72 D0\nMOV 105 D1\nMOV 13 D2\nXMT 1 D0 3\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("recv.apl"), "LD SM1\nRCV 1 D10 20\n").unwrap();
+    let path = dir.path().join("free.toml");
+    std::fs::write(
+        &path,
+        r#"
+scan_time = "1ms"
+duration = "10ms"
+
+[[plc]]
+name = "a"
+program = "send.apl"
+[plc.port1]
+protocol = "free"
+baud = 9600
+parity = "none"
+
+[[plc]]
+name = "b"
+program = "recv.apl"
+[plc.port1]
+protocol = "free"
+baud = 9600
+parity = "none"
+end_char = 13
+
+[[link]]
+a = "a:port1"
+b = "b:port1"
+
+[[expect]]
+device = "b/D10"
+at = "2ms"
+equals = 0
+
+[[expect]]
+device = "b/D10"
+at = "3ms"
+equals = 72
+
+[[expect]]
+device = "b/D11"
+at = "4ms"
+equals = 105
+
+[[expect]]
+device = "b/SM123"         # RX done
+at = "4ms"
+equals = false
+
+[[expect]]
+device = "b/SM123"
+at = "5ms"
+equals = true
+
+[[expect]]
+device = "b/D12"
+at = "5ms"
+equals = 13
+
+[[expect]]
+device = "b/SD127"         # characters received
+at = "5ms"
+equals = 3
+
+[[expect]]
+device = "a/SM122"         # TX done once the last byte has left, 4126 µs
+at = "5ms"
+equals = true
+"#,
+    )
+    .unwrap();
+    let o = Scenario::load(&path)
+        .unwrap()
+        .build()
+        .unwrap()
+        .run(&mut |_| {});
+    assert_all_pass(&o);
+}
+
+/// A multi-CPU system and a process CPU in one fleet: `cell/CPU2/D0` is
+/// CPU 2 of the system (`cell/D0` CPU 1), each PLC and CPU scans at its own
+/// period, and an MC client polls the system (at CPU 1, the own station).
+#[test]
+fn a_system_and_a_process_cpu_in_a_fleet() {
+    let dir = tempfile::tempdir().unwrap();
+    let sys = dir.path().join("cell");
+    let count = "LD SM400\nINC D0\nEND\n";
+    for (cpu, ras) in [("cpu1", "[ras]\nconstant_scan = \"20ms\"\n"), ("cpu2", "")] {
+        let d = sys.join(cpu);
+        std::fs::create_dir_all(&d).unwrap();
+        std::fs::write(d.join("main.il"), count).unwrap();
+        std::fs::write(
+            d.join("plc.toml"),
+            format!("{ras}[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n"),
+        )
+        .unwrap();
+    }
+    std::fs::write(
+        sys.join("system.toml"),
+        "[[cpu]]\nproject = \"cpu1\"\n[[cpu]]\nproject = \"cpu2\"\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("p.il"), count).unwrap();
+    let path = dir.path().join("mixed.toml");
+    std::fs::write(
+        &path,
+        r#"
+scan_time = "10ms"
+duration = "1s"
+
+[[plc]]
+name = "cell"
+project = "cell"
+
+[[plc]]
+name = "proc"
+program = "p.il"
+cpu = "Q06PHCPU"
+scan_time = "5ms"
+
+[[client]]
+plc = "cell"
+protocol = "mc"
+every = "100ms"
+read = { from = "D0", to = "proc/D100" }
+
+[[expect]]                       # CPU 1 at its 20 ms constant scan
+device = "cell/D0"
+at = "1s"
+equals = 50
+
+[[expect]]
+device = "cell/CPU1/D0"
+at = "1s"
+equals = 50
+
+[[expect]]                       # CPU 2 at the PLC's scan time, the step
+device = "cell/CPU2/D0"
+at = "1s"
+equals = 100
+
+[[expect]]                       # the Q06PHCPU at its own 5 ms
+device = "proc/D0"
+at = "1s"
+equals = 200
+
+[[expect]]                       # polled after CPU 1's END at 1 s
+device = "proc/D100"
+at = "1s"
+equals = 50
+
+[trace]
+devices = ["cell/CPU2/D0", "proc/D0"]
+interval = "500ms"
+"#,
+    )
+    .unwrap();
+    let sc = Scenario::load(&path).unwrap();
+    assert_eq!(sc.plcs[1].profile.model, "Q06PHCPU");
+    let o = sc.build().unwrap().run(&mut |_| {});
+    assert_all_pass(&o);
+    assert_eq!(o.scans, 50, "the header counts the first PLC's CPU 1");
+    let t = o.trace.unwrap();
+    assert_eq!(t.devices[0].0, "cell/CPU2/D0");
+    assert_eq!(t.values, [1.0, 2.0, 50.0, 100.0, 100.0, 200.0]);
+}

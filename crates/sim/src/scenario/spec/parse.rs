@@ -248,10 +248,12 @@ impl Scenario {
                         i + 1
                     ))
                 }
-                (None, false) => return Err(format!(
+                (None, false) => {
+                    return Err(format!(
                     "peer #{}: `plc` is required with [[plc]] tables: the PLC whose port it is on",
                     i + 1
-                )),
+                ))
+                }
                 (Some(v), false) => {
                     let name = v.as_str().unwrap_or_default();
                     Some(
