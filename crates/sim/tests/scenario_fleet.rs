@@ -459,6 +459,13 @@ fn single_plc_keys_do_not_mix_with_plc_tables() {
     );
     let e = load_err(&format!("{TWO}\n[port2]\nprotocol = \"free\"\n"));
     assert!(e.contains("[port2]: a key of a single-PLC scenario"), "{e}");
+    let e = load_err(
+        "program = \"TANK\"\nscan_time = \"10ms\"\nduration = \"1s\"\n[[link]]\na = \"x:port1\"\nb = \"y:port1\"\n",
+    );
+    assert!(
+        e.ends_with("[[link]] and [[client]] connect the PLCs of [[plc]] tables"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -46,7 +46,8 @@ pub(super) struct Client {
     next_us: u64,
     door: Option<Door>,
     read: Option<(Target, u16, Local)>,
-    write: Option<(Local, u16, Target)>,
+    /// The words of `Local` (its span's length) go to `Target`.
+    write: Option<(Local, Target)>,
     transaction: u16,
     /// Polls done, requests that failed and the first failure.
     pub polls: u64,
@@ -113,9 +114,7 @@ impl Client {
             None => None,
         };
         let write = match &spec.write {
-            Some(BlockSpec { from, count, to }) => {
-                Some((local(from, *count)?, *count, target(to)?))
-            }
+            Some(BlockSpec { from, count, to }) => Some((local(from, *count)?, target(to)?)),
             None => None,
         };
         Ok(Client {
@@ -146,13 +145,13 @@ impl Client {
         }
         self.next_us = (now_us / self.every_us + 1) * self.every_us;
         self.polls += 1;
-        if let Some((from, count, to)) = self.write.clone() {
-            let values = plcs
-                .get(from.cpu)
-                .memory()
-                .read_span_words(&from.span)
-                .unwrap_or_else(|_| vec![0; count as usize]);
-            if let Err(e) = self.request(plcs, Op::Write(to, &values)) {
+        if let Some((from, to)) = self.write.clone() {
+            // The span was resolved in this memory at build.
+            let sent = match plcs.get(from.cpu).memory().read_span_words(&from.span) {
+                Ok(values) => self.request(plcs, Op::Write(to, &values)),
+                Err(e) => Err(e.to_string()),
+            };
+            if let Err(e) = sent {
                 self.fail(now_us, e);
             }
         }
