@@ -500,6 +500,15 @@ fn peers_and_clients_name_their_plc() {
         e.contains("read.to: `line9/D0`: no PLC is named `line9`"),
         "{e}"
     );
+    let e = load_err(&format!(
+        "{TWO}\n[[client]]\nname = \"hmi\"\nplc = \"tank\"\nprotocol = \"modbus\"\nevery = \"1s\"\nread = {{ from = 0, to = \"master/V0\" }}\n"
+    ));
+    assert!(
+        e.ends_with(
+            "client `hmi`: `master/V0`: a program's local device cannot be written from outside"
+        ),
+        "{e}"
+    );
 }
 
 /// A peer on a port of a fleet's PLC: the single-PLC serial peers work

@@ -65,10 +65,17 @@ impl Client {
         modbus: Option<&toml::Table>,
     ) -> Result<Client, String> {
         let what = format!("client `{}`", spec.name);
-        let local = |text: &str, count: u16| -> Result<Local, String> {
+        // `written`: a read's destination, which the program's locals
+        // (the APLC's LM/V) may not be.
+        let local = |text: &str, count: u16, written: bool| -> Result<Local, String> {
             let err = |e: String| format!("{what}: {e}");
             let (cpu, rest) = plcs.layout.split(text).map_err(err)?;
             let dev = DevName::parse_for(rest.trim(), plcs.get(cpu)).map_err(err)?;
+            if written && dev.is_read_only() {
+                return Err(err(format!(
+                    "`{text}`: a program's local device cannot be written from outside"
+                )));
+            }
             let (kind, number) = dev
                 .spec()
                 .device()
@@ -109,12 +116,12 @@ impl Client {
         };
         let read = match &spec.read {
             Some(BlockSpec { from, count, to }) => {
-                Some((target(from)?, *count, local(to, *count)?))
+                Some((target(from)?, *count, local(to, *count, true)?))
             }
             None => None,
         };
         let write = match &spec.write {
-            Some(BlockSpec { from, count, to }) => Some((local(from, *count)?, target(to)?)),
+            Some(BlockSpec { from, count, to }) => Some((local(from, *count, false)?, target(to)?)),
             None => None,
         };
         Ok(Client {
