@@ -639,7 +639,10 @@ equals = true
 
 /// A multi-CPU system and a process CPU in one fleet: `cell/CPU2/D0` is
 /// CPU 2 of the system (`cell/D0` CPU 1), each PLC and CPU scans at its own
-/// period, and an MC client polls the system (at CPU 1, the own station).
+/// period, and MC clients poll the system's CPU 1 (the own station) and
+/// CPU 2 (`CPU2/D0`: destination 03E1). Both poll after the system's first
+/// END at or after each 100 ms: CPU 1's, which comes before CPU 2's at the
+/// same time.
 #[test]
 fn a_system_and_a_process_cpu_in_a_fleet() {
     let dir = tempfile::tempdir().unwrap();
@@ -684,6 +687,12 @@ protocol = "mc"
 every = "100ms"
 read = { from = "D0", to = "proc/D100" }
 
+[[client]]                       # CPU 2 of the system (destination 03E1)
+plc = "cell"
+protocol = "mc"
+every = "100ms"
+read = { from = "CPU2/D0", to = "proc/D101" }
+
 [[expect]]                       # CPU 1 at its 20 ms constant scan
 device = "cell/D0"
 at = "1s"
@@ -708,6 +717,11 @@ equals = 200
 device = "proc/D100"
 at = "1s"
 equals = 50
+
+[[expect]]                       # before CPU 2's END at the same time
+device = "proc/D101"
+at = "1s"
+equals = 99
 
 [trace]
 devices = ["cell/CPU2/D0", "proc/D0"]

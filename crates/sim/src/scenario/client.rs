@@ -27,7 +27,9 @@ struct Local {
 /// What a client addresses in the polled PLC.
 #[derive(Clone, Copy, Debug)]
 enum Target {
-    Mc(DeviceRef),
+    /// A device and the frame's request destination module I/O number
+    /// (`03FF` the own station, `03E0`-`03E3` a system's CPU 1-4).
+    Mc(DeviceRef, u16),
     Register(u16),
 }
 
@@ -91,12 +93,25 @@ impl Client {
                 .map_err(|e| err(format!("`{text}`: {e}")))?;
             Ok(Local { cpu, span })
         };
+        let cpus = plcs.units[spec.plc].cpus.len();
         let target = |r: &Remote| -> Result<Target, String> {
             Ok(match r {
-                Remote::Device(d) => Target::Mc(
-                    DeviceRef::parse(d)
-                        .ok_or_else(|| format!("{what}: `{d}` is not an MC device name"))?,
-                ),
+                Remote::Device(d) => {
+                    let (io, name) = match softplc_core::system::names::prefix(d) {
+                        Some((n, rest)) if (1..=cpus).contains(&n) && cpus > 1 => {
+                            (softplc_mc::handler::CPU_IO.start() + n as u16 - 1, rest)
+                        }
+                        Some((n, _)) => {
+                            return Err(format!(
+                                "{what}: `{d}`: the PLC polled has no CPU {n} (it has {cpus})"
+                            ))
+                        }
+                        None => (Header::default().io, d.as_str()),
+                    };
+                    let head = DeviceRef::parse(name)
+                        .ok_or_else(|| format!("{what}: `{d}` is not an MC device name"))?;
+                    Target::Mc(head, io)
+                }
                 Remote::Register(n) => Target::Register(*n),
             })
         };
@@ -184,20 +199,29 @@ impl Client {
         let unit = &mut plcs.units[self.plc];
         match self.door.as_mut() {
             Some(Door::Mc(session)) => {
-                let command = match op {
-                    Op::Read(Target::Mc(head), n) => Command::BatchRead {
-                        unit: Unit::Word,
-                        head,
-                        points: n,
-                    },
-                    Op::Write(Target::Mc(head), values) => Command::BatchWriteWords {
-                        head,
-                        values: values.to_vec(),
-                    },
+                let (command, io) = match op {
+                    Op::Read(Target::Mc(head, io), n) => (
+                        Command::BatchRead {
+                            unit: Unit::Word,
+                            head,
+                            points: n,
+                        },
+                        io,
+                    ),
+                    Op::Write(Target::Mc(head, io), values) => (
+                        Command::BatchWriteWords {
+                            head,
+                            values: values.to_vec(),
+                        },
+                        io,
+                    ),
                     _ => return Err("not an MC device".into()),
                 };
                 let frame = encode_request(&Request {
-                    header: Header::default(),
+                    header: Header {
+                        io,
+                        ..Header::default()
+                    },
                     command,
                 });
                 let (req, _) = decode_request(&frame).map_err(|e| e.to_string())?;

@@ -100,7 +100,8 @@ pub enum ClientProtocol {
 /// An address in the polled PLC as the protocol names it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Remote {
-    /// An MC device name (`D0`, `W1F`, `R100`).
+    /// An MC device name (`D0`, `W1F`, `R100`; `CPU2/D0` of a system's
+    /// CPU 2).
     Device(String),
     /// A Modbus holding-register address (0-based).
     Register(u16),
@@ -296,7 +297,10 @@ pub(super) fn clients(
         let remote = |v: &toml::Value, key: &str| -> Result<Remote, String> {
             match (protocol, v) {
                 (ClientProtocol::Mc, toml::Value::String(s)) => {
-                    if softplc_mc::DeviceRef::parse(s).is_some() {
+                    // A system's CPU n: `CPUn/D0` (the frame's destination).
+                    let name =
+                        softplc_core::system::names::prefix(s).map_or(s.as_str(), |(_, r)| r);
+                    if softplc_mc::DeviceRef::parse(name).is_some() {
                         Ok(Remote::Device(s.trim().to_string()))
                     } else {
                         Err(format!(
