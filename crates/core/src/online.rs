@@ -37,10 +37,10 @@ impl std::fmt::Display for Refused {
 /// How a served CPU's program files compile.
 #[derive(Debug)]
 enum Recipe {
-    /// One MELSEC program file on its own, on the CPU's model.
-    Single,
     /// A MELSEC project's files.
     Project(Box<Project>),
+    /// One MELSEC program file on its own, on the CPU's model.
+    Single(&'static crate::profile::Profile),
     /// The APLC-TCP's one user program, from all these files.
     Aplc(Vec<PathBuf>),
 }
@@ -55,6 +55,9 @@ pub struct SourceFile {
     pub path: PathBuf,
     /// Its name relative to the served directory (what a request names).
     pub name: String,
+    /// The running program's file name (`Program::file`), which the new
+    /// program takes.
+    pub program: String,
     recipe: usize,
 }
 
@@ -78,7 +81,7 @@ impl Sources {
                 ..Sources::default()
             };
             for i in 0..system.len() {
-                s.add_project(i, system.project(i).clone());
+                s.add_project(i, system.project(i).clone(), system.cpu(i));
             }
             return Ok(s);
         }
@@ -88,13 +91,13 @@ impl Sources {
                 base: project.dir.clone(),
                 ..Sources::default()
             };
-            s.add_project(0, project);
+            s.add_project(0, project, cpus.get(0));
             return Ok(s);
         }
         let cpu = cpus.get(0);
         let recipe = match crate::profile::is_aplc(cpu.profile()) {
             true => Recipe::Aplc(vec![path.to_path_buf()]),
-            false => Recipe::Single,
+            false => Recipe::Single(cpu.profile()),
         };
         Ok(Sources {
             base: path.parent().map(Path::to_path_buf).unwrap_or_default(),
@@ -103,22 +106,25 @@ impl Sources {
                 slot: 0,
                 path: path.to_path_buf(),
                 name: file_name(path),
+                program: cpu.program().file.clone(),
                 recipe: 0,
             }],
             recipes: vec![recipe],
         })
     }
 
-    fn add_project(&mut self, cpu: usize, project: Project) {
+    fn add_project(&mut self, i: usize, project: Project, cpu: &Cpu) {
         let recipe = self.recipes.len();
         let aplc = crate::profile::is_aplc(project.config.profile);
         for (slot, spec) in project.programs.iter().enumerate() {
+            // The APLC-TCP's files are one program.
+            let slot = if aplc { 0 } else { slot };
             self.files.push(SourceFile {
-                cpu,
-                // The APLC-TCP's files are one program.
-                slot: if aplc { 0 } else { slot },
+                cpu: i,
+                slot,
                 path: spec.file.clone(),
                 name: relative(&spec.file, &self.base),
+                program: cpu.program_at(slot.min(cpu.program_count() - 1)).file.clone(),
                 recipe,
             });
         }
@@ -167,17 +173,14 @@ impl Sources {
     }
 
     /// Compiles `text` as the new content of `f`, named as the running
-    /// program is (`file`, from [`Cpu::program_at`]), with the same
-    /// settings the files were loaded with.
-    pub fn compile(&self, f: &SourceFile, file: &str, text: &str, cpu_profile: &'static crate::profile::Profile) -> Result<Program, Refused> {
-        let bytes = text.as_bytes();
+    /// program is, with the same settings the files were loaded with.
+    pub fn compile(&self, f: &SourceFile, text: &str) -> Result<Program, Refused> {
+        let (bytes, file) = (text.as_bytes(), f.program.as_str());
         let program = match &self.recipes[f.recipe] {
-            Recipe::Single => {
-                let dialect = crate::program::dialect_for(
-                    cpu_profile,
-                    crate::program::ProcessSettings::default(),
-                );
-                let devices = (cpu_profile.default_devices)();
+            Recipe::Single(profile) => {
+                let dialect =
+                    crate::program::dialect_for(profile, crate::program::ProcessSettings::default());
+                let devices = (profile.default_devices)();
                 softplc_lang::load_bytes(file, bytes, &devices, &dialect, None)
             }
             Recipe::Project(p) => softplc_lang::load_bytes(
@@ -218,7 +221,7 @@ impl Sources {
                     .collect();
                 crate::project::check_files(&ruled, &p.config, p.common_pointer)
             }
-            Recipe::Single => {
+            Recipe::Single(_) => {
                 let mut out: Vec<Diagnostic> = Vec::new();
                 crate::project::step_relays(program, &mut out);
                 out

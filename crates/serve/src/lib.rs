@@ -14,6 +14,7 @@ pub mod conns;
 pub mod engine;
 pub mod mc;
 pub mod modbus;
+pub mod online;
 pub mod serial;
 pub mod tcp;
 pub mod udp;

@@ -1,0 +1,247 @@
+//! Writing program files during RUN (004 §4.8; contract §7) for the doors
+//! of `serve`: `PUT /api/v1/program` and `serve --watch`.
+//!
+//! The new text compiles off the engine thread; at the next END the
+//! project's rules are checked against the other files and the CPU swaps the
+//! program ([`softplc_core::engine::Cpu::replace_program`]), so the answer's
+//! scan is the last one of the old program. A write through the API then
+//! rewrites the file on disk atomically, so that a restart runs what runs
+//! now; the watcher skips a file whose text is what was last applied (the
+//! API's own rewrite, an editor's touch).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use softplc_core::engine::Written;
+use softplc_core::online::{Refused, SourceFile, Sources};
+
+use crate::{Busy, EngineHandle, ServeState};
+
+/// The served program files and the text last applied to each.
+#[derive(Debug)]
+pub struct Online {
+    pub sources: Sources,
+    applied: Mutex<HashMap<PathBuf, String>>,
+}
+
+/// Why a write failed.
+#[derive(Debug)]
+pub enum WriteError {
+    /// Refused: nothing changed.
+    Refused(Refused),
+    /// The engine did not take the request.
+    Busy,
+    /// The CPU runs the new program, but the file on disk could not be
+    /// rewritten.
+    NotSaved(Written, String),
+}
+
+impl From<Refused> for WriteError {
+    fn from(r: Refused) -> Self {
+        WriteError::Refused(r)
+    }
+}
+
+impl From<Busy> for WriteError {
+    fn from(_: Busy) -> Self {
+        WriteError::Busy
+    }
+}
+
+impl Online {
+    pub fn new(sources: Sources) -> Online {
+        Online {
+            sources,
+            applied: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Remembers the files' texts as they are now (before watching).
+    fn remember_disk(&self) {
+        let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
+        for f in self.sources.files() {
+            if let Ok(t) = std::fs::read_to_string(&f.path) {
+                applied.insert(f.path.clone(), t);
+            }
+        }
+    }
+
+    fn applied(&self, f: &SourceFile, text: &str) {
+        let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
+        applied.insert(f.path.clone(), text.to_string());
+    }
+
+    fn is_applied(&self, f: &SourceFile, text: &str) -> bool {
+        let applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
+        applied.get(&f.path).is_some_and(|t| t == text)
+    }
+}
+
+/// The END job of a write: the rules over all files, then the swap.
+fn swap(
+    s: &mut ServeState,
+    online: &Online,
+    f: &SourceFile,
+    program: softplc_core::program::Program,
+) -> Result<Written, Refused> {
+    let cpu = s.cpu_mut_at(f.cpu);
+    online.sources.check(f, &program, cpu)?;
+    cpu.replace_program(f.slot, program).map_err(Refused::Cpu)
+}
+
+/// `PUT /api/v1/program`: replaces program file `name` by `text` at the
+/// next END and rewrites the file on disk.
+pub async fn write(
+    engine: &EngineHandle,
+    online: Arc<Online>,
+    name: &str,
+    text: String,
+) -> Result<Written, WriteError> {
+    let at = index(&online, name)?;
+    let (o, t) = (online.clone(), text.clone());
+    let program = tokio::task::spawn_blocking(move || o.sources.compile(&o.sources.files()[at], &t))
+        .await
+        .map_err(|_| WriteError::Busy)??;
+    let o = online.clone();
+    let written = engine
+        .at_end(move |s| swap(s, &o, &o.sources.files()[at], program))
+        .await??;
+    let f = &online.sources.files()[at];
+    online.applied(f, &text);
+    let path = f.path.clone();
+    tokio::task::spawn_blocking(move || softplc_core::online::write_file(&path, &text))
+        .await
+        .map_err(|_| WriteError::Busy)?
+        .map_err(|e| WriteError::NotSaved(written.clone(), e))?;
+    Ok(written)
+}
+
+fn index(online: &Online, name: &str) -> Result<usize, Refused> {
+    let f = online.sources.find(name)?;
+    Ok(online
+        .sources
+        .files()
+        .iter()
+        .position(|g| std::ptr::eq(g, f))
+        .unwrap_or(0))
+}
+
+/// How long the watcher waits for a file to settle (editors write in
+/// several steps).
+pub const DEBOUNCE: Duration = Duration::from_millis(200);
+
+/// `serve --watch`: a thread that writes each program file during RUN
+/// whenever it is rewritten or replaced on disk, and says that a changed
+/// `plc.toml` (or `system.toml`) needs a restart. Reports go to stderr.
+/// Dropping the returned watcher stops it.
+pub fn watch(
+    engine: EngineHandle,
+    online: Arc<Online>,
+    manifests: Vec<PathBuf>,
+) -> Result<notify_debouncer_mini::Debouncer<notify_debouncer_mini::notify::RecommendedWatcher>, String>
+{
+    use notify_debouncer_mini::notify::RecursiveMode;
+    online.remember_disk();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let mut debouncer = notify_debouncer_mini::new_debouncer(DEBOUNCE, tx)
+        .map_err(|e| format!("--watch: {e}"))?;
+    // The directories: an editor that saves by renaming a new file over
+    // the old one replaces the file a watch on it would follow.
+    let mut dirs: Vec<PathBuf> = online
+        .sources
+        .files()
+        .iter()
+        .map(|f| f.path.clone())
+        .chain(manifests.iter().cloned())
+        .map(|p| dir_of(&p))
+        .collect();
+    dirs.sort();
+    dirs.dedup();
+    for d in &dirs {
+        debouncer
+            .watcher()
+            .watch(d, RecursiveMode::NonRecursive)
+            .map_err(|e| format!("--watch {}: {e}", d.display()))?;
+    }
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let manifests: Vec<PathBuf> = manifests.iter().map(|m| canon(m)).collect();
+    std::thread::Builder::new()
+        .name("softplc-watch".into())
+        .spawn(move || {
+            for events in rx {
+                let Ok(events) = events else { continue };
+                let mut paths: Vec<PathBuf> = events.into_iter().map(|e| e.path).collect();
+                paths.sort();
+                paths.dedup();
+                for p in paths {
+                    if manifests.contains(&canon(&p)) {
+                        eprintln!(
+                            "softplc: --watch: {} changed; its settings take effect when serve is restarted",
+                            p.display()
+                        );
+                        continue;
+                    }
+                    if let Some(f) = online.sources.at_path(&p) {
+                        rewritten(&engine, &online, f);
+                    }
+                }
+            }
+        })
+        .map_err(|e| format!("--watch: {e}"))?;
+    Ok(debouncer)
+}
+
+fn dir_of(p: &Path) -> PathBuf {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// A program file changed on disk: written during RUN unless its text is
+/// the one applied last; the outcome on stderr.
+fn rewritten(engine: &EngineHandle, online: &Arc<Online>, f: &SourceFile) {
+    let text = match softplc_core::program::read_limited(&f.path, softplc_core::program::MAX_IL_BYTES, "a program file") {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        // Removed or half-renamed: the next event brings the new file.
+        Err(_) => return,
+    };
+    if online.is_applied(f, &text) {
+        return;
+    }
+    let program = match online.sources.compile(f, &text) {
+        Ok(p) => p,
+        Err(e) => return report(f, Err(e)),
+    };
+    let at = online.sources.files().iter().position(|g| std::ptr::eq(g, f)).unwrap_or(0);
+    let o = online.clone();
+    match engine.call(move |s| swap(s, &o, &o.sources.files()[at], program)) {
+        Ok(r) => {
+            if r.is_ok() {
+                online.applied(f, &text);
+            }
+            report(f, r)
+        }
+        Err(_) => eprintln!("softplc: --watch: {}: the engine stopped", f.name),
+    }
+}
+
+fn report(f: &SourceFile, r: Result<Written, Refused>) {
+    match r {
+        Ok(w) => eprintln!("softplc: --watch: {}", summary(&f.name, &w)),
+        Err(e) => eprintln!(
+            "softplc: --watch: {} not written, the running program is unchanged:\n{e}",
+            f.name
+        ),
+    }
+}
+
+/// One line on a write: the file, the scan, what was kept.
+pub fn summary(name: &str, w: &Written) -> String {
+    format!(
+        "{name} written during RUN after scan {}: {} instructions kept, {} added, {} removed ({} steps written, {} in all)",
+        w.scan, w.kept, w.added, w.removed, w.steps_written, w.steps
+    )
+}
