@@ -128,6 +128,11 @@ pub struct ServeArgs {
     /// Print the tier and its compile time at load (on stderr).
     #[arg(long)]
     pub stats: bool,
+    /// Write each program file during RUN when it is rewritten or replaced
+    /// on disk, as PUT /api/v1/program does (docs/online-change.md);
+    /// plc.toml changes need a restart.
+    #[arg(long)]
+    pub watch: bool,
 }
 
 /// "a" or "an" before a model name read letter by letter ("an APLC-TCP",
@@ -170,6 +175,10 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     } = match load_served(&args, start, restore_clock) {
         Ok(s) => s,
         Err(code) => return code,
+    };
+    let (online, _watching) = match crate::online::setup(&args.program, args.watch, &mut state) {
+        Ok(o) => o,
+        Err(e) => return fail(e),
     };
     // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
     let cpu = state.cpu();
@@ -232,6 +241,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             model: cpu.profile().model.to_string(),
             ladder: softplc_http::ladder::load_programs(cpu),
             limits,
+            online,
         };
         listeners.push(softplc_http::listener(addr, cfg));
         names.push("web monitor".to_string());

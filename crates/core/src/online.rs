@@ -69,6 +69,9 @@ pub struct Sources {
     recipes: Vec<Recipe>,
     /// The served directory: a project's or system's, a single file's own.
     base: PathBuf,
+    /// The manifests read at load (`plc.toml`, `system.toml`): changing
+    /// them needs a restart.
+    manifests: Vec<PathBuf>,
 }
 
 impl Sources {
@@ -80,6 +83,8 @@ impl Sources {
                 base: system.dir().to_path_buf(),
                 ..Sources::default()
             };
+            s.manifests
+                .push(system.dir().join(crate::system::SYSTEM_MANIFEST));
             for i in 0..system.len() {
                 s.add_project(i, system.project(i).clone(), system.cpu(i));
             }
@@ -110,10 +115,12 @@ impl Sources {
                 recipe: 0,
             }],
             recipes: vec![recipe],
+            manifests: Vec::new(),
         })
     }
 
     fn add_project(&mut self, i: usize, project: Project, cpu: &Cpu) {
+        self.manifests.push(project.manifest.clone());
         let recipe = self.recipes.len();
         let aplc = crate::profile::is_aplc(project.config.profile);
         for (slot, spec) in project.programs.iter().enumerate() {
@@ -137,6 +144,11 @@ impl Sources {
     /// Every program file served.
     pub fn files(&self) -> &[SourceFile] {
         &self.files
+    }
+
+    /// The manifests the served CPUs were loaded from.
+    pub fn manifests(&self) -> &[PathBuf] {
+        &self.manifests
     }
 
     /// The program file `name` names: its path relative to the served

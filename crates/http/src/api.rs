@@ -70,6 +70,12 @@ pub fn router(app: Arc<App>) -> Router {
         )
         .route("/api/v1/events", get(events))
         .route("/api/v1/rack", get(crate::rack::rack))
+        .route(
+            "/api/v1/program",
+            axum::routing::put(crate::program::put).layer(DefaultBodyLimit::max(
+                crate::program::PROGRAM_BODY_LIMIT,
+            )),
+        )
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)
@@ -113,7 +119,7 @@ pub(crate) async fn at_end<R: Send + 'static>(
 }
 
 /// Contract §3.1: no token configured → 403; a missing or wrong bearer → 401.
-fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
+pub(crate) fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
     let Some(token) = &app.cfg.token else {
         return Err(error(
             StatusCode::FORBIDDEN,
@@ -147,11 +153,14 @@ fn equal(a: &[u8], b: &[u8]) -> bool {
 }
 
 /// A request body, or why it was refused (413 over [`crate::BODY_LIMIT`]).
-type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
+pub(crate) type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
 
 /// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
 /// with `{"error": ...}`.
-fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, Response> {
+pub(crate) fn body<T: serde::de::DeserializeOwned>(
+    bytes: &Body,
+    what: &str,
+) -> Result<T, Response> {
     let bytes = bytes.as_ref().map_err(|r| {
         error(
             r.status(),

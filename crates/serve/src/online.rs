@@ -19,6 +19,7 @@ use softplc_core::online::{Refused, SourceFile, Sources};
 
 use crate::{Busy, EngineHandle, ServeState};
 
+
 /// The served program files and the text last applied to each.
 #[derive(Debug)]
 pub struct Online {
@@ -132,20 +133,27 @@ fn index(online: &Online, name: &str) -> Result<usize, Refused> {
 /// several steps).
 pub const DEBOUNCE: Duration = Duration::from_millis(200);
 
-/// `serve --watch`: a thread that writes each program file during RUN
-/// whenever it is rewritten or replaced on disk, and says that a changed
-/// `plc.toml` (or `system.toml`) needs a restart. Reports go to stderr.
-/// Dropping the returned watcher stops it.
-pub fn watch(
-    engine: EngineHandle,
-    online: Arc<Online>,
-    manifests: Vec<PathBuf>,
-) -> Result<notify_debouncer_mini::Debouncer<notify_debouncer_mini::notify::RecommendedWatcher>, String>
-{
+/// What `serve --watch` runs: the file watcher (dropping it stops the
+/// watch) and the END hook that swaps the programs it compiled
+/// ([`ServeState::add_hook`]).
+pub struct Watch {
+    pub watcher: Watcher,
+    pub hook: crate::Hook,
+}
+
+/// The file watcher of `serve --watch`: dropping it stops the watch.
+pub type Watcher =
+    notify_debouncer_mini::Debouncer<notify_debouncer_mini::notify::RecommendedWatcher>;
+
+/// `serve --watch`: a thread that compiles each program file whenever it is
+/// rewritten or replaced on disk, and an END hook that writes it during RUN;
+/// a changed `plc.toml` (or `system.toml`, the `manifests`) is reported as
+/// needing a restart. Reports go to stderr.
+pub fn watch(online: Arc<Online>, manifests: Vec<PathBuf>) -> Result<Watch, String> {
     use notify_debouncer_mini::notify::RecursiveMode;
     online.remember_disk();
     let (tx, rx) = std::sync::mpsc::channel();
-    let mut debouncer = notify_debouncer_mini::new_debouncer(DEBOUNCE, tx)
+    let mut watcher = notify_debouncer_mini::new_debouncer(DEBOUNCE, tx)
         .map_err(|e| format!("--watch: {e}"))?;
     // The directories: an editor that saves by renaming a new file over
     // the old one replaces the file a watch on it would follow.
@@ -160,13 +168,16 @@ pub fn watch(
     dirs.sort();
     dirs.dedup();
     for d in &dirs {
-        debouncer
+        watcher
             .watcher()
             .watch(d, RecursiveMode::NonRecursive)
             .map_err(|e| format!("--watch {}: {e}", d.display()))?;
     }
     let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
     let manifests: Vec<PathBuf> = manifests.iter().map(|m| canon(m)).collect();
+    // Compiled programs for the END hook: (file, text, program).
+    let (ptx, prx) = std::sync::mpsc::channel::<(usize, String, softplc_core::program::Program)>();
+    let o = online.clone();
     std::thread::Builder::new()
         .name("softplc-watch".into())
         .spawn(move || {
@@ -183,14 +194,29 @@ pub fn watch(
                         );
                         continue;
                     }
-                    if let Some(f) = online.sources.at_path(&p) {
-                        rewritten(&engine, &online, f);
+                    let Some(at) = o.sources.files().iter().position(|f| o.sources.at_path(&p).is_some_and(|g| std::ptr::eq(f, g))) else {
+                        continue;
+                    };
+                    if let Some((text, program)) = rewritten(&o, &o.sources.files()[at]) {
+                        if ptx.send((at, text, program)).is_err() {
+                            return;
+                        }
                     }
                 }
             }
         })
         .map_err(|e| format!("--watch: {e}"))?;
-    Ok(debouncer)
+    let hook: crate::Hook = Box::new(move |s: &mut ServeState| {
+        while let Ok((at, text, program)) = prx.try_recv() {
+            let f = &online.sources.files()[at];
+            let r = swap(s, &online, f, program);
+            if r.is_ok() {
+                online.applied(f, &text);
+            }
+            report(f, r);
+        }
+    });
+    Ok(Watch { watcher, hook })
 }
 
 fn dir_of(p: &Path) -> PathBuf {
@@ -200,31 +226,28 @@ fn dir_of(p: &Path) -> PathBuf {
     }
 }
 
-/// A program file changed on disk: written during RUN unless its text is
-/// the one applied last; the outcome on stderr.
-fn rewritten(engine: &EngineHandle, online: &Arc<Online>, f: &SourceFile) {
-    let text = match softplc_core::program::read_limited(&f.path, softplc_core::program::MAX_IL_BYTES, "a program file") {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        // Removed or half-renamed: the next event brings the new file.
-        Err(_) => return,
-    };
+/// A program file changed on disk: its text and program when it is not
+/// the text applied last and compiles (a refusal is reported here).
+fn rewritten(online: &Online, f: &SourceFile) -> Option<(String, softplc_core::program::Program)> {
+    let bytes = softplc_core::program::read_limited(
+        &f.path,
+        softplc_core::program::MAX_IL_BYTES,
+        "a program file",
+    )
+    // Removed or half-renamed: the next event brings the new file.
+    .ok()?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
     if online.is_applied(f, &text) {
-        return;
+        return None;
     }
-    let program = match online.sources.compile(f, &text) {
-        Ok(p) => p,
-        Err(e) => return report(f, Err(e)),
-    };
-    let at = online.sources.files().iter().position(|g| std::ptr::eq(g, f)).unwrap_or(0);
-    let o = online.clone();
-    match engine.call(move |s| swap(s, &o, &o.sources.files()[at], program)) {
-        Ok(r) => {
-            if r.is_ok() {
-                online.applied(f, &text);
-            }
-            report(f, r)
+    match online.sources.compile(f, &text) {
+        Ok(p) => Some((text, p)),
+        Err(e) => {
+            report(f, Err(e));
+            // Not again until the text changes.
+            online.applied(f, &text);
+            None
         }
-        Err(_) => eprintln!("softplc: --watch: {}: the engine stopped", f.name),
     }
 }
 
