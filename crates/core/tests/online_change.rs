@@ -3,6 +3,9 @@
 //! instructions whose condition is OFF act once, limits and links are
 //! checked. Every case runs on the interpreter and on the JIT.
 
+mod common;
+
+use common::project::{error, ok, with_main};
 use softplc_core::access::{DeviceSpec, Value};
 use softplc_core::engine::{Cpu, ExecType, LoadedProgram, OnlineLimits, VirtualClock};
 use softplc_core::program::{compile_il, Program};
@@ -229,4 +232,30 @@ fn calls_from_other_files_follow_the_pointer_or_refuse_its_removal() {
         r.scans(1);
         assert_eq!(r.int("D10"), 22);
     }
+}
+
+#[test]
+fn plc_toml_sets_the_limits_of_writes_during_run() {
+    let p = ok(&with_main(""));
+    assert_eq!(
+        p.config.online,
+        OnlineLimits {
+            max_steps: 512,
+            reserve_steps: 500
+        }
+    );
+    let p = ok(&with_main(
+        "[cpu]\nonline_write_steps = 100\nonline_reserve_steps = 0\n",
+    ));
+    assert_eq!(
+        p.config.online,
+        OnlineLimits {
+            max_steps: 100,
+            reserve_steps: 0
+        }
+    );
+    assert_eq!(
+        error(&with_main("[cpu]\nonline_write_steps = 513\n")),
+        "2:22: online_write_steps must be a number of steps from 1 to 512"
+    );
 }
