@@ -68,17 +68,17 @@ pub fn load_files_with(
     for path in paths {
         let name = path.display().to_string();
         let bytes = match read(path) {
-                Ok(b) => b,
-                Err(e) => {
-                    diags.push(Diagnostic {
-                        file: name,
-                        line: 0,
-                        col: 0,
-                        message: e,
-                    });
-                    continue;
-                }
-            };
+            Ok(b) => b,
+            Err(e) => {
+                diags.push(Diagnostic {
+                    file: name,
+                    line: 0,
+                    col: 0,
+                    message: e,
+                });
+                continue;
+            }
+        };
         let text = text::decode(&bytes);
         let mut lines = match text::lines(&name, &text) {
             Ok(l) => l,

@@ -131,7 +131,10 @@ impl Sources {
                 slot,
                 path: spec.file.clone(),
                 name: relative(&spec.file, &self.base),
-                program: cpu.program_at(slot.min(cpu.program_count() - 1)).file.clone(),
+                program: cpu
+                    .program_at(slot.min(cpu.program_count() - 1))
+                    .file
+                    .clone(),
                 recipe,
             });
         }
@@ -156,7 +159,11 @@ impl Sources {
     /// program file has.
     pub fn find(&self, name: &str) -> Result<&SourceFile, Refused> {
         let wanted = normal(Path::new(name));
-        if let Some(f) = self.files.iter().find(|f| normal(Path::new(&f.name)) == wanted) {
+        if let Some(f) = self
+            .files
+            .iter()
+            .find(|f| normal(Path::new(&f.name)) == wanted)
+        {
             return Ok(f);
         }
         let by_name: Vec<&SourceFile> = self
@@ -168,11 +175,19 @@ impl Sources {
             [one] => Ok(one),
             [] => Err(Refused::UnknownFile(format!(
                 "no program file \"{name}\" is served (the program files: {})",
-                self.files.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", ")
+                self.files
+                    .iter()
+                    .map(|f| f.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))),
             _ => Err(Refused::UnknownFile(format!(
                 "\"{name}\" names several program files: give its path ({})",
-                by_name.iter().map(|f| f.name.as_str()).collect::<Vec<_>>().join(", ")
+                by_name
+                    .iter()
+                    .map(|f| f.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ))),
         }
     }
@@ -190,8 +205,10 @@ impl Sources {
         let (bytes, file) = (text.as_bytes(), f.program.as_str());
         let program = match &self.recipes[f.recipe] {
             Recipe::Single(profile) => {
-                let dialect =
-                    crate::program::dialect_for(profile, crate::program::ProcessSettings::default());
+                let dialect = crate::program::dialect_for(
+                    profile,
+                    crate::program::ProcessSettings::default(),
+                );
                 let devices = (profile.default_devices)();
                 softplc_lang::load_bytes(file, bytes, &devices, &dialect, None)
             }
@@ -215,9 +232,18 @@ impl Sources {
     /// (timers, edge relays, local pointers, step relays).
     pub fn check(&self, f: &SourceFile, program: &Program, cpu: &Cpu) -> Result<(), Refused> {
         let programs: Vec<&Program> = (0..cpu.program_count())
-            .map(|i| if i == f.slot { program } else { cpu.program_at(i) })
+            .map(|i| {
+                if i == f.slot {
+                    program
+                } else {
+                    cpu.program_at(i)
+                }
+            })
             .collect();
-        let files: Vec<(&str, u32)> = programs.iter().map(|p| (p.file.as_str(), p.steps)).collect();
+        let files: Vec<(&str, u32)> = programs
+            .iter()
+            .map(|p| (p.file.as_str(), p.steps))
+            .collect();
         crate::project::check_capacity(cpu.profile(), &files)
             .map_err(|d| Refused::Program(Diagnostics(vec![d])))?;
         let broken = match &self.recipes[f.recipe] {
@@ -249,8 +275,10 @@ impl Sources {
 
 /// `path`'s file name.
 fn file_name(path: &Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 /// `path` relative to `base` when it is inside it, with `/` separators.

@@ -25,13 +25,20 @@ impl Rig {
         }
     }
     fn int(&self, d: &str) -> i64 {
-        match self.cpu.read_device(&DeviceSpec::parse(d).unwrap()).unwrap() {
+        match self
+            .cpu
+            .read_device(&DeviceSpec::parse(d).unwrap())
+            .unwrap()
+        {
             Value::Int(v) => v,
             v => panic!("{d}: {v:?}"),
         }
     }
     fn bit(&self, d: &str) -> bool {
-        self.cpu.read_device(&DeviceSpec::parse(d).unwrap()).unwrap() == Value::Bool(true)
+        self.cpu
+            .read_device(&DeviceSpec::parse(d).unwrap())
+            .unwrap()
+            == Value::Bool(true)
     }
     fn write(&mut self, slot: usize, src: &str) -> Result<softplc_core::engine::Written, String> {
         let file = self.cpu.program_at(slot).file.clone();
@@ -113,14 +120,22 @@ END
 #[test]
 fn unchanged_instructions_keep_their_state_and_new_falling_edges_act_once() {
     for jit in TIERS {
-        let mut r = rig(&[("main.il", V1, ExecType::Scan)], OnlineLimits::default(), jit);
+        let mut r = rig(
+            &[("main.il", V1, ExecType::Scan)],
+            OnlineLimits::default(),
+            jit,
+        );
         for x in [0, 1, 3, 4, 5, 8] {
             r.cpu.set_input(x, true);
         }
         // 30 scans of 10 ms: the timer and TIMCHK add nothing at the scan
         // that starts them, then 10 ms a scan: 290 ms = 2 units of 100 ms.
         r.scans(30);
-        assert_eq!((r.int("TN0"), r.int("CN0"), r.int("D10")), (2, 1, 2), "jit {jit}");
+        assert_eq!(
+            (r.int("TN0"), r.int("CN0"), r.int("D10")),
+            (2, 1, 2),
+            "jit {jit}"
+        );
         assert_eq!((r.int("D4"), r.int("D5")), (1, 1));
         assert!(r.bit("Y0"));
 
@@ -135,7 +150,11 @@ fn unchanged_instructions_keep_their_state_and_new_falling_edges_act_once() {
         // The timer went on (300 ms), the counter did not count X3 again,
         // LDP and INCP did not see X4/X5 rise again, TIMCHK kept measuring
         // although its state words moved behind the new TIMCHK's.
-        assert_eq!((r.int("TN0"), r.int("CN0"), r.int("D10")), (3, 1, 3), "jit {jit}");
+        assert_eq!(
+            (r.int("TN0"), r.int("CN0"), r.int("D10")),
+            (3, 1, 3),
+            "jit {jit}"
+        );
         assert_eq!((r.int("D4"), r.int("D5")), (1, 1));
         // LDF X6 and PLF M7 with their conditions OFF acted once.
         assert_eq!(r.int("D6"), 1);
@@ -166,7 +185,11 @@ fn unchanged_instructions_keep_their_state_and_new_falling_edges_act_once() {
 fn a_counter_keeps_its_count_across_writes() {
     for jit in TIERS {
         let src = "LD X3\nOUT C0 K3\nLD C0\nOUT Y0\nEND\n";
-        let mut r = rig(&[("main.il", src, ExecType::Scan)], OnlineLimits::default(), jit);
+        let mut r = rig(
+            &[("main.il", src, ExecType::Scan)],
+            OnlineLimits::default(),
+            jit,
+        );
         for _ in 0..2 {
             r.cpu.set_input(3, true);
             r.scans(1);
@@ -174,7 +197,8 @@ fn a_counter_keeps_its_count_across_writes() {
             r.scans(1);
         }
         assert_eq!(r.int("CN0"), 2);
-        r.write(0, "LD X3\nOUT C0 K3\nLD C0\nOUT Y1\nEND\n").unwrap();
+        r.write(0, "LD X3\nOUT C0 K3\nLD C0\nOUT Y1\nEND\n")
+            .unwrap();
         r.cpu.set_input(3, true);
         r.scans(1);
         assert_eq!(r.int("CN0"), 3, "jit {jit}");
@@ -189,10 +213,19 @@ fn the_limits_of_a_write_refuse_it_and_keep_the_old_program() {
             max_steps: 2,
             reserve_steps: 3,
         };
-        let mut r = rig(&[("main.il", "LD X0\nOUT Y0\nEND\n", ExecType::Scan)], limits, jit);
+        let mut r = rig(
+            &[("main.il", "LD X0\nOUT Y0\nEND\n", ExecType::Scan)],
+            limits,
+            jit,
+        );
         // LD 1 + INC 2 = 3 steps written: more than 2.
-        let e = r.write(0, "LD X0\nOUT Y0\nLD X1\nINC D0\nEND\n").unwrap_err();
-        assert!(e.contains("writes 3 steps; a write during RUN writes at most 2"), "{e}");
+        let e = r
+            .write(0, "LD X0\nOUT Y0\nLD X1\nINC D0\nEND\n")
+            .unwrap_err();
+        assert!(
+            e.contains("writes 3 steps; a write during RUN writes at most 2"),
+            "{e}"
+        );
         // Two writes of 2 steps each fit the limit, but the file loaded with
         // 3 steps (LD, OUT, END) may grow only to 3 + 3 = 6.
         r.write(0, "LD X0\nOUT Y0\nLD X1\nOUT Y1\nEND\n").unwrap();
@@ -215,15 +248,21 @@ fn calls_from_other_files_follow_the_pointer_or_refuse_its_removal() {
         let main = "LD SM400\nECALL \"SUB\" P0\nEND\n";
         let sub = "FEND\nP0\nLD SM400\nINC D10\nRET\nEND\n";
         let mut r = rig(
-            &[("main.il", main, ExecType::Scan), ("sub.il", sub, ExecType::Standby)],
+            &[
+                ("main.il", main, ExecType::Scan),
+                ("sub.il", sub, ExecType::Standby),
+            ],
             OnlineLimits::default(),
             jit,
         );
         r.scans(2);
         assert_eq!(r.int("D10"), 2);
         // P0 moves two ops further: main's ECALL follows it.
-        r.write(1, "FEND\nLD X0\nOUT Y0\nP0\nLD SM400\n+ K10 D10\nRET\nEND\n")
-            .unwrap();
+        r.write(
+            1,
+            "FEND\nLD X0\nOUT Y0\nP0\nLD SM400\n+ K10 D10\nRET\nEND\n",
+        )
+        .unwrap();
         r.scans(1);
         assert_eq!(r.int("D10"), 12, "jit {jit}");
         // Without P0 main's ECALL would go nowhere: refused.

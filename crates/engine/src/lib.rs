@@ -18,7 +18,8 @@ pub mod trace;
 use std::time::Duration;
 
 pub use cpu::{
-    Cpu, Hold, LoadedProgram, OnlineLimits, ProgramMonitor, Refusal, Written, VIRTUAL_WATCHDOG_FLOOR,
+    Cpu, Hold, LoadedProgram, OnlineLimits, ProgramMonitor, Refusal, Written,
+    VIRTUAL_WATCHDOG_FLOOR,
 };
 pub use softplc_ir::calendar;
 pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};

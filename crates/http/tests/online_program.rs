@@ -82,19 +82,34 @@ async fn a_put_program_keeps_the_count_fires_the_new_falling_edge_and_shows_the_
     let addr = p.server.addr;
     // Two rising edges of M0: C0 counts 2.
     for on in [true, false, true, false] {
-        let r = send(addr, "POST", "/api/v1/devices", Some(&json!({"M0": on}).to_string())).await;
+        let r = send(
+            addr,
+            "POST",
+            "/api/v1/devices",
+            Some(&json!({"M0": on}).to_string()),
+        )
+        .await;
         assert_eq!(r.status, 200, "{}", r.body);
     }
     assert_eq!(devices(addr, "CN0").await, json!({"CN0": 2}));
     let before = get(addr, "/ladder.txt?prog=0").await.body;
     assert!(!before.contains("M5"), "{before}");
 
-    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("main.il", V2))).await;
+    let r = send(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        Some(&put_body("main.il", V2)),
+    )
+    .await;
     assert_eq!(r.status, 200, "{}", r.body);
     let j = r.json();
     assert!(j["scan"].as_u64().unwrap() > 0, "{j}");
     // LD M0, OUT C0, LD SM400, INC D100, END kept; LDF M5 and INC D5 added.
-    assert_eq!((&j["kept"], &j["added"], &j["removed"]), (&json!(5), &json!(2), &json!(0)));
+    assert_eq!(
+        (&j["kept"], &j["added"], &j["removed"]),
+        (&json!(5), &json!(2), &json!(0))
+    );
 
     // The count is kept, and LDF M5 with M5 OFF acted once after the write.
     let d = devices(addr, "CN0,D5").await;
@@ -106,7 +121,10 @@ async fn a_put_program_keeps_the_count_fires_the_new_falling_edge_and_shows_the_
     assert!(after.contains("M5") && after.contains("D5"), "{after}");
     let page = get(addr, "/").await.body;
     assert!(page.contains("M5"), "the ladder page watches M5");
-    assert_eq!(std::fs::read_to_string(p.dir.path().join("main.il")).unwrap(), V2);
+    assert_eq!(
+        std::fs::read_to_string(p.dir.path().join("main.il")).unwrap(),
+        V2
+    );
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -114,7 +132,13 @@ async fn a_program_that_does_not_compile_is_400_and_changes_nothing() {
     let (p, _) = serve(V1, false);
     let addr = p.server.addr;
     let bad = "LD M0\nFOO D0\nEND\n";
-    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("main.il", bad))).await;
+    let r = send(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        Some(&put_body("main.il", bad)),
+    )
+    .await;
     assert_eq!(r.status, 400, "{}", r.body);
     let j = r.json();
     let diags = j["diagnostics"].as_array().unwrap();
@@ -126,19 +150,35 @@ async fn a_program_that_does_not_compile_is_400_and_changes_nothing() {
     let a = devices(addr, "D100").await["D100"].as_i64().unwrap();
     let b = devices(addr, "D100").await["D100"].as_i64().unwrap();
     assert!(b > a, "{a} then {b}");
-    assert_eq!(std::fs::read_to_string(p.dir.path().join("main.il")).unwrap(), V1);
+    assert_eq!(
+        std::fs::read_to_string(p.dir.path().join("main.il")).unwrap(),
+        V1
+    );
     let ladder = get(addr, "/ladder.txt?prog=0").await.body;
     assert!(!ladder.contains("FOO"), "{ladder}");
 
     // An unknown file is 404 naming the files there are.
-    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("nope.il", V2))).await;
+    let r = send(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        Some(&put_body("nope.il", V2)),
+    )
+    .await;
     assert_eq!(r.status, 404, "{}", r.body);
     assert_eq!(
         r.json()["error"],
         json!("no program file \"nope.il\" is served (the program files: main.il)")
     );
     // Without the token: 401.
-    let r = request(addr, "PUT", "/api/v1/program", &[], Some(&put_body("main.il", V2))).await;
+    let r = request(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        &[],
+        Some(&put_body("main.il", V2)),
+    )
+    .await;
     assert_eq!(r.status, 401, "{}", r.body);
 }
 
@@ -151,7 +191,10 @@ async fn watch_writes_a_rewritten_file_during_run() {
     // The watcher waits for the file to settle; give it ample time.
     let deadline = Instant::now() + Duration::from_secs(30);
     while devices(addr, "D0").await != json!({"D0": 2}) {
-        assert!(Instant::now() < deadline, "the rewritten file was not picked up");
+        assert!(
+            Instant::now() < deadline,
+            "the rewritten file was not picked up"
+        );
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
     let ladder = get(addr, "/ladder.txt?prog=0").await.body;

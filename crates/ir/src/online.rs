@@ -101,7 +101,13 @@ mod tests {
     use super::*;
     use crate::listing::{Listed, Role};
 
-    fn instr(m: &str, ops: &[&str], edges: Range<u32>, words: Range<u32>, steps: Range<u32>) -> Entry {
+    fn instr(
+        m: &str,
+        ops: &[&str],
+        edges: Range<u32>,
+        words: Range<u32>,
+        steps: Range<u32>,
+    ) -> Entry {
         Entry::Instr(Listed {
             role: Role::Box,
             mnemonic: m.into(),

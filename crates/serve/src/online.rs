@@ -19,7 +19,6 @@ use softplc_core::online::{Refused, SourceFile, Sources};
 
 use crate::{Busy, EngineHandle, ServeState};
 
-
 /// The served program files and the text last applied to each.
 #[derive(Debug)]
 pub struct Online {
@@ -102,9 +101,10 @@ pub async fn write(
 ) -> Result<Written, WriteError> {
     let at = index(&online, name)?;
     let (o, t) = (online.clone(), text.clone());
-    let program = tokio::task::spawn_blocking(move || o.sources.compile(&o.sources.files()[at], &t))
-        .await
-        .map_err(|_| WriteError::Busy)??;
+    let program =
+        tokio::task::spawn_blocking(move || o.sources.compile(&o.sources.files()[at], &t))
+            .await
+            .map_err(|_| WriteError::Busy)??;
     let o = online.clone();
     let written = engine
         .at_end(move |s| swap(s, &o, &o.sources.files()[at], program))
@@ -153,8 +153,8 @@ pub fn watch(online: Arc<Online>, manifests: Vec<PathBuf>) -> Result<Watch, Stri
     use notify_debouncer_mini::notify::RecursiveMode;
     online.remember_disk();
     let (tx, rx) = std::sync::mpsc::channel();
-    let mut watcher = notify_debouncer_mini::new_debouncer(DEBOUNCE, tx)
-        .map_err(|e| format!("--watch: {e}"))?;
+    let mut watcher =
+        notify_debouncer_mini::new_debouncer(DEBOUNCE, tx).map_err(|e| format!("--watch: {e}"))?;
     // The directories: an editor that saves by renaming a new file over
     // the old one replaces the file a watch on it would follow.
     let mut dirs: Vec<PathBuf> = online

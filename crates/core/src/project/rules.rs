@@ -203,11 +203,7 @@ fn short(file: &str) -> String {
 }
 
 /// The sum over programs of (highest local pointer + 1) against the budget.
-fn local_pointers(
-    programs: &[Ruled<'_>],
-    common_pointer: Option<u32>,
-    out: &mut Vec<Diagnostic>,
-) {
+fn local_pointers(programs: &[Ruled<'_>], common_pointer: Option<u32>, out: &mut Vec<Diagnostic>) {
     let budget = common_pointer.unwrap_or(POINTERS);
     let mut total = 0u32;
     let mut uses = Vec::new();

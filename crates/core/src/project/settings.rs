@@ -148,7 +148,11 @@ pub(crate) fn cpu(
 fn online_limits(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
     let keys: [(&str, u32, &mut u32); 2] = [
         ("online_write_steps", 512, &mut config.online.max_steps),
-        ("online_reserve_steps", 65535, &mut config.online.reserve_steps),
+        (
+            "online_reserve_steps",
+            65535,
+            &mut config.online.reserve_steps,
+        ),
     ];
     let least = |key: &str| u32::from(key == "online_write_steps");
     for (key, most, field) in keys {

@@ -126,12 +126,14 @@ impl Cpu {
         for (from, to) in &carry.edges {
             let n = (from.end - from.start) as usize;
             let to = *to as usize;
-            state.edges[to..to + n].copy_from_slice(&before.edges[from.start as usize..from.end as usize]);
+            state.edges[to..to + n]
+                .copy_from_slice(&before.edges[from.start as usize..from.end as usize]);
         }
         for (from, to) in &carry.words {
             let n = (from.end - from.start) as usize;
             let to = *to as usize;
-            state.state[to..to + n].copy_from_slice(&before.state[from.start as usize..from.end as usize]);
+            state.state[to..to + n]
+                .copy_from_slice(&before.state[from.start as usize..from.end as usize]);
         }
         let falling = falling_edges(new);
         for &s in &falling {
@@ -185,8 +187,14 @@ impl Cpu {
                 let common = old.common_labels.iter().find(|&&(_, at)| at == pc);
                 let local = old.local_labels.iter().find(|&&(_, at)| at == pc);
                 let found = match (common, local) {
-                    (Some(&(n, _)), _) => new.common_labels.iter().find(|l| l.0 == n).map(|l| (n, l.1)),
-                    (None, Some(&(n, _))) => new.local_labels.iter().find(|l| l.0 == n).map(|l| (n, l.1)),
+                    (Some(&(n, _)), _) => new
+                        .common_labels
+                        .iter()
+                        .find(|l| l.0 == n)
+                        .map(|l| (n, l.1)),
+                    (None, Some(&(n, _))) => {
+                        new.local_labels.iter().find(|l| l.0 == n).map(|l| (n, l.1))
+                    }
                     (None, None) => None,
                 };
                 match (found, common.or(local)) {
