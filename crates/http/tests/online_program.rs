@@ -200,3 +200,56 @@ async fn watch_writes_a_rewritten_file_during_run() {
     let ladder = get(addr, "/ladder.txt?prog=0").await.body;
     assert!(ladder.contains("K2"), "{ladder}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn each_cpu_of_a_system_is_written_by_its_path() {
+    let dir = tempfile::tempdir().unwrap();
+    for i in 1..=2 {
+        let d = dir.path().join(format!("cpu{i}"));
+        std::fs::create_dir(&d).unwrap();
+        std::fs::write(
+            d.join("plc.toml"),
+            "[[program]]\nfile = \"main.il\"\n[multi_cpu]\ncpus = 2\n",
+        )
+        .unwrap();
+        std::fs::write(d.join("main.il"), format!("LD SM400\nMOV K{i} D1\nEND\n")).unwrap();
+    }
+    std::fs::write(
+        dir.path().join("system.toml"),
+        "[[cpu]]\nproject = \"cpu1\"\n[[cpu]]\nproject = \"cpu2\"\n",
+    )
+    .unwrap();
+    let time = MonotonicClock::default();
+    let mut clock = || -> Box<dyn softplc_core::engine::Clock> { Box::new(time.clone()) };
+    let sys = softplc_core::system::System::load(dir.path(), &mut clock).unwrap();
+    let ladder = softplc_http::ladder::load_programs(sys.cpu(0));
+    let state = ServeState::system(sys, Vec::new());
+    let sources = softplc_core::online::Sources::load(dir.path(), &state.cpus).unwrap();
+    let cfg = HttpConfig {
+        token: Some(TOKEN.into()),
+        model: "Q06HCPU".into(),
+        ladder,
+        limits: Default::default(),
+        online: Some(Arc::new(Online::new(sources))),
+    };
+    let server = start_state(state, cfg);
+    let addr = server.addr;
+    assert_eq!(devices(addr, "D1,CPU2/D1").await, json!({"D1": 1, "CPU2/D1": 2}));
+    // main.il is in both CPUs' projects: the name alone is ambiguous.
+    let text = "LD SM400\nMOV K20 D1\nEND\n";
+    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("main.il", text))).await;
+    assert_eq!(r.status, 404, "{}", r.body);
+    assert_eq!(
+        r.json()["error"],
+        json!("\"main.il\" names several program files: give its path (cpu1/main.il, cpu2/main.il)")
+    );
+    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("cpu2/main.il", text))).await;
+    assert_eq!(r.status, 200, "{}", r.body);
+    assert_eq!(devices(addr, "D1,CPU2/D1").await, json!({"D1": 1, "CPU2/D1": 20}));
+    let ladder = get(addr, "/ladder.txt?cpu=2&prog=0").await.body;
+    assert!(ladder.contains("K20"), "{ladder}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("cpu2/main.il")).unwrap(),
+        text
+    );
+}
