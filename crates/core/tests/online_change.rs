@@ -298,3 +298,94 @@ fn plc_toml_sets_the_limits_of_writes_during_run() {
         "2:22: online_write_steps must be a number of steps from 1 to 512"
     );
 }
+
+#[test]
+fn a_kept_falling_edge_acts_once_when_its_condition_is_off_after_the_write() {
+    for jit in TIERS {
+        let src = "LDF X6\nINC D6\nLDF X7\nINC D7\nLD X0\nOUT Y0\nEND\n";
+        let mut r = rig(&[("main.il", src, ExecType::Scan)], OnlineLimits::default(), jit);
+        r.cpu.set_input(7, true);
+        r.scans(3);
+        assert_eq!((r.int("D6"), r.int("D7")), (0, 0));
+        // Only the last rung changes; both LDFs are kept and written again.
+        r.write(0, "LDF X6\nINC D6\nLDF X7\nINC D7\nLD X1\nOUT Y0\nEND\n")
+            .unwrap();
+        r.scans(2);
+        // X6 OFF: acted once; X7 ON: no falling edge, until X7 goes OFF.
+        assert_eq!((r.int("D6"), r.int("D7")), (1, 0), "jit {jit}");
+        r.cpu.set_input(7, false);
+        r.scans(1);
+        assert_eq!((r.int("D6"), r.int("D7")), (1, 1));
+    }
+}
+
+#[test]
+fn an_aplc_program_file_is_written_through_its_sources() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("main.apl");
+    std::fs::write(&path, "LD X0\nEU\nINC D0\nLD SM0\nMOV 1 D1\n").unwrap();
+    let profile = softplc_core::single::profile_for(&path, None, None).unwrap();
+    let clock = VirtualClock::new();
+    let cpu = softplc_core::single::load(&path, profile, Default::default(), Box::new(clock.clone()))
+        .unwrap();
+    let mut cpus = softplc_core::system::Cpus::One(cpu);
+    let sources = softplc_core::online::Sources::load(&path, &cpus).unwrap();
+    let f = sources.find("main.apl").unwrap();
+    let cpu = cpus.get_mut(0);
+    cpu.set_input(0, true);
+    for _ in 0..2 {
+        clock.advance_us(10_000);
+        cpu.scan();
+    }
+    let d = |cpu: &Cpu, n: &str| cpu.read_device(&DeviceSpec::parse(n).unwrap()).unwrap();
+    assert_eq!((d(cpu, "D0"), d(cpu, "D1")), (Value::Int(1), Value::Int(1)));
+    let program = sources
+        .compile(f, "LD X0\nEU\nINC D0\nLD SM0\nMOV 2 D1\n")
+        .unwrap();
+    sources.check(f, &program, cpu).unwrap();
+    let w = cpu.replace_program(f.slot, program).unwrap();
+    assert_eq!((w.kept, w.added, w.removed), (4, 1, 1));
+    clock.advance_us(10_000);
+    cpu.scan();
+    // EU kept its edge memory: X0 still ON counts nothing more.
+    assert_eq!((d(cpu, "D0"), d(cpu, "D1")), (Value::Int(1), Value::Int(2)));
+    // A text that does not compile: the diagnostics name the file and line.
+    let Err(softplc_core::online::Refused::Program(diags)) = sources.compile(f, "LD X0\nFOO D0\n")
+    else {
+        panic!("FOO compiled");
+    };
+    let text = diags.to_string();
+    assert!(text.contains("main.apl:2:1: unknown instruction `FOO`"), "{text}");
+}
+
+#[test]
+fn the_projects_rules_refuse_a_timer_written_into_a_fixed_scan_program() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("plc.toml"),
+        "[[program]]\nfile = \"main.il\"\n[[program]]\nfile = \"fast.il\"\ntype = \"fixed-scan\"\ninterval = \"20ms\"\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("main.il"), "LD X0\nOUT Y0\nEND\n").unwrap();
+    std::fs::write(dir.path().join("fast.il"), "LD X1\nOUT Y1\nEND\n").unwrap();
+    let project = softplc_core::project::load_project(dir.path()).unwrap();
+    let cpu = project.build_cpu(Box::new(VirtualClock::new())).unwrap();
+    let cpus = softplc_core::system::Cpus::One(cpu);
+    let sources = softplc_core::online::Sources::load(dir.path(), &cpus).unwrap();
+    let f = sources.find("fast.il").unwrap();
+    assert_eq!((f.slot, f.name.as_str()), (1, "fast.il"));
+    let program = sources.compile(f, "LD X1\nOUT T0 K10\nEND\n").unwrap();
+    let Err(softplc_core::online::Refused::Program(d)) = sources.check(f, &program, cpus.get(0))
+    else {
+        panic!("a timer in a fixed-scan program was accepted");
+    };
+    let text = d.to_string();
+    assert!(
+        text.contains("fast.il:2:1: a timer coil (OUT T/OUT ST) in a fixed-scan program"),
+        "{text}"
+    );
+    // The same rung in the scan program passes.
+    let f = sources.find("main.il").unwrap();
+    let program = sources.compile(f, "LD X1\nOUT T0 K10\nEND\n").unwrap();
+    sources.check(f, &program, cpus.get(0)).unwrap();
+}
