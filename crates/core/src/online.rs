@@ -156,47 +156,43 @@ impl Sources {
 
     /// The program file `name` names: its path relative to the served
     /// directory (`main.il`, `cpu2/main.il`), or a file name that only one
-    /// program file has.
-    pub fn find(&self, name: &str) -> Result<&SourceFile, Refused> {
+    /// program file has. Its index in [`Sources::files`].
+    pub fn find(&self, name: &str) -> Result<usize, Refused> {
         let wanted = normal(Path::new(name));
-        if let Some(f) = self
+        if let Some(i) = self
             .files
             .iter()
-            .find(|f| normal(Path::new(&f.name)) == wanted)
+            .position(|f| normal(Path::new(&f.name)) == wanted)
         {
-            return Ok(f);
+            return Ok(i);
         }
-        let by_name: Vec<&SourceFile> = self
-            .files
-            .iter()
-            .filter(|f| file_name(&f.path) == name)
+        let by_name: Vec<usize> = (0..self.files.len())
+            .filter(|&i| file_name(&self.files[i].path) == name)
             .collect();
+        let names = |ids: &mut dyn Iterator<Item = usize>| {
+            ids.map(|i| self.files[i].name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
         match by_name.as_slice() {
-            [one] => Ok(one),
+            [one] => Ok(*one),
             [] => Err(Refused::UnknownFile(format!(
                 "no program file \"{name}\" is served (the program files: {})",
-                self.files
-                    .iter()
-                    .map(|f| f.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                names(&mut (0..self.files.len()))
             ))),
             _ => Err(Refused::UnknownFile(format!(
                 "\"{name}\" names several program files: give its path ({})",
-                by_name
-                    .iter()
-                    .map(|f| f.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                names(&mut by_name.iter().copied())
             ))),
         }
     }
 
-    /// The file whose path on disk is `path` (for `serve --watch`).
-    pub fn at_path(&self, path: &Path) -> Option<&SourceFile> {
+    /// The file whose path on disk is `path` (for `serve --watch`): its
+    /// index in [`Sources::files`].
+    pub fn at_path(&self, path: &Path) -> Option<usize> {
         let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
         let wanted = canon(path);
-        self.files.iter().find(|f| canon(&f.path) == wanted)
+        self.files.iter().position(|f| canon(&f.path) == wanted)
     }
 
     /// Compiles `text` as the new content of `f`, named as the running

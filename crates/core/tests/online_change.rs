@@ -303,7 +303,11 @@ fn plc_toml_sets_the_limits_of_writes_during_run() {
 fn a_kept_falling_edge_acts_once_when_its_condition_is_off_after_the_write() {
     for jit in TIERS {
         let src = "LDF X6\nINC D6\nLDF X7\nINC D7\nLD X0\nOUT Y0\nEND\n";
-        let mut r = rig(&[("main.il", src, ExecType::Scan)], OnlineLimits::default(), jit);
+        let mut r = rig(
+            &[("main.il", src, ExecType::Scan)],
+            OnlineLimits::default(),
+            jit,
+        );
         r.cpu.set_input(7, true);
         r.scans(3);
         assert_eq!((r.int("D6"), r.int("D7")), (0, 0));
@@ -326,11 +330,12 @@ fn an_aplc_program_file_is_written_through_its_sources() {
     std::fs::write(&path, "LD X0\nEU\nINC D0\nLD SM0\nMOV 1 D1\n").unwrap();
     let profile = softplc_core::single::profile_for(&path, None, None).unwrap();
     let clock = VirtualClock::new();
-    let cpu = softplc_core::single::load(&path, profile, Default::default(), Box::new(clock.clone()))
-        .unwrap();
+    let cpu =
+        softplc_core::single::load(&path, profile, Default::default(), Box::new(clock.clone()))
+            .unwrap();
     let mut cpus = softplc_core::system::Cpus::One(cpu);
     let sources = softplc_core::online::Sources::load(&path, &cpus).unwrap();
-    let f = sources.find("main.apl").unwrap();
+    let f = &sources.files()[sources.find("main.apl").unwrap()];
     let cpu = cpus.get_mut(0);
     cpu.set_input(0, true);
     for _ in 0..2 {
@@ -355,7 +360,10 @@ fn an_aplc_program_file_is_written_through_its_sources() {
         panic!("FOO compiled");
     };
     let text = diags.to_string();
-    assert!(text.contains("main.apl:2:1: unknown instruction `FOO`"), "{text}");
+    assert!(
+        text.contains("main.apl:2:1: unknown instruction `FOO`"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -372,7 +380,7 @@ fn the_projects_rules_refuse_a_timer_written_into_a_fixed_scan_program() {
     let cpu = project.build_cpu(Box::new(VirtualClock::new())).unwrap();
     let cpus = softplc_core::system::Cpus::One(cpu);
     let sources = softplc_core::online::Sources::load(dir.path(), &cpus).unwrap();
-    let f = sources.find("fast.il").unwrap();
+    let f = &sources.files()[sources.find("fast.il").unwrap()];
     assert_eq!((f.slot, f.name.as_str()), (1, "fast.il"));
     let program = sources.compile(f, "LD X1\nOUT T0 K10\nEND\n").unwrap();
     let Err(softplc_core::online::Refused::Program(d)) = sources.check(f, &program, cpus.get(0))
@@ -385,7 +393,7 @@ fn the_projects_rules_refuse_a_timer_written_into_a_fixed_scan_program() {
         "{text}"
     );
     // The same rung in the scan program passes.
-    let f = sources.find("main.il").unwrap();
+    let f = &sources.files()[sources.find("main.il").unwrap()];
     let program = sources.compile(f, "LD X1\nOUT T0 K10\nEND\n").unwrap();
     sources.check(f, &program, cpus.get(0)).unwrap();
 }

@@ -234,18 +234,38 @@ async fn each_cpu_of_a_system_is_written_by_its_path() {
     };
     let server = start_state(state, cfg);
     let addr = server.addr;
-    assert_eq!(devices(addr, "D1,CPU2/D1").await, json!({"D1": 1, "CPU2/D1": 2}));
+    assert_eq!(
+        devices(addr, "D1,CPU2/D1").await,
+        json!({"D1": 1, "CPU2/D1": 2})
+    );
     // main.il is in both CPUs' projects: the name alone is ambiguous.
     let text = "LD SM400\nMOV K20 D1\nEND\n";
-    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("main.il", text))).await;
+    let r = send(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        Some(&put_body("main.il", text)),
+    )
+    .await;
     assert_eq!(r.status, 404, "{}", r.body);
     assert_eq!(
         r.json()["error"],
-        json!("\"main.il\" names several program files: give its path (cpu1/main.il, cpu2/main.il)")
+        json!(
+            "\"main.il\" names several program files: give its path (cpu1/main.il, cpu2/main.il)"
+        )
     );
-    let r = send(addr, "PUT", "/api/v1/program", Some(&put_body("cpu2/main.il", text))).await;
+    let r = send(
+        addr,
+        "PUT",
+        "/api/v1/program",
+        Some(&put_body("cpu2/main.il", text)),
+    )
+    .await;
     assert_eq!(r.status, 200, "{}", r.body);
-    assert_eq!(devices(addr, "D1,CPU2/D1").await, json!({"D1": 1, "CPU2/D1": 20}));
+    assert_eq!(
+        devices(addr, "D1,CPU2/D1").await,
+        json!({"D1": 1, "CPU2/D1": 20})
+    );
     let ladder = get(addr, "/ladder.txt?cpu=2&prog=0").await.body;
     assert!(ladder.contains("K20"), "{ladder}");
     assert_eq!(

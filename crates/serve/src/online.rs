@@ -6,7 +6,7 @@
 //! program ([`softplc_core::engine::Cpu::replace_program`]), so the answer's
 //! scan is the last one of the old program. A write through the API then
 //! rewrites the file on disk atomically, so that a restart runs what runs
-//! now; the watcher skips a file whose text is what was last applied (the
+//! now; the watcher skips a file whose text it has seen last (the
 //! API's own rewrite, an editor's touch).
 
 use std::collections::HashMap;
@@ -19,11 +19,12 @@ use softplc_core::online::{Refused, SourceFile, Sources};
 
 use crate::{Busy, EngineHandle, ServeState};
 
-/// The served program files and the text last applied to each.
+/// The served program files and the text each last had: written during
+/// RUN, or refused by the compiler (the watcher does not try it again).
 #[derive(Debug)]
 pub struct Online {
     pub sources: Sources,
-    applied: Mutex<HashMap<PathBuf, String>>,
+    seen: Mutex<HashMap<PathBuf, String>>,
 }
 
 /// Why a write failed.
@@ -54,28 +55,28 @@ impl Online {
     pub fn new(sources: Sources) -> Online {
         Online {
             sources,
-            applied: Mutex::new(HashMap::new()),
+            seen: Mutex::new(HashMap::new()),
         }
     }
 
     /// Remembers the files' texts as they are now (before watching).
     fn remember_disk(&self) {
-        let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
+        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
         for f in self.sources.files() {
             if let Ok(t) = std::fs::read_to_string(&f.path) {
-                applied.insert(f.path.clone(), t);
+                seen.insert(f.path.clone(), t);
             }
         }
     }
 
-    fn applied(&self, f: &SourceFile, text: &str) {
-        let mut applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
-        applied.insert(f.path.clone(), text.to_string());
+    fn saw(&self, f: &SourceFile, text: &str) {
+        let mut seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        seen.insert(f.path.clone(), text.to_string());
     }
 
-    fn is_applied(&self, f: &SourceFile, text: &str) -> bool {
-        let applied = self.applied.lock().unwrap_or_else(|e| e.into_inner());
-        applied.get(&f.path).is_some_and(|t| t == text)
+    fn has_seen(&self, f: &SourceFile, text: &str) -> bool {
+        let seen = self.seen.lock().unwrap_or_else(|e| e.into_inner());
+        seen.get(&f.path).is_some_and(|t| t == text)
     }
 }
 
@@ -99,7 +100,7 @@ pub async fn write(
     name: &str,
     text: String,
 ) -> Result<Written, WriteError> {
-    let at = index(&online, name)?;
+    let at = online.sources.find(name)?;
     let (o, t) = (online.clone(), text.clone());
     let program =
         tokio::task::spawn_blocking(move || o.sources.compile(&o.sources.files()[at], &t))
@@ -110,23 +111,13 @@ pub async fn write(
         .at_end(move |s| swap(s, &o, &o.sources.files()[at], program))
         .await??;
     let f = &online.sources.files()[at];
-    online.applied(f, &text);
+    online.saw(f, &text);
     let path = f.path.clone();
     tokio::task::spawn_blocking(move || softplc_core::online::write_file(&path, &text))
         .await
         .map_err(|_| WriteError::Busy)?
         .map_err(|e| WriteError::NotSaved(written.clone(), e))?;
     Ok(written)
-}
-
-fn index(online: &Online, name: &str) -> Result<usize, Refused> {
-    let f = online.sources.find(name)?;
-    Ok(online
-        .sources
-        .files()
-        .iter()
-        .position(|g| std::ptr::eq(g, f))
-        .unwrap_or(0))
 }
 
 /// How long the watcher waits for a file to settle (editors write in
@@ -194,7 +185,7 @@ pub fn watch(online: Arc<Online>, manifests: Vec<PathBuf>) -> Result<Watch, Stri
                         );
                         continue;
                     }
-                    let Some(at) = o.sources.files().iter().position(|f| o.sources.at_path(&p).is_some_and(|g| std::ptr::eq(f, g))) else {
+                    let Some(at) = o.sources.at_path(&p) else {
                         continue;
                     };
                     if let Some((text, program)) = rewritten(&o, &o.sources.files()[at]) {
@@ -211,7 +202,7 @@ pub fn watch(online: Arc<Online>, manifests: Vec<PathBuf>) -> Result<Watch, Stri
             let f = &online.sources.files()[at];
             let r = swap(s, &online, f, program);
             if r.is_ok() {
-                online.applied(f, &text);
+                online.saw(f, &text);
             }
             report(f, r);
         }
@@ -227,7 +218,7 @@ fn dir_of(p: &Path) -> PathBuf {
 }
 
 /// A program file changed on disk: its text and program when it is not
-/// the text applied last and compiles (a refusal is reported here).
+/// the text seen last and compiles (a refusal is reported here).
 fn rewritten(online: &Online, f: &SourceFile) -> Option<(String, softplc_core::program::Program)> {
     let bytes = softplc_core::program::read_limited(
         &f.path,
@@ -237,7 +228,7 @@ fn rewritten(online: &Online, f: &SourceFile) -> Option<(String, softplc_core::p
     // Removed or half-renamed: the next event brings the new file.
     .ok()?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
-    if online.is_applied(f, &text) {
+    if online.has_seen(f, &text) {
         return None;
     }
     match online.sources.compile(f, &text) {
@@ -245,7 +236,7 @@ fn rewritten(online: &Online, f: &SourceFile) -> Option<(String, softplc_core::p
         Err(e) => {
             report(f, Err(e));
             // Not again until the text changes.
-            online.applied(f, &text);
+            online.saw(f, &text);
             None
         }
     }
