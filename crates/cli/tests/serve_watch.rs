@@ -117,9 +117,17 @@ fn a_rewritten_program_file_is_written_during_run_and_plc_toml_needs_a_restart()
     // LD SM400 and END kept; MOV K2 D0 (3 steps), LD X0, OUT Y0 added.
     let what = "2 instructions kept, 3 added, 1 removed (5 steps written, 7 in all)";
     assert!(l.contains(what), "{l}");
-    let (code, body) = request(s.port, "GET", "/api/v1/devices?names=D0", "");
-    assert_eq!(code, 200);
-    assert!(body.contains(r#""D0":2"#), "{body}");
+    // The swap came after an END; the scan after it moves 2.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        let (code, body) = request(s.port, "GET", "/api/v1/devices?names=D0", "");
+        assert_eq!(code, 200);
+        if body.contains(r#""D0":2"#) {
+            break;
+        }
+        assert!(Instant::now() < deadline, "{body}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
     // A text that does not compile: reported, the program stays.
     std::fs::write(dir.path().join("main.il"), "LD SM400\nMOVE K3 D0\nEND\n").unwrap();
     s.expect("main.il not written, the running program is unchanged");
