@@ -262,10 +262,15 @@ async fn each_cpu_of_a_system_is_written_by_its_path() {
     )
     .await;
     assert_eq!(r.status, 200, "{}", r.body);
-    assert_eq!(
-        devices(addr, "D1,CPU2/D1").await,
-        json!({"D1": 1, "CPU2/D1": 20})
-    );
+    // Requests are served at either CPU's END: wait for CPU 2's next scan.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while devices(addr, "D1,CPU2/D1").await != json!({"D1": 1, "CPU2/D1": 20}) {
+        assert!(
+            Instant::now() < deadline,
+            "CPU 2 does not run the new program"
+        );
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
     let ladder = get(addr, "/ladder.txt?cpu=2&prog=0").await.body;
     assert!(ladder.contains("K20"), "{ladder}");
     assert_eq!(
