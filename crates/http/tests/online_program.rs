@@ -278,3 +278,27 @@ async fn each_cpu_of_a_system_is_written_by_its_path() {
         text
     );
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_large_program_is_written_past_the_apis_64_kib_body_limit() {
+    // 5000 rungs (about 80 KB, 10001 steps): the door takes a program's
+    // text although other bodies stop at 64 KiB; one rung changes.
+    let rungs = |last: &str| {
+        let mut t: String = (0..4999).map(|i| format!("LD M{i}\nOUT L{i}\n")).collect();
+        t.push_str(last);
+        t.push_str("END\n");
+        t
+    };
+    let (p, _) = serve(&rungs("LD M4999\nOUT L4999\n"), false);
+    let addr = p.server.addr;
+    let body = put_body("main.il", &rungs("LD SM400\nOUT L4999\n"));
+    assert!(body.len() > 64 * 1024);
+    let r = send(addr, "PUT", "/api/v1/program", Some(&body)).await;
+    assert_eq!(r.status, 200, "{}", r.body);
+    let j = r.json();
+    assert_eq!(
+        (&j["kept"], &j["added"], &j["removed"]),
+        (&json!(10000), &json!(1), &json!(1))
+    );
+    assert_eq!(devices(addr, "L4999").await, json!({"L4999": true}));
+}
