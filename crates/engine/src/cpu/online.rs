@@ -124,16 +124,10 @@ impl Cpu {
         let mut state = ProgState::new(new);
         let before = &self.locals[slot];
         for (from, to) in &carry.edges {
-            let n = (from.end - from.start) as usize;
-            let to = *to as usize;
-            state.edges[to..to + n]
-                .copy_from_slice(&before.edges[from.start as usize..from.end as usize]);
+            carry_over(&mut state.edges, &before.edges, from, *to);
         }
         for (from, to) in &carry.words {
-            let n = (from.end - from.start) as usize;
-            let to = *to as usize;
-            state.state[to..to + n]
-                .copy_from_slice(&before.state[from.start as usize..from.end as usize]);
+            carry_over(&mut state.state, &before.state, from, *to);
         }
         let falling = falling_edges(new);
         for &s in &falling {
@@ -215,6 +209,18 @@ impl Cpu {
             }
         }
         Ok(remap)
+    }
+}
+
+/// Copies an unchanged instruction's state `from` the old program's to `to`
+/// in the new one's (ranges outside either are left: the compiler's
+/// listing always fits its program).
+fn carry_over<T: Copy>(new: &mut [T], old: &[T], from: &std::ops::Range<u32>, to: u32) {
+    let Some(src) = old.get(from.start as usize..from.end as usize) else {
+        return;
+    };
+    if let Some(dst) = new.get_mut(to as usize..to as usize + src.len()) {
+        dst.copy_from_slice(src);
     }
 }
 
