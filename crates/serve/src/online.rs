@@ -25,6 +25,9 @@ use crate::{Busy, EngineHandle, ServeState};
 pub struct Online {
     pub sources: Sources,
     seen: Mutex<HashMap<PathBuf, String>>,
+    /// One API write at a time, so that the file on disk ends with the
+    /// text the CPU runs.
+    writing: tokio::sync::Mutex<()>,
 }
 
 /// Why a write failed.
@@ -56,6 +59,7 @@ impl Online {
         Online {
             sources,
             seen: Mutex::new(HashMap::new()),
+            writing: tokio::sync::Mutex::new(()),
         }
     }
 
@@ -101,6 +105,7 @@ pub async fn write(
     text: String,
 ) -> Result<Written, WriteError> {
     let at = online.sources.find(name)?;
+    let _one = online.writing.lock().await;
     let (o, t) = (online.clone(), text.clone());
     let program =
         tokio::task::spawn_blocking(move || o.sources.compile(&o.sources.files()[at], &t))
