@@ -397,3 +397,30 @@ fn the_projects_rules_refuse_a_timer_written_into_a_fixed_scan_program() {
     let program = sources.compile(f, "LD X1\nOUT T0 K10\nEND\n").unwrap();
     sources.check(f, &program, cpus.get(0)).unwrap();
 }
+
+#[test]
+fn an_interrupt_pointer_another_file_defines_is_refused_and_the_old_program_runs() {
+    for jit in TIERS {
+        let main = "LD X0\nOUT Y0\nFEND\nI28\nIRET\nEND\n";
+        let mut r = rig(
+            &[
+                ("main.il", main, ExecType::Scan),
+                ("sub.il", "LD X2\nOUT Y2\nEND\n", ExecType::Scan),
+            ],
+            OnlineLimits::default(),
+            jit,
+        );
+        let e = r
+            .write(1, "LD X1\nOUT Y1\nFEND\nI28\nIRET\nEND\n")
+            .unwrap_err();
+        assert!(
+            e.contains("interrupt pointer I28 is defined in main.il and in sub.il"),
+            "{e}"
+        );
+        assert_eq!(r.cpu.program_writes(), 0);
+        r.cpu.set_input(1, true);
+        r.cpu.set_input(2, true);
+        r.scans(1);
+        assert!(r.bit("Y2") && !r.bit("Y1"), "jit {jit}");
+    }
+}
