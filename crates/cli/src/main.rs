@@ -5,6 +5,7 @@
 
 mod http;
 mod names;
+mod online;
 mod opcua;
 mod run;
 mod run_system;

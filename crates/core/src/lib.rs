@@ -22,6 +22,7 @@ pub use softplc_melsec as instructions;
 
 pub mod aplc;
 pub mod names;
+pub mod online;
 pub mod persist;
 pub mod profile;
 pub mod program;

@@ -18,6 +18,7 @@ pub mod instr;
 pub mod kernels;
 pub mod layout;
 pub mod listing;
+pub mod online;
 mod operand;
 pub mod ops;
 pub mod profile;
