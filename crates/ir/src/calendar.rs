@@ -139,6 +139,12 @@ impl PlcClock {
         DateTime::from_unix(self.unix_us(now_us).div_euclid(1_000_000))
     }
 
+    /// The calendar clock in a state file.
+    pub fn snapshot(&mut self, s: &mut crate::snapshot::Snap) {
+        s.i64(&mut self.base_us);
+        s.u64(&mut self.at_us);
+    }
+
     /// Sets the clock (DATEWR, SM210); the sub-second part restarts at 0.
     pub fn set(&mut self, t: DateTime, now_us: u64) {
         *self = PlcClock::new(t, now_us);

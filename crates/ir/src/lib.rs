@@ -22,4 +22,5 @@ mod operand;
 pub mod ops;
 pub mod profile;
 pub mod rack;
+pub mod snapshot;
 pub mod system;
