@@ -66,6 +66,29 @@ pub(crate) struct RackState {
 }
 
 impl RackState {
+    /// Each module's own state and the interrupt module's inputs, in a
+    /// state file.
+    pub fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
+        s.u64(&mut self.previous);
+        let n = self.modules.len();
+        if s.same(n > 0) {
+            let mut count = n as u64;
+            s.u64(&mut count);
+            if !s.saving() && count != n as u64 {
+                s.fail(softplc_ir::snapshot::StateError::Mismatch {
+                    what: "modules",
+                    found: count,
+                    expected: n as u64,
+                });
+            }
+            for m in &mut self.modules {
+                let mut slot = m.slot as u64;
+                s.u64(&mut slot);
+                m.module.snapshot(s);
+            }
+        }
+    }
+
     /// The modules of `rack` in a memory of `map` with `x` input points.
     pub fn new(rack: &Rack, mem: &DeviceMemory) -> RackState {
         let x = mem.map.points(DeviceKind::X) as usize;
