@@ -16,8 +16,8 @@
 //! Every copy is sized when the CPU is built: a swap copies between
 //! preallocated buffers and allocates nothing.
 
-use softplc_ir::snapshot::Snap;
 use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::snapshot::Snap;
 use softplc_ir::system::LocalDeviceRelays;
 
 use crate::{LatchRange, LocalRange, Runtime};

@@ -237,7 +237,7 @@ impl Cpu {
 }
 
 /// A program file's scheduling: its execution type (PSCAN, PSTOP, PLOW
-/// change it), POFF, its monitor counts and when a fixed-scan program runs.
+/// change it), POFF, its execution count and when a fixed-scan program runs.
 fn slot_state(s: &mut Snap, slot: &mut Slot) {
     s.one_of(
         &mut slot.exec,
@@ -251,8 +251,6 @@ fn slot_state(s: &mut Snap, slot: &mut Slot) {
     );
     s.bool(&mut slot.off_pending);
     s.u16(&mut slot.count);
-    s.u64(&mut slot.last_ns);
-    s.u64(&mut slot.max_ns);
     s.u64(&mut slot.next_due_us);
 }
 
