@@ -70,6 +70,12 @@ pub fn router(app: Arc<App>) -> Router {
         )
         .route("/api/v1/events", get(events))
         .route("/api/v1/rack", get(crate::rack::rack))
+        .route(
+            "/api/v1/snapshot",
+            get(crate::snapshot::get)
+                .put(crate::snapshot::put)
+                .layer(DefaultBodyLimit::max(crate::snapshot::SNAPSHOT_LIMIT)),
+        )
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)
@@ -80,7 +86,7 @@ pub fn error(code: StatusCode, msg: impl Into<String>) -> Response {
     (code, Json(json!({ "error": msg.into() }))).into_response()
 }
 
-fn bad(msg: impl Into<String>) -> Response {
+pub(crate) fn bad(msg: impl Into<String>) -> Response {
     error(StatusCode::BAD_REQUEST, msg)
 }
 
@@ -113,7 +119,7 @@ pub(crate) async fn at_end<R: Send + 'static>(
 }
 
 /// Contract §3.1: no token configured → 403; a missing or wrong bearer → 401.
-fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
+pub(crate) fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
     let Some(token) = &app.cfg.token else {
         return Err(error(
             StatusCode::FORBIDDEN,
@@ -147,7 +153,7 @@ fn equal(a: &[u8], b: &[u8]) -> bool {
 }
 
 /// A request body, or why it was refused (413 over [`crate::BODY_LIMIT`]).
-type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
+pub(crate) type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
 
 /// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
 /// with `{"error": ...}`.

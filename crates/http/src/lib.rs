@@ -18,6 +18,7 @@ pub mod monitor;
 pub mod pages;
 pub mod process_loops;
 pub mod rack;
+pub mod snapshot;
 pub mod values;
 
 use std::net::SocketAddr;
