@@ -6,7 +6,8 @@
 //! local devices' copies, the rack's modules and the clock's time.
 //!
 //! What is not in it: the compiled programs and the parameters (the file's
-//! identity stands for them), what exists only inside a scan (CALL and FOR
+//! identity stands for them; the timer bases and the watchdog time stay
+//! this CPU's), what exists only inside a scan (CALL and FOR
 //! stacks, an instruction's pending requests: empty at END), the wall-clock
 //! watchdog start and the host's measurements of program run times, and
 //! the sampling trace (a monitor's buffer the client sets up).
@@ -88,13 +89,10 @@ impl Cpu {
 
     fn runtime(&mut self, s: &mut Snap) {
         let rt = &mut self.rt;
-        s.u32s(&mut rt.timer_base_us);
         s.u32(&mut rt.scan_us);
         s.u16(&mut rt.mc_off);
         s.bool(&mut rt.stop_request);
         s.bool(&mut rt.stop_now);
-        s.duration(&mut rt.watchdog);
-        s.duration(&mut rt.watchdog_set);
         s.option(&mut rt.error, cpu_error);
         if let Some(h) = s.list(rt.history.iter_mut(), crate::HISTORY_LEN, history_entry) {
             rt.history.clear();
