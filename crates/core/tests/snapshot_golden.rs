@@ -36,10 +36,24 @@ fn run(
     scans: std::ops::RangeInclusive<u64>,
     us: u64,
 ) {
-    for n in scans {
+    let before = |cpu: &mut Cpu, n: u64| {
         for (_, d, v) in writes.iter().filter(|w| w.0 == n) {
             write(cpu, d, v);
         }
+    };
+    run_with(cpu, clock, &before, scans, us);
+}
+
+/// Scans with what `before` does before each scan n.
+fn run_with(
+    cpu: &mut Cpu,
+    clock: &VirtualClock,
+    before: &dyn Fn(&mut Cpu, u64),
+    scans: std::ops::RangeInclusive<u64>,
+    us: u64,
+) {
+    for n in scans {
+        before(cpu, n);
         clock.advance_us(us);
         cpu.scan();
     }
@@ -48,13 +62,29 @@ fn run(
 /// Runs `build`'s CPU N+M scans of `us` in one go and N, save, load into a
 /// new CPU, M; asserts both end the same; the resumed CPU.
 fn resumed(build: &dyn Fn(&VirtualClock) -> Cpu, writes: Writes, n: u64, m: u64, us: u64) -> Cpu {
+    let before = |cpu: &mut Cpu, k: u64| {
+        for (_, d, v) in writes.iter().filter(|w| w.0 == k) {
+            write(cpu, d, v);
+        }
+    };
+    resumed_with(build, &before, n, m, us)
+}
+
+/// [`resumed`] with what `before` does before each scan.
+fn resumed_with(
+    build: &dyn Fn(&VirtualClock) -> Cpu,
+    before: &dyn Fn(&mut Cpu, u64),
+    n: u64,
+    m: u64,
+    us: u64,
+) -> Cpu {
     let ca = VirtualClock::new();
     let mut whole = build(&ca);
-    run(&mut whole, &ca, writes, 1..=n + m, us);
+    run_with(&mut whole, &ca, before, 1..=n + m, us);
 
     let cb = VirtualClock::new();
     let mut first = build(&cb);
-    run(&mut first, &cb, writes, 1..=n, us);
+    run_with(&mut first, &cb, before, 1..=n, us);
     let file = snapshot::save(&mut first);
 
     let cc = VirtualClock::new();
@@ -64,7 +94,7 @@ fn resumed(build: &dyn Fn(&VirtualClock) -> Cpu, writes: Writes, n: u64, m: u64,
     snapshot::load(&mut second, &file).unwrap();
     assert_eq!(cc.now_us(), n * us, "the clock comes back from the file");
     assert_eq!(second.scans(), first.scans());
-    run(&mut second, &cc, writes, n + 1..=n + m, us);
+    run_with(&mut second, &cc, before, n + 1..=n + m, us);
 
     assert_eq!(whole.state(), second.state());
     assert_eq!(whole.error(), second.error());
@@ -278,6 +308,48 @@ fn an_aplc_program() {
     assert_eq!(read(&cpu, "Y0"), 1);
     // T5 (100 ms base) over 30 scans of 10 ms: 300 ms, 3 of its 50.
     assert_eq!(read(&cpu, "TN5"), 3);
+}
+
+/// A Q64AD in the middle of a time-averaging period (the golden rack test's
+/// case: 50 ms of CH1, 8 mA for the first 250 conversions, 16 mA for the
+/// last 375 → 2200), cut after scan 4, with X5 forced ON across the cut:
+/// the module's averaging and its physical inputs, the force and the value
+/// under it come back.
+#[test]
+fn a_module_mid_period_and_a_forced_input() {
+    let toml = "[[program]]\nfile = \"main.il\"\n\
+                [[slot]]\ntype = \"input\"\npoints = 32\n\
+                [[slot]]\ntype = \"intelligent\"\nmodule = \"Q64AD\"\n";
+    let il = "LD X20\nANI M0\nMOV H0E U2\\G0\nMOV H101 U2\\G9\nMOV K50 U2\\G1\nSET Y29\nSET M0\n\
+              LD Y29\nANI X29\nRST Y29\n\
+              LD X2E\nMOV U2\\G11 D0\nMOV U2\\G10 D1\n\
+              LD X5\nINC D5\nEND\n";
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("plc.toml"), toml).unwrap();
+    std::fs::write(dir.path().join("main.il"), il).unwrap();
+    let build = |clock: &VirtualClock| {
+        let p = softplc_core::project::load_project(dir.path()).unwrap();
+        let mut cpu = p.build_cpu(Box::new(clock.clone())).unwrap();
+        softplc_core::tier::apply_env(&mut cpu);
+        cpu
+    };
+    let before = |cpu: &mut Cpu, n: u64| {
+        let ma = match n {
+            1 => 8.0,
+            4 => 16.0,
+            _ => return,
+        };
+        cpu.module_mut(1).unwrap().set_channel(1, ma).unwrap();
+        if n == 1 {
+            cpu.force(softplc_core::device::DeviceKind::X, 5, true)
+                .unwrap();
+        }
+    };
+    let cpu = resumed_with(&build, &before, 4, 3, 10_000);
+    assert_eq!(read(&cpu, "U2\\G11"), 2200);
+    assert_eq!((read(&cpu, "D0"), read(&cpu, "D1")), (2200, 1));
+    // X5 forced ON in all 7 scans.
+    assert_eq!(read(&cpu, "D5"), 7);
 }
 
 // ------------------------------------------------------------ refusals
