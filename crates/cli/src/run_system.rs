@@ -321,7 +321,7 @@ fn report(
             first.scans().saturating_sub(before[0]),
             first.state().as_str()
         );
-        for i in 0..sys.len() {
+        for (i, base) in before.iter().enumerate() {
             let c = sys.cpu(i);
             let err = match c.error() {
                 None => "none".to_string(),
@@ -330,7 +330,7 @@ fn report(
             outln!(
                 "CPU {}: {} scans, state {}, error: {err}",
                 i + 1,
-                c.scans().saturating_sub(before[i]),
+                c.scans().saturating_sub(*base),
                 c.state().as_str()
             );
         }

@@ -328,7 +328,7 @@ impl Module for Q64ad {
             s.u8(&mut kind);
             s.u16(&mut n);
             match kind {
-                0 | 1 | 2 if s.loading() => {
+                0..=2 if s.loading() => {
                     st.processing[ch] = match kind {
                         0 => Processing::Sampling,
                         1 => Processing::Time(n),
