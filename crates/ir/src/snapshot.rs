@@ -276,15 +276,6 @@ impl<'a> Snap<'a> {
         }
     }
 
-    /// A duration in nanoseconds.
-    pub fn duration(&mut self, x: &mut std::time::Duration) {
-        let mut ns = x.as_nanos().min(u64::MAX as u128) as u64;
-        self.u64(&mut ns);
-        if self.loading() {
-            *x = std::time::Duration::from_nanos(ns);
-        }
-    }
-
     /// One of `all` (an enum without data), stored as its position.
     pub fn one_of<T: Copy + PartialEq>(&mut self, x: &mut T, all: &[T]) {
         let i = self.value_u8(all.iter().position(|a| a == x).unwrap_or(0) as u8);
@@ -302,42 +293,37 @@ impl<'a> Snap<'a> {
         self.fail(StateError::Invalid { what, value });
     }
 
-    /// A count that must equal `expected` (an array this CPU sized at load).
-    fn same_len(&mut self, expected: usize) -> bool {
+    /// A count that must equal `expected` (an array this CPU sized at
+    /// load); false when it does not, or after an error.
+    pub fn same_len(&mut self, expected: usize) -> bool {
         let n = self.value_u64(expected as u64);
         if self.saving() {
             return true;
         }
-        if self.err.is_some() {
-            return false;
-        }
-        if n != expected as u64 {
+        if self.err.is_none() && n != expected as u64 {
             let what = self.what;
             self.fail(StateError::Mismatch {
                 what,
                 found: n,
                 expected: expected as u64,
             });
-            return false;
         }
-        true
+        self.err.is_none()
     }
 
     /// A flag that must be as this CPU has it (a part present or not by
     /// its configuration).
     pub fn same(&mut self, present: bool) -> bool {
-        let mut v = present;
         let read = self.value_bool(present);
-        if !self.saving() && self.err.is_none() && read != v {
+        if self.err.is_none() && read != present {
             let what = self.what;
             self.fail(StateError::Mismatch {
                 what,
                 found: read as u64,
                 expected: present as u64,
             });
-            v = false;
         }
-        v && self.err.is_none()
+        present && self.err.is_none()
     }
 
     /// Reads `n` bytes of an array and decodes each `N`-byte element.

@@ -70,20 +70,12 @@ impl RackState {
     /// state file.
     pub fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
         s.u64(&mut self.previous);
-        let n = self.modules.len();
-        if s.same(n > 0) {
-            let mut count = n as u64;
-            s.u64(&mut count);
-            if !s.saving() && count != n as u64 {
-                s.fail(softplc_ir::snapshot::StateError::Mismatch {
-                    what: "modules",
-                    found: count,
-                    expected: n as u64,
-                });
-            }
-            for m in &mut self.modules {
-                let mut slot = m.slot as u64;
-                s.u64(&mut slot);
+        if !s.same_len(self.modules.len()) {
+            return;
+        }
+        for m in &mut self.modules {
+            // Each module's state after its slot number, which must match.
+            if s.same_len(m.slot) {
                 m.module.snapshot(s);
             }
         }

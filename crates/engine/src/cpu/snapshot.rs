@@ -117,15 +117,8 @@ impl Cpu {
             Some(TypeChange::Off),
             Some(TypeChange::LowSpeed),
         ];
-        let n = cpu.type_requests.len();
-        let mut count = n as u64;
-        s.u64(&mut count);
-        if !s.saving() && count != n as u64 {
-            return s.fail(StateError::Mismatch {
-                what: "program files",
-                found: count,
-                expected: n as u64,
-            });
+        if !s.same_len(cpu.type_requests.len()) {
+            return;
         }
         for r in cpu.type_requests.iter_mut() {
             s.one_of(r, &changes);
