@@ -6,6 +6,7 @@
 use std::time::Duration;
 
 use softplc_core::access::Value;
+use softplc_core::engine::trace::{Trace, TraceConfig};
 use softplc_core::engine::VirtualClock;
 use softplc_core::engine::{Clock, Cpu, CpuConfig, ErrorMode, ExecType, LoadedProgram};
 use softplc_core::names::DevName;
@@ -350,6 +351,49 @@ fn a_module_mid_period_and_a_forced_input() {
     assert_eq!((read(&cpu, "D0"), read(&cpu, "D1")), (2200, 1));
     // X5 forced ON in all 7 scans.
     assert_eq!(read(&cpu, "D5"), 7);
+}
+
+/// A sampling trace of D0 every second scan, 4 samples kept, cut after
+/// scan 5: its samples
+/// and its count come back into a trace of the same settings; a CPU
+/// without a trace (or with another) takes the file and passes them over.
+#[test]
+fn a_sampling_trace() {
+    fn traced(clock: &VirtualClock, every: u32) -> Cpu {
+        let mut cpu = il("LD SM400\nINC D0\nEND\n")(clock);
+        let t = Trace::new(TraceConfig {
+            devices: vec![softplc_core::access::DeviceSpec::parse("D0").unwrap()],
+            every_scans: every,
+            interval_us: None,
+            capacity: 4,
+            trigger: None,
+            after_trigger: 0,
+        })
+        .unwrap();
+        cpu.set_trace(Some(t));
+        cpu
+    }
+    let cpu = resumed(&|c| traced(c, 2), &[], 5, 6, 10_000);
+    let samples: Vec<(u64, Value)> = cpu
+        .trace()
+        .unwrap()
+        .samples()
+        .map(|(scan, _, v)| (scan, v[0].clone()))
+        .collect();
+    // Sampled at the ENDs of scans 1, 3, 5 … 11 (D0 = the scan count); the
+    // latest 4 kept, scan 5's from before the cut.
+    let want: Vec<(u64, Value)> = [5, 7, 9, 11].map(|n| (n, Value::Int(n as i64))).into();
+    assert_eq!(samples, want);
+    let clock = VirtualClock::new();
+    let mut first = traced(&clock, 2);
+    run(&mut first, &clock, &[], 1..=5, 10_000);
+    let file = snapshot::save(&mut first);
+    let mut plain = il("LD SM400\nINC D0\nEND\n")(&VirtualClock::new());
+    snapshot::load(&mut plain, &file).unwrap();
+    assert_eq!(read(&plain, "D0"), 5);
+    let mut other = traced(&VirtualClock::new(), 3);
+    snapshot::load(&mut other, &file).unwrap();
+    assert_eq!(other.trace().unwrap().samples().count(), 0);
 }
 
 // ------------------------------------------------------------ refusals

@@ -193,6 +193,48 @@ impl<'a> Snap<'a> {
         }
     }
 
+    /// A part the saving CPU may have had and this one may not: saved
+    /// when `here` holds it (its `key` — what it is of — and the section
+    /// `f` walks); on reading walked when the file has one with the same
+    /// key and `here` is true, else skipped. False when it was not walked.
+    pub fn optional(
+        &mut self,
+        tag: [u8; 4],
+        name: &'static str,
+        here: bool,
+        key: &str,
+        f: impl FnOnce(&mut Self),
+    ) -> bool {
+        let in_file = self.value_bool(here);
+        if !in_file || self.err.is_some() {
+            return false;
+        }
+        let file_key = self.value_string(key, 1 << 20);
+        if self.saving() || (here && file_key == key) {
+            self.section(tag, name, f);
+            return self.err.is_none();
+        }
+        // Not for this CPU: over its bytes.
+        let outer = std::mem::replace(&mut self.what, name);
+        if let Some(found) = self.scalar([0u8; 4]) {
+            if found != tag {
+                self.fail(StateError::Section {
+                    expected: String::from_utf8_lossy(&tag).into_owned(),
+                    found: String::from_utf8_lossy(&found).into_owned(),
+                });
+            }
+        }
+        let len = self.value_u64(0);
+        match usize::try_from(len) {
+            Ok(n) => {
+                self.take(n);
+            }
+            Err(_) => self.invalid(len),
+        }
+        self.what = outer;
+        false
+    }
+
     pub fn u8(&mut self, x: &mut u8) {
         if let Some(b) = self.scalar([*x]) {
             if self.loading() {
@@ -425,21 +467,33 @@ impl<'a> Snap<'a> {
 
     /// A string of at most `max` bytes of UTF-8.
     pub fn string(&mut self, x: &mut String, max: usize) {
-        let n = self.value_u64(x.len() as u64);
+        let v = self.value_string(x, max);
+        if self.loading() {
+            *x = v;
+        }
+    }
+
+    /// Saves `cur`, or reads the string in the file (even when only
+    /// checking); `cur` after an error.
+    fn value_string(&mut self, cur: &str, max: usize) -> String {
+        let n = self.value_u64(cur.len() as u64);
         if self.saving() {
-            self.out.extend_from_slice(x.as_bytes());
-            return;
+            self.out.extend_from_slice(cur.as_bytes());
+            return cur.to_string();
         }
         if n > max as u64 {
-            return self.invalid(n);
+            self.invalid(n);
+            return cur.to_string();
         }
         let Some(b) = self.take(n as usize) else {
-            return;
+            return cur.to_string();
         };
         match std::str::from_utf8(b) {
-            Ok(s) if self.loading() => *x = s.to_string(),
-            Ok(_) => {}
-            Err(_) => self.invalid(n),
+            Ok(s) => s.to_string(),
+            Err(_) => {
+                self.invalid(n);
+                cur.to_string()
+            }
         }
     }
 }

@@ -9,8 +9,9 @@
 //! identity stands for them; the timer bases and the watchdog time stay
 //! this CPU's), what exists only inside a scan (CALL and FOR
 //! stacks, an instruction's pending requests: empty at END), the wall-clock
-//! watchdog start and the host's measurements of program run times, and
-//! the sampling trace (a monitor's buffer the client sets up).
+//! watchdog start and the host's measurements of program run times. The
+//! sampling trace's samples are in it when the CPU has one, and come back
+//! into a trace of the same settings (the client sets a trace up).
 
 use super::*;
 use softplc_ir::cpu::TypeChange;
@@ -74,6 +75,15 @@ impl Cpu {
             }
         });
         s.section(*b"RACK", "modules", |s| self.rack.snapshot(s));
+        // The sampling trace: restored into a trace of the same settings
+        // this CPU runs; without one its samples are passed over.
+        let key = self.trace.as_ref().map(|t| t.key()).unwrap_or_default();
+        let here = self.trace.is_some();
+        s.optional(*b"TRCE", "sampling trace", here, &key, |s| {
+            if let Some(t) = &mut self.trace {
+                t.snapshot(s);
+            }
+        });
         if s.loading() {
             // Nothing of a scan is in progress at END.
             self.rt.calls.clear();
