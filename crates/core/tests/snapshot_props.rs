@@ -191,3 +191,44 @@ fn random_bodies_never_panic() {
         })
         .unwrap();
 }
+
+/// An edited file whose checksum was made to fit and which still loads
+/// (its times, counts and flags edited within what the checks accept): the
+/// scans that follow do not panic. Bytes are changed in the clock section
+/// at the start of the body and in the scalar state after device memory.
+#[test]
+fn scans_after_an_edited_file_do_not_panic() {
+    let src = "LD X0\nOUT T0 K10\nLDP X1\nINC D0\nLD X0\nOUT C0 K3\nEND\n";
+    let (mut a, clock) = cpu(src, Tier::Interp).unwrap();
+    scans(&mut a, &clock, &[1, 3, 0], 0, 3);
+    let file = snapshot::save(&mut a);
+    let n = file.len();
+    // The models' text, then the TIME section's tag and length.
+    let time = snapshot::HEADER_LEN + 2 + "Q06HCPU".len() + 12;
+    let strategy = (
+        prop::collection::vec(
+            (any::<bool>(), any::<prop::sample::Index>(), any::<u8>()),
+            1..3,
+        ),
+        prop::collection::vec(any::<u8>(), 3),
+    );
+    TestRunner::new(config(64))
+        .run(&strategy, |(flips, inputs)| {
+            let mut bad = file.clone();
+            for (head, at, x) in &flips {
+                let i = if *head {
+                    time + at.index(28)
+                } else {
+                    n - 1 - at.index(3000)
+                };
+                bad[i] ^= x | 1;
+            }
+            snapshot::reseal(&mut bad);
+            let (mut c, clock) = cpu(src, Tier::Interp).unwrap();
+            if snapshot::load(&mut c, &bad).is_ok() {
+                scans(&mut c, &clock, &inputs, 0, 3);
+            }
+            Ok(())
+        })
+        .unwrap();
+}

@@ -235,6 +235,23 @@ impl<'a> Snap<'a> {
         false
     }
 
+    /// A `u64` that decides what follows or bounds later values: saves
+    /// `cur`, or reads the file's value even when only checking.
+    pub fn value(&mut self, cur: u64) -> u64 {
+        self.value_u64(cur)
+    }
+
+    /// A `u64` that must be at most `max` (a time that cannot be after the
+    /// clock, a time not far beyond it).
+    pub fn at_most(&mut self, x: &mut u64, max: u64) {
+        let v = self.value_u64(*x);
+        if !self.saving() && v > max {
+            self.invalid(v);
+        } else if self.loading() {
+            *x = v;
+        }
+    }
+
     pub fn u8(&mut self, x: &mut u8) {
         if let Some(b) = self.scalar([*x]) {
             if self.loading() {

@@ -19,6 +19,14 @@ use softplc_ir::fault::{CpuError, HistoryEntry};
 use softplc_ir::snapshot::{Snap, StateError};
 use softplc_ir::system::Cause;
 
+/// How far beyond the file's clock a time to come may be, µs (a day:
+/// more than any period the CPU schedules).
+const AHEAD_US: u64 = 86_400_000_000;
+
+/// The latest time a file may hold, µs (about 146,000 years): the clock
+/// goes on adding to it.
+const MAX_TIME_US: u64 = 1 << 62;
+
 /// Longest file name an error names.
 const MAX_NAME: usize = 4096;
 
@@ -36,15 +44,25 @@ impl Cpu {
     /// it ([`Snap`]). Call between scans. After a load the clock reads the
     /// file's time.
     pub fn snapshot(&mut self, s: &mut Snap) {
+        // Times of the past are at most the file's clock, times to come
+        // at most a day beyond it: an edited file cannot make a later
+        // scan's arithmetic overflow.
+        let mut now = self.clock.now_us();
         s.section(*b"TIME", "clock", |s| {
-            let mut now = self.clock.now_us();
-            s.u64(&mut now);
+            now = s.value(now);
+            if !s.saving() && now > MAX_TIME_US {
+                s.fail(StateError::Invalid {
+                    what: "clock",
+                    value: now,
+                });
+            }
             if s.loading() {
                 self.clock.restore_us(now);
             }
-            s.u64(&mut self.rt.now_us);
+            s.at_most(&mut self.rt.now_us, now);
             self.rt.clock.snapshot(s);
         });
+        let ahead = now.saturating_add(AHEAD_US);
         s.section(*b"DEVS", "device memory", |s| {
             s.bools(&mut self.rt.mem.bits);
             s.words(&mut self.rt.mem.words);
@@ -59,14 +77,14 @@ impl Cpu {
             for (l, slot) in self.locals.iter_mut().zip(&mut self.slots) {
                 s.bools(&mut l.edges);
                 s.u32s(&mut l.state);
-                slot_state(s, slot);
+                slot_state(s, slot, ahead);
             }
             s.u32s(&mut self.rt.shared);
             s.u32s(&mut self.rt.system_state);
         });
         s.section(*b"RUNT", "runtime", |s| self.runtime(s));
-        s.section(*b"CPU ", "operating state", |s| self.operating(s));
-        s.section(*b"SCAN", "scan times", |s| self.scan_state(s));
+        s.section(*b"CPU ", "operating state", |s| self.operating(s, ahead));
+        s.section(*b"SCAN", "scan times", |s| self.scan_state(s, now, ahead));
         s.section(*b"LOCL", "local devices", |s| {
             if s.same(self.rt.local_devices.is_some()) {
                 if let Some(l) = &mut self.rt.local_devices {
@@ -189,7 +207,7 @@ impl Cpu {
         }
     }
 
-    fn operating(&mut self, s: &mut Snap) {
+    fn operating(&mut self, s: &mut Snap, ahead: u64) {
         s.one_of(
             &mut self.state,
             &[CpuState::Run, CpuState::Stop, CpuState::Pause],
@@ -213,13 +231,15 @@ impl Cpu {
         s.bool(&mut self.first_scan);
         s.bool(&mut self.error_reset);
         s.words(&mut self.int_counts);
-        s.u64s(&mut self.int_due);
+        for t in &mut self.int_due {
+            s.at_most(t, ahead);
+        }
     }
 
-    fn scan_state(&mut self, s: &mut Snap) {
-        s.u64(&mut self.power_on_us);
-        s.u64(&mut self.run_start_us);
-        s.u64(&mut self.last_end_us);
+    fn scan_state(&mut self, s: &mut Snap, now: u64, ahead: u64) {
+        s.at_most(&mut self.power_on_us, now);
+        s.at_most(&mut self.run_start_us, now);
+        s.at_most(&mut self.last_end_us, now);
         s.u64(&mut self.scans);
         s.option(&mut self.min_scan_us, Snap::u64);
         s.option(&mut self.max_scan_us, Snap::u64);
@@ -228,7 +248,8 @@ impl Cpu {
         s.u64(&mut self.low_left_us);
         s.u64(&mut self.low_exec_us);
         s.bool(&mut self.low_first);
-        s.u64(&mut self.low_last_end_us);
+        // A low-speed END may lie ahead: its programs' simulated time.
+        s.at_most(&mut self.low_last_end_us, ahead);
         s.words(&mut self.low_z);
         s.u32(&mut self.low_timer_us);
         s.u64(&mut self.low_used_us);
@@ -239,7 +260,7 @@ impl Cpu {
 
 /// A program file's scheduling: its execution type (PSCAN, PSTOP, PLOW
 /// change it), POFF, its execution count and when a fixed-scan program runs.
-fn slot_state(s: &mut Snap, slot: &mut Slot) {
+fn slot_state(s: &mut Snap, slot: &mut Slot, ahead: u64) {
     s.one_of(
         &mut slot.exec,
         &[
@@ -252,7 +273,7 @@ fn slot_state(s: &mut Snap, slot: &mut Slot) {
     );
     s.bool(&mut slot.off_pending);
     s.u16(&mut slot.count);
-    s.u64(&mut slot.next_due_us);
+    s.at_most(&mut slot.next_due_us, ahead);
 }
 
 fn cpu_error(s: &mut Snap, e: &mut CpuError) {
