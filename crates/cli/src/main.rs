@@ -14,6 +14,7 @@ mod served;
 // The SIGINT/SIGTERM handler (libc::signal).
 #[allow(unsafe_code)]
 mod signal;
+mod state_file;
 mod stdout;
 mod test_cmd;
 mod tune_cmd;

@@ -30,6 +30,7 @@ use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 pub use softplc_ir::profile::Profile;
+pub use softplc_ir::snapshot::{Snap, StateError};
 use softplc_ir::system::{ErrorReport, ErrorTimes, ModuleRef, Severity};
 
 /// Operating state of the CPU (004 §4.4).

@@ -76,6 +76,12 @@ pub fn router(app: Arc<App>) -> Router {
             axum::routing::put(crate::program::put)
                 .layer(DefaultBodyLimit::max(crate::program::PROGRAM_BODY_LIMIT)),
         )
+        .route(
+            "/api/v1/snapshot",
+            get(crate::snapshot::get)
+                .put(crate::snapshot::put)
+                .layer(DefaultBodyLimit::max(crate::snapshot::SNAPSHOT_LIMIT)),
+        )
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)

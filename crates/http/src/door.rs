@@ -13,8 +13,10 @@
 //!   (slow or idle clients do not hold a place).
 //! - **Body timeout**: a request body must arrive whole within
 //!   [`Limits::body_timeout`] (408 otherwise), and at most [`crate::BODY_LIMIT`]
-//!   (a program written during RUN: [`crate::program::PROGRAM_BODY_LIMIT`])
-//!   bytes of it (413 otherwise), before the request reaches the router.
+//!   bytes of it (a program written during RUN:
+//!   [`crate::program::PROGRAM_BODY_LIMIT`]; a state file put to
+//!   `/api/v1/snapshot`: [`crate::snapshot::SNAPSHOT_LIMIT`]; 413 otherwise),
+//!   before the request reaches the router.
 //! - Heads are read into a buffer of at most [`MAX_HEAD`] bytes.
 
 use std::convert::Infallible;
@@ -90,7 +92,7 @@ async fn request(
 ) -> Result<Response, Infallible> {
     let busy = slot.busy();
     let (parts, body) = req.into_parts();
-    let limit = crate::program::body_limit(&parts.method, parts.uri.path());
+    let limit = body_limit(&parts);
     let body = match tokio::time::timeout(limits.body_timeout, whole(body, limit)).await {
         Ok(Ok(b)) => b,
         Ok(Err(r)) => return Ok(r),
@@ -118,8 +120,22 @@ async fn request(
     Ok(Response::from_parts(parts, Body::from_stream(held)))
 }
 
-/// The body's bytes, at most `limit` of them ([`crate::BODY_LIMIT`], a
-/// program's text more).
+/// The largest body of a request: a program's text put to
+/// `/api/v1/program` may be [`crate::program::PROGRAM_BODY_LIMIT`] bytes, a
+/// state file put to `/api/v1/snapshot` [`crate::snapshot::SNAPSHOT_LIMIT`],
+/// anything else [`crate::BODY_LIMIT`].
+fn body_limit(parts: &axum::http::request::Parts) -> usize {
+    if parts.method != axum::http::Method::PUT {
+        return crate::BODY_LIMIT;
+    }
+    match parts.uri.path() {
+        "/api/v1/program" => crate::program::PROGRAM_BODY_LIMIT,
+        "/api/v1/snapshot" => crate::snapshot::SNAPSHOT_LIMIT,
+        _ => crate::BODY_LIMIT,
+    }
+}
+
+/// The body's bytes, at most `limit` of them.
 async fn whole(body: Body, limit: usize) -> Result<Bytes, Response> {
     if body.size_hint().exact() == Some(0) {
         return Ok(Bytes::new());

@@ -20,6 +20,7 @@ pub mod process_loops;
 pub mod program;
 pub mod rack;
 pub mod sim;
+pub mod snapshot;
 pub mod values;
 
 use std::net::SocketAddr;

@@ -24,15 +24,6 @@ use crate::App;
 /// Largest program text accepted, bytes (as a program file read at load).
 pub const PROGRAM_BODY_LIMIT: usize = softplc_core::program::MAX_IL_BYTES as usize + 64 * 1024;
 
-/// The most body bytes the door reads for a request: a program's text for
-/// `PUT /api/v1/program`, [`crate::BODY_LIMIT`] for everything else.
-pub fn body_limit(method: &axum::http::Method, path: &str) -> usize {
-    match (method, path) {
-        (&axum::http::Method::PUT, "/api/v1/program") => PROGRAM_BODY_LIMIT,
-        _ => crate::BODY_LIMIT,
-    }
-}
-
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Put {

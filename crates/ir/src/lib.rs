@@ -23,4 +23,5 @@ mod operand;
 pub mod ops;
 pub mod profile;
 pub mod rack;
+pub mod snapshot;
 pub mod system;

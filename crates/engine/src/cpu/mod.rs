@@ -21,6 +21,7 @@ mod remote;
 pub use remote::{Hold, Refusal};
 mod retained;
 mod schedule;
+mod snapshot;
 mod states;
 mod system_block;
 
