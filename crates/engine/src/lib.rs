@@ -17,7 +17,9 @@ pub mod trace;
 
 use std::time::Duration;
 
-pub use cpu::{Cpu, Hold, LoadedProgram, ProgramMonitor, Refusal, VIRTUAL_WATCHDOG_FLOOR};
+pub use cpu::{
+    Cpu, DoorEvent, Hold, Journal, LoadedProgram, ProgramMonitor, Refusal, VIRTUAL_WATCHDOG_FLOOR,
+};
 pub use softplc_ir::calendar;
 pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};

@@ -70,6 +70,7 @@ impl Cpu {
             }
         }
         self.rt.mem.bits[bit] = on;
+        self.note(DoorEvent::Force { kind, n, on });
         Ok(())
     }
 
@@ -89,6 +90,7 @@ impl Cpu {
             DeviceKind::X => self.rt.inputs.get(n as usize).copied().unwrap_or(f.under),
             _ => f.under,
         };
+        self.note(DoorEvent::Release { kind, n });
         true
     }
 

@@ -84,7 +84,9 @@ impl Cpu {
     pub fn remote_run(&mut self, client: u32, force: bool) -> Result<(), Refusal> {
         self.check_holder(client, force)?;
         self.remote.held = None;
-        self.run_unless_stopped().map_err(Refusal::StopHeld)
+        let r = self.run_unless_stopped().map_err(Refusal::StopHeld);
+        self.note(DoorEvent::RemoteRun { client, force });
+        r
     }
 
     /// Remote STOP by `client` (004 §7.6.1): the CPU stops at once (requests
@@ -94,6 +96,7 @@ impl Cpu {
         self.check_holder(client, force)?;
         self.remote.held = Some((client, Hold::Stop));
         self.enter_stop(Cause::Remote);
+        self.note(DoorEvent::RemoteStop { client, force });
         Ok(())
     }
 
@@ -105,6 +108,7 @@ impl Cpu {
             return Err(Refusal::Stopped);
         }
         self.remote.held = Some((client, Hold::Pause));
+        self.note(DoorEvent::RemotePause { client, force });
         Ok(())
     }
 
@@ -112,7 +116,9 @@ impl Cpu {
     /// allows it.
     pub fn remote_reset(&mut self) -> Result<(), Refusal> {
         self.remote_reset_allowed()?;
-        self.reset().map_err(Refusal::StopHeld)
+        let r = self.untold(Cpu::reset).map_err(Refusal::StopHeld);
+        self.note(DoorEvent::RemoteReset);
+        r
     }
 
     /// Whether a remote RESET would be accepted now.
