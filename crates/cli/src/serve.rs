@@ -13,6 +13,8 @@ use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 
+use softplc_record::{Recorder, Source};
+
 use crate::run::{parse_datetime, parse_duration};
 use crate::served::{load_served, Served};
 
@@ -128,6 +130,18 @@ pub struct ServeArgs {
     /// Print the tier and its compile time at load (on stderr).
     #[arg(long)]
     pub stats: bool,
+    /// Record the session for `softplc replay` (docs/recording.md): every
+    /// change from outside (writes by MC, Modbus, HTTP, OPC UA and the serial
+    /// ports, forcing, RUN/STOP/PAUSE/RESET) with the END it took effect at,
+    /// every clock reading the CPU takes and the program's files. A single CPU
+    /// only.
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+    /// Largest recording, e.g. 200MiB (default 1GiB). Recording stops there
+    /// with a message and the server runs on; the recording replays up to
+    /// that END.
+    #[arg(long, value_name = "SIZE", value_parser = crate::record::parse_size, requires = "record")]
+    pub record_max_size: Option<u64>,
 }
 
 /// "a" or "an" before a model name read letter by letter ("an APLC-TCP",
@@ -138,6 +152,9 @@ fn article(model: &str) -> &'static str {
         _ => "a",
     }
 }
+
+/// `--record-max-size` by default.
+const DEFAULT_RECORD_MAX: u64 = 1 << 30;
 
 fn host_clock() -> DateTime {
     let s = std::time::SystemTime::now()
@@ -158,6 +175,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
+    let recorder = args.record.as_ref().map(|_| Recorder::new());
     let Served {
         mut state,
         battery,
@@ -167,10 +185,28 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         opcua,
         ports,
         cpus,
-    } = match load_served(&args, start, restore_clock) {
+        state_dir,
+    } = match load_served(&args, start, restore_clock, recorder.as_ref()) {
         Ok(s) => s,
         Err(code) => return code,
     };
+    if let (Some(rec), Some(path)) = (&recorder, &args.record) {
+        let skip: Vec<PathBuf> = [Some(path.clone()), state_dir].into_iter().flatten().collect();
+        let header = crate::record::header(
+            &args.program,
+            args.model.as_deref(),
+            state.cpu().profile().model,
+            start,
+            period.as_micros() as u64,
+            &skip,
+        );
+        let max = args.record_max_size.unwrap_or(DEFAULT_RECORD_MAX);
+        if let Err(e) =
+            header.and_then(|h| crate::record::start(rec, &mut state, path, &h, max))
+        {
+            return fail(format!("--record: {e}"));
+        }
+    }
     // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
     let cpu = state.cpu();
     let doors = cpu.profile().doors;
@@ -196,7 +232,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
                 let mc = Mc::new(args.password.clone());
-                listeners.push(Listener::tcp(addr, mc, args.max_connections));
+                listeners.push(Listener::tcp(addr, mc, args.max_connections).door("MC"));
                 names.push("MC protocol".to_string());
             }
             Err(e) => return fail(format!("--mc {e}")),
@@ -233,7 +269,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             ladder: softplc_http::ladder::load_programs(cpu),
             limits,
         };
-        listeners.push(softplc_http::listener(addr, cfg));
+        listeners.push(softplc_http::listener(addr, cfg).door("HTTP"));
         names.push("web monitor".to_string());
     } else {
         for (flag, given) in [
@@ -266,7 +302,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &state) {
         Ok(Some(l)) => {
-            listeners.push(l);
+            listeners.push(l.door("OPC UA"));
             names.push("OPC UA".to_string());
         }
         Ok(None) => {}
@@ -302,11 +338,9 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         for w in map.check_devices(&cpu.config().devices) {
             eprintln!("softplc: [modbus]: {w}");
         }
-        listeners.push(Listener::tcp(
-            addr,
-            ModbusTcp::new(map, slave),
-            args.max_connections,
-        ));
+        listeners.push(
+            Listener::tcp(addr, ModbusTcp::new(map, slave), args.max_connections).door("Modbus"),
+        );
         names.push("Modbus TCP".to_string());
     }
     let parity = match args.parity.to_ascii_lowercase().as_str() {
@@ -373,7 +407,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         }
     }
     if !ports.is_empty() {
+        let rec = recorder.clone();
         state.add_hook(Box::new(move |st: &mut ServeState| {
+            if let Some(r) = &rec {
+                r.set_source(Source::Ports);
+            }
             ports.after_end(st.cpu_mut());
             for e in ports.take_errors() {
                 eprintln!("softplc: {e}");
@@ -405,6 +443,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             }
         }
     });
+    let recorded = recorder.map(|r| r.finish());
     match result {
         Ok(s) => {
             let st = &s.stats;
@@ -412,7 +451,14 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 "softplc: stopped after {} scans; max scan {} us, {} overruns, {} requests",
                 st.scans, st.max_us, st.overruns, st.requests
             );
-            ExitCode::SUCCESS
+            match recorded {
+                Some(Ok((path, bytes))) => {
+                    eprintln!("softplc: recorded to {} ({bytes} bytes)", path.display());
+                    ExitCode::SUCCESS
+                }
+                Some(Err(e)) => fail(e),
+                None => ExitCode::SUCCESS,
+            }
         }
         Err(e) => fail(format!("cannot serve: {e}")),
     }

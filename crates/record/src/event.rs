@@ -9,9 +9,10 @@ use softplc_core::engine::{Cpu, DoorEvent, RunClear};
 /// Who made a change: the door whose request was being served.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Source {
-    /// Before the servers started: the load, the battery-backed image.
+    /// The host itself: the load and the battery-backed image before the
+    /// servers start, END hooks of no door.
     #[default]
-    Start,
+    Host,
     Mc,
     Modbus,
     Http,
@@ -25,13 +26,25 @@ pub enum Source {
 impl Source {
     pub fn name(self) -> &'static str {
         match self {
-            Source::Start => "start",
+            Source::Host => "host",
             Source::Mc => "MC",
             Source::Modbus => "Modbus",
             Source::Http => "HTTP",
             Source::OpcUa => "OPC UA",
             Source::Serial => "serial",
             Source::Ports => "ports",
+        }
+    }
+
+    /// The source of a door named by the serve layer (`softplc_serve::Listener::door`).
+    pub fn of_door(door: &str) -> Source {
+        match door {
+            "MC" => Source::Mc,
+            "Modbus" => Source::Modbus,
+            "HTTP" => Source::Http,
+            "OPC UA" => Source::OpcUa,
+            "serial" => Source::Serial,
+            _ => Source::Host,
         }
     }
 }

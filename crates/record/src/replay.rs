@@ -262,6 +262,12 @@ impl<R: Read> Player<R> {
         self.ending
     }
 
+    /// Virtual time of the recorded program's CPU from power-on to the last
+    /// END played, µs.
+    pub fn clock_elapsed_us(&self) -> u64 {
+        self.clocks.first().map_or(0, ReplayClock::elapsed_us)
+    }
+
     /// ENDs played so far.
     pub fn ends(&self) -> u64 {
         self.ends

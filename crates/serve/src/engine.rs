@@ -98,7 +98,14 @@ pub struct ServeState {
     /// Called on the engine thread after every scan, before the requests of
     /// its END (the web monitor's step, breakpoints and snapshots). Add one
     /// from a request with [`ServeState::add_hook`].
-    hooks: Vec<Hook>,
+    hooks: Vec<(&'static str, Hook)>,
+    /// Called after the requests of every END, before its commit
+    /// ([`ServeState::add_after_requests`]: a recording's frame).
+    after_requests: Vec<Hook>,
+    /// The door whose request or hook runs now ([`EngineHandle::for_door`]),
+    /// and who is told when it changes ([`ServeState::watch_doors`]).
+    door: &'static str,
+    door_watch: Option<Box<dyn FnMut(&'static str) + Send>>,
     /// The CPU whose scan ended last.
     scanned: usize,
 }
@@ -132,6 +139,9 @@ impl ServeState {
             batteries,
             replies: Vec::new(),
             hooks: Vec::new(),
+            after_requests: Vec::new(),
+            door: "",
+            door_watch: None,
             scanned: 0,
         }
     }
@@ -172,8 +182,30 @@ impl ServeState {
 
     /// Runs `hook` after every scan from the next one on, before the requests
     /// of that END are served.
+    /// The hook belongs to the door whose request adds it.
     pub fn add_hook(&mut self, hook: Hook) {
-        self.hooks.push(hook);
+        self.hooks.push((self.door, hook));
+    }
+
+    /// Runs `hook` after the requests of every END, before its commit and
+    /// replies.
+    pub fn add_after_requests(&mut self, hook: Hook) {
+        self.after_requests.push(hook);
+    }
+
+    /// Calls `watch` with the door (`"MC"`, `"HTTP"` …, empty for none)
+    /// each time requests or hooks of another door start to run.
+    pub fn watch_doors(&mut self, watch: Box<dyn FnMut(&'static str) + Send>) {
+        self.door_watch = Some(watch);
+    }
+
+    fn enter_door(&mut self, door: &'static str) {
+        if self.door != door {
+            self.door = door;
+            if let Some(w) = &mut self.door_watch {
+                w(door);
+            }
+        }
     }
 
     /// Runs the END hooks (the engine thread, after each scan).
@@ -182,12 +214,26 @@ impl ServeState {
             return;
         }
         let mut hooks = std::mem::take(&mut self.hooks);
-        for h in &mut hooks {
+        for (door, h) in &mut hooks {
+            self.enter_door(door);
             h(self);
         }
         // Hooks added by a hook run from the next END.
         hooks.append(&mut self.hooks);
         self.hooks = hooks;
+    }
+
+    fn run_after_requests(&mut self) {
+        if self.after_requests.is_empty() {
+            return;
+        }
+        self.enter_door("");
+        let mut hooks = std::mem::take(&mut self.after_requests);
+        for h in &mut hooks {
+            h(self);
+        }
+        hooks.append(&mut self.after_requests);
+        self.after_requests = hooks;
     }
 
     /// The shared protocol state of type `T`, created with `T::default()` on first use.
@@ -214,6 +260,18 @@ pub struct Busy;
 #[derive(Clone)]
 pub struct EngineHandle {
     tx: SyncSender<Job>,
+    /// The door whose requests this handle sends (empty: none named).
+    door: &'static str,
+}
+
+impl EngineHandle {
+    /// A handle whose requests are `door`'s (a recording names it).
+    pub fn for_door(&self, door: &'static str) -> EngineHandle {
+        EngineHandle {
+            tx: self.tx.clone(),
+            door,
+        }
+    }
 }
 
 impl EngineHandle {
@@ -224,7 +282,9 @@ impl EngineHandle {
         F: FnOnce(&mut ServeState) -> R + Send + 'static,
     {
         let (otx, orx) = tokio::sync::oneshot::channel();
+        let door = self.door;
         let job: Job = Box::new(move |s| {
+            s.enter_door(door);
             let r = f(s);
             s.replies.push(Box::new(move || {
                 let _ = otx.send(r);
@@ -245,7 +305,9 @@ impl EngineHandle {
         F: FnOnce(&mut ServeState) -> R + Send + 'static,
     {
         let (otx, orx) = std::sync::mpsc::sync_channel(1);
+        let door = self.door;
         let job: Job = Box::new(move |s| {
+            s.enter_door(door);
             let r = f(s);
             s.replies.push(Box::new(move || {
                 let _ = otx.send(r);
@@ -294,7 +356,7 @@ pub fn spawn(
         .name("softplc-engine".into())
         .spawn(move || run(state, cfg, rx, stop, &beat))
         .expect("spawn the engine thread");
-    (EngineHandle { tx }, join)
+    (EngineHandle { tx, door: "" }, join)
 }
 
 /// What the engine thread is doing, for the stall watch.
@@ -403,6 +465,7 @@ fn run(
                 Err(_) => break,
             }
         }
+        s.run_after_requests();
         // Group commit: an END at which a request wrote is committed before any
         // reply of this END goes out, so an acknowledged write survives kill -9.
         let wrote = if cfg.ack_after_commit {

@@ -30,6 +30,8 @@ pub use tcp::{FrameLen, Protocol};
 pub struct Listener {
     pub addr: SocketAddr,
     udp: bool,
+    /// The door its requests come through (a recording names it).
+    door: &'static str,
     start: Box<dyn FnOnce(Bound, EngineHandle) -> tokio::task::JoinHandle<()> + Send>,
 }
 
@@ -40,12 +42,20 @@ pub enum Bound {
 }
 
 impl Listener {
+    /// Names the door its requests come through (`"MC"`, `"Modbus"`,
+    /// `"HTTP"`, `"OPC UA"`): a recording tells them apart by it.
+    pub fn door(mut self, door: &'static str) -> Listener {
+        self.door = door;
+        self
+    }
+
     /// The MC protocol over UDP on `addr`.
     pub fn mc_udp(addr: SocketAddr, mc: mc::Mc) -> Listener {
         let mc = Arc::new(mc);
         Listener {
             addr,
             udp: true,
+            door: "MC",
             start: Box::new(move |l, e| match l {
                 Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
                 Bound::Tcp(_) => unreachable!("a UDP listener is bound to a UDP socket"),
@@ -64,6 +74,7 @@ impl Listener {
         Listener {
             addr,
             udp: false,
+            door: "",
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => start(l, e),
                 Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
@@ -77,6 +88,7 @@ impl Listener {
         Listener {
             addr,
             udp: false,
+            door: "",
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => tokio::spawn(tcp::serve(l, proto, e, max_conns)),
                 Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
@@ -134,7 +146,7 @@ pub fn run(
                 s.proto,
                 s.map,
                 s.slave,
-                handle.clone(),
+                handle.for_door("serial"),
                 stop.clone(),
             )
         })
@@ -151,7 +163,7 @@ pub fn run(
                 bound.push(s.local_addr()?);
                 Bound::Tcp(s)
             };
-            (l.start)(socket, handle.clone());
+            (l.start)(socket, handle.for_door(l.door));
         }
         Ok::<_, std::io::Error>(bound)
     });
