@@ -134,7 +134,7 @@ pub fn replay(args: ReplayArgs) -> ExitCode {
         }
     })();
     if let Err(e) = result {
-        return fail(format!("{}: {e}", args.file.display()));
+        return fail(e);
     }
     if let Some(ending) = player.ending() {
         if !args.json {

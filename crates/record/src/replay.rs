@@ -121,6 +121,8 @@ pub struct Player<R> {
     ends: u64,
     /// The last reading recorded so far (readings are deltas from it).
     t: u64,
+    /// The recording's name in messages.
+    name: String,
 }
 
 impl Player<std::io::BufReader<std::fs::File>> {
@@ -150,6 +152,7 @@ impl<R: Read> Player<R> {
         };
         let t = start.clock.iter().fold(0u64, |t, d| t.wrapping_add(*d));
         Ok(Player {
+            name: name.to_string(),
             t,
             reader,
             header,
@@ -181,9 +184,11 @@ impl<R: Read> Player<R> {
     /// on every CPU, in the order of [`Self::clock`]'s calls.
     pub fn start(&mut self, cpus: &mut [&mut Cpu]) -> Result<(), String> {
         for (i, cpu) in cpus.iter_mut().enumerate() {
-            apply(cpu, &self.start.events).map_err(|e| format!("CPU {}: {e}", i + 1))?;
+            apply(cpu, &self.start.events)
+                .map_err(|e| format!("{}: the start, CPU {}: {e}", self.name, i + 1))?;
         }
         self.check(cpus, &self.start.clone())
+            .map_err(|e| format!("{}: {e}", self.name))
     }
 
     /// Plays the next END on every CPU; the recorded END, or `None` when
@@ -194,7 +199,9 @@ impl<R: Read> Player<R> {
                 Some(Record::End(e)) => break e,
                 Some(Record::Shutdown { scans }) => self.ending = Some(Ending::Shutdown { scans }),
                 Some(Record::Full { scans }) => self.ending = Some(Ending::Full { scans }),
-                Some(Record::Header(_)) => return Err("a second header in the recording".into()),
+                Some(Record::Header(_)) => {
+                    return Err(format!("{}: a second header in the recording", self.name))
+                }
                 None => {
                     if self.ending.is_none() {
                         self.ending = Some(match self.reader.torn() {
@@ -222,10 +229,12 @@ impl<R: Read> Player<R> {
             if end.scanned {
                 cpu.scan();
             }
-            apply(cpu, &end.events).map_err(|e| format!("CPU {}: {e}", i + 1))?;
+            apply(cpu, &end.events)
+                .map_err(|e| format!("{}: END {}, CPU {}: {e}", self.name, self.ends + 1, i + 1))?;
         }
         self.ends += 1;
-        self.check(cpus, &end)?;
+        self.check(cpus, &end)
+            .map_err(|e| format!("{}: {e}", self.name))?;
         Ok(Some(end))
     }
 
