@@ -39,8 +39,9 @@ pub fn parse_size(s: &str) -> Result<u64, String> {
 }
 
 /// The header of a recording of `program` (a file or a project directory
-/// or its plc.toml), whose CPU runs as `cpu_model`; `record` is left out of
-/// the embedded files, and so is the project's state directory.
+/// or its plc.toml), whose CPU runs as `cpu_model`. The paths in `skip`
+/// (the recording, the state directory), hidden entries and recordings are
+/// left out of the embedded files.
 pub fn header(
     program: &Path,
     model: Option<&str>,
@@ -115,6 +116,10 @@ fn collect(
             collect(root, &path, skip, out, total)?;
         } else if ty.is_file() {
             let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            if bytes.starts_with(softplc_record::format::MAGIC) {
+                // An earlier recording kept beside the project.
+                continue;
+            }
             *total += bytes.len() as u64;
             if *total > MAX_EMBEDDED {
                 return Err(format!(

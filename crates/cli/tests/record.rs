@@ -11,6 +11,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
+use softplc_record::event::Kind;
+use softplc_record::format::{Reader, Record};
+use softplc_record::{Change, Event, Source};
+
 fn softplc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_softplc"))
 }
@@ -229,6 +233,50 @@ fn a_served_session_replays_to_the_devices_of_its_last_end() {
     assert_eq!(d["Y1"], true);
     // D3 counts the scans since power-on.
     assert_eq!(d["D3"], again["scans"]);
+    // Each change is named by the door it came through.
+    let changes = changes(&rec);
+    let by = |source: Source| -> Vec<&Change> {
+        changes.iter().filter(|e| e.source == source).map(|e| &e.change).collect()
+    };
+    // Modbus writes register by register.
+    for (n, v) in [(10, 7), (11, 8), (12, 9)] {
+        assert!(by(Source::Modbus).contains(&&Change::Words {
+            kind: Kind("D".into()),
+            number: n,
+            selected_block: false,
+            values: vec![v],
+        }));
+    }
+    assert!(by(Source::Modbus).contains(&&Change::Bits {
+        kind: Kind("M".into()),
+        number: 5,
+        selected_block: false,
+        values: vec![true],
+    }));
+    assert!(by(Source::Mc).contains(&&Change::Words {
+        kind: Kind("D".into()),
+        number: 20,
+        selected_block: false,
+        values: vec![0x1111, 0x2222],
+    }));
+    assert!(by(Source::Http).contains(&&Change::Force {
+        kind: Kind("X".into()),
+        n: 1,
+        on: true,
+    }));
+    assert!(by(Source::Http).contains(&&Change::Stop));
+}
+
+/// Every change from outside a recording holds, in order.
+fn changes(rec: &Path) -> Vec<Event> {
+    let mut r = Reader::open(rec).unwrap();
+    let mut out = Vec::new();
+    while let Some(x) = r.next().unwrap() {
+        if let Record::End(e) = x {
+            out.extend(e.events);
+        }
+    }
+    out
 }
 
 #[test]
@@ -320,4 +368,94 @@ fn damaged_recordings_are_refused_with_a_clear_error() {
         let (code, err) = run(&bytes[..cut]);
         assert_eq!(code, Some(0), "cut at {cut}: {err}");
     }
+}
+
+#[test]
+fn an_aplc_program_replays_with_its_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("t.apl");
+    std::fs::write(&p, "LD X10\nOUT Y10\nLD M1\nDIV 1 D0 D2\n").unwrap();
+    let rec = dir.path().join("aplc.rec");
+    let mut s = serve(&p, &rec, &[]);
+    let body = r#"{"D10:i32": 100000, "X10": true, "D20": "16#1F", "D0": 9, "M1": true}"#;
+    request(s.http, "POST", "/api/v1/devices", body);
+    std::thread::sleep(Duration::from_millis(50));
+    request(s.http, "POST", "/api/v1/cpu/stop", "");
+    let names = ["D0", "D2", "D10", "D11:u16", "D10:i32", "Y10", "X10", "D20", "M1"];
+    let live = request(s.http, "GET", &format!("/api/v1/devices?names={}", names.join(",")), "");
+    sigterm(&mut s.child);
+    let args: Vec<String> = names.iter().flat_map(|n| ["--show".into(), n.to_string()]).collect();
+    let again = replay(&rec, &args);
+    assert_eq!(again["devices"], live["devices"]);
+    let d = &again["devices"];
+    // 100000 = 16#0001_86A0, the high word first in D10.
+    assert_eq!(d["D10"], 1);
+    assert_eq!(d["D11:u16"], 34464);
+    assert_eq!(d["Y10"], true);
+    assert_eq!(d["D20"], 31);
+    assert_eq!(again["recording"]["model"], "APLC-TCP");
+}
+
+#[test]
+fn a_project_replays_with_the_battery_backed_image_it_started_from() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("plc.toml"),
+        "[[program]]\nfile = \"p.il\"\n[devices]\nfile_register = 1024\n\
+         [latch]\nlatch1 = [\"D0-D99\"]\n",
+    )
+    .unwrap();
+    program(dir.path(), PROGRAM);
+    // A first session leaves D0 and D50 in the state directory.
+    let first = dir.path().join("first.rec");
+    let mut s = serve(dir.path(), &first, &[]);
+    request(s.http, "POST", "/api/v1/devices", r#"{"D0": 777, "D50": 5}"#);
+    sigterm(&mut s.child);
+    // The recorded one starts from them.
+    let rec = dir.path().join("second.rec");
+    let mut s = serve(dir.path(), &rec, &[]);
+    request(s.http, "POST", "/api/v1/devices", r#"{"D60": 6}"#);
+    std::thread::sleep(Duration::from_millis(50));
+    request(s.http, "POST", "/api/v1/cpu/stop", "");
+    let names = ["D0", "D2", "D3", "D50", "D60"];
+    let live = request(s.http, "GET", &format!("/api/v1/devices?names={}", names.join(",")), "");
+    sigterm(&mut s.child);
+    let args: Vec<String> = names.iter().flat_map(|n| ["--show".into(), n.to_string()]).collect();
+    let again = replay(&rec, &args);
+    assert_eq!(again["devices"], live["devices"]);
+    let d = &again["devices"];
+    assert_eq!(d["D0"], 777);
+    assert_eq!(d["D2"], 777);
+    assert_eq!(d["D50"], 5);
+    assert_eq!(d["D60"], 6);
+    // D3 is latched too: both sessions' scans.
+    assert!(d["D3"].as_u64().unwrap() > again["scans"].as_u64().unwrap());
+    // The project's files are embedded, not its state directory or recordings.
+    let mut r = Reader::open(&rec).unwrap();
+    let Some(Record::Header(h)) = r.next().unwrap() else {
+        panic!("no header");
+    };
+    let files: Vec<&str> = h.files.iter().map(|f| f.path.as_str()).collect();
+    assert_eq!(files, ["p.il", "plc.toml"]);
+    assert!(h.project);
+    assert!(changes(&rec)
+        .iter()
+        .any(|e| e.source == Source::Host && matches!(e.change, Change::Retained { .. })));
+}
+
+#[test]
+fn a_multi_cpu_system_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let system = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/multi_cpu");
+    let out = softplc()
+        .arg("serve")
+        .arg(&system)
+        .arg("--record")
+        .arg(dir.path().join("x.rec"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--record: a multi-CPU system cannot be recorded yet"), "{err}");
+    assert!(!dir.path().join("x.rec").exists());
 }
