@@ -130,9 +130,38 @@ pub struct ServeArgs {
     /// Print the tier and its compile time at load (on stderr).
     #[arg(long)]
     pub stats: bool,
+    /// Publish devices to an MQTT broker (docs/mqtt.md):
+    /// mqtt://[USER[:PASSWORD]@]HOST[:PORT] or mqtts://… (TLS).
+    #[arg(long, value_name = "URL")]
+    pub mqtt: Option<String>,
+    /// Topic prefix: devices go to PREFIX/DEV, the connection state to
+    /// PREFIX/$state, writes come from PREFIX/set/DEV.
+    #[arg(
+        long,
+        value_name = "PREFIX",
+        default_value = "softplc",
+        requires = "mqtt"
+    )]
+    pub mqtt_topic: String,
+    /// Devices published at the END where their value changes, retained
+    /// (names as --show, comma-separated: D0,Y0,D10:f32).
+    #[arg(long, value_name = "DEV,...", value_delimiter = ',', requires = "mqtt")]
+    pub mqtt_publish: Vec<String>,
+    /// Accept writes: {"value": 7} published to PREFIX/set/DEV is written at
+    /// the next END. Anyone who may publish there writes the PLC: restrict
+    /// it with the broker's ACLs (docs/mqtt.md).
+    #[arg(long, requires = "mqtt")]
+    pub mqtt_write: bool,
+    /// MQTT client id (default softplc-HOSTNAME-PID).
+    #[arg(long, value_name = "ID", requires = "mqtt")]
+    pub mqtt_client_id: Option<String>,
+    /// CA certificate (PEM) that signed an mqtts:// broker's certificate
+    /// (default: the system's root certificates).
+    #[arg(long, value_name = "FILE", requires = "mqtt")]
+    pub mqtt_ca: Option<PathBuf>,
     /// Record the session for `softplc replay` (docs/recording.md): every
-    /// change from outside (writes by MC, Modbus, HTTP, OPC UA and the serial
-    /// ports, forcing, RUN/STOP/PAUSE/RESET) with the END it took effect at,
+    /// change from outside (writes by MC, Modbus, HTTP, OPC UA, MQTT and the
+    /// serial ports, forcing, RUN/STOP/PAUSE/RESET) with the END it took effect at,
     /// every clock reading the CPU takes and the program's files. A single CPU
     /// only.
     #[arg(long, value_name = "FILE")]
@@ -142,6 +171,33 @@ pub struct ServeArgs {
     /// that END.
     #[arg(long, value_name = "SIZE", value_parser = crate::record::parse_size, requires = "record")]
     pub record_max_size: Option<u64>,
+}
+
+/// The MQTT publisher when `--mqtt` asks for one.
+fn mqtt_listener(
+    args: &ServeArgs,
+    state: &ServeState,
+) -> Result<Option<softplc_serve::Listener>, String> {
+    let Some(url) = &args.mqtt else {
+        return Ok(None);
+    };
+    let cfg = softplc_mqtt::MqttConfig {
+        broker: softplc_mqtt::Broker::parse(url)?,
+        prefix: softplc_mqtt::check_prefix(&args.mqtt_topic)?,
+        publish: args
+            .mqtt_publish
+            .iter()
+            .map(|d| d.trim().to_string())
+            .filter(|d| !d.is_empty())
+            .collect(),
+        write: args.mqtt_write,
+        client_id: args
+            .mqtt_client_id
+            .clone()
+            .unwrap_or_else(softplc_mqtt::broker::default_client_id),
+        ca: args.mqtt_ca.clone(),
+    };
+    Ok(Some(softplc_mqtt::Prepared::new(cfg, state)?.listener()))
 }
 
 /// "a" or "an" before a model name read letter by letter ("an APLC-TCP",
@@ -417,6 +473,19 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 eprintln!("softplc: {e}");
             }
         }));
+    }
+    // Last: a client binds nothing, so the bound addresses stay in the
+    // order of the servers' names.
+    match mqtt_listener(&args, &state) {
+        Ok(Some(l)) => {
+            listeners.push(l.door("MQTT"));
+            if let Some(url) = &args.mqtt {
+                let broker = softplc_mqtt::Broker::parse(url).map(|b| b.display());
+                names.push(format!("MQTT to {}", broker.unwrap_or_default()));
+            }
+        }
+        Ok(None) => {}
+        Err(e) => return fail(e),
     }
     let result = softplc_serve::run(state, cfg, listeners, serial_slaves, stop, |bound| {
         let mut servers: Vec<String> = names

@@ -5,6 +5,7 @@
 //! `--merge` sums such lines (issue 16).
 
 mod jsonl;
+mod junit;
 mod shard;
 
 use std::io::IsTerminal;
@@ -42,6 +43,11 @@ pub struct TestArgs {
     /// --jsonl the merged lines instead. Exits non-zero when any failed.
     #[arg(long, num_args = 1.., value_name = "FILE.jsonl", conflicts_with_all = ["scenarios", "shard"])]
     pub merge: Vec<PathBuf>,
+    /// Also write the results as JUnit XML to this file (one testsuite per
+    /// scenario file, one testcase per assertion), for CI systems; with
+    /// --merge, the merged results.
+    #[arg(long, value_name = "FILE.xml")]
+    pub junit: Option<PathBuf>,
     /// Record these devices (comma-separated, e.g. D610,D611,D612 or
     /// D10:f32,Y0; CPU2/D0 of a multi-CPU system) to CSV, instead of the
     /// scenario's [trace] devices.
@@ -278,6 +284,12 @@ fn merge(args: &TestArgs) -> ExitCode {
         }
     };
     let (text, total) = jsonl::summary(&lines);
+    if let Some(f) = &args.junit {
+        if let Err(e) = junit::write(f, &lines) {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    }
     if args.jsonl {
         for l in &lines {
             outln!("{}", l.to_json());
@@ -329,6 +341,7 @@ pub fn run(args: TestArgs) -> ExitCode {
         Mutex::new((0, (0..files.len()).map(|_| None).collect()));
     let totals = Mutex::new((0usize, 0usize));
     let written: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    let lines: Mutex<Vec<jsonl::Line>> = Mutex::new(Vec::new());
     let next = AtomicUsize::new(0);
     std::thread::scope(|s| {
         for _ in 0..jobs {
@@ -348,6 +361,9 @@ pub fn run(args: TestArgs) -> ExitCode {
                     } else {
                         mp.suspend(|| out!("{}", d.text));
                     }
+                    if args.junit.is_some() {
+                        lines.lock().unwrap_or_else(|e| e.into_inner()).push(d.line);
+                    }
                     let mut t = totals.lock().unwrap_or_else(|e| e.into_inner());
                     t.0 += d.passed;
                     t.1 += d.failed;
@@ -362,6 +378,14 @@ pub fn run(args: TestArgs) -> ExitCode {
     });
     let (passed, failed) = *totals.lock().unwrap_or_else(|e| e.into_inner());
     let written = written.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut junit_failed = false;
+    if let Some(f) = &args.junit {
+        let lines = lines.into_inner().unwrap_or_else(|e| e.into_inner());
+        if let Err(e) = junit::write(f, &lines) {
+            eprintln!("error: {e}");
+            junit_failed = true;
+        }
+    }
     if files.len() > 1 && !written.is_empty() {
         // One file per scenario: say which, in one place.
         let list: String = written
@@ -380,7 +404,9 @@ pub fn run(args: TestArgs) -> ExitCode {
     } else {
         outln!("{passed} passed, {failed} failed");
     }
-    if failed == 0 {
+    if junit_failed {
+        ExitCode::from(2)
+    } else if failed == 0 {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)

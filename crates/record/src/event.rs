@@ -17,6 +17,8 @@ pub enum Source {
     Modbus,
     Http,
     OpcUa,
+    /// Writes published to the MQTT broker's set topics.
+    Mqtt,
     /// A Modbus RTU/ASCII slave line.
     Serial,
     /// The APLC serial ports PORT1/PORT2 (Modbus master, free port).
@@ -31,6 +33,7 @@ impl Source {
             Source::Modbus => "Modbus",
             Source::Http => "HTTP",
             Source::OpcUa => "OPC UA",
+            Source::Mqtt => "MQTT",
             Source::Serial => "serial",
             Source::Ports => "ports",
         }
@@ -43,6 +46,7 @@ impl Source {
             "Modbus" => Source::Modbus,
             "HTTP" => Source::Http,
             "OPC UA" => Source::OpcUa,
+            "MQTT" => Source::Mqtt,
             "serial" => Source::Serial,
             _ => Source::Host,
         }

@@ -32,6 +32,8 @@ pub struct Listener {
     udp: bool,
     /// The door its requests come through (a recording names it).
     door: &'static str,
+    /// A client of a server elsewhere (MQTT): nothing is bound.
+    client: bool,
     start: Box<dyn FnOnce(Bound, EngineHandle) -> tokio::task::JoinHandle<()> + Send>,
 }
 
@@ -39,6 +41,8 @@ pub struct Listener {
 pub enum Bound {
     Tcp(tokio::net::TcpListener),
     Udp(tokio::net::UdpSocket),
+    /// Nothing bound: a client's task ([`Listener::client`]).
+    None,
 }
 
 impl Listener {
@@ -56,9 +60,10 @@ impl Listener {
             addr,
             udp: true,
             door: "MC",
+            client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
-                Bound::Tcp(_) => unreachable!("a UDP listener is bound to a UDP socket"),
+                _ => unreachable!("a UDP listener is bound to a UDP socket"),
             }),
         }
     }
@@ -75,10 +80,25 @@ impl Listener {
             addr,
             udp: false,
             door: "",
+            client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => start(l, e),
-                Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
+                _ => unreachable!("a TCP listener is bound to a TCP socket"),
             }),
+        }
+    }
+
+    /// A client task (the MQTT publisher): started with the engine handle
+    /// like a server, but binds nothing and is not among the bound addresses.
+    pub fn client(
+        start: impl FnOnce(EngineHandle) -> tokio::task::JoinHandle<()> + Send + 'static,
+    ) -> Listener {
+        Listener {
+            addr: SocketAddr::from(([0, 0, 0, 0], 0)),
+            udp: false,
+            client: true,
+            door: "",
+            start: Box::new(move |_, e| start(e)),
         }
     }
 
@@ -89,9 +109,10 @@ impl Listener {
             addr,
             udp: false,
             door: "",
+            client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => tokio::spawn(tcp::serve(l, proto, e, max_conns)),
-                Bound::Udp(_) => unreachable!("a TCP listener is bound to a TCP socket"),
+                _ => unreachable!("a TCP listener is bound to a TCP socket"),
             }),
         }
     }
@@ -154,7 +175,9 @@ pub fn run(
     let bound = rt.block_on(async {
         let mut bound = Vec::new();
         for l in listeners {
-            let socket = if l.udp {
+            let socket = if l.client {
+                Bound::None
+            } else if l.udp {
                 let s = tokio::net::UdpSocket::bind(l.addr).await?;
                 bound.push(s.local_addr()?);
                 Bound::Udp(s)

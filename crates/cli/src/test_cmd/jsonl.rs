@@ -40,6 +40,11 @@ pub struct Assertion {
     pub text: String,
     pub passed: bool,
     pub detail: String,
+    /// The scenario did not load, its CPU stopped or a plant model failed:
+    /// an error of the run rather than an expectation that failed (JUnit's
+    /// `error`). Absent when false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub error: bool,
 }
 
 impl Line {
@@ -53,12 +58,14 @@ impl Line {
                 text: r.text.clone(),
                 passed: r.passed,
                 detail: r.detail.clone(),
+                error: r.error,
             })
             .collect();
         results.extend(extra_failures.iter().map(|e| Assertion {
             text: e.clone(),
             passed: false,
             detail: String::new(),
+            error: false,
         }));
         let failed = results.iter().filter(|r| !r.passed).count();
         Line {
@@ -93,6 +100,7 @@ impl Line {
                 text: error.to_string(),
                 passed: false,
                 detail: String::new(),
+                error: true,
             }],
         }
     }
@@ -202,6 +210,7 @@ mod tests {
                     text: format!("check {i}"),
                     passed: i < passed,
                     detail: "got 1".into(),
+                    error: false,
                 })
                 .collect(),
         }

@@ -76,6 +76,9 @@ pub struct CheckResult {
     pub detail: String,
     /// The first failing scan and the device history around it.
     pub failure: Option<Failure>,
+    /// Not an expectation but the run itself failing: a CPU stopped or a
+    /// plant model failed (a test report's error rather than its failure).
+    pub error: bool,
 }
 
 /// The result of a scenario run.
@@ -570,6 +573,7 @@ impl Run {
                 passed: c.verdict == Verdict::Pass,
                 detail: std::mem::take(&mut c.detail),
                 failure: c.failure.take(),
+                error: false,
             });
         }
         for (i, s) in stopped.iter().enumerate() {
@@ -583,6 +587,7 @@ impl Run {
                 passed: false,
                 detail: stop_detail(self.cpus.get(i)),
                 failure: None,
+                error: true,
             });
         }
         if let Some((n, i)) = fault {
@@ -595,6 +600,7 @@ impl Run {
                 passed: false,
                 detail: self.fault_detail(i),
                 failure: None,
+                error: true,
             });
         }
         let scans = match &self.cpus {
