@@ -29,7 +29,11 @@ pub fn parse_size(s: &str) -> Result<u64, String> {
         "mib" => 1 << 20,
         "g" | "gb" => 1_000_000_000,
         "gib" => 1 << 30,
-        u => return Err(format!("`{s}`: unknown unit `{u}` (B, KB, KiB, MB, MiB, GB, GiB)")),
+        u => {
+            return Err(format!(
+                "`{s}`: unknown unit `{u}` (B, KB, KiB, MB, MiB, GB, GiB)"
+            ))
+        }
     };
     let bytes = n * mult as f64;
     if !(bytes.is_finite() && bytes >= 4096.0) {
@@ -111,7 +115,9 @@ fn collect(
         if path.canonicalize().is_ok_and(|c| skip.contains(&c)) {
             continue;
         }
-        let ty = e.file_type().map_err(|e| format!("{}: {e}", path.display()))?;
+        let ty = e
+            .file_type()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         if ty.is_dir() {
             collect(root, &path, skip, out, total)?;
         } else if ty.is_file() {

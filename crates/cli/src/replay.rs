@@ -41,6 +41,10 @@ pub struct ReplayArgs {
     /// (repeatable).
     #[arg(long = "diverge", value_name = "DEV[:TYPE]", requires = "program")]
     pub diverge: Vec<String>,
+    /// Print every change from outside on stderr as it is replayed: the
+    /// scan count of its END, the door it came through and what it did.
+    #[arg(long)]
+    pub log: bool,
 }
 
 /// Where a compared device first differed.
@@ -62,7 +66,11 @@ pub fn replay(args: ReplayArgs) -> ExitCode {
     let header = player.header().clone();
     let dir = match tempfile::Builder::new().prefix("softplc-replay").tempdir() {
         Ok(d) => d,
-        Err(e) => return fail(format!("cannot make a directory for the recorded program: {e}")),
+        Err(e) => {
+            return fail(format!(
+                "cannot make a directory for the recorded program: {e}"
+            ))
+        }
     };
     let program = match unpack(&header, dir.path()) {
         Ok(p) => p,
@@ -111,10 +119,16 @@ pub fn replay(args: ReplayArgs) -> ExitCode {
     let result = (|| -> Result<(), String> {
         let mut refs: Vec<&mut Cpu> = cpus.iter_mut().collect();
         player.start(&mut refs)?;
+        if args.log {
+            log(0, &player.start_events());
+        }
         loop {
             let Some(end) = player.step(&mut refs)? else {
                 return Ok(());
             };
+            if args.log {
+                log(end.scans, &end.events);
+            }
             for ((a, b), split) in pairs.iter().zip(splits.iter_mut()) {
                 if split.is_some() {
                     continue;
@@ -138,10 +152,21 @@ pub fn replay(args: ReplayArgs) -> ExitCode {
     }
     if let Some(ending) = player.ending() {
         if !args.json {
-            eprintln!("softplc: replayed {} ENDs; {}", player.ends(), ending.describe());
+            eprintln!(
+                "softplc: replayed {} ENDs; {}",
+                player.ends(),
+                ending.describe()
+            );
         }
     }
     report(&args, &header, &player, &cpus[0], &shows, &pairs, &splits)
+}
+
+/// `--log`: the changes of an END whose scan count is `scans`.
+fn log(scans: u64, events: &[softplc_record::Event]) {
+    for e in events {
+        eprintln!("scan {scans} {}: {}", e.source.name(), e.change);
+    }
 }
 
 /// Writes the recorded files under `dir`; the program path to load.
@@ -149,7 +174,10 @@ fn unpack(header: &Header, dir: &Path) -> Result<PathBuf, String> {
     for f in &header.files {
         let rel = Path::new(&f.path);
         if rel.components().any(|c| !matches!(c, Component::Normal(_))) {
-            return Err(format!("a recorded file has the path `{}`, outside the program", f.path));
+            return Err(format!(
+                "a recorded file has the path `{}`, outside the program",
+                f.path
+            ));
         }
         let path = dir.join(rel);
         if let Some(p) = path.parent() {
@@ -203,7 +231,9 @@ fn report(
     let mut diverge = Map::new();
     for ((a, _), s) in pairs.iter().zip(splits) {
         let v = match s {
-            Some(s) => json!({"scan": s.scan, "recorded": to_json(&s.recorded), "new": to_json(&s.new)}),
+            Some(s) => {
+                json!({"scan": s.scan, "recorded": to_json(&s.recorded), "new": to_json(&s.new)})
+            }
             None => Json::Null,
         };
         diverge.insert(a.text().to_string(), v);

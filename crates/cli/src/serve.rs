@@ -247,7 +247,10 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         Err(code) => return code,
     };
     if let (Some(rec), Some(path)) = (&recorder, &args.record) {
-        let skip: Vec<PathBuf> = [Some(path.clone()), state_dir].into_iter().flatten().collect();
+        let skip: Vec<PathBuf> = [Some(path.clone()), state_dir]
+            .into_iter()
+            .flatten()
+            .collect();
         let header = crate::record::header(
             &args.program,
             args.model.as_deref(),
@@ -257,9 +260,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             &skip,
         );
         let max = args.record_max_size.unwrap_or(DEFAULT_RECORD_MAX);
-        if let Err(e) =
-            header.and_then(|h| crate::record::start(rec, &mut state, path, &h, max))
-        {
+        if let Err(e) = header.and_then(|h| crate::record::start(rec, &mut state, path, &h, max)) {
             return fail(format!("--record: {e}"));
         }
     }
@@ -525,7 +526,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                     eprintln!("softplc: recorded to {} ({bytes} bytes)", path.display());
                     ExitCode::SUCCESS
                 }
-                Some(Err(e)) => fail(e),
+                Some(Err(e)) => fail(format!("--record: {e}")),
                 None => ExitCode::SUCCESS,
             }
         }

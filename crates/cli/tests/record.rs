@@ -40,6 +40,8 @@ struct Served {
     http: u16,
     modbus: Option<String>,
     mc: Option<String>,
+    /// The server's later stderr lines.
+    stderr: std::sync::mpsc::Receiver<String>,
 }
 
 impl Drop for Served {
@@ -78,12 +80,18 @@ fn serve(program: &Path, rec: &Path, extra: &[&str]) -> Served {
     let http = addr("web monitor").unwrap();
     let http = http.rsplit(':').next().unwrap().parse().unwrap();
     let (modbus, mc) = (addr("Modbus TCP"), addr("MC protocol"));
-    std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
+    let (tx, stderr) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for l in err.lines() {
+            let _ = tx.send(l.unwrap_or_default());
+        }
+    });
     Served {
         child,
         http,
         modbus,
         mc,
+        stderr,
     }
 }
 
@@ -196,9 +204,18 @@ fn a_served_session_replays_to_the_devices_of_its_last_end() {
     let dir = tempfile::tempdir().unwrap();
     let p = program(dir.path(), PROGRAM);
     let rec = dir.path().join("session.rec");
-    let mut s = serve(&p, &rec, &["--modbus", "127.0.0.1:0", "--mc", "127.0.0.1:0"]);
+    let mut s = serve(
+        &p,
+        &rec,
+        &["--modbus", "127.0.0.1:0", "--mc", "127.0.0.1:0"],
+    );
     // HTTP: D0, M0 (starts T0) and X1 forced ON.
-    request(s.http, "POST", "/api/v1/devices", r#"{"D0": 1234, "M0": true}"#);
+    request(
+        s.http,
+        "POST",
+        "/api/v1/devices",
+        r#"{"D0": 1234, "M0": true}"#,
+    );
     request(s.http, "POST", "/api/v1/force", r#"{"X1": true}"#);
     // Modbus: FC16 D10-D12 = 7, 8, 9; FC05 coil 8197 = M5 ON.
     let mb = s.modbus.clone().unwrap();
@@ -219,7 +236,10 @@ fn a_served_session_replays_to_the_devices_of_its_last_end() {
         "",
     );
     sigterm(&mut s.child);
-    let args: Vec<String> = names.iter().flat_map(|n| ["--show".into(), n.clone()]).collect();
+    let args: Vec<String> = names
+        .iter()
+        .flat_map(|n| ["--show".into(), n.clone()])
+        .collect();
     let again = replay(&rec, &args);
     assert_eq!(again["devices"], live["devices"]);
     assert_eq!(again["scans"], live["scan"]);
@@ -236,7 +256,11 @@ fn a_served_session_replays_to_the_devices_of_its_last_end() {
     // Each change is named by the door it came through.
     let changes = changes(&rec);
     let by = |source: Source| -> Vec<&Change> {
-        changes.iter().filter(|e| e.source == source).map(|e| &e.change).collect()
+        changes
+            .iter()
+            .filter(|e| e.source == source)
+            .map(|e| &e.change)
+            .collect()
     };
     // Modbus writes register by register.
     for (n, v) in [(10, 7), (11, 8), (12, 9)] {
@@ -265,13 +289,34 @@ fn a_served_session_replays_to_the_devices_of_its_last_end() {
         on: true,
     }));
     assert!(by(Source::Http).contains(&&Change::Stop));
+    // --log tells them as they are replayed, with the scan of their END.
+    let out = softplc()
+        .arg("replay")
+        .arg(&rec)
+        .arg("--log")
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    for line in [
+        " HTTP: D0 = 1234",
+        " HTTP: force X1 ON",
+        " Modbus: D10.. = 7",
+        " MC: D20.. = 4369 8738",
+        " HTTP: STOP",
+    ] {
+        assert!(
+            log.lines()
+                .any(|l| l.starts_with("scan ") && l.ends_with(line)),
+            "{line} in {log}"
+        );
+    }
 }
 
 /// Every change from outside a recording holds, in order.
 fn changes(rec: &Path) -> Vec<Event> {
     let mut r = Reader::open(rec).unwrap();
     let mut out = Vec::new();
-    while let Some(x) = r.next().unwrap() {
+    while let Some(x) = r.read_record().unwrap() {
         if let Record::End(e) = x {
             out.extend(e.events);
         }
@@ -292,9 +337,15 @@ fn a_killed_server_replays_to_its_last_complete_end() {
     std::thread::sleep(Duration::from_millis(300));
     s.child.kill().unwrap();
     s.child.wait().unwrap();
-    let again = replay(&rec, &["--show".into(), "D2".into(), "--show".into(), "D3".into()]);
+    let again = replay(
+        &rec,
+        &["--show".into(), "D2".into(), "--show".into(), "D3".into()],
+    );
     let scans = again["scans"].as_u64().unwrap();
-    assert!(scans > at, "replayed to scan {scans}, the write was at {at}");
+    assert!(
+        scans > at,
+        "replayed to scan {scans}, the write was at {at}"
+    );
     assert_eq!(again["devices"]["D2"], 4321);
     assert_eq!(again["devices"]["D3"], scans);
     let ending = again["recording"]["ending"].as_str().unwrap();
@@ -307,7 +358,12 @@ fn a_changed_program_reports_where_it_first_differs() {
     let p = program(dir.path(), PROGRAM);
     let rec = dir.path().join("incident.rec");
     let mut s = serve(&p, &rec, &[]);
-    let at = request(s.http, "POST", "/api/v1/devices", r#"{"M5": true, "D10": 21}"#)["scan"]
+    let at = request(
+        s.http,
+        "POST",
+        "/api/v1/devices",
+        r#"{"M5": true, "D10": 21}"#,
+    )["scan"]
         .as_u64()
         .unwrap();
     std::thread::sleep(Duration::from_millis(100));
@@ -315,7 +371,11 @@ fn a_changed_program_reports_where_it_first_differs() {
     sigterm(&mut s.child);
     // The fix adds D10 once more into D41.
     let fixed = dir.path().join("fixed.il");
-    std::fs::write(&fixed, PROGRAM.replace("MOV D10 D41", "MOV D10 D41\n+ D10 D41")).unwrap();
+    std::fs::write(
+        &fixed,
+        PROGRAM.replace("MOV D10 D41", "MOV D10 D41\n+ D10 D41"),
+    )
+    .unwrap();
     let args: Vec<String> = ["--program", fixed.to_str().unwrap()]
         .iter()
         .chain(&["--diverge", "D41", "--diverge", "D3", "--show", "D41"])
@@ -362,7 +422,10 @@ fn damaged_recordings_are_refused_with_a_clear_error() {
     damaged[14 + 8 + 10] ^= 0xA5;
     let (code, err) = run(&damaged);
     assert_eq!(code, Some(2));
-    assert!(err.contains("damaged frame at byte 14: its checksum does not match"), "{err}");
+    assert!(
+        err.contains("damaged frame at byte 14: its checksum does not match"),
+        "{err}"
+    );
     // Cut anywhere after the start: replays what is whole.
     for cut in [bytes.len() - 1, bytes.len() - 7, bytes.len() * 9 / 10] {
         let (code, err) = run(&bytes[..cut]);
@@ -381,10 +444,20 @@ fn an_aplc_program_replays_with_its_names() {
     request(s.http, "POST", "/api/v1/devices", body);
     std::thread::sleep(Duration::from_millis(50));
     request(s.http, "POST", "/api/v1/cpu/stop", "");
-    let names = ["D0", "D2", "D10", "D11:u16", "D10:i32", "Y10", "X10", "D20", "M1"];
-    let live = request(s.http, "GET", &format!("/api/v1/devices?names={}", names.join(",")), "");
+    let names = [
+        "D0", "D2", "D10", "D11:u16", "D10:i32", "Y10", "X10", "D20", "M1",
+    ];
+    let live = request(
+        s.http,
+        "GET",
+        &format!("/api/v1/devices?names={}", names.join(",")),
+        "",
+    );
     sigterm(&mut s.child);
-    let args: Vec<String> = names.iter().flat_map(|n| ["--show".into(), n.to_string()]).collect();
+    let args: Vec<String> = names
+        .iter()
+        .flat_map(|n| ["--show".into(), n.to_string()])
+        .collect();
     let again = replay(&rec, &args);
     assert_eq!(again["devices"], live["devices"]);
     let d = &again["devices"];
@@ -409,7 +482,12 @@ fn a_project_replays_with_the_battery_backed_image_it_started_from() {
     // A first session leaves D0 and D50 in the state directory.
     let first = dir.path().join("first.rec");
     let mut s = serve(dir.path(), &first, &[]);
-    request(s.http, "POST", "/api/v1/devices", r#"{"D0": 777, "D50": 5}"#);
+    request(
+        s.http,
+        "POST",
+        "/api/v1/devices",
+        r#"{"D0": 777, "D50": 5}"#,
+    );
     sigterm(&mut s.child);
     // The recorded one starts from them.
     let rec = dir.path().join("second.rec");
@@ -418,9 +496,17 @@ fn a_project_replays_with_the_battery_backed_image_it_started_from() {
     std::thread::sleep(Duration::from_millis(50));
     request(s.http, "POST", "/api/v1/cpu/stop", "");
     let names = ["D0", "D2", "D3", "D50", "D60"];
-    let live = request(s.http, "GET", &format!("/api/v1/devices?names={}", names.join(",")), "");
+    let live = request(
+        s.http,
+        "GET",
+        &format!("/api/v1/devices?names={}", names.join(",")),
+        "",
+    );
     sigterm(&mut s.child);
-    let args: Vec<String> = names.iter().flat_map(|n| ["--show".into(), n.to_string()]).collect();
+    let args: Vec<String> = names
+        .iter()
+        .flat_map(|n| ["--show".into(), n.to_string()])
+        .collect();
     let again = replay(&rec, &args);
     assert_eq!(again["devices"], live["devices"]);
     let d = &again["devices"];
@@ -432,7 +518,7 @@ fn a_project_replays_with_the_battery_backed_image_it_started_from() {
     assert!(d["D3"].as_u64().unwrap() > again["scans"].as_u64().unwrap());
     // The project's files are embedded, not its state directory or recordings.
     let mut r = Reader::open(&rec).unwrap();
-    let Some(Record::Header(h)) = r.next().unwrap() else {
+    let Some(Record::Header(h)) = r.read_record().unwrap() else {
         panic!("no header");
     };
     let files: Vec<&str> = h.files.iter().map(|f| f.path.as_str()).collect();
@@ -456,6 +542,38 @@ fn a_multi_cpu_system_is_refused() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--record: a multi-CPU system cannot be recorded yet"), "{err}");
+    assert!(
+        err.contains("--record: a multi-CPU system cannot be recorded yet"),
+        "{err}"
+    );
     assert!(!dir.path().join("x.rec").exists());
+}
+
+#[test]
+fn recording_stops_at_its_size_bound_and_replays_to_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = program(dir.path(), PROGRAM);
+    let rec = dir.path().join("bounded.rec");
+    let mut s = serve(&p, &rec, &["--record-max-size", "4KiB"]);
+    request(s.http, "POST", "/api/v1/devices", r#"{"D0": 99}"#);
+    // About 16 bytes per END: the bound comes after some 200 ENDs.
+    let line = loop {
+        let l = s.stderr.recv_timeout(Duration::from_secs(60)).unwrap();
+        if l.contains("--record-max-size") {
+            break l;
+        }
+    };
+    assert!(
+        line.contains("recording stopped, the server runs on"),
+        "{line}"
+    );
+    sigterm(&mut s.child);
+    assert!(std::fs::metadata(&rec).unwrap().len() <= 4096);
+    let again = replay(
+        &rec,
+        &["--show".into(), "D2".into(), "--show".into(), "D3".into()],
+    );
+    assert_eq!(again["recording"]["ending"], "full");
+    assert_eq!(again["devices"]["D2"], 99);
+    assert_eq!(again["devices"]["D3"], again["scans"]);
 }

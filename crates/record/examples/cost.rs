@@ -15,7 +15,10 @@ use softplc_record::{Header, Recorder};
 fn program() -> String {
     let mut p = String::new();
     for i in 0..100 {
-        p.push_str(&format!("LD M{i}\nAND X{i:X}\nOUT Y{i:X}\nLD SM400\nMOV D{i} D{}\n", i + 100));
+        p.push_str(&format!(
+            "LD M{i}\nAND X{i:X}\nOUT Y{i:X}\nLD SM400\nMOV D{i} D{}\n",
+            i + 100
+        ));
     }
     p.push_str("LD M0\nOUT T0 K50\nEND\n");
     p
@@ -74,7 +77,8 @@ fn main() {
     };
     let plain = run(ends, None);
     let rec = Recorder::new();
-    rec.start(&path, &header, u64::MAX).expect("the recording opens");
+    rec.start(&path, &header, u64::MAX)
+        .expect("the recording opens");
     let recorded = run(ends, Some(&rec));
     let (_, bytes) = rec.finish().expect("the recording closes");
     let _ = std::fs::remove_dir_all(&dir);

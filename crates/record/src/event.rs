@@ -91,8 +91,14 @@ pub struct Event {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Change {
     /// By name: the door's text of the device (MELSEC syntax).
-    Value { name: String, value: Val },
-    Text { name: String, value: String },
+    Value {
+        name: String,
+        value: Val,
+    },
+    Text {
+        name: String,
+        value: String,
+    },
     Words {
         kind: Kind,
         number: u32,
@@ -105,26 +111,65 @@ pub enum Change {
         selected_block: bool,
         values: Vec<bool>,
     },
-    Word { kind: Kind, n: i64, value: u16 },
-    Bit { kind: Kind, n: i64, value: bool },
-    Input { n: u32, on: bool },
-    Force { kind: Kind, n: u32, on: bool },
-    Release { kind: Kind, n: u32 },
+    Word {
+        kind: Kind,
+        n: i64,
+        value: u16,
+    },
+    Bit {
+        kind: Kind,
+        n: i64,
+        value: bool,
+    },
+    Input {
+        n: u32,
+        on: bool,
+    },
+    Force {
+        kind: Kind,
+        n: u32,
+        on: bool,
+    },
+    Release {
+        kind: Kind,
+        n: u32,
+    },
     ReleaseAll,
     Run,
     Stop,
     Pause,
     Reset,
-    LatchClear { remote: bool },
-    RunClear { latch_too: bool },
-    RemoteRun { client: u32, force: bool },
-    RemoteStop { client: u32, force: bool },
-    RemotePause { client: u32, force: bool },
+    LatchClear {
+        remote: bool,
+    },
+    RunClear {
+        latch_too: bool,
+    },
+    RemoteRun {
+        client: u32,
+        force: bool,
+    },
+    RemoteStop {
+        client: u32,
+        force: bool,
+    },
+    RemotePause {
+        client: u32,
+        force: bool,
+    },
     RemoteReset,
-    Calendar { unix_us: i64 },
-    Retained { data: Vec<Option<Vec<u8>>> },
-    BatteryError { stop: bool },
-    LocalsOf { slot: u32 },
+    Calendar {
+        unix_us: i64,
+    },
+    Retained {
+        data: Vec<Option<Vec<u8>>>,
+    },
+    BatteryError {
+        stop: bool,
+    },
+    LocalsOf {
+        slot: u32,
+    },
     LocalsEnd,
 }
 
@@ -229,7 +274,10 @@ pub fn apply(cpu: &mut Cpu, changes: &[Event]) -> Result<(), String> {
                 let inner = &changes[i + 1..end];
                 let slot = *slot as usize;
                 if slot >= cpu.program_count() {
-                    return Err(format!("the recording names program file {slot} of {}", cpu.program_count()));
+                    return Err(format!(
+                        "the recording names program file {slot} of {}",
+                        cpu.program_count()
+                    ));
                 }
                 cpu.with_local_devices_of(slot, |c| apply(c, inner))?;
                 i = end + 1;
@@ -271,9 +319,15 @@ fn apply_one(cpu: &mut Cpu, c: &Change) -> Result<(), String> {
             values,
         } => {
             let s = cpu
-                .span(kind.kind()?, *number, values.len() as u32, block(*selected_block))
+                .span(
+                    kind.kind()?,
+                    *number,
+                    values.len() as u32,
+                    block(*selected_block),
+                )
                 .map_err(|e| e.to_string())?;
-            cpu.write_span_words(&s, values).map_err(|e| e.to_string())?;
+            cpu.write_span_words(&s, values)
+                .map_err(|e| e.to_string())?;
         }
         Change::Bits {
             kind,
@@ -282,7 +336,12 @@ fn apply_one(cpu: &mut Cpu, c: &Change) -> Result<(), String> {
             values,
         } => {
             let s = cpu
-                .span(kind.kind()?, *number, values.len() as u32, block(*selected_block))
+                .span(
+                    kind.kind()?,
+                    *number,
+                    values.len() as u32,
+                    block(*selected_block),
+                )
                 .map_err(|e| e.to_string())?;
             cpu.write_span_bits(&s, values).map_err(|e| e.to_string())?;
         }
@@ -331,9 +390,114 @@ fn apply_one(cpu: &mut Cpu, c: &Change) -> Result<(), String> {
             let _ = cpu.remote_reset();
         }
         Change::Calendar { unix_us } => cpu.set_calendar_unix_us(*unix_us),
-        Change::Retained { data } => cpu.restore_retained(data),
+        Change::Retained { data } => {
+            // Regions as this CPU lays them out (a changed program may not).
+            let layout = cpu.retained_layout();
+            let fits = data.len() <= layout.len()
+                && data
+                    .iter()
+                    .zip(&layout)
+                    .all(|(d, (_, n))| d.as_ref().is_none_or(|d| d.len() == *n));
+            if !fits {
+                return Err("the recorded battery-backed image does not fit this CPU's \
+                            latch ranges and file registers"
+                    .into());
+            }
+            cpu.restore_retained(data)
+        }
         Change::BatteryError { stop } => cpu.report_battery_error(*stop),
         Change::LocalsOf { .. } | Change::LocalsEnd => {}
     }
     Ok(())
+}
+
+impl std::fmt::Display for Val {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Val::Bool(b) => write!(f, "{b}"),
+            Val::Int(i) => write!(f, "{i}"),
+            Val::Float(x) => write!(f, "{x:?}"),
+            Val::Str(s) => write!(f, "{s:?}"),
+        }
+    }
+}
+
+/// A change as a line of `softplc replay --log`, device names in the
+/// door's own (MELSEC) syntax.
+impl std::fmt::Display for Change {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let list = |v: &[String]| v.join(" ");
+        match self {
+            Change::Value { name, value } => write!(f, "{name} = {value}"),
+            Change::Text { name, value } => write!(f, "{name} = {value}"),
+            Change::Words {
+                kind,
+                number,
+                values,
+                ..
+            } => write!(
+                f,
+                "{}{number}.. = {}",
+                kind.0,
+                list(&values.iter().map(|v| v.to_string()).collect::<Vec<_>>())
+            ),
+            Change::Bits {
+                kind,
+                number,
+                values,
+                ..
+            } => write!(
+                f,
+                "{}{number}.. = {}",
+                kind.0,
+                list(
+                    &values
+                        .iter()
+                        .map(|&b| (b as u8).to_string())
+                        .collect::<Vec<_>>()
+                )
+            ),
+            Change::Word { kind, n, value } => write!(f, "{}{n} = {value}", kind.0),
+            Change::Bit { kind, n, value } => write!(f, "{}{n} = {value}", kind.0),
+            Change::Input { n, on } => write!(f, "input X{n} = {on}"),
+            Change::Force { kind, n, on } => {
+                write!(f, "force {}{n} {}", kind.0, if *on { "ON" } else { "OFF" })
+            }
+            Change::Release { kind, n } => write!(f, "release {}{n}", kind.0),
+            Change::ReleaseAll => f.write_str("release all"),
+            Change::Run => f.write_str("RUN"),
+            Change::Stop => f.write_str("STOP"),
+            Change::Pause => f.write_str("PAUSE"),
+            Change::Reset => f.write_str("RESET"),
+            Change::LatchClear { remote } => {
+                write!(f, "latch clear{}", if *remote { " (remote)" } else { "" })
+            }
+            Change::RunClear { latch_too } => write!(
+                f,
+                "device clear of remote RUN{}",
+                if *latch_too { ", latch ranges too" } else { "" }
+            ),
+            Change::RemoteRun { client, .. } => write!(f, "remote RUN by client {client}"),
+            Change::RemoteStop { client, .. } => write!(f, "remote STOP by client {client}"),
+            Change::RemotePause { client, .. } => write!(f, "remote PAUSE by client {client}"),
+            Change::RemoteReset => f.write_str("remote RESET"),
+            Change::Calendar { unix_us } => {
+                write!(f, "calendar set ({} s since 1970)", unix_us / 1_000_000)
+            }
+            Change::Retained { data } => write!(
+                f,
+                "battery-backed image restored ({} bytes)",
+                data.iter().flatten().map(Vec::len).sum::<usize>()
+            ),
+            Change::BatteryError { stop } => {
+                write!(
+                    f,
+                    "battery error{}",
+                    if *stop { " (stops the CPU)" } else { "" }
+                )
+            }
+            Change::LocalsOf { slot } => write!(f, "local devices of program {slot}:"),
+            Change::LocalsEnd => f.write_str("end of local devices"),
+        }
+    }
 }

@@ -73,9 +73,13 @@ pub enum Record {
     Header(Header),
     End(End),
     /// The server stopped after the END with this scan count.
-    Shutdown { scans: u64 },
+    Shutdown {
+        scans: u64,
+    },
     /// Recording stopped here (`--record-max-size` reached); the server ran on.
-    Full { scans: u64 },
+    Full {
+        scans: u64,
+    },
 }
 
 impl Header {
@@ -138,8 +142,8 @@ impl<R: Read> Reader<R> {
     /// Reads from `input` (`name` in messages), checking the magic line.
     pub fn new(mut input: R, name: &str) -> Result<Self, FormatError> {
         let mut magic = [0u8; MAGIC.len()];
-        let n = read_full(&mut input, &mut magic)
-            .map_err(|e| FormatError(format!("{name}: {e}")))?;
+        let n =
+            read_full(&mut input, &mut magic).map_err(|e| FormatError(format!("{name}: {e}")))?;
         if n < magic.len() || &magic != MAGIC {
             return Err(FormatError(format!(
                 "{name}: not a softplc recording (it does not start with `softplc-rec 1`)"
@@ -155,7 +159,7 @@ impl<R: Read> Reader<R> {
 
     /// The next record; `None` at the end or before a torn last frame
     /// ([`Self::torn`]).
-    pub fn next(&mut self) -> Result<Option<Record>, FormatError> {
+    pub fn read_record(&mut self) -> Result<Option<Record>, FormatError> {
         if self.torn.is_some() {
             return Ok(None);
         }
@@ -172,12 +176,8 @@ impl<R: Read> Reader<R> {
         }
         let len = u32::from_le_bytes([head[0], head[1], head[2], head[3]]);
         let crc = u32::from_le_bytes([head[4], head[5], head[6], head[7]]);
-        let damaged = |what: &str| {
-            FormatError(format!(
-                "{}: damaged frame at byte {at}: {what}",
-                self.name
-            ))
-        };
+        let damaged =
+            |what: &str| FormatError(format!("{}: damaged frame at byte {at}: {what}", self.name));
         if len > MAX_FRAME {
             return Err(damaged(&format!("a length of {len} bytes")));
         }

@@ -80,12 +80,11 @@ impl Recorder {
     /// (the load and the battery-backed image) as the start frame. At `max`
     /// bytes recording stops with a message on stderr.
     pub fn start(&self, path: &Path, header: &Header, max: u64) -> Result<(), String> {
-        let mut file =
-            File::create(path).map_err(|e| format!("--record {}: {e}", path.display()))?;
+        let mut file = File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let head = frame(&Record::Header(header.clone()));
         write_magic(&mut file)
             .and_then(|_| file.write_all(&head))
-            .map_err(|e| format!("--record {}: {e}", path.display()))?;
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         let (tx, rx) = channel::<Vec<u8>>();
         let writer = std::thread::Builder::new()
             .name("softplc-record".into())
@@ -95,7 +94,7 @@ impl Recorder {
                 }
                 file.sync_all()
             })
-            .map_err(|e| format!("--record: {e}"))?;
+            .map_err(|e| format!("the recording thread: {e}"))?;
         let mut g = self.lock();
         g.out = Some(Output {
             path: path.to_path_buf(),
@@ -130,7 +129,7 @@ impl Recorder {
         let scans = g.scans;
         let full = g.full;
         let Some(out) = g.out.take() else {
-            return Err("--record: not started".into());
+            return Err("the recording was not started".into());
         };
         g.done = true;
         drop(g);
@@ -143,8 +142,11 @@ impl Recorder {
         drop(out.tx);
         match out.writer.join() {
             Ok(Ok(())) => Ok((out.path, written)),
-            Ok(Err(e)) => Err(format!("--record {}: {e}", out.path.display())),
-            Err(_) => Err(format!("--record {}: the writer failed", out.path.display())),
+            Ok(Err(e)) => Err(format!("{}: {e}", out.path.display())),
+            Err(_) => Err(format!(
+                "{}: the recording thread failed",
+                out.path.display()
+            )),
         }
     }
 }
@@ -205,7 +207,9 @@ impl Journal for Recorder {
         let change = Change::of(&event);
         // A look at a program's local devices that wrote nothing.
         if change == Change::LocalsEnd
-            && g.events.last().is_some_and(|e| matches!(e.change, Change::LocalsOf { .. }))
+            && g.events
+                .last()
+                .is_some_and(|e| matches!(e.change, Change::LocalsOf { .. }))
         {
             g.events.pop();
             return;

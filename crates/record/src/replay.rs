@@ -135,13 +135,21 @@ impl Player<std::io::BufReader<std::fs::File>> {
 impl<R: Read> Player<R> {
     /// Reads the header and the start frame.
     pub fn new(mut reader: Reader<R>, name: &str) -> Result<Self, FormatError> {
-        let short = || FormatError(format!("{name}: the recording ends before its first frames"));
-        let header = match reader.next()? {
+        let short = || {
+            FormatError(format!(
+                "{name}: the recording ends before its first frames"
+            ))
+        };
+        let header = match reader.read_record()? {
             Some(Record::Header(h)) => h,
-            Some(_) => return Err(FormatError(format!("{name}: the first frame is not the header"))),
+            Some(_) => {
+                return Err(FormatError(format!(
+                    "{name}: the first frame is not the header"
+                )))
+            }
             None => return Err(short()),
         };
-        let start = match reader.next()? {
+        let start = match reader.read_record()? {
             Some(Record::End(e)) if !e.scanned => e,
             Some(_) => {
                 return Err(FormatError(format!(
@@ -195,7 +203,7 @@ impl<R: Read> Player<R> {
     /// the recording is over ([`Self::ending`]).
     pub fn step(&mut self, cpus: &mut [&mut Cpu]) -> Result<Option<End>, String> {
         let end = loop {
-            match self.reader.next().map_err(|e| e.to_string())? {
+            match self.reader.read_record().map_err(|e| e.to_string())? {
                 Some(Record::End(e)) => break e,
                 Some(Record::Shutdown { scans }) => self.ending = Some(Ending::Shutdown { scans }),
                 Some(Record::Full { scans }) => self.ending = Some(Ending::Full { scans }),
@@ -264,6 +272,11 @@ impl<R: Read> Player<R> {
             ));
         }
         Ok(())
+    }
+
+    /// The changes before scan 1 (the battery-backed image, the calendar).
+    pub fn start_events(&self) -> Vec<crate::event::Event> {
+        self.start.events.clone()
     }
 
     /// How the recording ended (after [`Self::step`] returned `None`).

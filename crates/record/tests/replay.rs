@@ -135,10 +135,7 @@ fn a_changed_program_beside_the_recorded_one_sees_the_same_changes() {
         }
     }
     // M5 set after END 12 (scan 12): scan 13 moves D10 = 7 into D41.
-    assert_eq!(
-        first,
-        Some((13, Ok(Value::Int(7)), Ok(Value::Int(14))))
-    );
+    assert_eq!(first, Some((13, Ok(Value::Int(7)), Ok(Value::Int(14)))));
 }
 
 #[test]
@@ -152,7 +149,7 @@ fn a_torn_or_damaged_recording_is_read_as_far_as_it_is_whole() {
         let mut r = Reader::new(&bytes[..], "s.rec").unwrap();
         let mut pos = 14;
         let mut ends = vec![];
-        while let Some(rec) = r.next().unwrap() {
+        while let Some(rec) = r.read_record().unwrap() {
             pos += postcard::to_stdvec(&rec).unwrap().len() + 8;
             ends.push(pos);
         }
@@ -164,11 +161,19 @@ fn a_torn_or_damaged_recording_is_read_as_far_as_it_is_whole() {
     for cut in 14..bytes.len() {
         let mut r = Reader::new(&bytes[..cut], "cut").unwrap();
         let mut whole = 0;
-        while r.next().unwrap().is_some() {
+        while r.read_record().unwrap().is_some() {
             whole += 1;
         }
-        assert_eq!(whole, ends.iter().filter(|&&e| e <= cut).count(), "cut at {cut}");
-        assert_eq!(r.torn().is_some(), cut != 14 && !ends.contains(&cut), "cut at {cut}");
+        assert_eq!(
+            whole,
+            ends.iter().filter(|&&e| e <= cut).count(),
+            "cut at {cut}"
+        );
+        assert_eq!(
+            r.torn().is_some(),
+            cut != 14 && !ends.contains(&cut),
+            "cut at {cut}"
+        );
     }
     assert!(Reader::new(&bytes[..13], "short").is_err());
     // A byte changed inside a frame with frames after it: refused, with where.
@@ -176,13 +181,16 @@ fn a_torn_or_damaged_recording_is_read_as_far_as_it_is_whole() {
     damaged[bytes.len() / 2] ^= 0x55;
     let mut r = Reader::new(&damaged[..], "damaged.rec").unwrap();
     let err = loop {
-        match r.next() {
+        match r.read_record() {
             Ok(Some(_)) => continue,
             Ok(None) => panic!("the damage went unnoticed"),
             Err(e) => break e.to_string(),
         }
     };
-    assert!(err.starts_with("damaged.rec: damaged frame at byte "), "{err}");
+    assert!(
+        err.starts_with("damaged.rec: damaged frame at byte "),
+        "{err}"
+    );
     // Not a recording at all.
     let err = Reader::new(&b"LD X0\nOUT Y0\n"[..], "p.il").err().unwrap();
     assert!(err.to_string().contains("not a softplc recording"), "{err}");
@@ -194,7 +202,12 @@ fn a_torn_or_damaged_recording_is_read_as_far_as_it_is_whole() {
     let mut again = cpu(Box::new(player.clock()));
     player.start(&mut [&mut again]).unwrap();
     while player.step(&mut [&mut again]).unwrap().is_some() {}
-    assert_eq!(player.ending(), Some(Ending::Torn { at: last_end as u64 }));
+    assert_eq!(
+        player.ending(),
+        Some(Ending::Torn {
+            at: last_end as u64
+        })
+    );
     assert_eq!(player.ends(), 59);
     assert_eq!(again.scans(), 51);
 }

@@ -133,7 +133,10 @@ impl Cpu {
     /// The file-register block span `s` was resolved in (block 0 unless it
     /// is an R span resolved in another selected block).
     fn block_of(&self, s: &Span) -> RBlock {
-        let first = self.rt.mem.span(s.kind(), s.number(), s.len(), RBlock::First);
+        let first = self
+            .rt
+            .mem
+            .span(s.kind(), s.number(), s.len(), RBlock::First);
         match first {
             Ok(f) if f == *s => RBlock::First,
             _ => RBlock::Selected,

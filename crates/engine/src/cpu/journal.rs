@@ -22,7 +22,10 @@ pub enum DoorEvent<'a> {
         value: &'a Value,
     },
     /// [`Cpu::write_device`] with the value as text.
-    Text { spec: &'a DeviceSpec, value: &'a str },
+    Text {
+        spec: &'a DeviceSpec,
+        value: &'a str,
+    },
     /// [`Cpu::write_span_words`]: `len` points of `kind` from `number`, R
     /// resolved in `block`.
     Words {
@@ -40,15 +43,33 @@ pub enum DoorEvent<'a> {
         values: &'a [bool],
     },
     /// [`Cpu::set_word`].
-    Word { kind: DeviceKind, n: i64, value: u16 },
+    Word {
+        kind: DeviceKind,
+        n: i64,
+        value: u16,
+    },
     /// [`Cpu::set_bit`].
-    Bit { kind: DeviceKind, n: i64, value: bool },
+    Bit {
+        kind: DeviceKind,
+        n: i64,
+        value: bool,
+    },
     /// [`Cpu::set_input`].
-    Input { n: u32, on: bool },
+    Input {
+        n: u32,
+        on: bool,
+    },
     /// [`Cpu::force`].
-    Force { kind: DeviceKind, n: u32, on: bool },
+    Force {
+        kind: DeviceKind,
+        n: u32,
+        on: bool,
+    },
     /// [`Cpu::release`].
-    Release { kind: DeviceKind, n: u32 },
+    Release {
+        kind: DeviceKind,
+        n: u32,
+    },
     /// [`Cpu::release_all`].
     ReleaseAll,
     /// [`Cpu::set_run`], [`Cpu::set_stop`], [`Cpu::set_pause`],
@@ -57,24 +78,43 @@ pub enum DoorEvent<'a> {
     Stop,
     Pause,
     Reset,
-    LatchClear { remote: bool },
+    LatchClear {
+        remote: bool,
+    },
     /// [`Cpu::remote_run_clear`].
     RunClear(RunClear),
     /// [`Cpu::remote_run`], [`Cpu::remote_stop`], [`Cpu::remote_pause`]
     /// by `client`, [`Cpu::remote_reset`].
-    RemoteRun { client: u32, force: bool },
-    RemoteStop { client: u32, force: bool },
-    RemotePause { client: u32, force: bool },
+    RemoteRun {
+        client: u32,
+        force: bool,
+    },
+    RemoteStop {
+        client: u32,
+        force: bool,
+    },
+    RemotePause {
+        client: u32,
+        force: bool,
+    },
     RemoteReset,
     /// [`Cpu::set_calendar_unix_us`].
-    Calendar { unix_us: i64 },
+    Calendar {
+        unix_us: i64,
+    },
     /// [`Cpu::restore_retained`].
-    Retained { data: &'a [Option<Vec<u8>>] },
+    Retained {
+        data: &'a [Option<Vec<u8>>],
+    },
     /// [`Cpu::report_battery_error`].
-    BatteryError { stop: bool },
+    BatteryError {
+        stop: bool,
+    },
     /// [`Cpu::with_local_devices_of`] begins and ends: the writes between
     /// went to program file `slot`'s local devices.
-    LocalsOf { slot: usize },
+    LocalsOf {
+        slot: usize,
+    },
     LocalsEnd,
 }
 
