@@ -161,6 +161,8 @@ pub fn start(
     let r = rec.clone();
     state.watch_doors(Box::new(move |door| r.set_source(Source::of_door(door))));
     let r = rec.clone();
-    state.add_after_requests(Box::new(move |st: &mut ServeState| r.end(st.cpu())));
+    state.add_after_requests(Box::new(move |st: &mut ServeState| {
+        r.end(st.cpu(), st.ends())
+    }));
     Ok(())
 }

@@ -12,6 +12,7 @@ use softplc_core::engine::calendar::DateTime;
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
+use softplc_serve::{TimeScale, VirtualTime};
 
 use softplc_record::{Recorder, Source};
 
@@ -159,6 +160,18 @@ pub struct ServeArgs {
     /// (default: the system's root certificates).
     #[arg(long, value_name = "FILE", requires = "mqtt")]
     pub mqtt_ca: Option<PathBuf>,
+    /// Run in virtual time at F times real time (0.01 to 1000), or `max`: as
+    /// fast as the scans go. Timers, the calendar and the scan time follow
+    /// virtual time, and the scan period is virtual (a 10ms scan at 2 starts
+    /// every 5 ms of real time). See docs/cosimulation.md.
+    #[arg(long, value_name = "F", value_parser = TimeScale::parse)]
+    pub time_scale: Option<TimeScale>,
+    /// Hold the CPU before scan 1 and after each END until a client advances
+    /// it (POST /api/v1/sim/advance; needs --http and a token). Requests of
+    /// every door are served at the held END. An advance's scans run at
+    /// --time-scale, else as fast as possible.
+    #[arg(long)]
+    pub lockstep: bool,
     /// Record the session for `softplc replay` (docs/recording.md): every
     /// change from outside (writes by MC, Modbus, HTTP, OPC UA, MQTT and the
     /// serial ports, forcing, RUN/STOP/PAUSE/RESET) with the END it took effect at,
@@ -219,6 +232,10 @@ fn host_clock() -> DateTime {
     DateTime::from_unix(s)
 }
 
+/// Only the web monitor's advance moves a held CPU.
+const LOCKSTEP_NEEDS: &str = "--lockstep: the CPU runs only when a client advances it \
+     (POST /api/v1/sim/advance): give --http and a token (--http-token or [http] token)";
+
 pub fn serve(args: ServeArgs) -> ExitCode {
     let fail = |msg: String| {
         eprintln!("softplc: {msg}");
@@ -242,6 +259,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         ports,
         cpus,
         state_dir,
+        virtual_clock,
     } = match load_served(&args, start, restore_clock, recorder.as_ref()) {
         Ok(s) => s,
         Err(code) => return code,
@@ -263,6 +281,13 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         if let Err(e) = header.and_then(|h| crate::record::start(rec, &mut state, path, &h, max)) {
             return fail(format!("--record: {e}"));
         }
+    }
+    if let Some(clock) = virtual_clock {
+        state.set_virtual_time(VirtualTime {
+            clock,
+            scale: args.time_scale.unwrap_or(TimeScale::Max),
+            lockstep: args.lockstep,
+        });
     }
     // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
     let cpu = state.cpu();
@@ -289,7 +314,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         match softplc_serve::parse_addr(a) {
             Ok(addr) => {
                 let mc = Mc::new(args.password.clone());
-                listeners.push(Listener::tcp(addr, mc, args.max_connections).door("MC"));
+                listeners.push(Listener::tcp(addr, mc, args.max_connections));
                 names.push("MC protocol".to_string());
             }
             Err(e) => return fail(format!("--mc {e}")),
@@ -320,6 +345,9 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             Ok(t) => t,
             Err(e) => return fail(e),
         };
+        if args.lockstep && token.is_none() {
+            return fail(LOCKSTEP_NEEDS.to_string());
+        }
         let cfg = softplc_http::HttpConfig {
             token,
             model: cpu.profile().model.to_string(),
@@ -329,6 +357,9 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         listeners.push(softplc_http::listener(addr, cfg).door("HTTP"));
         names.push("web monitor".to_string());
     } else {
+        if args.lockstep {
+            return fail(LOCKSTEP_NEEDS.to_string());
+        }
         for (flag, given) in [
             ("--http-token", args.http_token.is_some()),
             (
@@ -395,9 +426,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         for w in map.check_devices(&cpu.config().devices) {
             eprintln!("softplc: [modbus]: {w}");
         }
-        listeners.push(
-            Listener::tcp(addr, ModbusTcp::new(map, slave), args.max_connections).door("Modbus"),
-        );
+        listeners.push(Listener::tcp(
+            addr,
+            ModbusTcp::new(map, slave),
+            args.max_connections,
+        ));
         names.push("Modbus TCP".to_string());
     }
     let parity = match args.parity.to_ascii_lowercase().as_str() {
@@ -451,6 +484,12 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         ack_after_commit: true,
     };
     let program = args.program.display().to_string();
+    let time = match (args.lockstep, args.time_scale) {
+        (true, Some(f)) => format!(", lockstep (advances at {f})"),
+        (true, None) => ", lockstep".to_string(),
+        (false, Some(f)) => format!(", virtual time at {f}"),
+        (false, None) => String::new(),
+    };
     let stop = Arc::new(AtomicBool::new(false));
     // APLC PORT1/PORT2: the communication phase after every END.
     let mut ports =
@@ -497,13 +536,13 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         servers.extend(names.iter().skip(bound.len()).cloned());
         if cpus.is_empty() {
             eprintln!(
-                "softplc: serving {program}, constant scan {period:?}{}{}",
+                "softplc: serving {program}, constant scan {period:?}{time}{}{}",
                 if servers.is_empty() { "" } else { "; " },
                 servers.join(", ")
             );
         } else {
             eprintln!(
-                "softplc: serving the multi-CPU system {program} ({} CPUs){}{}",
+                "softplc: serving the multi-CPU system {program} ({} CPUs){time}{}{}",
                 cpus.len(),
                 if servers.is_empty() { "" } else { "; " },
                 servers.join(", ")

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use softplc_core::engine::calendar::DateTime;
-use softplc_core::engine::{Clock, Cpu, MonotonicClock};
+use softplc_core::engine::{Clock, Cpu, MonotonicClock, VirtualClock};
 use softplc_core::persist::{Attach, Battery, OnDamage};
 use softplc_core::system::System;
 use softplc_record::Recorder;
@@ -36,6 +36,23 @@ pub struct Served {
     pub cpus: Vec<String>,
     /// A single CPU's state directory.
     pub state_dir: Option<std::path::PathBuf>,
+    /// The clock the CPUs run on with --time-scale or --lockstep (else the
+    /// monotonic clock).
+    pub virtual_clock: Option<VirtualClock>,
+}
+
+/// The virtual clock of --time-scale and --lockstep.
+fn virtual_clock(args: &ServeArgs) -> Option<VirtualClock> {
+    (args.time_scale.is_some() || args.lockstep).then(VirtualClock::new)
+}
+
+/// A clock on `time` when given, else on the host's monotonic clock (all
+/// CPUs of a system on one).
+fn clock_on(time: &Option<VirtualClock>, monotonic: &MonotonicClock) -> Box<dyn Clock> {
+    match time {
+        Some(t) => Box::new(t.clone()),
+        None => Box::new(monotonic.clone()),
+    }
 }
 
 /// Loads what `args.program` names, powered on (`Err`: the exit code, the
@@ -68,7 +85,8 @@ fn load_one(
     restore_clock: bool,
     rec: Option<&Recorder>,
 ) -> Result<Served, ExitCode> {
-    let clock: Box<dyn Clock> = Box::new(MonotonicClock::default());
+    let time = virtual_clock(args);
+    let clock = clock_on(&time, &MonotonicClock::default());
     let clock = match rec {
         Some(r) => r.clock(clock),
         None => clock,
@@ -108,6 +126,7 @@ fn load_one(
         opcua,
         ports,
         cpus: Vec::new(),
+        virtual_clock: time,
     })
 }
 
@@ -130,8 +149,9 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
             "each CPU of a system keeps its state in its project's [state] dir",
         );
     }
-    let time = MonotonicClock::default();
-    let mut clock = || -> Box<dyn Clock> { Box::new(time.clone()) };
+    let time = virtual_clock(args);
+    let monotonic = MonotonicClock::default();
+    let mut clock = || clock_on(&time, &monotonic);
     let mut system = System::load(&args.program, &mut clock).map_err(|d| {
         for x in &d.0 {
             eprintln!("{}", sanitize(&x.to_string()));
@@ -184,6 +204,7 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
         ports: Vec::new(),
         cpus,
         state_dir: None,
+        virtual_clock: time,
     })
 }
 

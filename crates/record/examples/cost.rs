@@ -51,7 +51,7 @@ fn run(ends: u32, rec: Option<&Recorder>) -> f64 {
             let _ = c.write_value(&d0, &Value::Int(n as i64 & 0x7FFF));
         }
         if let Some(r) = rec {
-            r.end(&c);
+            r.end(&c, u64::from(n) + 1);
         }
     }
     t.elapsed().as_secs_f64() * 1e6 / ends as f64

@@ -42,8 +42,8 @@ impl Source {
     /// The source of a door named by the serve layer (`softplc_serve::Listener::door`).
     pub fn of_door(door: &str) -> Source {
         match door {
-            "MC" => Source::Mc,
-            "Modbus" => Source::Modbus,
+            "MC protocol" => Source::Mc,
+            "Modbus TCP" => Source::Modbus,
             "HTTP" => Source::Http,
             "OPC UA" => Source::OpcUa,
             "MQTT" => Source::Mqtt,

@@ -37,6 +37,8 @@ struct Inner {
     full: bool,
     /// Scan count of the last frame written.
     scans: u64,
+    /// The serve engine's END number of the last frame.
+    end: u64,
 }
 
 struct Output {
@@ -107,12 +109,16 @@ impl Recorder {
         Ok(())
     }
 
-    /// After END processing (its requests served): the frame of this END.
-    pub fn end(&self, cpu: &Cpu) {
+    /// After END processing (its requests served): the frame of END
+    /// number `end` (the serve engine's count of scans). Requests served
+    /// again before the next scan (a paced or held END) call it with the same
+    /// number: their changes stay for the next frame, before its scan.
+    pub fn end(&self, cpu: &Cpu, end: u64) {
         let mut g = self.lock();
-        if g.done {
+        if g.done || end == g.end {
             return;
         }
+        g.end = end;
         if cpu.aborted() {
             // Stopped mid-scan (Ctrl-C/SIGTERM): that scan is not a whole
             // one; the recording ends at the END before it.

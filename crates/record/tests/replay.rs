@@ -81,7 +81,7 @@ fn record(path: &std::path::Path) -> Cpu {
             50 => live.set_run().unwrap(),
             _ => {}
         }
-        rec.end(&live);
+        rec.end(&live, n);
     }
     rec.finish().unwrap();
     live

@@ -2,7 +2,8 @@
 //! scan period while protocol servers (MC protocol, Modbus) talk to it. Every
 //! request is served by the engine thread at END processing (see [`engine`]),
 //! the way the CPU processes communication, so replies are consistent with a
-//! completed scan and clients can never stall a scan.
+//! completed scan and clients can never stall a scan. With `--time-scale` or
+//! `--lockstep` the CPUs run in virtual time instead (see [`sim`]).
 
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
@@ -15,6 +16,7 @@ pub mod engine;
 pub mod mc;
 pub mod modbus;
 pub mod serial;
+pub mod sim;
 pub mod tcp;
 pub mod udp;
 
@@ -23,6 +25,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
+pub use sim::{Advance, AdvanceRefused, Advanced, TimeScale, VirtualTime};
 pub use softplc_core::system::Cpus;
 pub use tcp::{FrameLen, Protocol};
 
@@ -46,7 +49,7 @@ pub enum Bound {
 }
 
 impl Listener {
-    /// Names the door its requests come through (`"MC"`, `"Modbus"`,
+    /// Names the door its requests come through (`"MC protocol"`, `"Modbus TCP"`,
     /// `"HTTP"`, `"OPC UA"`): a recording tells them apart by it.
     pub fn door(mut self, door: &'static str) -> Listener {
         self.door = door;
@@ -59,7 +62,7 @@ impl Listener {
         Listener {
             addr,
             udp: true,
-            door: "MC",
+            door: "MC protocol",
             client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
@@ -108,7 +111,7 @@ impl Listener {
         Listener {
             addr,
             udp: false,
-            door: "",
+            door: proto.door(),
             client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => tokio::spawn(tcp::serve(l, proto, e, max_conns)),
