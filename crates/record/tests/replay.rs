@@ -74,9 +74,11 @@ fn record(path: &std::path::Path) -> Cpu {
             20 => live.write_device(&d("D20"), "H7F").unwrap(),
             30 => live.set_stop(),
             33 => live.set_run().unwrap(),
+            38 => live.force(DeviceKind::Y, 3, true).unwrap(),
             40 => {
                 live.release(DeviceKind::X, 1);
             }
+            42 => live.release_all(),
             45 => live.set_pause().unwrap(),
             50 => live.set_run().unwrap(),
             _ => {}

@@ -96,9 +96,12 @@ impl Cpu {
 
     /// Releases every force.
     pub fn release_all(&mut self) {
-        while let Some(f) = self.rt.forces.last().copied() {
-            self.release(f.kind, f.n);
-        }
+        self.untold(|cpu| {
+            while let Some(f) = cpu.rt.forces.last().copied() {
+                cpu.release(f.kind, f.n);
+            }
+        });
+        self.note(DoorEvent::ReleaseAll);
     }
 
     /// The forced devices: (kind, number, value), in the order they were forced.
