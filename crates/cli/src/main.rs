@@ -7,6 +7,8 @@ mod http;
 mod names;
 mod online;
 mod opcua;
+mod record;
+mod replay;
 mod run;
 mod run_system;
 mod serve;
@@ -105,6 +107,19 @@ enum Command {
     ///
     /// Example: softplc serve examples/blink.il --mc 127.0.0.1:5010
     Serve(Box<serve::ServeArgs>),
+    /// Replay a recording of `serve --record` in virtual time and report
+    /// devices as `run` does (docs/recording.md).
+    ///
+    /// The recording embeds the program's files, its model, the calendar at
+    /// power-on, every clock reading the CPU took and every change from
+    /// outside with the END it took effect at, so the replay ends with the
+    /// device values the live CPU had at its last recorded END. With
+    /// --program, a changed program runs beside the recorded one on the same
+    /// changes and clock, and the first scan where each --diverge device
+    /// differs is reported: what a fix would have done in that session.
+    ///
+    /// Example: softplc replay incident.rec --show D0 --program fixed.il --diverge Y0
+    Replay(Box<replay::ReplayArgs>),
 }
 
 fn main() -> ExitCode {
@@ -121,5 +136,6 @@ fn main() -> ExitCode {
         Command::Test(args) => test_cmd::run(*args),
         Command::Tune(args) => tune_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
+        Command::Replay(args) => replay::replay(*args),
     }
 }

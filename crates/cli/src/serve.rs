@@ -14,6 +14,8 @@ use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
 use softplc_serve::{TimeScale, VirtualTime};
 
+use softplc_record::{Recorder, Source};
+
 use crate::run::{parse_datetime, parse_duration};
 use crate::served::{load_served, Served};
 
@@ -175,6 +177,18 @@ pub struct ServeArgs {
     /// plc.toml changes need a restart.
     #[arg(long)]
     pub watch: bool,
+    /// Record the session for `softplc replay` (docs/recording.md): every
+    /// change from outside (writes by MC, Modbus, HTTP, OPC UA, MQTT and the
+    /// serial ports, forcing, RUN/STOP/PAUSE/RESET) with the END it took effect at,
+    /// every clock reading the CPU takes and the program's files. A single CPU
+    /// only.
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+    /// Largest recording, e.g. 200MiB (default 1GiB). Recording stops there
+    /// with a message and the server runs on; the recording replays up to
+    /// that END.
+    #[arg(long, value_name = "SIZE", value_parser = crate::record::parse_size, requires = "record")]
+    pub record_max_size: Option<u64>,
 }
 
 /// The MQTT publisher when `--mqtt` asks for one.
@@ -213,6 +227,9 @@ fn article(model: &str) -> &'static str {
     }
 }
 
+/// `--record-max-size` by default.
+const DEFAULT_RECORD_MAX: u64 = 1 << 30;
+
 fn host_clock() -> DateTime {
     let s = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
@@ -236,6 +253,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     }
     let restore_clock = args.clock.is_none();
     let start = args.clock.unwrap_or_else(host_clock);
+    let recorder = args.record.as_ref().map(|_| Recorder::new());
     let Served {
         mut state,
         battery,
@@ -245,11 +263,30 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         opcua,
         ports,
         cpus,
+        state_dir,
         virtual_clock,
-    } = match load_served(&args, start, restore_clock) {
+    } = match load_served(&args, start, restore_clock, recorder.as_ref()) {
         Ok(s) => s,
         Err(code) => return code,
     };
+    if let (Some(rec), Some(path)) = (&recorder, &args.record) {
+        let skip: Vec<PathBuf> = [Some(path.clone()), state_dir]
+            .into_iter()
+            .flatten()
+            .collect();
+        let header = crate::record::header(
+            &args.program,
+            args.model.as_deref(),
+            state.cpu().profile().model,
+            start,
+            period.as_micros() as u64,
+            &skip,
+        );
+        let max = args.record_max_size.unwrap_or(DEFAULT_RECORD_MAX);
+        if let Err(e) = header.and_then(|h| crate::record::start(rec, &mut state, path, &h, max)) {
+            return fail(format!("--record: {e}"));
+        }
+    }
     if let Some(clock) = virtual_clock {
         state.set_virtual_time(VirtualTime {
             clock,
@@ -327,7 +364,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             limits,
             online,
         };
-        listeners.push(softplc_http::listener(addr, cfg));
+        listeners.push(softplc_http::listener(addr, cfg).door("HTTP"));
         names.push("web monitor".to_string());
     } else {
         if args.lockstep {
@@ -363,7 +400,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     };
     match crate::opcua::listener(&opcua_args, opcua.as_ref(), &base, period, &state) {
         Ok(Some(l)) => {
-            listeners.push(l);
+            listeners.push(l.door("OPC UA"));
             names.push("OPC UA".to_string());
         }
         Ok(None) => {}
@@ -476,7 +513,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         }
     }
     if !ports.is_empty() {
+        let rec = recorder.clone();
         state.add_hook(Box::new(move |st: &mut ServeState| {
+            if let Some(r) = &rec {
+                r.set_source(Source::Ports);
+            }
             ports.after_end(st.cpu_mut());
             for e in ports.take_errors() {
                 eprintln!("softplc: {e}");
@@ -487,7 +528,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
     // order of the servers' names.
     match mqtt_listener(&args, &state) {
         Ok(Some(l)) => {
-            listeners.push(l);
+            listeners.push(l.door("MQTT"));
             if let Some(url) = &args.mqtt {
                 let broker = softplc_mqtt::Broker::parse(url).map(|b| b.display());
                 names.push(format!("MQTT to {}", broker.unwrap_or_default()));
@@ -521,6 +562,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             }
         }
     });
+    let recorded = recorder.map(|r| r.finish());
     match result {
         Ok(s) => {
             let st = &s.stats;
@@ -528,7 +570,14 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 "softplc: stopped after {} scans; max scan {} us, {} overruns, {} requests",
                 st.scans, st.max_us, st.overruns, st.requests
             );
-            ExitCode::SUCCESS
+            match recorded {
+                Some(Ok((path, bytes))) => {
+                    eprintln!("softplc: recorded to {} ({bytes} bytes)", path.display());
+                    ExitCode::SUCCESS
+                }
+                Some(Err(e)) => fail(format!("--record: {e}")),
+                None => ExitCode::SUCCESS,
+            }
         }
         Err(e) => fail(format!("cannot serve: {e}")),
     }

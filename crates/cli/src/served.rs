@@ -11,6 +11,7 @@ use softplc_core::engine::calendar::DateTime;
 use softplc_core::engine::{Clock, Cpu, MonotonicClock, VirtualClock};
 use softplc_core::persist::{Attach, Battery, OnDamage};
 use softplc_core::system::System;
+use softplc_record::Recorder;
 use softplc_serve::ServeState;
 
 use crate::run::{load, power_on, sanitize, use_exec, Loaded};
@@ -33,6 +34,8 @@ pub struct Served {
     pub ports: Vec<softplc_core::aplc::PortConfig>,
     /// One line per CPU of a system for the start message (empty for one CPU).
     pub cpus: Vec<String>,
+    /// A single CPU's state directory.
+    pub state_dir: Option<std::path::PathBuf>,
     /// The clock the CPUs run on with --time-scale or --lockstep (else the
     /// monotonic clock).
     pub virtual_clock: Option<VirtualClock>,
@@ -54,27 +57,41 @@ fn clock_on(time: &Option<VirtualClock>, monotonic: &MonotonicClock) -> Box<dyn 
 
 /// Loads what `args.program` names, powered on (`Err`: the exit code, the
 /// diagnostics printed).
+/// With `rec`, the CPU's clock readings and its changes from outside from
+/// the load on are recorded (one CPU only).
 pub fn load_served(
     args: &ServeArgs,
     start: DateTime,
     restore_clock: bool,
+    rec: Option<&Recorder>,
 ) -> Result<Served, ExitCode> {
     if softplc_core::system::is_system(&args.program) {
+        if rec.is_some() {
+            eprintln!(
+                "softplc: --record: a multi-CPU system cannot be recorded yet; serve and record one CPU's project"
+            );
+            return Err(ExitCode::from(2));
+        }
         load_system(args, start, restore_clock)
     } else {
-        load_one(args, start, restore_clock)
+        load_one(args, start, restore_clock, rec)
     }
 }
 
 /// A single program file or project.
-fn load_one(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result<Served, ExitCode> {
+fn load_one(
+    args: &ServeArgs,
+    start: DateTime,
+    restore_clock: bool,
+    rec: Option<&Recorder>,
+) -> Result<Served, ExitCode> {
     let time = virtual_clock(args);
-    let mut loaded = load(
-        &args.program,
-        clock_on(&time, &MonotonicClock::default()),
-        Some(start),
-        args.model.as_deref(),
-    )?;
+    let clock = clock_on(&time, &MonotonicClock::default());
+    let clock = match rec {
+        Some(r) => r.clock(clock),
+        None => clock,
+    };
+    let mut loaded = load(&args.program, clock, Some(start), args.model.as_deref())?;
     use_exec(&mut loaded, args.exec, args.stats)?;
     let Loaded {
         mut cpu,
@@ -90,11 +107,17 @@ fn load_one(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result<Se
         .scan_time
         .or(cpu.config().constant_scan)
         .unwrap_or(DEFAULT_PERIOD);
-    let battery = match args.state.clone().or(state) {
-        Some(dir) => Some(attach(&dir, &mut cpu, restore_clock, on_damage)?),
+    if let Some(r) = rec {
+        // From here on: the battery-backed image and the calendar restored.
+        cpu.set_journal(Some(r.journal()));
+    }
+    let state_dir = args.state.clone().or(state);
+    let battery = match &state_dir {
+        Some(dir) => Some(attach(dir, &mut cpu, restore_clock, on_damage)?),
         None => None,
     };
     Ok(Served {
+        state_dir,
         state: ServeState::new(cpu),
         battery,
         period,
@@ -180,6 +203,7 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
         opcua,
         ports: Vec::new(),
         cpus,
+        state_dir: None,
         virtual_clock: time,
     })
 }

@@ -18,7 +18,7 @@ pub mod trace;
 use std::time::Duration;
 
 pub use cpu::{
-    Cpu, Hold, LoadedProgram, OnlineLimits, ProgramMonitor, Refusal, Written,
+    Cpu, DoorEvent, Hold, Journal, LoadedProgram, OnlineLimits, ProgramMonitor, Refusal, Written,
     VIRTUAL_WATCHDOG_FLOOR,
 };
 pub use softplc_ir::calendar;

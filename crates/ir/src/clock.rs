@@ -13,6 +13,13 @@ pub trait Clock: Send {
     /// END, contract §7); the clock goes on from there.
     fn restore_us(&mut self, now_us: u64);
 
+    /// A reading that drives nothing in the CPU (a tool looking at the
+    /// time: the calendar shown, a serial port's timeout). A recording
+    /// clock does not record it, so a replay need not make it.
+    fn peek_us(&self) -> u64 {
+        self.now_us()
+    }
+
     /// Virtual time: instructions take none of it, so the engine's wall-clock
     /// watchdog only guards against endless scans (see
     /// `softplc_engine::VIRTUAL_WATCHDOG_FLOOR`).

@@ -98,9 +98,18 @@ pub struct ServeState {
     /// Called on the engine thread after every scan, before the requests of
     /// its END (the web monitor's step, breakpoints and snapshots). Add one
     /// from a request with [`ServeState::add_hook`].
-    hooks: Vec<Hook>,
+    hooks: Vec<(&'static str, Hook)>,
+    /// Called after the requests of every END, before its commit
+    /// ([`ServeState::add_after_requests`]: a recording's frame).
+    after_requests: Vec<Hook>,
+    /// The door whose request or hook runs now ([`EngineHandle::for_door`]),
+    /// and who is told when it changes ([`ServeState::watch_doors`]).
+    door: &'static str,
+    door_watch: Option<Box<dyn FnMut(&'static str) + Send>>,
     /// The CPU whose scan ended last.
     scanned: usize,
+    /// Scans (ENDs) the engine has run, executed or not.
+    ends: u64,
     /// Virtual time (`serve --time-scale`, `--lockstep`), when the CPUs run
     /// on it ([`ServeState::set_virtual_time`]).
     pub(crate) sim: Option<crate::sim::Sim>,
@@ -135,7 +144,11 @@ impl ServeState {
             batteries,
             replies: Vec::new(),
             hooks: Vec::new(),
+            after_requests: Vec::new(),
+            door: "",
+            door_watch: None,
             scanned: 0,
+            ends: 0,
             sim: None,
         }
     }
@@ -163,6 +176,13 @@ impl ServeState {
         self.cpus.len()
     }
 
+    /// Scans (ENDs) the engine has run since it started, STOP and PAUSE
+    /// included: requests served again before the next scan (at a held or
+    /// paced END) see the same count.
+    pub fn ends(&self) -> u64 {
+        self.ends
+    }
+
     /// The CPU (0-based) whose scan ended last: the END hooks run after it.
     pub fn scanned(&self) -> usize {
         self.scanned
@@ -176,8 +196,30 @@ impl ServeState {
 
     /// Runs `hook` after every scan from the next one on, before the requests
     /// of that END are served.
+    /// The hook belongs to the door whose request adds it.
     pub fn add_hook(&mut self, hook: Hook) {
-        self.hooks.push(hook);
+        self.hooks.push((self.door, hook));
+    }
+
+    /// Runs `hook` after the requests of every END, before its commit and
+    /// replies.
+    pub fn add_after_requests(&mut self, hook: Hook) {
+        self.after_requests.push(hook);
+    }
+
+    /// Calls `watch` with the door (`"MC protocol"`, `"HTTP"` …, empty for none)
+    /// each time requests or hooks of another door start to run.
+    pub fn watch_doors(&mut self, watch: Box<dyn FnMut(&'static str) + Send>) {
+        self.door_watch = Some(watch);
+    }
+
+    fn enter_door(&mut self, door: &'static str) {
+        if self.door != door {
+            self.door = door;
+            if let Some(w) = &mut self.door_watch {
+                w(door);
+            }
+        }
     }
 
     /// Runs the END hooks (the engine thread, after each scan).
@@ -186,12 +228,26 @@ impl ServeState {
             return;
         }
         let mut hooks = std::mem::take(&mut self.hooks);
-        for h in &mut hooks {
+        for (door, h) in &mut hooks {
+            self.enter_door(door);
             h(self);
         }
         // Hooks added by a hook run from the next END.
         hooks.append(&mut self.hooks);
         self.hooks = hooks;
+    }
+
+    fn run_after_requests(&mut self) {
+        if self.after_requests.is_empty() {
+            return;
+        }
+        self.enter_door("");
+        let mut hooks = std::mem::take(&mut self.after_requests);
+        for h in &mut hooks {
+            h(self);
+        }
+        hooks.append(&mut self.after_requests);
+        self.after_requests = hooks;
     }
 
     /// The shared protocol state of type `T`, created with `T::default()` on first use.
@@ -218,6 +274,18 @@ pub struct Busy;
 #[derive(Clone)]
 pub struct EngineHandle {
     tx: SyncSender<Job>,
+    /// The door whose requests this handle sends (empty: none named).
+    door: &'static str,
+}
+
+impl EngineHandle {
+    /// A handle whose requests are `door`'s (a recording names it).
+    pub fn for_door(&self, door: &'static str) -> EngineHandle {
+        EngineHandle {
+            tx: self.tx.clone(),
+            door,
+        }
+    }
 }
 
 impl EngineHandle {
@@ -228,7 +296,9 @@ impl EngineHandle {
         F: FnOnce(&mut ServeState) -> R + Send + 'static,
     {
         let (otx, orx) = tokio::sync::oneshot::channel();
+        let door = self.door;
         let job: Job = Box::new(move |s| {
+            s.enter_door(door);
             let r = f(s);
             s.replies.push(Box::new(move || {
                 let _ = otx.send(r);
@@ -249,7 +319,9 @@ impl EngineHandle {
         F: FnOnce(&mut ServeState) -> R + Send + 'static,
     {
         let (otx, orx) = std::sync::mpsc::sync_channel(1);
+        let door = self.door;
         let job: Job = Box::new(move |s| {
+            s.enter_door(door);
             let r = f(s);
             s.replies.push(Box::new(move || {
                 let _ = otx.send(r);
@@ -298,7 +370,7 @@ pub fn spawn(
         .name("softplc-engine".into())
         .spawn(move || run(state, cfg, rx, stop, &beat))
         .expect("spawn the engine thread");
-    (EngineHandle { tx }, join)
+    (EngineHandle { tx, door: "" }, join)
 }
 
 /// What the engine thread is doing, for the stall watch.
@@ -426,6 +498,7 @@ pub(crate) fn scan_cpu(s: &mut ServeState, i: usize, start: Instant, beat: &Hear
         Cpus::System(sys) => sys.scan(i),
     }
     s.scanned = i;
+    s.ends += 1;
     beat.finished.fetch_add(1, Ordering::Relaxed);
     if s.cpus.get(i).scans() != executed {
         let exec = start.elapsed().as_micros() as u64;
@@ -454,6 +527,7 @@ pub(crate) fn serve_end(s: &mut ServeState, rx: &Receiver<Job>, cfg: &EngineConf
             Err(_) => break,
         }
     }
+    s.run_after_requests();
     reply_after_commit(s, cfg);
 }
 

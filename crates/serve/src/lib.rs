@@ -34,6 +34,8 @@ pub use tcp::{FrameLen, Protocol};
 pub struct Listener {
     pub addr: SocketAddr,
     udp: bool,
+    /// The door its requests come through (a recording names it).
+    door: &'static str,
     /// A client of a server elsewhere (MQTT): nothing is bound.
     client: bool,
     start: Box<dyn FnOnce(Bound, EngineHandle) -> tokio::task::JoinHandle<()> + Send>,
@@ -48,12 +50,20 @@ pub enum Bound {
 }
 
 impl Listener {
+    /// Names the door its requests come through (`"MC protocol"`, `"Modbus TCP"`,
+    /// `"HTTP"`, `"OPC UA"`): a recording tells them apart by it.
+    pub fn door(mut self, door: &'static str) -> Listener {
+        self.door = door;
+        self
+    }
+
     /// The MC protocol over UDP on `addr`.
     pub fn mc_udp(addr: SocketAddr, mc: mc::Mc) -> Listener {
         let mc = Arc::new(mc);
         Listener {
             addr,
             udp: true,
+            door: "MC protocol",
             client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Udp(s) => tokio::spawn(udp::serve(s, mc, e)),
@@ -73,6 +83,7 @@ impl Listener {
         Listener {
             addr,
             udp: false,
+            door: "",
             client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => start(l, e),
@@ -90,6 +101,7 @@ impl Listener {
             addr: SocketAddr::from(([0, 0, 0, 0], 0)),
             udp: false,
             client: true,
+            door: "",
             start: Box::new(move |_, e| start(e)),
         }
     }
@@ -100,6 +112,7 @@ impl Listener {
         Listener {
             addr,
             udp: false,
+            door: proto.door(),
             client: false,
             start: Box::new(move |l, e| match l {
                 Bound::Tcp(l) => tokio::spawn(tcp::serve(l, proto, e, max_conns)),
@@ -158,7 +171,7 @@ pub fn run(
                 s.proto,
                 s.map,
                 s.slave,
-                handle.clone(),
+                handle.for_door("serial"),
                 stop.clone(),
             )
         })
@@ -177,7 +190,7 @@ pub fn run(
                 bound.push(s.local_addr()?);
                 Bound::Tcp(s)
             };
-            (l.start)(socket, handle.clone());
+            (l.start)(socket, handle.for_door(l.door));
         }
         Ok::<_, std::io::Error>(bound)
     });

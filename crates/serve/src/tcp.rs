@@ -46,7 +46,7 @@ pub trait Protocol: Send + Sync + 'static {
     ) -> Option<Vec<u8>>;
     /// The reply when the engine cannot take the request (queue full).
     fn busy(&self, frame: &[u8]) -> Option<Vec<u8>>;
-    /// The door's name in log lines.
+    /// The door's name in log lines and recordings (`serve --record`).
     fn door(&self) -> &'static str {
         "TCP server"
     }

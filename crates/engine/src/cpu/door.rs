@@ -19,6 +19,7 @@ impl Cpu {
         spec.write(&mut self.rt.mem, value)?;
         self.mirror_spec(spec);
         self.force_spec(spec);
+        self.note(DoorEvent::Text { spec, value });
         Ok(())
     }
 
@@ -28,6 +29,7 @@ impl Cpu {
         spec.write_value(&mut self.rt.mem, value)?;
         self.mirror_spec(spec);
         self.force_spec(spec);
+        self.note(DoorEvent::Value { spec, value });
         Ok(())
     }
 
@@ -50,6 +52,16 @@ impl Cpu {
         if !self.rt.forces.is_empty() {
             self.force_written(Some((s.kind(), s.number(), s.len())));
         }
+        if self.has_journal() {
+            let (kind, number, len, block) = (s.kind(), s.number(), s.len(), self.block_of(s));
+            self.note(DoorEvent::Words {
+                kind,
+                number,
+                len,
+                block,
+                values,
+            });
+        }
         Ok(())
     }
 
@@ -60,13 +72,24 @@ impl Cpu {
         if !self.rt.forces.is_empty() {
             self.force_written(Some((s.kind(), s.number(), s.len())));
         }
+        if self.has_journal() {
+            let (kind, number, block) = (s.kind(), s.number(), self.block_of(s));
+            self.note(DoorEvent::Bits {
+                kind,
+                number,
+                block,
+                values,
+            });
+        }
         Ok(())
     }
 
     /// Writes word `n` of `kind` (a tool's or a test's point write; R is
     /// block 0's, as in names).
     pub fn set_word(&mut self, kind: DeviceKind, n: i64, v: u16) -> Result<(), OutOfRange> {
-        self.rt.mem.set_word(kind, n, v)
+        self.rt.mem.set_word(kind, n, v)?;
+        self.note(DoorEvent::Word { kind, n, value: v });
+        Ok(())
     }
 
     /// Writes bit `n` of `kind`; X goes to the input image as well and a
@@ -79,6 +102,11 @@ impl Cpu {
         if !self.rt.forces.is_empty() {
             self.force_written(Some((kind, n, 1)));
         }
+        self.note(DoorEvent::Bit {
+            kind,
+            n: n as i64,
+            value: v,
+        });
         Ok(())
     }
 
@@ -93,12 +121,26 @@ impl Cpu {
         if !self.rt.forces.is_empty() {
             self.force_written(Some((DeviceKind::X, n, 1)));
         }
+        self.note(DoorEvent::Input { n, on });
     }
 
     /// The input image's X`n`: what the input module presents (OFF past
     /// the last X).
     pub fn input(&self, n: u32) -> bool {
         self.rt.inputs.get(n as usize).copied().unwrap_or(false)
+    }
+
+    /// The file-register block span `s` was resolved in (block 0 unless it
+    /// is an R span resolved in another selected block).
+    fn block_of(&self, s: &Span) -> RBlock {
+        let first = self
+            .rt
+            .mem
+            .span(s.kind(), s.number(), s.len(), RBlock::First);
+        match first {
+            Ok(f) if f == *s => RBlock::First,
+            _ => RBlock::Selected,
+        }
     }
 
     /// Forced values win over a write by name (see [`super::force`]).

@@ -6,7 +6,7 @@ use softplc_ir::system::{End, EndCtx, ScanSplit, ScanTimes};
 impl Cpu {
     /// The calendar clock now, µs since 1970.
     pub fn calendar_unix_us(&self) -> i64 {
-        self.rt.clock.unix_us(self.clock.now_us())
+        self.rt.clock.unix_us(self.clock.peek_us())
     }
 
     /// Sets the calendar clock (µs since 1970), e.g. from the state directory.
@@ -14,6 +14,7 @@ impl Cpu {
         let now = self.clock.now_us();
         let t = softplc_ir::calendar::DateTime::from_unix(us.div_euclid(1_000_000));
         self.rt.clock.set(t, now);
+        self.note(DoorEvent::Calendar { unix_us: us });
     }
 
     /// The program monitor list: every program file in parameter order.

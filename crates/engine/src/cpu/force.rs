@@ -70,6 +70,7 @@ impl Cpu {
             }
         }
         self.rt.mem.bits[bit] = on;
+        self.note(DoorEvent::Force { kind, n, on });
         Ok(())
     }
 
@@ -89,14 +90,18 @@ impl Cpu {
             DeviceKind::X => self.rt.inputs.get(n as usize).copied().unwrap_or(f.under),
             _ => f.under,
         };
+        self.note(DoorEvent::Release { kind, n });
         true
     }
 
     /// Releases every force.
     pub fn release_all(&mut self) {
-        while let Some(f) = self.rt.forces.last().copied() {
-            self.release(f.kind, f.n);
-        }
+        self.untold(|cpu| {
+            while let Some(f) = cpu.rt.forces.last().copied() {
+                cpu.release(f.kind, f.n);
+            }
+        });
+        self.note(DoorEvent::ReleaseAll);
     }
 
     /// The forced devices: (kind, number, value), in the order they were forced.

@@ -6,13 +6,16 @@
 //! values, the input image), [`schedule`] runs a scan (program execution types,
 //! low-speed and fixed-scan programs), [`interrupts`] the interrupt requests
 //! and their service, [`end`] is END processing
-//! and the monitors, [`retained`] the battery-backed memory image.
+//! and the monitors, [`retained`] the battery-backed memory image,
+//! [`journal`] tells a recording every change from outside.
 
 mod door;
 mod end;
 mod force;
 mod interrupts;
 pub(crate) use interrupts::Requests;
+mod journal;
+pub use journal::{DoorEvent, Journal};
 mod online;
 pub use online::{OnlineLimits, Written};
 mod rack;
@@ -172,6 +175,8 @@ pub struct Cpu {
     low_max_us: u64,
     /// The rack's modules and interrupt requests.
     rack: rack::RackState,
+    /// Told every change from outside ([`journal`]).
+    journal: Option<Box<dyn Journal>>,
 }
 
 impl Cpu {
@@ -324,6 +329,7 @@ impl Cpu {
             low_used_us: 0,
             low_min_us: None,
             low_max_us: 0,
+            journal: None,
         };
         cpu.power_on();
         Ok(cpu)
@@ -440,9 +446,11 @@ impl Cpu {
     /// program without local devices (or a CPU without them) sees device
     /// memory as it is. Between scans only: at END, in STOP or PAUSE.
     pub fn with_local_devices_of<R>(&mut self, slot: usize, f: impl FnOnce(&mut Cpu) -> R) -> R {
+        self.note(DoorEvent::LocalsOf { slot });
         let back = self.rt.show_locals(slot);
         let r = f(self);
         self.rt.leave_locals(back);
+        self.note(DoorEvent::LocalsEnd);
         r
     }
 
@@ -484,9 +492,11 @@ impl Cpu {
         wall_watchdog(t, self.clock.is_virtual())
     }
 
-    /// Reads the engine clock (µs).
+    /// Reads the engine clock (µs), for a tool outside the scan (a serial
+    /// port's timeouts): a look that drives nothing in the CPU
+    /// ([`Clock::peek_us`]).
     pub fn now_us(&self) -> u64 {
-        self.clock.now_us()
+        self.clock.peek_us()
     }
 
     /// The external output Y`n`: the Y device while running or paused, in

@@ -146,7 +146,7 @@ impl Cpu {
             stats.short_run_ops = self.natives.iter().map(|n| n.short_run_ops()).sum();
         }
         self.program_writes += 1;
-        Ok(Written {
+        let written = Written {
             slot,
             kept: carry.kept,
             added: carry.added,
@@ -155,7 +155,11 @@ impl Cpu {
             steps: new.steps,
             falling_edges: falling.len(),
             scan: self.scans,
-        })
+        };
+        self.note(super::DoorEvent::Unrecordable {
+            why: "a program file was written during RUN",
+        });
+        Ok(written)
     }
 
     /// Writes during RUN so far: the tools that show the programs redraw

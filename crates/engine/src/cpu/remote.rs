@@ -101,7 +101,9 @@ impl Cpu {
     pub fn remote_run(&mut self, client: u32, force: bool) -> Result<(), Refusal> {
         self.check_holder(client, force)?;
         self.remote.held = None;
-        self.run_unless_stopped().map_err(Refusal::StopHeld)
+        let r = self.run_unless_stopped().map_err(Refusal::StopHeld);
+        self.note(DoorEvent::RemoteRun { client, force });
+        r
     }
 
     /// Remote STOP by `client` (004 §7.6.1): the CPU stops at once (requests
@@ -111,6 +113,7 @@ impl Cpu {
         self.check_holder(client, force)?;
         self.remote.held = Some((client, Hold::Stop));
         self.enter_stop(Cause::Remote);
+        self.note(DoorEvent::RemoteStop { client, force });
         Ok(())
     }
 
@@ -122,6 +125,7 @@ impl Cpu {
             return Err(Refusal::Stopped);
         }
         self.remote.held = Some((client, Hold::Pause));
+        self.note(DoorEvent::RemotePause { client, force });
         Ok(())
     }
 
@@ -129,7 +133,9 @@ impl Cpu {
     /// allows it.
     pub fn remote_reset(&mut self) -> Result<(), Refusal> {
         self.remote_reset_allowed()?;
-        self.reset().map_err(Refusal::StopHeld)
+        let r = self.untold(Cpu::reset).map_err(Refusal::StopHeld);
+        self.note(DoorEvent::RemoteReset);
+        r
     }
 
     /// Whether a remote RESET would be accepted now.

@@ -84,6 +84,7 @@ impl Cpu {
             }
         }
         self.write_initial_values();
+        self.note(DoorEvent::Retained { data });
     }
 
     /// A flag that stops the CPU when set, even in the middle of a scan stuck
@@ -115,6 +116,7 @@ impl Cpu {
             self.stop_error = true;
             self.enter_stop(softplc_ir::system::Cause::Error);
         }
+        self.note(DoorEvent::BatteryError { stop });
     }
 
     /// (region name, is bit array, flat start, points) of every retained span.

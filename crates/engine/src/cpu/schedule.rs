@@ -12,6 +12,11 @@ impl Cpu {
     /// initial programs instead, followed by one END (004 §4.2.1). In STOP and
     /// PAUSE only END processing happens.
     pub fn scan(&mut self) {
+        // What the scan changes is the CPU's own doing, not the door's.
+        self.untold(Cpu::scan_untold)
+    }
+
+    fn scan_untold(&mut self) {
         let now = self.clock.now_us();
         if self.state != CpuState::Run {
             self.last_end_us = now;

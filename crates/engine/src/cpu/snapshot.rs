@@ -44,6 +44,11 @@ impl Cpu {
     /// it ([`Snap`]). Call between scans. After a load the clock reads the
     /// file's time.
     pub fn snapshot(&mut self, s: &mut Snap) {
+        if s.loading() {
+            self.note(super::DoorEvent::Unrecordable {
+                why: "a state file was loaded",
+            });
+        }
         // Times of the past are at most the file's clock, times to come
         // at most a day beyond it: an edited file cannot make a later
         // scan's arithmetic overflow.

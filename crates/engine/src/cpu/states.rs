@@ -13,7 +13,9 @@ impl Cpu {
     /// STOP: 004 §7.6.1 (3)); the switch is at RUN all the same.
     pub fn set_run(&mut self) -> Result<(), String> {
         self.set_switch_stop(false);
-        self.run_unless_stopped()
+        let r = self.run_unless_stopped();
+        self.note(DoorEvent::Run);
+        r
     }
 
     /// STOP→RUN, or PAUSE→RUN.
@@ -51,6 +53,7 @@ impl Cpu {
         self.stopped_by_instruction = false;
         self.set_switch_stop(true);
         self.enter_stop(Cause::Switch);
+        self.note(DoorEvent::Stop);
     }
 
     /// STOP from any cause (the switch, a remote STOP, the RUN contact, a
@@ -119,6 +122,7 @@ impl Cpu {
                 self.state = CpuState::Pause;
                 self.cause = Cause::Remote;
                 self.show_status();
+                self.note(DoorEvent::Pause);
                 Ok(())
             }
         }
@@ -134,6 +138,7 @@ impl Cpu {
             return Err("RESET is accepted only in STOP".into());
         }
         self.power_on();
+        self.note(DoorEvent::Reset);
         Ok(())
     }
 
@@ -168,6 +173,7 @@ impl Cpu {
             self.stop_error = false;
             self.system_power_on();
         }
+        self.note(DoorEvent::LatchClear { remote });
         Ok(())
     }
 
@@ -177,6 +183,7 @@ impl Cpu {
     /// kept with [`RunClear::OutsideLatch`] and cleared too with
     /// [`RunClear::All`]. Device initial values are then written again.
     pub fn remote_run_clear(&mut self, mode: RunClear) {
+        self.note(DoorEvent::RunClear(mode));
         let mem = &mut self.rt.mem;
         // Save the latch ranges (timers and counters latch contact, coil and value).
         let mut saved_bits: Vec<(usize, Vec<bool>)> = Vec::new();

@@ -17,6 +17,9 @@ enum Target {
 pub struct DeviceSpec {
     /// The text as given, used as the key in reports.
     pub text: String,
+    /// The text [`Self::parse`] read (a dialect may rename `text`): parsing
+    /// it again gives the same device (a recording's writes by name).
+    door: String,
     target: Target,
     index: Option<u8>,
     /// `U<unit>\\G<n>`: the number is an address in that module's buffer
@@ -80,11 +83,18 @@ impl DeviceSpec {
         };
         Ok(DeviceSpec {
             text: s.to_string(),
+            door: s.to_string(),
             target,
             index,
             unit,
             ty,
         })
+    }
+
+    /// The door's own text of this device (`DeviceSpec::parse` of it gives
+    /// the same device, whatever name a dialect shows).
+    pub fn door_text(&self) -> &str {
+        &self.door
     }
 
     /// The device kind and first number written, for bit devices without index.
