@@ -213,3 +213,64 @@ fn a_torn_or_damaged_recording_is_read_as_far_as_it_is_whole() {
     assert_eq!(player.ends(), 59);
     assert_eq!(again.scans(), 51);
 }
+
+/// A program written during RUN, or a state file loaded, is not a door
+/// write a replay could make: the recording stops at the END before it
+/// (a `Stopped` record with the reason) and replays to that END exactly.
+#[test]
+fn a_program_written_or_a_state_loaded_during_recording_ends_it_there() {
+    for case in ["program", "state"] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.rec");
+        let rec = Recorder::new();
+        let time = VirtualClock::new();
+        let mut live = cpu(rec.clock(Box::new(time.clone())));
+        live.set_journal(Some(rec.journal()));
+        rec.start(&path, &header(), 1 << 20).unwrap();
+        let saved = softplc_core::snapshot::save(&mut live);
+        for n in 1..=20u64 {
+            time.advance_us(10_000);
+            live.scan();
+            if n == 10 {
+                match case {
+                    "program" => {
+                        let cfg = softplc_core::profile::default_config();
+                        let p = compile_il(
+                            "p.il",
+                            &PROGRAM.replace("INC D3", "INC D3\nINC D3"),
+                            &cfg.devices,
+                        )
+                        .unwrap();
+                        live.replace_program(0, p).unwrap();
+                    }
+                    _ => softplc_core::snapshot::load(&mut live, &saved).unwrap(),
+                }
+            }
+            rec.end(&live, n);
+        }
+        let _ = rec.finish();
+        let mut player = Player::open(&path).unwrap();
+        let mut again = cpu(Box::new(player.clock()));
+        player.start(&mut [&mut again]).unwrap();
+        while player.step(&mut [&mut again]).unwrap().is_some() {}
+        let why = match case {
+            "program" => "a program file was written during RUN",
+            _ => "a state file was loaded",
+        };
+        assert_eq!(
+            player.ending(),
+            Some(Ending::Stopped {
+                scans: 9,
+                why: why.into()
+            }),
+            "{case}"
+        );
+        // The replay ends at END 9: D3 counts its scans.
+        assert_eq!(again.scans(), 9, "{case}");
+        assert_eq!(
+            again.read_device(&DeviceSpec::parse("D3").unwrap()),
+            Ok(Value::Int(9)),
+            "{case}"
+        );
+    }
+}

@@ -52,7 +52,9 @@ impl Cpu {
         // Times of the past are at most the file's clock, times to come
         // at most a day beyond it: an edited file cannot make a later
         // scan's arithmetic overflow.
-        let mut now = self.clock.now_us();
+        // A look at the time (`peek_us`): saving drives nothing, so a
+        // recording does not take it as a reading a replay must make.
+        let mut now = self.clock.peek_us();
         s.section(*b"TIME", "clock", |s| {
             now = s.value(now);
             if !s.saving() && now > MAX_TIME_US {
