@@ -1,0 +1,13 @@
+//! softplc as an FMI 3.0 co-simulation FMU (contract §8).
+//!
+//! - [`export`]: `softplc fmu` — modelDescription.xml from the chosen
+//!   devices and the .fmu archive around this crate's shared library.
+//! - [`plc`]: what `resources/` holds and the PLC loaded from it, stepped
+//!   in virtual time as `softplc run` steps it.
+//! - [`slave`]: one instance and FMI's modes, in safe Rust.
+//! - `ffi`: the exported C functions, the crate's only `unsafe`.
+
+pub mod export;
+mod ffi;
+pub mod plc;
+pub mod slave;
