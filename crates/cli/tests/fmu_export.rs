@@ -281,8 +281,8 @@ fn blink_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
         "blink",
         &["examples/blink.il", "--input", "X0", "--input", "X1", "--output", "Y0", "--output", "CN0", "--output", "TN0", "--output", "T0"],
     );
-    assert!(xml.contains(r#"<Boolean name="X0" valueReference="1" causality="input" variability="discrete" start="false"/>"#), "{xml}");
-    assert!(xml.contains(r#"<Int16 name="CN0" valueReference="4" causality="output""#), "{xml}");
+    assert!(xml.contains(r#"<Boolean name="X0" valueReference="2" causality="input" variability="discrete" start="false"/>"#), "{xml}");
+    assert!(xml.contains(r#"<Int16 name="CN0" valueReference="5" causality="output""#), "{xml}");
     // Blinking from the start; X0 off at 2 s, X1 clears the count at 2.5 s,
     // X0 on again at 2.7 s.
     let at = [
@@ -305,7 +305,7 @@ fn heated_tank_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
         "tank",
         &["examples/sim/heated_tank.il", "--input", "X0", "--input", "D800", "--output", "Y0", "--output", "Y1", "--output", "D611", "--output", "D820"],
     );
-    assert!(xml.contains(r#"<Int16 name="D800" valueReference="2" causality="input" variability="discrete" start="0"/>"#), "{xml}");
+    assert!(xml.contains(r#"<Int16 name="D800" valueReference="3" causality="input" variability="discrete" start="0"/>"#), "{xml}");
     // The "A/D" word rises by 50 counts (5 °C) every half second from 20 °C;
     // PID control starts at 1 s.
     let mut at: Vec<(u64, &str, i64)> = (0..12).map(|m| (50 * m + 1, "D800", 200 + 50 * m as i64)).collect();
@@ -357,23 +357,25 @@ fn a_step_runs_the_scans_that_end_by_its_end_within_a_microsecond() {
 fn the_scan_time_parameter_is_set_before_initialization_only() {
     let (_d, program) = counter();
     let (fmu, xml) = export("count", &[&program, "--output", "D0:u16", "--scan-time", "10ms"]);
-    assert!(xml.contains(r#"<Float64 name="scan_time" valueReference="0" causality="parameter" variability="fixed" start="0.01""#), "{xml}");
-    assert!(xml.contains(r#"<UInt16 name="D0:u16" valueReference="1" causality="output""#), "{xml}");
-    assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 0), (OK, 0.01));
-    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 0, 0.001), OK);
-    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 0, 0.0), ERROR);
+    assert!(xml.contains(r#"<Float64 name="scan_time" valueReference="1" causality="parameter" variability="fixed" start="0.01""#), "{xml}");
+    assert!(xml.contains(r#"<UInt16 name="D0:u16" valueReference="2" causality="output""#), "{xml}");
+    assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 1), (OK, 0.01));
+    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.001), OK);
+    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.0), ERROR);
     assert_eq!(fmu.init(), OK);
-    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 0, 0.002), ERROR);
+    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.002), ERROR);
     assert!(fmu.logged().last().unwrap().contains("not allowed in Step mode"), "{:?}", fmu.logged());
     assert_eq!(fmu.step(0.0, 0.1), OK);
     // 1 ms scans: 100 in 0.1 s.
-    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 1), (OK, 100));
+    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 2), (OK, 100));
+    assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 0), (OK, 0.1));
+    assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 0, 0.5), ERROR);
     // Reset: powered on again with the exported scan time.
     assert_eq!(fmu.call("fmi3Reset"), OK);
-    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 1), (OK, 0));
+    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 2), (OK, 0));
     assert_eq!(fmu.init(), OK);
     assert_eq!(fmu.step(0.0, 0.1), OK);
-    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 1), (OK, 10));
+    assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 2), (OK, 10));
 }
 
 #[test]
@@ -388,10 +390,10 @@ fn a_wrong_call_sequence_is_refused_with_a_logged_reason() {
     assert_eq!(fmu.get::<i16>("fmi3GetInt16", 99).0, ERROR);
     assert!(last().contains("no variable has value reference 99"), "{}", last());
     assert_eq!(fmu.get::<i32>("fmi3GetInt32", fmu.vr("D0")).0, ERROR);
-    assert!(last().contains("`D0` (value reference 2) is Int16, not Int32"), "{}", last());
+    assert!(last().contains("`D0` (value reference 3) is Int16, not Int32"), "{}", last());
     assert_eq!(fmu.set::<i16>("fmi3SetInt16", fmu.vr("D0"), 5), ERROR);
-    assert!(last().contains("`D0` (value reference 2) is an output and cannot be set"), "{}", last());
-    assert_eq!(fmu.get::<i8>("fmi3GetInt8", 1).0, ERROR);
+    assert!(last().contains("`D0` (value reference 3) is an output and cannot be set"), "{}", last());
+    assert_eq!(fmu.get::<i8>("fmi3GetInt8", 2).0, ERROR);
     assert!(last().contains("no Int8 variable"), "{}", last());
     // No event mode.
     assert_eq!(fmu.call("fmi3EnterEventMode"), ERROR);

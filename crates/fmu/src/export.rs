@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use quick_xml::escape::escape;
 
 use crate::plc::{self, Causality, Config, FmiType, Plc, CONFIG_FILE, SCAN_TIME};
-use crate::slave::SCAN_TIME_VR;
+use crate::slave::{FIRST_DEVICE_VR, SCAN_TIME_VR, TIME_VR};
 
 /// What to export.
 pub struct Export {
@@ -194,12 +194,16 @@ pub fn model_description(plc: &Plc, model_name: &str, id: &str, token: &str) -> 
     ));
     x.push_str("  <ModelVariables>\n");
     x.push_str(&format!(
+        "    <Float64 name=\"time\" valueReference=\"{TIME_VR}\" causality=\"independent\" \
+         variability=\"continuous\" unit=\"s\" description=\"simulation time\"/>\n"
+    ));
+    x.push_str(&format!(
         "    <Float64 name=\"{SCAN_TIME}\" valueReference=\"{SCAN_TIME_VR}\" causality=\"parameter\" \
          variability=\"fixed\" start=\"{scan_s}\" unit=\"s\" min=\"1e-6\" \
          description=\"virtual time each scan takes\"/>\n"
     ));
     for (i, v) in plc.vars.iter().enumerate() {
-        let vr = i + 1;
+        let vr = i + FIRST_DEVICE_VR as usize;
         let name = escape(&v.name);
         let ty = v.ty.name();
         match v.causality {
@@ -224,13 +228,13 @@ pub fn model_description(plc: &Plc, model_name: &str, id: &str, token: &str) -> 
     for (i, _) in outputs.clone() {
         x.push_str(&format!(
             "    <Output valueReference=\"{}\" dependencies=\"\"/>\n",
-            i + 1
+            i + FIRST_DEVICE_VR as usize
         ));
     }
     for (i, _) in outputs {
         x.push_str(&format!(
             "    <InitialUnknown valueReference=\"{}\" dependencies=\"\"/>\n",
-            i + 1
+            i + FIRST_DEVICE_VR as usize
         ));
     }
     x.push_str("  </ModelStructure>\n</fmiModelDescription>\n");

@@ -601,6 +601,8 @@ macro_rules! unsupported {
     )*};
 }
 
+/// Model exchange functions (importers such as fmpy look every function up).
+const NO_ME: &str = "softplc's FMU is for co-simulation only (no model exchange)";
 const NO_STATE: &str = "not supported (canGetAndSetFMUState is false)";
 
 unsupported! {
@@ -614,6 +616,16 @@ unsupported! {
     fmi3GetDirectionalDerivative(_u: *const u32, _nu: usize, _k: *const u32, _nk: usize, _seed: *const f64, _ns: usize, _sens: *mut f64, _nsens: usize) "not supported (providesDirectionalDerivatives is false)";
     fmi3GetAdjointDerivative(_u: *const u32, _nu: usize, _k: *const u32, _nk: usize, _seed: *const f64, _ns: usize, _sens: *mut f64, _nsens: usize) "not supported (providesAdjointDerivatives is false)";
     fmi3ActivateModelPartition(_clock: u32, _time: f64) "softplc's FMU is for co-simulation only";
+    fmi3EnterContinuousTimeMode() NO_ME;
+    fmi3CompletedIntegratorStep(_no_set: bool, _enter_event_mode: *mut bool, _terminate: *mut bool) NO_ME;
+    fmi3SetTime(_time: f64) NO_ME;
+    fmi3SetContinuousStates(_x: *const f64, _n: usize) NO_ME;
+    fmi3GetContinuousStateDerivatives(_dx: *mut f64, _n: usize) NO_ME;
+    fmi3GetEventIndicators(_z: *mut f64, _n: usize) NO_ME;
+    fmi3GetContinuousStates(_x: *mut f64, _n: usize) NO_ME;
+    fmi3GetNominalsOfContinuousStates(_nominals: *mut f64, _n: usize) NO_ME;
+    fmi3GetNumberOfEventIndicators(_n: *mut usize) NO_ME;
+    fmi3GetNumberOfContinuousStates(_n: *mut usize) NO_ME;
     fmi3GetFMUState(_state: *mut *mut c_void) NO_STATE;
     fmi3SetFMUState(_state: *mut c_void) NO_STATE;
     fmi3FreeFMUState(_state: *mut *mut c_void) NO_STATE;

@@ -156,7 +156,7 @@ impl Plc {
             .chain(config.outputs.iter().map(|n| (n, Causality::Output)));
         for (text, causality) in named {
             let text = text.trim();
-            if text == SCAN_TIME || vars.iter().any(|v| v.name == text) {
+            if text == SCAN_TIME || text == "time" || vars.iter().any(|v| v.name == text) {
                 return Err(format!("`{text}`: named twice among the variables"));
             }
             let (cpu, rest) = match &cpus {

@@ -8,9 +8,12 @@ use softplc_core::access::Value;
 
 use crate::plc::{self, Causality, Config, FmiType, Plc, SCAN_TIME};
 
-/// The value reference of the `scan_time` parameter; devices follow from 1
-/// in the order inputs, outputs.
-pub const SCAN_TIME_VR: u32 = 0;
+/// The value reference of the independent variable `time`.
+pub const TIME_VR: u32 = 0;
+/// The value reference of the `scan_time` parameter; devices follow from
+/// [`FIRST_DEVICE_VR`] in the order inputs, outputs.
+pub const SCAN_TIME_VR: u32 = 1;
+pub const FIRST_DEVICE_VR: u32 = 2;
 
 /// FMI 3.0 co-simulation modes softplc goes through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,6 +32,8 @@ pub struct Slave {
     mode: Mode,
     /// The master's start time: the PLC's power-on.
     start: f64,
+    /// The end of the last communication step (the start time before).
+    now: f64,
 }
 
 impl Slave {
@@ -53,6 +58,7 @@ impl Slave {
             plc,
             mode: Mode::Instantiated,
             start: 0.0,
+            now: 0.0,
         })
     }
 
@@ -71,6 +77,7 @@ impl Slave {
             return Err(format!("start time {start_time} is not a number"));
         }
         self.start = start_time;
+        self.now = start_time;
         self.mode = Mode::Initialization;
         Ok(())
     }
@@ -102,7 +109,9 @@ impl Slave {
         }
         // Scans end on whole µs: the last one due is the last before end + 1 µs.
         let until = ((end_us + 1.0).ceil() - 1.0).max(0.0) as u64;
-        self.plc.run_until(until)
+        let ran = self.plc.run_until(until)?;
+        self.now = t + h;
+        Ok(ran)
     }
 
     /// fmi3Terminate.
@@ -117,6 +126,7 @@ impl Slave {
         self.plc = Plc::load(&self.resources, &self.config, self.config.scan_time_us)?;
         self.mode = Mode::Instantiated;
         self.start = 0.0;
+        self.now = 0.0;
         Ok(())
     }
 
@@ -135,7 +145,7 @@ impl Slave {
     /// The device variable of `vr` with its expected type.
     fn var(&self, vr: u32, ty: FmiType) -> Result<usize, String> {
         let i = (vr as usize)
-            .checked_sub(1)
+            .checked_sub(FIRST_DEVICE_VR as usize)
             .filter(|&i| i < self.plc.vars.len())
             .ok_or_else(|| format!("no variable has value reference {vr}"))?;
         let v = &self.plc.vars[i];
@@ -179,12 +189,16 @@ impl Slave {
         Ok(())
     }
 
-    /// fmi3GetFloat64: only the scan time, in seconds.
+    /// fmi3GetFloat64: the time and the scan time, in seconds.
     pub fn get_f64(&self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
         check_len(vrs.len(), out.len())?;
         for (vr, slot) in vrs.iter().zip(out.iter_mut()) {
-            self.scan_time_vr(*vr)?;
-            *slot = self.plc.scan_us() as f64 / 1e6;
+            *slot = if *vr == TIME_VR {
+                self.now
+            } else {
+                self.scan_time_vr(*vr)?;
+                self.plc.scan_us() as f64 / 1e6
+            };
         }
         Ok(())
     }
@@ -212,6 +226,9 @@ impl Slave {
     fn scan_time_vr(&self, vr: u32) -> Result<(), String> {
         if vr == SCAN_TIME_VR {
             return Ok(());
+        }
+        if vr == TIME_VR {
+            return Err("`time` (value reference 0) is the independent variable and cannot be set".into());
         }
         match self.var(vr, FmiType::Float64) {
             Err(e) => Err(e),
