@@ -53,11 +53,19 @@ type Set<T> = unsafe extern "C" fn(Inst, *const u32, usize, *const T, usize) -> 
 #[derive(Default)]
 struct Log(Mutex<Vec<String>>);
 
-unsafe extern "C" fn log_message(env: *mut c_void, _status: i32, _cat: *const c_char, msg: *const c_char) {
+unsafe extern "C" fn log_message(
+    env: *mut c_void,
+    _status: i32,
+    _cat: *const c_char,
+    msg: *const c_char,
+) {
     // SAFETY: `env` is the boxed `Log` of the instance, alive until it is
     // freed; the FMU passes a NUL-terminated message.
     let (log, msg) = unsafe { (&*(env as *const Log), CStr::from_ptr(msg)) };
-    log.0.lock().unwrap().push(msg.to_string_lossy().into_owned());
+    log.0
+        .lock()
+        .unwrap()
+        .push(msg.to_string_lossy().into_owned());
 }
 
 /// An exported FMU, unpacked, with one instance.
@@ -102,10 +110,21 @@ impl Fmu {
     fn instantiate(lib: Library, xml: &str, dir: tempfile::TempDir) -> Fmu {
         let token = attr(xml, "instantiationToken").unwrap().to_string();
         let mut vars = HashMap::new();
-        for line in xml.lines().filter(|l| l.contains("valueReference=") && l.contains("causality")) {
-            let ty = line.trim_start().trim_start_matches('<').split(' ').next().unwrap();
+        for line in xml
+            .lines()
+            .filter(|l| l.contains("valueReference=") && l.contains("causality"))
+        {
+            let ty = line
+                .trim_start()
+                .trim_start_matches('<')
+                .split(' ')
+                .next()
+                .unwrap();
             let vr: u32 = attr(line, "valueReference").unwrap().parse().unwrap();
-            vars.insert(attr(line, "name").unwrap().to_string(), (vr, ty.to_string()));
+            vars.insert(
+                attr(line, "name").unwrap().to_string(),
+                (vr, ty.to_string()),
+            );
         }
         let log = Box::<Log>::default();
         let resources = format!("{}/resources/", dir.path().display());
@@ -117,7 +136,9 @@ impl Fmu {
         // SAFETY: the FMI 3.0 function type of fmi3InstantiateCoSimulation;
         // the strings and the log outlive the call and the instance.
         let inst = unsafe {
-            let f = lib.get::<Instantiate>(b"fmi3InstantiateCoSimulation\0").unwrap();
+            let f = lib
+                .get::<Instantiate>(b"fmi3InstantiateCoSimulation\0")
+                .unwrap();
             f(
                 name.as_ptr(),
                 token.as_ptr(),
@@ -155,9 +176,9 @@ impl Fmu {
     fn init(&self) -> i32 {
         // SAFETY: fmi3EnterInitializationMode's type.
         let s = unsafe {
-            self.lib.get::<EnterInit>(b"fmi3EnterInitializationMode").unwrap()(
-                self.inst, false, 0.0, 0.0, false, 0.0,
-            )
+            self.lib
+                .get::<EnterInit>(b"fmi3EnterInitializationMode")
+                .unwrap()(self.inst, false, 0.0, 0.0, false, 0.0)
         };
         assert_eq!(s, OK);
         self.call("fmi3ExitInitializationMode")
@@ -176,7 +197,8 @@ impl Fmu {
     fn get<T: Copy + Default>(&self, f: &str, vr: u32) -> (i32, T) {
         let mut v = T::default();
         // SAFETY: fmi3Get<Type>'s type with one value.
-        let s = unsafe { self.lib.get::<Get<T>>(f.as_bytes()).unwrap()(self.inst, &vr, 1, &mut v, 1) };
+        let s =
+            unsafe { self.lib.get::<Get<T>>(f.as_bytes()).unwrap()(self.inst, &vr, 1, &mut v, 1) };
         (s, v)
     }
 
@@ -231,12 +253,25 @@ impl Drop for Fmu {
 
 /// `softplc run PROGRAM --scans N --at … --trace OUTPUTS`: the outputs after
 /// each scan, row `k - 1` after scan `k`.
-fn run_trace(program: &str, scans: u64, at: &[(u64, &str, i64)], outputs: &[&str]) -> Vec<Vec<i64>> {
+fn run_trace(
+    program: &str,
+    scans: u64,
+    at: &[(u64, &str, i64)],
+    outputs: &[&str],
+) -> Vec<Vec<i64>> {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("trace.csv");
     let scans = scans.to_string();
     let traced = outputs.join(",");
-    let mut args = vec!["run", program, "--scans", &scans, "--trace", &traced, "--trace-file"];
+    let mut args = vec![
+        "run",
+        program,
+        "--scans",
+        &scans,
+        "--trace",
+        &traced,
+        "--trace-file",
+    ];
     let csv_arg = csv.to_str().unwrap().to_string();
     args.push(&csv_arg);
     let writes: Vec<String> = at.iter().map(|(n, d, v)| format!("{n}:{d}={v}")).collect();
@@ -257,7 +292,13 @@ fn run_trace(program: &str, scans: u64, at: &[(u64, &str, i64)], outputs: &[&str
 /// Steps the FMU `steps` times by `h` = the scan time, writing the inputs
 /// `at` the communication point of `run`'s scan before which `--at` writes
 /// them, and compares the outputs with `run`'s after every step.
-fn compare_with_run(fmu: &Fmu, program: &str, steps: u64, at: &[(u64, &str, i64)], outputs: &[&str]) {
+fn compare_with_run(
+    fmu: &Fmu,
+    program: &str,
+    steps: u64,
+    at: &[(u64, &str, i64)],
+    outputs: &[&str],
+) {
     let trace = run_trace(program, steps, at, outputs);
     assert_eq!(trace.len() as u64, steps);
     let h = 0.01;
@@ -279,10 +320,27 @@ fn blink_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
     let outputs = ["Y0", "CN0", "TN0", "T0"];
     let (fmu, xml) = export(
         "blink",
-        &["examples/blink.il", "--input", "X0", "--input", "X1", "--output", "Y0", "--output", "CN0", "--output", "TN0", "--output", "T0"],
+        &[
+            "examples/blink.il",
+            "--input",
+            "X0",
+            "--input",
+            "X1",
+            "--output",
+            "Y0",
+            "--output",
+            "CN0",
+            "--output",
+            "TN0",
+            "--output",
+            "T0",
+        ],
     );
     assert!(xml.contains(r#"<Boolean name="X0" valueReference="2" causality="input" variability="discrete" start="false"/>"#), "{xml}");
-    assert!(xml.contains(r#"<Int16 name="CN0" valueReference="5" causality="output""#), "{xml}");
+    assert!(
+        xml.contains(r#"<Int16 name="CN0" valueReference="5" causality="output""#),
+        "{xml}"
+    );
     // Blinking from the start; X0 off at 2 s, X1 clears the count at 2.5 s,
     // X0 on again at 2.7 s.
     let at = [
@@ -303,12 +361,28 @@ fn heated_tank_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
     let outputs = ["Y0", "Y1", "D611", "D820"];
     let (fmu, xml) = export(
         "tank",
-        &["examples/sim/heated_tank.il", "--input", "X0", "--input", "D800", "--output", "Y0", "--output", "Y1", "--output", "D611", "--output", "D820"],
+        &[
+            "examples/sim/heated_tank.il",
+            "--input",
+            "X0",
+            "--input",
+            "D800",
+            "--output",
+            "Y0",
+            "--output",
+            "Y1",
+            "--output",
+            "D611",
+            "--output",
+            "D820",
+        ],
     );
     assert!(xml.contains(r#"<Int16 name="D800" valueReference="3" causality="input" variability="discrete" start="0"/>"#), "{xml}");
     // The "A/D" word rises by 50 counts (5 °C) every half second from 20 °C;
     // PID control starts at 1 s.
-    let mut at: Vec<(u64, &str, i64)> = (0..12).map(|m| (50 * m + 1, "D800", 200 + 50 * m as i64)).collect();
+    let mut at: Vec<(u64, &str, i64)> = (0..12)
+        .map(|m| (50 * m + 1, "D800", 200 + 50 * m as i64))
+        .collect();
     at.push((101, "X0", 1));
     at.sort_by_key(|w| w.0);
     compare_with_run(&fmu, "examples/sim/heated_tank.il", 600, &at, &outputs);
@@ -329,7 +403,10 @@ fn counter() -> (tempfile::TempDir, String) {
 #[test]
 fn a_step_runs_the_scans_that_end_by_its_end_within_a_microsecond() {
     let (_d, program) = counter();
-    let (fmu, _) = export("count", &[&program, "--output", "D0", "--scan-time", "10ms"]);
+    let (fmu, _) = export(
+        "count",
+        &[&program, "--output", "D0", "--scan-time", "10ms"],
+    );
     assert_eq!(fmu.init(), OK);
     let d0 = || fmu.value("D0");
     assert_eq!(d0(), 0);
@@ -356,15 +433,28 @@ fn a_step_runs_the_scans_that_end_by_its_end_within_a_microsecond() {
 #[test]
 fn the_scan_time_parameter_is_set_before_initialization_only() {
     let (_d, program) = counter();
-    let (fmu, xml) = export("count", &[&program, "--output", "D0:u16", "--scan-time", "10ms"]);
+    let (fmu, xml) = export(
+        "count",
+        &[&program, "--output", "D0:u16", "--scan-time", "10ms"],
+    );
     assert!(xml.contains(r#"<Float64 name="scan_time" valueReference="1" causality="parameter" variability="fixed" start="0.01""#), "{xml}");
-    assert!(xml.contains(r#"<UInt16 name="D0:u16" valueReference="2" causality="output""#), "{xml}");
+    assert!(
+        xml.contains(r#"<UInt16 name="D0:u16" valueReference="2" causality="output""#),
+        "{xml}"
+    );
     assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 1), (OK, 0.01));
     assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.001), OK);
     assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.0), ERROR);
     assert_eq!(fmu.init(), OK);
     assert_eq!(fmu.set::<f64>("fmi3SetFloat64", 1, 0.002), ERROR);
-    assert!(fmu.logged().last().unwrap().contains("not allowed in Step mode"), "{:?}", fmu.logged());
+    assert!(
+        fmu.logged()
+            .last()
+            .unwrap()
+            .contains("not allowed in Step mode"),
+        "{:?}",
+        fmu.logged()
+    );
     assert_eq!(fmu.step(0.0, 0.1), OK);
     // 1 ms scans: 100 in 0.1 s.
     assert_eq!(fmu.get::<u16>("fmi3GetUInt16", 2), (OK, 100));
@@ -385,14 +475,30 @@ fn a_wrong_call_sequence_is_refused_with_a_logged_reason() {
     let last = || fmu.logged().last().cloned().unwrap_or_default();
     // DoStep before initialization.
     assert_eq!(fmu.step(0.0, 0.01), ERROR);
-    assert!(last().contains("fmi3DoStep is not allowed in Instantiated mode"), "{}", last());
+    assert!(
+        last().contains("fmi3DoStep is not allowed in Instantiated mode"),
+        "{}",
+        last()
+    );
     // Unknown value reference, wrong type, an output set.
     assert_eq!(fmu.get::<i16>("fmi3GetInt16", 99).0, ERROR);
-    assert!(last().contains("no variable has value reference 99"), "{}", last());
+    assert!(
+        last().contains("no variable has value reference 99"),
+        "{}",
+        last()
+    );
     assert_eq!(fmu.get::<i32>("fmi3GetInt32", fmu.vr("D0")).0, ERROR);
-    assert!(last().contains("`D0` (value reference 3) is Int16, not Int32"), "{}", last());
+    assert!(
+        last().contains("`D0` (value reference 3) is Int16, not Int32"),
+        "{}",
+        last()
+    );
     assert_eq!(fmu.set::<i16>("fmi3SetInt16", fmu.vr("D0"), 5), ERROR);
-    assert!(last().contains("`D0` (value reference 3) is an output and cannot be set"), "{}", last());
+    assert!(
+        last().contains("`D0` (value reference 3) is an output and cannot be set"),
+        "{}",
+        last()
+    );
     assert_eq!(fmu.get::<i8>("fmi3GetInt8", 2).0, ERROR);
     assert!(last().contains("no Int8 variable"), "{}", last());
     // No event mode.
@@ -408,7 +514,11 @@ fn a_wrong_call_sequence_is_refused_with_a_logged_reason() {
     assert_eq!(fmu.get::<i16>("fmi3GetInt16", fmu.vr("D0")), (OK, 3));
     assert_eq!(fmu.call("fmi3Terminate"), OK);
     assert_eq!(fmu.step(0.03, 0.01), ERROR);
-    assert!(last().contains("not allowed in Terminated mode"), "{}", last());
+    assert!(
+        last().contains("not allowed in Terminated mode"),
+        "{}",
+        last()
+    );
 }
 
 #[test]
@@ -416,14 +526,25 @@ fn a_changed_resource_or_a_null_resource_path_is_refused_at_instantiation() {
     let (_d, program) = counter();
     let out = tempfile::tempdir().unwrap();
     let file = out.path().join("c.fmu");
-    let o = softplc(&["fmu", &program, "--output", "D0", "-o", file.to_str().unwrap()]);
+    let o = softplc(&[
+        "fmu",
+        &program,
+        "--output",
+        "D0",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let dir = tempfile::tempdir().unwrap();
     zip::ZipArchive::new(std::fs::File::open(&file).unwrap())
         .unwrap()
         .extract(dir.path())
         .unwrap();
-    std::fs::write(dir.path().join("resources/count.il"), "LD SM400\nINC D1\nEND\n").unwrap();
+    std::fs::write(
+        dir.path().join("resources/count.il"),
+        "LD SM400\nINC D1\nEND\n",
+    )
+    .unwrap();
     let xml = std::fs::read_to_string(dir.path().join("modelDescription.xml")).unwrap();
     let token = CString::new(attr(&xml, "instantiationToken").unwrap()).unwrap();
     // SAFETY: softplc's own FMU binary.
@@ -433,7 +554,8 @@ fn a_changed_resource_or_a_null_resource_path_is_refused_at_instantiation() {
     let instantiate = |res: *const c_char| {
         // SAFETY: fmi3InstantiateCoSimulation's type; the strings and log outlive the call.
         unsafe {
-            lib.get::<Instantiate>(b"fmi3InstantiateCoSimulation").unwrap()(
+            lib.get::<Instantiate>(b"fmi3InstantiateCoSimulation")
+                .unwrap()(
                 c"x".as_ptr(),
                 token.as_ptr(),
                 res,
@@ -450,9 +572,17 @@ fn a_changed_resource_or_a_null_resource_path_is_refused_at_instantiation() {
         }
     };
     assert!(instantiate(res.as_ptr()).is_null());
-    assert!(log.0.lock().unwrap()[0].contains("come from different exports"), "{:?}", log.0.lock().unwrap());
+    assert!(
+        log.0.lock().unwrap()[0].contains("come from different exports"),
+        "{:?}",
+        log.0.lock().unwrap()
+    );
     assert!(instantiate(std::ptr::null()).is_null());
-    assert!(log.0.lock().unwrap()[1].contains("no resource path given"), "{:?}", log.0.lock().unwrap());
+    assert!(
+        log.0.lock().unwrap()[1].contains("no resource path given"),
+        "{:?}",
+        log.0.lock().unwrap()
+    );
 }
 
 #[test]
@@ -470,15 +600,31 @@ fn export_errors_name_the_device_or_say_how_to_get_the_library() {
     let e = err(&["fmu", &program, "--output", "Q0", "-o", f]);
     assert!(e.contains("Q0"), "{e}");
     let e = err(&["fmu", &program, "--output", "D0:str", "-o", f]);
-    assert!(e.contains("`D0:str`: a string has no FMU variable type"), "{e}");
+    assert!(
+        e.contains("`D0:str`: a string has no FMU variable type"),
+        "{e}"
+    );
     let e = err(&["fmu", &program, "--input", "D0", "--output", "D0", "-o", f]);
     assert!(e.contains("`D0`: named twice"), "{e}");
-    let e = err(&["fmu", &program, "--output", "D0", "-o", f, "--fmu-library", "/nonexistent/lib.so"]);
-    assert!(e.contains("--fmu-library /nonexistent/lib.so: no such file"), "{e}");
+    let e = err(&[
+        "fmu",
+        &program,
+        "--output",
+        "D0",
+        "-o",
+        f,
+        "--fmu-library",
+        "/nonexistent/lib.so",
+    ]);
+    assert!(
+        e.contains("--fmu-library /nonexistent/lib.so: no such file"),
+        "{e}"
+    );
     let o = Command::new(env!("CARGO_BIN_EXE_softplc"))
         .args(["fmu", &program, "--output", "D0", "-o", f])
         .env("SOFTPLC_FMU_LIBRARY", "/nonexistent/x.so")
         .output()
         .unwrap();
-    assert!(String::from_utf8_lossy(&o.stderr).contains("SOFTPLC_FMU_LIBRARY /nonexistent/x.so: no such file"));
+    assert!(String::from_utf8_lossy(&o.stderr)
+        .contains("SOFTPLC_FMU_LIBRARY /nonexistent/x.so: no such file"));
 }

@@ -67,7 +67,8 @@ pub fn export(e: &Export) -> Result<Written, String> {
     let platform = platform_folder()?;
     let library = std::fs::read(&e.library)
         .map_err(|err| format!("cannot read the FMU library {}: {err}", e.library.display()))?;
-    let staging = tempfile::tempdir().map_err(|err| format!("cannot make a scratch directory: {err}"))?;
+    let staging =
+        tempfile::tempdir().map_err(|err| format!("cannot make a scratch directory: {err}"))?;
     let resources = staging.path().join("resources");
     let program = stage_program(&e.program, &resources)?;
     let config = Config {
@@ -89,7 +90,13 @@ pub fn export(e: &Export) -> Result<Written, String> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| id.clone());
     let xml = model_description(&plc, &model_name, &id, &token);
-    write_archive(e, &xml, &format!("binaries/{platform}/{id}.so"), &library, &resources)?;
+    write_archive(
+        e,
+        &xml,
+        &format!("binaries/{platform}/{id}.so"),
+        &library,
+        &resources,
+    )?;
     Ok(Written {
         model_identifier: id,
         token,
@@ -105,8 +112,8 @@ fn stage_program(program: &Path, resources: &Path) -> Result<String, String> {
         std::fs::create_dir_all(d).map_err(|err| format!("cannot create {}: {err}", d.display()))
     };
     mkdir(resources)?;
-    let is_dir_kind = softplc_core::project::is_project(program)
-        || softplc_core::system::is_system(program);
+    let is_dir_kind =
+        softplc_core::project::is_project(program) || softplc_core::system::is_system(program);
     if !is_dir_kind {
         if program.is_dir() {
             return Err(format!(

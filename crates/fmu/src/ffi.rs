@@ -57,10 +57,7 @@ fn log_to(env: *mut c_void, log: Option<LogMessage>, status: Status, message: &s
 /// `instance` is null or a pointer returned by
 /// [`fmi3InstantiateCoSimulation`] and not yet freed, used by one thread at
 /// a time (FMI 3.0 §2.3.1).
-unsafe fn with(
-    instance: Fmi3Instance,
-    f: impl FnOnce(&mut Slave) -> Result<(), String>,
-) -> Status {
+unsafe fn with(instance: Fmi3Instance, f: impl FnOnce(&mut Slave) -> Result<(), String>) -> Status {
     if instance.is_null() {
         return ERROR;
     }
@@ -203,7 +200,12 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             std::ptr::null_mut()
         }
         Err(_) => {
-            log_to(env, log_message, FATAL, "internal error while instantiating");
+            log_to(
+                env,
+                log_message,
+                FATAL,
+                "internal error while instantiating",
+            );
             std::ptr::null_mut()
         }
     }

@@ -313,9 +313,7 @@ fn load_cpus(path: &Path, model: Option<&str>, clock: &VirtualClock) -> Result<C
             ));
         }
         let p = project::load_project(path).map_err(|d| diag(&d))?;
-        let cpu = p
-            .build_cpu(Box::new(clock.clone()))
-            .map_err(|d| diag(&d))?;
+        let cpu = p.build_cpu(Box::new(clock.clone())).map_err(|d| diag(&d))?;
         (cpu, p.exec)
     } else {
         let model = model.map(project::known_model).transpose()?;
@@ -324,8 +322,8 @@ fn load_cpus(path: &Path, model: Option<&str>, clock: &VirtualClock) -> Result<C
             explicit_model: model.is_some(),
             ..Default::default()
         };
-        let cpu = single::load(path, profile, options, Box::new(clock.clone()))
-            .map_err(|e| diag(&e))?;
+        let cpu =
+            single::load(path, profile, options, Box::new(clock.clone())).map_err(|e| diag(&e))?;
         (cpu, None)
     };
     tier::Exec::choose(None, exec).and_then(|e| tier::apply(&mut cpu, e))?;

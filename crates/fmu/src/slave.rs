@@ -174,7 +174,10 @@ impl Slave {
     pub fn set<T: FmiValue>(&mut self, vrs: &[u32], values: &[T]) -> Result<(), String> {
         check_len(vrs.len(), values.len())?;
         if self.mode == Mode::Terminated {
-            return Err(format!("fmi3Set{} is not allowed in Terminated mode", T::TYPE.name()));
+            return Err(format!(
+                "fmi3Set{} is not allowed in Terminated mode",
+                T::TYPE.name()
+            ));
         }
         for (vr, x) in vrs.iter().zip(values) {
             let i = self.var(*vr, T::TYPE)?;
@@ -228,7 +231,9 @@ impl Slave {
             return Ok(());
         }
         if vr == TIME_VR {
-            return Err("`time` (value reference 0) is the independent variable and cannot be set".into());
+            return Err(
+                "`time` (value reference 0) is the independent variable and cannot be set".into(),
+            );
         }
         match self.var(vr, FmiType::Float64) {
             Err(e) => Err(e),
