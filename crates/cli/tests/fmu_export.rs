@@ -298,7 +298,7 @@ fn compare_with_run(
     steps: u64,
     at: &[(u64, &str, i64)],
     outputs: &[&str],
-) {
+) -> Vec<Vec<i64>> {
     let trace = run_trace(program, steps, at, outputs);
     assert_eq!(trace.len() as u64, steps);
     let h = 0.01;
@@ -313,6 +313,7 @@ fn compare_with_run(
         assert_eq!(got, trace[k as usize], "after scan {}: {outputs:?}", k + 1);
     }
     assert_eq!(fmu.call("fmi3Terminate"), OK);
+    trace
 }
 
 #[test]
@@ -627,4 +628,110 @@ fn export_errors_name_the_device_or_say_how_to_get_the_library() {
         .unwrap();
     assert!(String::from_utf8_lossy(&o.stderr)
         .contains("SOFTPLC_FMU_LIBRARY /nonexistent/x.so: no such file"));
+}
+
+/// A copy of an example directory: `run` keeps a project's state directory
+/// in it, the FMU keeps none.
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        if e.file_name() == "state" {
+            continue;
+        }
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &to.join(e.file_name()));
+        } else {
+            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+#[test]
+fn a_project_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("project");
+    copy_dir(&workspace().join("examples/project"), &project);
+    let p = project.to_str().unwrap();
+    let outputs = ["Y0", "Y1", "Y2", "D0", "D11"];
+    let (fmu, _) = export(
+        "filler",
+        &[
+            p, "--input", "X0", "--input", "X2", "--input", "X3", "--output", "Y0", "--output",
+            "Y1", "--output", "Y2", "--output", "D0", "--output", "D11",
+        ],
+    );
+    // Start, a bottle at the filler at 0.5 s, then flow-meter pulses every
+    // 20 ms (the fixed-scan program counts them every 50 ms).
+    let mut at: Vec<(u64, &str, i64)> = vec![(1, "X0", 1), (3, "X0", 0), (50, "X2", 1)];
+    for k in 0..100 {
+        at.push((60 + 2 * k, "X3", (k % 2 == 0) as i64));
+    }
+    let trace = compare_with_run(&fmu, p, 400, &at, &outputs);
+    // The conveyor ran (Y0) and the valve opened (Y1) at some point.
+    assert!(trace.iter().any(|r| r[0] == 1) && trace.iter().any(|r| r[1] == 1), "{trace:?}");
+}
+
+/// `softplc run SYSTEM --scans N --at … --show …`: the devices after N scans
+/// of CPU 1.
+fn run_show(program: &str, scans: u64, at: &[(u64, &str, i64)], shows: &[&str]) -> Vec<i64> {
+    let scans = scans.to_string();
+    let mut args = vec!["run", program, "--scans", &scans, "--json"];
+    let writes: Vec<String> = at.iter().map(|(n, d, v)| format!("{n}:{d}={v}")).collect();
+    for w in &writes {
+        args.push("--at");
+        args.push(w);
+    }
+    for s in shows {
+        args.push("--show");
+        args.push(s);
+    }
+    let o = softplc(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    shows
+        .iter()
+        .map(|s| match &v["devices"][*s] {
+            serde_json::Value::Bool(b) => *b as i64,
+            n => n.as_i64().unwrap(),
+        })
+        .collect()
+}
+
+#[test]
+fn a_multi_cpu_system_as_an_fmu_gives_what_run_gives() {
+    let dir = tempfile::tempdir().unwrap();
+    let system = dir.path().join("line");
+    copy_dir(&workspace().join("examples/multi_cpu"), &system);
+    let s = system.to_str().unwrap();
+    let outputs = ["CPU1/Y0", "CPU1/D1002", "CPU2/D820", "CPU2/Y1"];
+    let (fmu, xml) = export(
+        "line",
+        &[
+            s, "--input", "CPU1/X0", "--input", "CPU2/D800", "--output", "CPU1/Y0", "--output",
+            "CPU1/D1002", "--output", "CPU2/D820", "--output", "CPU2/Y1",
+        ],
+    );
+    assert!(xml.contains(r#"<Boolean name="CPU1/X0" valueReference="2" causality="input""#), "{xml}");
+    // Start at 0.1 s; the tank's temperature word at 30 °C, then 85 °C.
+    let at = [(11, "CPU1/X0", 1), (21, "CPU1/X0", 0), (1, "CPU2/D800", 300), (151, "CPU2/D800", 850)];
+    assert_eq!(fmu.init(), OK);
+    let mut checked = 0;
+    for k in 0..300u64 {
+        for (_, dev, v) in at.iter().filter(|(n, _, _)| *n == k + 1) {
+            fmu.write(dev, *v);
+        }
+        assert_eq!(fmu.step(k as f64 * 0.01, 0.01), OK, "{:?}", fmu.logged());
+        if [1, 15, 100, 160, 300].contains(&(k + 1)) {
+            let got: Vec<i64> = outputs.iter().map(|o| fmu.value(o)).collect();
+            let written: Vec<_> = at.iter().copied().filter(|w| w.0 <= k + 1).collect();
+            assert_eq!(got, run_show(s, k + 1, &written, &outputs), "after {} scans of CPU 1", k + 1);
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 5);
+    // Filling (step 1, valve Y0 open) and the over-temperature alarm at 85 °C.
+    assert_eq!(fmu.value("CPU1/D1002"), 1);
+    assert_eq!(fmu.value("CPU1/Y0"), 1);
+    assert_eq!(fmu.value("CPU2/Y1"), 1);
 }
