@@ -216,14 +216,21 @@ impl Plc {
         }
     }
 
-    /// Sets input `i`, written before the next scan. The value is checked
-    /// against the type now (nothing is kept when it does not fit).
-    pub fn set(&mut self, i: usize, value: Value) -> Result<(), String> {
-        let v = &mut self.vars[i];
+    /// Whether `value` may be set to variable `i`: an input, and a value
+    /// that fits its type.
+    pub fn check(&self, i: usize, value: &Value) -> Result<(), String> {
+        let v = &self.vars[i];
         if v.causality != Causality::Input {
             return Err(format!("`{}` is an output and cannot be set", v.name));
         }
-        v.dev.door_value(&value)?;
+        v.dev.door_value(value).map(|_| ())
+    }
+
+    /// Sets input `i`, written before the next scan. The value is checked
+    /// against the type now (nothing is kept when it does not fit).
+    pub fn set(&mut self, i: usize, value: Value) -> Result<(), String> {
+        self.check(i, &value)?;
+        let v = &mut self.vars[i];
         v.value = value;
         v.pending = true;
         Ok(())

@@ -170,7 +170,8 @@ impl Slave {
         Ok(())
     }
 
-    /// fmi3Set<Type>: inputs only, in any mode before termination.
+    /// fmi3Set<Type>: inputs only, in any mode before termination. All or
+    /// nothing: every value is checked before any is kept.
     pub fn set<T: FmiValue>(&mut self, vrs: &[u32], values: &[T]) -> Result<(), String> {
         check_len(vrs.len(), values.len())?;
         if self.mode == Mode::Terminated {
@@ -181,12 +182,19 @@ impl Slave {
         }
         for (vr, x) in vrs.iter().zip(values) {
             let i = self.var(*vr, T::TYPE)?;
-            if self.plc.vars[i].causality == Causality::Output {
-                return Err(format!(
-                    "`{}` (value reference {vr}) is an output and cannot be set",
-                    self.plc.vars[i].name
-                ));
-            }
+            self.plc.check(i, &x.to_value()).map_err(|e| {
+                if self.plc.vars[i].causality == Causality::Output {
+                    format!(
+                        "`{}` (value reference {vr}) is an output and cannot be set",
+                        self.plc.vars[i].name
+                    )
+                } else {
+                    e
+                }
+            })?;
+        }
+        for (vr, x) in vrs.iter().zip(values) {
+            let i = self.var(*vr, T::TYPE)?;
             self.plc.set(i, x.to_value())?;
         }
         Ok(())
