@@ -669,7 +669,10 @@ fn a_project_as_an_fmu_gives_what_run_gives_at_every_communication_point() {
     }
     let trace = compare_with_run(&fmu, p, 400, &at, &outputs);
     // The conveyor ran (Y0) and the valve opened (Y1) at some point.
-    assert!(trace.iter().any(|r| r[0] == 1) && trace.iter().any(|r| r[1] == 1), "{trace:?}");
+    assert!(
+        trace.iter().any(|r| r[0] == 1) && trace.iter().any(|r| r[1] == 1),
+        "{trace:?}"
+    );
 }
 
 /// `softplc run SYSTEM --scans N --at … --show …`: the devices after N scans
@@ -708,13 +711,32 @@ fn a_multi_cpu_system_as_an_fmu_gives_what_run_gives() {
     let (fmu, xml) = export(
         "line",
         &[
-            s, "--input", "CPU1/X0", "--input", "CPU2/D800", "--output", "CPU1/Y0", "--output",
-            "CPU1/D1002", "--output", "CPU2/D820", "--output", "CPU2/Y1",
+            s,
+            "--input",
+            "CPU1/X0",
+            "--input",
+            "CPU2/D800",
+            "--output",
+            "CPU1/Y0",
+            "--output",
+            "CPU1/D1002",
+            "--output",
+            "CPU2/D820",
+            "--output",
+            "CPU2/Y1",
         ],
     );
-    assert!(xml.contains(r#"<Boolean name="CPU1/X0" valueReference="2" causality="input""#), "{xml}");
+    assert!(
+        xml.contains(r#"<Boolean name="CPU1/X0" valueReference="2" causality="input""#),
+        "{xml}"
+    );
     // Start at 0.1 s; the tank's temperature word at 30 °C, then 85 °C.
-    let at = [(11, "CPU1/X0", 1), (21, "CPU1/X0", 0), (1, "CPU2/D800", 300), (151, "CPU2/D800", 850)];
+    let at = [
+        (11, "CPU1/X0", 1),
+        (21, "CPU1/X0", 0),
+        (1, "CPU2/D800", 300),
+        (151, "CPU2/D800", 850),
+    ];
     assert_eq!(fmu.init(), OK);
     let mut checked = 0;
     for k in 0..300u64 {
@@ -725,7 +747,12 @@ fn a_multi_cpu_system_as_an_fmu_gives_what_run_gives() {
         if [1, 15, 100, 160, 300].contains(&(k + 1)) {
             let got: Vec<i64> = outputs.iter().map(|o| fmu.value(o)).collect();
             let written: Vec<_> = at.iter().copied().filter(|w| w.0 <= k + 1).collect();
-            assert_eq!(got, run_show(s, k + 1, &written, &outputs), "after {} scans of CPU 1", k + 1);
+            assert_eq!(
+                got,
+                run_show(s, k + 1, &written, &outputs),
+                "after {} scans of CPU 1",
+                k + 1
+            );
             checked += 1;
         }
     }
