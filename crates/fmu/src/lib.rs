@@ -7,7 +7,11 @@
 //! - [`slave`]: one instance and FMI's modes, in safe Rust.
 //! - `ffi`: the exported C functions, the crate's only `unsafe`.
 
+// `unsafe` only at the C boundary, each block with its SAFETY reason.
+#![deny(unsafe_code)]
+
 pub mod export;
+#[allow(unsafe_code)]
 mod ffi;
 pub mod plc;
 pub mod slave;
