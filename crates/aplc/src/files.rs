@@ -41,8 +41,24 @@ pub fn globals_of_files(paths: &[&Path]) -> Vec<(String, String)> {
 /// ([`Program::sources`]), names the file and
 /// its own line.
 pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
+    load_files_with(paths, None)
+}
+
+/// [`load_files`] with one file's text given instead of read (`(path,
+/// bytes)`): a file written during RUN, compiled with the others before it
+/// replaces the running program.
+pub fn load_files_with(
+    paths: &[&Path],
+    given: Option<(&Path, &[u8])>,
+) -> Result<Program, Diagnostics> {
+    let read = |path: &Path| match given {
+        Some((p, bytes)) if p == path => Ok(bytes.to_vec()),
+        _ => softplc_lang::read_limited(path, softplc_lang::MAX_IL_BYTES, "a program file"),
+    };
     if let [one] = paths {
-        return crate::load_file(one);
+        let name = one.display().to_string();
+        let bytes = read(one).map_err(|e| compile::file_error(&name, e))?;
+        return crate::load_bytes(&name, &bytes);
     }
     let mut diags = Vec::new();
     // (first line in the combined numbering, file name).
@@ -51,19 +67,18 @@ pub fn load_files(paths: &[&Path]) -> Result<Program, Diagnostics> {
     let mut offset = 0u32;
     for path in paths {
         let name = path.display().to_string();
-        let bytes =
-            match softplc_lang::read_limited(path, softplc_lang::MAX_IL_BYTES, "a program file") {
-                Ok(b) => b,
-                Err(e) => {
-                    diags.push(Diagnostic {
-                        file: name,
-                        line: 0,
-                        col: 0,
-                        message: e,
-                    });
-                    continue;
-                }
-            };
+        let bytes = match read(path) {
+            Ok(b) => b,
+            Err(e) => {
+                diags.push(Diagnostic {
+                    file: name,
+                    line: 0,
+                    col: 0,
+                    message: e,
+                });
+                continue;
+            }
+        };
         let text = text::decode(&bytes);
         let mut lines = match text::lines(&name, &text) {
             Ok(l) => l,

@@ -6,6 +6,7 @@
 mod fmu_cmd;
 mod http;
 mod names;
+mod online;
 mod opcua;
 mod run;
 mod run_system;
@@ -14,6 +15,7 @@ mod served;
 // The SIGINT/SIGTERM handler (libc::signal).
 #[allow(unsafe_code)]
 mod signal;
+mod state_file;
 mod stdout;
 mod test_cmd;
 mod tune_cmd;

@@ -187,11 +187,21 @@ pub fn run(args: &RunArgs) -> ExitCode {
     let aborts: Vec<_> = (0..sys.len()).map(|i| sys.cpu(i).abort_handle()).collect();
     crate::signal::stop_on_signals_all(aborts);
     sys.schedule(args.scan_time, clock.now_us());
+    // A state file instead of the power-on: every CPU's state, the time and
+    // each CPU's scan period and next scan come back from it.
+    if let Some(path) = &args.load_state {
+        if let Err(e) = crate::state_file::load(path, |b| sys.load_state(b)) {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    // `scans` counts this run's scans (contract §7).
+    let before: Vec<u64> = (0..sys.len()).map(|i| sys.cpu(i).scans()).collect();
     let started = std::time::Instant::now();
     let mut pending = writes.iter().peekable();
     let mut scans = 0;
     while scans < args.scans {
-        let n = sys.cpu(0).scans() + 1;
+        let n = sys.cpu(0).scans().saturating_sub(before[0]) + 1;
         while let Some(w) = pending.next_if(|w| w.scan <= n) {
             // An input of a module goes to its control CPU's input image.
             let cpu = match w.to.name.spec().bit_span() {
@@ -236,7 +246,13 @@ pub fn run(args: &RunArgs) -> ExitCode {
             }
         }
     }
-    report(args, &sys, &shows, clock.now_us(), signal)
+    if let Some(path) = &args.save_state {
+        if let Err(e) = crate::state_file::save(path, &sys.save_state()) {
+            eprintln!("softplc: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    report(args, &sys, &shows, &before, clock.now_us(), signal)
 }
 
 /// The report: CPU 1's state, error and scans at the top, every CPU in `cpus`.
@@ -244,6 +260,7 @@ fn report(
     args: &RunArgs,
     sys: &System,
     shows: &[Named],
+    before: &[u64],
     now_us: u64,
     signal: Option<i32>,
 ) -> ExitCode {
@@ -282,12 +299,12 @@ fn report(
                     "cpu": i + 1,
                     "state": c.state().as_str(),
                     "error": error_json(c),
-                    "scans": c.scans(),
+                    "scans": c.scans().saturating_sub(before[i]),
                 })
             })
             .collect();
         let mut o = json!({
-            "scans": first.scans(),
+            "scans": first.scans().saturating_sub(before[0]),
             "time_ms": time_ms,
             "state": first.state().as_str(),
             "error": error_json(first),
@@ -301,10 +318,10 @@ fn report(
     } else {
         outln!(
             "scans: {}  time: {time_ms} ms  state: {}",
-            first.scans(),
+            first.scans().saturating_sub(before[0]),
             first.state().as_str()
         );
-        for i in 0..sys.len() {
+        for (i, base) in before.iter().enumerate() {
             let c = sys.cpu(i);
             let err = match c.error() {
                 None => "none".to_string(),
@@ -313,7 +330,7 @@ fn report(
             outln!(
                 "CPU {}: {} scans, state {}, error: {err}",
                 i + 1,
-                c.scans(),
+                c.scans().saturating_sub(*base),
                 c.state().as_str()
             );
         }

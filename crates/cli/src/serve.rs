@@ -170,6 +170,11 @@ pub struct ServeArgs {
     /// --time-scale, else as fast as possible.
     #[arg(long)]
     pub lockstep: bool,
+    /// Write each program file during RUN when it is rewritten or replaced
+    /// on disk, as PUT /api/v1/program does (docs/online-change.md);
+    /// plc.toml changes need a restart.
+    #[arg(long)]
+    pub watch: bool,
 }
 
 /// The MQTT publisher when `--mqtt` asks for one.
@@ -252,6 +257,10 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             lockstep: args.lockstep,
         });
     }
+    let (online, _watching) = match crate::online::setup(&args.program, args.watch, &mut state) {
+        Ok(o) => o,
+        Err(e) => return fail(e),
+    };
     // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
     let cpu = state.cpu();
     let doors = cpu.profile().doors;
@@ -316,6 +325,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             model: cpu.profile().model.to_string(),
             ladder: softplc_http::ladder::load_programs(cpu),
             limits,
+            online,
         };
         listeners.push(softplc_http::listener(addr, cfg));
         names.push("web monitor".to_string());

@@ -10,6 +10,7 @@
 //! - [`project`]: `plc.toml` projects; [`single`]: one program file on its
 //!   own; [`persist`]: latched data on disk;
 //! - [`system`]: multi-CPU systems (`system.toml`);
+//! - [`snapshot`]: state files, a CPU's or system's whole state at an END;
 //! - [`names`]: device names from outside in the CPU's dialect (MELSEC or APLC);
 //! - [`tier`]: interpreter or native code (`[cpu] exec`, `--exec`, `SOFTPLC_EXEC`).
 
@@ -22,10 +23,12 @@ pub use softplc_melsec as instructions;
 
 pub mod aplc;
 pub mod names;
+pub mod online;
 pub mod persist;
 pub mod profile;
 pub mod program;
 pub mod project;
 pub mod single;
+pub mod snapshot;
 pub mod system;
 pub mod tier;

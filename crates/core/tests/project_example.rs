@@ -271,7 +271,7 @@ fn unknown_keys_are_errors() {
     );
     assert_eq!(
         error(&with_main("[cpu]\ncolour = \"red\"\n")),
-        "2:1: unknown key \"colour\" in [cpu] (expected model, common_pointer, exec, a_compatibility)"
+        "2:1: unknown key \"colour\" in [cpu] (expected model, common_pointer, exec, a_compatibility, online_write_steps, online_reserve_steps)"
     );
     assert_eq!(
         error("[[program]]\nfile = \"main.il\"\nintervall = \"5ms\"\n"),

@@ -17,7 +17,10 @@ pub mod trace;
 
 use std::time::Duration;
 
-pub use cpu::{Cpu, Hold, LoadedProgram, ProgramMonitor, Refusal, VIRTUAL_WATCHDOG_FLOOR};
+pub use cpu::{
+    Cpu, Hold, LoadedProgram, OnlineLimits, ProgramMonitor, Refusal, Written,
+    VIRTUAL_WATCHDOG_FLOOR,
+};
 pub use softplc_ir::calendar;
 pub use softplc_ir::clock::{Clock, MonotonicClock, VirtualClock};
 pub use softplc_ir::fault::{CpuError, ErrorCode, Fault, HistoryEntry};
@@ -27,6 +30,7 @@ use softplc_ir::cpu::CpuServices;
 use softplc_ir::device::{DeviceConfig, DeviceKind, DeviceMemory};
 use softplc_ir::ops::Program;
 pub use softplc_ir::profile::Profile;
+pub use softplc_ir::snapshot::{Snap, StateError};
 use softplc_ir::system::{ErrorReport, ErrorTimes, ModuleRef, Severity};
 
 /// Operating state of the CPU (004 §4.4).
@@ -196,6 +200,9 @@ pub struct CpuConfig {
     /// The base units' slots and modules (empty: no I/O assignment, X and
     /// Y plain device memory).
     pub rack: std::sync::Arc<softplc_ir::rack::Rack>,
+    /// The limits of writing a program during RUN (512 steps a write, a
+    /// reserve of 500 steps per file).
+    pub online: OnlineLimits,
 }
 
 impl CpuConfig {
@@ -247,6 +254,7 @@ impl CpuConfig {
             initial_values: Vec::new(),
             system: (profile.default_system)(),
             rack: Default::default(),
+            online: OnlineLimits::default(),
         }
     }
 }

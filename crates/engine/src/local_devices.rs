@@ -17,6 +17,7 @@
 //! preallocated buffers and allocates nothing.
 
 use softplc_ir::device::{DeviceKind, DeviceMemory};
+use softplc_ir::snapshot::Snap;
 use softplc_ir::system::LocalDeviceRelays;
 
 use crate::{LatchRange, LocalRange, Runtime};
@@ -188,6 +189,21 @@ impl LocalDevices {
     /// Whether program `slot` has its own local devices.
     pub(crate) fn used_by(&self, slot: usize) -> bool {
         slot < self.nobody() && matches!(self.copies.get(slot), Some(Some(_)))
+    }
+
+    /// Each program's copy and whose are in device memory, in a state file.
+    pub(crate) fn snapshot(&mut self, s: &mut Snap) {
+        let bound = self.copies.len();
+        s.index(&mut self.owner, bound);
+        for c in self.copies.iter_mut() {
+            if s.same(c.is_some()) {
+                if let Some(v) = c {
+                    s.bools(&mut v.bits);
+                    s.words(&mut v.words);
+                    s.u32s(&mut v.rems);
+                }
+            }
+        }
     }
 
     /// The copy of nobody's values.

@@ -80,6 +80,8 @@ pub trait ExecTier {
     fn name(&self) -> &'static str;
     /// Compiles `prog`; an error names why (the host or the program).
     fn compile(&self, prog: &Program) -> Result<Box<dyn NativeProgram>, String>;
+    /// A copy the CPU keeps to compile a program written during RUN.
+    fn boxed(&self) -> Box<dyn ExecTier + Send + Sync>;
     /// Fewest native ops in a row it compiles (shorter runs are interpreted).
     fn min_run(&self) -> usize {
         1

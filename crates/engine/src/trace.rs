@@ -111,6 +111,32 @@ impl Trace {
         })
     }
 
+    /// What the trace is of, for a state file: its settings.
+    pub(crate) fn key(&self) -> String {
+        format!("{:?}", self.cfg)
+    }
+
+    /// The samples and the trace's progress, in a state file.
+    pub(crate) fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
+        let cap = self.cfg.capacity;
+        s.u64s(&mut self.values);
+        if s.same_len(self.stamps.len()) {
+            for (scan, us) in &mut self.stamps {
+                s.u64(scan);
+                s.u64(us);
+            }
+        }
+        s.index(&mut self.next, cap.max(1));
+        s.index(&mut self.len, cap + 1);
+        s.u32(&mut self.countdown);
+        s.option(&mut self.last_sample_us, |s, v| s.u64(v));
+        s.bool(&mut self.trigger_before);
+        s.bool(&mut self.relay_before);
+        s.bool(&mut self.aborted);
+        s.option(&mut self.remaining, |s, v| s.index(v, cap + 1));
+        s.bool(&mut self.complete);
+    }
+
     /// The same trace shown by `relays`.
     pub(crate) fn with_relays(mut self, relays: Option<TraceRelays>) -> Trace {
         self.relays = relays;

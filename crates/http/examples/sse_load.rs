@@ -53,6 +53,7 @@ fn run(clients: usize, secs: u64, copies: usize) -> ScanStats {
         model: "Q06HCPU".into(),
         ladder: vec![ladder],
         limits: Default::default(),
+        online: None,
     };
     let engine = EngineConfig {
         period: Duration::from_millis(10),

@@ -71,6 +71,17 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/api/v1/events", get(events))
         .route("/api/v1/rack", get(crate::rack::rack))
         .route("/api/v1/sim/advance", post(crate::sim::advance))
+        .route(
+            "/api/v1/program",
+            axum::routing::put(crate::program::put)
+                .layer(DefaultBodyLimit::max(crate::program::PROGRAM_BODY_LIMIT)),
+        )
+        .route(
+            "/api/v1/snapshot",
+            get(crate::snapshot::get)
+                .put(crate::snapshot::put)
+                .layer(DefaultBodyLimit::max(crate::snapshot::SNAPSHOT_LIMIT)),
+        )
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)

@@ -13,7 +13,10 @@
 //!   (slow or idle clients do not hold a place).
 //! - **Body timeout**: a request body must arrive whole within
 //!   [`Limits::body_timeout`] (408 otherwise), and at most [`crate::BODY_LIMIT`]
-//!   bytes of it (413 otherwise), before the request reaches the router.
+//!   bytes of it (a program written during RUN:
+//!   [`crate::program::PROGRAM_BODY_LIMIT`]; a state file put to
+//!   `/api/v1/snapshot`: [`crate::snapshot::SNAPSHOT_LIMIT`]; 413 otherwise),
+//!   before the request reaches the router.
 //! - Heads are read into a buffer of at most [`MAX_HEAD`] bytes.
 
 use std::convert::Infallible;
@@ -89,7 +92,8 @@ async fn request(
 ) -> Result<Response, Infallible> {
     let busy = slot.busy();
     let (parts, body) = req.into_parts();
-    let body = match tokio::time::timeout(limits.body_timeout, whole(body)).await {
+    let limit = body_limit(&parts);
+    let body = match tokio::time::timeout(limits.body_timeout, whole(body, limit)).await {
         Ok(Ok(b)) => b,
         Ok(Err(r)) => return Ok(r),
         Err(_) => {
@@ -116,8 +120,23 @@ async fn request(
     Ok(Response::from_parts(parts, Body::from_stream(held)))
 }
 
-/// The body's bytes, at most [`crate::BODY_LIMIT`] of them.
-async fn whole(body: Body) -> Result<Bytes, Response> {
+/// The largest body of a request: a program's text put to
+/// `/api/v1/program` may be [`crate::program::PROGRAM_BODY_LIMIT`] bytes, a
+/// state file put to `/api/v1/snapshot` [`crate::snapshot::SNAPSHOT_LIMIT`],
+/// anything else [`crate::BODY_LIMIT`].
+fn body_limit(parts: &axum::http::request::Parts) -> usize {
+    if parts.method != axum::http::Method::PUT {
+        return crate::BODY_LIMIT;
+    }
+    match parts.uri.path() {
+        "/api/v1/program" => crate::program::PROGRAM_BODY_LIMIT,
+        "/api/v1/snapshot" => crate::snapshot::SNAPSHOT_LIMIT,
+        _ => crate::BODY_LIMIT,
+    }
+}
+
+/// The body's bytes, at most `limit` of them.
+async fn whole(body: Body, limit: usize) -> Result<Bytes, Response> {
     if body.size_hint().exact() == Some(0) {
         return Ok(Bytes::new());
     }
@@ -130,13 +149,10 @@ async fn whole(body: Body) -> Result<Bytes, Response> {
                 format!("request body refused: {e}"),
             )
         })?;
-        if buf.len() + chunk.len() > crate::BODY_LIMIT {
+        if buf.len() + chunk.len() > limit {
             return Err(closing(
                 StatusCode::PAYLOAD_TOO_LARGE,
-                format!(
-                    "request body refused: larger than {} bytes",
-                    crate::BODY_LIMIT
-                ),
+                format!("request body refused: larger than {limit} bytes"),
             ));
         }
         buf.extend_from_slice(&chunk);

@@ -17,8 +17,10 @@ pub mod loops;
 pub mod monitor;
 pub mod pages;
 pub mod process_loops;
+pub mod program;
 pub mod rack;
 pub mod sim;
+pub mod snapshot;
 pub mod values;
 
 use std::net::SocketAddr;
@@ -42,6 +44,8 @@ pub struct HttpConfig {
     pub ladder: Vec<ladder::LadderProgram>,
     /// Connections and timeouts of the door.
     pub limits: door::Limits,
+    /// The program files `PUT /api/v1/program` may write; `None`: none.
+    pub online: Option<Arc<softplc_serve::online::Online>>,
 }
 
 /// Shared by every request handler.
@@ -54,8 +58,9 @@ pub struct App {
     /// What device names mean for each served CPU, CPU 1's first (its
     /// dialect and global names), read once at start.
     pub names: Vec<softplc_core::names::Names>,
-    /// The ladders of CPU 2-4 of a multi-CPU system.
-    pub others: Vec<Vec<ladder::LadderProgram>>,
+    /// Each CPU's ladders and the CPU's program writes they were drawn
+    /// after (a program written during RUN is drawn again).
+    ladders: std::sync::Mutex<Vec<(u64, Arc<Vec<ladder::LadderProgram>>)>>,
 }
 
 impl App {
@@ -64,12 +69,31 @@ impl App {
         self.names.len()
     }
 
-    /// The programs of CPU `cpu` (0-based) as ladder rungs.
-    pub fn ladder(&self, cpu: usize) -> &[ladder::LadderProgram] {
-        match cpu {
-            0 => &self.cfg.ladder,
-            k => self.others.get(k - 1).map_or(&[], Vec::as_slice),
+    /// The programs of CPU `cpu` (0-based) as ladder rungs, as last drawn.
+    pub fn ladder(&self, cpu: usize) -> Arc<Vec<ladder::LadderProgram>> {
+        let ladders = self.ladders.lock().unwrap_or_else(|e| e.into_inner());
+        ladders.get(cpu).map(|l| l.1.clone()).unwrap_or_default()
+    }
+
+    /// [`App::ladder`], drawn again at this END when a program of the CPU
+    /// was written during RUN since (through the API or `serve --watch`).
+    pub async fn ladder_now(&self, cpu: usize) -> Arc<Vec<ladder::LadderProgram>> {
+        let seen = {
+            let ladders = self.ladders.lock().unwrap_or_else(|e| e.into_inner());
+            ladders.get(cpu).map_or(0, |l| l.0)
+        };
+        let fresh = api::at_end(self, move |s| {
+            let c = (cpu < s.cpu_count()).then(|| s.cpu_at(cpu))?;
+            (c.program_writes() != seen).then(|| (c.program_writes(), ladder::load_programs(c)))
+        })
+        .await;
+        if let Ok(Some((writes, programs))) = fresh {
+            let mut ladders = self.ladders.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some(l) = ladders.get_mut(cpu) {
+                *l = (writes, Arc::new(programs));
+            }
         }
+        self.ladder(cpu)
     }
 }
 
@@ -103,19 +127,23 @@ pub async fn start(cfg: HttpConfig, engine: EngineHandle) -> Result<Arc<App>, so
         .await?;
     // A system's CPUs are MELSEC CPUs: their ladders come from the programs'
     // listings, no file is read on the engine thread.
-    let others = engine
+    let others: Vec<Vec<ladder::LadderProgram>> = engine
         .at_end(|s| {
             (1..s.cpu_count())
                 .map(|i| ladder::load_programs(s.cpu_at(i)))
                 .collect()
         })
         .await?;
+    let ladders = std::iter::once(cfg.ladder.clone())
+        .chain(others)
+        .map(|l| (0, Arc::new(l)))
+        .collect();
     Ok(Arc::new(App {
         cfg,
         engine,
         snapshots: rx,
         streams: Default::default(),
         names,
-        others,
+        ladders: std::sync::Mutex::new(ladders),
     }))
 }

@@ -136,7 +136,8 @@ pub async fn page(
 ) -> axum::response::Response {
     use axum::response::IntoResponse;
     use std::fmt::Write;
-    let sets = find(&app.cfg.ladder);
+    let ladder = app.ladder_now(0).await;
+    let sets = find(&ladder);
     // The loop counts, from one END.
     let heads: Vec<Option<String>> = sets.iter().map(PidSet::count_device).collect();
     let counts = tokio::time::timeout(
@@ -164,7 +165,7 @@ pub async fn page(
     let esc = crate::pages::esc;
     let mut names = Vec::new();
     let mut body = String::from(r#"<section class="cards">"#);
-    let process = crate::process_loops::find(&app.cfg.ladder);
+    let process = crate::process_loops::find(&ladder);
     if sets.is_empty() && process.is_empty() {
         body.push_str(
             "<p>No control loop (PIDCONT, S.PIDCONT, or a process-control loop tag) in the program.</p>",

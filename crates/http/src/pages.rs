@@ -123,7 +123,7 @@ pub async fn ladder(State(app): State<Arc<App>>, Query(q): Q) -> Response {
         Ok(c) => c,
         Err(r) => return r,
     };
-    let progs = app.ladder(cpu);
+    let progs = app.ladder_now(cpu).await;
     // Links keep the CPU; its names carry its prefix (none for CPU 1).
     let at = if cpu > 0 {
         format!("cpu={}&", cpu + 1)
@@ -246,7 +246,7 @@ pub async fn ladder_text(State(app): State<Arc<App>>, Query(q): Q) -> Response {
         Err(r) => return r,
     };
     let pi: usize = q.get("prog").and_then(|p| p.parse().ok()).unwrap_or(0);
-    let progs = app.ladder(cpu);
+    let progs = app.ladder_now(cpu).await;
     match progs.get(pi) {
         Some(p) => (
             [(header::CONTENT_TYPE, "text/plain; charset=utf-8")],

@@ -24,6 +24,7 @@ fn start() -> Server {
         model: softplc_core::profile::aplc().model.into(),
         ladder: vec![softplc_http::ladder::aplc::from_bytes("main.apl", APL.as_bytes()).unwrap()],
         limits: Default::default(),
+        online: None,
     };
     start_cpu(cpu, http)
 }

@@ -49,6 +49,7 @@ fn start_system(token: Option<&str>) -> Sys {
         model: sys.cpu(0).profile().model.to_string(),
         ladder: softplc_http::ladder::load_programs(sys.cpu(0)),
         limits: Default::default(),
+        online: None,
     };
     Sys {
         server: start_state(ServeState::system(sys, Vec::new()), cfg),

@@ -192,6 +192,7 @@ async fn a_unit_without_a_module_does_not_silence_the_ladder() {
         model: "Q06HCPU".into(),
         ladder: softplc_http::ladder::load_programs(&cpu),
         limits: Default::default(),
+        online: None,
     };
     let s = start_cpu(cpu, cfg);
     let r = get(s.addr, "/").await;

@@ -139,6 +139,24 @@ impl PlcClock {
         DateTime::from_unix(self.unix_us(now_us).div_euclid(1_000_000))
     }
 
+    /// The calendar clock in a state file; values whose arithmetic could
+    /// overflow (beyond ±73,000 years) are refused.
+    pub fn snapshot(&mut self, s: &mut crate::snapshot::Snap) {
+        const LIMIT: u64 = 1 << 61;
+        let base = s.value(self.base_us as u64) as i64;
+        if base.unsigned_abs() > LIMIT {
+            s.fail(crate::snapshot::StateError::Invalid {
+                what: "calendar clock",
+                value: base as u64,
+            });
+        }
+        let mut at = self.at_us;
+        s.at_most(&mut at, LIMIT);
+        if s.loading() {
+            (self.base_us, self.at_us) = (base, at);
+        }
+    }
+
     /// Sets the clock (DATEWR, SM210); the sub-second part restarts at 0.
     pub fn set(&mut self, t: DateTime, now_us: u64) {
         *self = PlcClock::new(t, now_us);

@@ -4,7 +4,7 @@
 
 /// The number a CPU records for an error (SD0 on MELSEC, SD20 on the APLC).
 /// Its meaning and message belong to the CPU's family.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct ErrorCode(pub u16);
 
 /// What went wrong while a CPU ran its programs.
@@ -97,7 +97,7 @@ impl Fault {
 }
 
 /// The latest self-diagnostic error, with where it happened.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CpuError {
     pub code: ErrorCode,
     /// Step number of the failing instruction, if an instruction failed.
@@ -108,7 +108,7 @@ pub struct CpuError {
 }
 
 /// One entry of the error history (004 §7.20.2): the latest 16 are kept.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HistoryEntry {
     pub code: ErrorCode,
     /// Calendar time of detection, seconds since 1970.

@@ -91,6 +91,19 @@ pub struct Listed {
     pub operands: Vec<String>,
     /// Its source line (in [`crate::ops::Program::sources`]' numbering).
     pub line: u32,
+    /// The hidden state the compiler gave it (see [`Held`]).
+    pub held: Held,
+}
+
+/// Where an instruction's hidden state is in its program: its edge
+/// memories and state words (`Program::edge_slots`, `Program::state_words`)
+/// and its steps. What writing during RUN carries over from an unchanged
+/// instruction (`crate::online`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Held {
+    pub edges: std::ops::Range<u32>,
+    pub words: std::ops::Range<u32>,
+    pub steps: std::ops::Range<u32>,
 }
 
 /// A line of the listing: a pointer label or an instruction.
@@ -155,4 +168,22 @@ pub struct LoopUse {
 pub struct Listing {
     pub entries: Vec<Entry>,
     pub loops: Vec<LoopUse>,
+}
+
+impl Listing {
+    /// Ends each instruction's [`Held`] ranges where the next one's begin
+    /// (the compiler records where they begin), the last at the program's
+    /// totals.
+    pub fn close_held(&mut self, edges: u32, words: u32, steps: u32) {
+        let mut end = (edges, words, steps);
+        for e in self.entries.iter_mut().rev() {
+            if let Entry::Instr(i) = e {
+                let h = &mut i.held;
+                h.edges.end = end.0.max(h.edges.start);
+                h.words.end = end.1.max(h.words.start);
+                h.steps.end = end.2.max(h.steps.start);
+                end = (h.edges.start, h.words.start, h.steps.start);
+            }
+        }
+    }
 }

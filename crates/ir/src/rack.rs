@@ -227,6 +227,13 @@ pub trait Module: Send + fmt::Debug {
     /// memory the program wrote, and updates its buffer memory and X
     /// signals; `now_us` is the CPU's clock.
     fn end(&mut self, io: &mut ModuleIo<'_>, now_us: u64);
+    /// The module's own state in a state file, besides its buffer memory
+    /// and signals (which are device memory): walked to save, check and
+    /// load it ([`crate::snapshot::Snap`]). A module that keeps none (plain
+    /// buffer memory) walks nothing.
+    fn snapshot(&mut self, s: &mut crate::snapshot::Snap) {
+        let _ = s;
+    }
     /// A channel's physical value from outside (a plant model or a
     /// scenario): mA or V at an analog input. Channels count from 1, as
     /// the manuals' CH1.

@@ -56,6 +56,10 @@ impl ExecTier for Jit {
     fn min_run(&self) -> usize {
         self.min_run
     }
+
+    fn boxed(&self) -> Box<dyn ExecTier + Send + Sync> {
+        Box::new(*self)
+    }
 }
 
 /// Whether Cranelift generates code for this host; the reason when not.

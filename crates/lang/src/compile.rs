@@ -9,7 +9,7 @@ use super::dialect::Dialect;
 use super::isa::{self, Found, Isa, Kind, Use};
 use super::source::{Diagnostic, Diagnostics, Source, SourceInstr, SourceItem, Token};
 use softplc_ir::device::{DeviceConfig, DeviceMap};
-use softplc_ir::listing::{Entry, Listed, Listing, LoopUse, Role};
+use softplc_ir::listing::{Entry, Held, Listed, Listing, LoopUse, Role};
 use softplc_ir::ops::*;
 use softplc_ir::rack::Rack;
 
@@ -91,6 +91,7 @@ pub fn listed(isa: &Isa, i: &SourceInstr) -> (Listed, Option<LoopUse>) {
         mnemonic: i.mnemonic.text.clone(),
         operands: i.operands.iter().map(|t| t.text.clone()).collect(),
         line: i.mnemonic.line,
+        held: Default::default(),
     };
     (entry, owned)
 }
@@ -179,6 +180,15 @@ impl<'a> Compiler<'a> {
     /// driver calls it once per source instruction, in source order.
     pub fn record(&mut self, i: &SourceInstr) {
         record(&mut self.listing, self.dialect.isa, i);
+        // Its state begins here; `finish` ends it where the next one's begins.
+        if let Some(Entry::Instr(l)) = self.listing.entries.last_mut() {
+            let step = i.step.unwrap_or(self.step);
+            l.held = Held {
+                edges: self.edge_slots..self.edge_slots,
+                words: self.state_words..self.state_words,
+                steps: step..step,
+            };
+        }
     }
 
     /// Records a pointer label in the listing.
@@ -438,6 +448,8 @@ impl<'a> Compiler<'a> {
             self.diags.sort_by_key(|d| (d.line, d.col));
             return Err(Diagnostics(self.diags));
         }
+        self.listing
+            .close_held(self.edge_slots, self.state_words, self.step);
         Ok(Program {
             file: self.file.to_string(),
             sources: Vec::new(),

@@ -23,6 +23,7 @@
 use std::ops::RangeInclusive;
 
 use softplc_ir::rack::{Module, ModuleIo, ModuleProfile, Slot, SlotType};
+use softplc_ir::snapshot::{Snap, StateError};
 
 use crate::analog::{self, get, set, Range, MA_0_20, MA_4_20, V_0_10, V_0_5, V_10_10, V_1_5};
 
@@ -311,6 +312,57 @@ impl Q64ad {
 }
 
 impl Module for Q64ad {
+    /// The physical inputs and everything power-on resets.
+    fn snapshot(&mut self, s: &mut Snap) {
+        for v in &mut self.input {
+            s.f64(v);
+        }
+        let st = &mut self.state;
+        for ch in 0..CHANNELS {
+            s.bool(&mut st.enabled[ch]);
+            let (mut kind, mut n) = match st.processing[ch] {
+                Processing::Sampling => (0u8, 0u16),
+                Processing::Time(t) => (1, t),
+                Processing::Count(c) => (2, c),
+            };
+            s.u8(&mut kind);
+            s.u16(&mut n);
+            match kind {
+                0..=2 if s.loading() => {
+                    st.processing[ch] = match kind {
+                        0 => Processing::Sampling,
+                        1 => Processing::Time(n),
+                        _ => Processing::Count(n),
+                    }
+                }
+                0..=2 => {}
+                _ => s.fail(StateError::Invalid {
+                    what: "Q64AD averaging",
+                    value: u64::from(kind),
+                }),
+            }
+            let a = &mut st.average[ch];
+            s.u64(&mut a.n);
+            s.i64(&mut a.sum);
+            s.i32(&mut a.max);
+            s.i32(&mut a.min);
+            s.i32(&mut st.value[ch]);
+            let (mut max, mut min) = st.max_min[ch].unwrap_or((0, 0));
+            let mut some = st.max_min[ch].is_some();
+            s.bool(&mut some);
+            s.i32(&mut max);
+            s.i32(&mut min);
+            if s.loading() {
+                st.max_min[ch] = some.then_some((max, min));
+            }
+        }
+        s.option(&mut st.start_us, Snap::u64);
+        s.u64(&mut st.cycles);
+        s.u16(&mut st.completed);
+        s.u16(&mut st.error);
+        s.bool(&mut st.setting_request);
+    }
+
     fn power_on(&mut self, io: &mut ModuleIo<'_>) {
         self.state = State::default();
         io.buffer.fill(0);

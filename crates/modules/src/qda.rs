@@ -17,6 +17,7 @@
 //! channel set to HOLD (switch 3) and its output enabled, the last value.
 
 use softplc_ir::rack::{Module, ModuleIo, ModuleProfile, Slot, SlotType};
+use softplc_ir::snapshot::Snap;
 
 use crate::analog::{self, get, set, Range, MA_0_20, MA_4_20, V_0_5, V_10_10, V_1_5};
 
@@ -145,6 +146,16 @@ impl Da {
 }
 
 impl Module for Da {
+    /// What the program set and the outputs.
+    fn snapshot(&mut self, s: &mut Snap) {
+        s.bools(&mut self.enabled);
+        for v in &mut self.output {
+            s.f64(v);
+        }
+        s.words(&mut self.check);
+        s.bool(&mut self.setting_request);
+    }
+
     /// Power-on and RESET: every channel disabled, outputs 0 V/0 mA.
     fn power_on(&mut self, io: &mut ModuleIo<'_>) {
         self.enabled = [false; MAX_CHANNELS];

@@ -15,6 +15,7 @@ pub mod conns;
 pub mod engine;
 pub mod mc;
 pub mod modbus;
+pub mod online;
 pub mod serial;
 pub mod sim;
 pub mod tcp;

@@ -21,7 +21,7 @@ mod ports;
 mod programs;
 mod rack;
 mod rules;
-pub(crate) use rules::step_relays;
+pub(crate) use rules::{check_files, step_relays, Ruled};
 mod settings;
 mod system_block;
 pub use settings::{check_capacity, known_model, program_capacity, FILE_HEADER_STEPS};

@@ -37,9 +37,34 @@ pub(crate) fn check(
     config: &CpuConfig,
     common_pointer: Option<u32>,
 ) -> Vec<Diagnostic> {
+    let files: Vec<Ruled<'_>> = programs
+        .iter()
+        .map(|l| Ruled {
+            program: &l.program,
+            exec: l.exec,
+            local_devices: l.local_devices,
+        })
+        .collect();
+    check_files(&files, config, common_pointer)
+}
+
+/// A program file as the rules see it: its program and its parameters.
+pub(crate) struct Ruled<'a> {
+    pub program: &'a Program,
+    pub exec: ExecType,
+    pub local_devices: bool,
+}
+
+/// [`check`] over programs held elsewhere (a CPU's, one of them replaced by
+/// a program written during RUN).
+pub(crate) fn check_files(
+    programs: &[Ruled<'_>],
+    config: &CpuConfig,
+    common_pointer: Option<u32>,
+) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     for l in programs {
-        step_relays(&l.program, &mut out);
+        step_relays(l.program, &mut out);
         timers(l, &mut out);
     }
     // Local V (004 §10.13.1) is each file's own: the same number in two
@@ -94,8 +119,8 @@ pub(crate) fn step_relays(p: &Program, out: &mut Vec<Diagnostic>) {
 
 /// A timer coil in a fixed-scan or standby program, or in an interrupt
 /// program (In … IRET) of any program.
-fn timers(l: &LoadedProgram, out: &mut Vec<Diagnostic>) {
-    let p = &l.program;
+fn timers(l: &Ruled<'_>, out: &mut Vec<Diagnostic>) {
+    let p = l.program;
     let whole = match l.exec {
         ExecType::FixedScan => Some("a fixed-scan program"),
         ExecType::Standby => Some("a standby program"),
@@ -140,11 +165,11 @@ fn timers(l: &LoadedProgram, out: &mut Vec<Diagnostic>) {
 
 /// An edge relay V number used by more than one EGP/EGF in all programs
 /// (`local_v`: the flat bit spans of the local V ranges, inclusive).
-fn edge_relays(programs: &[LoadedProgram], local_v: &[(u32, u32)], out: &mut Vec<Diagnostic>) {
+fn edge_relays(programs: &[Ruled<'_>], local_v: &[(u32, u32)], out: &mut Vec<Diagnostic>) {
     // Keyed by (the file for a local V, the V's bit).
     let mut seen: std::collections::HashMap<(Option<usize>, u32), (&str, u32)> = Default::default();
     for (i, l) in programs.iter().enumerate() {
-        let p = &l.program;
+        let p = l.program;
         for (pc, op) in p.ops.iter().enumerate() {
             let Op::EdgeRelay { v, .. } = op else {
                 continue;
@@ -178,16 +203,12 @@ fn short(file: &str) -> String {
 }
 
 /// The sum over programs of (highest local pointer + 1) against the budget.
-fn local_pointers(
-    programs: &[LoadedProgram],
-    common_pointer: Option<u32>,
-    out: &mut Vec<Diagnostic>,
-) {
+fn local_pointers(programs: &[Ruled<'_>], common_pointer: Option<u32>, out: &mut Vec<Diagnostic>) {
     let budget = common_pointer.unwrap_or(POINTERS);
     let mut total = 0u32;
     let mut uses = Vec::new();
     for l in programs {
-        let p = &l.program;
+        let p = l.program;
         let highest = p
             .listing
             .entries

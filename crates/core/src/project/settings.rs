@@ -110,7 +110,14 @@ pub(crate) fn cpu(
     cx.unknown_keys(
         t,
         Some("[cpu]"),
-        &["model", "common_pointer", "exec", "a_compatibility"],
+        &[
+            "model",
+            "common_pointer",
+            "exec",
+            "a_compatibility",
+            "online_write_steps",
+            "online_reserve_steps",
+        ],
     );
     if let Some(e) = t.iter().find(|e| e.key == "model") {
         model(cx, e, config);
@@ -118,6 +125,7 @@ pub(crate) fn cpu(
     if let Some(e) = t.iter().find(|e| e.key == "a_compatibility") {
         a_compatibility(cx, e, config, melsec);
     }
+    online_limits(cx, t, config);
     let e = t.iter().find(|e| e.key == "common_pointer")?;
     let text = cx.string(e, "a pointer such as \"P2048\"")?;
     let n = text
@@ -132,6 +140,38 @@ pub(crate) fn cpu(
         );
     }
     n
+}
+
+/// `[cpu] online_write_steps` (1-512, default 512) and
+/// `online_reserve_steps` (0-65535, default 500): the limits of writing a
+/// program during RUN (004 §4.8 (b), (e)).
+fn online_limits(cx: &mut Ctx, t: &[Entry], config: &mut CpuConfig) {
+    let keys: [(&str, u32, &mut u32); 2] = [
+        ("online_write_steps", 512, &mut config.online.max_steps),
+        (
+            "online_reserve_steps",
+            65535,
+            &mut config.online.reserve_steps,
+        ),
+    ];
+    let least = |key: &str| u32::from(key == "online_write_steps");
+    for (key, most, field) in keys {
+        let Some(e) = t.iter().find(|e| e.key == key) else {
+            continue;
+        };
+        match e.item.value {
+            Value::Int(n) if (i64::from(least(key))..=i64::from(most)).contains(&n) => {
+                *field = n as u32
+            }
+            _ => cx.error(
+                &e.item.span,
+                format!(
+                    "{key} must be a number of steps from {} to {most}",
+                    least(key)
+                ),
+            ),
+        }
+    }
 }
 
 /// `[cpu] a_compatibility`: the MELSEC-Q parameter "A-series CPU

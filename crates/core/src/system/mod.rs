@@ -311,6 +311,23 @@ impl System {
         Ok(())
     }
 
+    /// The system's state in a state file: each CPU's (CPU 1 first, each a
+    /// section `CPU1`…), then each one's scan period, next scan and whether
+    /// its stop error was seen.
+    pub(crate) fn snapshot(&mut self, s: &mut crate::engine::Snap) {
+        const TAGS: [[u8; 4]; 4] = [*b"CPU1", *b"CPU2", *b"CPU3", *b"CPU4"];
+        for (m, tag) in self.members.iter_mut().zip(TAGS) {
+            s.section(tag, "CPU", |s| m.cpu.snapshot(s));
+        }
+        s.section(*b"SYST", "multi-CPU system", |s| {
+            for m in &mut self.members {
+                s.u64(&mut m.period_us);
+                s.u64(&mut m.next_due_us);
+                s.bool(&mut m.down);
+            }
+        });
+    }
+
     /// Power-on (and RESET) of CPUs: SD395, the parameter checks against
     /// CPU 1 (3010, 3012; 004 L8481-8520), the stop-error relays. `only`:
     /// just that CPU was reset.

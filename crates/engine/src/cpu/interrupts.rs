@@ -34,6 +34,10 @@ impl Requests {
     pub fn is_empty(&self) -> bool {
         self.0 == [0; 4]
     }
+
+    pub fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
+        s.u64s(&mut self.0);
+    }
 }
 
 impl Cpu {

@@ -13,12 +13,15 @@ mod end;
 mod force;
 mod interrupts;
 pub(crate) use interrupts::Requests;
+mod online;
+pub use online::{OnlineLimits, Written};
 mod rack;
 pub(crate) use force::Force;
 mod remote;
 pub use remote::{Hold, Refusal};
 mod retained;
 mod schedule;
+mod snapshot;
 mod states;
 mod system_block;
 
@@ -84,6 +87,9 @@ struct Slot {
     max_ns: u64,
     /// Engine time at which a fixed-scan program runs next.
     next_due_us: u64,
+    /// Steps the file may grow to by writes during RUN: its steps at load
+    /// and the reserve ([`OnlineLimits::reserve_steps`]).
+    capacity_steps: u32,
 }
 
 /// A MELSEC-Q CPU with its programs.
@@ -92,7 +98,11 @@ pub struct Cpu {
     programs: Vec<Program>,
     /// Native code of each program (`use_tier`), or empty: the interpreter.
     natives: Vec<Box<dyn crate::tier::NativeProgram>>,
+    /// The tier that compiled them, for a program written during RUN.
+    tier: Option<Box<dyn crate::tier::ExecTier + Send + Sync>>,
     tier_stats: Option<crate::tier::TierStats>,
+    /// Programs written during RUN so far ([`Cpu::replace_program`]).
+    program_writes: u64,
     locals: Vec<ProgState>,
     slots: Vec<Slot>,
     rt: Runtime,
@@ -208,6 +218,7 @@ impl Cpu {
                 next_due_us: now,
                 off_pending: false,
                 exec: p.exec,
+                capacity_steps: p.program.steps.saturating_add(cfg.online.reserve_steps),
             })
             .collect();
         let uses_locals: Vec<bool> = programs.iter().map(|p| p.local_devices).collect();
@@ -273,7 +284,9 @@ impl Cpu {
             rack,
             programs,
             natives: Vec::new(),
+            tier: None,
             tier_stats: None,
+            program_writes: 0,
             locals,
             slots,
             rt,
@@ -338,12 +351,14 @@ impl Cpu {
             min_run: tier.min_run(),
         };
         self.natives = natives;
+        self.tier = Some(tier.boxed());
         Ok(self.tier_stats.insert(stats))
     }
 
     /// Back to the interpreter alone.
     pub fn use_interpreter(&mut self) {
         self.natives.clear();
+        self.tier = None;
         self.tier_stats = None;
     }
 

@@ -66,6 +66,21 @@ pub(crate) struct RackState {
 }
 
 impl RackState {
+    /// Each module's own state and the interrupt module's inputs, in a
+    /// state file.
+    pub fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
+        s.u64(&mut self.previous);
+        if !s.same_len(self.modules.len()) {
+            return;
+        }
+        for m in &mut self.modules {
+            // Each module's state after its slot number, which must match.
+            if s.same_len(m.slot) {
+                m.module.snapshot(s);
+            }
+        }
+    }
+
     /// The modules of `rack` in a memory of `map` with `x` input points.
     pub fn new(rack: &Rack, mem: &DeviceMemory) -> RackState {
         let x = mem.map.points(DeviceKind::X) as usize;

@@ -77,6 +77,23 @@ pub(super) struct RemoteState {
     pause_status: bool,
 }
 
+impl RemoteState {
+    /// The remote operations' state in a state file.
+    pub(super) fn snapshot(&mut self, s: &mut softplc_ir::snapshot::Snap) {
+        s.bool(&mut self.switch_stop);
+        s.bool(&mut self.contact_stop);
+        s.bool(&mut self.pause_status);
+        let (mut client, mut hold) = self.held.unwrap_or((0, Hold::Stop));
+        let mut held = self.held.is_some();
+        s.bool(&mut held);
+        s.u32(&mut client);
+        s.one_of(&mut hold, &[Hold::Stop, Hold::Pause]);
+        if s.loading() {
+            self.held = held.then_some((client, hold));
+        }
+    }
+}
+
 impl Cpu {
     /// Remote RUN by `client`: cancels its remote STOP or PAUSE and runs the
     /// CPU when no other source says STOP. `force` overrides another

@@ -67,6 +67,7 @@ pub fn start_configured(
         model: "Q06HCPU".into(),
         ladder: vec![softplc_http::ladder::LadderProgram::from_source(&source)],
         limits,
+        online: None,
     };
     start_cpu(cpu, cfg)
 }
@@ -82,6 +83,7 @@ pub fn start_project(dir: &std::path::Path) -> Server {
         model: "Q06HCPU".into(),
         ladder: softplc_http::ladder::load_programs(&cpu),
         limits: Default::default(),
+        online: None,
     };
     start_cpu(cpu, cfg)
 }
@@ -117,6 +119,7 @@ pub fn start_virtual(src: &str, scale: softplc_serve::TimeScale, lockstep: bool)
         model: "Q06HCPU".into(),
         ladder: Vec::new(),
         limits: Default::default(),
+        online: None,
     };
     start_state_at(state, http, Duration::from_millis(10))
 }

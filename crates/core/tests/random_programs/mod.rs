@@ -1,0 +1,208 @@
+//! Random well-formed MELSEC programs for property tests: contacts,
+//! ANB/ORB blocks, MPS, coils, MOV/arithmetic/compare, forward jumps,
+//! FOR/NEXT, master control, pulse forms and index modification that may go
+//! out of range. `body(depth)` makes the parts, `render` the program text.
+#![allow(dead_code)]
+
+use proptest::prelude::*;
+
+fn bit() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0..8u32).prop_map(|n| format!("X{n}")),
+        (0..16u32).prop_map(|n| format!("M{n}")),
+        (0..8u32).prop_map(|n| format!("Y{n}")),
+        (0..16u32).prop_map(|n| format!("D0.{n:X}")),
+        Just("SM400".to_string()),
+        // The last bits of memory (FY is last): native code reads a bit with
+        // the three bytes after it only where they are still memory.
+        (12..16u32).prop_map(|n| format!("FY{n:X}")),
+        // Index-modified: Z0 may point past the end of M (4101).
+        (0..4u32).prop_map(|n| format!("M{n}Z0")),
+    ]
+}
+
+fn dest_bit() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0..16u32).prop_map(|n| format!("M{n}")),
+        (0..8u32).prop_map(|n| format!("Y{n}")),
+        (12..16u32).prop_map(|n| format!("FY{n:X}")),
+        (0..4u32).prop_map(|n| format!("M{}Z0", 20 + n)),
+    ]
+}
+
+fn word() -> impl Strategy<Value = String> {
+    prop_oneof![
+        4 => (0..16u32).prop_map(|n| format!("D{n}")),
+        1 => (0..4u32).prop_map(|n| format!("D{n}Z0")),
+    ]
+}
+
+fn operand() -> impl Strategy<Value = String> {
+    prop_oneof![
+        word(),
+        (-3i32..40).prop_map(|k| format!("K{k}")),
+        Just("K32767".to_string()),
+    ]
+}
+
+fn contact_chain() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("LD"), Just("LDI")],
+        bit(),
+        prop::collection::vec(
+            (
+                prop_oneof![Just("AND"), Just("ANI"), Just("OR"), Just("ORI")],
+                bit(),
+            ),
+            0..4,
+        ),
+    )
+        .prop_map(|(first, b, rest)| {
+            let mut s = format!("{first} {b}\n");
+            for (m, b) in rest {
+                s += &format!("{m} {b}\n");
+            }
+            s
+        })
+}
+
+fn coil() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("OUT"), Just("SET"), Just("RST"), Just("PLS")],
+        dest_bit(),
+    )
+        .prop_map(|(c, d)| format!("{c} {d}\n"))
+}
+
+fn compare() -> impl Strategy<Value = String> {
+    (
+        prop_oneof![Just("LD"), Just("AND"), Just("OR")],
+        prop_oneof![Just(""), Just("D")],
+        prop_oneof![
+            Just("="),
+            Just("<>"),
+            Just(">"),
+            Just("<="),
+            Just("<"),
+            Just(">=")
+        ],
+        word(),
+        operand(),
+    )
+        .prop_map(|(j, d, op, a, b)| format!("{j}{d}{op} {a} {b}\n"))
+}
+
+/// A comparison contact as the start of a rung or block (`AND=` → `LD=`).
+fn lead(c: &str) -> String {
+    match c.strip_prefix("AND").or_else(|| c.strip_prefix("OR")) {
+        Some(rest) => format!("LD{rest}"),
+        None => c.to_string(),
+    }
+}
+
+/// The condition part of a rung: contacts, a comparison, a block or MPS-free
+/// contact logic.
+fn condition() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => contact_chain(),
+        1 => compare().prop_map(|c| lead(&c)),
+        1 => (contact_chain(), contact_chain(), compare(), prop_oneof![Just("ANB"), Just("ORB")])
+            .prop_map(|(a, b, c, j)| {
+                // LD … opens a block.
+                format!("{a}{b}{j}\n{}ANB\n", lead(&c))
+            }),
+    ]
+}
+
+fn action() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => coil(),
+        2 => (word(), operand()).prop_map(|(d, s)| format!("MOV {s} {d}\n")),
+        1 => (0..8u32, -70000i64..70000).prop_map(|(d, k)| format!("DMOV K{k} D{}\n", 2 * d)),
+        1 => (prop_oneof![Just("+"), Just("-"), Just("*")], word(), operand(), word())
+            .prop_map(|(op, a, b, d)| format!("{op} {a} {b} {d}\n")),
+        1 => word().prop_map(|d| format!("INCP {d}\n")),
+        1 => (word(), word()).prop_map(|(s, d)| format!("MOVP {s} {d}\n")),
+        // Z0 inside M/D, near their ends, or past them.
+        1 => prop_oneof![0..12i32, 8185..8200i32, 12280..12290i32, Just(20000)]
+            .prop_map(|z| format!("MOV K{z} Z0\n")),
+    ]
+}
+
+/// A rung: a condition, then one to three outputs (MPS branches when more).
+fn rung() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => (condition(), action()).prop_map(|(c, a)| c + &a),
+        1 => (condition(), action(), contact_chain(), action(), action()).prop_map(
+            |(c, a1, b, a2, a3)| {
+                let b = b.replacen("LDI", "ANI", 1).replacen("LD", "AND", 1);
+                format!("{c}MPS\n{b}{a1}MRD\n{a2}MPP\n{a3}")
+            }
+        ),
+    ]
+}
+
+/// A program: rungs, forward jumps over rungs, FOR/NEXT and MC blocks.
+pub fn body(depth: u32) -> BoxedStrategy<Vec<String>> {
+    let leaf = prop::collection::vec(rung(), 1..6);
+    if depth == 0 {
+        return leaf.boxed();
+    }
+    let inner = body(depth - 1);
+    prop::collection::vec(
+        prop_oneof![
+            4 => rung().prop_map(|r| vec![r]),
+            1 => (condition(), inner.clone()).prop_map(|(c, rs)| {
+                let mut v = vec![format!("{c}CJ P@\n")];
+                v.extend(rs);
+                v.push("P@\n".into());
+                v
+            }),
+            1 => (1..4u32, inner.clone()).prop_map(|(n, rs)| {
+                let mut v = vec![format!("FOR K{n}\n")];
+                v.extend(rs);
+                v.push("NEXT\n".into());
+                v
+            }),
+            1 => (contact_chain(), inner).prop_map(|(c, rs)| {
+                let mut v = vec![format!("{c}MC N# M{}\n", 300)];
+                v.extend(rs);
+                v.push("MCR N#\n".into());
+                v
+            }),
+        ],
+        1..6,
+    )
+    .prop_map(|vs| vs.into_iter().flatten().collect())
+    .boxed()
+}
+
+/// Numbers the labels (`P@` pairs, innermost first is not needed: each CJ
+/// opens one and its closing `P@` is the next unmatched one) and MC levels.
+pub fn render(parts: &[String]) -> String {
+    let mut out = String::new();
+    let mut labels: Vec<u32> = Vec::new();
+    let mut next_label = 0;
+    let mut mc_level = 0;
+    for p in parts {
+        if p.contains("CJ P@") {
+            labels.push(next_label);
+            out += &p.replace("P@", &format!("P{next_label}"));
+            next_label += 1;
+        } else if p == "P@\n" {
+            out += &format!("P{}\n", labels.pop().unwrap_or(0));
+        } else if p.contains("MC N#") {
+            // Nesting levels ascend inward (N0 outermost).
+            out += &p
+                .replace("N#", &format!("N{}", mc_level.min(14)))
+                .replace("M300", &format!("M{}", 300 + mc_level));
+            mc_level += 1;
+        } else if p == "MCR N#\n" {
+            mc_level -= 1;
+            out += &format!("MCR N{}\n", mc_level.min(14));
+        } else {
+            out += p;
+        }
+    }
+    out + "END\n"
+}
