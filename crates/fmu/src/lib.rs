@@ -5,9 +5,11 @@
 //! - [`plc`]: what `resources/` holds and the PLC loaded from it, stepped
 //!   in virtual time as `softplc run` steps it.
 //! - [`slave`]: one instance and FMI's modes, in safe Rust.
+//! - `state`: the bytes of an FMU state (fmi3GetFMUState and serialization).
 //! - `ffi`: the exported C functions, the crate's only `unsafe`.
 
 pub mod export;
 mod ffi;
 pub mod plc;
 pub mod slave;
+mod state;
