@@ -12,6 +12,7 @@ use softplc_core::engine::calendar::DateTime;
 use softplc_modbus::{Map, Proto, Slave};
 use softplc_serve::serial::{self, LineSettings, Parity};
 use softplc_serve::{mc::Mc, modbus::ModbusTcp, EngineConfig, Listener, SerialSlave, ServeState};
+use softplc_serve::{TimeScale, VirtualTime};
 
 use crate::run::{parse_datetime, parse_duration};
 use crate::served::{load_served, Served};
@@ -157,6 +158,18 @@ pub struct ServeArgs {
     /// (default: the system's root certificates).
     #[arg(long, value_name = "FILE", requires = "mqtt")]
     pub mqtt_ca: Option<PathBuf>,
+    /// Run in virtual time at F times real time (0.01 to 1000), or `max`: as
+    /// fast as the scans go. Timers, the calendar and the scan time follow
+    /// virtual time, and the scan period is virtual (a 10ms scan at 2 starts
+    /// every 5 ms of real time). See docs/cosimulation.md.
+    #[arg(long, value_name = "F", value_parser = TimeScale::parse)]
+    pub time_scale: Option<TimeScale>,
+    /// Hold the CPU before scan 1 and after each END until a client advances
+    /// it (POST /api/v1/sim/advance; needs --http and a token). Requests of
+    /// every door are served at the held END. An advance's scans run at
+    /// --time-scale, else as fast as possible.
+    #[arg(long)]
+    pub lockstep: bool,
 }
 
 /// The MQTT publisher when `--mqtt` asks for one.
@@ -202,6 +215,10 @@ fn host_clock() -> DateTime {
     DateTime::from_unix(s)
 }
 
+/// Only the web monitor's advance moves a held CPU.
+const LOCKSTEP_NEEDS: &str = "--lockstep: the CPU runs only when a client advances it \
+     (POST /api/v1/sim/advance): give --http and a token (--http-token or [http] token)";
+
 pub fn serve(args: ServeArgs) -> ExitCode {
     let fail = |msg: String| {
         eprintln!("softplc: {msg}");
@@ -223,10 +240,18 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         opcua,
         ports,
         cpus,
+        virtual_clock,
     } = match load_served(&args, start, restore_clock) {
         Ok(s) => s,
         Err(code) => return code,
     };
+    if let Some(clock) = virtual_clock {
+        state.set_virtual_time(VirtualTime {
+            clock,
+            scale: args.time_scale.unwrap_or(TimeScale::Max),
+            lockstep: args.lockstep,
+        });
+    }
     // The doors ask CPU 1 (a system's CPUs are all MELSEC-Q CPUs).
     let cpu = state.cpu();
     let doors = cpu.profile().doors;
@@ -283,6 +308,9 @@ pub fn serve(args: ServeArgs) -> ExitCode {
             Ok(t) => t,
             Err(e) => return fail(e),
         };
+        if args.lockstep && token.is_none() {
+            return fail(LOCKSTEP_NEEDS.to_string());
+        }
         let cfg = softplc_http::HttpConfig {
             token,
             model: cpu.profile().model.to_string(),
@@ -292,6 +320,9 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         listeners.push(softplc_http::listener(addr, cfg));
         names.push("web monitor".to_string());
     } else {
+        if args.lockstep {
+            return fail(LOCKSTEP_NEEDS.to_string());
+        }
         for (flag, given) in [
             ("--http-token", args.http_token.is_some()),
             (
@@ -416,6 +447,12 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         ack_after_commit: true,
     };
     let program = args.program.display().to_string();
+    let time = match (args.lockstep, args.time_scale) {
+        (true, Some(f)) => format!(", lockstep (advances at {f})"),
+        (true, None) => ", lockstep".to_string(),
+        (false, Some(f)) => format!(", virtual time at {f}"),
+        (false, None) => String::new(),
+    };
     let stop = Arc::new(AtomicBool::new(false));
     // APLC PORT1/PORT2: the communication phase after every END.
     let mut ports =
@@ -458,13 +495,13 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         servers.extend(names.iter().skip(bound.len()).cloned());
         if cpus.is_empty() {
             eprintln!(
-                "softplc: serving {program}, constant scan {period:?}{}{}",
+                "softplc: serving {program}, constant scan {period:?}{time}{}{}",
                 if servers.is_empty() { "" } else { "; " },
                 servers.join(", ")
             );
         } else {
             eprintln!(
-                "softplc: serving the multi-CPU system {program} ({} CPUs){}{}",
+                "softplc: serving the multi-CPU system {program} ({} CPUs){time}{}{}",
                 cpus.len(),
                 if servers.is_empty() { "" } else { "; " },
                 servers.join(", ")

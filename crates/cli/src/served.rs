@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use softplc_core::engine::calendar::DateTime;
-use softplc_core::engine::{Clock, Cpu, MonotonicClock};
+use softplc_core::engine::{Clock, Cpu, MonotonicClock, VirtualClock};
 use softplc_core::persist::{Attach, Battery, OnDamage};
 use softplc_core::system::System;
 use softplc_serve::ServeState;
@@ -33,6 +33,23 @@ pub struct Served {
     pub ports: Vec<softplc_core::aplc::PortConfig>,
     /// One line per CPU of a system for the start message (empty for one CPU).
     pub cpus: Vec<String>,
+    /// The clock the CPUs run on with --time-scale or --lockstep (else the
+    /// monotonic clock).
+    pub virtual_clock: Option<VirtualClock>,
+}
+
+/// The virtual clock of --time-scale and --lockstep.
+fn virtual_clock(args: &ServeArgs) -> Option<VirtualClock> {
+    (args.time_scale.is_some() || args.lockstep).then(VirtualClock::new)
+}
+
+/// A clock on `time` when given, else on the host's monotonic clock (all
+/// CPUs of a system on one).
+fn clock_on(time: &Option<VirtualClock>, monotonic: &MonotonicClock) -> Box<dyn Clock> {
+    match time {
+        Some(t) => Box::new(t.clone()),
+        None => Box::new(monotonic.clone()),
+    }
 }
 
 /// Loads what `args.program` names, powered on (`Err`: the exit code, the
@@ -51,9 +68,10 @@ pub fn load_served(
 
 /// A single program file or project.
 fn load_one(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result<Served, ExitCode> {
+    let time = virtual_clock(args);
     let mut loaded = load(
         &args.program,
-        Box::new(MonotonicClock::default()),
+        clock_on(&time, &MonotonicClock::default()),
         Some(start),
         args.model.as_deref(),
     )?;
@@ -85,6 +103,7 @@ fn load_one(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result<Se
         opcua,
         ports,
         cpus: Vec::new(),
+        virtual_clock: time,
     })
 }
 
@@ -107,8 +126,9 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
             "each CPU of a system keeps its state in its project's [state] dir",
         );
     }
-    let time = MonotonicClock::default();
-    let mut clock = || -> Box<dyn Clock> { Box::new(time.clone()) };
+    let time = virtual_clock(args);
+    let monotonic = MonotonicClock::default();
+    let mut clock = || clock_on(&time, &monotonic);
     let mut system = System::load(&args.program, &mut clock).map_err(|d| {
         for x in &d.0 {
             eprintln!("{}", sanitize(&x.to_string()));
@@ -160,6 +180,7 @@ fn load_system(args: &ServeArgs, start: DateTime, restore_clock: bool) -> Result
         opcua,
         ports: Vec::new(),
         cpus,
+        virtual_clock: time,
     })
 }
 

@@ -49,8 +49,9 @@ pub struct TestArgs {
     #[arg(long, value_name = "FILE.xml")]
     pub junit: Option<PathBuf>,
     /// Record these devices (comma-separated, e.g. D610,D611,D612 or
-    /// D10:f32,Y0; CPU2/D0 of a multi-CPU system) to CSV, instead of the
-    /// scenario's [trace] devices.
+    /// D10:f32,Y0; CPU2/D0 of a multi-CPU system; line1/D0 of the PLC
+    /// named line1 in a fleet) to CSV, instead of the scenario's [trace]
+    /// devices.
     #[arg(long, value_name = "DEV,...", value_delimiter = ',')]
     pub trace: Vec<String>,
     /// CSV file for the trace (default: the scenario's [trace] file, else

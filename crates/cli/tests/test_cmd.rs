@@ -248,6 +248,9 @@ fn shipped_examples_pass() {
         "examples/rack/tank.toml",
         // A multi-CPU system: CPU 1's batch sequence, CPU 2's loop.
         "examples/multi_cpu/line.toml",
+        // A fleet: two APLC-TCPs on a Modbus RTU link, a Q supervisor
+        // fed by a SCADA client over Modbus TCP.
+        "examples/fleet/serial_line.toml",
         "--plot",
         &svg,
     ]);
@@ -263,6 +266,7 @@ fn shipped_examples_pass() {
         "ratio",
         "fopdt_loop",
         "line",
+        "serial_line",
     ] {
         assert!(
             dir.path().join(format!("plot-{name}.svg")).is_file(),
@@ -500,4 +504,54 @@ fn a_multi_cpu_scenario_traces_shards_and_merges() {
     let text = stdout(&merged);
     assert!(merged.status.success(), "{text}");
     assert_eq!(text.lines().last(), Some("4 passed, 0 failed"), "{text}");
+}
+
+/// A fleet on the command line: `--trace` takes `NAME/DEV` names of
+/// several PLCs. The master's copy of the tank's level (read over the
+/// serial link) follows the tank PLC's own value within a poll.
+#[test]
+fn a_fleet_traces_devices_of_several_plcs() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("fleet.csv").display().to_string();
+    let svg = dir.path().join("fleet.svg").display().to_string();
+    let out = softplc(&[
+        "test",
+        "examples/fleet/serial_line.toml",
+        "--trace",
+        "tank/D0,master/D302",
+        "--trace-interval",
+        "30s",
+        "--trace-file",
+        &csv,
+        "--plot",
+        &svg,
+    ]);
+    let text = stdout(&out);
+    assert!(out.status.success(), "{text}");
+    assert!(text.contains("10 passed, 0 failed"), "{text}");
+    let data = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = data.lines().collect();
+    assert_eq!(lines[0], "scan,time_s,tank/D0,master/D302");
+    assert_eq!(lines[1], "1,0.010,0,0");
+    assert_eq!(lines[3], "6000,60.000,1092,1091");
+    assert_eq!(lines.len(), 1 + 9, "scan 1 and every 30 s to 4 min");
+    for l in &lines[1..] {
+        let v: Vec<i64> = l.split(',').skip(2).map(|x| x.parse().unwrap()).collect();
+        assert!((v[0] - v[1]).abs() <= 2, "{l}");
+    }
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(plot.contains("tank/D0") && plot.contains("master/D302"));
+    // An unknown PLC in --trace is an error naming it.
+    let out = softplc(&[
+        "test",
+        "examples/fleet/serial_line.toml",
+        "--trace",
+        "pump/D0",
+    ]);
+    let text = stdout(&out);
+    assert!(!out.status.success(), "{text}");
+    assert!(
+        text.contains("`pump/D0`: no PLC is named `pump` (PLCs: master, tank, supervisor)"),
+        "{text}"
+    );
 }

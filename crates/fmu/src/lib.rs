@@ -8,7 +8,11 @@
 //! - `state`: the bytes of an FMU state (fmi3GetFMUState and serialization).
 //! - `ffi`: the exported C functions, the crate's only `unsafe`.
 
+// `unsafe` only at the C boundary, each block with its SAFETY reason.
+#![deny(unsafe_code)]
+
 pub mod export;
+#[allow(unsafe_code)]
 mod ffi;
 pub mod plc;
 pub mod slave;

@@ -158,7 +158,12 @@ impl Plc {
             .chain(config.outputs.iter().map(|n| (n, Causality::Output)));
         for (text, causality) in named {
             let text = text.trim();
-            if text == SCAN_TIME || text == "time" || vars.iter().any(|v| v.name == text) {
+            if text == SCAN_TIME || text == "time" {
+                return Err(format!(
+                    "`{text}`: the name of the FMU's own variable, not a device"
+                ));
+            }
+            if vars.iter().any(|v| v.name == text) {
                 return Err(format!("`{text}`: named twice among the variables"));
             }
             let (cpu, rest) = match &cpus {

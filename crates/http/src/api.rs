@@ -70,6 +70,7 @@ pub fn router(app: Arc<App>) -> Router {
         )
         .route("/api/v1/events", get(events))
         .route("/api/v1/rack", get(crate::rack::rack))
+        .route("/api/v1/sim/advance", post(crate::sim::advance))
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(crate::BODY_LIMIT))
         .with_state(app)
@@ -80,7 +81,7 @@ pub fn error(code: StatusCode, msg: impl Into<String>) -> Response {
     (code, Json(json!({ "error": msg.into() }))).into_response()
 }
 
-fn bad(msg: impl Into<String>) -> Response {
+pub(crate) fn bad(msg: impl Into<String>) -> Response {
     error(StatusCode::BAD_REQUEST, msg)
 }
 
@@ -113,7 +114,7 @@ pub(crate) async fn at_end<R: Send + 'static>(
 }
 
 /// Contract §3.1: no token configured → 403; a missing or wrong bearer → 401.
-fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
+pub(crate) fn authorize(app: &App, headers: &HeaderMap) -> Result<(), Response> {
     let Some(token) = &app.cfg.token else {
         return Err(error(
             StatusCode::FORBIDDEN,
@@ -147,11 +148,14 @@ fn equal(a: &[u8], b: &[u8]) -> bool {
 }
 
 /// A request body, or why it was refused (413 over [`crate::BODY_LIMIT`]).
-type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
+pub(crate) type Body = Result<Bytes, axum::extract::rejection::BytesRejection>;
 
 /// Parses a JSON body; malformed JSON is 400, an oversized body 413, both
 /// with `{"error": ...}`.
-fn body<T: serde::de::DeserializeOwned>(bytes: &Body, what: &str) -> Result<T, Response> {
+pub(crate) fn body<T: serde::de::DeserializeOwned>(
+    bytes: &Body,
+    what: &str,
+) -> Result<T, Response> {
     let bytes = bytes.as_ref().map_err(|r| {
         error(
             r.status(),
@@ -237,6 +241,7 @@ fn cpus_json(s: &ServeState) -> Json_ {
                 "state": c.state().as_str(),
                 "error": error_json(s, i),
                 "scans": c.scans(),
+                "time_ms": c.since_power_on_us() as f64 / 1000.0,
                 "scan_time_us": {"last": t.exec_us, "min": t.exec_min_us, "max": t.exec_max_us},
                 "overruns": t.overruns,
             })
@@ -258,6 +263,7 @@ async fn status(State(app): Shared) -> Response {
         let mut j = json!({
             "state": cpu.state().as_str(),
             "scan": cpu.scans(),
+            "time_ms": cpu.since_power_on_us() as f64 / 1000.0,
             "scan_time_us": {"last": st.exec_us, "min": st.exec_min_us, "max": st.exec_max_us},
             "error": error_json(s, 0),
             "model": model,

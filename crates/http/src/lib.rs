@@ -18,6 +18,7 @@ pub mod monitor;
 pub mod pages;
 pub mod process_loops;
 pub mod rack;
+pub mod sim;
 pub mod values;
 
 use std::net::SocketAddr;

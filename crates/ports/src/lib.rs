@@ -22,6 +22,7 @@
 
 pub mod door;
 pub mod line;
+pub mod link;
 pub mod master;
 pub mod peers;
 pub mod serial;
@@ -40,6 +41,7 @@ use softplc_modbus::{Map, Proto, Slave};
 
 use door::{bit, set_bit, set_word, set_words, word};
 pub use line::{Line, Stamped, Timing};
+pub use link::{link, LinkEnd};
 pub use serial::SerialLine;
 use softplc_aplc::comm::modbus::E_PARAMETER;
 pub use softplc_aplc::comm::{Mode, PortConfig, Val};

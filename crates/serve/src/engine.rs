@@ -94,13 +94,16 @@ pub struct ServeState {
     /// Each CPU's battery-backed memory, committed after END processing.
     batteries: Vec<Option<Battery>>,
     /// Replies of this END, sent after its commit.
-    replies: Vec<Box<dyn FnOnce() + Send>>,
+    pub(crate) replies: Vec<Box<dyn FnOnce() + Send>>,
     /// Called on the engine thread after every scan, before the requests of
     /// its END (the web monitor's step, breakpoints and snapshots). Add one
     /// from a request with [`ServeState::add_hook`].
     hooks: Vec<Hook>,
     /// The CPU whose scan ended last.
     scanned: usize,
+    /// Virtual time (`serve --time-scale`, `--lockstep`), when the CPUs run
+    /// on it ([`ServeState::set_virtual_time`]).
+    pub(crate) sim: Option<crate::sim::Sim>,
 }
 
 /// An END hook ([`ServeState::add_hook`]).
@@ -133,6 +136,7 @@ impl ServeState {
             replies: Vec::new(),
             hooks: Vec::new(),
             scanned: 0,
+            sim: None,
         }
     }
 
@@ -177,7 +181,7 @@ impl ServeState {
     }
 
     /// Runs the END hooks (the engine thread, after each scan).
-    fn run_hooks(&mut self) {
+    pub(crate) fn run_hooks(&mut self) {
         if self.hooks.is_empty() {
             return;
         }
@@ -203,7 +207,7 @@ impl ServeState {
     }
 }
 
-type Job = Box<dyn FnOnce(&mut ServeState) + Send>;
+pub(crate) type Job = Box<dyn FnOnce(&mut ServeState) + Send>;
 
 /// The queue is full: the engine is not keeping up (reply "busy").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -299,7 +303,7 @@ pub fn spawn(
 
 /// What the engine thread is doing, for the stall watch.
 #[derive(Default)]
-struct Heartbeat {
+pub(crate) struct Heartbeat {
     /// Scans started.
     started: std::sync::atomic::AtomicU64,
     /// Scans finished (END processing done).
@@ -344,8 +348,16 @@ fn run(
     stop: Arc<AtomicBool>,
     beat: &Heartbeat,
 ) -> ServeState {
-    let (granted, note) = if cfg.realtime {
+    // A loop that scans as fast as it can must not hold a CPU core at
+    // real-time priority.
+    let flat_out = s.time_scale() == Some(crate::TimeScale::Max);
+    let (granted, note) = if cfg.realtime && !flat_out {
         set_realtime()
+    } else if flat_out {
+        (
+            false,
+            "not requested (virtual time as fast as possible)".to_string(),
+        )
     } else {
         (false, "not requested".to_string())
     };
@@ -360,6 +372,25 @@ fn run(
     if let Some(b) = cfg.battery.take() {
         s.batteries[0] = Some(b);
     }
+    let mut s = if s.sim.is_some() {
+        // --time-scale / --lockstep: the CPUs' clock is virtual.
+        crate::sim::run(s, &cfg, &rx, &stop, beat)
+    } else {
+        real_time(s, &cfg, &rx, &stop, beat)
+    };
+    commit(&mut s, u8::MAX);
+    s.replies.drain(..).for_each(|reply| reply());
+    s
+}
+
+/// The real-time loop: each CPU's scan at its period on the monotonic clock.
+fn real_time(
+    mut s: ServeState,
+    cfg: &EngineConfig,
+    rx: &Receiver<Job>,
+    stop: &AtomicBool,
+    beat: &Heartbeat,
+) -> ServeState {
     let mut schedule = Schedule::new(&s.cpus, cfg.period);
     let mut jitter_sum = 0f64;
     let mut logged = Instant::now();
@@ -371,87 +402,114 @@ fn run(
         }
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
-        beat.started.fetch_add(1, Ordering::Relaxed);
-        let executed = s.cpus.get(i).scans();
-        match &mut s.cpus {
-            Cpus::One(cpu) => cpu.scan(),
-            Cpus::System(sys) => sys.scan(i),
-        }
-        s.scanned = i;
-        beat.finished.fetch_add(1, Ordering::Relaxed);
-        if s.cpus.get(i).scans() != executed {
-            // Only scans that executed (not STOP/PAUSE) count, as SD520.
-            let exec = start.elapsed().as_micros() as u64;
-            let c = &mut s.stats.cpus[i];
-            c.record(exec);
-            if i == 0 {
-                let st = &mut s.stats;
-                let c = &st.cpus[0];
-                (st.exec_us, st.exec_min_us, st.exec_max_us) =
-                    (c.exec_us, c.exec_min_us, c.exec_max_us);
-            }
-        }
+        scan_cpu(&mut s, i, start, beat);
         s.run_hooks();
-        // END processing: communication requests, within the budget.
-        let end = Instant::now();
-        while end.elapsed() < cfg.end_budget {
-            match rx.try_recv() {
-                Ok(job) => {
-                    job(&mut s);
-                    s.stats.requests += 1;
-                }
-                Err(_) => break,
-            }
-        }
-        // Group commit: an END at which a request wrote is committed before any
-        // reply of this END goes out, so an acknowledged write survives kill -9.
-        let wrote = if cfg.ack_after_commit {
-            std::mem::take(&mut s.wrote)
-        } else {
-            s.wrote = 0;
-            0
-        };
-        if commit(&mut s, wrote) {
-            s.replies.drain(..).for_each(|reply| reply());
-        } else {
-            // Not durable: no acknowledgement (the clients see "busy").
-            s.replies.clear();
-        }
-        let busy = start.elapsed();
-        let st = &mut s.stats;
-        st.scans += 1;
-        st.current_us = busy.as_micros() as u64;
-        st.min_us = if st.scans == 1 {
-            st.current_us
-        } else {
-            st.min_us.min(st.current_us)
-        };
-        st.max_us = st.max_us.max(st.current_us);
-        st.jitter_max_us = st.jitter_max_us.max(jitter);
-        jitter_sum += jitter as f64;
-        st.jitter_mean_us = jitter_sum / st.scans as f64;
-        if cfg.log_every.is_some_and(|d| logged.elapsed() >= d) {
-            logged = Instant::now();
-            eprintln!(
-                "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests; real-time: {}",
-                st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests,
-                if st.realtime { "SCHED_FIFO" } else { "no" }
-            );
-        }
+        serve_end(&mut s, rx, cfg);
+        account(&mut s.stats, start, jitter, &mut jitter_sum);
+        log_stats(&s.stats, cfg, &mut logged);
         if schedule.done(i) {
-            st.overruns += 1;
-            st.cpus[i].overruns += 1;
+            s.stats.overruns += 1;
+            s.stats.cpus[i].overruns += 1;
         }
     }
-    commit(&mut s, u8::MAX);
-    s.replies.drain(..).for_each(|reply| reply());
     s
+}
+
+/// Scans CPU `i` (started at `start`); its execution time goes to the
+/// statistics when it executed (not STOP/PAUSE, as SD520).
+#[inline]
+pub(crate) fn scan_cpu(s: &mut ServeState, i: usize, start: Instant, beat: &Heartbeat) {
+    beat.started.fetch_add(1, Ordering::Relaxed);
+    let executed = s.cpus.get(i).scans();
+    match &mut s.cpus {
+        Cpus::One(cpu) => cpu.scan(),
+        Cpus::System(sys) => sys.scan(i),
+    }
+    s.scanned = i;
+    beat.finished.fetch_add(1, Ordering::Relaxed);
+    if s.cpus.get(i).scans() != executed {
+        let exec = start.elapsed().as_micros() as u64;
+        let c = &mut s.stats.cpus[i];
+        c.record(exec);
+        if i == 0 {
+            let st = &mut s.stats;
+            let c = &st.cpus[0];
+            (st.exec_us, st.exec_min_us, st.exec_max_us) =
+                (c.exec_us, c.exec_min_us, c.exec_max_us);
+        }
+    }
+}
+
+/// END processing: the queued communication requests within the budget,
+/// then the commit and the replies.
+#[inline]
+pub(crate) fn serve_end(s: &mut ServeState, rx: &Receiver<Job>, cfg: &EngineConfig) {
+    let end = Instant::now();
+    while end.elapsed() < cfg.end_budget {
+        match rx.try_recv() {
+            Ok(job) => {
+                job(s);
+                s.stats.requests += 1;
+            }
+            Err(_) => break,
+        }
+    }
+    reply_after_commit(s, cfg);
+}
+
+/// Group commit: an END at which a request wrote is committed before any
+/// reply of this END goes out, so an acknowledged write survives kill -9.
+#[inline]
+pub(crate) fn reply_after_commit(s: &mut ServeState, cfg: &EngineConfig) {
+    let wrote = if cfg.ack_after_commit {
+        std::mem::take(&mut s.wrote)
+    } else {
+        s.wrote = 0;
+        0
+    };
+    if commit(s, wrote) {
+        s.replies.drain(..).for_each(|reply| reply());
+    } else {
+        // Not durable: no acknowledgement (the clients see "busy").
+        s.replies.clear();
+    }
+}
+
+/// The loop's statistics after a scan started at `start` `jitter` µs late
+/// and its END processing.
+#[inline]
+pub(crate) fn account(st: &mut ScanStats, start: Instant, jitter: u64, jitter_sum: &mut f64) {
+    let busy = start.elapsed();
+    st.scans += 1;
+    st.current_us = busy.as_micros() as u64;
+    st.min_us = if st.scans == 1 {
+        st.current_us
+    } else {
+        st.min_us.min(st.current_us)
+    };
+    st.max_us = st.max_us.max(st.current_us);
+    st.jitter_max_us = st.jitter_max_us.max(jitter);
+    *jitter_sum += jitter as f64;
+    st.jitter_mean_us = *jitter_sum / st.scans as f64;
+}
+
+/// The `--stats-every` line, when due.
+#[inline]
+pub(crate) fn log_stats(st: &ScanStats, cfg: &EngineConfig, logged: &mut Instant) {
+    if cfg.log_every.is_some_and(|d| logged.elapsed() >= d) {
+        *logged = Instant::now();
+        eprintln!(
+            "softplc: {} scans, scan {} us (min {}, max {}), {} overruns, jitter max {} us mean {:.0} us, {} requests; real-time: {}",
+            st.scans, st.current_us, st.min_us, st.max_us, st.overruns, st.jitter_max_us, st.jitter_mean_us, st.requests,
+            if st.realtime { "SCHED_FIFO" } else { "no" }
+        );
+    }
 }
 
 /// Commits each CPU's battery-backed memory: now for the CPUs in `wrote`
 /// (one bit each), else when its interval is due. False when a write could
 /// not be made durable.
-fn commit(s: &mut ServeState, wrote: u8) -> bool {
+pub(crate) fn commit(s: &mut ServeState, wrote: u8) -> bool {
     let mut durable = true;
     for (i, b) in s.batteries.iter_mut().enumerate() {
         let Some(b) = b else { continue };
@@ -550,9 +608,11 @@ fn set_realtime() -> (bool, String) {
     (false, "not available on this system".into())
 }
 
-/// Sleeps until `t`, spinning for the last 200 µs for a steady period.
-fn wait_until(t: Instant) {
-    const SPIN: Duration = Duration::from_micros(200);
+/// The last part of a wait for a scan's start that spins, for a steady period.
+pub(crate) const SPIN: Duration = Duration::from_micros(200);
+
+/// Sleeps until `t`, spinning for the last [`SPIN`] for a steady period.
+pub(crate) fn wait_until(t: Instant) {
     let now = Instant::now();
     if t > now + SPIN {
         std::thread::sleep(t - now - SPIN);

@@ -2,7 +2,8 @@
 //! scan period while protocol servers (MC protocol, Modbus) talk to it. Every
 //! request is served by the engine thread at END processing (see [`engine`]),
 //! the way the CPU processes communication, so replies are consistent with a
-//! completed scan and clients can never stall a scan.
+//! completed scan and clients can never stall a scan. With `--time-scale` or
+//! `--lockstep` the CPUs run in virtual time instead (see [`sim`]).
 
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
@@ -15,6 +16,7 @@ pub mod engine;
 pub mod mc;
 pub mod modbus;
 pub mod serial;
+pub mod sim;
 pub mod tcp;
 pub mod udp;
 
@@ -23,6 +25,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
+pub use sim::{Advance, AdvanceRefused, Advanced, TimeScale, VirtualTime};
 pub use softplc_core::system::Cpus;
 pub use tcp::{FrameLen, Protocol};
 

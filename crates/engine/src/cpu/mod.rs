@@ -399,6 +399,12 @@ impl Cpu {
         self.scans
     }
 
+    /// Time on the engine clock since power-on (or RESET, which is power-on
+    /// processing), µs.
+    pub fn since_power_on_us(&self) -> u64 {
+        self.clock.now_us().saturating_sub(self.power_on_us)
+    }
+
     pub fn memory(&self) -> &DeviceMemory {
         &self.rt.mem
     }

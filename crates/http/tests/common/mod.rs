@@ -93,8 +93,38 @@ pub fn start_cpu(cpu: Cpu, http: HttpConfig) -> Server {
 
 /// A server of `state` (one CPU or a multi-CPU system) at a 5 ms period.
 pub fn start_state(state: ServeState, http: HttpConfig) -> Server {
+    start_state_at(state, http, Duration::from_millis(5))
+}
+
+/// A server of `src` with the token on the virtual clock at `scale`, held
+/// in lockstep when `lockstep`, at a 10 ms scan.
+pub fn start_virtual(src: &str, scale: softplc_serve::TimeScale, lockstep: bool) -> Server {
+    let p = softplc_core::program::compile_il("main.il", src, &DeviceConfig::default()).unwrap();
+    let clock = softplc_core::engine::VirtualClock::new();
+    let cpu = Cpu::new(
+        p,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
+    let mut state = ServeState::new(cpu);
+    state.set_virtual_time(softplc_serve::VirtualTime {
+        clock,
+        scale,
+        lockstep,
+    });
+    let http = HttpConfig {
+        token: Some(TOKEN.into()),
+        model: "Q06HCPU".into(),
+        ladder: Vec::new(),
+        limits: Default::default(),
+    };
+    start_state_at(state, http, Duration::from_millis(10))
+}
+
+/// A server of `state` at a `period` scan.
+pub fn start_state_at(state: ServeState, http: HttpConfig, period: Duration) -> Server {
     let engine = EngineConfig {
-        period: Duration::from_millis(5),
+        period,
         end_budget: Duration::from_millis(2),
         queue: 256,
         battery: None,

@@ -7,9 +7,9 @@ use softplc_core::device::DeviceMemory;
 use softplc_core::names::DevName;
 
 use super::fmt::Kind;
-use super::spec::{channel, split_cpu, Scale};
+use super::plcs::Plcs;
+use super::spec::{channel, Scale};
 use crate::model::{from_raw_clamped, to_raw};
-use softplc_core::system::Cpus;
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
 /// index-modified device pushed out of range by Z), named in its CPU's
@@ -25,8 +25,8 @@ pub struct Probe {
 
 impl Probe {
     /// Parses `text` in the dialect of its CPU and checks it exists there.
-    pub fn new(text: &str, cpus: &Cpus) -> Result<Probe, String> {
-        let (cpu, rest) = split_cpu(text, cpus.len())?;
+    pub fn new(text: &str, cpus: &Plcs) -> Result<Probe, String> {
+        let (cpu, rest) = cpus.layout.split(text)?;
         let dev = DevName::parse_for(rest.trim(), cpus.get(cpu))?;
         if dev.ty() == ValueType::Str {
             return Err(format!("`{text}`: strings cannot be bound or checked"));
@@ -61,7 +61,7 @@ impl Probe {
 
     /// The value now in its CPU.
     #[inline]
-    pub fn read(&self, cpus: &Cpus) -> f64 {
+    pub fn read(&self, cpus: &Plcs) -> f64 {
         self.read_mem(cpus.get(self.cpu).memory())
     }
 
@@ -101,8 +101,8 @@ impl Channel {
     /// The module channel `text` names in the rack of its CPU, or `None`
     /// when `text` is a device name. In a multi-CPU system the module must
     /// be one its CPU controls.
-    fn parse(text: &str, cpus: &Cpus) -> Option<Result<Channel, String>> {
-        let (own, rest) = match split_cpu(text, cpus.len()) {
+    fn parse(text: &str, cpus: &Plcs) -> Option<Result<Channel, String>> {
+        let (own, rest) = match cpus.layout.split(text) {
             Ok(split) => split,
             Err(e) => return channel(text).map(|_| Err(e)),
         };
@@ -116,7 +116,7 @@ impl Channel {
                 .ok_or_else(|| format!("`{text}`: no slot of the rack is unit U{unit:X}"))?;
             let index = slot.index as usize;
             let name = slot.describe();
-            if cpus.system().is_some() && slot.control_cpu as usize != own + 1 {
+            if cpus.in_system(own) && slot.control_cpu as usize != cpus.own_index(own) + 1 {
                 return Err(format!(
                     "`{text}`: {name} is controlled by CPU {c}: bind CPU{c}/{}",
                     rest.trim(),
@@ -139,7 +139,7 @@ impl Channel {
 
     /// The channel's physical value, NaN when the module has none.
     #[inline]
-    fn read(&self, cpus: &Cpus) -> f64 {
+    fn read(&self, cpus: &Plcs) -> f64 {
         cpus.get(self.cpu)
             .module(self.slot)
             .and_then(|m| m.channel(self.channel))
@@ -171,7 +171,7 @@ pub enum Source {
 
 impl Source {
     /// A model input bound to `text`, a device or a module channel.
-    pub fn new(text: &str, scale: Scale, cpus: &Cpus) -> Result<Source, String> {
+    pub fn new(text: &str, scale: Scale, cpus: &Plcs) -> Result<Source, String> {
         match Channel::parse(text, cpus) {
             Some(channel) => Ok(Source::Channel {
                 channel: channel?,
@@ -185,7 +185,7 @@ impl Source {
     }
 
     #[inline]
-    pub fn read(&self, cpus: &Cpus) -> f64 {
+    pub fn read(&self, cpus: &Plcs) -> f64 {
         match self {
             Source::Const(v) => *v,
             Source::Channel { channel, scale } => {
@@ -242,7 +242,7 @@ pub enum Sink {
 }
 
 impl Sink {
-    pub fn new(text: &str, scale: Scale, cpus: &mut Cpus) -> Result<Sink, String> {
+    pub fn new(text: &str, scale: Scale, cpus: &mut Plcs) -> Result<Sink, String> {
         if let Some(channel) = Channel::parse(text, cpus) {
             let channel = channel?;
             // An output channel (D/A) refuses a value: say so now, not at
@@ -267,7 +267,7 @@ impl Sink {
     /// clamped to the type's range (NaN is 0); `f32` as the nearest float;
     /// a channel's physical value (NaN is 0).
     #[inline]
-    pub fn write(&mut self, cpus: &mut Cpus, v: f64) {
+    pub fn write(&mut self, cpus: &mut Plcs, v: f64) {
         let (dev, cpu, scale) = match self {
             Sink::Channel { channel, scale } => {
                 let x = match *scale {

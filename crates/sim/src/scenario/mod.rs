@@ -32,20 +32,30 @@
 //!
 //! A multi-CPU system (a directory with `system.toml`, contract §6) runs in
 //! the same loop with the scan time as its step: in step 3 every CPU whose
-//! scan ends by the step's end scans (`System::run_until`: each at its
-//! constant scan, else once per step; equal times in CPU-number order, each
-//! followed by its END's exchange). Names take `CPUn/` prefixes, resolved
-//! against their CPU at build time; each binding keeps its CPU's index.
+//! scan ends by the step's end scans (each at its constant scan, else once
+//! per step; equal times in CPU-number order, each followed by its END's
+//! exchange). Names take `CPUn/` prefixes, resolved against their CPU at
+//! build time; each binding keeps its CPU's index.
+//!
+//! A fleet (`[[plc]]` tables) runs its PLCs in the same loop: in step 3
+//! every PLC whose scan ends by the step's end scans, earliest END first
+//! and `[[plc]]` order on ties (`plcs.rs`), each scan followed by its APLC
+//! ports (`[[link]]`s to other PLCs' ports among them) and the
+//! `[[client]]`s polling it. Names take `NAME/` prefixes (`Layout`); the
+//! CPUs of all PLCs are numbered flat, the first PLC's first.
 //!
 //! After the scan every watched device is sampled once: the expectations are
 //! evaluated online (O(1) per expectation per scan) and the trace takes its
-//! sample when due. Nothing in the loop allocates or parses: devices are
-//! resolved at build time, the failure history is a fixed ring buffer and the
-//! trace is pre-sized.
+//! sample when due. Nothing in the loop parses, and apart from the ports'
+//! frames and a client's poll nothing allocates: devices are resolved at
+//! build time, the failure history is a fixed ring buffer and the trace is
+//! pre-sized.
 
 mod bind;
 mod check;
+mod client;
 pub mod fmt;
+mod plcs;
 mod ports;
 mod run;
 mod spec;
@@ -54,8 +64,9 @@ mod trace;
 pub use check::{Failure, HISTORY_AFTER, HISTORY_BEFORE};
 pub use run::{CheckResult, Outcome, Run, PROGRESS_EVERY};
 pub use spec::{
-    Band, Cond, EventSpec, ExpectKind, ExpectSpec, InputBinding, ModelSpec, OutputBinding,
-    PeerKind, PeerSpec, PlotSpec, Scale, Scenario, ScriptStep, Setpoint, Source, TraceSpec,
+    Band, BlockSpec, ClientProtocol, ClientSpec, Cond, EventSpec, ExpectKind, ExpectSpec,
+    InputBinding, Layout, LinkSpec, ModelSpec, OutputBinding, PeerKind, PeerSpec, PlcSpec,
+    PlotSpec, PortRef, Remote, Scale, Scenario, ScriptStep, Setpoint, Source, TraceSpec,
     DEFAULT_MAX_SAMPLES,
 };
 pub use trace::TraceData;

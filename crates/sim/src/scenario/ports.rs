@@ -8,9 +8,9 @@ use std::sync::{Arc, Mutex};
 
 use softplc_modbus::Proto;
 use softplc_ports::peers::{self, Bus, Script, SimSlave, Step};
-use softplc_ports::{Mode, Peer, PortConfig, Ports, Timing};
+use softplc_ports::{LinkEnd, Mode, Peer, PortConfig, Ports, Timing};
 
-use super::spec::{ModelSpec, PeerKind, PeerSpec, ScriptStep};
+use super::spec::{LinkSpec, ModelSpec, PeerKind, PeerSpec, PlcSpec, PortRef, ScriptStep};
 use crate::model::Model;
 
 /// A slave register written from a model output before every scan.
@@ -76,14 +76,16 @@ fn slave(cfg: &PortConfig, peer: &PeerSpec) -> Option<SimSlave> {
     Some(s)
 }
 
-/// Builds the ports of `configs` with `peers`; `models` (spec and built)
-/// resolve the registers that follow a model.
+/// Builds the ports of `configs` with `peers` (numbered as in the file) and
+/// the ends of `linked` ports; `models` (spec and built) resolve the
+/// registers that follow a model.
 pub(super) fn build(
     configs: &[PortConfig],
-    peers_spec: &[PeerSpec],
+    peers_spec: &[(usize, &PeerSpec)],
+    mut linked: Vec<(u8, LinkEnd)>,
     models: &[(&ModelSpec, &dyn Model)],
 ) -> Result<(Ports, Vec<Follow>), String> {
-    for (i, p) in peers_spec.iter().enumerate() {
+    for &(i, p) in peers_spec {
         if !configs.iter().any(|c| c.port == p.port) {
             return Err(format!(
                 "peer #{}: PORT{} has no settings ([port{}] in the scenario or plc.toml)",
@@ -96,12 +98,20 @@ pub(super) fn build(
     let mut ports = Ports::new();
     let mut follows = Vec::new();
     for cfg in configs {
+        if let Some(k) = linked.iter().position(|(port, _)| *port == cfg.port) {
+            if let Some((i, _)) = peers_spec.iter().find(|(_, p)| p.port == cfg.port) {
+                return Err(format!(
+                    "peer #{}: PORT{} is linked to another PLC ([[link]]): a linked port takes no [[peer]]",
+                    i + 1,
+                    cfg.port
+                ));
+            }
+            let (_, end) = linked.swap_remove(k);
+            ports.add(cfg.clone(), Box::new(end));
+            continue;
+        }
         let mut on_line: Vec<Box<dyn Peer>> = Vec::new();
-        for (i, p) in peers_spec
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.port == cfg.port)
-        {
+        for &(i, p) in peers_spec.iter().filter(|(_, p)| p.port == cfg.port) {
             match &p.kind {
                 PeerKind::Slave { follow, .. } => {
                     let s = slave(cfg, p).expect("a slave peer");
@@ -160,4 +170,54 @@ pub(super) fn build(
         ports.add_virtual(cfg.clone(), peer);
     }
     Ok((ports, follows))
+}
+
+/// The ends of every `[[link]]`, per PLC: (port, end). Both ports must have
+/// settings (`configs`, per PLC) that agree on the character format.
+pub(super) fn links(
+    links: &[LinkSpec],
+    configs: &[Vec<PortConfig>],
+    plcs: &[PlcSpec],
+) -> Result<Vec<Vec<(u8, LinkEnd)>>, String> {
+    let mut out: Vec<Vec<(u8, LinkEnd)>> = configs.iter().map(|_| Vec::new()).collect();
+    for l in links {
+        let name = |e: PortRef| format!("{}:port{}", plcs[e.plc].name, e.port);
+        let config = |e: PortRef| {
+            configs[e.plc]
+                .iter()
+                .find(|c| c.port == e.port)
+                .ok_or_else(|| {
+                    format!(
+                        "{}: `{}` has no settings ([port{}] in its [[plc]] table, or in its plc.toml)",
+                        l.what,
+                        name(e),
+                        e.port
+                    )
+                })
+        };
+        let (a, b) = (config(l.a)?, config(l.b)?);
+        let format = |c: &PortConfig| {
+            format!(
+                "{} baud, parity {:?}, {} data bits, {} stop bits",
+                c.baud, c.parity, c.data_bits, c.stop_bits
+            )
+            .to_lowercase()
+        };
+        if (a.baud, a.parity, a.data_bits, a.stop_bits)
+            != (b.baud, b.parity, b.data_bits, b.stop_bits)
+        {
+            return Err(format!(
+                "{}: the two ends do not agree: `{}` has {}, `{}` has {}",
+                l.what,
+                name(l.a),
+                format(a),
+                name(l.b),
+                format(b)
+            ));
+        }
+        let (end_a, end_b) = softplc_ports::link(Timing::of(a));
+        out[l.a.plc].push((l.a.port, end_a));
+        out[l.b.plc].push((l.b.port, end_b));
+    }
+    Ok(out)
 }

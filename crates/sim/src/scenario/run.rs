@@ -5,13 +5,15 @@ use std::time::{Duration, Instant};
 use softplc_core::engine::{Clock, Cpu, CpuState, VirtualClock};
 use softplc_core::names::Names;
 use softplc_core::system::{Cpus, System};
+
+use super::client::{self, Client};
+use super::plcs::{Plc, Plcs};
 use softplc_core::{project, single};
 
 use super::bind::{Probe, Sink, Source};
 use super::check::{Check, Failure, Ring, Verdict, HISTORY_BEFORE};
 use super::fmt::{fmt_time, Kind};
-use super::spec::split_cpu;
-use super::spec::{ExpectKind, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
+use super::spec::{ExpectKind, Layout, PlcSpec, Scenario, Setpoint, DEFAULT_MAX_SAMPLES};
 use super::trace::{Recorder, TraceData};
 use crate::model::{self, Model};
 
@@ -26,7 +28,7 @@ struct Bound {
 }
 
 impl Bound {
-    fn write_outputs(&mut self, cpus: &mut Cpus) {
+    fn write_outputs(&mut self, cpus: &mut Plcs) {
         for (i, sink) in &mut self.outputs {
             sink.write(cpus, self.out_buf[*i]);
         }
@@ -47,7 +49,7 @@ struct Write {
 pub struct Run {
     name: String,
     file: std::path::PathBuf,
-    cpus: Cpus,
+    cpus: Plcs,
     clock: VirtualClock,
     scan_us: u64,
     total: u64,
@@ -62,8 +64,7 @@ pub struct Run {
     /// Scans done and the next timeline write, for [`Run::step`].
     stepped: u64,
     next_step_write: usize,
-    /// The APLC ports and the slave registers following a model.
-    ports: softplc_ports::Ports,
+    /// The slave registers following a model.
     follows: Vec<super::ports::Follow>,
 }
 
@@ -136,36 +137,108 @@ impl Scenario {
     pub fn build_on(&self, exec: Option<softplc_core::tier::Exec>) -> Result<Run, String> {
         let clock = VirtualClock::new();
         let ctx = |e: String| format!("{}: {e}", self.file.display());
-        let mut ports = self.ports.clone();
+        if !self.plcs.is_empty() {
+            return self.build_fleet(clock, exec).map_err(ctx);
+        }
+        let one = PlcSpec {
+            name: String::new(),
+            source: self.source.clone(),
+            cpu: self.cpu,
+            profile: self.profile,
+            scan_us: self.scan_us,
+            ports: self.ports.clone(),
+        };
+        let loaded = self.load_plc(&one, &clock, exec)?;
+        self.build_with_ports(loaded.cpus, clock, &loaded.ports)
+            .map_err(ctx)
+    }
+
+    /// Loads one PLC's program, project or system on `clock`: its CPUs on
+    /// their execution tier, its APLC port settings and its project's
+    /// `[modbus]` table.
+    fn load_plc(
+        &self,
+        plc: &PlcSpec,
+        clock: &VirtualClock,
+        exec: Option<softplc_core::tier::Exec>,
+    ) -> Result<Loaded, String> {
+        let PlcSpec {
+            source,
+            cpu,
+            profile,
+            scan_us,
+            ..
+        } = plc;
+        let mut ports = plc.ports.clone();
         let mut project_exec = None;
-        let mut cpu = match &self.source {
+        let mut modbus = None;
+        let mut cpu = match source {
             super::Source::Program(p) => {
                 let options = single::Options {
-                    ports: self.ports.clone(),
-                    explicit_model: self.cpu.is_some(),
+                    ports: ports.clone(),
+                    explicit_model: cpu.is_some(),
                     ..Default::default()
                 };
-                single::load(p, self.profile, options, Box::new(clock.clone()))
+                single::load(p, profile, options, Box::new(clock.clone()))
                     .map_err(|e| e.to_string())?
             }
             super::Source::Project(p) => {
                 let proj = project::load_project(p).map_err(|d| format!("{d}"))?;
                 ports = proj.ports.clone();
                 project_exec = proj.exec;
+                modbus = proj.modbus.clone();
                 proj.build_cpu(Box::new(clock.clone()))
                     .map_err(|d| format!("{d}"))?
             }
             super::Source::System(p) => {
-                let sys = self.load_system(p, &clock, exec)?;
-                return self
-                    .build_with_ports(Cpus::System(sys), clock, &[])
-                    .map_err(ctx);
+                let sys = self.load_system(p, clock, exec, *scan_us)?;
+                return Ok(Loaded {
+                    cpus: Cpus::System(sys),
+                    ports: Vec::new(),
+                    modbus: None,
+                });
             }
         };
         let exec = softplc_core::tier::Exec::choose(exec, project_exec)?;
         softplc_core::tier::apply(&mut cpu, exec)?;
-        self.build_with_ports(Cpus::One(cpu), clock, &ports)
-            .map_err(ctx)
+        Ok(Loaded {
+            cpus: Cpus::One(cpu),
+            ports,
+            modbus,
+        })
+    }
+
+    /// Loads every PLC of a fleet on one clock, links their ports and
+    /// builds the run.
+    fn build_fleet(
+        &self,
+        clock: VirtualClock,
+        exec: Option<softplc_core::tier::Exec>,
+    ) -> Result<Run, String> {
+        let mut units = Vec::new();
+        let mut configs = Vec::new();
+        let mut modbus = Vec::new();
+        let mut layout = Vec::new();
+        for p in &self.plcs {
+            let loaded = self
+                .load_plc(p, &clock, exec)
+                .map_err(|e| format!("PLC `{}`: {e}", p.name))?;
+            layout.push((p.name.clone(), loaded.cpus.len()));
+            units.push(Plc {
+                cpus: loaded.cpus,
+                ports: softplc_ports::Ports::new(),
+                period_us: p.scan_us,
+                next_due_us: clock.now_us() + p.scan_us,
+            });
+            configs.push(loaded.ports);
+            modbus.push(loaded.modbus);
+        }
+        let plcs = Plcs {
+            units,
+            layout: Layout::Fleet(layout),
+            clients: Vec::new(),
+        };
+        self.finish_build(plcs, clock, configs, modbus)
     }
 
     /// Loads a multi-CPU system on `clock`, puts each CPU on its execution
@@ -176,6 +249,7 @@ impl Scenario {
         path: &std::path::Path,
         clock: &VirtualClock,
         exec: Option<softplc_core::tier::Exec>,
+        scan_us: u64,
     ) -> Result<System, String> {
         let mut sys = System::load(path, &mut || Box::new(clock.clone()) as Box<dyn Clock>)
             .map_err(|d| format!("{d}"))?;
@@ -184,7 +258,7 @@ impl Scenario {
                 .and_then(|e| softplc_core::tier::apply(sys.cpu_mut(i), e));
             tier.map_err(|e| format!("CPU {}: {e}", i + 1))?;
         }
-        sys.schedule(Duration::from_micros(self.scan_us), 0);
+        sys.schedule(Duration::from_micros(scan_us), 0);
         Ok(sys)
     }
 
@@ -196,9 +270,33 @@ impl Scenario {
     /// [`Scenario::build_with`] with the APLC ports the CPU was configured with.
     fn build_with_ports(
         &self,
-        mut cpus: Cpus,
+        cpus: Cpus,
         clock: VirtualClock,
         port_configs: &[softplc_ports::PortConfig],
+    ) -> Result<Run, String> {
+        let n = cpus.len();
+        let plcs = Plcs {
+            units: vec![Plc {
+                cpus,
+                ports: softplc_ports::Ports::new(),
+                period_us: self.scan_us,
+                next_due_us: clock.now_us() + self.scan_us,
+            }],
+            layout: Layout::One(n),
+            clients: Vec::new(),
+        };
+        self.finish_build(plcs, clock, vec![port_configs.to_vec()], vec![None])
+    }
+
+    /// Resolves every device of the scenario against the PLCs and builds
+    /// their ports (`configs` per PLC), links and clients (`modbus`: each
+    /// PLC's `[modbus]` table of plc.toml).
+    fn finish_build(
+        &self,
+        mut cpus: Plcs,
+        clock: VirtualClock,
+        configs: Vec<Vec<softplc_ports::PortConfig>>,
+        modbus: Vec<Option<toml::Table>>,
     ) -> Result<Run, String> {
         // Models.
         let mut models = Vec::new();
@@ -241,7 +339,7 @@ impl Scenario {
         for e in &self.timeline {
             for (dev, value) in &e.set {
                 let at = |err: String| format!("timeline at scan {}: {err}", e.scan);
-                let (cpu, dev) = split_cpu(dev, cpus.len()).map_err(at)?;
+                let (cpu, dev) = cpus.layout.split(dev).map_err(at)?;
                 let name = names[cpu].parse(dev.trim()).map_err(at)?;
                 let value = name
                     .parse_value(value)
@@ -263,7 +361,7 @@ impl Scenario {
 
         // Watched devices and checks.
         let mut probes: Vec<Probe> = Vec::new();
-        let mut watch = |text: &str, cpus: &Cpus| -> Result<usize, String> {
+        let mut watch = |text: &str, cpus: &Plcs| -> Result<usize, String> {
             let p = Probe::new(text, cpus)?;
             if let Some(i) = probes.iter().position(|q| q.same(&p)) {
                 return Ok(i);
@@ -344,7 +442,25 @@ impl Scenario {
             .zip(&models)
             .map(|(s, b)| (s, b.model.as_ref()))
             .collect();
-        let (ports, follows) = super::ports::build(port_configs, &self.peers, &built)?;
+        let mut linked = super::ports::links(&self.links, &configs, &self.plcs)?;
+        let mut follows = Vec::new();
+        for (u, cfgs) in configs.iter().enumerate() {
+            let peers: Vec<(usize, &super::PeerSpec)> = self
+                .peers
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| p.plc == u)
+                .collect();
+            let ends = std::mem::take(&mut linked[u]);
+            let (ports, f) = super::ports::build(cfgs, &peers, ends, &built)?;
+            cpus.units[u].ports = ports;
+            follows.extend(f);
+        }
+        for c in &self.clients {
+            let profile = cpus.units[c.plc].cpus.get(0).profile();
+            let client = Client::new(c, &cpus, profile, modbus[c.plc].as_ref())?;
+            cpus.clients.push(client);
+        }
         let width = probes.len();
         Ok(Run {
             name: self.name.clone(),
@@ -363,7 +479,6 @@ impl Scenario {
             recorder,
             stepped: 0,
             next_step_write: 0,
-            ports,
             follows,
         })
     }
@@ -395,15 +510,7 @@ impl Run {
             let _ = self.cpus.get_mut(w.cpu).write_value(&w.spec, &w.value);
             *next_write += 1;
         }
-        match &mut self.cpus {
-            Cpus::One(cpu) => {
-                self.clock.advance_us(self.scan_us);
-                cpu.scan();
-                // The communication phase after END (L914-941).
-                self.ports.after_end(cpu);
-            }
-            Cpus::System(sys) => sys.run_until(n * self.scan_us, &self.clock),
-        }
+        self.cpus.run_until(n * self.scan_us, &self.clock);
         Ok(())
     }
 
@@ -504,7 +611,7 @@ impl Run {
     /// The CPU (0-based) a device name addresses and the name without its
     /// `CPUn/` prefix (a name without one is CPU 1's).
     pub fn split_name<'a>(&self, name: &'a str) -> Result<(usize, &'a str), String> {
-        split_cpu(name, self.cpus.len())
+        self.cpus.layout.split(name)
     }
 
     /// Runs every scan: before each, the due timeline writes and one step of
@@ -561,7 +668,7 @@ impl Run {
 
         let mut results = Vec::new();
         let why = match (all_stopped, fault) {
-            (true, _) if self.cpus.system().is_some() => "every CPU stopped",
+            (true, _) if self.cpus.len() > 1 => "every CPU stopped",
             (true, _) => "the CPU stopped",
             (_, Some(_)) => "a model failed",
             _ => "the run ended",
@@ -603,9 +710,20 @@ impl Run {
                 error: true,
             });
         }
-        let scans = match &self.cpus {
-            Cpus::One(_) => done,
-            Cpus::System(sys) => sys.cpu(0).scans(),
+        for c in &self.cpus.clients {
+            if let Some((text, detail)) = client::result(c) {
+                results.push(CheckResult {
+                    text,
+                    passed: false,
+                    detail,
+                    failure: None,
+                    error: false,
+                });
+            }
+        }
+        let scans = match (&self.cpus.layout, &self.cpus.units[0].cpus) {
+            (Layout::One(_), Cpus::One(_)) => done,
+            _ => self.cpus.get(0).scans(),
         };
         Outcome {
             name: self.name,
@@ -620,12 +738,27 @@ impl Run {
     }
 }
 
-/// How reports name CPU `i`: "the CPU", or "CPU n" in a system.
-fn label(cpus: &Cpus, i: usize) -> String {
-    match cpus {
-        Cpus::One(_) => "the CPU".into(),
-        Cpus::System(_) => format!("CPU {}", i + 1),
+/// How reports name CPU `i`: "the CPU", "CPU n" in a system, "PLC
+/// `line1`" (and its CPU n) in a fleet.
+fn label(cpus: &Plcs, i: usize) -> String {
+    match &cpus.layout {
+        Layout::One(1) => "the CPU".into(),
+        Layout::One(_) => format!("CPU {}", i + 1),
+        Layout::Fleet(plcs) => {
+            let (u, c) = cpus.layout.locate(i);
+            match cpus.in_system(i) {
+                true => format!("PLC `{}` CPU {}", plcs[u].0, c + 1),
+                false => format!("PLC `{}`", plcs[u].0),
+            }
+        }
     }
+}
+
+/// What [`Scenario::load_plc`] loaded.
+struct Loaded {
+    cpus: Cpus,
+    ports: Vec<softplc_ports::PortConfig>,
+    modbus: Option<toml::Table>,
 }
 
 /// Why a CPU stopped: the error code, message and step (the APLC has no

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use super::bind::Probe;
 use super::fmt::{fmt_secs, fmt_value, Kind};
-use softplc_core::system::Cpus;
+use super::plcs::Plcs;
 
 /// Recorded samples of some devices.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -102,14 +102,14 @@ impl Recorder {
     }
 
     #[inline]
-    pub(super) fn sample(&mut self, n: u64, time_us: u64, cpus: &Cpus) {
+    pub(super) fn sample(&mut self, n: u64, time_us: u64, cpus: &Plcs) {
         if n.is_multiple_of(self.every) || n == 1 || n == self.last {
             self.take(n, time_us, cpus);
         }
     }
 
     /// Takes a sample now (e.g. the scan where the CPU stopped).
-    pub(super) fn take(&mut self, n: u64, time_us: u64, cpus: &Cpus) {
+    pub(super) fn take(&mut self, n: u64, time_us: u64, cpus: &Plcs) {
         if self.data.scans.last() == Some(&n) {
             return;
         }

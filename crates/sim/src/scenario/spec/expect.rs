@@ -1,7 +1,7 @@
 //! The `[[expect]]` tables of a scenario file: keys, checks and their labels.
 
+use super::values::Space;
 use softplc_core::access::ValueType;
-use softplc_core::names::Names;
 
 use super::values::{device, number, scan_at, scan_before, time_us};
 use super::{Band, Cond, ExpectKind, ExpectSpec, Setpoint};
@@ -45,7 +45,7 @@ pub(super) fn expect_spec(
     t: &toml::Table,
     scan_us: u64,
     scans: u64,
-    names: &[Names],
+    names: &Space,
 ) -> Result<ExpectSpec, String> {
     for k in t.keys() {
         if !EXPECT_KEYS.contains(&k.as_str()) {

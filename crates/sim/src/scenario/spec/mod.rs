@@ -8,11 +8,14 @@ use softplc_core::profile::Profile;
 use std::path::PathBuf;
 
 mod expect;
+mod fleet;
 mod parse;
 mod peer;
 mod values;
 
-pub(crate) use values::{channel, split_cpu};
+pub use fleet::{BlockSpec, ClientProtocol, ClientSpec, LinkSpec, PlcSpec, PortRef, Remote};
+pub(crate) use values::channel;
+pub use values::Layout;
 
 /// What the scenario runs: a program file or a project.
 #[derive(Clone, Debug, PartialEq)]
@@ -171,6 +174,8 @@ pub struct PlotSpec {
 /// A simulated device on an APLC port's line (`[[peer]]`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PeerSpec {
+    /// The PLC (0-based) of a fleet whose port it is on (0 for one PLC).
+    pub plc: usize,
     /// 1 = PORT1, 2 = PORT2.
     pub port: u8,
     /// Answer delay after a frame's last byte (default: the RTU silence
@@ -252,4 +257,13 @@ pub struct Scenario {
     pub ports: Vec<softplc_ports::PortConfig>,
     /// `[[peer]]`: the devices on the ports' lines.
     pub peers: Vec<PeerSpec>,
+    /// How device names choose their CPU (`names` is flat in its order).
+    pub layout: Layout,
+    /// `[[plc]]`: the PLCs of a fleet (empty: one PLC, `source`; else
+    /// `source`, `cpu` and `profile` are the first PLC's).
+    pub plcs: Vec<PlcSpec>,
+    /// `[[link]]`: serial ports of two PLCs wired together.
+    pub links: Vec<LinkSpec>,
+    /// `[[client]]`: HMIs or SCADA polling a PLC.
+    pub clients: Vec<ClientSpec>,
 }

@@ -10,7 +10,8 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use super::expect::{expect_label, expect_spec};
-use super::values::{binding, device, scan_at, time_us, write_text};
+use super::fleet::{self, PlcSpec};
+use super::values::{binding, device, scan_at, time_us, write_text, Layout, Space};
 use super::{
     EventSpec, ExpectKind, InputBinding, ModelSpec, OutputBinding, PlotSpec, Scenario, Setpoint,
     Source, TraceSpec,
@@ -41,6 +42,12 @@ struct Doc {
     port2: Option<toml::Table>,
     #[serde(default)]
     peer: Vec<toml::Table>,
+    #[serde(default)]
+    plc: Vec<fleet::PlcDoc>,
+    #[serde(default)]
+    link: Vec<fleet::LinkDoc>,
+    #[serde(default)]
+    client: Vec<fleet::ClientDoc>,
 }
 
 #[derive(Deserialize)]
@@ -107,7 +114,7 @@ impl Scenario {
     }
 
     fn parse_inner(text: &str, path: &Path) -> Result<Scenario, String> {
-        let doc: Doc = toml::from_str(text).map_err(|e| {
+        let mut doc: Doc = toml::from_str(text).map_err(|e| {
             let (line, col) =
                 softplc_core::project::line_col(text, e.span().map_or(0, |s| s.start));
             format!("{line}:{col}: {}", one_line(e.message()))
@@ -116,36 +123,45 @@ impl Scenario {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
         };
-        let source = match (&doc.program, &doc.project) {
-            (Some(p), None) | (None, Some(p)) if system::is_system(&base.join(p)) => {
-                Source::System(base.join(p))
-            }
-            (Some(p), None) => Source::Program(base.join(p)),
-            (None, Some(p)) => Source::Project(base.join(p)),
-            _ => {
-                return Err(
-                    "give exactly one of `program` (a file) or `project` (a directory)".into(),
-                )
-            }
+        // One PLC: its source first (errors in the order they always came).
+        let single = if doc.plc.is_empty() {
+            let source = fleet::source_of(&doc.program, &doc.project, &base)?;
+            let cpu = single_cpu(&doc.cpu, &source)?;
+            Some((source, cpu))
+        } else {
+            None
         };
-        let cpu = match (&doc.cpu, &source) {
-            (None, _) => None,
-            (Some(_), Source::Project(_)) => {
-                return Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
-            }
-            (Some(_), Source::System(_)) => {
-                return Err(
-                    "cpu: each CPU of a multi-CPU system sets its model with [cpu] model in its plc.toml"
-                        .into(),
-                )
-            }
-            (Some(m), Source::Program(p)) => Some(program_model(m, p)?),
-        };
-        let (cpu_profile, dev_names) = names_of(&source, cpu);
         let scan_us = time_us(&doc.scan_time, "scan_time")?;
         if scan_us == 0 {
             return Err("scan_time: must be at least 1us".into());
         }
+        let plcs = if doc.plc.is_empty() {
+            Vec::new()
+        } else {
+            fleet_plcs(&mut doc, &base, text, scan_us)?
+        };
+        let (source, cpu, cpu_profile, dev_names) = match plcs.first() {
+            Some(first) => {
+                let mut names = Vec::new();
+                let mut layout = Vec::new();
+                for p in &plcs {
+                    let (_, n) = names_of(&p.source, p.cpu);
+                    layout.push((p.name.clone(), n.len()));
+                    names.extend(n);
+                }
+                let space = Space {
+                    names,
+                    layout: Layout::Fleet(layout),
+                };
+                (first.source.clone(), first.cpu, first.profile, space)
+            }
+            None => {
+                let (source, cpu) = single.expect("one PLC without [[plc]] tables");
+                let (profile, names) = names_of(&source, cpu);
+                let layout = Layout::One(names.len());
+                (source, cpu, profile, Space { names, layout })
+            }
+        };
         let duration_us = time_us(&doc.duration, "duration")?;
         let scans = duration_us.div_ceil(scan_us);
         if scans == 0 {
@@ -223,20 +239,60 @@ impl Scenario {
         }
         let mut peers = Vec::new();
         for (i, t) in doc.peer.iter().enumerate() {
-            if cpu_profile.doors.serial_ports == 0 {
-                return Err(
-                    "[[peer]]: serial peers need an APLC-TCP program (its PORT1/PORT2)".into(),
-                );
+            let mut t = t.clone();
+            let plc = match (t.remove("plc"), plcs.is_empty()) {
+                (None, true) => None,
+                (Some(_), true) => {
+                    return Err(format!(
+                        "peer #{}: `plc` names a PLC of [[plc]] tables; this scenario runs one PLC",
+                        i + 1
+                    ))
+                }
+                (None, false) => {
+                    return Err(format!(
+                    "peer #{}: `plc` is required with [[plc]] tables: the PLC whose port it is on",
+                    i + 1
+                ))
+                }
+                (Some(v), false) => {
+                    let name = v.as_str().unwrap_or_default();
+                    Some(
+                        fleet::find_plc(&plcs, name)
+                            .map_err(|e| format!("peer #{} plc: {e}", i + 1))?,
+                    )
+                }
+            };
+            let profile = plc.map_or(cpu_profile, |p| plcs[p].profile);
+            if profile.doors.serial_ports == 0 {
+                return Err(format!(
+                    "peer #{}: serial peers need an APLC-TCP program (its PORT1/PORT2)",
+                    i + 1
+                ));
             }
-            peers.push(super::peer::peer(t, i)?);
+            let mut spec = super::peer::peer(&t, i)?;
+            spec.plc = plc.unwrap_or(0);
+            peers.push(spec);
         }
+        if plcs.is_empty() && !(doc.link.is_empty() && doc.client.is_empty()) {
+            return Err("[[link]] and [[client]] connect the PLCs of [[plc]] tables".into());
+        }
+        let links = fleet::links(&doc.link, &plcs, text)?;
+        let check = |d: &str, what: &str| device(d, what, &dev_names).map(|_| ());
+        let clients = fleet::clients(
+            std::mem::take(&mut doc.client),
+            &plcs,
+            &dev_names.layout,
+            text,
+            &check,
+        )?;
         Ok(Scenario {
             file: path.to_path_buf(),
             name,
             source,
             cpu,
             profile: cpu_profile,
-            names: dev_names,
+            names: dev_names.names.clone(),
+            layout: dev_names.layout.clone(),
             scan_us,
             scans,
             models,
@@ -246,6 +302,9 @@ impl Scenario {
             plot,
             ports,
             peers,
+            plcs,
+            links,
+            clients,
         })
     }
 
@@ -275,6 +334,83 @@ impl Scenario {
         }
         out
     }
+}
+
+/// The `cpu` key of a scenario (or a `[[plc]]`) whose source is `source`.
+fn single_cpu(cpu: &Option<String>, source: &Source) -> Result<Option<&'static Profile>, String> {
+    match (cpu, source) {
+        (None, _) => Ok(None),
+        (Some(_), Source::Project(_)) => {
+            Err("cpu: a project sets its CPU model with [cpu] model in plc.toml".into())
+        }
+        (Some(_), Source::System(_)) => Err(
+            "cpu: each CPU of a multi-CPU system sets its model with [cpu] model in its plc.toml"
+                .into(),
+        ),
+        (Some(m), Source::Program(p)) => Ok(Some(program_model(m, p)?)),
+    }
+}
+
+/// The `[[plc]]` tables of a fleet; the single-PLC keys may not be mixed
+/// with them.
+fn fleet_plcs(
+    doc: &mut Doc,
+    base: &Path,
+    text: &str,
+    scan_us: u64,
+) -> Result<Vec<PlcSpec>, String> {
+    for (key, given) in [
+        ("program", doc.program.is_some()),
+        ("project", doc.project.is_some()),
+        ("cpu", doc.cpu.is_some()),
+        ("[port1]", doc.port1.is_some()),
+        ("[port2]", doc.port2.is_some()),
+    ] {
+        if given {
+            return Err(format!(
+                "{key}: a key of a single-PLC scenario; with [[plc]] tables each PLC gives its own"
+            ));
+        }
+    }
+    let mut plcs: Vec<PlcSpec> = Vec::new();
+    for (i, p) in std::mem::take(&mut doc.plc).into_iter().enumerate() {
+        let name = p.name.get_ref().trim().to_string();
+        let what = format!("{}: [[plc]] #{} `{name}`", fleet::at(text, &p.name), i + 1);
+        fleet::check_name(&name).map_err(|e| format!("{what}: name: {e}"))?;
+        if plcs.iter().any(|q| q.name == name) {
+            return Err(format!("{what}: two PLCs are named `{name}`"));
+        }
+        let ctx = |e: String| format!("{what}: {e}");
+        let source = fleet::source_of(&p.program, &p.project, base).map_err(ctx)?;
+        let cpu = single_cpu(&p.cpu, &source).map_err(ctx)?;
+        let (profile, _) = names_of(&source, cpu);
+        let plc_scan = match &p.scan_time {
+            Some(v) => time_us(v, "scan_time").map_err(ctx)?,
+            None => scan_us,
+        };
+        if plc_scan == 0 {
+            return Err(ctx("scan_time: must be at least 1us".into()));
+        }
+        let mut ports = Vec::new();
+        for (n, t) in [(1u8, &p.port1), (2, &p.port2)] {
+            let Some(t) = t else { continue };
+            if !matches!(source, Source::Program(_)) || profile.doors.serial_ports == 0 {
+                return Err(ctx(format!(
+                    "[port{n}]: only for an APLC program file (a project sets its ports in plc.toml)"
+                )));
+            }
+            ports.push(super::peer::port_config(n, t).map_err(ctx)?);
+        }
+        plcs.push(PlcSpec {
+            name,
+            source,
+            cpu,
+            profile,
+            scan_us: plc_scan,
+            ports,
+        });
+    }
+    Ok(plcs)
 }
 
 /// The `cpu` of a scenario that runs one program file: a model that reads
@@ -332,12 +468,7 @@ fn project_names(dir: &Path) -> (&'static Profile, Names) {
     }
 }
 
-fn model_spec(
-    mut m: ModelDoc,
-    i: usize,
-    base: &Path,
-    names: &[Names],
-) -> Result<ModelSpec, String> {
+fn model_spec(mut m: ModelDoc, i: usize, base: &Path, names: &Space) -> Result<ModelSpec, String> {
     let name = m.name.clone().unwrap_or_else(|| m.kind.clone());
     let what = format!("model #{} `{name}`", i + 1);
     // An FMU's file is relative to the scenario file.
@@ -394,7 +525,7 @@ fn timeline_entry(
     i: usize,
     scan_us: u64,
     scans: u64,
-    names: &[Names],
+    names: &Space,
     out: &mut Vec<EventSpec>,
 ) -> Result<(), String> {
     let what = format!("timeline #{}", i + 1);

@@ -220,6 +220,7 @@ pub(super) fn peer(t: &toml::Table, i: usize) -> Result<PeerSpec, String> {
         _ => return Err(format!("{what}: `type` is \"modbus-slave\" or \"script\"")),
     };
     Ok(PeerSpec {
+        plc: 0,
         port,
         delay_us,
         kind,

@@ -90,17 +90,107 @@ pub(crate) fn split_cpu(text: &str, cpus: usize) -> Result<(usize, &str), String
     }
 }
 
+/// How a scenario's device names choose their CPU: by a `CPUn/` prefix
+/// among the CPUs of one PLC, or in a fleet (`[[plc]]`) by the PLC's name
+/// first (`line1/D0`, `line2/CPU2/D0`). CPUs are numbered flat: the first
+/// PLC's CPUs first.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Layout {
+    /// One PLC of this many CPUs; names without a PLC name.
+    One(usize),
+    /// The PLCs of a fleet in `[[plc]]` order: name and number of CPUs.
+    Fleet(Vec<(String, usize)>),
+}
+
+impl Layout {
+    /// The CPU (flat, 0-based) `text` addresses and the name after its
+    /// prefixes.
+    pub fn split<'a>(&self, text: &'a str) -> Result<(usize, &'a str), String> {
+        let plcs = match self {
+            Layout::One(cpus) => return split_cpu(text, *cpus),
+            Layout::Fleet(plcs) => plcs,
+        };
+        let text = text.trim();
+        let Some((head, rest)) = text.split_once('/') else {
+            return Err(format!(
+                "`{text}`: name the PLC it belongs to, as in `{}/{text}` (PLCs: {})",
+                plcs[0].0,
+                self.plc_names()
+            ));
+        };
+        let mut first = 0;
+        for (name, cpus) in plcs {
+            if name == head.trim() {
+                let (cpu, rest) =
+                    split_cpu(rest, *cpus).map_err(|e| format!("PLC `{name}`: {e}"))?;
+                return Ok((first + cpu, rest));
+            }
+            first += cpus;
+        }
+        Err(format!(
+            "`{text}`: no PLC is named `{}` (PLCs: {})",
+            head.trim(),
+            self.plc_names()
+        ))
+    }
+
+    /// The PLC (0-based) and its own CPU (0-based) of flat CPU `cpu`.
+    pub fn locate(&self, cpu: usize) -> (usize, usize) {
+        let Layout::Fleet(plcs) = self else {
+            return (0, cpu);
+        };
+        let mut first = 0;
+        for (i, (_, n)) in plcs.iter().enumerate() {
+            if cpu < first + n {
+                return (i, cpu - first);
+            }
+            first += n;
+        }
+        (plcs.len().saturating_sub(1), 0)
+    }
+
+    /// The CPUs of every PLC together.
+    pub fn cpus(&self) -> usize {
+        match self {
+            Layout::One(n) => *n,
+            Layout::Fleet(plcs) => plcs.iter().map(|(_, n)| n).sum(),
+        }
+    }
+
+    fn plc_names(&self) -> String {
+        match self {
+            Layout::One(_) => String::new(),
+            Layout::Fleet(plcs) => plcs
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        }
+    }
+}
+
+/// The device names of a scenario: each CPU's dialect (flat, as
+/// [`Layout`] numbers them) and how a name chooses its CPU.
+#[derive(Clone, Debug)]
+pub struct Space {
+    pub names: Vec<Names>,
+    pub layout: Layout,
+}
+
 /// A device name in the scenario's dialect, `names` per CPU (checked
 /// against the CPU at build).
-pub(super) fn device(text: &str, what: &str, names: &[Names]) -> Result<DevName, String> {
-    let (cpu, text) = split_cpu(text, names.len()).map_err(|e| format!("{what}: {e}"))?;
+pub(super) fn device(text: &str, what: &str, names: &Space) -> Result<DevName, String> {
+    let (cpu, text) = names
+        .layout
+        .split(text)
+        .map_err(|e| format!("{what}: {e}"))?;
     if channel(text).is_some() {
         return Err(format!(
             "{what}: `{}` is a module channel: it binds a model port (check or trace the module's U\\G words)",
             text.trim()
         ));
     }
-    let spec = names[cpu]
+    let spec = names.names[cpu]
         .parse(text.trim())
         .map_err(|e| format!("{what}: {e}"))?;
     if spec.ty() == ValueType::Str {
@@ -118,7 +208,7 @@ pub(super) fn binding(
     v: &toml::Value,
     what: &str,
     input: bool,
-    names: &[Names],
+    names: &Space,
 ) -> Result<InputBinding, String> {
     let target = match v {
         toml::Value::String(s) => Some(s.as_str()),
@@ -126,7 +216,7 @@ pub(super) fn binding(
         _ => None,
     };
     let target = target
-        .map(|t| split_cpu(t, names.len()).map_err(|e| format!("{what}: {e}")))
+        .map(|t| names.layout.split(t).map_err(|e| format!("{what}: {e}")))
         .transpose()?;
     if let Some(ch) = target.and_then(|(_, t)| channel(t)) {
         ch.map_err(|e| format!("{what}: {e}"))?;
