@@ -159,7 +159,7 @@ def test_the_fmu_state_goes_back_in_time(tmp_path):
     program.write_text("LD SM400\nINC D0\nEND\n")
     fmu = export(tmp_path, str(program), [], ["D0"], "count")
     md = read_model_description(str(fmu))
-    assert md.coSimulation.canGetAndSetFMUState and md.coSimulation.canSerializeFMUState
+    assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
     slave = fmi3.FMU3Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)),
                            modelIdentifier=md.coSimulation.modelIdentifier, instanceName="plc")
     slave.instantiate()
