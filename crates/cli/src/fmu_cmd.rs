@@ -45,8 +45,8 @@ pub struct FmuArgs {
 }
 
 /// Where the FMU library is: `--fmu-library`, else $SOFTPLC_FMU_LIBRARY,
-/// else next to the running executable (cargo builds it there, and its
-/// test binaries run from `deps/` below it).
+/// else next to the running executable or in `deps/` below it (where cargo
+/// builds it), the newer of the two.
 fn find_library(given: Option<&Path>) -> Result<PathBuf, String> {
     let check = |p: PathBuf, how: &str| {
         if p.is_file() {
@@ -63,13 +63,18 @@ fn find_library(given: Option<&Path>) -> Result<PathBuf, String> {
     }
     let exe = std::env::current_exe().ok();
     let dir = exe.as_deref().and_then(Path::parent);
-    let candidates = dir
+    // Cargo writes the library to deps/ whenever it builds softplc, and
+    // next to softplc only for `-p softplc-fmu`: the newer one is current.
+    let newest = dir
         .into_iter()
-        .flat_map(|d| [d.join(LIBRARY_FILE), d.join("deps").join(LIBRARY_FILE)]);
-    for c in candidates {
-        if c.is_file() {
-            return Ok(c);
-        }
+        .flat_map(|d| [d.join(LIBRARY_FILE), d.join("deps").join(LIBRARY_FILE)])
+        .filter_map(|p| {
+            let modified = std::fs::metadata(&p).ok()?.modified().ok()?;
+            p.is_file().then_some((modified, p))
+        })
+        .max_by_key(|(modified, _)| *modified);
+    if let Some((_, p)) = newest {
+        return Ok(p);
     }
     Err(format!(
         "the FMU library {LIBRARY_FILE} is not next to this executable{}: build it with \
