@@ -1,7 +1,8 @@
 """softplc as an FMU (`softplc fmu`, docs/fmu-export.md): the exported FMU
 passes fmpy's validation, and fmpy's co-simulation gives what `softplc run`
 gives at every communication point, inputs given as fmpy's `input=` table;
-a wrong call sequence is refused with a logged reason, not a crash.
+a wrong call sequence is refused with a logged reason, not a crash; the FMU
+state goes back in time.
 
 The FMU's library is the libsoftplc_fmu.so that `cargo test` builds next to
 target/debug/softplc (in target/debug/deps)."""
@@ -149,5 +150,35 @@ def test_a_wrong_call_sequence_is_refused_and_logged(tmp_path):
     slave.exitInitializationMode()
     slave.doStep(0.0, 0.03)
     assert slave.getInt16([vr["D0"], vr["D10"]]) == [3, -7]
+    slave.terminate()
+    slave.freeInstance()
+
+
+def test_the_fmu_state_goes_back_in_time(tmp_path):
+    program = tmp_path / "count.il"
+    program.write_text("LD SM400\nINC D0\nEND\n")
+    fmu = export(tmp_path, str(program), [], ["D0"], "count")
+    md = read_model_description(str(fmu))
+    assert md.coSimulation.canGetAndSetFMUstate and md.coSimulation.canSerializeFMUstate
+    slave = fmi3.FMU3Slave(guid=md.guid, unzipDirectory=fmpy.extract(str(fmu)),
+                           modelIdentifier=md.coSimulation.modelIdentifier, instanceName="plc")
+    slave.instantiate()
+    d0 = {v.name: v.valueReference for v in md.modelVariables}["D0"]
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    slave.doStep(0.0, 0.1)
+    state = slave.getFMUState()
+    slave.doStep(0.1, 0.1)
+    assert slave.getInt16([d0]) == [20]
+    slave.setFMUState(state)
+    assert slave.getInt16([d0]) == [10]
+    # Serialized, read back into a new state, and set: 10 scans again.
+    copy = slave.deserializeFMUState(slave.serializeFMUState(state))
+    slave.doStep(0.1, 0.05)
+    assert slave.getInt16([d0]) == [15]
+    slave.setFMUState(copy)
+    assert slave.getInt16([d0]) == [10]
+    slave.freeFMUState(state)
+    slave.freeFMUState(copy)
     slave.terminate()
     slave.freeInstance()

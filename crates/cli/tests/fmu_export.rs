@@ -762,3 +762,109 @@ fn a_multi_cpu_system_as_an_fmu_gives_what_run_gives() {
     assert_eq!(fmu.value("CPU1/Y0"), 1);
     assert_eq!(fmu.value("CPU2/Y1"), 1);
 }
+
+type GetState = unsafe extern "C" fn(Inst, *mut *mut c_void) -> i32;
+type SetState = unsafe extern "C" fn(Inst, *mut c_void) -> i32;
+type StateSize = unsafe extern "C" fn(Inst, *mut c_void, *mut usize) -> i32;
+type Serialize = unsafe extern "C" fn(Inst, *mut c_void, *mut u8, usize) -> i32;
+type Deserialize = unsafe extern "C" fn(Inst, *const u8, usize, *mut *mut c_void) -> i32;
+
+impl Fmu {
+    fn get_state(&self, state: &mut *mut c_void) -> i32 {
+        // SAFETY: fmi3GetFMUState's type; `state` is a local handle.
+        unsafe { self.lib.get::<GetState>(b"fmi3GetFMUState").unwrap()(self.inst, state) }
+    }
+
+    fn set_state(&self, state: *mut c_void) -> i32 {
+        // SAFETY: fmi3SetFMUState's type with a handle of this FMU.
+        unsafe { self.lib.get::<SetState>(b"fmi3SetFMUState").unwrap()(self.inst, state) }
+    }
+
+    fn free_state(&self, state: &mut *mut c_void) -> i32 {
+        // SAFETY: fmi3FreeFMUState's type; the handle is not used again.
+        unsafe { self.lib.get::<GetState>(b"fmi3FreeFMUState").unwrap()(self.inst, state) }
+    }
+
+    fn serialize(&self, state: *mut c_void) -> Vec<u8> {
+        let mut n = 0usize;
+        // SAFETY: the serialization functions' types; the buffer has `n` bytes.
+        unsafe {
+            let size = self
+                .lib
+                .get::<StateSize>(b"fmi3SerializedFMUStateSize")
+                .unwrap();
+            assert_eq!(size(self.inst, state, &mut n), OK);
+            let mut b = vec![0u8; n];
+            let f = self.lib.get::<Serialize>(b"fmi3SerializeFMUState").unwrap();
+            assert_eq!(f(self.inst, state, b.as_mut_ptr(), n), OK);
+            b
+        }
+    }
+
+    fn deserialize(&self, bytes: &[u8], state: &mut *mut c_void) -> i32 {
+        // SAFETY: fmi3DeserializeFMUState's type; the buffer has its length.
+        unsafe {
+            self.lib
+                .get::<Deserialize>(b"fmi3DeserializeFMUState")
+                .unwrap()(self.inst, bytes.as_ptr(), bytes.len(), state)
+        }
+    }
+}
+
+#[test]
+fn an_fmu_state_goes_back_in_time_also_serialized_and_a_damaged_one_changes_nothing() {
+    let (_d, program) = counter();
+    let (fmu, xml) = export("count", &[&program, "--input", "D10", "--output", "D0"]);
+    assert!(
+        xml.contains(r#"canGetAndSetFMUState="true" canSerializeFMUState="true""#),
+        "{xml}"
+    );
+    let d0 = || fmu.value("D0");
+    let mut s1: *mut c_void = std::ptr::null_mut();
+    // Not before initialization.
+    assert_eq!(fmu.get_state(&mut s1), ERROR);
+    assert_eq!(fmu.init(), OK);
+    assert_eq!(fmu.step(0.0, 0.1), OK);
+    // An input set but not yet written is part of the state.
+    fmu.write("D10", 42);
+    assert_eq!(fmu.get_state(&mut s1), OK);
+    assert!(!s1.is_null());
+    fmu.write("D10", 7);
+    assert_eq!(fmu.step(0.1, 0.1), OK);
+    assert_eq!(d0(), 20);
+    assert_eq!(fmu.set_state(s1), OK);
+    assert_eq!((d0(), fmu.value("D10")), (10, 42));
+    assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 0), (OK, 0.1));
+    // The same steps again give the same values.
+    assert_eq!(fmu.step(0.1, 0.05), OK);
+    assert_eq!(d0(), 15);
+    // Serialized and back, into a new state.
+    let bytes = fmu.serialize(s1);
+    let mut s2: *mut c_void = std::ptr::null_mut();
+    assert_eq!(fmu.deserialize(&bytes, &mut s2), OK);
+    assert_eq!(fmu.set_state(s2), OK);
+    assert_eq!(d0(), 10);
+    assert_eq!(fmu.step(0.1, 0.1), OK);
+    assert_eq!(d0(), 20);
+    // A damaged state is refused and nothing changes.
+    let mut bad = bytes.clone();
+    let last = bad.len() - 1;
+    bad[last] ^= 0x55;
+    let mut s3: *mut c_void = std::ptr::null_mut();
+    assert_eq!(fmu.deserialize(&bad, &mut s3), OK);
+    assert_eq!(fmu.set_state(s3), ERROR);
+    assert!(
+        fmu.logged().last().unwrap().contains("damaged"),
+        "{:?}",
+        fmu.logged()
+    );
+    assert_eq!(d0(), 20);
+    assert_eq!(fmu.get::<f64>("fmi3GetFloat64", 0), (OK, 0.2));
+    assert_eq!(fmu.step(0.2, 0.01), OK);
+    assert_eq!(d0(), 21);
+    // Freed: the handles become NULL.
+    for s in [&mut s1, &mut s2, &mut s3] {
+        assert_eq!(fmu.free_state(s), OK);
+        assert!(s.is_null());
+    }
+}

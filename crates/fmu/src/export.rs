@@ -188,7 +188,7 @@ pub fn model_description(plc: &Plc, model_name: &str, id: &str, token: &str) -> 
     ));
     x.push_str(&format!(
         "  <CoSimulation modelIdentifier=\"{id}\" canHandleVariableCommunicationStepSize=\"true\" \
-         canGetAndSetFMUState=\"false\" canSerializeFMUState=\"false\" \
+         canGetAndSetFMUState=\"true\" canSerializeFMUState=\"true\" \
          canBeInstantiatedOnlyOncePerProcess=\"false\" hasEventMode=\"false\" \
          providesIntermediateUpdate=\"false\" canReturnEarlyAfterIntermediateUpdate=\"false\"/>\n"
     ));

@@ -605,7 +605,6 @@ macro_rules! unsupported {
 
 /// Model exchange functions (importers such as fmpy look every function up).
 const NO_ME: &str = "softplc's FMU is for co-simulation only (no model exchange)";
-const NO_STATE: &str = "not supported (canGetAndSetFMUState is false)";
 
 unsupported! {
     fmi3EnterEventMode() "softplc's FMU has no event mode";
@@ -628,10 +627,138 @@ unsupported! {
     fmi3GetNominalsOfContinuousStates(_nominals: *mut f64, _n: usize) NO_ME;
     fmi3GetNumberOfEventIndicators(_n: *mut usize) NO_ME;
     fmi3GetNumberOfContinuousStates(_n: *mut usize) NO_ME;
-    fmi3GetFMUState(_state: *mut *mut c_void) NO_STATE;
-    fmi3SetFMUState(_state: *mut c_void) NO_STATE;
-    fmi3FreeFMUState(_state: *mut *mut c_void) NO_STATE;
-    fmi3SerializedFMUStateSize(_state: *mut c_void, _size: *mut usize) NO_STATE;
-    fmi3SerializeFMUState(_state: *mut c_void, _bytes: *mut u8, _size: usize) NO_STATE;
-    fmi3DeserializeFMUState(_bytes: *const u8, _size: usize, _state: *mut *mut c_void) NO_STATE;
+}
+
+/// An FMU state as the master holds it (`fmi3FMUState`): the bytes of
+/// [`Slave::save_state`], boxed.
+type FmuState = *mut c_void;
+
+/// The bytes behind a state handle.
+///
+/// # Safety
+/// `state` is null or a handle of fmi3GetFMUState/fmi3DeserializeFMUState
+/// not yet freed.
+unsafe fn state_bytes<'a>(state: FmuState) -> Result<&'a Vec<u8>, String> {
+    if state.is_null() {
+        return Err("the FMU state is NULL".into());
+    }
+    // SAFETY: see the function's contract: a `Box<Vec<u8>>` made by this library.
+    Ok(unsafe { &*(state as *const Vec<u8>) })
+}
+
+/// Puts `bytes` in `*state`: into the state there (FMI 3.0: an existing
+/// state is overwritten) or a new one.
+///
+/// # Safety
+/// `state` is writable; `*state` null or a live handle of this library.
+unsafe fn store_state(state: *mut FmuState, bytes: Vec<u8>) -> Result<(), String> {
+    if state.is_null() {
+        return Err("no place for the FMU state (NULL)".into());
+    }
+    // SAFETY: see the function's contract.
+    unsafe {
+        if (*state).is_null() {
+            *state = Box::into_raw(Box::new(bytes)) as FmuState;
+        } else {
+            *(*state as *mut Vec<u8>) = bytes;
+        }
+    }
+    Ok(())
+}
+
+/// # Safety
+/// FMI 3.0 fmi3GetFMUState.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFMUState(instance: Fmi3Instance, state: *mut FmuState) -> Status {
+    // SAFETY: the master's instance handle and state pointer.
+    unsafe { with(instance, |s| store_state(state, s.save_state()?)) }
+}
+
+/// # Safety
+/// FMI 3.0 fmi3SetFMUState.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFMUState(instance: Fmi3Instance, state: FmuState) -> Status {
+    // SAFETY: the master's instance handle and a state handle of this library.
+    unsafe { with(instance, |s| s.load_state(state_bytes(state)?)) }
+}
+
+/// # Safety
+/// FMI 3.0 fmi3FreeFMUState: `*state` is not used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeFMUState(instance: Fmi3Instance, state: *mut FmuState) -> Status {
+    // SAFETY: the master's instance handle and state pointer.
+    unsafe {
+        with(instance, |_| {
+            if !state.is_null() && !(*state).is_null() {
+                // SAFETY: a `Box<Vec<u8>>` of this library, freed once.
+                drop(Box::from_raw(*state as *mut Vec<u8>));
+                *state = std::ptr::null_mut();
+            }
+            Ok(())
+        })
+    }
+}
+
+/// # Safety
+/// FMI 3.0 fmi3SerializedFMUStateSize.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    instance: Fmi3Instance,
+    state: FmuState,
+    size: *mut usize,
+) -> Status {
+    // SAFETY: the master's instance handle, a state handle, `size` writable.
+    unsafe {
+        with(instance, |_| {
+            let n = state_bytes(state)?.len();
+            if size.is_null() {
+                return Err("size is NULL".into());
+            }
+            *size = n;
+            Ok(())
+        })
+    }
+}
+
+/// # Safety
+/// FMI 3.0 fmi3SerializeFMUState: `bytes` holds `size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    instance: Fmi3Instance,
+    state: FmuState,
+    bytes: *mut u8,
+    size: usize,
+) -> Status {
+    // SAFETY: the master's instance handle, a state handle, a buffer of `size`.
+    unsafe {
+        with(instance, |_| {
+            let b = state_bytes(state)?;
+            if size != b.len() {
+                return Err(format!(
+                    "the serialized FMU state is {} bytes, not {size} (fmi3SerializedFMUStateSize)",
+                    b.len()
+                ));
+            }
+            slice_mut(bytes, size, "serializedState")?.copy_from_slice(b);
+            Ok(())
+        })
+    }
+}
+
+/// # Safety
+/// FMI 3.0 fmi3DeserializeFMUState: `bytes` holds `size` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    instance: Fmi3Instance,
+    bytes: *const u8,
+    size: usize,
+    state: *mut FmuState,
+) -> Status {
+    // SAFETY: the master's instance handle, a buffer of `size`, `state` writable.
+    unsafe {
+        with(instance, |_| {
+            let b = slice(bytes, size, "serializedState")?.to_vec();
+            store_state(state, b)
+        })
+    }
 }

@@ -5,6 +5,7 @@
 //! - [`plc`]: what `resources/` holds and the PLC loaded from it, stepped
 //!   in virtual time as `softplc run` steps it.
 //! - [`slave`]: one instance and FMI's modes, in safe Rust.
+//! - `state`: the bytes of an FMU state (fmi3GetFMUState and serialization).
 //! - `ffi`: the exported C functions, the crate's only `unsafe`.
 
 // `unsafe` only at the C boundary, each block with its SAFETY reason.
@@ -15,3 +16,4 @@ pub mod export;
 mod ffi;
 pub mod plc;
 pub mod slave;
+mod state;

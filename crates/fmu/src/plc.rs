@@ -13,6 +13,8 @@ use softplc_core::names::DevName;
 use softplc_core::system::{self, Cpus, System};
 use softplc_core::{project, single, tier};
 
+use crate::state;
+
 /// The file in `resources/` that says what to load.
 pub const CONFIG_FILE: &str = "softplc-fmu.toml";
 
@@ -281,6 +283,40 @@ impl Plc {
             ran += 1;
         }
         Ok(ran)
+    }
+
+    /// The PLC's state between scans (FMU state, [`crate::state`]): the
+    /// CPUs' state file, the variables, the scan count and scan time.
+    pub fn save_state(&mut self, start: f64, now: f64) -> Vec<u8> {
+        let cpus = self.cpus.save_state();
+        let vars: Vec<(bool, &Value)> = self.vars.iter().map(|v| (v.pending, &v.value)).collect();
+        let times = state::Times {
+            start,
+            now,
+            scans: self.scans,
+            scan_us: self.scan_us,
+        };
+        state::encode(times, &vars, &cpus)
+    }
+
+    /// Restores a state of [`Plc::save_state`] (of this FMU: the CPUs'
+    /// state file checks the programs); on an error nothing changed.
+    /// Returns the start time and time of the state.
+    pub fn load_state(&mut self, bytes: &[u8]) -> Result<(f64, f64), String> {
+        let d = state::decode(bytes, self.vars.len())?;
+        for (v, (_, value)) in self.vars.iter().zip(&d.vars) {
+            if v.causality == Causality::Input {
+                v.dev.door_value(value)?;
+            }
+        }
+        self.cpus.load_state(d.cpus).map_err(|e| e.to_string())?;
+        for (v, (pending, value)) in self.vars.iter_mut().zip(d.vars) {
+            v.pending = pending;
+            v.value = value;
+        }
+        self.scans = d.times.scans;
+        self.scan_us = d.times.scan_us;
+        Ok((d.times.start, d.times.now))
     }
 
     /// Scans of CPU 1 so far.

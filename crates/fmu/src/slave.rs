@@ -130,6 +130,24 @@ impl Slave {
         Ok(())
     }
 
+    /// fmi3GetFMUState: the whole state, between steps.
+    pub fn save_state(&mut self) -> Result<Vec<u8>, String> {
+        self.expect(&[Mode::Step, Mode::Terminated], "fmi3GetFMUState")?;
+        Ok(self.plc.save_state(self.start, self.now))
+    }
+
+    /// fmi3SetFMUState: back to a state of [`Slave::save_state`], in Step
+    /// mode; a state of another FMU or damaged is refused and nothing
+    /// changes.
+    pub fn load_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        self.expect(&[Mode::Step, Mode::Terminated], "fmi3SetFMUState")?;
+        let (start, now) = self.plc.load_state(bytes)?;
+        self.start = start;
+        self.now = now;
+        self.mode = Mode::Step;
+        Ok(())
+    }
+
     fn expect(&self, modes: &[Mode], call: &str) -> Result<(), String> {
         if modes.contains(&self.mode) {
             return Ok(());
