@@ -11,11 +11,14 @@ WORKDIR /src
 COPY . .
 # The lock file pins every dependency; the OPC UA server is in by default.
 RUN cargo build --release --locked -p softplc \
-    && strip target/release/softplc
+    && strip target/release/softplc \
+    && strip --strip-unneeded target/release/deps/libsoftplc_fmu.so
 
 FROM debian:bookworm-slim
 RUN useradd --system --uid 10001 --create-home --home-dir /var/lib/softplc softplc
 COPY --from=build /src/target/release/softplc /usr/local/bin/softplc
+# The binary `softplc fmu` puts in an FMU, found next to softplc.
+COPY --from=build /src/target/release/deps/libsoftplc_fmu.so /usr/local/bin/libsoftplc_fmu.so
 COPY examples /usr/share/softplc/examples
 USER softplc
 # Latched devices and the OPC UA certificate store live here: mount a volume

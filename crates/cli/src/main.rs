@@ -3,6 +3,7 @@
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
 
+mod fmu_cmd;
 mod http;
 mod names;
 mod online;
@@ -120,6 +121,17 @@ enum Command {
     ///
     /// Example: softplc replay incident.rec --show D0 --program fixed.il --diverge Y0
     Replay(Box<replay::ReplayArgs>),
+    /// Write the program as an FMI 3.0 co-simulation FMU whose variables
+    /// are the given devices (docs/fmu-export.md).
+    ///
+    /// A doStep from t to t+h runs the scans that end at or before t+h,
+    /// counted from the start time, each --scan-time long, in virtual time:
+    /// the master gets what `softplc run` gives. Inputs set before a doStep
+    /// are written before its first scan. The FMU's binary is
+    /// libsoftplc_fmu.so, built by cargo next to softplc.
+    ///
+    /// Example: softplc fmu examples/blink.il -o blink.fmu --input X0 --input X1 --output Y0 --output CN0
+    Fmu(Box<fmu_cmd::FmuArgs>),
 }
 
 fn main() -> ExitCode {
@@ -137,5 +149,6 @@ fn main() -> ExitCode {
         Command::Tune(args) => tune_cmd::run(*args),
         Command::Serve(args) => serve::serve(*args),
         Command::Replay(args) => replay::replay(*args),
+        Command::Fmu(args) => fmu_cmd::run(*args),
     }
 }
