@@ -13,9 +13,9 @@ from pymodbus.client import ModbusTcpClient
 
 from conftest import BINARY, free_port, stop, wait_port
 
-# About 50 s of traffic; with the start and the replay the test stays
-# within a minute.
-SECONDS = 50
+# 60 s of traffic; with the start and the replay the test takes a little
+# over a minute.
+SECONDS = 60
 
 PROGRAM = """\
 LD SM400

@@ -45,6 +45,11 @@ pub struct ReplayArgs {
     /// scan count of its END, the door it came through and what it did.
     #[arg(long)]
     pub log: bool,
+    /// Write the recorded program's whole CPU state after the last replayed
+    /// END as a state file (as `run --save-state`): `run --load-state` goes
+    /// on from the incident, e.g. with other inputs (docs/snapshots.md).
+    #[arg(long, value_name = "FILE")]
+    pub save_state: Option<PathBuf>,
 }
 
 /// Where a compared device first differed.
@@ -149,6 +154,12 @@ pub fn replay(args: ReplayArgs) -> ExitCode {
     })();
     if let Err(e) = result {
         return fail(e);
+    }
+    if let Some(path) = &args.save_state {
+        let bytes = softplc_core::snapshot::save(&mut cpus[0]);
+        if let Err(e) = crate::state_file::save(path, &bytes) {
+            return fail(e);
+        }
     }
     if let Some(ending) = player.ending() {
         if !args.json {

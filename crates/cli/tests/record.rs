@@ -350,6 +350,27 @@ fn a_killed_server_replays_to_its_last_complete_end() {
     assert_eq!(again["devices"]["D3"], scans);
     let ending = again["recording"]["ending"].as_str().unwrap();
     assert!(ending == "killed" || ending == "torn", "{ending}");
+    // The incident's last state goes on with `run --load-state`.
+    let state = dir.path().join("incident.state");
+    replay(
+        &rec,
+        &["--save-state".into(), state.to_str().unwrap().into()],
+    );
+    let out = softplc()
+        .arg("run")
+        .arg(&p)
+        .args(["--load-state", state.to_str().unwrap()])
+        .args(["--scans", "5", "--show", "D2", "--show", "D3", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let went_on: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(went_on["devices"]["D2"], 4321);
+    assert_eq!(went_on["devices"]["D3"], scans + 5);
 }
 
 #[test]
