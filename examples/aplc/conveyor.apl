@@ -1,4 +1,4 @@
-/* Conveyor with batch counter (APLC-TCP, seed 002 dialect).
+/* Conveyor with batch counter (APLC-TCP dialect).
    X0 start, X1 stop, X2 box sensor, X10 emergency stop (octal: input 8);
    Y0 conveyor motor, Y1 batch-complete lamp, Y2 running lamp (blinks 1 s). */
 VAR_GLOBAL

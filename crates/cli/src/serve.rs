@@ -111,7 +111,7 @@ pub struct ServeArgs {
     /// it runs at normal priority); --stats-every says which it got.
     #[arg(long)]
     pub no_realtime: bool,
-    /// OPC UA server (contract §3.2), e.g. 127.0.0.1:4840 or 4840 (a bare port
+    /// OPC UA server (docs/opcua.md), e.g. 127.0.0.1:4840 or 4840 (a bare port
     /// binds loopback; also `[opcua] address`). Security None only on loopback.
     #[arg(long, value_name = "ADDR")]
     pub opcua: Option<String>,

@@ -287,7 +287,7 @@ fn apl_conveyor_example() {
     assert_eq!(p.sections.len(), 1);
     assert_eq!(
         p.comment[0],
-        "Conveyor with batch counter (APLC-TCP, seed 002 dialect)."
+        "Conveyor with batch counter (APLC-TCP dialect)."
     );
 }
 
