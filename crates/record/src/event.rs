@@ -174,10 +174,11 @@ pub enum Change {
 }
 
 impl Change {
-    /// The recorded form of a door event.
-    pub fn of(e: &DoorEvent<'_>) -> Change {
+    /// The recorded form of a door event; `None` for one a recording
+    /// cannot hold ([`DoorEvent::Unrecordable`]: the recorder stops there).
+    pub fn of(e: &DoorEvent<'_>) -> Option<Change> {
         let selected = |b: &RBlock| *b == RBlock::Selected;
-        match *e {
+        Some(match *e {
             DoorEvent::Value { spec, value } => Change::Value {
                 name: spec.door_text().to_string(),
                 value: match value {
@@ -254,9 +255,8 @@ impl Change {
             DoorEvent::BatteryError { stop } => Change::BatteryError { stop },
             DoorEvent::LocalsOf { slot } => Change::LocalsOf { slot: slot as u32 },
             DoorEvent::LocalsEnd => Change::LocalsEnd,
-            // The recorder stops before it makes a change of it.
-            DoorEvent::Unrecordable { .. } => Change::LocalsEnd,
-        }
+            DoorEvent::Unrecordable { .. } => return None,
+        })
     }
 }
 

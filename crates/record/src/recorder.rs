@@ -230,11 +230,12 @@ impl Journal for Recorder {
         if g.done {
             return;
         }
-        if let DoorEvent::Unrecordable { why } = event {
-            g.stop(why);
+        let Some(change) = Change::of(&event) else {
+            if let DoorEvent::Unrecordable { why } = event {
+                g.stop(why);
+            }
             return;
-        }
-        let change = Change::of(&event);
+        };
         // A look at a program's local devices that wrote nothing.
         if change == Change::LocalsEnd
             && g.events
