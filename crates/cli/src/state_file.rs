@@ -15,12 +15,8 @@ pub(crate) fn load(
     load(&bytes).map_err(|e| format!("--load-state {}: {e}", path.display()))
 }
 
-/// Writes `bytes` to `path` whole: into a temporary file beside it, then
-/// renamed over it, so an interrupted save leaves the old file.
+/// Writes `bytes` to `path` whole (`online::write_file`), so an
+/// interrupted save leaves the old file.
 pub(crate) fn save(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let err = |e: std::io::Error| format!("--save-state {}: {e}", path.display());
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    std::fs::write(&tmp, bytes).map_err(err)?;
-    std::fs::rename(&tmp, path).map_err(err)
+    softplc_core::online::write_file(path, bytes).map_err(|e| format!("--save-state {e}"))
 }

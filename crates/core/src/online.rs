@@ -295,10 +295,11 @@ fn normal(path: &Path) -> String {
         .join("/")
 }
 
-/// Writes `text` to `path` atomically: a temporary file in the same
-/// directory, renamed over it once complete (a crash leaves the old file or
-/// the new, never half of one). The file keeps its permissions.
-pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
+/// Writes `bytes` to `path` atomically: a temporary file in the same
+/// directory, synced and renamed over it once complete (a crash leaves the
+/// old file or the new, never half of one). The file keeps its permissions.
+/// Program files written during RUN, state files, test reports.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
     use std::io::Write;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -306,7 +307,7 @@ pub fn write_file(path: &Path, text: &str) -> Result<(), String> {
     };
     let fail = |e: std::io::Error| format!("{}: {e}", path.display());
     let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(fail)?;
-    tmp.write_all(text.as_bytes()).map_err(fail)?;
+    tmp.write_all(bytes).map_err(fail)?;
     tmp.as_file().sync_all().map_err(fail)?;
     if let Ok(meta) = std::fs::metadata(path) {
         let _ = std::fs::set_permissions(tmp.path(), meta.permissions());

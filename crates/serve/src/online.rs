@@ -118,7 +118,7 @@ pub async fn write(
     let f = &online.sources.files()[at];
     online.saw(f, &text);
     let path = f.path.clone();
-    tokio::task::spawn_blocking(move || softplc_core::online::write_file(&path, &text))
+    tokio::task::spawn_blocking(move || softplc_core::online::write_file(&path, text.as_bytes()))
         .await
         .map_err(|_| WriteError::Busy)?
         .map_err(|e| WriteError::NotSaved(written.clone(), e))?;

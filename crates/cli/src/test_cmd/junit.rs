@@ -7,7 +7,6 @@
 //! gives the expected and the actual value, and a scenario that does not load,
 //! whose CPU stops or whose plant model fails has an `error`.
 
-use std::io::Write;
 use std::path::Path;
 
 use quick_xml::events::{BytesDecl, BytesText, Event};
@@ -145,19 +144,11 @@ fn seconds(s: f64) -> String {
     format!("{:.3}", s.max(0.0))
 }
 
-/// Writes the report to `path` whole (a temporary file renamed over it, so
-/// a reader never sees half a report).
+/// Writes the report to `path` whole (`online::write_file`: a reader never
+/// sees half a report).
 pub fn write(path: &Path, lines: &[Line]) -> Result<(), String> {
-    let xml = report(lines);
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(fail)?;
-    tmp.write_all(xml.as_bytes()).map_err(fail)?;
-    tmp.persist(path).map_err(|e| fail(e.error))?;
-    Ok(())
+    softplc_core::online::write_file(path, report(lines).as_bytes())
+        .map_err(|e| format!("cannot write {e}"))
 }
 
 #[cfg(test)]
