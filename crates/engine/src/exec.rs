@@ -12,9 +12,8 @@
 
 use super::call_args;
 use super::local_devices::Entry;
-use super::tier::{Host, NativeProgram, Regs, LEAVE, NO_REGION};
+use super::tier::{Host, NativeProgram, NativeState, Regs, LEAVE, NO_REGION};
 use super::{ProgState, Runtime};
-use softplc_ir::device::DeviceMemory;
 use softplc_ir::fault::Fault;
 use softplc_ir::kernels::{basic, sequence};
 use softplc_ir::ops::MAX_NESTING;
@@ -711,8 +710,14 @@ struct Callback<'a> {
 
 /// Native code calls back here for the ops it has no code for.
 impl Host for Callback<'_> {
-    fn mem(&mut self) -> &mut DeviceMemory {
-        &mut self.rt.mem
+    fn state(&mut self) -> NativeState<'_> {
+        let rt = &mut *self.rt;
+        NativeState {
+            mem: &mut rt.mem,
+            timer_rem: &mut rt.cpu.timer_rem,
+            timer_base_us: rt.timer_base_us,
+            scan_us: rt.scan_us,
+        }
     }
 
     fn exec(&mut self, from: u32, to: u32, regs: &mut Regs) -> u32 {

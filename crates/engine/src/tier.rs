@@ -40,10 +40,23 @@ pub const NO_REGION: u32 = u32::MAX;
 /// the host holds the outcome.
 pub const LEAVE: u32 = u32::MAX;
 
+/// What native code reads and writes while a region runs: device memory and
+/// the timers' state ([`softplc_ir::kernels::sequence::timer`]).
+pub struct NativeState<'a> {
+    pub mem: &'a mut DeviceMemory,
+    /// Sub-unit remainder of each timer, µs.
+    pub timer_rem: &'a mut [u32],
+    /// Time base of low-speed and high-speed timers, µs (never 0).
+    pub timer_base_us: [u32; 2],
+    /// The scan time timers count this pass, µs.
+    pub scan_us: u32,
+}
+
 /// The interpreter as native code sees it while a region runs.
 pub trait Host {
-    /// Device memory. Native code re-reads its address after every [`exec`](Host::exec).
-    fn mem(&mut self) -> &mut DeviceMemory;
+    /// Device memory and timers. Native code re-reads them after every
+    /// [`exec`](Host::exec).
+    fn state(&mut self) -> NativeState<'_>;
     /// Runs ops from `from` with the interpreter's own implementation on
     /// `regs` (updated in place) for as long as control stays in `from..to`,
     /// and returns the op to go on at: `to`, a jump's target outside the

@@ -45,6 +45,12 @@ pub trait Instr: Debug + Send + Sync {
     /// CPU is built: `programs` are the CPU's program names (file names
     /// without extension, upper case) in slot order.
     fn link(&mut self, _programs: &[String]) {}
+
+    /// What `exec` does, for a native tier to do inline, when the
+    /// instruction is one of the few it knows ([`crate::word_op`]).
+    fn word_op(&self) -> Option<crate::word_op::WordOp<'_>> {
+        None
+    }
 }
 
 /// The state an instruction keeps between executions (the CPU's per-instruction

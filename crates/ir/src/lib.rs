@@ -25,3 +25,4 @@ pub mod profile;
 pub mod rack;
 pub mod snapshot;
 pub mod system;
+pub mod word_op;

@@ -22,8 +22,11 @@ use cranelift_codegen::ir::{
 use cranelift_frontend::{FunctionBuilder, Switch, Variable};
 use softplc_ir::ops::{CmpOp, Join};
 
-use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_WORDS};
-use crate::plan::{BitSrc, Chunk, Move, Piece, Step, Store, WordSrc};
+use crate::native::{
+    CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_REM, CX_SCAN_US, CX_TIMER_BASE_US, CX_WORDS,
+};
+use crate::plan::{Action, BitSrc, Chunk, CounterStep, Piece, Step, Store, TimerStep, WordSrc};
+use softplc_ir::word_op::Binary;
 
 /// The signature of every chunk function on the host's calling convention:
 /// (cx, pc) → next op.
@@ -46,6 +49,8 @@ struct Gen<'a, 'b> {
     dispatch: Block,
     bits: Variable,
     words: Variable,
+    /// The timers' sub-unit remainders (`u32`s).
+    rem: Variable,
     acc: Variable,
     blocks: Variable,
     mps: Variable,
@@ -54,14 +59,42 @@ struct Gen<'a, 'b> {
     /// Bits whose value native code holds, loaded or stored since the last
     /// call or entry, with the step that did so (oldest first).
     known: Vec<(u32, Value, u32)>,
+    /// Words likewise: a word read or written in the last few steps is
+    /// taken from its register (a chain of dependent MOVs does not wait
+    /// for each store to reach the next load).
+    known_words: Vec<KnownWord>,
+    /// Whether loads and stores add to `known`/`known_words`: not in the
+    /// branches of a timer, counter or MC, whose values do not reach the
+    /// code after them.
+    learn: bool,
     /// Steps emitted so far.
     steps: u32,
 }
 
-/// How many steps a known bit stays in a register: a rung or two, so that
-/// the next rung's contact on the coil just set (or on the contact just
-/// read) needs no load, without values kept alive across the chunk (the
-/// register allocator would spill them, which costs more than a load).
+/// A word native code holds in a register.
+#[derive(Clone, Copy)]
+struct KnownWord {
+    index: u32,
+    value: Value,
+    form: Form,
+    step: u32,
+}
+
+/// How a word sits in the 32 bits of its register.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Form {
+    /// Zero-extended.
+    Zext,
+    /// Sign-extended.
+    Sext,
+    /// The low 16 bits; the others are whatever the operation left.
+    Raw,
+}
+
+/// How many steps a known bit or word stays in a register: a rung or two,
+/// so that the next rung's contact on the coil just set (or on the contact
+/// just read) needs no load, without values kept alive across the chunk
+/// (the register allocator would spill them, which costs more than a load).
 const KNOWN_STEPS: u32 = 12;
 
 /// Device memory is only reached through indices the plan checked, and
@@ -103,11 +136,14 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
         dispatch,
         bits: b.declare_var(ptr),
         words: b.declare_var(ptr),
+        rem: b.declare_var(ptr),
         acc: b.declare_var(types::I32),
         blocks: b.declare_var(types::I32),
         mps: b.declare_var(types::I32),
         wide_bits: bit_len.saturating_sub(3),
         known: Vec::new(),
+        known_words: Vec::new(),
+        learn: true,
         steps: 0,
         b,
     };
@@ -142,7 +178,7 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
                     g.b.ins().jump(blk, &[]);
                 }
                 g.b.switch_to_block(blk);
-                g.known.clear();
+                g.forget_all();
                 open = true;
             }
             Piece::Step(s) => g.step(s),
@@ -168,7 +204,11 @@ impl Gen<'_, '_> {
             let v = self.b.ins().load(types::I32, flags(), self.cx, off);
             self.b.def_var(var, v);
         }
-        for (var, off) in [(self.bits, CX_BITS), (self.words, CX_WORDS)] {
+        for (var, off) in [
+            (self.bits, CX_BITS),
+            (self.words, CX_WORDS),
+            (self.rem, CX_REM),
+        ] {
             let v = self.b.ins().load(self.ptr, flags(), self.cx, off);
             self.b.def_var(var, v);
         }
@@ -218,7 +258,7 @@ impl Gen<'_, '_> {
         self.b.ins().return_(&[next]);
         self.b.switch_to_block(check);
         self.load_regs();
-        self.known.clear();
+        self.forget_all();
         let straight = self.b.ins().icmp_imm_u(IntCC::Equal, next, i64::from(to));
         self.b
             .ins()
@@ -250,38 +290,125 @@ impl Gen<'_, '_> {
         if let Some(&(_, v, _)) = self.known.iter().find(|k| k.0 == i) {
             return v;
         }
+        let v = self.load_bit(i);
+        self.know(i, v);
+        v
+    }
+
+    /// Bit `i` from memory (as [`Gen::bit`] describes it).
+    fn load_bit(&mut self, i: u32) -> Value {
         let bits = self.b.use_var(self.bits);
         let (base, off) = self.addr(bits, i, 1);
-        let v = if i < self.wide_bits {
+        if i < self.wide_bits {
             self.b.ins().load(types::I32, flags(), base, off)
         } else {
             self.b.ins().uload8(types::I32, flags(), base, off)
-        };
+        }
+    }
+
+    /// Stores the low byte of `v` (0 or 1) as bit `i`.
+    fn store_bit(&mut self, i: u32, v: Value) {
+        let bits = self.b.use_var(self.bits);
+        let (base, off) = self.addr(bits, i, 1);
+        self.b.ins().istore8(flags(), v, base, off);
         self.know(i, v);
-        v
     }
 
     /// Records that bit `i` holds `v` now.
     fn know(&mut self, i: u32, v: Value) {
         let oldest = self.steps.saturating_sub(KNOWN_STEPS);
         self.known.retain(|k| k.0 != i && k.2 >= oldest);
-        self.known.push((i, v, self.steps));
+        if self.learn {
+            self.known.push((i, v, self.steps));
+        }
     }
 
-    fn word(&mut self, i: u32) -> Value {
+    /// Records that word `index` holds `value` (in `form`) now.
+    fn know_word(&mut self, index: u32, value: Value, form: Form) {
+        let oldest = self.steps.saturating_sub(KNOWN_STEPS);
+        self.known_words
+            .retain(|k| k.index != index && k.step >= oldest);
+        if self.learn {
+            self.known_words.push(KnownWord {
+                index,
+                value,
+                form,
+                step: self.steps,
+            });
+        }
+    }
+
+    fn forget_all(&mut self) {
+        self.known.clear();
+        self.known_words.clear();
+    }
+
+    fn forget_bit(&mut self, i: u32) {
+        self.known.retain(|k| k.0 != i);
+    }
+
+    fn forget_word(&mut self, i: u32) {
+        self.known_words.retain(|k| k.index != i);
+    }
+
+    /// Word `i` as held, or loaded (zero-extended) and then held.
+    fn word_as_held(&mut self, i: u32) -> (Value, Form) {
+        if let Some(k) = self.known_words.iter().find(|k| k.index == i) {
+            return (k.value, k.form);
+        }
         let words = self.b.use_var(self.words);
         let (base, off) = self.addr(words, i, 2);
-        self.b.ins().uload16(types::I32, flags(), base, off)
+        let v = self.b.ins().uload16(types::I32, flags(), base, off);
+        self.know_word(i, v, Form::Zext);
+        (v, Form::Zext)
     }
 
-    /// Stores the low 16 bits of `v` as word `i`. Not a store of an
-    /// immediate, even for a constant: x86's 16-bit immediate store stalls
-    /// the legacy decoders (a length-changing prefix), which decode all of
-    /// a long program's code (MOV K chains took 0.85 instead of 0.54 ns).
-    fn store_word(&mut self, i: u32, v: Value) {
+    /// Word `i` in the low 16 bits (the others undefined).
+    fn word_raw(&mut self, i: u32) -> Value {
+        self.word_as_held(i).0
+    }
+
+    /// Word `i` zero-extended.
+    fn word(&mut self, i: u32) -> Value {
+        match self.word_as_held(i) {
+            (v, Form::Zext) => v,
+            (v, _) => self.b.ins().band_imm_s(v, 0xFFFF),
+        }
+    }
+
+    /// Word `i` sign-extended.
+    fn word_signed(&mut self, i: u32) -> Value {
+        if let Some(k) = self.known_words.iter().find(|k| k.index == i).copied() {
+            if k.form == Form::Sext {
+                return k.value;
+            }
+            let h = self.b.ins().ireduce(types::I16, k.value);
+            return self.b.ins().sextend(types::I32, h);
+        }
+        let words = self.b.use_var(self.words);
+        let (base, off) = self.addr(words, i, 2);
+        let v = self.b.ins().sload16(types::I32, flags(), base, off);
+        self.know_word(i, v, Form::Sext);
+        v
+    }
+
+    /// Stores the low 16 bits of `v` (in `form`) as word `i`. Not a store
+    /// of an immediate, even for a constant: x86's 16-bit immediate store
+    /// stalls the legacy decoders (a length-changing prefix), which decode
+    /// all of a long program's code (MOV K chains took 0.85 instead of
+    /// 0.54 ns).
+    fn store_word(&mut self, i: u32, v: Value, form: Form) {
         let words = self.b.use_var(self.words);
         let (base, off) = self.addr(words, i, 2);
         self.b.ins().istore16(flags(), v, base, off);
+        self.know_word(i, v, form);
+    }
+
+    /// A 32-bit value as words `i` (low) and `i + 1`.
+    fn store_dword(&mut self, i: u32, v: Value) {
+        self.store_word(i, v, Form::Raw);
+        let hi = self.b.ins().ushr_imm_s(v, 16);
+        self.store_word(i + 1, hi, Form::Zext);
     }
 
     /// A word operand: 16-bit sign-extended, or 32-bit low word first.
@@ -291,18 +418,28 @@ impl Gen<'_, '_> {
                 self.b.ins().iconst(types::I32, i64::from(k as u16 as i16))
             }
             (WordSrc::Const(k), true) => self.b.ins().iconst(types::I32, i64::from(k as i32)),
-            (WordSrc::Word(i), false) => {
-                let words = self.b.use_var(self.words);
-                let (base, off) = self.addr(words, i, 2);
-                self.b.ins().sload16(types::I32, flags(), base, off)
-            }
+            (WordSrc::Word(i), false) => self.word_signed(i),
             (WordSrc::Word(i), true) => {
                 let lo = self.word(i);
-                let hi = self.word(i + 1);
+                let hi = self.word_raw(i + 1);
                 let hi = self.b.ins().ishl_imm_s(hi, 16);
                 self.b.ins().bor(lo, hi)
             }
         }
+    }
+
+    /// A 16-bit operand in the low 16 bits (the others undefined).
+    fn value_raw(&mut self, s: WordSrc) -> Value {
+        match s {
+            WordSrc::Const(k) => self.b.ins().iconst(types::I32, i64::from(k & 0xFFFF)),
+            WordSrc::Word(i) => self.word_raw(i),
+        }
+    }
+
+    /// The address of timer remainder `slot`.
+    fn rem_addr(&mut self, slot: u32) -> (Value, i32) {
+        let rem = self.b.use_var(self.rem);
+        self.addr(rem, slot, 4)
     }
 
     fn join(&mut self, join: Join, v: Value) {
@@ -347,7 +484,7 @@ impl Gen<'_, '_> {
                 let v = match *src {
                     BitSrc::Bit(i) => self.bit(i),
                     BitSrc::WordBit(w, bit) => {
-                        let v = self.word(w);
+                        let v = self.word_raw(w);
                         let v = self.b.ins().ushr_imm_s(v, i64::from(bit));
                         self.b.ins().band_imm_s(v, 1)
                     }
@@ -423,43 +560,347 @@ impl Gen<'_, '_> {
                         self.b.ins().band(old, keep)
                     }
                 };
-                let bits = self.b.use_var(self.bits);
-                let (base, off) = self.addr(bits, *bit, 1);
-                self.b.ins().istore8(flags(), v, base, off);
-                self.know(*bit, v);
+                self.store_bit(*bit, v);
             }
-            Step::Movs(run) => self.movs(run),
+            Step::Actions(run) => self.actions(run),
+            Step::Timer(t) => self.timer(t),
+            Step::Counter(c) => self.counter(c),
+            Step::Mc { pc, bit } => self.mc(*pc, *bit),
+            // No MC forces conditions OFF while native code runs, so MCR
+            // clears nothing.
+            Step::Mcr => {}
         }
     }
 
-    /// A run of MOVs under one test of the condition.
-    fn movs(&mut self, run: &[Move]) {
+    /// A run of actions under one test of the condition.
+    fn actions(&mut self, run: &[Action]) {
         // The condition, as for coils (bit 0: brif tests the whole value).
         let c = self.acc_bit();
         let then = self.b.create_block();
         let after = self.b.create_block();
         self.b.ins().brif(c, then, &[], after, &[]);
         self.b.switch_to_block(then);
-        for m in run {
-            // DMOV reads both words before writing (DMOV D0 D1 overlaps).
-            let mut v = [None; 2];
-            for (k, slot) in v.iter_mut().enumerate().take(usize::from(m.words)) {
-                let k = k as u32;
-                *slot = Some(match m.s {
-                    WordSrc::Word(i) => self.word(i + k),
-                    WordSrc::Const(c) => {
-                        let half = (c >> (16 * k)) & 0xFFFF;
-                        self.b.ins().iconst(types::I32, i64::from(half))
-                    }
-                });
-            }
-            for (k, val) in v.into_iter().enumerate() {
-                if let Some(val) = val {
-                    self.store_word(m.d + k as u32, val);
-                }
-            }
+        // What is held before the test holds after it, but for what the
+        // actions write; what they learn stays in their block.
+        let (bits, words) = (self.known.clone(), self.known_words.clone());
+        for a in run {
+            self.action(a);
         }
         self.b.ins().jump(after, &[]);
         self.b.switch_to_block(after);
+        self.known = bits;
+        self.known_words = words;
+        for a in run {
+            match *a {
+                Action::Move { words, d, .. } => {
+                    (0..u32::from(words)).for_each(|k| self.forget_word(d + k))
+                }
+                Action::Binary { wide, d, .. } => {
+                    self.forget_word(d);
+                    if wide {
+                        self.forget_word(d + 1);
+                    }
+                }
+                Action::Bit { d, .. } => self.forget_word(d),
+                Action::ResetTc { value, contact, .. } => {
+                    self.forget_word(value);
+                    self.forget_bit(contact);
+                }
+            }
+        }
+    }
+
+    fn action(&mut self, a: &Action) {
+        match *a {
+            Action::Move { words, s, d } => {
+                // DMOV reads both words before writing (DMOV D0 D1 overlaps).
+                let mut v = [None; 2];
+                for (k, slot) in v.iter_mut().enumerate().take(usize::from(words)) {
+                    let k = k as u32;
+                    *slot = Some(match s {
+                        WordSrc::Word(i) => self.word_as_held(i + k),
+                        WordSrc::Const(c) => {
+                            let half = (c >> (16 * k)) & 0xFFFF;
+                            (
+                                self.b.ins().iconst(types::I32, i64::from(half)),
+                                Form::Zext,
+                            )
+                        }
+                    });
+                }
+                for (k, val) in v.into_iter().enumerate() {
+                    if let Some((val, form)) = val {
+                        self.store_word(d + k as u32, val, form);
+                    }
+                }
+            }
+            Action::Binary { op, wide, a, b, d } => {
+                let (x, y) = if wide {
+                    (self.value(a, true), self.value(b, true))
+                } else {
+                    (self.value_raw(a), self.value_raw(b))
+                };
+                let r = match op {
+                    Binary::Add => self.b.ins().iadd(x, y),
+                    Binary::Sub => self.b.ins().isub(x, y),
+                    Binary::And => self.b.ins().band(x, y),
+                    Binary::Or => self.b.ins().bor(x, y),
+                    Binary::Xor => self.b.ins().bxor(x, y),
+                };
+                if wide {
+                    self.store_dword(d, r);
+                } else {
+                    self.store_word(d, r, Form::Raw);
+                }
+            }
+            Action::Bit { set, d, n } => {
+                let v = self.word_raw(d);
+                let r = match (n, set) {
+                    (WordSrc::Const(n), true) => self.b.ins().bor_imm_s(v, 1 << (n & 15)),
+                    (WordSrc::Const(n), false) => self.b.ins().band_imm_s(v, !(1 << (n & 15))),
+                    (WordSrc::Word(i), _) => {
+                        let n = self.word_raw(i);
+                        let n = self.b.ins().band_imm_s(n, 15);
+                        let one = self.b.ins().iconst(types::I32, 1);
+                        let mask = self.b.ins().ishl(one, n);
+                        if set {
+                            self.b.ins().bor(v, mask)
+                        } else {
+                            let keep = self.b.ins().bnot(mask);
+                            self.b.ins().band(v, keep)
+                        }
+                    }
+                };
+                self.store_word(d, r, Form::Raw);
+            }
+            Action::ResetTc {
+                value,
+                contact,
+                slot,
+            } => {
+                let zero = self.b.ins().iconst(types::I32, 0);
+                self.store_word(value, zero, Form::Zext);
+                let bits = self.b.use_var(self.bits);
+                let (base, off) = self.addr(bits, contact, 1);
+                self.b.ins().istore8(flags(), zero, base, off);
+                self.forget_bit(contact);
+                if let Some(slot) = slot {
+                    let (base, off) = self.rem_addr(slot);
+                    self.b.ins().store(flags(), zero, base, off);
+                }
+            }
+        }
+    }
+
+    /// A set value: the constant (not negative, the plan checked), or the
+    /// word, with a branch to the returned block (for [`Gen::slow_path`]:
+    /// the interpreter runs the op, which faults) when it is negative. Leaves the builder on the fast path.
+    fn set_value(&mut self, set: WordSrc) -> (Value, Option<Block>) {
+        let v = self.value(set, false);
+        if let WordSrc::Const(_) = set {
+            return (v, None);
+        }
+        let (slow, fast) = (self.b.create_block(), self.b.create_block());
+        let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, v, 0);
+        self.b.ins().brif(neg, slow, &[], fast, &[]);
+        self.b.switch_to_block(fast);
+        (v, Some(slow))
+    }
+
+    /// Emits `slow` (the interpreter runs op `pc`) jumping to `merge`.
+    fn slow_path(&mut self, slow: Option<Block>, pc: u32, merge: Block) {
+        if let Some(slow) = slow {
+            self.b.switch_to_block(slow);
+            self.run(pc, pc + 1);
+            self.b.ins().jump(merge, &[]);
+        }
+    }
+
+    /// `OUT T` as `sequence::timer` does it: the coil follows the
+    /// condition; while ON and not yet up, the scan time accumulates in
+    /// the remainder and whole time-base units count up to the set value.
+    fn timer(&mut self, t: &TimerStep) {
+        self.forget_bit(t.coil);
+        self.forget_bit(t.contact);
+        self.forget_word(t.value);
+        let learn = std::mem::replace(&mut self.learn, false);
+        let c = self.acc_bit();
+        let (on, off, merge) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.ins().brif(c, on, &[], off, &[]);
+
+        // OFF: the coil OFF; a timer that does not retain is reset.
+        self.b.switch_to_block(off);
+        let zero = self.b.ins().iconst(types::I32, 0);
+        self.raw_store_bit(t.coil, zero);
+        if !t.retentive {
+            self.store_word(t.value, zero, Form::Zext);
+            self.raw_store_bit(t.contact, zero);
+            let (base, off) = self.rem_addr(t.slot);
+            self.b.ins().store(flags(), zero, base, off);
+        }
+        self.b.ins().jump(merge, &[]);
+
+        self.b.switch_to_block(on);
+        let (set, slow) = self.set_value(t.set);
+        let was_on = self.raw_load_bit(t.coil);
+        let one = self.b.ins().iconst(types::I32, 1);
+        self.raw_store_bit(t.coil, one);
+        let up = self.raw_load_bit(t.contact);
+        let counting = self.b.create_block();
+        self.b.ins().brif(up, merge, &[], counting, &[]);
+
+        self.b.switch_to_block(counting);
+        let cur = self.word_signed(t.value);
+        let (accumulate, check) = (self.b.create_block(), self.b.create_block());
+        let cur_at_check = self.b.append_block_param(check, types::I32);
+        self.b
+            .ins()
+            .brif(was_on, accumulate, &[], check, &[cur.into()]);
+
+        self.b.switch_to_block(accumulate);
+        let (rbase, roff) = self.rem_addr(t.slot);
+        // In 64 bits, as the interpreter adds them.
+        let rem = self.b.ins().uload32(flags(), rbase, roff);
+        let scan = self.b.ins().uload32(flags(), self.cx, CX_SCAN_US);
+        let base_off = CX_TIMER_BASE_US + 4 * i32::from(t.high_speed);
+        let base = self.b.ins().uload32(flags(), self.cx, base_off);
+        let total = self.b.ins().iadd(rem, scan);
+        let (under, over) = (self.b.create_block(), self.b.create_block());
+        let short = self.b.ins().icmp(IntCC::UnsignedLessThan, total, base);
+        self.b.ins().brif(short, under, &[], over, &[]);
+        // Less than one unit so far: no division.
+        self.b.switch_to_block(under);
+        let (rbase, roff) = self.rem_addr(t.slot);
+        self.b.ins().istore32(flags(), total, rbase, roff);
+        self.b.ins().jump(check, &[cur.into()]);
+        self.b.switch_to_block(over);
+        let units = self.b.ins().udiv(total, base);
+        let left = self.b.ins().urem(total, base);
+        let (rbase, roff) = self.rem_addr(t.slot);
+        self.b.ins().istore32(flags(), left, rbase, roff);
+        let cur64 = self.b.ins().sextend(types::I64, cur);
+        let sum = self.b.ins().iadd(cur64, units);
+        let max = self.b.ins().iconst(types::I64, 32767);
+        let sum = self.b.ins().smin(sum, max);
+        let sum = self.b.ins().ireduce(types::I32, sum);
+        self.b.ins().jump(check, &[sum.into()]);
+
+        // Up at the set value: the contact ON, the value the set value.
+        self.b.switch_to_block(check);
+        let (reach, store) = (self.b.create_block(), self.b.create_block());
+        let stored = self.b.append_block_param(store, types::I32);
+        let reached = self
+            .b
+            .ins()
+            .icmp(IntCC::SignedGreaterThanOrEqual, cur_at_check, set);
+        self.b
+            .ins()
+            .brif(reached, reach, &[], store, &[cur_at_check.into()]);
+        self.b.switch_to_block(reach);
+        self.raw_store_bit(t.contact, one);
+        self.b.ins().jump(store, &[set.into()]);
+        self.b.switch_to_block(store);
+        self.store_word(t.value, stored, Form::Sext);
+        self.b.ins().jump(merge, &[]);
+
+        self.slow_path(slow, t.pc, merge);
+        self.b.switch_to_block(merge);
+        self.learn = learn;
+        if slow.is_some() {
+            self.forget_all();
+        }
+    }
+
+    /// `OUT C` as `sequence::counter` does it, without a branch: +1 on the
+    /// coil's rising edge while not up and below 32767; the contact ON at
+    /// the set value (0 counts as 1).
+    fn counter(&mut self, c: &CounterStep) {
+        let merge = self.b.create_block();
+        let learn = self.learn;
+        if let WordSrc::Word(_) = c.set {
+            self.forget_bit(c.coil);
+            self.forget_bit(c.contact);
+            self.forget_word(c.value);
+            self.learn = false;
+        }
+        let (set, slow) = self.set_value(c.set);
+        let set = match c.set {
+            WordSrc::Const(_) => set,
+            WordSrc::Word(_) => {
+                let one = self.b.ins().iconst(types::I32, 1);
+                self.b.ins().smax(set, one)
+            }
+        };
+        let set = match c.set {
+            WordSrc::Const(k) if k as u16 as i16 == 0 => self.b.ins().iconst(types::I32, 1),
+            _ => set,
+        };
+        let cond = self.acc_bit();
+        let old = self.bit(c.coil);
+        let not_old = self.b.ins().bnot(old);
+        let rising = self.b.ins().band(cond, not_old);
+        self.store_bit(c.coil, cond);
+        let up = self.bit(c.contact);
+        let cur = self.word_signed(c.value);
+        let below = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, cur, 32767);
+        let below = self.b.ins().uextend(types::I32, below);
+        let not_up = self.b.ins().bnot(up);
+        let inc = self.b.ins().band(rising, not_up);
+        let inc = self.b.ins().band(inc, below);
+        let cur = self.b.ins().iadd(cur, inc);
+        let reached = self
+            .b
+            .ins()
+            .icmp(IntCC::SignedGreaterThanOrEqual, cur, set);
+        let reached = self.b.ins().uextend(types::I32, reached);
+        let up = self.b.ins().bor(up, reached);
+        self.store_bit(c.contact, up);
+        self.store_word(c.value, cur, Form::Sext);
+        if slow.is_some() {
+            self.b.ins().jump(merge, &[]);
+            self.slow_path(slow, c.pc, merge);
+            self.b.switch_to_block(merge);
+            self.learn = learn;
+            self.forget_all();
+        }
+    }
+
+    /// MC: its bit ON while the condition is; with the condition OFF the
+    /// interpreter runs it (and the ops up to MCR with conditions OFF).
+    fn mc(&mut self, pc: u32, bit: u32) {
+        let c = self.acc_bit();
+        let (on, off, merge) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.ins().brif(c, on, &[], off, &[]);
+        self.b.switch_to_block(on);
+        let one = self.b.ins().iconst(types::I32, 1);
+        self.raw_store_bit(bit, one);
+        self.b.ins().jump(merge, &[]);
+        self.b.switch_to_block(off);
+        self.run(pc, pc + 1);
+        self.b.ins().jump(merge, &[]);
+        self.b.switch_to_block(merge);
+        self.forget_all();
+    }
+
+    /// Bit `i` from memory in a branch (nothing learnt).
+    fn raw_load_bit(&mut self, i: u32) -> Value {
+        let bits = self.b.use_var(self.bits);
+        let (base, off) = self.addr(bits, i, 1);
+        self.b.ins().uload8(types::I32, flags(), base, off)
+    }
+
+    /// Stores bit `i` in a branch (nothing learnt).
+    fn raw_store_bit(&mut self, i: u32, v: Value) {
+        let bits = self.b.use_var(self.bits);
+        let (base, off) = self.addr(bits, i, 1);
+        self.b.ins().istore8(flags(), v, base, off);
     }
 }

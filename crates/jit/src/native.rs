@@ -9,20 +9,44 @@ use std::mem::offset_of;
 use cranelift_codegen::ir::{types, AbiParam, Signature};
 use cranelift_jit::{ArenaMemoryProvider, JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, Linkage, Module};
-use softplc_engine::tier::{Host, NativeProgram, Regs, NO_REGION};
+use softplc_engine::tier::{Host, NativeProgram, NativeState, Regs, NO_REGION};
 use softplc_ir::ops::Program;
 
 use crate::codegen;
 use crate::plan::{Piece, Plan};
 
 /// What a chunk function works on: the rung registers, the addresses of
-/// device bits (`bool`s) and words, and the interpreter to call back.
+/// device bits (`bool`s), words and timer remainders, the timers' time
+/// bases and scan time, and the interpreter to call back.
 #[repr(C)]
 pub(crate) struct Ctx<'h> {
     regs: Regs,
+    mem: Mem,
+    host: *mut (dyn Host + 'h),
+}
+
+/// The host's memory as native code addresses it.
+#[repr(C)]
+struct Mem {
     bits: *mut u8,
     words: *mut u16,
-    host: *mut (dyn Host + 'h),
+    rem: *mut u32,
+    timer_base_us: [u32; 2],
+    scan_us: u32,
+}
+
+impl Mem {
+    /// The addresses and timer figures of `st` (at entry and after every
+    /// call into the host, which had them mutably).
+    fn of(st: NativeState<'_>) -> Mem {
+        Mem {
+            bits: st.mem.bits.as_mut_ptr().cast::<u8>(),
+            words: st.mem.words.as_mut_ptr(),
+            rem: st.timer_rem.as_mut_ptr(),
+            timer_base_us: st.timer_base_us,
+            scan_us: st.scan_us,
+        }
+    }
 }
 
 /// Offsets in [`Ctx`] of what native code reads and writes.
@@ -30,8 +54,12 @@ pub(crate) const CX_ACC: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, acc)) a
 pub(crate) const CX_BLOCKS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, blocks)) as i32;
 pub(crate) const CX_MPS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mps)) as i32;
 pub(crate) const CX_MC_ON: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mc_on)) as i32;
-pub(crate) const CX_BITS: i32 = offset_of!(Ctx, bits) as i32;
-pub(crate) const CX_WORDS: i32 = offset_of!(Ctx, words) as i32;
+pub(crate) const CX_BITS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, bits)) as i32;
+pub(crate) const CX_WORDS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, words)) as i32;
+pub(crate) const CX_REM: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, rem)) as i32;
+pub(crate) const CX_TIMER_BASE_US: i32 =
+    (offset_of!(Ctx, mem) + offset_of!(Mem, timer_base_us)) as i32;
+pub(crate) const CX_SCAN_US: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, scan_us)) as i32;
 
 /// A chunk function (see `codegen`): context, entry op → next op.
 type ChunkFn = unsafe extern "C" fn(*mut Ctx, u32) -> u32;
@@ -59,9 +87,7 @@ extern "C" fn exec_op(cx: *mut Ctx, from: u32, to: u32) -> u32 {
     let next = host.exec(from, to, &mut cx.regs);
     // The interpreter had the memory mutably: native code goes on with its
     // addresses as of now (the slices never change size).
-    let mem = host.mem();
-    cx.bits = mem.bits.as_mut_ptr().cast::<u8>();
-    cx.words = mem.words.as_mut_ptr();
+    cx.mem = Mem::of(host.state());
     next
 }
 
@@ -124,6 +150,8 @@ pub(crate) struct Compiled {
     /// Memory sizes the plan checked every index against.
     bit_len: usize,
     word_len: usize,
+    /// Timer remainders native code uses: all are below this.
+    timer_slots: usize,
 }
 
 impl Compiled {
@@ -205,6 +233,7 @@ impl Compiled {
             short_run_ops: plan.short_run_ops,
             bit_len: prog.bit_len as usize,
             word_len: prog.word_len as usize,
+            timer_slots: plan.timer_slots as usize,
         })
     }
 }
@@ -218,29 +247,33 @@ impl NativeProgram for Compiled {
         let Some(f) = self.fns.get(unit as usize) else {
             return pc;
         };
-        let mem = host.mem();
-        if mem.bits.len() != self.bit_len || mem.words.len() != self.word_len {
+        let st = host.state();
+        if st.mem.bits.len() != self.bit_len
+            || st.mem.words.len() != self.word_len
+            || st.timer_rem.len() < self.timer_slots
+            || st.timer_base_us.contains(&0)
+        {
             return pc;
         }
         // The interpreter enters only while no master control (or POFF)
         // forces conditions OFF (`NativeProgram::run`): the code has no
         // case for it (`codegen`: a stretch that turns them OFF returns).
         debug_assert!(regs.mc_on != 0, "native code entered under an OFF MC");
-        let (bits, words) = (mem.bits.as_mut_ptr().cast::<u8>(), mem.words.as_mut_ptr());
         // Booleans stay 0/1 whatever the caller passed (they are stored into `bool`s).
         regs.acc = u32::from(regs.acc != 0);
+        let mem = Mem::of(st);
         let mut cx = Ctx {
             regs: *regs,
-            bits,
-            words,
+            mem,
             host,
         };
         // SAFETY: `f` is this program's code (`new`) and follows `ChunkFn`.
-        // It reads and writes `cx.regs` and only elements of `bits`/`words`
-        // whose indices the plan checked against `bit_len`/`word_len`, the
-        // lengths of the host's slices (tested above; they never change
-        // size), through the addresses in `cx`, which `exec_op` renews after
-        // every call into the host; a bit below `bit_len - 3` may be read
+        // It reads and writes `cx.regs` and only elements of `bits`/`words`/
+        // `rem` whose indices the plan checked against `bit_len`/`word_len`/
+        // `timer_slots`, the (least) lengths of the host's slices (tested
+        // above; they never change size), through the addresses in `cx`,
+        // which `exec_op` renews after every call into the host; it divides
+        // only by a time base, not 0 (tested above); a bit below `bit_len - 3` may be read
         // together with the three bytes after it (`codegen::Gen::bit`), still
         // inside the slice. Every value it stores into a `bool` is 0 or 1:
         // the low byte of loaded bools, `acc` (0/1 above, and as the host

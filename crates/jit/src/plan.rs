@@ -2,13 +2,17 @@
 //! which the native code hands to the interpreter one at a time, and which
 //! the interpreter runs between native regions.
 //!
-//! Native can be only ops that cannot fault and touch nothing but the rung
-//! registers and plain device indices: contacts and coils on plain bits (or a
-//! word's bit), the ANB/ORB block stack and MPS stack, MOV/DMOV on plain
-//! words and constants, and 16/32-bit comparison contacts on plain words and
-//! constants. Every other op (edges, pulse forms, timers, counters,
-//! application instructions, index modification, jumps, calls, FOR/NEXT,
-//! master control, END) runs in the interpreter with its one implementation.
+//! Native can be only ops that touch nothing but the rung registers, plain
+//! device indices and the timers' remainders: contacts and coils on plain
+//! bits (or a word's bit), the ANB/ORB block stack and MPS stack, 16/32-bit
+//! comparison contacts, MOV/DMOV, the word instructions an instruction
+//! describes as a [`WordOp`] (+, -, INC, DEC, WAND, WOR, WXOR, BSET, BRST,
+//! RST of a timer or counter), timers and counters, and MC/MCR, all on plain
+//! words and constants. Those that can fault (a negative set value read from
+//! a word) or change the conditions (an MC turning them OFF) have the
+//! interpreter run the op on that path. Every other op (edges, pulse forms,
+//! other application instructions, index modification, jumps, calls,
+//! FOR/NEXT, END) runs in the interpreter with its one implementation.
 //!
 //! Between native ops, a stretch of interpreted ops is one call of the
 //! interpreter (`Host::exec`), which runs the stretch and returns to the
@@ -17,8 +21,10 @@
 //! interpreted with them, and a chunk without such a run has no native code.
 
 use softplc_ir::ops::{
-    BitArg, Callee, CmpOp, CoilKind, Compare, Edge, Join, Num, Op, Program, WordArg,
+    BitArg, Callee, CmpOp, CoilKind, Compare, Counter, Edge, Join, Num, Op, Program, Timer,
+    WordArg,
 };
+use softplc_ir::word_op::{Binary, WordOp};
 
 /// Most ops compiled into one function, so compile time stays linear in the
 /// program's length (Cranelift's register allocation is superlinear in a
@@ -57,12 +63,55 @@ pub enum Store {
     Rst,
 }
 
-/// A MOV (1 word) or DMOV (2 words) into a plain word device.
+/// An op that runs while the condition is ON and leaves it unchanged, on
+/// plain words (and a timer's or counter's contact).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Move {
-    pub words: u8,
-    pub s: WordSrc,
-    pub d: u32,
+pub enum Action {
+    /// MOV (1 word) or DMOV (2 words).
+    Move { words: u8, s: WordSrc, d: u32 },
+    /// `d = a op b` on 16 (`wide` false) or 32 bits.
+    Binary {
+        op: Binary,
+        wide: bool,
+        a: WordSrc,
+        b: WordSrc,
+        d: u32,
+    },
+    /// BSET/BRST: bit `n & 15` of word `d`.
+    Bit { set: bool, d: u32, n: WordSrc },
+    /// RST of a timer (with its remainder slot) or counter.
+    ResetTc {
+        value: u32,
+        contact: u32,
+        slot: Option<u32>,
+    },
+}
+
+/// `OUT T`/`OUT ST` (`sequence::timer`) on plain devices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TimerStep {
+    /// The op, for the interpreter to run when the set value is negative.
+    pub pc: u32,
+    pub coil: u32,
+    pub contact: u32,
+    pub value: u32,
+    pub slot: u32,
+    /// A constant set value is not negative.
+    pub set: WordSrc,
+    pub high_speed: bool,
+    pub retentive: bool,
+}
+
+/// `OUT C` (`sequence::counter`) on plain devices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CounterStep {
+    /// The op, for the interpreter to run when the set value is negative.
+    pub pc: u32,
+    pub coil: u32,
+    pub contact: u32,
+    pub value: u32,
+    /// A constant set value is not negative.
+    pub set: WordSrc,
 }
 
 /// One native operation.
@@ -93,9 +142,17 @@ pub enum Step {
         store: Store,
         bit: u32,
     },
-    /// Consecutive MOVs under one condition (a MOV leaves the operation
+    /// Consecutive actions under one condition (they leave the operation
     /// result unchanged, so one test guards the run).
-    Movs(Vec<Move>),
+    Actions(Vec<Action>),
+    Timer(TimerStep),
+    Counter(CounterStep),
+    /// MC on a plain bit: the bit ON while the condition is; the
+    /// interpreter runs it when the condition is OFF (and goes on with
+    /// conditions OFF).
+    Mc { pc: u32, bit: u32 },
+    /// MCR while no MC forces conditions OFF: nothing to do.
+    Mcr,
 }
 
 /// An element of a chunk's plan, in op order.
@@ -133,6 +190,8 @@ pub struct Plan {
     /// Ops native code could run, left to the interpreter because their run
     /// is shorter than the minimum (`--stats` says so).
     pub short_run_ops: usize,
+    /// Timer remainder slots native code uses: all are below this.
+    pub timer_slots: u32,
 }
 
 /// Plans `prog` with native runs of at least `min_run` ops, checking every
@@ -143,13 +202,25 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
         bits: prog.bit_len,
         words: prog.word_len,
     };
-    let mut steps: Vec<Option<Step>> = prog.ops.iter().map(|op| step(op, lim)).collect();
+    let mut steps: Vec<Option<Step>> = prog
+        .ops
+        .iter()
+        .enumerate()
+        .map(|(pc, op)| step(pc as u32, op, prog, lim))
+        .collect();
     let n = prog.ops.len();
     let can = steps.iter().filter(|s| s.is_some()).count();
     for start in (0..n).step_by(CHUNK_OPS) {
         drop_short_runs(&mut steps[start..(start + CHUNK_OPS).min(n)], min_run);
     }
     let native: Vec<bool> = steps.iter().map(Option::is_some).collect();
+    let timer_slots = steps
+        .iter()
+        .flatten()
+        .filter_map(Step::timer_slot)
+        .map(|s| s + 1)
+        .max()
+        .unwrap_or(0);
     let short_run_ops = can - native.iter().filter(|n| **n).count();
     let targets = targets(prog);
     let mut entry = vec![false; n];
@@ -163,6 +234,24 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
         native,
         entry,
         short_run_ops,
+        timer_slots,
+    }
+}
+
+impl Step {
+    /// The timer remainder slot the step uses.
+    fn timer_slot(&self) -> Option<u32> {
+        match self {
+            Step::Timer(t) => Some(t.slot),
+            Step::Actions(a) => a
+                .iter()
+                .filter_map(|a| match a {
+                    Action::ResetTc { slot, .. } => *slot,
+                    _ => None,
+                })
+                .max(),
+            _ => None,
+        }
     }
 }
 
@@ -220,8 +309,8 @@ fn chunk(
                         pieces.push(Piece::Entry(pc as u32));
                     }
                     match (s, pieces.last_mut()) {
-                        (Step::Movs(m), Some(Piece::Step(Step::Movs(moves)))) => {
-                            moves.extend_from_slice(m)
+                        (Step::Actions(a), Some(Piece::Step(Step::Actions(run)))) => {
+                            run.extend_from_slice(a)
                         }
                         _ => pieces.push(Piece::Step(s.clone())),
                     }
@@ -266,6 +355,9 @@ fn targets(prog: &Program) -> Vec<bool> {
                 }
             }
             Op::For(_) => t[pc + 1] = true,
+            // Where the interpreter, having run the ops an MC turned OFF,
+            // comes back to native code.
+            Op::Mcr(_) => t[pc + 1] = true,
             Op::Break(b) => t[(b.1 as usize).min(n)] = true,
             Op::Pulse(_) => t[pc + 2] = true,
             _ => {}
@@ -295,6 +387,14 @@ impl Limits {
     /// A word operand of `words` words starting at a plain index.
     fn word(self, i: u32, words: u8) -> Option<u32> {
         (u64::from(i) + u64::from(words) <= u64::from(self.words)).then_some(i)
+    }
+
+    /// A plain word destination.
+    fn dest(self, a: &WordArg, words: u8) -> Option<u32> {
+        match a {
+            WordArg::Word(i) => self.word(*i, words),
+            _ => None,
+        }
     }
 
     fn src(self, a: &WordArg, words: u8) -> Option<WordSrc> {
@@ -328,8 +428,8 @@ fn coil(store: Store, i: u32, lim: Limits) -> Option<Step> {
     lim.bit(i).map(|bit| Step::Coil { store, bit })
 }
 
-/// The native step of `op`, if it has one.
-fn step(op: &Op, lim: Limits) -> Option<Step> {
+/// The native step of `op` (op `pc` of `prog`), if it has one.
+fn step(pc: u32, op: &Op, prog: &Program, lim: Limits) -> Option<Step> {
     Some(match op {
         Op::Ld(i) => return contact(Join::Load, false, *i, lim),
         Op::Ldi(i) => return contact(Join::Load, true, *i, lim),
@@ -365,27 +465,106 @@ fn step(op: &Op, lim: Limits) -> Option<Step> {
                 _ => return None,
             }
         }
-        Op::MovK { k, d } => Step::Movs(vec![Move {
+        Op::MovK { k, d } => action(Action::Move {
             words: 1,
             s: WordSrc::Const(u32::from(*k)),
             d: lim.word(*d, 1)?,
-        }]),
-        Op::MovW { s, d } => Step::Movs(vec![Move {
+        }),
+        Op::MovW { s, d } => action(Action::Move {
             words: 1,
             s: WordSrc::Word(lim.word(*s, 1)?),
             d: lim.word(*d, 1)?,
-        }]),
-        Op::MovD { s, d } => Step::Movs(vec![Move {
+        }),
+        Op::MovD { s, d } => action(Action::Move {
             words: 2,
             s: WordSrc::Word(lim.word(*s, 2)?),
             d: lim.word(*d, 2)?,
-        }]),
-        Op::MovDK { k, d } => Step::Movs(vec![Move {
+        }),
+        Op::MovDK { k, d } => action(Action::Move {
             words: 2,
             s: WordSrc::Const(*k),
             d: lim.word(*d, 2)?,
-        }]),
+        }),
+        Op::Ext(x) => action(word_op(prog.ext.get(*x as usize)?.word_op()?, lim)?),
+        Op::Timer(t) => Step::Timer(timer(pc, t, lim)?),
+        Op::Counter(c) => Step::Counter(counter(pc, c, lim)?),
+        Op::Mc(m) => match m.dst {
+            BitArg::Bit(i) => Step::Mc {
+                pc,
+                bit: lim.bit(i)?,
+            },
+            _ => return None,
+        },
+        Op::Mcr(_) => Step::Mcr,
         _ => return None,
+    })
+}
+
+fn action(a: Action) -> Step {
+    Step::Actions(vec![a])
+}
+
+/// A word instruction's action on plain words and constants.
+fn word_op(w: WordOp, lim: Limits) -> Option<Action> {
+    Some(match w {
+        WordOp::Binary {
+            op,
+            wide,
+            s1,
+            s2,
+            d,
+        } => {
+            let words = if wide { 2 } else { 1 };
+            Action::Binary {
+                op,
+                wide,
+                a: lim.src(s1, words)?,
+                b: lim.src(s2, words)?,
+                d: lim.dest(d, words)?,
+            }
+        }
+        WordOp::Bit { set, d, n } => Action::Bit {
+            set,
+            d: lim.dest(d, 1)?,
+            n: lim.src(n, 1)?,
+        },
+        WordOp::ResetTc(r) => Action::ResetTc {
+            value: lim.word(r.value, 1)?,
+            contact: lim.bit(r.contact)?,
+            slot: (r.slot != u32::MAX).then_some(r.slot),
+        },
+    })
+}
+
+/// A set value native code reads: a constant that is not negative (the
+/// interpreter faults on one that is), or a plain word.
+fn set_value(a: &WordArg, lim: Limits) -> Option<WordSrc> {
+    match lim.src(a, 1)? {
+        WordSrc::Const(k) if (k as u16 as i16) < 0 => None,
+        s => Some(s),
+    }
+}
+
+fn timer(pc: u32, t: &Timer, lim: Limits) -> Option<TimerStep> {
+    Some(TimerStep {
+        pc,
+        coil: lim.bit(t.coil)?,
+        contact: lim.bit(t.contact)?,
+        value: lim.word(t.value, 1)?,
+        slot: t.slot,
+        set: set_value(&t.set, lim)?,
+        high_speed: t.high_speed,
+        retentive: t.retentive,
+    })
+}
+
+fn counter(pc: u32, c: &Counter, lim: Limits) -> Option<CounterStep> {
+    Some(CounterStep {
+        pc,
+        coil: lim.bit(c.coil)?,
+        contact: lim.bit(c.contact)?,
+        value: lim.word(c.value, 1)?,
+        set: set_value(&c.set, lim)?,
     })
 }
 
@@ -486,7 +665,7 @@ mod tests {
         );
         assert_eq!(pieces[k + 2], Piece::Entry(k as u32 + 1));
         // The two MOVs under one condition.
-        let Piece::Step(Step::Movs(run)) = &pieces[2 * k + 1] else {
+        let Piece::Step(Step::Actions(run)) = &pieces[2 * k + 1] else {
             panic!("{pieces:?}")
         };
         assert_eq!(run.len(), 2);

@@ -386,7 +386,7 @@ fn application(c: &mut Compiler<'_>, u: &Use<'_>, app: App) {
             let Some(d) = c.word_dest(&ops[0], num, num.words()) else {
                 return;
             };
-            Box::new(Step { num, delta, d })
+            Box::new(Step::new(num, delta, d))
         }
         App::Flt(num) => {
             let s = c.word_src(&ops[0], num);

@@ -59,6 +59,14 @@ impl Instr for BitOp {
         let v = if self.set { v | 1 << b } else { v & !(1 << b) };
         cx.mem.write16(&self.d, v)
     }
+
+    fn word_op(&self) -> Option<softplc_ir::word_op::WordOp<'_>> {
+        Some(softplc_ir::word_op::WordOp::Bit {
+            set: self.set,
+            d: &self.d,
+            n: &self.n,
+        })
+    }
 }
 
 // ------------------------------------------------------------ TEST / DTEST

@@ -16,6 +16,7 @@ use softplc_ir::fault::Fault;
 // sum, §7.1.5-§7.1.6 exclusive OR, §7.1.7-§7.1.8 exclusive NOR.
 use softplc_ir::kernels::logic::WordLogic;
 use softplc_ir::ops::{Num, WordArg};
+use softplc_ir::word_op::{Binary, WordOp};
 use softplc_lang::isa::{Def, Doc};
 
 /// This family's instructions.
@@ -94,6 +95,22 @@ impl Instr for Word {
                 cx.mem.write32(&self.d, self.op.apply(a, b))
             }
         }
+    }
+
+    fn word_op(&self) -> Option<WordOp<'_>> {
+        let op = match self.op {
+            WordLogic::And => Binary::And,
+            WordLogic::Or => Binary::Or,
+            WordLogic::Xor => Binary::Xor,
+            WordLogic::Xnr | WordLogic::Not => return None,
+        };
+        Some(WordOp::Binary {
+            op,
+            wide: self.num != Num::I16,
+            s1: &self.s1,
+            s2: &self.s2,
+            d: &self.d,
+        })
     }
 }
 

@@ -1,7 +1,9 @@
 //! Random well-formed MELSEC programs for property tests: contacts,
-//! ANB/ORB blocks, MPS, coils, MOV/arithmetic/compare, forward jumps,
-//! FOR/NEXT, master control, pulse forms and index modification that may go
-//! out of range. `body(depth)` makes the parts, `render` the program text.
+//! ANB/ORB blocks, MPS, coils, timers (low-speed, high-speed, retentive)
+//! and counters with constant or word set values (a negative one faults),
+//! RST of both, MOV/arithmetic/logic/BSET/compare, forward jumps, FOR/NEXT,
+//! master control, pulse forms and index modification that may go out of
+//! range. `body(depth)` makes the parts, `render` the program text.
 #![allow(dead_code)]
 
 use proptest::prelude::*;
@@ -13,6 +15,9 @@ fn bit() -> impl Strategy<Value = String> {
         (0..8u32).prop_map(|n| format!("Y{n}")),
         (0..16u32).prop_map(|n| format!("D0.{n:X}")),
         Just("SM400".to_string()),
+        (0..4u32).prop_map(|n| format!("T{n}")),
+        (0..4u32).prop_map(|n| format!("C{n}")),
+        (0..2u32).prop_map(|n| format!("ST{n}")),
         // The last bits of memory (FY is last): native code reads a bit with
         // the three bytes after it only where they are still memory.
         (12..16u32).prop_map(|n| format!("FY{n:X}")),
@@ -42,6 +47,62 @@ fn operand() -> impl Strategy<Value = String> {
         word(),
         (-3i32..40).prop_map(|k| format!("K{k}")),
         Just("K32767".to_string()),
+        (0..4u32).prop_map(|n| format!("TN{n}")),
+        (0..4u32).prop_map(|n| format!("CN{n}")),
+    ]
+}
+
+/// A 32-bit operand: a word pair or a constant.
+fn operand32() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (0..8u32).prop_map(|n| format!("D{}", 2 * n)),
+        (-70000i64..70000).prop_map(|k| format!("K{k}")),
+        Just("K2147483647".to_string()),
+    ]
+}
+
+/// A timer's or counter's set value: small constants (0 included) or a
+/// word, which may hold a negative value (4100 where the CPU faults).
+fn set_value() -> impl Strategy<Value = String> {
+    prop_oneof![
+        3 => (0..6u32).prop_map(|k| format!("K{k}")),
+        1 => (0..16u32).prop_map(|n| format!("D{n}")),
+    ]
+}
+
+/// Timers, counters and their resets.
+fn timer_counter() -> impl Strategy<Value = String> {
+    prop_oneof![
+        2 => (prop_oneof![Just("OUT"), Just("OUTH")], 0..4u32, set_value())
+            .prop_map(|(o, n, k)| format!("{o} T{n} {k}\n")),
+        1 => (0..2u32, set_value()).prop_map(|(n, k)| format!("OUT ST{n} {k}\n")),
+        2 => (0..4u32, set_value()).prop_map(|(n, k)| format!("OUT C{n} {k}\n")),
+        1 => (prop_oneof![Just("T"), Just("C"), Just("ST")], 0..2u32)
+            .prop_map(|(d, n)| format!("RST {d}{n}\n")),
+    ]
+}
+
+/// Word instructions: INC/DEC, 32-bit +/-, word logic, BSET/BRST.
+fn word_instruction() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (prop_oneof![Just("INC"), Just("DEC")], word()).prop_map(|(i, d)| format!("{i} {d}\n")),
+        (prop_oneof![Just("DINC"), Just("DDEC")], 0..8u32)
+            .prop_map(|(i, d)| format!("{i} D{}\n", 2 * d)),
+        (prop_oneof![Just("D+"), Just("D-")], operand32(), operand32(), 0..8u32)
+            .prop_map(|(i, a, b, d)| format!("{i} {a} {b} D{}\n", 2 * d)),
+        (prop_oneof![Just("+"), Just("-")], operand(), word())
+            .prop_map(|(i, s, d)| format!("{i} {s} {d}\n")),
+        (prop_oneof![Just("WAND"), Just("WOR"), Just("WXOR")], operand(), operand(), word())
+            .prop_map(|(i, a, b, d)| format!("{i} {a} {b} {d}\n")),
+        (prop_oneof![Just("WAND"), Just("WOR")], operand(), word())
+            .prop_map(|(i, s, d)| format!("{i} {s} {d}\n")),
+        (prop_oneof![Just("DAND"), Just("DOR")], operand32(), 0..8u32)
+            .prop_map(|(i, s, d)| format!("{i} {s} D{}\n", 2 * d)),
+        (prop_oneof![Just("BSET"), Just("BRST")], word(), prop_oneof![
+            (0..20u32).prop_map(|k| format!("K{k}")),
+            word(),
+        ])
+        .prop_map(|(i, d, n)| format!("{i} {d} {n}\n")),
     ]
 }
 
@@ -122,6 +183,8 @@ fn action() -> impl Strategy<Value = String> {
         1 => (prop_oneof![Just("+"), Just("-"), Just("*")], word(), operand(), word())
             .prop_map(|(op, a, b, d)| format!("{op} {a} {b} {d}\n")),
         1 => word().prop_map(|d| format!("INCP {d}\n")),
+        2 => timer_counter(),
+        2 => word_instruction(),
         1 => (word(), word()).prop_map(|(s, d)| format!("MOVP {s} {d}\n")),
         // Z0 inside M/D, near their ends, or past them.
         1 => prop_oneof![0..12i32, 8185..8200i32, 12280..12290i32, Just(20000)]

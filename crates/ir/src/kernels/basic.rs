@@ -6,6 +6,7 @@ use crate::device::DeviceMemory;
 use crate::fault::Fault;
 use crate::instr::{ExecCtx, Instr};
 use crate::ops::{ArithOp, CmpOp, Compare, Num, WordArg};
+use crate::word_op::{Binary, WordOp};
 
 /// Evaluates a comparison contact (`LD=`, `ANDD>`, `ORE<=` …); signed compare for
 /// BIN, IEEE compare for real.
@@ -73,6 +74,26 @@ impl Instr for Arith {
     fn exec(&self, cx: &mut ExecCtx<'_>) -> Result<(), Fault> {
         arith(cx.mem, self.op, self.num, &self.s1, &self.s2, &self.d)
     }
+
+    fn word_op(&self) -> Option<WordOp<'_>> {
+        let op = match self.op {
+            ArithOp::Add => Binary::Add,
+            ArithOp::Sub => Binary::Sub,
+            ArithOp::Mul | ArithOp::Div => return None,
+        };
+        let wide = match self.num {
+            Num::I16 => false,
+            Num::I32 => true,
+            Num::F32 => return None,
+        };
+        Some(WordOp::Binary {
+            op,
+            wide,
+            s1: &self.s1,
+            s2: &self.s2,
+            d: &self.d,
+        })
+    }
 }
 
 /// INC/DEC/DINC/DDEC (PM §6.3.5): they wrap, 32767 + 1 = -32768 (at 32 bits
@@ -82,6 +103,19 @@ pub struct Step {
     pub num: Num,
     pub delta: i32,
     pub d: WordArg,
+    /// `delta` as a constant operand (for [`Instr::word_op`]).
+    pub delta_arg: WordArg,
+}
+
+impl Step {
+    pub fn new(num: Num, delta: i32, d: WordArg) -> Step {
+        Step {
+            num,
+            delta,
+            d,
+            delta_arg: WordArg::Const(delta as u32),
+        }
+    }
 }
 
 impl Instr for Step {
@@ -94,6 +128,20 @@ impl Instr for Step {
             let v = (mem.read32(&self.d)? as i32).wrapping_add(self.delta);
             mem.write32(&self.d, v as u32)
         }
+    }
+
+    fn word_op(&self) -> Option<WordOp<'_>> {
+        Some(WordOp::Binary {
+            op: Binary::Add,
+            wide: match self.num {
+                Num::I16 => false,
+                Num::I32 => true,
+                Num::F32 => return None,
+            },
+            s1: &self.d,
+            s2: &self.delta_arg,
+            d: &self.d,
+        })
     }
 }
 

@@ -136,4 +136,8 @@ impl Instr for ResetTc {
         }
         Ok(())
     }
+
+    fn word_op(&self) -> Option<crate::word_op::WordOp<'_>> {
+        Some(crate::word_op::WordOp::ResetTc(self))
+    }
 }
