@@ -42,6 +42,8 @@ fn bench(c: &mut Criterion) {
             programs::timers_counters_compare(),
         ),
         ("mixed_1000_rungs", programs::mixed()),
+        ("mov_chain_12k", programs::mov_chain()),
+        ("tcc_groups", programs::timer_counter_compare_groups()),
     ] {
         for (tier, exec) in [("interp", Exec::Interp), ("jit", Exec::Jit)] {
             let name = &format!("{prog}/{tier}");

@@ -25,6 +25,8 @@ fn main() -> ExitCode {
         ("bits_50k.il", programs::contacts()),
         ("mov_20k.il", programs::movs()),
         ("tcc_mix.il", programs::timers_counters_compare()),
+        ("mov_chain_12k.il", programs::mov_chain()),
+        ("tcc_groups.il", programs::timer_counter_compare_groups()),
         ("mixed.il", programs::mixed()),
     ];
     if let Err(e) = std::fs::create_dir_all(&dir) {

@@ -248,9 +248,9 @@ fn exec_choice_interp_leaves_no_native_code() {
 #[test]
 fn master_control_off_hands_the_rest_to_the_interpreter_until_mcr() {
     // Long native runs (the shipped minimum run) before, inside and after an
-    // MC: while N0 is OFF the interpreter runs everything up to MCR (native
-    // code runs only while no MC forces conditions OFF), then native code
-    // takes over again after MCR.
+    // MC: while N0 is OFF the interpreter runs the MC and everything up to
+    // MCR (native code runs only while no MC forces conditions OFF), then
+    // native code takes over again after MCR.
     let run = |coils: &[&str]| -> String {
         coils
             .iter()
@@ -267,9 +267,9 @@ fn master_control_off_hands_the_rest_to_the_interpreter_until_mcr() {
     apply(&mut interp.cpu, Exec::Interp).unwrap();
     let mut jit = Plc::new(&src);
     let stats = jit.cpu.use_tier(&Jit::default()).unwrap().clone();
-    // Runs of 11 (with MC's LD X0), 10 and 10; MC, MCR and END are
-    // interpreted.
-    assert_eq!((stats.native_ops, stats.ops), (31, 34), "{stats:?}");
+    // One run of 33: MC and MCR have native code too (MC ON sets its bit;
+    // OFF, the interpreter runs it); END is interpreted.
+    assert_eq!((stats.native_ops, stats.ops), (33, 34), "{stats:?}");
     for p in [&mut interp, &mut jit] {
         p.set("Y0", "1").set("X1", "1").scan();
         // N0 OFF: Y0/Y1 OFF (were ON), M and Y2/Y3 follow X1.
@@ -308,5 +308,152 @@ END
         assert!(p.bit("FY0E") && !p.bit("FY0F") && !p.bit("Y0"));
         p.set("X1", "0").scan();
         assert!(!p.bit("FY0E") && !p.bit("FY0F") && !p.bit("Y0"));
+    });
+}
+
+#[test]
+fn timers_counters_and_word_instructions_run_as_native_code() {
+    let src = "\
+LD X0
+OUTH T0 K3
+LD T0
+OUT C0 K2
+LD X1
+RST T0
+RST C0
+LD SM400
+INC D0
++ D0 K10 D1
+D+ K100000 D6 D6
+WAND H0F D1 D3
+WOR H100 D3
+BSET D4 K3
+BRST D4 K0
+LD X2
+MC N0 M100
+LD SM400
+OUT Y0
+MCR N0
+END
+";
+    let [mut interp, mut jit] = both(src, softplc_core::profile::default_config());
+    // Every op but END has native code.
+    let stats = jit.cpu.use_tier(&Jit::with_min_run(1)).unwrap().clone();
+    assert_eq!(stats.native_ops, stats.ops - 1, "{stats:?}");
+    for p in [&mut interp, &mut jit] {
+        // 10 ms scans: the high-speed timer (10 ms) counts 1 a scan from
+        // the scan after its coil turned ON, and is up at 3.
+        p.set("X0", "1");
+        let mut counts = vec![];
+        for _ in 0..5 {
+            p.scan();
+            counts.push((p.int("TN0"), p.bit("TS0"), p.int("CN0")));
+        }
+        assert_eq!(
+            counts,
+            [
+                (0, false, 0),
+                (1, false, 0),
+                (2, false, 0),
+                (3, true, 1),
+                (3, true, 1)
+            ]
+        );
+        // INC, then D1 = D0 + 10 (16 bits), D6 += 100,000 (32 bits) each scan.
+        assert_eq!(
+            (p.int("D0"), p.int("D1"), p.int("D6:i32")),
+            (5, 15, 500_000)
+        );
+        // D3 = (15 AND H0F) OR H100; D4 = bit 3 set, bit 0 cleared.
+        assert_eq!((p.int("D3"), p.int("D4")), (0x10F, 8));
+        // MC N0 OFF: the coil inside is OFF.
+        assert!(!p.bit("Y0") && !p.bit("M100"));
+        // RST after the timer and counter in the same scan: both 0 and OFF
+        // at END; the timer then counts again from 0.
+        p.set("X1", "1").scan();
+        assert_eq!((p.int("TN0"), p.bit("TS0"), p.int("CN0")), (0, false, 0));
+        p.set("X1", "0").scan();
+        assert_eq!((p.int("TN0"), p.bit("TS0")), (1, false));
+        // MC N0 ON: the coil follows its condition.
+        p.set("X2", "1").scan();
+        assert!(p.bit("Y0") && p.bit("M100"));
+    }
+}
+
+#[test]
+fn a_negative_set_value_in_a_word_is_4100_on_native_code() {
+    // OUT T0 D0 and OUT C0 D1 with D0 = -1: the timer's step faults
+    // (operation error, 4100); the counter never runs.
+    let src = "\
+LD SM400
+MOV K-1 D0
+LD X0
+OUT T0 D0
+OUT C0 D1
+END
+";
+    each(src, |p| {
+        p.scan();
+        common::assert_running(p);
+        p.set("X0", "1").scan();
+        assert_stopped(p, 4100);
+        assert_eq!(p.cpu.error().unwrap().line, Some(4));
+    });
+}
+
+#[test]
+fn words_held_in_registers_follow_what_conditional_instructions_wrote() {
+    // Each word is read (compare) before a conditional instruction writes
+    // it and read again after: native code holds it in a register across
+    // the condition and must take what the instruction left, ON or OFF.
+    let src = "\
+LD= D0 K0
+OUT M0
+LD= D1 K0
+OUT M1
+LD= D2 K0
+OUT M2
+LD= D3 K0
+OUT M3
+LD= TN0 K0
+OUT M4
+LD X0
+MOV K5 D0
++ D1 K7 D1
+BSET D2 K1
+INC D3
+RST T0
+LD= D0 K5
+OUT Y0
+LD= D1 K7
+OUT Y1
+LD= D2 K2
+OUT Y2
+LD= D3 K1
+OUT Y3
+LD= TN0 K0
+OUT Y4
+LD SM400
+MOV D3 D4
+MOV D4 D5
+MOV D5 D6
+LD= D6 K1
+OUT Y5
+LD X1
+OUT T0 K100
+END
+";
+    each(src, |p| {
+        // The timer at 1 (100 ms scans), the RST off.
+        p.scan_time_us(100_000).set("X1", "1").scans(2);
+        assert_eq!(p.int("TN0"), 1);
+        p.scan();
+        // X0 OFF: nothing written; D0-D3 are 0, TN0 is 2 at the compare.
+        assert_eq!(common::outputs(p, 6), "000000");
+        p.set("X0", "1").scan();
+        // X0 ON: D0 = 5, D1 = 7, D2 = 2, D3 = 1; RST T0 clears TN0 before
+        // LD= TN0 K0 (the OUT T0 after it counts again); the chain D3 → D6.
+        assert_eq!(common::outputs(p, 6), "111111");
+        assert_eq!((p.int("D4"), p.int("D5"), p.int("D6")), (1, 1, 1));
     });
 }

@@ -621,10 +621,7 @@ impl Gen<'_, '_> {
                         WordSrc::Word(i) => self.word_as_held(i + k),
                         WordSrc::Const(c) => {
                             let half = (c >> (16 * k)) & 0xFFFF;
-                            (
-                                self.b.ins().iconst(types::I32, i64::from(half)),
-                                Form::Zext,
-                            )
+                            (self.b.ins().iconst(types::I32, i64::from(half)), Form::Zext)
                         }
                     });
                 }
@@ -852,10 +849,7 @@ impl Gen<'_, '_> {
         let inc = self.b.ins().band(rising, not_up);
         let inc = self.b.ins().band(inc, below);
         let cur = self.b.ins().iadd(cur, inc);
-        let reached = self
-            .b
-            .ins()
-            .icmp(IntCC::SignedGreaterThanOrEqual, cur, set);
+        let reached = self.b.ins().icmp(IntCC::SignedGreaterThanOrEqual, cur, set);
         let reached = self.b.ins().uextend(types::I32, reached);
         let up = self.b.ins().bor(up, reached);
         self.store_bit(c.contact, up);

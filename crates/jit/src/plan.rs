@@ -21,8 +21,7 @@
 //! interpreted with them, and a chunk without such a run has no native code.
 
 use softplc_ir::ops::{
-    BitArg, Callee, CmpOp, CoilKind, Compare, Counter, Edge, Join, Num, Op, Program, Timer,
-    WordArg,
+    BitArg, Callee, CmpOp, CoilKind, Compare, Counter, Edge, Join, Num, Op, Program, Timer, WordArg,
 };
 use softplc_ir::word_op::{Binary, WordOp};
 
@@ -150,7 +149,10 @@ pub enum Step {
     /// MC on a plain bit: the bit ON while the condition is; the
     /// interpreter runs it when the condition is OFF (and goes on with
     /// conditions OFF).
-    Mc { pc: u32, bit: u32 },
+    Mc {
+        pc: u32,
+        bit: u32,
+    },
     /// MCR while no MC forces conditions OFF: nothing to do.
     Mcr,
 }

@@ -35,6 +35,31 @@ pub fn movs() -> (String, u64) {
     (s, 20_001)
 }
 
+/// A dependent MOV chain: INC D0, then 12,000 `MOV D(i) D(i+1)`, each
+/// reading the previous one's result (12,002 instructions with the LD).
+pub fn mov_chain() -> (String, u64) {
+    let mut s = String::from("LD SM400\nINC D0\n");
+    for i in 0..12_000u32 {
+        s += &format!("MOV D{i} D{}\n", i + 1);
+    }
+    s += "END\n";
+    (s, 12_002)
+}
+
+/// 1,000 groups of a 100 ms timer, a counter on its contact and a
+/// comparison of the count driving a coil (6,000 instructions).
+pub fn timer_counter_compare_groups() -> (String, u64) {
+    let mut s = String::new();
+    for i in 0..1000u32 {
+        s += &format!(
+            "LD X{:X}\nOUT T{i} K10\nLD T{i}\nOUT C{i} K100\nLD> CN{i} K50\nOUT M{i}\n",
+            i % 16
+        );
+    }
+    s += "END\n";
+    (s, 6_000)
+}
+
 /// Timers, counters and comparisons, 2,000 rungs: a timer driven by a
 /// contact, a counter on the timer's contact, a comparison of the current
 /// value driving a coil, and a 32-bit comparison with a SET.

@@ -37,7 +37,7 @@ fn dest_bit() -> impl Strategy<Value = String> {
 
 fn word() -> impl Strategy<Value = String> {
     prop_oneof![
-        4 => (0..16u32).prop_map(|n| format!("D{n}")),
+        4 => (0..8u32).prop_map(|n| format!("D{n}")),
         1 => (0..4u32).prop_map(|n| format!("D{n}Z0")),
     ]
 }
@@ -88,21 +88,32 @@ fn word_instruction() -> impl Strategy<Value = String> {
         (prop_oneof![Just("INC"), Just("DEC")], word()).prop_map(|(i, d)| format!("{i} {d}\n")),
         (prop_oneof![Just("DINC"), Just("DDEC")], 0..8u32)
             .prop_map(|(i, d)| format!("{i} D{}\n", 2 * d)),
-        (prop_oneof![Just("D+"), Just("D-")], operand32(), operand32(), 0..8u32)
+        (
+            prop_oneof![Just("D+"), Just("D-")],
+            operand32(),
+            operand32(),
+            0..8u32
+        )
             .prop_map(|(i, a, b, d)| format!("{i} {a} {b} D{}\n", 2 * d)),
         (prop_oneof![Just("+"), Just("-")], operand(), word())
             .prop_map(|(i, s, d)| format!("{i} {s} {d}\n")),
-        (prop_oneof![Just("WAND"), Just("WOR"), Just("WXOR")], operand(), operand(), word())
+        (
+            prop_oneof![Just("WAND"), Just("WOR"), Just("WXOR")],
+            operand(),
+            operand(),
+            word()
+        )
             .prop_map(|(i, a, b, d)| format!("{i} {a} {b} {d}\n")),
         (prop_oneof![Just("WAND"), Just("WOR")], operand(), word())
             .prop_map(|(i, s, d)| format!("{i} {s} {d}\n")),
         (prop_oneof![Just("DAND"), Just("DOR")], operand32(), 0..8u32)
             .prop_map(|(i, s, d)| format!("{i} {s} D{}\n", 2 * d)),
-        (prop_oneof![Just("BSET"), Just("BRST")], word(), prop_oneof![
-            (0..20u32).prop_map(|k| format!("K{k}")),
+        (
+            prop_oneof![Just("BSET"), Just("BRST")],
             word(),
-        ])
-        .prop_map(|(i, d, n)| format!("{i} {d} {n}\n")),
+            prop_oneof![(0..20u32).prop_map(|k| format!("K{k}")), word(),]
+        )
+            .prop_map(|(i, d, n)| format!("{i} {d} {n}\n")),
     ]
 }
 
@@ -192,9 +203,35 @@ fn action() -> impl Strategy<Value = String> {
     ]
 }
 
+/// A word read, written under a condition, and read again: native code
+/// holds it in a register across the condition.
+fn read_write_read() -> impl Strategy<Value = String> {
+    (
+        0..8u32,
+        condition(),
+        prop_oneof![
+            Just("MOV K3 D#"),
+            Just("INC D#"),
+            Just("BSET D# K1"),
+            Just("+ D# K3 D#"),
+            Just("WAND H0F D#"),
+            Just("DMOV K70000 D#"),
+        ],
+        0..16u32,
+    )
+        .prop_map(|(n, c, w, m)| {
+            format!(
+                "LD= D{n} K0\nOUT M{m}\n{c}{}\nLD SM400\nMOV D{n} D{}\n",
+                w.replace('#', &n.to_string()),
+                n + 8
+            )
+        })
+}
+
 /// A rung: a condition, then one to three outputs (MPS branches when more).
 fn rung() -> impl Strategy<Value = String> {
     prop_oneof![
+        1 => read_write_read(),
         3 => (condition(), action()).prop_map(|(c, a)| c + &a),
         1 => (condition(), action(), contact_chain(), action(), action()).prop_map(
             |(c, a1, b, a2, a3)| {
