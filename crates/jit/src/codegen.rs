@@ -125,6 +125,7 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
     let start = b.create_block();
     b.append_block_params_for_function_params(start);
     b.switch_to_block(start);
+    b.seal_block(start);
     let p = b.block_params(start).to_vec();
     let (cx, pc) = (p[0], p[1]);
     let dispatch = b.create_block();
@@ -165,6 +166,7 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
     let elsewhere = g.b.create_block();
     sw.emit(g.b, target, elsewhere);
     g.b.switch_to_block(elsewhere);
+    g.b.seal_block(elsewhere);
     g.leave(target);
 
     // Whether the current block falls through into the next piece (every
@@ -190,6 +192,10 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
             }
         }
     }
+    // The dispatch and entry blocks, whose predecessors are known only now
+    // (every other block is sealed as soon as they are: a block left
+    // unsealed takes a parameter for every variable it uses, which made
+    // compiling timers and counters 20 times slower).
     g.b.seal_all_blocks();
 }
 
@@ -253,6 +259,8 @@ impl Gen<'_, '_> {
             self.b.create_block(),
         );
         self.b.ins().brif(mc_on, check, &[], off, &[]);
+        self.b.seal_block(check);
+        self.b.seal_block(off);
         // The registers in `cx` are the interpreter's: nothing to store.
         self.b.switch_to_block(off);
         self.b.ins().return_(&[next]);
@@ -264,6 +272,7 @@ impl Gen<'_, '_> {
             .ins()
             .brif(straight, on, &[], self.dispatch, &[next.into()]);
         self.b.switch_to_block(on);
+        self.b.seal_block(on);
     }
 
     /// The address of `base[index]` with elements of `size` bytes.
@@ -580,6 +589,7 @@ impl Gen<'_, '_> {
         let after = self.b.create_block();
         self.b.ins().brif(c, then, &[], after, &[]);
         self.b.switch_to_block(then);
+        self.b.seal_block(then);
         // What is held before the test holds after it, but for what the
         // actions write; what they learn stays in their block.
         let (bits, words) = (self.known.clone(), self.known_words.clone());
@@ -588,6 +598,7 @@ impl Gen<'_, '_> {
         }
         self.b.ins().jump(after, &[]);
         self.b.switch_to_block(after);
+        self.b.seal_block(after);
         self.known = bits;
         self.known_words = words;
         for a in run {
@@ -611,6 +622,9 @@ impl Gen<'_, '_> {
     }
 
     fn action(&mut self, a: &Action) {
+        // Each action is a step of its own for how long values stay held
+        // (a run of thousands of MOVs holds the last few).
+        self.steps += 1;
         match *a {
             Action::Move { words, s, d } => {
                 // DMOV reads both words before writing (DMOV D0 D1 overlaps).
@@ -700,7 +714,9 @@ impl Gen<'_, '_> {
         let (slow, fast) = (self.b.create_block(), self.b.create_block());
         let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, v, 0);
         self.b.ins().brif(neg, slow, &[], fast, &[]);
+        self.b.seal_block(slow);
         self.b.switch_to_block(fast);
+        self.b.seal_block(fast);
         (v, Some(slow))
     }
 
@@ -728,6 +744,8 @@ impl Gen<'_, '_> {
             self.b.create_block(),
         );
         self.b.ins().brif(c, on, &[], off, &[]);
+        self.b.seal_block(on);
+        self.b.seal_block(off);
 
         // OFF: the coil OFF; a timer that does not retain is reset.
         self.b.switch_to_block(off);
@@ -749,6 +767,7 @@ impl Gen<'_, '_> {
         let up = self.raw_load_bit(t.contact);
         let counting = self.b.create_block();
         self.b.ins().brif(up, merge, &[], counting, &[]);
+        self.b.seal_block(counting);
 
         self.b.switch_to_block(counting);
         let cur = self.word_signed(t.value);
@@ -757,6 +776,7 @@ impl Gen<'_, '_> {
         self.b
             .ins()
             .brif(was_on, accumulate, &[], check, &[cur.into()]);
+        self.b.seal_block(accumulate);
 
         self.b.switch_to_block(accumulate);
         let (rbase, roff) = self.rem_addr(t.slot);
@@ -769,6 +789,8 @@ impl Gen<'_, '_> {
         let (under, over) = (self.b.create_block(), self.b.create_block());
         let short = self.b.ins().icmp(IntCC::UnsignedLessThan, total, base);
         self.b.ins().brif(short, under, &[], over, &[]);
+        self.b.seal_block(under);
+        self.b.seal_block(over);
         // Less than one unit so far: no division.
         self.b.switch_to_block(under);
         let (rbase, roff) = self.rem_addr(t.slot);
@@ -785,6 +807,7 @@ impl Gen<'_, '_> {
         let sum = self.b.ins().smin(sum, max);
         let sum = self.b.ins().ireduce(types::I32, sum);
         self.b.ins().jump(check, &[sum.into()]);
+        self.b.seal_block(check);
 
         // Up at the set value: the contact ON, the value the set value.
         self.b.switch_to_block(check);
@@ -797,15 +820,18 @@ impl Gen<'_, '_> {
         self.b
             .ins()
             .brif(reached, reach, &[], store, &[cur_at_check.into()]);
+        self.b.seal_block(reach);
         self.b.switch_to_block(reach);
         self.raw_store_bit(t.contact, one);
         self.b.ins().jump(store, &[set.into()]);
+        self.b.seal_block(store);
         self.b.switch_to_block(store);
         self.store_word(t.value, stored, Form::Sext);
         self.b.ins().jump(merge, &[]);
 
         self.slow_path(slow, t.pc, merge);
         self.b.switch_to_block(merge);
+        self.b.seal_block(merge);
         self.learn = learn;
         if slow.is_some() {
             self.forget_all();
@@ -858,6 +884,7 @@ impl Gen<'_, '_> {
             self.b.ins().jump(merge, &[]);
             self.slow_path(slow, c.pc, merge);
             self.b.switch_to_block(merge);
+            self.b.seal_block(merge);
             self.learn = learn;
             self.forget_all();
         }
@@ -873,6 +900,8 @@ impl Gen<'_, '_> {
             self.b.create_block(),
         );
         self.b.ins().brif(c, on, &[], off, &[]);
+        self.b.seal_block(on);
+        self.b.seal_block(off);
         self.b.switch_to_block(on);
         let one = self.b.ins().iconst(types::I32, 1);
         self.raw_store_bit(bit, one);
@@ -881,6 +910,7 @@ impl Gen<'_, '_> {
         self.run(pc, pc + 1);
         self.b.ins().jump(merge, &[]);
         self.b.switch_to_block(merge);
+        self.b.seal_block(merge);
         self.forget_all();
     }
 
