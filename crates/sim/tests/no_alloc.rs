@@ -143,5 +143,8 @@ fn a_scenario_scan_allocates_nothing() {
     // 1,800 more scans, each with the CPU's scan, three model steps, their
     // device writes, five assertions and a trace sample: not one more
     // allocation.
-    assert_eq!(long, short, "allocations per run: {short} in 2 s, {long} in 20 s");
+    assert_eq!(
+        long, short,
+        "allocations per run: {short} in 2 s, {long} in 20 s"
+    );
 }
