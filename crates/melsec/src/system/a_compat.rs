@@ -151,6 +151,135 @@ pub(crate) fn trace_start(mem: &mut DeviceMemory, before: bool) {
 /// power-on, toggling every 30 s).
 pub const MINUTE_CLOCK: u32 = 1034;
 
+/// One past the highest SM/SD number any table reads or writes: a CPU
+/// with at least these points takes the copies of [`Flat`] tables.
+const SPAN: u32 = {
+    let tables: [&[Mirror]; 3] = [AT_SCAN_START, AT_END, AT_REMOTE];
+    let mut hi = 0;
+    let mut t = 0;
+    while t < tables.len() {
+        let mut i = 0;
+        while i < tables[t].len() {
+            let m = tables[t][i];
+            if m.a >= hi {
+                hi = m.a + 1;
+            }
+            if m.q >= hi {
+                hi = m.q + 1;
+            }
+            i += 1;
+        }
+        t += 1;
+    }
+    hi
+};
+
+/// A table of mirrors sorted into plain relay and register copies (A, Q
+/// numbers) and converted registers, made at compile time: the copies at
+/// every scan start and END then test no kind or conversion per device.
+struct Flat<const R: usize, const W: usize, const C: usize> {
+    relays: [(u16, u16); R],
+    registers: [(u16, u16); W],
+    converted: [Mirror; C],
+}
+
+/// Of `table`: its relays, plain registers and converted registers.
+const fn counts(table: &[Mirror]) -> (usize, usize, usize) {
+    let (mut r, mut w, mut c) = (0, 0, 0);
+    let mut i = 0;
+    while i < table.len() {
+        match (table[i].relay, table[i].conv) {
+            (true, _) => r += 1,
+            (false, Conv::Same) => w += 1,
+            _ => c += 1,
+        }
+        i += 1;
+    }
+    (r, w, c)
+}
+
+impl<const R: usize, const W: usize, const C: usize> Flat<R, W, C> {
+    const fn of(table: &[Mirror]) -> Self {
+        let mut f = Flat {
+            relays: [(0, 0); R],
+            registers: [(0, 0); W],
+            converted: [relay(0, 0); C],
+        };
+        let (mut r, mut w, mut c) = (0, 0, 0);
+        let mut i = 0;
+        while i < table.len() {
+            let m = table[i];
+            match (m.relay, m.conv) {
+                (true, _) => {
+                    f.relays[r] = (m.a as u16, m.q as u16);
+                    r += 1;
+                }
+                (false, Conv::Same) => {
+                    f.registers[w] = (m.a as u16, m.q as u16);
+                    w += 1;
+                }
+                _ => {
+                    f.converted[c] = m;
+                    c += 1;
+                }
+            }
+            i += 1;
+        }
+        f
+    }
+
+    /// The copies, in SM and SD of at least [`SPAN`] points.
+    #[inline]
+    fn copy(&self, sm: &mut [bool], sd: &mut [u16]) {
+        for &(a, q) in &self.relays {
+            sm[a as usize] = sm[q as usize];
+        }
+        for &(a, q) in &self.registers {
+            sd[a as usize] = sd[q as usize];
+        }
+        for m in &self.converted {
+            sd[m.a as usize] = convert(sd[m.q as usize], m.conv);
+        }
+    }
+}
+
+const START_N: (usize, usize, usize) = counts(AT_SCAN_START);
+static START_FLAT: Flat<{ START_N.0 }, { START_N.1 }, { START_N.2 }> = Flat::of(AT_SCAN_START);
+const END_N: (usize, usize, usize) = counts(AT_END);
+static END_FLAT: Flat<{ END_N.0 }, { END_N.1 }, { END_N.2 }> = Flat::of(AT_END);
+const REMOTE_N: (usize, usize, usize) = counts(AT_REMOTE);
+static REMOTE_FLAT: Flat<{ REMOTE_N.0 }, { REMOTE_N.1 }, { REMOTE_N.2 }> = Flat::of(AT_REMOTE);
+
+/// SM and SD as slices of [`SPAN`] points when the CPU has that many (the
+/// usual 2048), else `None`.
+fn areas(mem: &mut DeviceMemory) -> Option<(&mut [bool], &mut [u16])> {
+    let map = &mem.map;
+    let (sm_at, sm_n) = (map.base(DeviceKind::SM), map.points(DeviceKind::SM));
+    let (sd_at, sd_n) = (map.base(DeviceKind::SD), map.points(DeviceKind::SD));
+    if sm_n < SPAN || sd_n < SPAN {
+        return None;
+    }
+    let (sm_at, sd_at) = (sm_at as usize, sd_at as usize);
+    Some((
+        &mut mem.bits[sm_at..sm_at + SPAN as usize],
+        &mut mem.words[sd_at..sd_at + SPAN as usize],
+    ))
+}
+
+/// Copies `mirrors` (the table `flat` was made of) into SM/SD.
+fn copy_flat<const R: usize, const W: usize, const C: usize>(
+    mem: &mut DeviceMemory,
+    flat: &Flat<R, W, C>,
+    mirrors: &[Mirror],
+) {
+    match areas(mem) {
+        Some((sm, sd)) => flat.copy(sm, sd),
+        None => copy(mem, mirrors),
+    }
+}
+
+/// The copies of `mirrors` checked device by device (a CPU with fewer
+/// SM/SD points skips those it lacks).
 fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
     // The flat places from SM's and SD's bases, not a lookup per device.
     let map = &mem.map;
@@ -163,20 +292,25 @@ fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
             }
         } else if m.a < sd_n && m.q < sd_n {
             let v = mem.words[(sd_at + m.q) as usize];
-            let v = match m.conv {
-                Conv::Same => v,
-                Conv::TenMs => v / 10,
-                Conv::Bcd => bcd(v as u32 % 100) | bcd(v as u32 / 100 % 100) << 8,
-            };
-            mem.words[(sd_at + m.a) as usize] = v;
+            mem.words[(sd_at + m.a) as usize] = convert(v, m.conv);
         }
+    }
+}
+
+/// The A-series value of Q value `v`.
+#[inline]
+fn convert(v: u16, conv: Conv) -> u16 {
+    match conv {
+        Conv::Same => v,
+        Conv::TenMs => v / 10,
+        Conv::Bcd => bcd(v as u32 % 100) | bcd(v as u32 / 100 % 100) << 8,
     }
 }
 
 /// The A-series PAUSE and STOP contacts, M9041 = SM204 and M9042 = SM203,
 /// after the remote-operation relays are written.
 pub(crate) fn remote(mem: &mut DeviceMemory) {
-    copy(mem, AT_REMOTE);
+    copy_flat(mem, &REMOTE_FLAT, AT_REMOTE);
 }
 
 /// The relays copied when the remote-operation relays are written.
@@ -191,7 +325,7 @@ pub(crate) fn pause_enabled(mem: &DeviceMemory) -> bool {
 /// After the Q scan-start relays: the always-ON/OFF, first-scan and clock
 /// relays, and the 1-minute clock.
 pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
-    copy(mem, AT_SCAN_START);
+    copy_flat(mem, &START_FLAT, AT_SCAN_START);
     sm(
         mem,
         MINUTE_CLOCK as i64,
@@ -201,7 +335,7 @@ pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
 
 /// After END processing, an error report or clear, a status change.
 pub(crate) fn refresh(mem: &mut DeviceMemory) {
-    copy(mem, AT_END);
+    copy_flat(mem, &END_FLAT, AT_END);
 }
 
 /// After the operating status changed (also in STOP, where no END runs):

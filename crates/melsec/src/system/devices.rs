@@ -19,6 +19,29 @@ pub(crate) fn sd_get(mem: &DeviceMemory, n: i64) -> u16 {
     mem.get_word(DeviceKind::SD, n).unwrap_or(0)
 }
 
+/// Several relays at once (what every scan writes): SM's place looked up
+/// once, not per relay.
+pub(crate) fn sm_many(mem: &mut DeviceMemory, relays: &[(u32, bool)]) {
+    let (at, n) = (mem.map.base(DeviceKind::SM), mem.map.points(DeviceKind::SM));
+    let sm = &mut mem.bits[at as usize..(at + n) as usize];
+    for &(r, v) in relays {
+        if let Some(b) = sm.get_mut(r as usize) {
+            *b = v;
+        }
+    }
+}
+
+/// Several registers at once, as [`sm_many`].
+pub(crate) fn sd_many(mem: &mut DeviceMemory, registers: &[(u32, u16)]) {
+    let (at, n) = (mem.map.base(DeviceKind::SD), mem.map.points(DeviceKind::SD));
+    let sd = &mut mem.words[at as usize..(at + n) as usize];
+    for &(r, v) in registers {
+        if let Some(w) = sd.get_mut(r as usize) {
+            *w = v;
+        }
+    }
+}
+
 /// Splits a time into the ms register and the 100 µs-resolution µs register
 /// (SD520=23, SD521=600 for 23.6 ms, L10445-10447).
 pub(crate) fn ms_us(us: u64) -> (u16, u16) {

@@ -5,7 +5,7 @@
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::system::{Cause, End, Remote, ScanStart, Status};
 
-use super::devices::{sd, sd_get, sm, sm_get, time_pair};
+use super::devices::{ms_us, sd, sd_get, sd_many, sm, sm_get, sm_many, time_pair};
 use super::R_BLOCK;
 
 /// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default
@@ -30,21 +30,26 @@ pub(crate) fn power_on(mem: &mut DeviceMemory) {
 /// SM409-SM415. The clocks start OFF at power-on and toggle every half
 /// period of the time since power-on (L9629-9638).
 pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
-    sm(mem, 400, true);
-    sm(mem, 401, false);
-    sm(mem, 402, s.first_scan);
-    sm(mem, 403, !s.first_scan);
     let t = s.since_power_on_us;
     let half = |us: u64| (t / us.max(1)) & 1 == 1;
     let n414 = (sd_get(mem, 414) as i16).max(1) as u64;
     let n415 = (sd_get(mem, 415) as i16).max(1) as u64;
-    sm(mem, 409, half(5_000));
-    sm(mem, 410, half(50_000));
-    sm(mem, 411, half(100_000));
-    sm(mem, 412, half(500_000));
-    sm(mem, 413, half(1_000_000));
-    sm(mem, 414, half(n414 * 1_000_000));
-    sm(mem, 415, half(n415 * 1_000));
+    sm_many(
+        mem,
+        &[
+            (400, true),
+            (401, false),
+            (402, s.first_scan),
+            (403, !s.first_scan),
+            (409, half(5_000)),
+            (410, half(50_000)),
+            (411, half(100_000)),
+            (412, half(500_000)),
+            (413, half(1_000_000)),
+            (414, half(n414 * 1_000_000)),
+            (415, half(n415 * 1_000)),
+        ],
+    );
 }
 
 /// SD522/SD523 the initial scan time; else SD520-SD527 the scan times, SD420
@@ -62,21 +67,41 @@ pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
     }
     let t = e.times;
     let s = e.split;
-    for (reg, us) in [
-        (520, t.current_us),
-        (524, t.min_us),
-        (526, t.max_us),
-        (540, s.end_us),
-        (542, s.wait_us),
-        (544, s.low_speed_cycle_us),
-        (546, s.low_speed_us),
-        (548, s.programs_us),
-    ] {
-        time_pair(mem, reg, us);
-    }
+    let [(c, c1), (mn, mn1), (mx, mx1), (en, en1), (w, w1), (lc, lc1), (ls, ls1), (p, p1)] = [
+        t.current_us,
+        t.min_us,
+        t.max_us,
+        s.end_us,
+        s.wait_us,
+        s.low_speed_cycle_us,
+        s.low_speed_us,
+        s.programs_us,
+    ]
+    .map(ms_us);
     let count = sd_get(mem, 420).wrapping_add(1);
-    sd(mem, 420, count);
-    sd(mem, 412, (e.since_run_us / 1_000_000) as u16);
+    sd_many(
+        mem,
+        &[
+            (520, c),
+            (521, c1),
+            (524, mn),
+            (525, mn1),
+            (526, mx),
+            (527, mx1),
+            (540, en),
+            (541, en1),
+            (542, w),
+            (543, w1),
+            (544, lc),
+            (545, lc1),
+            (546, ls),
+            (547, ls1),
+            (548, p),
+            (549, p1),
+            (420, count),
+            (412, (e.since_run_us / 1_000_000) as u16),
+        ],
+    );
 }
 
 /// SD203 operating status (App. 2 L10333): b0-b3 0 RUN, 1 STOP, 2 PAUSE;
