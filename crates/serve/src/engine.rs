@@ -46,7 +46,7 @@ pub struct ScanStats {
     pub requests: u64,
     /// The engine thread got real-time scheduling (SCHED_FIFO).
     pub realtime: bool,
-    /// How the real-time request went, for the log ("SCHED_FIFO priority 49;
+    /// How the real-time request went, for the log ("SCHED_FIFO priority 50;
     /// memory locked; pinned to CPU 1", "not granted (Operation not
     /// permitted …)…", "not requested").
     pub realtime_note: String,

@@ -60,7 +60,7 @@ pub struct Applied {
     pub memory_locked: bool,
     /// The CPU the thread is pinned to.
     pub cpu: Option<usize>,
-    /// For the log: "SCHED_FIFO priority 49; memory locked; pinned to CPU 1",
+    /// For the log: "SCHED_FIFO priority 50; memory locked; pinned to CPU 1",
     /// or why a request was not granted.
     pub note: String,
 }
