@@ -111,30 +111,34 @@ def last_cpu():
 
 
 # --- load: each worker runs in its own process until `deadline` (monotonic)
-# or `stop`, and puts (name, operations, error) on `out`.
+# or `stop`; it puts its name on `ready` once connected (or failed) and
+# (name, operations, error) on `out` at the end.
 
-def mc_worker(port, deadline, stop, out):
+def mc_worker(port, deadline, stop, ready, out):
     n, err = 0, None
     try:
         import pymcprotocol
         c = pymcprotocol.Type3E(plctype="Q")
         c.connect("127.0.0.1", port)
+        ready.put("MC")
         while not stop.is_set() and time.monotonic() < deadline:
             c.batchread_wordunits(headdevice="D0", readsize=100)
             n += 1
         c.close()
-    except Exception as e:  # reported in the table's notes
+    except Exception as e:  # reported with the run
         err = repr(e)
+        ready.put("MC")
     out.put(("MC", n, err))
 
 
-def modbus_worker(port, deadline, stop, out):
+def modbus_worker(port, deadline, stop, ready, out):
     n, err = 0, None
     try:
         from pymodbus.client import ModbusTcpClient
         c = ModbusTcpClient("127.0.0.1", port=port)
         if not c.connect():
             raise RuntimeError("no connection")
+        ready.put("Modbus")
         while not stop.is_set() and time.monotonic() < deadline:
             r = c.read_holding_registers(0, count=100)
             if r.isError():
@@ -143,10 +147,11 @@ def modbus_worker(port, deadline, stop, out):
         c.close()
     except Exception as e:
         err = repr(e)
+        ready.put("Modbus")
     out.put(("Modbus", n, err))
 
 
-def sse_worker(port, deadline, stop, out):
+def sse_worker(port, deadline, stop, ready, out):
     n, err = 0, None
     try:
         c = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
@@ -154,6 +159,7 @@ def sse_worker(port, deadline, stop, out):
         r = c.getresponse()
         if r.status != 200:
             raise RuntimeError(f"events: {r.status}")
+        ready.put("SSE")
         while not stop.is_set() and time.monotonic() < deadline:
             line = r.fp.readline()
             if not line:
@@ -163,10 +169,11 @@ def sse_worker(port, deadline, stop, out):
         c.close()
     except Exception as e:
         err = repr(e)
+        ready.put("SSE")
     out.put(("SSE events", n, err))
 
 
-def opcua_worker(port, deadline, stop, out):
+def opcua_worker(port, deadline, stop, ready, out):
     n = [0]
     err = None
 
@@ -192,6 +199,7 @@ def opcua_worker(port, deadline, stop, out):
             nodes = [c.get_node(ua.NodeId(f"D{i}", ns)) for i in range(10)]
             sub = await c.create_subscription(50, Count())
             await sub.subscribe_data_change(nodes, queuesize=100, sampling_interval=0)
+            ready.put("OPC UA")
             while not stop.is_set() and time.monotonic() < deadline:
                 await asyncio.sleep(0.1)
             await sub.delete()
@@ -202,11 +210,13 @@ def opcua_worker(port, deadline, stop, out):
         asyncio.run(go())
     except Exception as e:
         err = repr(e)
+        ready.put("OPC UA")
     out.put(("OPC UA notifications", n[0], err))
 
 
-def busy_worker(deadline, stop, out):
+def busy_worker(deadline, stop, ready, out):
     n = 0
+    ready.put("busy")
     while not stop.is_set() and time.monotonic() < deadline:
         for _ in range(10000):
             n += 1
@@ -219,18 +229,25 @@ class Load:
     def __init__(self, kind, ports, deadline):
         ctx = mp.get_context("spawn")
         self.stop = ctx.Event()
+        self.ready = ctx.Queue()
         self.out = ctx.Queue()
         self.procs = []
         parts = set(kind.split("+")) - {"idle"}
         if "clients" in parts:
             for target, port in [(mc_worker, ports["mc"]), (modbus_worker, ports["modbus"]),
                                  (sse_worker, ports["http"]), (opcua_worker, ports["opcua"])]:
-                self.procs.append(ctx.Process(target=target, args=(port, deadline, self.stop, self.out)))
+                self.procs.append(ctx.Process(target=target, args=(port, deadline, self.stop, self.ready, self.out)))
         if "cpu" in parts:
             for _ in range(os.cpu_count() or 1):
-                self.procs.append(ctx.Process(target=busy_worker, args=(deadline, self.stop, self.out)))
+                self.procs.append(ctx.Process(target=busy_worker, args=(deadline, self.stop, self.ready, self.out)))
         for p in self.procs:
             p.start()
+
+    def wait_ready(self, timeout=120):
+        """Waits until every worker is connected (or has failed)."""
+        end = time.monotonic() + timeout
+        for _ in self.procs:
+            self.ready.get(timeout=max(0.1, end - time.monotonic()))
 
     def finish(self, seconds):
         """Stops the workers; returns {name: operations per second} and errors."""
@@ -280,7 +297,8 @@ def one_run(args, period, load, variant, work):
     try:
         for port in ports.values():
             wait_port(port, proc)
-        loadrun = Load(load, ports, time.monotonic() + args.warmup + args.seconds + 60)
+        loadrun = Load(load, ports, time.monotonic() + args.warmup + args.seconds + 180)
+        loadrun.wait_ready()
         time.sleep(args.warmup)
         request(ports["http"], "POST", "/api/v1/timing/reset", TOKEN)
         time.sleep(args.seconds)

@@ -43,7 +43,7 @@ fn bad_real_time_options_are_refused_naming_them() {
     assert!(err.contains("--no-realtime") && err.contains("--realtime"), "{err}");
     let err = refused(&[&p, "--spin-us", "1000001"]);
     assert!(err.contains("--spin-us"), "{err}");
-    let err = refused(&[&p, "--spin-us", "-5"]);
+    let err = refused(&[&p, "--spin-us=-5"]);
     assert!(err.contains("--spin-us"), "{err}");
 }
 
