@@ -40,7 +40,10 @@ fn bad_real_time_options_are_refused_naming_them() {
         "{err}"
     );
     let err = refused(&[&p, "--realtime", "--no-realtime"]);
-    assert!(err.contains("--no-realtime") && err.contains("--realtime"), "{err}");
+    assert!(
+        err.contains("--no-realtime") && err.contains("--realtime"),
+        "{err}"
+    );
     let err = refused(&[&p, "--spin-us", "1000001"]);
     assert!(err.contains("--spin-us"), "{err}");
     let err = refused(&[&p, "--spin-us=-5"]);
@@ -150,7 +153,10 @@ fn the_timing_endpoint_counts_the_scans_and_resets() {
     let starts = t["count"].as_u64().unwrap();
     let periods = t["period_jitter_us"]["count"].as_u64().unwrap();
     assert!(periods < starts && periods + 2 >= starts, "{t}");
-    assert!(t["scan_time_us"]["count"].as_u64().unwrap() >= starts - 1, "{t}");
+    assert!(
+        t["scan_time_us"]["count"].as_u64().unwrap() >= starts - 1,
+        "{t}"
+    );
 
     // A reset needs the token, like every request that changes something.
     let (code, _) = http(s.port, "POST", "/api/v1/timing/reset", None);
@@ -204,7 +210,9 @@ fn root() -> bool {
 /// The soft RLIMIT_RTPRIO a child inherits (0: SCHED_FIFO needs CAP_SYS_NICE).
 fn rtprio_limit() -> Option<u64> {
     let limits = std::fs::read_to_string("/proc/self/limits").ok()?;
-    let line = limits.lines().find(|l| l.starts_with("Max realtime priority"))?;
+    let line = limits
+        .lines()
+        .find(|l| l.starts_with("Max realtime priority"))?;
     line.split_whitespace().nth(3)?.parse().ok()
 }
 
@@ -214,9 +222,17 @@ fn realtime_runs_with_or_without_the_privilege() {
     let p = program(dir.path());
     let report = dir.path().join("timing.json");
     let mut cmd = softplc();
-    cmd.args(["serve", &p, "--scan-time", "1ms", "--realtime", "--cpu", "0"])
-        .arg("--timing-report")
-        .arg(&report);
+    cmd.args([
+        "serve",
+        &p,
+        "--scan-time",
+        "1ms",
+        "--realtime",
+        "--cpu",
+        "0",
+    ])
+    .arg("--timing-report")
+    .arg(&report);
     let t = report_of(cmd, &report);
     let rt = &t["realtime"];
     let note = rt["note"].as_str().unwrap();

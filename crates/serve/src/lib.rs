@@ -28,10 +28,10 @@ use std::sync::Arc;
 
 pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
 pub use realtime::RealTime;
-pub use timing::{Dist, Timing, TimingReport};
 pub use sim::{Advance, AdvanceRefused, Advanced, TimeScale, VirtualTime};
 pub use softplc_core::system::Cpus;
 pub use tcp::{FrameLen, Protocol};
+pub use timing::{Dist, Timing, TimingReport};
 
 /// A protocol server to start.
 pub struct Listener {

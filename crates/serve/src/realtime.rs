@@ -288,6 +288,9 @@ mod tests {
             assert!(Instant::now() >= t);
         }
         // A deadline in the past returns at once (nothing to wait for).
-        wait_until(Instant::now() - Duration::from_millis(1), RealTime::DEFAULT_SPIN);
+        wait_until(
+            Instant::now() - Duration::from_millis(1),
+            RealTime::DEFAULT_SPIN,
+        );
     }
 }

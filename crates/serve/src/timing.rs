@@ -170,9 +170,17 @@ mod tests {
         assert_eq!(r.lateness.p99_us, 1.0);
         assert_eq!(r.lateness.p999_us, 50.0);
         // 2 ms within 0.1%.
-        assert!((r.lateness.max_us - 2000.0).abs() <= 2.0, "{}", r.lateness.max_us);
+        assert!(
+            (r.lateness.max_us - 2000.0).abs() <= 2.0,
+            "{}",
+            r.lateness.max_us
+        );
         // (990 × 1 + 9 × 50 + 2000) / 1000 = 3.44 µs
-        assert!((r.lateness.mean_us - 3.4).abs() <= 0.1, "{}", r.lateness.mean_us);
+        assert!(
+            (r.lateness.mean_us - 3.4).abs() <= 0.1,
+            "{}",
+            r.lateness.mean_us
+        );
         // A start before its deadline is on time.
         t.started(due + Duration::from_micros(5), due);
         assert_eq!(t.report().lateness.count, 1001);
