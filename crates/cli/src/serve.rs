@@ -109,8 +109,26 @@ pub struct ServeArgs {
     /// Do not ask for real-time priority. By default the engine thread asks for
     /// SCHED_FIFO (granted to root or with CAP_SYS_NICE / RLIMIT_RTPRIO, else
     /// it runs at normal priority); --stats-every says which it got.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "realtime")]
     pub no_realtime: bool,
+    /// The whole real-time path: SCHED_FIFO for the engine thread and all
+    /// memory locked (mlockall; root or CAP_IPC_LOCK), so no page fault
+    /// stalls a scan. What is not permitted is said once and the server runs
+    /// on without it.
+    #[arg(long)]
+    pub realtime: bool,
+    /// Busy-wait this long before each scan's deadline after the sleep, µs
+    /// (default 200): the scan starts on time whenever the kernel wakes the
+    /// engine within it. 0 sleeps only (no core time spent waiting).
+    #[arg(long, value_name = "US", value_parser = clap::value_parser!(u32).range(0..=1_000_000))]
+    pub spin_us: Option<u32>,
+    /// Pin the engine thread to CPU N (e.g. a core kept free of other work).
+    #[arg(long, value_name = "N")]
+    pub cpu: Option<usize>,
+    /// Write the scan timing (start lateness, period jitter and execution
+    /// time percentiles, as GET /api/v1/timing) to FILE as JSON at exit.
+    #[arg(long, value_name = "FILE")]
+    pub timing_report: Option<PathBuf>,
     /// OPC UA server (docs/opcua.md), e.g. 127.0.0.1:4840 or 4840 (a bare port
     /// binds loopback; also `[opcua] address`). Security None only on loopback.
     #[arg(long, value_name = "ADDR")]
@@ -246,6 +264,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         eprintln!("softplc: {msg}");
         ExitCode::from(2)
     };
+    if let Some(n) = args.cpu {
+        if let Err(e) = softplc_serve::realtime::check_cpu(n) {
+            return fail(format!("--cpu {n}: {e}"));
+        }
+    }
     if let Some(p) = &args.password {
         if let Err(e) = softplc_serve::mc::check_password(p) {
             return fail(format!("--password: {e}"));
@@ -481,6 +504,16 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         });
         names.push(format!("{name} on {}", path.display()));
     }
+    let realtime = softplc_serve::RealTime {
+        fifo: !args.no_realtime,
+        lock_memory: args.realtime,
+        spin: args
+            .spin_us
+            .map_or(softplc_serve::RealTime::DEFAULT_SPIN, |us| {
+                Duration::from_micros(us.into())
+            }),
+        cpu: args.cpu,
+    };
     // Requests are served at every CPU's END: a quarter of the shortest period.
     let shortest = state.cpus.periods(period).into_iter().min();
     let shortest = shortest.unwrap_or(period);
@@ -490,7 +523,7 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         queue: 1024,
         battery,
         log_every: args.stats_every,
-        realtime: !args.no_realtime,
+        realtime,
         ack_after_commit: true,
     };
     let program = args.program.display().to_string();
@@ -570,6 +603,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
                 "softplc: stopped after {} scans; max scan {} us, {} overruns, {} requests",
                 st.scans, st.max_us, st.overruns, st.requests
             );
+            if let Some(path) = &args.timing_report {
+                if let Err(e) = write_timing(path, &s) {
+                    return fail(format!("--timing-report {}: {e}", path.display()));
+                }
+            }
             match recorded {
                 Some(Ok((path, bytes))) => {
                     eprintln!("softplc: recorded to {} ({bytes} bytes)", path.display());
@@ -581,4 +619,11 @@ pub fn serve(args: ServeArgs) -> ExitCode {
         }
         Err(e) => fail(format!("cannot serve: {e}")),
     }
+}
+
+/// `--timing-report FILE`: the figures of `GET /api/v1/timing` at exit.
+fn write_timing(path: &std::path::Path, s: &ServeState) -> Result<(), String> {
+    let json = softplc_http::timing::to_json(s);
+    let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+    softplc_core::online::write_file(path, format!("{text}\n").as_bytes())
 }

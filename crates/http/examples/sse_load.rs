@@ -61,7 +61,7 @@ fn run(clients: usize, secs: u64, copies: usize) -> ScanStats {
         queue: 1024,
         battery: None,
         log_every: None,
-        realtime: true,
+        realtime: softplc_serve::RealTime::default(),
         ack_after_commit: true,
     };
     let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), cfg);

@@ -70,6 +70,8 @@ pub fn router(app: Arc<App>) -> Router {
         )
         .route("/api/v1/events", get(events))
         .route("/api/v1/rack", get(crate::rack::rack))
+        .route("/api/v1/timing", get(crate::timing::get))
+        .route("/api/v1/timing/reset", post(crate::timing::reset))
         .route("/api/v1/sim/advance", post(crate::sim::advance))
         .route(
             "/api/v1/program",

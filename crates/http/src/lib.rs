@@ -21,6 +21,7 @@ pub mod program;
 pub mod rack;
 pub mod sim;
 pub mod snapshot;
+pub mod timing;
 pub mod values;
 
 use std::net::SocketAddr;

@@ -79,7 +79,7 @@ fn main() {
         queue: 1024,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let bg = Background::start(

@@ -80,7 +80,7 @@ fn start(src: &str, mut cfg: OpcuaConfig) -> Server {
         queue: 256,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let bg = Background::start(

@@ -76,7 +76,7 @@ fn start(nodes: &[&str]) -> Result<Server, String> {
         queue: 256,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let bg = Background::start(

@@ -42,7 +42,7 @@ fn main() {
         queue: 1024,
         battery: None,
         log_every: None,
-        realtime: true,
+        realtime: softplc_serve::RealTime::default(),
         ack_after_commit: true,
     };
     let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Mc::new(None), clients + 4);

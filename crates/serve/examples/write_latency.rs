@@ -47,7 +47,7 @@ fn run(writes: usize, period: Duration, ack_after_commit: bool) -> Vec<Duration>
         queue: 1024,
         battery: Some(battery),
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit,
     };
     let l = Listener::tcp(

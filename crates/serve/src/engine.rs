@@ -19,6 +19,9 @@ use softplc_core::system::System;
 
 use softplc_core::system::Cpus;
 
+use crate::realtime::{self, Applied, RealTime};
+use crate::timing::Timing;
+
 /// Scan statistics of the real-time loop (what the CPU's SD520-SD527 show, plus
 /// the period's jitter).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -43,9 +46,14 @@ pub struct ScanStats {
     pub requests: u64,
     /// The engine thread got real-time scheduling (SCHED_FIFO).
     pub realtime: bool,
-    /// How the real-time request went, for the log ("SCHED_FIFO priority 50",
-    /// "not granted: Operation not permitted …", "not requested").
+    /// How the real-time request went, for the log ("SCHED_FIFO priority 50;
+    /// memory locked; pinned to CPU 1", "not granted (Operation not
+    /// permitted …)…", "not requested").
     pub realtime_note: String,
+    /// `mlockall` succeeded (`serve --realtime`).
+    pub memory_locked: bool,
+    /// The CPU the engine thread is pinned to (`serve --cpu`).
+    pub pinned: Option<usize>,
     /// Each CPU's own scans, CPU 1 first (the fields above are the whole
     /// loop's, their execution times CPU 1's).
     pub cpus: Vec<CpuStats>,
@@ -83,6 +91,9 @@ pub struct ServeState {
     /// The CPU, or a multi-CPU system's CPUs; requests address one of them.
     pub cpus: Cpus,
     pub stats: ScanStats,
+    /// Distributions of scan start lateness, period jitter and execution
+    /// time (`GET /api/v1/timing`).
+    pub timing: Timing,
     /// Protocol state shared by all connections of one protocol (e.g. Modbus
     /// diagnostic counters), set up by the server that needs it.
     pub ext: Vec<Box<dyn std::any::Any + Send>>,
@@ -139,6 +150,7 @@ impl ServeState {
                 ..ScanStats::default()
             },
             cpus,
+            timing: Timing::default(),
             ext: Vec::new(),
             wrote: 0,
             batteries,
@@ -345,8 +357,8 @@ pub struct EngineConfig {
     pub battery: Option<Battery>,
     /// Print the scan statistics to stderr this often.
     pub log_every: Option<Duration>,
-    /// Try to run the engine thread with real-time priority (SCHED_FIFO).
-    pub realtime: bool,
+    /// SCHED_FIFO, locked memory, pinning and the spin before each deadline.
+    pub realtime: RealTime,
     /// Replies to requests that wrote go out only after the END's commit (on
     /// by default; off only to measure what it costs).
     pub ack_after_commit: bool,
@@ -423,18 +435,21 @@ fn run(
     // A loop that scans as fast as it can must not hold a CPU core at
     // real-time priority.
     let flat_out = s.time_scale() == Some(crate::TimeScale::Max);
-    let (granted, note) = if cfg.realtime && !flat_out {
-        set_realtime()
-    } else if flat_out {
-        (
-            false,
-            "not requested (virtual time as fast as possible)".to_string(),
-        )
+    let applied = if flat_out {
+        Applied {
+            note: "not requested (virtual time as fast as possible)".to_string(),
+            ..Applied::default()
+        }
     } else {
-        (false, "not requested".to_string())
+        realtime::apply(&cfg.realtime)
     };
-    s.stats.realtime = granted;
-    s.stats.realtime_note = note;
+    s.stats.realtime = applied.fifo;
+    s.stats.memory_locked = applied.memory_locked;
+    s.stats.pinned = applied.cpu;
+    s.stats.realtime_note = applied.note;
+    let first_period = s.cpus.periods(cfg.period).first().copied();
+    s.timing
+        .configure(first_period.unwrap_or(cfg.period), cfg.realtime.spin);
     if cfg.log_every.is_some() {
         eprintln!(
             "softplc: engine thread real-time: {}",
@@ -468,12 +483,16 @@ fn real_time(
     let mut logged = Instant::now();
     while !stop.load(Ordering::Relaxed) {
         let (i, due) = schedule.next();
-        wait_until(due);
+        realtime::wait_until(due, cfg.realtime.spin);
         if stop.load(Ordering::Relaxed) {
             break;
         }
         let start = Instant::now();
         let jitter = start.saturating_duration_since(due).as_micros() as u64;
+        s.timing.started(due, start);
+        if i == 0 {
+            s.timing.first_cpu_started(start, schedule.period[0]);
+        }
         scan_cpu(&mut s, i, start, beat);
         s.run_hooks();
         serve_end(&mut s, rx, cfg);
@@ -482,6 +501,7 @@ fn real_time(
         if schedule.done(i) {
             s.stats.overruns += 1;
             s.stats.cpus[i].overruns += 1;
+            s.timing.overran();
         }
     }
     s
@@ -501,7 +521,11 @@ pub(crate) fn scan_cpu(s: &mut ServeState, i: usize, start: Instant, beat: &Hear
     s.ends += 1;
     beat.finished.fetch_add(1, Ordering::Relaxed);
     if s.cpus.get(i).scans() != executed {
-        let exec = start.elapsed().as_micros() as u64;
+        let took = start.elapsed();
+        if i == 0 {
+            s.timing.executed(took);
+        }
+        let exec = took.as_micros() as u64;
         let c = &mut s.stats.cpus[i];
         c.record(exec);
         if i == 0 {
@@ -643,55 +667,5 @@ impl Schedule {
             return true;
         }
         false
-    }
-}
-
-/// Real-time priority for the calling (engine) thread: SCHED_FIFO at the middle
-/// of the range, so the kernel's own real-time threads stay above it. Needs
-/// CAP_SYS_NICE (or an RLIMIT_RTPRIO); without it the thread keeps the normal
-/// policy and the reason is reported.
-#[cfg(target_os = "linux")]
-fn set_realtime() -> (bool, String) {
-    // SAFETY: plain libc calls on the current thread with a fully initialised
-    // `sched_param`; no pointers are kept.
-    unsafe {
-        let min = libc::sched_get_priority_min(libc::SCHED_FIFO);
-        let max = libc::sched_get_priority_max(libc::SCHED_FIFO);
-        if min < 0 || max < min {
-            return (false, "not granted: SCHED_FIFO unavailable".into());
-        }
-        let prio = (min + max) / 2;
-        let param = libc::sched_param {
-            sched_priority: prio,
-        };
-        match libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) {
-            0 => (true, format!("SCHED_FIFO priority {prio}")),
-            e => (
-                false,
-                format!(
-                    "not granted ({}); normal priority (needs CAP_SYS_NICE or RLIMIT_RTPRIO)",
-                    std::io::Error::from_raw_os_error(e)
-                ),
-            ),
-        }
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn set_realtime() -> (bool, String) {
-    (false, "not available on this system".into())
-}
-
-/// The last part of a wait for a scan's start that spins, for a steady period.
-pub(crate) const SPIN: Duration = Duration::from_micros(200);
-
-/// Sleeps until `t`, spinning for the last [`SPIN`] for a steady period.
-pub(crate) fn wait_until(t: Instant) {
-    let now = Instant::now();
-    if t > now + SPIN {
-        std::thread::sleep(t - now - SPIN);
-    }
-    while Instant::now() < t {
-        std::hint::spin_loop();
     }
 }

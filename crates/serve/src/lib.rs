@@ -8,17 +8,18 @@
 // `unsafe` only in the modules marked `#[allow(unsafe_code)]`, each block with its SAFETY reason.
 #![deny(unsafe_code)]
 
-// pthread_setschedparam for the real-time engine thread.
 pub mod conns;
-
-#[allow(unsafe_code)]
 pub mod engine;
 pub mod mc;
 pub mod modbus;
 pub mod online;
+// pthread_setschedparam for the real-time engine thread.
+#[allow(unsafe_code)]
+pub mod realtime;
 pub mod serial;
 pub mod sim;
 pub mod tcp;
+pub mod timing;
 pub mod udp;
 
 use std::net::SocketAddr;
@@ -26,9 +27,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 pub use engine::{Busy, CpuStats, EngineConfig, EngineHandle, Hook, ScanStats, ServeState};
+pub use realtime::RealTime;
 pub use sim::{Advance, AdvanceRefused, Advanced, TimeScale, VirtualTime};
 pub use softplc_core::system::Cpus;
 pub use tcp::{FrameLen, Protocol};
+pub use timing::{Dist, Timing, TimingReport};
 
 /// A protocol server to start.
 pub struct Listener {

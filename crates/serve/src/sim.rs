@@ -25,7 +25,7 @@ use softplc_core::system::Cpus;
 use tokio::sync::oneshot;
 
 use crate::engine::{
-    account, log_stats, scan_cpu, serve_end, EngineConfig, Heartbeat, Job, ServeState, SPIN,
+    account, log_stats, scan_cpu, serve_end, EngineConfig, Heartbeat, Job, ServeState,
 };
 
 /// How fast virtual time runs against real time.
@@ -342,6 +342,9 @@ pub(crate) fn run(
         }
         let start = Instant::now();
         let jitter = real.map_or(0, |t| start.saturating_duration_since(t).as_micros() as u64);
+        if let Some(t) = real {
+            s.timing.started(t, start);
+        }
         clock.advance_us(due.saturating_sub(clock.now_us()));
         set_us = clock.now_us();
         scan_cpu(&mut s, i, start, beat);
@@ -357,6 +360,7 @@ pub(crate) fn run(
             if now > t {
                 s.stats.overruns += 1;
                 s.stats.cpus[i].overruns += 1;
+                s.timing.overran();
                 if now - t > MAX_LAG {
                     pace.restart(sim.next_scan(&s.cpus).1);
                 }
@@ -367,7 +371,7 @@ pub(crate) fn run(
 }
 
 /// Serves requests at the END just made until the real time `until`
-/// (spinning the last [`SPIN`] for a steady period) or, without one, while
+/// (spinning the last `cfg.realtime.spin` for a steady period) or, without one, while
 /// the CPUs are held. Returns soon after `stop`.
 fn between_scans(
     s: &mut ServeState,
@@ -378,6 +382,7 @@ fn between_scans(
 ) {
     // How often a wait looks at `stop`.
     const TICK: Duration = Duration::from_millis(20);
+    let spin = cfg.realtime.spin;
     loop {
         if stop.load(Ordering::Relaxed) {
             return;
@@ -385,13 +390,13 @@ fn between_scans(
         let wait = match until {
             Some(t) => {
                 let now = Instant::now();
-                if t <= now + SPIN {
+                if t <= now + spin {
                     while Instant::now() < t {
                         std::hint::spin_loop();
                     }
                     return;
                 }
-                (t - now - SPIN).min(TICK)
+                (t - now - spin).min(TICK)
             }
             None if s.held() => TICK,
             None => return,

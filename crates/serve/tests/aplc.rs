@@ -27,7 +27,7 @@ fn start() -> Background {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     // Unit address 8 only (tcp_any_unit = false), as `[modbus]` would give.

@@ -23,7 +23,7 @@ fn start() -> Background {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let any = "127.0.0.1:0".parse().unwrap();

@@ -38,7 +38,7 @@ fn start(listener: Listener, period_ms: u64) -> Background {
         queue: 1024,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     Background::start(ServeState::new(cpu), cfg, vec![listener], vec![]).unwrap()

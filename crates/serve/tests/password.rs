@@ -50,7 +50,7 @@ fn wrong_guesses_are_throttled_per_peer() {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let l = Listener::tcp(

@@ -72,7 +72,7 @@ fn requests_are_served_at_end_while_scanning() {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
@@ -143,7 +143,7 @@ fn mc_protocol_over_tcp_and_udp() {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let any = "127.0.0.1:0".parse().unwrap();
@@ -187,7 +187,7 @@ fn the_engine_thread_asks_for_sched_fifo_and_says_what_it_got() {
         queue: 8,
         battery: None,
         log_every: None,
-        realtime: true,
+        realtime: softplc_serve::RealTime::default(),
         ack_after_commit: true,
     };
     let l = Listener::tcp("127.0.0.1:0".parse().unwrap(), Lines, 2);
@@ -237,7 +237,7 @@ fn requests_run_on_the_sched_fifo_thread() {
         queue: 8,
         battery: None,
         log_every: None,
-        realtime: true,
+        realtime: softplc_serve::RealTime::default(),
         ack_after_commit: true,
     };
     let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));

@@ -62,7 +62,7 @@ fn start(
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let stop = Arc::new(AtomicBool::new(false));

@@ -60,7 +60,7 @@ fn config() -> EngineConfig {
         queue: 64,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     }
 }

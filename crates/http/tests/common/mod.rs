@@ -132,7 +132,7 @@ pub fn start_state_at(state: ServeState, http: HttpConfig, period: Duration) -> 
         queue: 256,
         battery: None,
         log_every: None,
-        realtime: false,
+        realtime: softplc_serve::RealTime::none(),
         ack_after_commit: true,
     };
     let l = softplc_http::listener("127.0.0.1:0".parse().unwrap(), http);
