@@ -63,6 +63,10 @@ struct Gen<'a, 'b> {
     /// taken from its register (a chain of dependent MOVs does not wait
     /// for each store to reach the next load).
     known_words: Vec<KnownWord>,
+    /// Bits stored in the last few steps (with the step): a bit next to one
+    /// is read alone, not four bytes at a time, since a wide load over a
+    /// byte still in the store buffer waits for it to reach the cache.
+    stored: Vec<(u32, u32)>,
     /// Whether loads and stores add to `known`/`known_words`: not in the
     /// branches of a timer, counter or MC, whose values do not reach the
     /// code after them.
@@ -96,6 +100,10 @@ enum Form {
 /// just read) needs no load, without values kept alive across the chunk
 /// (the register allocator would spill them, which costs more than a load).
 const KNOWN_STEPS: u32 = 12;
+
+/// How many steps a stored bit's byte counts as still in the store buffer
+/// (`Gen::stored`).
+const STORE_STEPS: u32 = 16;
 
 /// Device memory is only reached through indices the plan checked, and
 /// native code runs with no other access to it.
@@ -144,6 +152,7 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
         wide_bits: bit_len.saturating_sub(3),
         known: Vec::new(),
         known_words: Vec::new(),
+        stored: Vec::new(),
         learn: true,
         steps: 0,
         b,
@@ -308,7 +317,12 @@ impl Gen<'_, '_> {
     fn load_bit(&mut self, i: u32) -> Value {
         let bits = self.b.use_var(self.bits);
         let (base, off) = self.addr(bits, i, 1);
-        if i < self.wide_bits {
+        let oldest = self.steps.saturating_sub(STORE_STEPS);
+        let near_store = self
+            .stored
+            .iter()
+            .any(|&(b, step)| step >= oldest && (i..i + 4).contains(&b));
+        if i < self.wide_bits && !near_store {
             self.b.ins().load(types::I32, flags(), base, off)
         } else {
             self.b.ins().uload8(types::I32, flags(), base, off)
@@ -320,7 +334,15 @@ impl Gen<'_, '_> {
         let bits = self.b.use_var(self.bits);
         let (base, off) = self.addr(bits, i, 1);
         self.b.ins().istore8(flags(), v, base, off);
+        self.note_store(i);
         self.know(i, v);
+    }
+
+    /// Records that bit `i` was stored now (see `stored`).
+    fn note_store(&mut self, i: u32) {
+        let oldest = self.steps.saturating_sub(STORE_STEPS);
+        self.stored.retain(|&(b, step)| b != i && step >= oldest);
+        self.stored.push((i, self.steps));
     }
 
     /// Records that bit `i` holds `v` now.
@@ -694,6 +716,7 @@ impl Gen<'_, '_> {
                 let bits = self.b.use_var(self.bits);
                 let (base, off) = self.addr(bits, contact, 1);
                 self.b.ins().istore8(flags(), zero, base, off);
+                self.note_store(contact);
                 self.forget_bit(contact);
                 if let Some(slot) = slot {
                     let (base, off) = self.rem_addr(slot);
@@ -926,5 +949,6 @@ impl Gen<'_, '_> {
         let bits = self.b.use_var(self.bits);
         let (base, off) = self.addr(bits, i, 1);
         self.b.ins().istore8(flags(), v, base, off);
+        self.note_store(i);
     }
 }

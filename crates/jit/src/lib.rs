@@ -1,7 +1,7 @@
 //! softplc-jit: the native-code tier of the scan engine (issue #17), on
 //! Cranelift (`opt_level=none`: the code is shaped by `codegen` itself).
 //!
-//! [`plan`] splits a program into chunks of at most [`plan::CHUNK_OPS`] ops
+//! [`plan`] splits a program into chunks of at most [`plan::CHUNK_WEIGHT`] (ops weighed by their code)
 //! and picks the ops that run as native code, [`codegen`] turns a chunk into
 //! one function, and [`native`] owns the compiled code and the one place that
 //! calls it. The interpreter runs every other op with the shared

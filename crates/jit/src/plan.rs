@@ -25,10 +25,11 @@ use softplc_ir::ops::{
 };
 use softplc_ir::word_op::{Binary, WordOp};
 
-/// Most ops compiled into one function, so compile time stays linear in the
+/// The most work compiled into one function, in ops weighed by the code
+/// they become ([`weight`]), so that compile time stays linear in the
 /// program's length (Cranelift's register allocation is superlinear in a
-/// function's size).
-pub const CHUNK_OPS: usize = 4096;
+/// function's size, and in its blocks more than its instructions).
+pub const CHUNK_WEIGHT: usize = 4096;
 
 /// Fewest native ops in a row, between interpreted ones, worth running
 /// natively: a call of the interpreter from native code costs about what the
@@ -212,8 +213,9 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
         .collect();
     let n = prog.ops.len();
     let can = steps.iter().filter(|s| s.is_some()).count();
-    for start in (0..n).step_by(CHUNK_OPS) {
-        drop_short_runs(&mut steps[start..(start + CHUNK_OPS).min(n)], min_run);
+    let bounds = chunk_bounds(&steps);
+    for &(start, end) in &bounds {
+        drop_short_runs(&mut steps[start..end], min_run);
     }
     let native: Vec<bool> = steps.iter().map(Option::is_some).collect();
     let timer_slots = steps
@@ -226,11 +228,10 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
     let short_run_ops = can - native.iter().filter(|n| **n).count();
     let targets = targets(prog);
     let mut entry = vec![false; n];
-    let mut chunks = Vec::with_capacity(n.div_ceil(CHUNK_OPS));
-    for start in (0..n).step_by(CHUNK_OPS) {
-        let end = (start + CHUNK_OPS).min(n);
-        chunks.push(chunk(start, end, &steps, &targets, &mut entry));
-    }
+    let chunks = bounds
+        .iter()
+        .map(|&(start, end)| chunk(start, end, &steps, &targets, &mut entry))
+        .collect();
     Plan {
         chunks,
         native,
@@ -254,6 +255,34 @@ impl Step {
                 .max(),
             _ => None,
         }
+    }
+}
+
+/// The ops of each chunk: consecutive ranges of at most [`CHUNK_WEIGHT`].
+fn chunk_bounds(steps: &[Option<Step>]) -> Vec<(usize, usize)> {
+    let mut bounds = Vec::new();
+    let (mut start, mut weight) = (0, 0);
+    for (pc, s) in steps.iter().enumerate() {
+        let w = s.as_ref().map_or(1, weight_of);
+        if weight + w > CHUNK_WEIGHT && pc > start {
+            bounds.push((start, pc));
+            (start, weight) = (pc, 0);
+        }
+        weight += w;
+    }
+    if start < steps.len() {
+        bounds.push((start, steps.len()));
+    }
+    bounds
+}
+
+/// What a step weighs in a chunk: about the blocks its code has (a
+/// contact or coil, a MOV or an interpreted op: none or one).
+fn weight_of(s: &Step) -> usize {
+    match s {
+        Step::Timer(_) => 12,
+        Step::Counter(_) | Step::Mc { .. } => 4,
+        _ => 1,
     }
 }
 
