@@ -210,10 +210,12 @@ def summary(results):
     shown = {n: r for n, r in results.items() if r is not None}
     if not shown:
         return ""
-    if all(r == "ok" for r in shown.values()):
-        return "ok"
+    if all(r == "not shown" for r in shown.values()):
+        return "not shown"
     if all(r.startswith("ok") for r in shown.values()):
-        return "ok; " + "; ".join(f"{n} {r}" for n, r in shown.items() if r != "ok")
+        # "ok (CN0, CN999 not shown)" of a workload becomes "tcc: CN0, ...".
+        notes = [f"{n}: {r[len('ok ('):-1]}" for n, r in shown.items() if r != "ok"]
+        return f"ok ({'; '.join(notes)})" if notes else "ok"
     return "; ".join(f"{n} {r}" for n, r in shown.items())
 
 
