@@ -6,9 +6,11 @@ cycles so that two runs (N low and N high) differ only by the cycles run.
 Set AWLSIM_CYTHON=2 to require awlsim's Cython core (aborts if it is absent),
 0 for the pure-Python core.
 
-Usage: python awlsim_run.py PROGRAM.awl CYCLES [Dn ...]
-  Dn: after the cycles, print "Dn = value" of DB1.DBW 2n (the MELSEC D n);
-  the pure-Python core only (the Cython core keeps its DBs from Python).
+Usage: python awlsim_run.py PROGRAM.awl CYCLES [DEVICE ...]
+  DEVICE: a MELSEC name as gen.py translates it; after the cycles, print
+  "DEVICE = value": Dn of DB1.DBW 2n, Mn of M n/8.n%8 (0 or 1), CNn the
+  value of counter Z n. The pure-Python core only (the Cython core keeps
+  its memories from Python).
 """
 import sys
 
@@ -39,11 +41,20 @@ def main(path, cycles, show):
     sim.startup()
     for _ in range(cycles):
         sim.runCycle()
-    if show:
+    for device in show:
+        print(f"{device} = {value(cpu, device)}")
+
+
+def value(cpu, device):
+    if device.startswith("CN"):
+        return cpu.getCounter(int(device[2:])).getValueBin()
+    n = int(device[1:])
+    if device[0] == "D":
         data = cpu.getDB(1).structInstance.memory.getDataBytes()
-        for d in show:
-            n = int(d[1:])
-            print(f"{d} = {int.from_bytes(data[2 * n:2 * n + 2], 'big', signed=True)}")
+        return int.from_bytes(data[2 * n:2 * n + 2], "big", signed=True)
+    if device[0] == "M":
+        return cpu.flags.getDataBytes()[n // 8] >> (n % 8) & 1
+    sys.exit(f"awlsim_run.py: no translation of device {device}")
 
 
 if __name__ == "__main__":

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """Writes the peer-benchmark workloads in each peer's language.
 
-Three workloads, each defined once as a list of rungs and emitted as
+Five workloads, each defined once as a list of rungs and emitted as
   NAME.il          MELSEC instruction list for softplc,
   NAME.awl         S7 AWL (German mnemonics) for awlsim,
   NAME.st          IEC 61131-3 ST PROGRAM for IronPLC (freewheeling),
-  NAME_matiec.st   the same PROGRAM with the CONFIGURATION OpenPLC adds, for matiec.
+  NAME_matiec.st   the same PROGRAM with the CONFIGURATION OpenPLC adds, for matiec,
+  NAME.c           the same logic as plain C (bool and int16_t arrays), for gcc.
 
 The unit every peer is divided by is one MELSEC instruction of NAME.il (END
 not counted): `instructions(NAME)` below. A peer that needs several of its own
@@ -18,8 +19,17 @@ instructions for one MELSEC instruction (AWL's L/T for MOV) still counts one.
   mix   1,000 groups of a 100 ms timer, a counter, an add, a compare with a
         conditional MOV and a contact rung on the timer, after a toggling
         M0: 13,002 instructions.
+  chain LD SM400 / + D0 K1 D0, then 20,000 MOVs each reading the word the
+        one before it wrote, round a ring of D0-D9999 twice: 20,002
+        instructions.
+  tcc   a toggling M0 and a scan count in D0, then 1,000 groups of a 100 ms
+        timer LDI X / OUT T K10, a counter LD M0 / OUT C K100 and a compare
+        LD> D0 K / OUT M: 6,004 instructions.
 
-Usage: gen.py OUTDIR   (writes the 12 files; prints their names)
+CHECKS holds, per workload, the devices every peer reports after
+CHECK_CYCLES cycles and their values worked out by hand.
+
+Usage: gen.py OUTDIR   (writes the 25 files; prints their names)
 """
 import pathlib
 import sys
@@ -34,6 +44,7 @@ import sys
 #   ("inc", d)                  LD SM400 / + D d K1 D d
 #   ("cmpmov", d, k, m, e)      LD> D d K k / AND M m / MOV D d D e
 #   ("timerbits", a, t, c, o)   LD X a / OR T t / ANI X c / OUT M o
+#   ("cmpout", d, k, m)         LD> D d K k / OUT M m
 
 
 def bits():
@@ -66,7 +77,46 @@ def mix():
     return rungs
 
 
-WORKLOADS = {"bits": bits, "mov": mov, "mix": mix}
+# The chain's ring: 20,000 MOVs round D0-D9999 twice, MOV D9999 D0 closing it.
+CHAIN_WORDS = 10_000
+
+
+def chain():
+    rungs = [("inc", 0)]
+    for i in range(20_000):
+        rungs.append(("movd", i % CHAIN_WORDS, (i + 1) % CHAIN_WORDS))
+    return rungs
+
+
+def tcc():
+    # X is OFF in every peer (no I/O), so LDI X keeps each timer's coil ON:
+    # the timers time rather than sit reset.
+    rungs = [("toggle", 0), ("inc", 0)]
+    for k in range(1000):
+        rungs += [
+            ("timer", k, k, 10),
+            ("counter", 0, k, 100),
+            ("cmpout", 0, k, k + 1),
+        ]
+    return rungs
+
+
+WORKLOADS = {"bits": bits, "mov": mov, "mix": mix, "chain": chain, "tcc": tcc}
+
+# The values every peer must hold after CHECK_CYCLES cycles, in MELSEC names
+# (D word, M bit as 0/1, CN counter value), worked out by hand in
+# tests/python/test_bench_peers.py. bits and mov have none: constants and
+# inputs that stay OFF.
+CHECK_CYCLES = 150
+CHECKS = {
+    # D0 counts cycles; D1 took D0 in the last odd cycle with D0 > 100;
+    # group 999's move never ran.
+    "mix": {"D0": 150, "D1": 149, "D1999": 0},
+    # The ring carries the incremented D0 round: every word holds the count.
+    "chain": {"D0": 150, "D1": 150, "D5000": 150, "D9999": 150},
+    # M0 rises in the 75 odd cycles; M(k+1) is D0 > k, so ON up to M150.
+    "tcc": {"D0": 150, "CN0": 75, "CN999": 75, "M150": 1, "M151": 0},
+}
 
 
 # --- MELSEC (softplc) -------------------------------------------------------
@@ -94,6 +144,8 @@ def melsec(rung):
         return [f"LD> D{a[0]} K{a[1]}", f"AND M{a[2]}", f"MOV D{a[0]} D{a[3]}"]
     if kind == "timerbits":
         return [f"LD X{a[0]:X}", f"OR T{a[1]}", f"ANI X{a[2]:X}", f"OUT M{a[3]}"]
+    if kind == "cmpout":
+        return [f"LD> D{a[0]} K{a[1]}", f"OUT M{a[2]}"]
     raise ValueError(kind)
 
 
@@ -145,6 +197,8 @@ def awl_rung(rung, label):
         ]
     if kind == "timerbits":
         return [f"U E {bit(a[0])}", f"O T {a[1]}", f"UN E {bit(a[2])}", f"= M {bit(a[3])}"]
+    if kind == "cmpout":
+        return [f"L DBW {2 * a[0]}", f"L {a[1]}", ">I", f"= M {bit(a[2])}"]
     raise ValueError(kind)
 
 
@@ -200,6 +254,8 @@ def st_rung(rung):
         return [f"IF D{a[0]} > {a[1]} AND M{a[2]} THEN D{a[3]} := D{a[0]}; END_IF;"]
     if kind == "timerbits":
         return [f"M{a[3]} := (X{a[0]} OR T{a[1]}.Q) AND NOT X{a[2]};"]
+    if kind == "cmpout":
+        return [f"M{a[2]} := D{a[0]} > {a[1]};"]
     raise ValueError(kind)
 
 
@@ -231,6 +287,9 @@ def st_vars(rungs):
             used["X"] |= {a[0], a[2]}
             used["T"].add(a[1])
             used["M"].add(a[3])
+        elif kind == "cmpout":
+            used["D"].add(a[0])
+            used["M"].add(a[2])
     types = {"X": "BOOL", "M": "BOOL", "D": "INT", "T": "TON", "C": "CTU"}
     return [f"{p}{n} : {types[p]};" for p in types for n in sorted(used[p])]
 
@@ -263,6 +322,149 @@ def st_matiec(name):
     )
 
 
+def st_name(device):
+    """The ST variable holding MELSEC `device` of CHECKS (CN n: C n's CV)."""
+    if device.startswith("CN"):
+        return f"C{device[2:]}.CV"
+    return device
+
+
+# --- plain C (gcc) ----------------------------------------------------------
+# The same logic as a C programmer would write it without a PLC: X, M as bool
+# arrays, D as int16_t, a 100 ms timer as its current value in 100 ms plus
+# the milliseconds not yet a unit (it counts scan time: `dt_ms` is the time
+# since the scan before, 0 in the first scan), a counter as its count and the
+# input's last state (it counts rising edges up to its set value). Every
+# array is global with external linkage and `scan` is not inlined nor
+# analysed across calls (noipa), so gcc must do each scan's reads and writes;
+# main prints a checksum of the memory at the end.
+
+C_PRELUDE = r"""#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+bool x[8192], m[8192];
+int16_t d[12288];
+bool ts[2048];     /* timer contacts */
+int16_t tn[2048];  /* timer current values, 100 ms units */
+int16_t tms[2048]; /* milliseconds towards the next 100 ms */
+bool cs[1024];     /* counter contacts */
+int16_t cn[1024];  /* counter current values */
+bool cin[1024];    /* counter inputs in the last execution */
+int16_t dt_ms;     /* time since the scan before */
+
+static inline void out_t(int t, bool coil, int16_t k) {
+    if (!coil) {
+        tn[t] = 0;
+        tms[t] = 0;
+        ts[t] = false;
+        return;
+    }
+    if (ts[t])
+        return;
+    tms[t] += dt_ms;
+    while (tms[t] >= 100) {
+        tms[t] -= 100;
+        tn[t]++;
+    }
+    if (tn[t] >= k) {
+        tn[t] = k;
+        ts[t] = true;
+    }
+}
+
+static inline void out_c(int c, bool in, int16_t k) {
+    if (in && !cin[c] && cn[c] < k) {
+        cn[c]++;
+        if (cn[c] >= k)
+            cs[c] = true;
+    }
+    cin[c] = in;
+}
+"""
+
+C_MAIN = r"""
+/* plc CYCLES [DEVICE...]: runs CYCLES scans of 10 ms, prints a checksum and
+   "DEVICE = value" for each D, M, CN, TN or T named. */
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s CYCLES [DEVICE...]\n", argv[0]);
+        return 2;
+    }
+    long cycles = strtol(argv[1], NULL, 10);
+    for (long i = 0; i < cycles; i++) {
+        scan();
+        dt_ms = 10;
+    }
+    long sum = 0;
+    for (int i = 0; i < 12288; i++)
+        sum += d[i];
+    for (int i = 0; i < 8192; i++)
+        sum += m[i];
+    printf("checksum %ld\n", sum);
+    for (int a = 2; a < argc; a++) {
+        const char *name = argv[a];
+        int n = atoi(name + strspn(name, "ABCDEFGHIJKLMNOPQRSTUVWXYZ"));
+        long v;
+        if (strncmp(name, "CN", 2) == 0)
+            v = cn[n];
+        else if (strncmp(name, "TN", 2) == 0)
+            v = tn[n];
+        else if (name[0] == 'D')
+            v = d[n];
+        else if (name[0] == 'M')
+            v = m[n];
+        else if (name[0] == 'T')
+            v = ts[n];
+        else {
+            fprintf(stderr, "unknown device %s\n", name);
+            return 2;
+        }
+        printf("%s = %ld\n", name, v);
+    }
+    return 0;
+}
+"""
+
+
+def c_rung(rung):
+    kind, *a = rung
+    if kind == "bits":
+        return [f"m[{a[4]}] = ((x[{a[0]}] && m[{a[1]}]) || m[{a[2]}]) && !x[{a[3]}];"]
+    if kind == "on":
+        return []
+    if kind == "movk":
+        return [f"d[{a[1]}] = {a[0]};"]
+    if kind == "movd":
+        return [f"d[{a[1]}] = d[{a[0]}];"]
+    if kind == "toggle":
+        return [f"m[{a[0]}] = !m[{a[0]}];"]
+    if kind == "timer":
+        return [f"out_t({a[1]}, !x[{a[0]}], {a[2]});"]
+    if kind == "counter":
+        return [f"out_c({a[1]}, m[{a[0]}], {a[2]});"]
+    if kind == "inc":
+        return [f"d[{a[0]}] = (int16_t)(d[{a[0]}] + 1);"]
+    if kind == "cmpmov":
+        return [f"if (d[{a[0]}] > {a[1]} && m[{a[2]}]) d[{a[3]}] = d[{a[0]}];"]
+    if kind == "timerbits":
+        return [f"m[{a[3]}] = (x[{a[0]}] || ts[{a[1]}]) && !x[{a[2]}];"]
+    if kind == "cmpout":
+        return [f"m[{a[2]}] = d[{a[0]}] > {a[1]};"]
+    raise ValueError(kind)
+
+
+def c(name):
+    lines = [f"/* bench/peers workload {name}: {instructions(name)} MELSEC instructions (gen.py) */", C_PRELUDE]
+    lines += ["__attribute__((noipa)) void scan(void) {"]
+    for r in WORKLOADS[name]():
+        lines += ["    " + s for s in c_rung(r)]
+    lines += ["}", C_MAIN]
+    return "\n".join(lines)
+
+
 def write_all(outdir):
     outdir = pathlib.Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
@@ -273,6 +475,7 @@ def write_all(outdir):
             (".awl", awl(name)),
             (".st", st(name)),
             ("_matiec.st", st_matiec(name)),
+            (".c", c(name)),
         ]:
             path = outdir / f"{name}{suffix}"
             # Unchanged files keep their time, so measure.py --keep can reuse builds.

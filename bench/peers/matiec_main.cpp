@@ -5,17 +5,15 @@
 // is timed. measure.py compiles this beside the generated C (README.md).
 //
 // Usage: plc CYCLES [show]
-//   show: print D0, D1 and D1999 after the cycles (built with -DSHOW_MIX,
-//   the mix workload's program instance).
+//   show: print the workload's checked values after the cycles; measure.py
+//   writes show.h beside the generated C with show_values(), which reads
+//   them from the program instance.
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "iec_std_lib.h"
-#ifdef SHOW_MIX
-#include "POUS.h"
-extern MIX_PROG RES0__INSTANCE0;
-#endif
+#include "show.h"
 
 TIME __CURRENT_TIME;
 BOOL __DEBUG;
@@ -48,11 +46,8 @@ int main(int argc, char **argv) {
             __CURRENT_TIME.tv_sec += 1;
         }
     }
-#ifdef SHOW_MIX
     if (argc == 3 && strcmp(argv[2], "show") == 0) {
-        printf("D0 = %d\nD1 = %d\nD1999 = %d\n", RES0__INSTANCE0.D0.value, RES0__INSTANCE0.D1.value,
-               RES0__INSTANCE0.D1999.value);
+        show_values();
     }
-#endif
     return 0;
 }

@@ -10,12 +10,13 @@ so loading, parsing and compiling cancel. t is the process's user + system
 CPU time (so other load on the machine does not count), the minimum over
 --repeat runs. A peer whose program or tool is not given is skipped with a
 message; nothing is downloaded or built here except the C that matiec
-generates from the workload and the driver matiec_main.cpp beside this file.
+generates from the workload with the driver matiec_main.cpp beside this file,
+and the plain C that gen.py writes.
 
 Example (every peer):
     python3 bench/peers/measure.py --softplc target/release/softplc \\
         --awlsim-python /opt/awlsim/bin/python --ironplc /opt/ironplc/bin \\
-        --openplc /opt/OpenPLC_v3
+        --openplc /opt/OpenPLC_v3 --matiec-opt=-O0,-O2 --softplc-exec interp,jit
 """
 import argparse
 import os
@@ -72,7 +73,7 @@ def softplc(args, work, name, exec_mode):
             raise Skip(f"{binary} has no --exec option (tier {exec_mode})")
         extra = ["--exec", exec_mode]
     run([binary, "check", program])
-    show = [a for d in CHECKED for a in ("--show", d)]
+    show = [a for d in gen.CHECKS.get(name, {}) for a in ("--show", d)]
     return lambda n, check=False: [binary, "run", program, "--scans", str(n), *extra, *(show if check else [])]
 
 
@@ -87,7 +88,9 @@ def awlsim(args, work, name, cython):
         raise Skip(f"{core} not importable with {args.awlsim_python}: {done.stderr.strip().splitlines()[-1:]}")
     program = work / f"{name}.awl"
     driver = HERE / "awlsim_run.py"
-    return lambda n, check=False: ([args.awlsim_python, driver, program, str(n), *(CHECKED if check else [])], env)
+    # The Cython core keeps its memories from Python: only the pure core reports.
+    shown = [] if cython else list(gen.CHECKS.get(name, {}))
+    return lambda n, check=False: ([args.awlsim_python, driver, program, str(n), *(shown if check else [])], env)
 
 
 def ironplc(args, work, name):
@@ -129,10 +132,34 @@ def matiec(args, work, name, opt):
         return command
     run([iec2c, "-f", "-l", "-p", "-r", "-R", "-a", "-I", lib, "-T", out, source])
     # OpenPLC passes no -O (so -O0); the row's flag is the one difference.
-    show = ["-DSHOW_MIX"] if name == "mix" else []
-    run([cxx, "-std=gnu++11", opt, "-w", *show, "-I", include, "-I", out,
+    (out / "show.h").write_text(matiec_show(name))
+    run([cxx, "-std=gnu++11", opt, "-w", "-I", include, "-I", out,
          out / "Config0.c", out / "Res0.c", driver, "-o", binary])
     return command
+
+
+def matiec_show(name):
+    """show.h for matiec_main.cpp: show_values() prints the checked devices
+    from the program instance (a variable's value is its `.value`)."""
+    checks = gen.CHECKS.get(name, {})
+    if not checks:
+        return "static void show_values(void) {}\n"
+    lines = ['#include "POUS.h"', f"extern {name.upper()}_PROG RES0__INSTANCE0;", "static void show_values(void) {"]
+    for device in checks:
+        lines.append(f'    printf("{device} = %d\\n", (int)RES0__INSTANCE0.{gen.st_name(device)}.value);')
+    return "\n".join(lines + ["}", ""])
+
+
+def plainc(args, work, name, opt):
+    """gen.py's plain C of the workload, compiled with gcc and `opt`."""
+    cc = shutil.which(args.cc)
+    if not cc:
+        raise Skip(f"no {args.cc}")
+    source, binary = work / f"{name}.c", work / f"plainc_{name}{opt}"
+    if not (binary.is_file() and binary.stat().st_mtime > source.stat().st_mtime):
+        run([cc, opt, "-o", binary, source])
+    checks = list(gen.CHECKS.get(name, {}))
+    return lambda n, check=False: [binary, str(n), *(checks if check else [])]
 
 
 def peers(args):
@@ -146,24 +173,50 @@ def peers(args):
     rows.append(("IronPLC VM", lambda w, n: ironplc(args, w, n)))
     for opt in args.matiec_opt:
         rows.append((f"matiec + g++ {opt}", lambda w, n, o=opt: matiec(args, w, n, o)))
+    for opt in args.plainc_opt:
+        rows.append((f"plain C + {args.cc} {opt}", lambda w, n, o=opt: plainc(args, w, n, o)))
     return rows
 
 
-# After 150 cycles of mix every peer must hold these (worked out by hand in
-# tests/python/test_bench_peers.py): D0 counts cycles, D1 took D0 in the last
-# odd cycle with D0 > 100, group 999's move never ran.
-CHECKED, CHECK_CYCLES, EXPECTED = ["D0", "D1", "D1999"], 150, {"D0": 150, "D1": 149, "D1999": 0}
-
-
-def check_mix(command):
-    """'ok' when the peer's mix values after CHECK_CYCLES match EXPECTED."""
-    cmd = command(CHECK_CYCLES, check=True)
+def check(command, name):
+    """'ok' when the peer holds gen.CHECKS[name] after gen.CHECK_CYCLES
+    cycles; None for a workload without checks. Peers print `NAME = value`
+    or `NAME: value` (IronPLC), in MELSEC names or their ST names (C0.CV for
+    CN0); a bit is TRUE/true/1."""
+    expected = gen.CHECKS.get(name)
+    if not expected:
+        return None
+    cmd = command(gen.CHECK_CYCLES, check=True)
     cmd, env = cmd if isinstance(cmd, tuple) else (cmd, None)
     out = run(cmd, env=env)
-    got = {k: int(v) for k, v in re.findall(r"^(D\d+)\s*[:=]\s*(-?\d+)\s*$", out, re.M) if k in CHECKED}
+    melsec = {gen.st_name(d): d for d in expected} | {d: d for d in expected}
+    bits = {"true": 1, "false": 0}
+    got = {}
+    for key, value in re.findall(r"^(\S+?)\s*[:=]\s*(\S+)\s*$", out, re.M):
+        if key in melsec:
+            value = value.lower()
+            got[melsec[key]] = bits[value] if value in bits else int(value) if re.fullmatch(r"-?\d+", value) else value
     if not got:
         return "not shown"
-    return "ok" if got == EXPECTED else f"wrong: {got}"
+    if any(got[d] != v for d, v in expected.items() if d in got):
+        return f"wrong: {got}"
+    # IronPLC's dump shows no function block's fields (a counter's CV).
+    missing = [d for d in expected if d not in got]
+    return f"ok ({', '.join(missing)} not shown)" if missing else "ok"
+
+
+def summary(results):
+    """The table's values cell: 'ok' when every checked workload was right."""
+    shown = {n: r for n, r in results.items() if r is not None}
+    if not shown:
+        return ""
+    if all(r == "not shown" for r in shown.values()):
+        return "not shown"
+    if all(r.startswith("ok") for r in shown.values()):
+        # "ok (CN0, CN999 not shown)" of a workload becomes "tcc: CN0, ...".
+        notes = [f"{n}: {r[len('ok ('):-1]}" for n, r in shown.items() if r != "ok"]
+        return f"ok ({'; '.join(notes)})" if notes else "ok"
+    return "; ".join(f"{n} {r}" for n, r in shown.items())
 
 
 def measure(command, low, high, repeat):
@@ -187,6 +240,9 @@ def main():
     p.add_argument("--openplc", help="OpenPLC_v3 tree with its matiec (utils/matiec_src) built")
     p.add_argument("--matiec-opt", default="-O2", help="comma list of g++ optimisation flags (default: %(default)s; "
                    "OpenPLC itself passes none, i.e. -O0)")
+    p.add_argument("--cc", default="gcc", help="C compiler of the plain-C peer (default: %(default)s)")
+    p.add_argument("--plainc-opt", default="-O2", help="comma list of its optimisation flags, one row each "
+                   "(default: %(default)s; empty: no plain-C row)")
     p.add_argument("--workloads", default=",".join(gen.WORKLOADS), help="comma list (default: %(default)s)")
     p.add_argument("--only", default="", help="comma list of label prefixes to run, e.g. softplc,matiec")
     p.add_argument("--scans", default="10,510", help="LOW,HIGH cycles (default: %(default)s)")
@@ -196,6 +252,7 @@ def main():
     args = p.parse_args()
     args.softplc_exec = args.softplc_exec.split(",") if args.softplc_exec else [""]
     args.matiec_opt = [o for o in args.matiec_opt.split(",") if o]
+    args.plainc_opt = [o for o in args.plainc_opt.split(",") if o]
     names = [n for n in args.workloads.split(",") if n]
     for n in names:
         if n not in gen.WORKLOADS:
@@ -215,9 +272,10 @@ def main():
             try:
                 command = prepare(work, n)
                 ns = measure(command, low, high, args.repeat) * 1e9 / counts[n]
-                if n == "mix":
-                    checks[label] = check_mix(command)
-                    print(f"{label} mix values after {CHECK_CYCLES} cycles: {checks[label]}", file=sys.stderr)
+                result = check(command, n)
+                checks.setdefault(label, {})[n] = result
+                if result is not None:
+                    print(f"{label} {n} values after {gen.CHECK_CYCLES} cycles: {result}", file=sys.stderr)
                 cells.append(f"{ns:,.2f}" if ns < 100 else f"{ns:,.0f}")
                 print(f"{label} {n}: {ns:.3f} ns/instruction ({low} vs {high} cycles)", file=sys.stderr)
             except Skip as e:
@@ -228,10 +286,10 @@ def main():
                 cells.append("fails")
         else:
             table.append((label, cells))
-    print(f"| peer | {' | '.join(f'{n} ({counts[n]:,})' for n in names)} | mix values |")
+    print(f"| peer | {' | '.join(f'{n} ({counts[n]:,})' for n in names)} | values |")
     print(f"|---|{'---:|' * len(names)}---|")
     for label, cells in table:
-        print(f"| {label} | {' | '.join(cells)} | {checks.get(label, '')} |")
+        print(f"| {label} | {' | '.join(cells)} | {summary(checks.get(label, {}))} |")
     print(f"\nns per MELSEC instruction; programs in {work}")
 
 

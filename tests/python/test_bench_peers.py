@@ -1,6 +1,7 @@
 """bench/peers/gen.py: the peer-benchmark workloads load in softplc and run
 as worked out by hand (bench/peers/README.md)."""
 import re
+import shutil
 import subprocess
 import sys
 
@@ -21,8 +22,16 @@ def programs(tmp_path_factory):
 
 def test_instruction_counts():
     # bits: 10,000 rungs of 5; mov: LD SM400 + 20,000 MOV;
-    # mix: LDI/OUT M0 + 1,000 groups of 2 + 2 + 2 + 3 + 4.
-    assert {n: gen.instructions(n) for n in gen.WORKLOADS} == {"bits": 50_000, "mov": 20_001, "mix": 13_002}
+    # mix: LDI/OUT M0 + 1,000 groups of 2 + 2 + 2 + 3 + 4;
+    # chain: LD SM400 / + D0 K1 D0 + 20,000 MOV;
+    # tcc: LDI/OUT M0, LD SM400 / + D0 K1 D0 + 1,000 groups of 2 + 2 + 2.
+    assert {n: gen.instructions(n) for n in gen.WORKLOADS} == {
+        "bits": 50_000,
+        "mov": 20_001,
+        "mix": 13_002,
+        "chain": 20_002,
+        "tcc": 6_004,
+    }
 
 
 @pytest.mark.parametrize("name", list(gen.WORKLOADS))
@@ -71,3 +80,79 @@ def test_peer_programs_have_one_statement_per_melsec_rung(programs):
     labels = re.findall(r"^\s*(J\d{3}): NOP 0$", awl, re.M)
     assert len(labels) == len(set(labels)) == 1000
     assert "\tSE T 999\n" in awl and "\tZV Z 999\n" in awl
+
+
+def test_chain_is_one_dependent_ring(programs):
+    # Each MOV reads the word the one before it wrote: D0 -> D1 -> ... ->
+    # D9999 -> D0 -> ... twice round, the increment of D0 first.
+    lines = (programs / "chain.il").read_text().splitlines()
+    assert lines[1:5] == ["LD SM400", "+ D0 K1 D0", "MOV D0 D1", "MOV D1 D2"]
+    movs = lines[3:-1]
+    assert len(movs) == 20_000 and movs[9_999] == "MOV D9999 D0" and movs[-1] == "MOV D9999 D0"
+    for before, after in zip(movs, movs[1:]):
+        assert after.split()[1] == before.split()[2]
+
+
+def test_chain_runs_as_worked_out(programs):
+    # Every scan D0 counts up and the ring carries it to every word, back to
+    # D0 itself: after n scans D0 = D1 = ... = D9999 = n, D10000 untouched.
+    v = show(programs / "chain.il", 3, "D0", "D1", "D5000", "D9999", "D10000")
+    assert v == {"D0": "3", "D1": "3", "D5000": "3", "D9999": "3", "D10000": "0"}
+
+
+def test_tcc_runs_as_worked_out(programs):
+    # Scans of 10 ms; X0-X999 OFF keep every timer coil ON from scan 1, so
+    # at OUT T of scan s a timer has measured (s - 1) * 10 ms: TN = 9 in
+    # scan 100, and K10 (1 s) reached in scan 101. M0 is ON in odd scans:
+    # 50 rising edges in 100 scans. M(k+1) = D0 > k with D0 = s.
+    v = show(programs / "tcc.il", 100, "D0", "TN0", "T0", "TN999", "CN0", "M100", "M101")
+    assert v == {"D0": "100", "TN0": "9", "T0": "false", "TN999": "9", "CN0": "50", "M100": "true", "M101": "false"}
+    v = show(programs / "tcc.il", 101, "TN0", "T0", "T999", "CN999")
+    assert v == {"TN0": "10", "T0": "true", "T999": "true", "CN999": "51"}
+    # By scan 300 C0 has counted 100 edges (its K100) and stays there;
+    # the timer holds its set value.
+    v = show(programs / "tcc.il", 300, "TN0", "CN0", "C0", "M300", "M301")
+    assert v == {"TN0": "10", "CN0": "100", "C0": "true", "M300": "true", "M301": "false"}
+
+
+@pytest.mark.parametrize("name", sorted(gen.CHECKS))
+def test_checked_values_are_softplcs(programs, name):
+    # measure.py's "values" column holds every peer to these.
+    v = show(programs / f"{name}.il", gen.CHECK_CYCLES, *gen.CHECKS[name])
+    bits = {"true": 1, "false": 0}
+    assert {d: bits[x] if x in bits else int(x) for d, x in v.items()} == gen.CHECKS[name]
+
+
+@pytest.mark.parametrize("name", sorted(gen.CHECKS))
+def test_plain_c_computes_the_checked_values(programs, tmp_path, name):
+    # The plain-C peer is the same logic: it holds the checked values, and a
+    # timer and a counter agree with softplc's at the boundary scan of tcc
+    # (TN0 = 10, CN0 = 51). Compiled without optimisation: gcc -O2 takes
+    # minutes on these 5,000-20,000-statement functions (measure.py's own
+    # check covers its -O2 build).
+    cc = shutil.which("gcc")
+    if cc is None:
+        pytest.skip("no gcc")
+    binary = tmp_path / name
+    subprocess.run([cc, "-O0", "-o", binary, programs / f"{name}.c"], check=True)
+    out = subprocess.run([binary, str(gen.CHECK_CYCLES), *gen.CHECKS[name]], capture_output=True, text=True,
+                         check=True).stdout
+    assert {d: int(x) for d, x in re.findall(r"^(\S+) = (-?\d+)$", out, re.M)} == gen.CHECKS[name]
+    if name == "tcc":
+        out = subprocess.run([binary, "101", "TN0", "T0", "CN0"], capture_output=True, text=True, check=True).stdout
+        assert out.splitlines()[1:] == ["TN0 = 10", "T0 = 1", "CN0 = 51"]
+
+
+def test_peer_translations_of_the_new_rungs(programs):
+    tcc_st = (programs / "tcc.st").read_text()
+    assert "  T999(IN := NOT X999, PT := T#1S);" in tcc_st
+    assert "  C999(CU := M0, PV := 100);" in tcc_st
+    assert "  M1000 := D0 > 999;" in tcc_st
+    tcc_awl = (programs / "tcc.awl").read_text()
+    # M1000 is M 125.0; the compare is L / L / >I / =.
+    assert "\tL DBW 0\n\tL 999\n\t>I\n\t= M 125.0\n" in tcc_awl
+    assert "\tL S5T#1S\n\tSE T 999\n" in tcc_awl
+    chain_st = (programs / "chain.st").read_text()
+    assert chain_st.count("  D0 := D9999;") == 2 and "  D1 := D0;" in chain_st
+    chain_c = (programs / "chain.c").read_text()
+    assert chain_c.count("    d[0] = d[9999];") == 2
