@@ -760,15 +760,8 @@ impl Gen<'_, '_> {
         self.forget_bit(t.contact);
         self.forget_word(t.value);
         let learn = std::mem::replace(&mut self.learn, false);
-        let c = self.acc_bit();
-        let (on, off, merge) = (
-            self.b.create_block(),
-            self.b.create_block(),
-            self.b.create_block(),
-        );
-        self.b.ins().brif(c, on, &[], off, &[]);
-        self.b.seal_block(on);
-        self.b.seal_block(off);
+        let (on, off) = self.branch_on_condition();
+        let merge = self.b.create_block();
 
         // OFF: the coil OFF; a timer that does not retain is reset.
         self.b.switch_to_block(off);
@@ -916,15 +909,8 @@ impl Gen<'_, '_> {
     /// MC: its bit ON while the condition is; with the condition OFF the
     /// interpreter runs it (and the ops up to MCR with conditions OFF).
     fn mc(&mut self, pc: u32, bit: u32) {
-        let c = self.acc_bit();
-        let (on, off, merge) = (
-            self.b.create_block(),
-            self.b.create_block(),
-            self.b.create_block(),
-        );
-        self.b.ins().brif(c, on, &[], off, &[]);
-        self.b.seal_block(on);
-        self.b.seal_block(off);
+        let (on, off) = self.branch_on_condition();
+        let merge = self.b.create_block();
         self.b.switch_to_block(on);
         let one = self.b.ins().iconst(types::I32, 1);
         self.raw_store_bit(bit, one);
@@ -935,6 +921,16 @@ impl Gen<'_, '_> {
         self.b.switch_to_block(merge);
         self.b.seal_block(merge);
         self.forget_all();
+    }
+
+    /// Branches on the condition: the blocks where it is ON and OFF.
+    fn branch_on_condition(&mut self) -> (Block, Block) {
+        let c = self.acc_bit();
+        let (on, off) = (self.b.create_block(), self.b.create_block());
+        self.b.ins().brif(c, on, &[], off, &[]);
+        self.b.seal_block(on);
+        self.b.seal_block(off);
+        (on, off)
     }
 
     /// Bit `i` from memory in a branch (nothing learnt).
