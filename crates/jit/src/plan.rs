@@ -26,9 +26,9 @@ use softplc_ir::ops::{
 use softplc_ir::word_op::{Binary, WordOp};
 
 /// The most work compiled into one function, in ops weighed by the code
-/// they become ([`weight`]), so that compile time stays linear in the
-/// program's length (Cranelift's register allocation is superlinear in a
-/// function's size, and in its blocks more than its instructions).
+/// they become ([`weight_of`]), so that compile time stays linear in the
+/// program's length (Cranelift's register allocation grows faster than a
+/// function's size, and with its blocks more than its instructions).
 pub const CHUNK_WEIGHT: usize = 4096;
 
 /// Fewest native ops in a row, between interpreted ones, worth running
