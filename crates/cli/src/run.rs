@@ -132,7 +132,7 @@ fn why_interpreted(s: &softplc_core::engine::tier::TierStats) -> String {
     }
     if other > 0 {
         why.push(format!(
-            "{other} with no native form (only contacts, coils, MOV/DMOV and comparisons on plain devices have one)"
+            "{other} with no native form (only contacts, coils, comparisons, timers, counters, MC/MCR, MOV/DMOV, +, -, INC, DEC, WAND, WOR, WXOR, BSET and BRST on plain devices and constants have one)"
         ));
     }
     if why.is_empty() {

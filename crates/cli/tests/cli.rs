@@ -234,11 +234,11 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
     };
     let (jit, interp) = (softplc(&args("jit")), softplc(&args("interp")));
     assert_eq!(json(&jit), json(&interp));
-    // blink.il: 12 ops; its native-capable stretches (LD/ANI, LD, LD/OUT Y0…)
-    // are shorter than the JIT's minimum run of 8, so all stay interpreted.
+    // blink.il: 12 ops; all but END (contacts, coils, timers, the counter
+    // and its RST) are one native run of 11.
     let stderr = String::from_utf8_lossy(&jit.stderr);
     assert!(
-        stderr.starts_with("exec: jit, 0 of 12 ops native, compiled in "),
+        stderr.starts_with("exec: jit, 11 of 12 ops native, compiled in "),
         "{stderr}"
     );
     // Ten contacts and coils in a row are one native run; END is interpreted.
@@ -299,13 +299,13 @@ fn exec_tiers_report_the_same_and_stats_name_the_tier() {
         "{}",
         String::from_utf8_lossy(&bad.stderr)
     );
-    // SOFTPLC_JIT_MIN_RUN=1: every native-capable op of blink is native
-    // (LD X0, ANI T1, LD T0, LD T0, OUT Y0, LD Y0, LD X1); 0 is refused.
+    // SOFTPLC_JIT_MIN_RUN=12: blink's one native run of 11 is too short,
+    // so nothing is native; 0 is refused.
     let min_run = |n: &str| check_with(&["--exec", "jit"], "SOFTPLC_JIT_MIN_RUN", n);
-    let one = min_run("1");
-    let stderr = String::from_utf8_lossy(&one.stderr);
+    let twelve = min_run("12");
+    let stderr = String::from_utf8_lossy(&twelve.stderr);
     assert!(
-        stderr.starts_with("exec: jit, 7 of 12 ops native, compiled in "),
+        stderr.starts_with("exec: jit, 0 of 12 ops native, compiled in "),
         "{stderr}"
     );
     let zero = min_run("0");
@@ -376,13 +376,21 @@ fn newcomer_messages_say_what_to_do() {
         assert!(err.contains("e.g. examples/aplc/"), "{err}");
         assert!(!err.contains("os error"), "{err}");
     }
-    let o = softplc(&["check", "examples/blink.il", "--stats", "--exec", "jit"]);
+    // Two runs of two native-capable ops (LD/OUT, OUT/LD) between an edge
+    // contact, a multiplication and END, which have no native form.
+    let dir = tempfile::tempdir().unwrap();
+    let short = write(
+        &dir,
+        "short.il",
+        "LD X0\nOUT Y0\nLDP X1\nOUT Y1\nLD X2\n* D0 K2 D2\nEND\n",
+    );
+    let o = softplc(&["check", &short, "--stats", "--exec", "jit"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("; interpreted: 7 in runs shorter than 8 native ops in a row"),
+        err.contains("; interpreted: 4 in runs shorter than 8 native ops in a row"),
         "{err}"
     );
-    assert!(err.contains("5 with no native form"), "{err}");
+    assert!(err.contains("3 with no native form"), "{err}");
     for help in [
         &["run", "--help"][..],
         &["--help"][..],
