@@ -165,3 +165,23 @@ fn a_multi_cpu_system_advances_by_scans_of_cpu_1() {
     assert_eq!(scans, [serde_json::json!(10), serde_json::json!(3)]);
     assert_eq!(cpus[1]["time_ms"], 100.0);
 }
+
+#[test]
+fn bad_real_time_options_are_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = program(dir.path());
+    let err = refused(&[&p, "--cpu", "100000"]);
+    assert!(
+        err.contains("--cpu 100000: CPU 100000 is not one this process may run on"),
+        "{err}"
+    );
+    let err = refused(&[&p, "--realtime", "--no-realtime"]);
+    assert!(
+        err.contains("--no-realtime") && err.contains("--realtime"),
+        "{err}"
+    );
+    let err = refused(&[&p, "--spin-us", "1000001"]);
+    assert!(err.contains("--spin-us"), "{err}");
+    let err = refused(&[&p, "--spin-us=-5"]);
+    assert!(err.contains("--spin-us"), "{err}");
+}

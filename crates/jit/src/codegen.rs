@@ -866,17 +866,15 @@ impl Gen<'_, '_> {
             self.forget_word(c.value);
             self.learn = false;
         }
+        // A set value of 0 counts as 1.
         let (set, slow) = self.set_value(c.set);
         let set = match c.set {
+            WordSrc::Const(k) if k as u16 as i16 == 0 => self.b.ins().iconst(types::I32, 1),
             WordSrc::Const(_) => set,
             WordSrc::Word(_) => {
                 let one = self.b.ins().iconst(types::I32, 1);
                 self.b.ins().smax(set, one)
             }
-        };
-        let set = match c.set {
-            WordSrc::Const(k) if k as u16 as i16 == 0 => self.b.ins().iconst(types::I32, 1),
-            _ => set,
         };
         let cond = self.acc_bit();
         let old = self.bit(c.coil);
