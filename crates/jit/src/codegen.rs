@@ -193,7 +193,16 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
                 open = true;
             }
             Piece::Step(s) => g.step(s),
-            Piece::Run { from, to } => g.run(*from, *to),
+            Piece::Run {
+                from,
+                to,
+                guarded: false,
+            } => g.run(*from, *to),
+            Piece::Run {
+                from,
+                to,
+                guarded: true,
+            } => g.run_while_on(*from, *to),
             Piece::Exit(at) => {
                 let at = g.b.ins().iconst(types::I32, i64::from(*at));
                 g.leave(at);
@@ -282,6 +291,21 @@ impl Gen<'_, '_> {
             .brif(straight, on, &[], self.dispatch, &[next.into()]);
         self.b.switch_to_block(on);
         self.b.seal_block(on);
+    }
+
+    /// [`Gen::run`] only while the condition is ON: for a stretch of
+    /// instructions that do nothing while it is OFF.
+    fn run_while_on(&mut self, from: u32, to: u32) {
+        let c = self.acc_bit();
+        let (on, after) = (self.b.create_block(), self.b.create_block());
+        self.b.ins().brif(c, on, &[], after, &[]);
+        self.b.seal_block(on);
+        self.b.switch_to_block(on);
+        self.run(from, to);
+        self.b.ins().jump(after, &[]);
+        self.b.switch_to_block(after);
+        self.b.seal_block(after);
+        self.forget_all();
     }
 
     /// The address of `base[index]` with elements of `size` bytes.

@@ -165,10 +165,14 @@ pub enum Piece {
     /// or a jump went here).
     Entry(u32),
     Step(Step),
-    /// The interpreter runs the ops `from..to` (`Host::exec`).
+    /// The interpreter runs the ops `from..to` (`Host::exec`); only while
+    /// the condition is ON when `guarded` (every op of the stretch is an
+    /// instruction that does nothing while its condition is OFF, and none
+    /// changes the condition).
     Run {
         from: u32,
         to: u32,
+        guarded: bool,
     },
     /// Leave native code: the interpreter goes on at op `pc`.
     Exit(u32),
@@ -213,9 +217,10 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
         .collect();
     let n = prog.ops.len();
     let can = steps.iter().filter(|s| s.is_some()).count();
+    let guarded: Vec<bool> = prog.ops.iter().map(runs_only_when_on).collect();
     let bounds = chunk_bounds(&steps);
     for &(start, end) in &bounds {
-        drop_short_runs(&mut steps[start..end], min_run);
+        drop_short_runs(&mut steps[start..end], &guarded[start..end], min_run);
     }
     let native: Vec<bool> = steps.iter().map(Option::is_some).collect();
     let timer_slots = steps
@@ -230,7 +235,7 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
     let mut entry = vec![false; n];
     let chunks = bounds
         .iter()
-        .map(|&(start, end)| chunk(start, end, &steps, &targets, &mut entry))
+        .map(|&(start, end)| chunk(start, end, &steps, &guarded, &targets, &mut entry))
         .collect();
     Plan {
         chunks,
@@ -286,21 +291,34 @@ fn weight_of(s: &Step) -> usize {
     }
 }
 
+/// Whether `op` does nothing while its condition is OFF and leaves the
+/// condition as it is: native code runs it in the interpreter only while the
+/// condition is ON (an application instruction of a family module).
+fn runs_only_when_on(op: &Op) -> bool {
+    matches!(op, Op::Ext(_))
+}
+
 /// Leaves to the interpreter native runs of one chunk that are too short to
-/// pay for the calls around them (not a chunk that is one short run).
-fn drop_short_runs(steps: &mut [Option<Step>], min_run: usize) {
+/// pay for the calls around them (not a chunk that is one short run). A run
+/// goes on across instructions that run only while their condition is ON
+/// (`guarded`): native code tests the condition and calls the interpreter
+/// only then, which costs nothing while it is OFF.
+fn drop_short_runs(steps: &mut [Option<Step>], guarded: &[bool], min_run: usize) {
     let n = steps.len();
     let mut pc = 0;
     while pc < n {
-        let run = steps[pc..].iter().take_while(|s| s.is_some()).count();
-        if run == 0 {
+        if steps[pc].is_none() {
             pc += 1;
             continue;
         }
-        if run < min_run && run < n {
-            steps[pc..pc + run].fill(None);
+        let len = (pc..n)
+            .take_while(|i| steps[*i].is_some() || guarded[*i])
+            .count();
+        let native = steps[pc..pc + len].iter().filter(|s| s.is_some()).count();
+        if native < min_run && len < n {
+            steps[pc..pc + len].fill(None);
         }
-        pc += run;
+        pc += len;
     }
 }
 
@@ -312,6 +330,7 @@ fn chunk(
     start: usize,
     end: usize,
     steps: &[Option<Step>],
+    guarded: &[bool],
     targets: &[bool],
     entry: &mut [bool],
 ) -> Chunk {
@@ -324,7 +343,7 @@ fn chunk(
         for pc in first..=last {
             if pc == first || targets[pc] {
                 if let Some(from) = stretch.take() {
-                    pieces.push(run(from, pc));
+                    pieces.push(run(from, pc, guarded));
                 }
                 entry[pc] = true;
                 pieces.push(Piece::Entry(pc as u32));
@@ -332,7 +351,7 @@ fn chunk(
             match &steps[pc] {
                 Some(s) => {
                     if let Some(from) = stretch.take() {
-                        pieces.push(run(from, pc));
+                        pieces.push(run(from, pc, guarded));
                         // Where the interpreter comes back to native code
                         // when the stretch left it (an MC turned conditions
                         // OFF: native code runs only while they are not).
@@ -360,10 +379,11 @@ fn chunk(
     }
 }
 
-fn run(from: usize, to: usize) -> Piece {
+fn run(from: usize, to: usize, guarded: &[bool]) -> Piece {
     Piece::Run {
         from: from as u32,
         to: to as u32,
+        guarded: guarded[from..to].iter().all(|g| *g),
     }
 }
 
@@ -691,7 +711,8 @@ mod tests {
             pieces[k + 1],
             Piece::Run {
                 from: k as u32,
-                to: k as u32 + 1
+                to: k as u32 + 1,
+                guarded: false,
             }
         );
         assert_eq!(pieces[k + 2], Piece::Entry(k as u32 + 1));
@@ -759,11 +780,46 @@ mod tests {
         let run = |from: usize| Piece::Run {
             from: from as u32,
             to: from as u32 + 1,
+            guarded: false,
         };
         assert_eq!(runs, [&run(k), &run(2 * k + 1), &run(3 * k + 2)]);
         assert_eq!(
             plan.chunks[0].pieces.last(),
             Some(&Piece::Exit(4 * k as u32 + 3))
+        );
+    }
+
+    #[test]
+    fn instructions_that_run_only_when_on_do_not_break_native_runs() {
+        // Half a run, an application instruction, half a run, then one
+        // that also acts while OFF (a pulse gate): only the first joins.
+        let h = MIN_RUN as u32 / 2;
+        let mut ops = contacts(h);
+        ops.push(Op::Ext(0));
+        ops.push(Op::Ext(1));
+        ops.extend(contacts(h));
+        ops.push(Op::Pulse(0));
+        ops.extend(contacts(h));
+        ops.push(Op::End);
+        let plan = plan(&program(ops), MIN_RUN);
+        let h = h as usize;
+        let mut native = vec![false; plan.native.len()];
+        native[..h].fill(true);
+        native[h + 2..2 * h + 2].fill(true);
+        assert_eq!(plan.native, native);
+        let runs: Vec<&Piece> = plan.chunks[0]
+            .pieces
+            .iter()
+            .filter(|p| matches!(p, Piece::Run { .. }))
+            .collect();
+        let (from, to) = (h as u32, h as u32 + 2);
+        assert_eq!(
+            runs,
+            [&Piece::Run {
+                from,
+                to,
+                guarded: true
+            }]
         );
     }
 }

@@ -191,8 +191,12 @@ fn action() -> impl Strategy<Value = String> {
         3 => coil(),
         2 => (word(), operand()).prop_map(|(d, s)| format!("MOV {s} {d}\n")),
         1 => (0..8u32, -70000i64..70000).prop_map(|(d, k)| format!("DMOV K{k} D{}\n", 2 * d)),
-        1 => (prop_oneof![Just("+"), Just("-"), Just("*")], word(), operand(), word())
+        1 => (prop_oneof![Just("+"), Just("-"), Just("*"), Just("/")], word(), operand(), word())
             .prop_map(|(op, a, b, d)| format!("{op} {a} {b} {d}\n")),
+        // Instructions interpreted from native code only while their
+        // condition is ON (BCD faults above 9999).
+        1 => (prop_oneof![Just("BCD"), Just("BIN")], word(), word())
+            .prop_map(|(op, s, d)| format!("{op} {s} {d}\n")),
         1 => word().prop_map(|d| format!("INCP {d}\n")),
         2 => timer_counter(),
         2 => word_instruction(),
