@@ -22,9 +22,7 @@ use cranelift_codegen::ir::{
 use cranelift_frontend::{FunctionBuilder, Switch, Variable};
 use softplc_ir::ops::{CmpOp, Join};
 
-use crate::native::{
-    CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_REM, CX_SCAN_US, CX_TIMER_BASE_US, CX_WORDS,
-};
+use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_REM, CX_WORDS};
 use crate::plan::{Action, BitSrc, Chunk, CounterStep, Piece, Step, Store, TimerStep, WordSrc};
 use softplc_ir::word_op::Binary;
 
@@ -38,6 +36,15 @@ pub fn signature(call_conv: cranelift_codegen::isa::CallConv, ptr: Type) -> Sign
     sig
 }
 
+/// What a chunk's code calls besides the interpreter: the program's timer
+/// function (`shared`), and the address of each timer's descriptor by op
+/// index.
+#[derive(Clone, Copy)]
+pub struct Calls<'a> {
+    pub timer: FuncRef,
+    pub descs: &'a HashMap<u32, i64>,
+}
+
 /// The rung registers and device addresses as SSA variables.
 struct Gen<'a, 'b> {
     b: &'a mut FunctionBuilder<'b>,
@@ -45,6 +52,8 @@ struct Gen<'a, 'b> {
     ptr: Type,
     /// `native::exec_op`, imported into the function.
     exec_op: FuncRef,
+    /// The program's shared functions and descriptors.
+    calls: Calls<'a>,
     /// Dispatches on its parameter (an op index) to the entry there.
     dispatch: Block,
     bits: Variable,
@@ -129,7 +138,14 @@ pub fn trampoline(b: &mut FunctionBuilder, exec_op: FuncRef) {
 /// Emits the body of `chunk`'s function into `b` (an empty function of
 /// [`signature`]); `exec_op` calls the interpreter for one op (the
 /// trampoline).
-pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef, bit_len: u32) {
+pub fn build(
+    b: &mut FunctionBuilder,
+    chunk: &Chunk,
+    ptr: Type,
+    exec_op: FuncRef,
+    calls: Calls,
+    bit_len: u32,
+) {
     let start = b.create_block();
     b.append_block_params_for_function_params(start);
     b.switch_to_block(start);
@@ -142,6 +158,7 @@ pub fn build(b: &mut FunctionBuilder, chunk: &Chunk, ptr: Type, exec_op: FuncRef
         cx,
         ptr,
         exec_op,
+        calls,
         dispatch,
         bits: b.declare_var(ptr),
         words: b.declare_var(ptr),
@@ -750,6 +767,59 @@ impl Gen<'_, '_> {
         }
     }
 
+    /// `OUT T`/`OUT ST`: the two paths a timer takes on most scans inline
+    /// (OFF: the coil OFF and, unless it retains, the timer reset; ON and
+    /// up: the coil ON), the rest (ON and timing) a call of the program's
+    /// timer function (`shared::timer`), which returns 1 when the
+    /// interpreter must run the op (a negative set value in a word).
+    fn timer(&mut self, t: &TimerStep) {
+        self.forget_bit(t.coil);
+        self.forget_bit(t.contact);
+        self.forget_word(t.value);
+        let learn = std::mem::replace(&mut self.learn, false);
+        let (on, off) = self.branch_on_condition();
+        let merge = self.b.create_block();
+
+        self.b.switch_to_block(off);
+        let zero = self.b.ins().iconst(types::I32, 0);
+        self.raw_store_bit(t.coil, zero);
+        if !t.retentive {
+            self.store_word(t.value, zero, Form::Zext);
+            self.raw_store_bit(t.contact, zero);
+            let (base, off) = self.rem_addr(t.slot);
+            self.b.ins().store(flags(), zero, base, off);
+        }
+        self.b.ins().jump(merge, &[]);
+
+        // ON and up: the coil ON. A set value in a word is checked first
+        // (the function does; the interpreter faults when it is negative).
+        let timing = if let WordSrc::Const(_) = t.set {
+            self.b.switch_to_block(on);
+            let bits = self.b.use_var(self.bits);
+            let (base, off) = self.addr(bits, t.contact, 1);
+            let up = self.b.ins().uload8(types::I32, flags(), base, off);
+            let (is_up, timing) = (self.b.create_block(), self.b.create_block());
+            self.b.ins().brif(up, is_up, &[], timing, &[]);
+            self.b.seal_block(is_up);
+            self.b.seal_block(timing);
+            self.b.switch_to_block(is_up);
+            let one = self.b.ins().iconst(types::I32, 1);
+            self.raw_store_bit(t.coil, one);
+            self.b.ins().jump(merge, &[]);
+            timing
+        } else {
+            on
+        };
+
+        self.b.switch_to_block(timing);
+        let on = self.b.ins().iconst(types::I32, 1);
+        let f = self.calls.timer;
+        self.call_shared(f, t.pc, &[t.coil, t.contact], t.value, t.set, on, merge);
+        self.b.switch_to_block(merge);
+        self.b.seal_block(merge);
+        self.learn = learn;
+    }
+
     /// A set value: the constant (not negative, the plan checked), or the
     /// word, with a branch to the returned block (for [`Gen::slow_path`]:
     /// the interpreter runs the op, which faults) when it is negative. Leaves the builder on the fast path.
@@ -773,108 +843,6 @@ impl Gen<'_, '_> {
             self.b.switch_to_block(slow);
             self.run(pc, pc + 1);
             self.b.ins().jump(merge, &[]);
-        }
-    }
-
-    /// `OUT T` as `sequence::timer` does it: the coil follows the
-    /// condition; while ON and not yet up, the scan time accumulates in
-    /// the remainder and whole time-base units count up to the set value.
-    fn timer(&mut self, t: &TimerStep) {
-        self.forget_bit(t.coil);
-        self.forget_bit(t.contact);
-        self.forget_word(t.value);
-        let learn = std::mem::replace(&mut self.learn, false);
-        let (on, off) = self.branch_on_condition();
-        let merge = self.b.create_block();
-
-        // OFF: the coil OFF; a timer that does not retain is reset.
-        self.b.switch_to_block(off);
-        let zero = self.b.ins().iconst(types::I32, 0);
-        self.raw_store_bit(t.coil, zero);
-        if !t.retentive {
-            self.store_word(t.value, zero, Form::Zext);
-            self.raw_store_bit(t.contact, zero);
-            let (base, off) = self.rem_addr(t.slot);
-            self.b.ins().store(flags(), zero, base, off);
-        }
-        self.b.ins().jump(merge, &[]);
-
-        self.b.switch_to_block(on);
-        let (set, slow) = self.set_value(t.set);
-        let was_on = self.raw_load_bit(t.coil);
-        let one = self.b.ins().iconst(types::I32, 1);
-        self.raw_store_bit(t.coil, one);
-        let up = self.raw_load_bit(t.contact);
-        let counting = self.b.create_block();
-        self.b.ins().brif(up, merge, &[], counting, &[]);
-        self.b.seal_block(counting);
-
-        self.b.switch_to_block(counting);
-        let cur = self.word_signed(t.value);
-        let (accumulate, check) = (self.b.create_block(), self.b.create_block());
-        let cur_at_check = self.b.append_block_param(check, types::I32);
-        self.b
-            .ins()
-            .brif(was_on, accumulate, &[], check, &[cur.into()]);
-        self.b.seal_block(accumulate);
-
-        self.b.switch_to_block(accumulate);
-        let (rbase, roff) = self.rem_addr(t.slot);
-        // In 64 bits, as the interpreter adds them.
-        let rem = self.b.ins().uload32(flags(), rbase, roff);
-        let scan = self.b.ins().uload32(flags(), self.cx, CX_SCAN_US);
-        let base_off = CX_TIMER_BASE_US + 4 * i32::from(t.high_speed);
-        let base = self.b.ins().uload32(flags(), self.cx, base_off);
-        let total = self.b.ins().iadd(rem, scan);
-        let (under, over) = (self.b.create_block(), self.b.create_block());
-        let short = self.b.ins().icmp(IntCC::UnsignedLessThan, total, base);
-        self.b.ins().brif(short, under, &[], over, &[]);
-        self.b.seal_block(under);
-        self.b.seal_block(over);
-        // Less than one unit so far: no division.
-        self.b.switch_to_block(under);
-        let (rbase, roff) = self.rem_addr(t.slot);
-        self.b.ins().istore32(flags(), total, rbase, roff);
-        self.b.ins().jump(check, &[cur.into()]);
-        self.b.switch_to_block(over);
-        let units = self.b.ins().udiv(total, base);
-        let left = self.b.ins().urem(total, base);
-        let (rbase, roff) = self.rem_addr(t.slot);
-        self.b.ins().istore32(flags(), left, rbase, roff);
-        let cur64 = self.b.ins().sextend(types::I64, cur);
-        let sum = self.b.ins().iadd(cur64, units);
-        let max = self.b.ins().iconst(types::I64, 32767);
-        let sum = self.b.ins().smin(sum, max);
-        let sum = self.b.ins().ireduce(types::I32, sum);
-        self.b.ins().jump(check, &[sum.into()]);
-        self.b.seal_block(check);
-
-        // Up at the set value: the contact ON, the value the set value.
-        self.b.switch_to_block(check);
-        let (reach, store) = (self.b.create_block(), self.b.create_block());
-        let stored = self.b.append_block_param(store, types::I32);
-        let reached = self
-            .b
-            .ins()
-            .icmp(IntCC::SignedGreaterThanOrEqual, cur_at_check, set);
-        self.b
-            .ins()
-            .brif(reached, reach, &[], store, &[cur_at_check.into()]);
-        self.b.seal_block(reach);
-        self.b.switch_to_block(reach);
-        self.raw_store_bit(t.contact, one);
-        self.b.ins().jump(store, &[set.into()]);
-        self.b.seal_block(store);
-        self.b.switch_to_block(store);
-        self.store_word(t.value, stored, Form::Sext);
-        self.b.ins().jump(merge, &[]);
-
-        self.slow_path(slow, t.pc, merge);
-        self.b.switch_to_block(merge);
-        self.b.seal_block(merge);
-        self.learn = learn;
-        if slow.is_some() {
-            self.forget_all();
         }
     }
 
@@ -928,6 +896,43 @@ impl Gen<'_, '_> {
         }
     }
 
+    /// Calls `f` (a shared function) for op `pc` with `cond` and the op's
+    /// descriptor, and jumps to `merge` (after the interpreter ran the op
+    /// when `f` returned 1, for a set value in a word). `f` writes the bits
+    /// `bits` and the word `word`.
+    #[allow(clippy::too_many_arguments)]
+    fn call_shared(
+        &mut self,
+        f: FuncRef,
+        pc: u32,
+        bits: &[u32],
+        word: u32,
+        set: WordSrc,
+        cond: Value,
+        merge: Block,
+    ) {
+        for &i in bits {
+            self.forget_bit(i);
+        }
+        self.forget_word(word);
+        let desc = self.calls.descs.get(&pc).copied().unwrap_or(0);
+        let desc = self.b.ins().iconst(self.ptr, desc);
+        let call = self.b.ins().call(f, &[self.cx, cond, desc]);
+        for &i in bits {
+            self.note_store(i);
+        }
+        if let WordSrc::Word(_) = set {
+            let slow = self.b.inst_results(call)[0];
+            let run = self.b.create_block();
+            self.b.ins().brif(slow, run, &[], merge, &[]);
+            self.b.seal_block(run);
+            self.b.switch_to_block(run);
+            self.run(pc, pc + 1);
+            self.forget_all();
+        }
+        self.b.ins().jump(merge, &[]);
+    }
+
     /// MC: its bit ON while the condition is; with the condition OFF the
     /// interpreter runs it (and the ops up to MCR with conditions OFF).
     fn mc(&mut self, pc: u32, bit: u32) {
@@ -953,13 +958,6 @@ impl Gen<'_, '_> {
         self.b.seal_block(on);
         self.b.seal_block(off);
         (on, off)
-    }
-
-    /// Bit `i` from memory in a branch (nothing learnt).
-    fn raw_load_bit(&mut self, i: u32) -> Value {
-        let bits = self.b.use_var(self.bits);
-        let (base, off) = self.addr(bits, i, 1);
-        self.b.ins().uload8(types::I32, flags(), base, off)
     }
 
     /// Stores bit `i` in a branch (nothing learnt).

@@ -15,6 +15,7 @@ pub mod codegen;
 #[allow(unsafe_code)]
 mod native;
 pub mod plan;
+pub mod shared;
 
 use softplc_engine::tier::{ExecTier, NativeProgram};
 use softplc_ir::ops::Program;

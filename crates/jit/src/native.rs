@@ -13,7 +13,9 @@ use softplc_engine::tier::{Host, NativeProgram, NativeState, Regs, NO_REGION};
 use softplc_ir::ops::Program;
 
 use crate::codegen;
-use crate::plan::{Piece, Plan};
+use crate::plan::{Piece, Plan, Step};
+use crate::shared::{self, TimerDesc};
+use std::collections::HashMap;
 
 /// What a chunk function works on: the rung registers, the addresses of
 /// device bits (`bool`s), words and timer remainders, the timers' time
@@ -143,6 +145,9 @@ fn host_isa() -> Result<OwnedTargetIsa, String> {
 pub(crate) struct Compiled {
     /// Owns the executable memory the functions live in (freed on drop).
     module: Option<JITModule>,
+    /// The descriptors native code passes the timer function (by address:
+    /// kept here, never moved, for as long as the code).
+    _timers: Box<[(u32, TimerDesc)]>,
     fns: Vec<ChunkFn>,
     entries: Vec<u32>,
     native_ops: usize,
@@ -187,6 +192,26 @@ impl Compiled {
             .define_function(tramp_id, &mut ctx)
             .map_err(|e| err(&format!("{e:?}")))?;
         module.clear_context(&mut ctx);
+        // The timer function every chunk calls, and the descriptors it
+        // passes it (`descs` holds their final addresses: the box does not
+        // move).
+        let shared_sig = shared::signature(call_conv, ptr);
+        let timer_id = module
+            .declare_anonymous_function(&shared_sig)
+            .map_err(|e| err(&e))?;
+        ctx.func.signature = shared_sig.clone();
+        let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+        shared::timer(&mut b, ptr);
+        b.finalize(module.target_config());
+        module
+            .define_function(timer_id, &mut ctx)
+            .map_err(|e| err(&format!("{e:?}")))?;
+        module.clear_context(&mut ctx);
+        let timers = descriptors(plan);
+        let descs: HashMap<u32, i64> = timers
+            .iter()
+            .map(|(pc, d)| (*pc, std::ptr::from_ref(d) as i64))
+            .collect();
         let mut ids = Vec::new();
         let mut entries = vec![NO_REGION; prog.ops.len()];
         for chunk in &plan.chunks {
@@ -204,9 +229,14 @@ impl Compiled {
                 .map_err(|e| err(&e))?;
             ctx.func.signature = sig.clone();
             let tramp_ref = module.declare_func_in_func(tramp_id, &mut ctx.func);
+            let calls = codegen::Calls {
+                timer: module.declare_func_in_func(timer_id, &mut ctx.func),
+                descs: &descs,
+            };
             let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-            codegen::build(&mut b, chunk, ptr, tramp_ref, prog.bit_len);
+            codegen::build(&mut b, chunk, ptr, tramp_ref, calls, prog.bit_len);
             b.finalize(module.target_config());
+
             module
                 .define_function(id, &mut ctx)
                 .map_err(|e| err(&format!("{e:?}")))?;
@@ -231,6 +261,7 @@ impl Compiled {
             .collect();
         Ok(Compiled {
             module: Some(module),
+            _timers: timers,
             fns,
             entries,
             native_ops: plan.native.iter().filter(|n| **n).count(),
@@ -240,6 +271,18 @@ impl Compiled {
             timer_slots: plan.timer_slots as usize,
         })
     }
+}
+
+/// The descriptor of every timer native code runs, with its op.
+fn descriptors(plan: &Plan) -> Box<[(u32, TimerDesc)]> {
+    plan.chunks
+        .iter()
+        .flat_map(|c| &c.pieces)
+        .filter_map(|p| match p {
+            Piece::Step(Step::Timer(t)) => Some((t.pc, TimerDesc::of(t))),
+            _ => None,
+        })
+        .collect()
 }
 
 impl NativeProgram for Compiled {

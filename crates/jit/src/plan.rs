@@ -285,7 +285,7 @@ fn chunk_bounds(steps: &[Option<Step>]) -> Vec<(usize, usize)> {
 /// contact or coil, a MOV or an interpreted op: none or one).
 fn weight_of(s: &Step) -> usize {
     match s {
-        Step::Timer(_) => 12,
+        Step::Timer(_) => 5,
         Step::Counter(_) | Step::Mc { .. } => 4,
         _ => 1,
     }
