@@ -457,3 +457,33 @@ END
         assert_eq!((p.int("D4"), p.int("D5"), p.int("D6")), (1, 1, 1));
     });
 }
+
+#[test]
+fn a_program_of_many_chunks_compiled_on_several_threads() {
+    // 11,000 dependent MOVs and 200 timers: several chunks of native code
+    // (compiled on as many threads as the machine has), run in order.
+    let mut src = String::from("LD SM400\nMOV K7 D0\n");
+    for i in 0..11_000 {
+        src.push_str(&format!("MOV D{i} D{}\n", i + 1));
+    }
+    for i in 0..200 {
+        src.push_str(&format!("LD X1\nOUT T{i} K{}\n", i + 1));
+    }
+    src.push_str("END\n");
+    let [mut interp, mut jit] = both(&src, softplc_core::profile::default_config());
+    let stats = jit.cpu.use_tier(&Jit::with_min_run(1)).unwrap().clone();
+    assert_eq!(stats.native_ops, stats.ops - 1, "{stats:?}");
+    for p in [&mut interp, &mut jit] {
+        p.scan();
+        assert_eq!((p.int("D5000"), p.int("D11000")), (7, 7));
+        // 10 ms scans with X1 ON: the 100 ms timers count from the scan
+        // after their coil turned ON, 200 ms after 21 scans: T0 (K1) and
+        // T1 (K2) are up, T2 (K3) at 2, T199 at 2.
+        p.set("X1", "1").scans(21);
+        let t = |p: &Plc, i: u32| (p.int(&format!("TN{i}")), p.bit(&format!("TS{i}")));
+        assert_eq!(
+            [t(p, 0), t(p, 1), t(p, 2), t(p, 199)],
+            [(1, true), (2, true), (2, false), (2, false)]
+        );
+    }
+}

@@ -6,9 +6,12 @@ use cranelift_codegen::settings::{self, Configurable};
 use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use std::mem::offset_of;
 
+use cranelift_codegen::control::ControlPlane;
 use cranelift_codegen::ir::{types, AbiParam, Signature};
+use cranelift_codegen::isa::TargetIsa;
+use cranelift_codegen::Context;
 use cranelift_jit::{ArenaMemoryProvider, JITBuilder, JITModule};
-use cranelift_module::{default_libcall_names, Linkage, Module};
+use cranelift_module::{default_libcall_names, FuncId, Linkage, Module, ModuleReloc};
 use softplc_engine::tier::{Host, NativeProgram, NativeState, Regs, NO_REGION};
 use softplc_ir::ops::Program;
 
@@ -70,6 +73,9 @@ type ChunkFn = unsafe extern "C" fn(*mut Ctx, u32) -> u32;
 const EXEC_OP: &str = "softplc_exec_op";
 /// The JIT function that calls [`exec_op`] for every chunk (`codegen::trampoline`).
 const TRAMPOLINE: &str = "softplc_exec_trampoline";
+
+/// Most threads a program's chunks are compiled on.
+const COMPILE_THREADS: usize = 8;
 
 /// Address space reserved for a program's code: a base and an allowance per
 /// op (a call of the interpreter takes about 60 bytes, a jump-table entry 4),
@@ -212,13 +218,15 @@ impl Compiled {
             .iter()
             .map(|(pc, d)| (*pc, std::ptr::from_ref(d) as i64))
             .collect();
-        let mut ids = Vec::new();
         let mut entries = vec![NO_REGION; prog.ops.len()];
+        // Each chunk's function as IR, in order (declaring it and what it
+        // calls needs the module), each in its own context.
+        let mut funcs = Vec::new();
         for chunk in &plan.chunks {
             if !chunk.pieces.iter().any(|p| matches!(p, Piece::Entry(_))) {
                 continue;
             }
-            let unit = ids.len() as u32;
+            let unit = funcs.len() as u32;
             for p in &chunk.pieces {
                 if let Piece::Entry(pc) = p {
                     entries[*pc as usize] = unit;
@@ -227,6 +235,7 @@ impl Compiled {
             let id = module
                 .declare_anonymous_function(&sig)
                 .map_err(|e| err(&e))?;
+            let mut ctx = module.make_context();
             ctx.func.signature = sig.clone();
             let tramp_ref = module.declare_func_in_func(tramp_id, &mut ctx.func);
             let calls = codegen::Calls {
@@ -236,17 +245,27 @@ impl Compiled {
             let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
             codegen::build(&mut b, chunk, ptr, tramp_ref, calls, prog.bit_len);
             b.finalize(module.target_config());
-
-            module
-                .define_function(id, &mut ctx)
-                .map_err(|e| err(&format!("{e:?}")))?;
-            // A fresh context per function: the register allocator's
-            // scratch sets keep the size the largest function gave them, and
-            // are cleared whole for each of its steps (timers compiled at
-            // ~60 us each with one context for the program).
-            ctx = module.make_context();
-            ids.push(id);
+            funcs.push((id, ctx));
         }
+        // Compiled on every core (most of the time is Cranelift's), then
+        // placed in the module in order.
+        compile_all(module.isa(), &mut funcs).map_err(|e| err(&e))?;
+        for (id, ctx) in &funcs {
+            let code = ctx
+                .compiled_code()
+                .ok_or_else(|| err(&"a chunk was not compiled"))?;
+            let relocs: Vec<ModuleReloc> = code
+                .buffer
+                .relocs()
+                .iter()
+                .map(|r| ModuleReloc::from_mach_reloc(r, &ctx.func, *id))
+                .collect();
+            let align = u64::from(code.buffer.alignment);
+            module
+                .define_function_bytes(*id, align, code.code_buffer(), &relocs)
+                .map_err(|e| err(&e))?;
+        }
+        let ids: Vec<FuncId> = funcs.iter().map(|(id, _)| *id).collect();
         module.finalize_definitions().map_err(|e| err(&e))?;
         let fns = ids
             .iter()
@@ -271,6 +290,37 @@ impl Compiled {
             timer_slots: plan.timer_slots as usize,
         })
     }
+}
+
+/// Compiles every context's function, on as many threads as the machine
+/// has cores (at most [`COMPILE_THREADS`]), each taking a share of
+/// consecutive functions.
+fn compile_all(isa: &dyn TargetIsa, funcs: &mut [(FuncId, Context)]) -> Result<(), String> {
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, COMPILE_THREADS)
+        .min(funcs.len().max(1));
+    let compile = |share: &mut [(FuncId, Context)]| -> Result<(), String> {
+        for (_, ctx) in share {
+            ctx.compile(isa, &mut ControlPlane::default())
+                .map_err(|e| format!("{:?}", e.inner))?;
+        }
+        Ok(())
+    };
+    if threads == 1 {
+        return compile(funcs);
+    }
+    let per = funcs.len().div_ceil(threads);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = funcs
+            .chunks_mut(per)
+            .map(|share| s.spawn(move || compile(share)))
+            .collect();
+        handles.into_iter().try_for_each(|h| {
+            h.join()
+                .unwrap_or_else(|_| Err("a compile thread panicked".into()))
+        })
+    })
 }
 
 /// The descriptor of every timer native code runs, with its op.
