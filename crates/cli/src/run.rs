@@ -132,7 +132,7 @@ fn why_interpreted(s: &softplc_core::engine::tier::TierStats) -> String {
     }
     if other > 0 {
         why.push(format!(
-            "{other} with no native form (only contacts, coils, comparisons, timers, counters, MC/MCR, MOV/DMOV, +, -, INC, DEC, WAND, WOR, WXOR, BSET and BRST on plain devices and constants have one; native code calls the others, and skips those that act only while their condition is ON when it is OFF)"
+            "{other} with no native form (only contacts and their edge forms, coils, PLS/PLF, MEP/MEF, comparisons, timers, counters, MC/MCR, MOV/DMOV, +, -, INC, DEC, WAND, WOR, WXOR, BSET and BRST on plain devices and constants have one; native code calls the others, and skips those that act only while their condition is ON when it is OFF)"
         ));
     }
     if why.is_empty() {

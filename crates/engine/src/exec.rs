@@ -715,6 +715,7 @@ impl Host for Callback<'_> {
         NativeState {
             mem: &mut rt.mem,
             timer_rem: &mut rt.cpu.timer_rem,
+            edges: &mut self.locals[self.k.cur].edges,
             timer_base_us: rt.timer_base_us,
             scan_us: rt.scan_us,
         }

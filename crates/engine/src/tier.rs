@@ -50,6 +50,8 @@ pub struct NativeState<'a> {
     pub timer_base_us: [u32; 2],
     /// The scan time timers count this pass, µs.
     pub scan_us: u32,
+    /// The running program's edge memories (LDP/LDF, PLS/PLF, MEP/MEF).
+    pub edges: &'a mut [bool],
 }
 
 /// The interpreter as native code sees it while a region runs.

@@ -22,7 +22,7 @@ use cranelift_codegen::ir::{
 use cranelift_frontend::{FunctionBuilder, Switch, Variable};
 use softplc_ir::ops::{CmpOp, Join};
 
-use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_MC_ON, CX_MPS, CX_REM, CX_WORDS};
+use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_EDGES, CX_MC_ON, CX_MPS, CX_REM, CX_WORDS};
 use crate::plan::{Action, BitSrc, Chunk, CounterStep, Piece, Step, Store, TimerStep, WordSrc};
 use softplc_ir::word_op::Binary;
 
@@ -60,6 +60,8 @@ struct Gen<'a, 'b> {
     words: Variable,
     /// The timers' sub-unit remainders (`u32`s).
     rem: Variable,
+    /// The program's edge memories (`bool`s).
+    edges: Variable,
     acc: Variable,
     blocks: Variable,
     mps: Variable,
@@ -163,6 +165,7 @@ pub fn build(
         bits: b.declare_var(ptr),
         words: b.declare_var(ptr),
         rem: b.declare_var(ptr),
+        edges: b.declare_var(ptr),
         acc: b.declare_var(types::I32),
         blocks: b.declare_var(types::I32),
         mps: b.declare_var(types::I32),
@@ -249,6 +252,7 @@ impl Gen<'_, '_> {
             (self.bits, CX_BITS),
             (self.words, CX_WORDS),
             (self.rem, CX_REM),
+            (self.edges, CX_EDGES),
         ] {
             let v = self.b.ins().load(self.ptr, flags(), self.cx, off);
             self.b.def_var(var, v);
@@ -323,6 +327,18 @@ impl Gen<'_, '_> {
         self.b.switch_to_block(after);
         self.b.seal_block(after);
         self.forget_all();
+    }
+
+    /// `now` (0/1) into edge memory `slot`, and its rising (`now` and not
+    /// before) or falling edge against the value it held.
+    fn edge(&mut self, slot: u32, now: Value, rising: bool) -> Value {
+        let edges = self.b.use_var(self.edges);
+        let (base, off) = self.addr(edges, slot, 1);
+        let before = self.b.ins().uload8(types::I32, flags(), base, off);
+        self.b.ins().istore8(flags(), now, base, off);
+        let (on, was) = if rising { (now, before) } else { (before, now) };
+        let not_was = self.b.ins().bxor_imm_s(was, 1);
+        self.b.ins().band(on, not_was)
     }
 
     /// The address of `base[index]` with elements of `size` bytes.
@@ -576,6 +592,40 @@ impl Gen<'_, '_> {
                     }
                     (false, join) => self.join(join, v),
                 }
+            }
+            Step::EdgeContact {
+                join,
+                negate,
+                rising,
+                src,
+                slot,
+            } => {
+                let v = match *src {
+                    BitSrc::Bit(i) => self.bit(i),
+                    BitSrc::WordBit(w, bit) => {
+                        let v = self.word_raw(w);
+                        self.b.ins().ushr_imm_s(v, i64::from(bit))
+                    }
+                };
+                let v = self.b.ins().band_imm_s(v, 1);
+                let e = self.edge(*slot, v, *rising);
+                let e = if *negate {
+                    self.b.ins().bxor_imm_s(e, 1)
+                } else {
+                    e
+                };
+                self.join(*join, e);
+            }
+            Step::EdgeOfResult { rising, slot } => {
+                let a = self.acc_bit();
+                let e = self.edge(*slot, a, *rising);
+                self.b.def_var(self.acc, e);
+            }
+            Step::PulseCoil { rising, slot, bit } => {
+                let a = self.acc_bit();
+                let e = self.edge(*slot, a, *rising);
+                self.forget_bit(*bit);
+                self.store_bit(*bit, e);
             }
             Step::Compare {
                 join,

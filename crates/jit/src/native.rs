@@ -36,6 +36,7 @@ struct Mem {
     bits: *mut u8,
     words: *mut u16,
     rem: *mut u32,
+    edges: *mut u8,
     timer_base_us: [u32; 2],
     scan_us: u32,
 }
@@ -48,6 +49,7 @@ impl Mem {
             bits: st.mem.bits.as_mut_ptr().cast::<u8>(),
             words: st.mem.words.as_mut_ptr(),
             rem: st.timer_rem.as_mut_ptr(),
+            edges: st.edges.as_mut_ptr().cast::<u8>(),
             timer_base_us: st.timer_base_us,
             scan_us: st.scan_us,
         }
@@ -62,6 +64,7 @@ pub(crate) const CX_MC_ON: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mc_on
 pub(crate) const CX_BITS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, bits)) as i32;
 pub(crate) const CX_WORDS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, words)) as i32;
 pub(crate) const CX_REM: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, rem)) as i32;
+pub(crate) const CX_EDGES: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, edges)) as i32;
 pub(crate) const CX_TIMER_BASE_US: i32 =
     (offset_of!(Ctx, mem) + offset_of!(Mem, timer_base_us)) as i32;
 pub(crate) const CX_SCAN_US: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, scan_us)) as i32;
@@ -163,6 +166,8 @@ pub(crate) struct Compiled {
     word_len: usize,
     /// Timer remainders native code uses: all are below this.
     timer_slots: usize,
+    /// Edge memories native code uses: all are below this.
+    edge_slots: usize,
 }
 
 impl Compiled {
@@ -288,6 +293,7 @@ impl Compiled {
             bit_len: prog.bit_len as usize,
             word_len: prog.word_len as usize,
             timer_slots: plan.timer_slots as usize,
+            edge_slots: prog.edge_slots as usize,
         })
     }
 }
@@ -348,6 +354,7 @@ impl NativeProgram for Compiled {
         if st.mem.bits.len() != self.bit_len
             || st.mem.words.len() != self.word_len
             || st.timer_rem.len() < self.timer_slots
+            || st.edges.len() < self.edge_slots
             || st.timer_base_us.contains(&0)
         {
             return pc;
@@ -366,8 +373,8 @@ impl NativeProgram for Compiled {
         };
         // SAFETY: `f` is this program's code (`new`) and follows `ChunkFn`.
         // It reads and writes `cx.regs` and only elements of `bits`/`words`/
-        // `rem` whose indices the plan checked against `bit_len`/`word_len`/
-        // `timer_slots`, the (least) lengths of the host's slices (tested
+        // `rem`/`edges` whose indices the plan checked against `bit_len`/
+        // `word_len`/`timer_slots`/`edge_slots`, the (least) lengths of the host's slices (tested
         // above; they never change size), through the addresses in `cx`,
         // which `exec_op` renews after every call into the host; it divides
         // only by a time base, not 0 (tested above); a bit below `bit_len - 3` may be read

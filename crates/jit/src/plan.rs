@@ -3,14 +3,15 @@
 //! the interpreter runs between native regions.
 //!
 //! Native can be only ops that touch nothing but the rung registers, plain
-//! device indices and the timers' remainders: contacts and coils on plain
-//! bits (or a word's bit), the ANB/ORB block stack and MPS stack, 16/32-bit
+//! device indices, the timers' remainders and the program's edge memories:
+//! contacts (and LDP/LDF/ANDP…) and coils (and PLS/PLF) on plain bits (or a
+//! word's bit), MEP/MEF, the ANB/ORB block stack and MPS stack, 16/32-bit
 //! comparison contacts, MOV/DMOV, the word instructions an instruction
 //! describes as a [`WordOp`] (+, -, INC, DEC, WAND, WOR, WXOR, BSET, BRST,
 //! RST of a timer or counter), timers and counters, and MC/MCR, all on plain
 //! words and constants. Those that can fault (a negative set value read from
 //! a word) or change the conditions (an MC turning them OFF) have the
-//! interpreter run the op on that path. Every other op (edges, pulse forms,
+//! interpreter run the op on that path. Every other op (FF, pulse forms,
 //! other application instructions, index modification, jumps, calls,
 //! FOR/NEXT, END) runs in the interpreter with its one implementation.
 //!
@@ -131,6 +132,27 @@ pub enum Step {
         a: WordSrc,
         b: WordSrc,
     },
+    /// LDP/LDF/ANDP/ORF…: the bit's rising or falling edge against its
+    /// edge memory `slot`, negated or not, joined into the result.
+    EdgeContact {
+        join: Join,
+        negate: bool,
+        rising: bool,
+        src: BitSrc,
+        slot: u32,
+    },
+    /// MEP/MEF: the operation result's rising or falling edge.
+    EdgeOfResult {
+        rising: bool,
+        slot: u32,
+    },
+    /// PLS/PLF: the bit ON for one scan from the condition's rising or
+    /// falling edge.
+    PulseCoil {
+        rising: bool,
+        slot: u32,
+        bit: u32,
+    },
     Push,
     Anb,
     Orb,
@@ -208,6 +230,7 @@ pub fn plan(prog: &Program, min_run: usize) -> Plan {
     let lim = Limits {
         bits: prog.bit_len,
         words: prog.word_len,
+        edges: prog.edge_slots,
     };
     let mut steps: Vec<Option<Step>> = prog
         .ops
@@ -428,9 +451,14 @@ fn targets(prog: &Program) -> Vec<bool> {
 struct Limits {
     bits: u32,
     words: u32,
+    edges: u32,
 }
 
 impl Limits {
+    fn edge(self, s: u32) -> Option<u32> {
+        (s < self.edges).then_some(s)
+    }
+
     fn bit(self, i: u32) -> Option<u32> {
         (i < self.bits).then_some(i)
     }
@@ -488,10 +516,27 @@ fn step(pc: u32, op: &Op, prog: &Program, lim: Limits) -> Option<Step> {
         Op::Ani(i) => return contact(Join::And, true, *i, lim),
         Op::Or(i) => return contact(Join::Or, false, *i, lim),
         Op::Ori(i) => return contact(Join::Or, true, *i, lim),
-        Op::Contact(c) if c.edge == Edge::None => Step::Contact {
-            join: c.join,
-            negate: c.negate,
-            src: lim.bit_src(&c.src)?,
+        Op::Contact(c) => match c.edge {
+            Edge::None => Step::Contact {
+                join: c.join,
+                negate: c.negate,
+                src: lim.bit_src(&c.src)?,
+            },
+            Edge::Rising | Edge::Falling => Step::EdgeContact {
+                join: c.join,
+                negate: c.negate,
+                rising: c.edge == Edge::Rising,
+                src: lim.bit_src(&c.src)?,
+                slot: lim.edge(c.slot)?,
+            },
+        },
+        Op::Mep(s) => Step::EdgeOfResult {
+            rising: true,
+            slot: lim.edge(*s)?,
+        },
+        Op::Mef(s) => Step::EdgeOfResult {
+            rising: false,
+            slot: lim.edge(*s)?,
         },
         Op::Compare(c) => compare(c, lim)?,
         Op::Push => Step::Push,
@@ -509,7 +554,17 @@ fn step(pc: u32, op: &Op, prog: &Program, lim: Limits) -> Option<Step> {
                 CoilKind::Out => Store::Out,
                 CoilKind::Set => Store::Set,
                 CoilKind::Rst => Store::Rst,
-                CoilKind::Pls(_) | CoilKind::Plf(_) | CoilKind::Ff(_) => return None,
+                CoilKind::Pls(s) | CoilKind::Plf(s) => {
+                    let BitArg::Bit(i) = c.dst else {
+                        return None;
+                    };
+                    return Some(Step::PulseCoil {
+                        rising: matches!(c.kind, CoilKind::Pls(_)),
+                        slot: lim.edge(s)?,
+                        bit: lim.bit(i)?,
+                    });
+                }
+                CoilKind::Ff(_) => return None,
             };
             match c.dst {
                 BitArg::Bit(i) => return coil(store, i, lim),

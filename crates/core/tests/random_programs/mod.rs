@@ -119,28 +119,38 @@ fn word_instruction() -> impl Strategy<Value = String> {
 
 fn contact_chain() -> impl Strategy<Value = String> {
     (
-        prop_oneof![Just("LD"), Just("LDI")],
+        prop_oneof![4 => Just("LD"), 2 => Just("LDI"), 1 => Just("LDP"), 1 => Just("LDF")],
         bit(),
         prop::collection::vec(
-            (
-                prop_oneof![Just("AND"), Just("ANI"), Just("OR"), Just("ORI")],
-                bit(),
-            ),
+            prop_oneof![
+                8 => (
+                    prop_oneof![Just("AND"), Just("ANI"), Just("OR"), Just("ORI")],
+                    bit(),
+                )
+                    .prop_map(|(m, b)| format!("{m} {b}\n")),
+                2 => (
+                    prop_oneof![Just("ANDP"), Just("ANDF"), Just("ORP"), Just("ORF")],
+                    bit(),
+                )
+                    .prop_map(|(m, b)| format!("{m} {b}\n")),
+                // Edges of the operation result so far.
+                1 => prop_oneof![Just("MEP\n".to_string()), Just("MEF\n".to_string())],
+            ],
             0..4,
         ),
     )
-        .prop_map(|(first, b, rest)| {
-            let mut s = format!("{first} {b}\n");
-            for (m, b) in rest {
-                s += &format!("{m} {b}\n");
-            }
-            s
-        })
+        .prop_map(|(first, b, rest)| format!("{first} {b}\n{}", rest.concat()))
 }
 
 fn coil() -> impl Strategy<Value = String> {
     (
-        prop_oneof![Just("OUT"), Just("SET"), Just("RST"), Just("PLS")],
+        prop_oneof![
+            Just("OUT"),
+            Just("SET"),
+            Just("RST"),
+            Just("PLS"),
+            Just("PLF")
+        ],
         dest_bit(),
     )
         .prop_map(|(c, d)| format!("{c} {d}\n"))
