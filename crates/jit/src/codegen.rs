@@ -20,9 +20,10 @@ use cranelift_codegen::ir::{
     types, AbiParam, Block, FuncRef, InstBuilder, MemFlagsData, Signature, Type, Value,
 };
 use cranelift_frontend::{FunctionBuilder, Switch, Variable};
+use softplc_engine::tier::LEAVE;
 use softplc_ir::ops::{CmpOp, Join};
 
-use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_EDGES, CX_MC_ON, CX_MPS, CX_REM, CX_WORDS};
+use crate::native::{CX_ACC, CX_BITS, CX_BLOCKS, CX_EDGES, CX_MPS, CX_REM, CX_WORDS, OFF_MARK};
 use crate::plan::{Action, BitSrc, Chunk, CounterStep, Piece, Step, Store, TimerStep, WordSrc};
 use softplc_ir::word_op::Binary;
 
@@ -54,8 +55,9 @@ struct Gen<'a, 'b> {
     exec_op: FuncRef,
     /// The program's shared functions and descriptors.
     calls: Calls<'a>,
-    /// Dispatches on its parameter (an op index) to the entry there.
-    dispatch: Block,
+    /// Where a stretch of the interpreter came back with another op than
+    /// its end (its parameter, as `native::exec_op` returns it).
+    came_back: Block,
     bits: Variable,
     words: Variable,
     /// The timers' sub-unit remainders (`u32`s).
@@ -156,12 +158,14 @@ pub fn build(
     let (cx, pc) = (p[0], p[1]);
     let dispatch = b.create_block();
     let target = b.append_block_param(dispatch, types::I32);
+    let came_back = b.create_block();
+    let back_at = b.append_block_param(came_back, types::I32);
     let mut g = Gen {
         cx,
         ptr,
         exec_op,
         calls,
-        dispatch,
+        came_back,
         bits: b.declare_var(ptr),
         words: b.declare_var(ptr),
         rem: b.declare_var(ptr),
@@ -230,7 +234,31 @@ pub fn build(
             }
         }
     }
-    // The dispatch and entry blocks, whose predecessors are known only now
+    // Back from a stretch elsewhere than its end: to the interpreter when
+    // it left conditions OFF (the registers in `cx` are its own), else on
+    // at that op (a jump within the chunk stays in native code).
+    g.b.switch_to_block(came_back);
+    let (off, on) = (g.b.create_block(), g.b.create_block());
+    let marked = g.b.ins().icmp_imm_u(
+        IntCC::UnsignedGreaterThanOrEqual,
+        back_at,
+        i64::from(OFF_MARK),
+    );
+    let not_left =
+        g.b.ins()
+            .icmp_imm_u(IntCC::NotEqual, back_at, i64::from(LEAVE));
+    let return_now = g.b.ins().band(marked, not_left);
+    g.b.ins().brif(return_now, off, &[], on, &[]);
+    g.b.seal_block(off);
+    g.b.seal_block(on);
+    g.b.switch_to_block(off);
+    let at = g.b.ins().band_imm_u(back_at, i64::from(!OFF_MARK));
+    g.b.ins().return_(&[at]);
+    g.b.switch_to_block(on);
+    g.load_regs();
+    g.b.ins().jump(dispatch, &[back_at.into()]);
+
+    // The dispatch, entry and came-back blocks, whose predecessors are known only now
     // (every other block is sealed as soon as they are: a block left
     // unsealed takes a parameter for every variable it uses, which made
     // compiling timers and counters 20 times slower).
@@ -282,36 +310,24 @@ impl Gen<'_, '_> {
     }
 
     /// The interpreter runs ops `from..to`; on natively when it returns
-    /// `to`, else dispatch on the op it returned, but return to the
-    /// interpreter at once when the stretch turned conditions OFF (an MC):
-    /// native code runs only while they are not (`NativeProgram::run`).
+    /// `to`, else on at the chunk's `came_back`: back to the interpreter when
+    /// the stretch turned conditions OFF (an MC; native code runs only while
+    /// they are not, `NativeProgram::run`), else a dispatch on the op.
     fn run(&mut self, from: u32, to: u32) {
         self.store_regs();
         let from = self.b.ins().iconst(types::I32, i64::from(from));
         let to_v = self.b.ins().iconst(types::I32, i64::from(to));
         let call = self.b.ins().call(self.exec_op, &[self.cx, from, to_v]);
         let next = self.b.inst_results(call)[0];
-        let mc_on = self.b.ins().load(types::I32, flags(), self.cx, CX_MC_ON);
-        let (on, check, off) = (
-            self.b.create_block(),
-            self.b.create_block(),
-            self.b.create_block(),
-        );
-        self.b.ins().brif(mc_on, check, &[], off, &[]);
-        self.b.seal_block(check);
-        self.b.seal_block(off);
-        // The registers in `cx` are the interpreter's: nothing to store.
-        self.b.switch_to_block(off);
-        self.b.ins().return_(&[next]);
-        self.b.switch_to_block(check);
-        self.load_regs();
-        self.forget_all();
+        let on = self.b.create_block();
         let straight = self.b.ins().icmp_imm_u(IntCC::Equal, next, i64::from(to));
         self.b
             .ins()
-            .brif(straight, on, &[], self.dispatch, &[next.into()]);
+            .brif(straight, on, &[], self.came_back, &[next.into()]);
         self.b.switch_to_block(on);
         self.b.seal_block(on);
+        self.load_regs();
+        self.forget_all();
     }
 
     /// [`Gen::run`] only while the condition is ON: for a stretch of

@@ -12,7 +12,7 @@ use cranelift_codegen::isa::TargetIsa;
 use cranelift_codegen::Context;
 use cranelift_jit::{ArenaMemoryProvider, JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module, ModuleReloc};
-use softplc_engine::tier::{Host, NativeProgram, NativeState, Regs, NO_REGION};
+use softplc_engine::tier::{Host, NativeProgram, NativeState, Regs, LEAVE, NO_REGION};
 use softplc_ir::ops::Program;
 
 use crate::codegen;
@@ -60,7 +60,6 @@ impl Mem {
 pub(crate) const CX_ACC: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, acc)) as i32;
 pub(crate) const CX_BLOCKS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, blocks)) as i32;
 pub(crate) const CX_MPS: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mps)) as i32;
-pub(crate) const CX_MC_ON: i32 = (offset_of!(Ctx, regs) + offset_of!(Regs, mc_on)) as i32;
 pub(crate) const CX_BITS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, bits)) as i32;
 pub(crate) const CX_WORDS: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, words)) as i32;
 pub(crate) const CX_REM: i32 = (offset_of!(Ctx, mem) + offset_of!(Mem, rem)) as i32;
@@ -99,8 +98,18 @@ extern "C" fn exec_op(cx: *mut Ctx, from: u32, to: u32) -> u32 {
     // The interpreter had the memory mutably: native code goes on with its
     // addresses as of now (the slices never change size).
     cx.mem = Mem::of(host.state());
-    next
+    // A stretch that turned conditions OFF (an MC) returns to the
+    // interpreter: marked, so that the call site tests one value.
+    if cx.regs.mc_on == 0 && next != LEAVE {
+        next | OFF_MARK
+    } else {
+        next
+    }
 }
+
+/// Marks the op [`exec_op`] returns when conditions are OFF after the
+/// stretch: native code returns it (unmarked) to the interpreter.
+pub(crate) const OFF_MARK: u32 = 1 << 31;
 
 /// [`exec_op`]'s signature on the host's calling convention.
 fn exec_op_signature(call_conv: cranelift_codegen::isa::CallConv, ptr: types::Type) -> Signature {
