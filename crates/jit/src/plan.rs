@@ -323,9 +323,11 @@ fn runs_only_when_on(op: &Op) -> bool {
 
 /// Leaves to the interpreter native runs of one chunk that are too short to
 /// pay for the calls around them (not a chunk that is one short run). A run
-/// goes on across instructions that run only while their condition is ON
+/// goes on across instructions that act only while their condition is ON
 /// (`guarded`): native code tests the condition and calls the interpreter
-/// only then, which costs nothing while it is OFF.
+/// only then. Such a call costs what an interpreted stretch's does, but only
+/// while the condition is ON: each asks for half [`MIN_RUN`]'s native ops
+/// more (`min_run` 1 asks for none).
 fn drop_short_runs(steps: &mut [Option<Step>], guarded: &[bool], min_run: usize) {
     let n = steps.len();
     let mut pc = 0;
@@ -337,8 +339,19 @@ fn drop_short_runs(steps: &mut [Option<Step>], guarded: &[bool], min_run: usize)
         let len = (pc..n)
             .take_while(|i| steps[*i].is_some() || guarded[*i])
             .count();
-        let native = steps[pc..pc + len].iter().filter(|s| s.is_some()).count();
-        if native < min_run && len < n {
+        let run = &steps[pc..pc + len];
+        let native = run.iter().filter(|s| s.is_some()).count();
+        // Guarded stretches: a guarded op after a native one.
+        let calls = run
+            .windows(2)
+            .filter(|w| w[0].is_some() && w[1].is_none())
+            .count();
+        let need = if min_run > 1 {
+            min_run + min_run * calls / 2
+        } else {
+            1
+        };
+        if native < need && len < n {
             steps[pc..pc + len].fill(None);
         }
         pc += len;
@@ -846,9 +859,11 @@ mod tests {
 
     #[test]
     fn instructions_that_run_only_when_on_do_not_break_native_runs() {
-        // Half a run, an application instruction, half a run, then one
-        // that also acts while OFF (a pulse gate): only the first joins.
-        let h = MIN_RUN as u32 / 2;
+        // Three quarters of a run, two application instructions, three
+        // quarters of a run (together a run, and half one more for the
+        // call), then one that also acts while OFF (a pulse gate): only the
+        // first joins.
+        let h = MIN_RUN as u32 * 3 / 4;
         let mut ops = contacts(h);
         ops.push(Op::Ext(0));
         ops.push(Op::Ext(1));
