@@ -281,6 +281,8 @@ impl Cpu {
             inputs: vec![false; x].into_boxed_slice(),
             input_spans: rack::input_spans(&cfg.rack, x as u32),
             forces: Vec::new(),
+            programs_write_x: programs.iter().any(|p| p.may_write_x),
+            x_holds_image: false,
             local_devices,
             system: cfg.system.clone(),
         };

@@ -19,6 +19,8 @@ impl Cpu {
     fn scan_untold(&mut self) {
         let now = self.clock.now_us();
         if self.state != CpuState::Run {
+            // Leaving STOP/PAUSE the first scan refreshes the inputs in full.
+            self.rt.x_touched();
             self.last_end_us = now;
             // The modules go on while the CPU is stopped.
             self.modules_end(now);
@@ -31,7 +33,7 @@ impl Cpu {
         self.low_used_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
-        self.rt.refresh_inputs();
+        self.rt.scan_input_refresh();
         self.interrupt_module_edges();
         if !self.rt.forces.is_empty() {
             self.unforce_outputs();
