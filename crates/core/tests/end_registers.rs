@@ -78,3 +78,23 @@ fn clock_registers_follow_the_calendar_across_a_second_boundary() {
     p.set("SM213", "0").scans(100);
     assert_eq!(p.int("SD212"), 0x0001);
 }
+
+#[test]
+fn a_cpu_with_fewer_sm_and_sd_points_gets_the_registers_it_has() {
+    use softplc_core::device::DeviceKind;
+    // SM0-SM409 and SD0-SD529: SM400-SM409 and SD520-SD529 are written,
+    // the rest of each group does not exist.
+    let mut cfg = softplc_core::profile::default_config();
+    cfg.devices.set_points(DeviceKind::SM, 410);
+    cfg.devices.set_points(DeviceKind::SD, 530);
+    let mut p = Plc::with_config("LD SM400\nOUT M0\nLD SM403\nOUT M1\nEND\n", cfg);
+    p.scans(2);
+    assert!(p.bit("M0") && p.bit("M1"));
+    assert!(p.bit("SM400") && !p.bit("SM402") && p.bit("SM403"));
+    // 20 ms since power-on: the 10 ms clock SM409 ((20000 / 5000) & 1) OFF.
+    assert!(!p.bit("SM409"));
+    assert_eq!((p.int("SD520"), p.int("SD521")), (10, 0));
+    assert_eq!((p.int("SD524"), p.int("SD526")), (10, 10));
+    assert_eq!((p.int("SD420"), p.int("SD412")), (2, 0));
+    assert_eq!(p.int("SD203"), 0);
+}

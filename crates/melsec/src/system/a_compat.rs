@@ -321,7 +321,9 @@ pub(crate) fn refresh(sys: &mut Sys<'_>) {
 /// After the operating status changed (also in STOP, where no END runs):
 /// SD1015, the only A-series device SD203 feeds.
 pub(crate) fn status(sys: &mut Sys<'_>) {
-    copy(sys, &[OPERATING_STATUS]);
+    let m = OPERATING_STATUS;
+    let v = sys.sd(m.q);
+    sys.set_sd(m.a, v);
 }
 
 /// SD1010 (D9010): the step of an operation error, in binary, updated at

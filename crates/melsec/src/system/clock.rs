@@ -44,6 +44,7 @@ pub(crate) const A_SERIES: Registers = Registers {
 
 /// The clock registers `regs`; `set_before` is the set request at the
 /// previous END. Returns the set request.
+#[inline]
 pub(crate) fn registers(
     sys: &mut Sys<'_>,
     regs: Registers,

@@ -64,6 +64,19 @@ impl<'a> Sys<'a> {
         }
     }
 
+    /// SM`first`-SM`first + N - 1` as an array when the CPU has them all:
+    /// writes at constant places in it need no check each.
+    #[inline]
+    pub(crate) fn sm_window<const N: usize>(&mut self, first: usize) -> Option<&mut [bool; N]> {
+        self.sm.get_mut(first..first + N)?.try_into().ok()
+    }
+
+    /// SD`first`-SD`first + N - 1` as an array, as [`Sys::sm_window`].
+    #[inline]
+    pub(crate) fn sd_window<const N: usize>(&mut self, first: usize) -> Option<&mut [u16; N]> {
+        self.sd.get_mut(first..first + N)?.try_into().ok()
+    }
+
     #[inline]
     pub(crate) fn sm(&self, n: u32) -> bool {
         self.sm.get(n as usize).copied().unwrap_or(false)

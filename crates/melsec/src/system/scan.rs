@@ -34,7 +34,7 @@ pub(crate) fn scan_start(sys: &mut Sys<'_>, s: ScanStart) {
     let half = |us: u64| (t / us.max(1)) & 1 == 1;
     let n414 = (sys.sd(414) as i16).max(1) as u64;
     let n415 = (sys.sd(415) as i16).max(1) as u64;
-    for (n, v) in [
+    let relays = [
         (400, true),
         (401, false),
         (402, s.first_scan),
@@ -46,8 +46,10 @@ pub(crate) fn scan_start(sys: &mut Sys<'_>, s: ScanStart) {
         (413, half(1_000_000)),
         (414, half(n414 * 1_000_000)),
         (415, half(n415 * 1_000)),
-    ] {
-        sys.set_sm(n, v);
+    ];
+    match sys.sm_window::<16>(400) {
+        Some(w) => relays.iter().for_each(|&(n, v)| w[n - 400] = v),
+        None => relays.iter().for_each(|&(n, v)| sys.set_sm(n as u32, v)),
     }
 }
 
@@ -68,7 +70,7 @@ pub(crate) fn end(sys: &mut Sys<'_>, e: End) {
     }
     let t = e.times;
     let s = e.split;
-    for (reg, us) in [
+    let times = [
         (520, t.current_us),
         (524, t.min_us),
         (526, t.max_us),
@@ -77,10 +79,16 @@ pub(crate) fn end(sys: &mut Sys<'_>, e: End) {
         (544, s.low_speed_cycle_us),
         (546, s.low_speed_us),
         (548, s.programs_us),
-    ] {
-        let (ms, sub) = ms_us(us);
-        sys.set_sd(reg, ms);
-        sys.set_sd(reg + 1, sub);
+    ];
+    match sys.sd_window::<30>(520) {
+        Some(w) => times.iter().for_each(|&(reg, us)| {
+            (w[reg - 520], w[reg - 519]) = ms_us(us);
+        }),
+        None => times.iter().for_each(|&(reg, us)| {
+            let (ms, sub) = ms_us(us);
+            sys.set_sd(reg as u32, ms);
+            sys.set_sd(reg as u32 + 1, sub);
+        }),
     }
     let count = sys.sd(420).wrapping_add(1);
     sys.set_sd(420, count);
