@@ -42,7 +42,10 @@ fn status_and_panel_are_written_again_after_a_door_write() {
     assert_eq!((p.int("SD203"), p.int("SD1015")), (0, 0));
     assert_eq!(p.int("SD201"), 0x4001);
     assert_eq!(p.int("SD200"), 0);
-    p.set("SD203", "85").set("SD1015", "85").set("SD201", "0").set("SD200", "7");
+    p.set("SD203", "85")
+        .set("SD1015", "85")
+        .set("SD201", "0")
+        .set("SD200", "7");
     p.scan();
     assert_eq!((p.int("SD203"), p.int("SD1015")), (0, 0));
     assert_eq!(p.int("SD201"), 0x4001);

@@ -83,7 +83,10 @@ fn a_reader_sees_every_change_of_the_image() {
     assert!(p.bit("Y1"), "a door write to X by name");
     p.set("K4X0", "0").scan();
     assert!(!p.bit("Y0") && !p.bit("Y1"), "a digit-specified door write");
-    assert!(!p.cpu.input(0) && !p.cpu.input(1), "mirrored into the image");
+    assert!(
+        !p.cpu.input(0) && !p.cpu.input(1),
+        "mirrored into the image"
+    );
 }
 
 #[test]
@@ -136,8 +139,12 @@ fn an_online_change_to_a_writer_refreshes_every_scan() {
     let mut p = Plc::new(READER);
     p.scans(2);
     let devices = softplc_core::profile::default_config().devices;
-    let writer = compile_il("test.il", "LD X0\nOUT Y0\nLD SM400\nOUT X0\nEND\n", &devices)
-        .unwrap();
+    let writer = compile_il(
+        "test.il",
+        "LD X0\nOUT Y0\nLD SM400\nOUT X0\nEND\n",
+        &devices,
+    )
+    .unwrap();
     p.cpu.replace_program(0, writer).unwrap();
     p.scan();
     assert!(p.bit("X0"), "the new program wrote X0");

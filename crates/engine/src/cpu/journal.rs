@@ -148,8 +148,7 @@ impl Cpu {
     #[inline]
     pub(super) fn note(&mut self, event: DoorEvent<'_>) {
         if let DoorEvent::Value { spec, .. } | DoorEvent::Text { spec, .. } = event {
-            if spec.bit_span().is_none() && spec.device().is_some_and(|(k, _)| k == DeviceKind::X)
-            {
+            if spec.bit_span().is_none() && spec.device().is_some_and(|(k, _)| k == DeviceKind::X) {
                 self.rt.x_touched();
             }
         }

@@ -10,8 +10,8 @@
 //! SD1028 holds the day of week only (its upper digits must be 0), so a
 //! 2-digit year 80-99 is 19xx, else 20xx.
 
-use softplc_ir::calendar::{DateTime, PlcClock};
 use super::devices::{bcd, from_bcd, Sys};
+use softplc_ir::calendar::{DateTime, PlcClock};
 
 /// One set of clock registers: its relays, its first register and whether
 /// its fourth register holds the century.
