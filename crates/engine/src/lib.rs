@@ -321,6 +321,14 @@ pub(crate) struct Runtime {
     pub input_spans: Box<[(u32, u32)]>,
     /// Forced X/Y (`cpu/force.rs`).
     pub forces: Vec<cpu::Force>,
+    /// A program may write X (`Program::may_write_x` of any program).
+    pub programs_write_x: bool,
+    /// X on the input spans holds the input image: nothing but an input
+    /// refresh or a write of both (the door's `set_input`, its writes to X
+    /// mirrored into the image) has changed either since the last full
+    /// refresh, no program can write X and nothing is forced. The scan's
+    /// input refresh would copy nothing new and is skipped.
+    pub x_holds_image: bool,
     /// The programs' local devices; `None` without local-device ranges.
     pub local_devices: Option<local_devices::LocalDevices>,
 }
@@ -471,7 +479,8 @@ impl Runtime {
     }
 
     /// Input refresh: the input image into X, forced inputs kept forced
-    /// (at the start of a scan, and when an instruction asks mid-scan).
+    /// (when an instruction asks mid-scan, and at the start of a scan
+    /// unless X already holds the image: [`Runtime::scan_input_refresh`]).
     pub(crate) fn refresh_inputs(&mut self) {
         let xb = self.mem.map.base(DeviceKind::X) as usize;
         for &(first, n) in self.input_spans.iter() {
@@ -482,6 +491,21 @@ impl Runtime {
         if !self.forces.is_empty() {
             self.apply_forces(DeviceKind::X);
         }
+        self.x_holds_image = self.forces.is_empty() && !self.programs_write_x;
+    }
+
+    /// The input refresh at the start of a scan: a copy that would change
+    /// nothing is skipped (see [`Runtime::x_holds_image`]).
+    pub(crate) fn scan_input_refresh(&mut self) {
+        if !self.x_holds_image {
+            self.refresh_inputs();
+        }
+    }
+
+    /// Something other than an input refresh may have written X or the
+    /// input image without the other: the next scan refreshes in full.
+    pub(crate) fn x_touched(&mut self) {
+        self.x_holds_image = false;
     }
 
     /// Direct input: X`n` takes the input module's value now, a forced

@@ -463,6 +463,12 @@ pub struct Program {
     /// The source instructions with their ladder roles, and the control
     /// loops they own, for the tools that show the program.
     pub listing: crate::listing::Listing,
+    /// An instruction may write X: it names X in an operand other than
+    /// a contact's (conservative: a coil, box or CALL argument naming X
+    /// counts whatever it does with it). The input refresh copies the
+    /// input image only when a program may write X or something else
+    /// changed X or the image since the last refresh.
+    pub may_write_x: bool,
 }
 
 impl Program {

@@ -728,6 +728,7 @@ mod tests {
             globals: vec![],
             used_devices: vec![],
             listing: Default::default(),
+            may_write_x: true,
         }
     }
 

@@ -139,6 +139,8 @@ pub struct Compiler<'a> {
     pub used_devices: Vec<(String, softplc_ir::ops::DeviceUse)>,
     /// The instructions and labels seen so far (`Program::listing`).
     pub listing: Listing,
+    /// An instruction so far may write X (`Program::may_write_x`).
+    pub may_write_x: bool,
 }
 
 impl<'a> Compiler<'a> {
@@ -173,6 +175,7 @@ impl<'a> Compiler<'a> {
             interrupts: HashMap::new(),
             used_devices: Vec::new(),
             listing: Listing::default(),
+            may_write_x: false,
         }
     }
 
@@ -180,6 +183,9 @@ impl<'a> Compiler<'a> {
     /// driver calls it once per source instruction, in source order.
     pub fn record(&mut self, i: &SourceInstr) {
         record(&mut self.listing, self.dialect.isa, i);
+        if !self.may_write_x {
+            self.may_write_x = self.may_write_x_by(i);
+        }
         // Its state begins here; `finish` ends it where the next one's begins.
         if let Some(Entry::Instr(l)) = self.listing.entries.last_mut() {
             let step = i.step.unwrap_or(self.step);
@@ -189,6 +195,29 @@ impl<'a> Compiler<'a> {
                 steps: step..step,
             };
         }
+    }
+
+    /// Whether instruction `i` (just recorded) may write X: it names an X
+    /// device (plain, digit-specified, index-modified or direct) in any
+    /// operand and is no contact. Contacts only read their operands; every
+    /// other role — coils, boxes, CALL arguments, standalone instructions —
+    /// counts as a writer, whatever it does with the operand.
+    fn may_write_x_by(&self, i: &SourceInstr) -> bool {
+        use softplc_ir::device::{parse_operand_in, DeviceKind, Operand};
+        let contact = matches!(
+            self.listing.entries.last(),
+            Some(Entry::Instr(Listed {
+                role: Role::Contact { .. },
+                ..
+            }))
+        );
+        !contact
+            && i.operands.iter().any(|t| {
+                matches!(
+                    parse_operand_in(self.dialect.devices, &t.text),
+                    Ok(Operand::Device { dev, .. }) if dev.kind == DeviceKind::X
+                )
+            })
     }
 
     /// Records a pointer label in the listing.
@@ -496,6 +525,7 @@ impl<'a> Compiler<'a> {
                 .collect(),
             steps: self.step,
             listing: self.listing,
+            may_write_x: self.may_write_x,
         })
     }
 }

@@ -39,6 +39,7 @@ impl Cpu {
     /// points or more devices than the model registers
     /// ([`Self::max_forces`]).
     pub fn force(&mut self, kind: DeviceKind, n: u32, on: bool) -> Result<(), String> {
+        self.rt.x_touched();
         if !matches!(kind, DeviceKind::X | DeviceKind::Y) {
             return Err(format!("only X and Y can be forced, not {kind:?}"));
         }
@@ -77,6 +78,7 @@ impl Cpu {
     /// Releases the force of X`n`/Y`n` (nothing if it is not forced): the
     /// device takes the value it would have had without it. True when it was forced.
     pub fn release(&mut self, kind: DeviceKind, n: u32) -> bool {
+        self.rt.x_touched();
         let Some(i) = self
             .rt
             .forces
@@ -96,6 +98,7 @@ impl Cpu {
 
     /// Releases every force.
     pub fn release_all(&mut self) {
+        self.rt.x_touched();
         self.untold(|cpu| {
             while let Some(f) = cpu.rt.forces.last().copied() {
                 cpu.release(f.kind, f.n);

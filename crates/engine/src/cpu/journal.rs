@@ -142,8 +142,16 @@ impl Cpu {
     }
 
     /// Tells `event` to the journal, if there is one.
+    /// Every door write of a device by name passes here, with or without a
+    /// journal: a write to X the door does not mirror into the input image
+    /// (an index-modified name) makes the next input refresh copy in full.
     #[inline]
     pub(super) fn note(&mut self, event: DoorEvent<'_>) {
+        if let DoorEvent::Value { spec, .. } | DoorEvent::Text { spec, .. } = event {
+            if spec.bit_span().is_none() && spec.device().is_some_and(|(k, _)| k == DeviceKind::X) {
+                self.rt.x_touched();
+            }
+        }
         if let Some(j) = &mut self.journal {
             j.record(event);
         }

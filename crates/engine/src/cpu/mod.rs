@@ -61,13 +61,15 @@ pub struct LoadedProgram {
 }
 
 /// One row of the program monitor list (004 §7.11, qcpu.md §4.9): execution
-/// count (wraps at 65536) and host execution time of a program file.
+/// count (wraps at 65536) and execution time of a program file: the host's
+/// wall-clock time in real time; in virtual time, where a program takes
+/// no time but its simulated execution time, that time (0 without one).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProgramMonitor {
     pub file: String,
     pub exec: ExecType,
     pub count: u16,
-    /// Wall-clock time of its last run and the longest run.
+    /// Time of its last run and the longest run.
     pub last: Duration,
     pub max: Duration,
 }
@@ -111,6 +113,9 @@ pub struct Cpu {
     rt: Runtime,
     cfg: CpuConfig,
     clock: Box<dyn Clock>,
+    /// The clock is virtual ([`Clock::is_virtual`]): the program monitor
+    /// takes no wall-clock readings.
+    virtual_time: bool,
     state: CpuState,
     /// A stop error holds the CPU in STOP until RESET.
     stop_error: bool,
@@ -281,6 +286,8 @@ impl Cpu {
             inputs: vec![false; x].into_boxed_slice(),
             input_spans: rack::input_spans(&cfg.rack, x as u32),
             forces: Vec::new(),
+            programs_write_x: programs.iter().any(|p| p.may_write_x),
+            x_holds_image: false,
             local_devices,
             system: cfg.system.clone(),
         };
@@ -296,6 +303,7 @@ impl Cpu {
             slots,
             rt,
             cfg,
+            virtual_time: clock.is_virtual(),
             clock,
             state: CpuState::Run,
             stop_error: false,

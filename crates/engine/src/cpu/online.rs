@@ -146,6 +146,8 @@ impl Cpu {
             stats.short_run_ops = self.natives.iter().map(|n| n.short_run_ops()).sum();
         }
         self.program_writes += 1;
+        self.rt.programs_write_x = self.programs.iter().any(|p| p.may_write_x);
+        self.rt.x_touched();
         let written = Written {
             slot,
             kept: carry.kept,

@@ -168,6 +168,9 @@ impl Cpu {
                 running: false,
             };
             m.module.power_on(&mut io);
+            if !m.io.is_empty() {
+                rt.x_holds_image = false;
+            }
         }
         self.rack.previous = 0;
     }
@@ -194,6 +197,10 @@ impl Cpu {
             };
             m.module.end(&mut io, now);
             let raised = io.raised;
+            if !m.io.is_empty() {
+                // The module may have changed its inputs in the image.
+                rt.x_holds_image = false;
+            }
             for r in m.refresh.iter() {
                 r.run(&mut rt.mem.words, true);
             }

@@ -53,6 +53,7 @@ impl Cpu {
     /// never saved or its size changed). Device initial values are written again
     /// afterwards because they override latched data (004 L7738-7740).
     pub fn restore_retained(&mut self, data: &[Option<Vec<u8>>]) {
+        self.rt.x_touched();
         let spans = self.retained_spans();
         let mem = &mut self.rt.mem;
         for ((_, bit, start, len), d) in spans.iter().zip(data) {

@@ -19,6 +19,8 @@ impl Cpu {
     fn scan_untold(&mut self) {
         let now = self.clock.now_us();
         if self.state != CpuState::Run {
+            // Leaving STOP/PAUSE the first scan refreshes the inputs in full.
+            self.rt.x_touched();
             self.last_end_us = now;
             // The modules go on while the CPU is stopped.
             self.modules_end(now);
@@ -31,7 +33,7 @@ impl Cpu {
         self.low_used_us = 0;
         // The watchdog covers the whole scan (004 §7.9), reset only by END and WDT.
         self.rt.cpu.reset_watchdog();
-        self.rt.refresh_inputs();
+        self.rt.scan_input_refresh();
         self.interrupt_module_edges();
         if !self.rt.forces.is_empty() {
             self.unforce_outputs();
@@ -358,7 +360,9 @@ impl Cpu {
             _ => Entry::Program,
         };
         let back = self.rt.enter_locals(i, entry);
-        let t = std::time::Instant::now();
+        // The program monitor: wall-clock time in real time; in virtual
+        // time the simulated execution time, without reading the host's clock.
+        let t = (!self.virtual_time).then(std::time::Instant::now);
         let out = exec::run(
             &self.programs,
             &self.natives,
@@ -368,8 +372,11 @@ impl Cpu {
             0,
         );
         self.rt.leave_locals(back);
-        let ns = t.elapsed().as_nanos() as u64;
         let s = &mut self.slots[i];
+        let ns = match t {
+            Some(t) => t.elapsed().as_nanos() as u64,
+            None => s.cost_us.saturating_mul(1000),
+        };
         s.count = s.count.wrapping_add(1);
         s.last_ns = ns;
         s.max_ns = s.max_ns.max(ns);

@@ -44,6 +44,7 @@ impl Cpu {
     /// it ([`Snap`]). Call between scans. After a load the clock reads the
     /// file's time.
     pub fn snapshot(&mut self, s: &mut Snap) {
+        self.rt.x_touched();
         if s.loading() {
             self.note(super::DoorEvent::Unrecordable {
                 why: "a state file was loaded",

@@ -20,6 +20,7 @@ impl Cpu {
 
     /// STOP→RUN, or PAUSE→RUN.
     pub(super) fn go_run(&mut self) -> Result<(), String> {
+        self.rt.x_touched();
         match self.state {
             CpuState::Run => Ok(()),
             CpuState::Pause => {
@@ -60,6 +61,7 @@ impl Cpu {
     /// stop error, the STOP instruction); an already stopped CPU keeps its
     /// first cause.
     pub(super) fn enter_stop(&mut self, cause: Cause) {
+        self.rt.x_touched();
         if self.state != CpuState::Stop {
             self.cause = cause;
             let yb = self.rt.mem.map.base(DeviceKind::Y) as usize;
@@ -147,6 +149,7 @@ impl Cpu {
     /// the latch ranges and the error (qcpu.md §4.2, [CONFLICT] 11). File
     /// registers are never cleared by latch clear (004 L7028-7031).
     pub fn latch_clear(&mut self, remote: bool) -> Result<(), String> {
+        self.rt.x_touched();
         if self.state != CpuState::Stop {
             return Err("latch clear is accepted only in STOP".into());
         }
@@ -183,6 +186,7 @@ impl Cpu {
     /// kept with [`RunClear::OutsideLatch`] and cleared too with
     /// [`RunClear::All`]. Device initial values are then written again.
     pub fn remote_run_clear(&mut self, mode: RunClear) {
+        self.rt.x_touched();
         self.note(DoorEvent::RunClear(mode));
         let mem = &mut self.rt.mem;
         // Save the latch ranges (timers and counters latch contact, coil and value).
@@ -213,6 +217,7 @@ impl Cpu {
     /// ranges and the file registers cleared, system registers set, device initial
     /// values written, RUN from the initial programs.
     pub(super) fn power_on(&mut self) {
+        self.rt.x_touched();
         // Forces are released at power-off and RESET (docs/forcing.md).
         self.rt.forces.clear();
         self.clear_unlatched();
@@ -241,6 +246,7 @@ impl Cpu {
 
     /// Common part of power-on and STOP→RUN.
     pub(super) fn start_run(&mut self) {
+        self.rt.x_touched();
         let now = self.clock.now_us();
         for l in &mut self.locals {
             l.clear();
@@ -279,6 +285,7 @@ impl Cpu {
     /// Device initial values, then the family's data that outranks them
     /// (`System::initialised`).
     pub(super) fn write_initial_values(&mut self) {
+        self.rt.x_touched();
         for iv in &self.cfg.initial_values {
             // Validated when the project was loaded.
             let _ = iv.device.write(&mut self.rt.mem, &iv.value);
@@ -294,6 +301,7 @@ impl Cpu {
     /// (1 MB by default) are neither copied nor touched, so power-on and RESET
     /// cost what the cleared devices cost.
     pub(super) fn clear_unlatched(&mut self) {
+        self.rt.x_touched();
         let mem = &mut self.rt.mem;
         let zr = mem.map.base(DeviceKind::ZR) as usize;
         let mut keep_words = vec![(zr, mem.map.points(DeviceKind::ZR) as usize)];

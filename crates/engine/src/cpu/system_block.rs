@@ -14,6 +14,7 @@ impl Cpu {
     /// data that outranks them start from zero (002 table 2-2); then the
     /// family re-initialises its system devices (`System::stop_to_run`).
     pub(super) fn stop_to_run_devices(&mut self) {
+        self.rt.x_touched();
         if !self.cfg.keep_device_values {
             super::states::clear_user_devices(&mut self.rt.mem);
             self.rt.cpu.timer_rem.fill(0);

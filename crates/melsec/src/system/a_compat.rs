@@ -19,7 +19,7 @@
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::system::{ErrorReport, ScanStart, Severity};
 
-use super::devices::{bcd, sd, sm, sm_get};
+use super::devices::{bcd, sd, Sys};
 
 /// How the Q value becomes the A-series value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,10 +140,10 @@ pub const TRACE_START: u32 = 1047;
 
 /// At END, before the mirrors: SM1047 changed since the last END (`before`,
 /// its value after that END's mirrors) turns SM801 the same way.
-pub(crate) fn trace_start(mem: &mut DeviceMemory, before: bool) {
-    let a = sm_get(mem, TRACE_START as i64);
+pub(crate) fn trace_start(sys: &mut Sys<'_>, before: bool) {
+    let a = sys.sm(TRACE_START);
     if a != before {
-        sm(mem, 801, a);
+        sys.set_sm(801, a);
     }
 }
 
@@ -250,49 +250,33 @@ static END_FLAT: Flat<{ END_N.0 }, { END_N.1 }, { END_N.2 }> = Flat::of(AT_END);
 const REMOTE_N: (usize, usize, usize) = counts(AT_REMOTE);
 static REMOTE_FLAT: Flat<{ REMOTE_N.0 }, { REMOTE_N.1 }, { REMOTE_N.2 }> = Flat::of(AT_REMOTE);
 
-/// SM and SD as slices of [`SPAN`] points when the CPU has that many (the
-/// usual 2048), else `None`.
-fn areas(mem: &mut DeviceMemory) -> Option<(&mut [bool], &mut [u16])> {
-    let map = &mem.map;
-    let (sm_at, sm_n) = (map.base(DeviceKind::SM), map.points(DeviceKind::SM));
-    let (sd_at, sd_n) = (map.base(DeviceKind::SD), map.points(DeviceKind::SD));
-    if sm_n < SPAN || sd_n < SPAN {
-        return None;
-    }
-    let (sm_at, sd_at) = (sm_at as usize, sd_at as usize);
-    Some((
-        &mut mem.bits[sm_at..sm_at + SPAN as usize],
-        &mut mem.words[sd_at..sd_at + SPAN as usize],
-    ))
-}
-
-/// Copies `mirrors` (the table `flat` was made of) into SM/SD.
+/// Copies `mirrors` (the table `flat` was made of) into SM/SD: the flat
+/// copies when the CPU has [`SPAN`] points of each (the usual 2048).
 fn copy_flat<const R: usize, const W: usize, const C: usize>(
-    mem: &mut DeviceMemory,
+    sys: &mut Sys<'_>,
     flat: &Flat<R, W, C>,
     mirrors: &[Mirror],
 ) {
-    match areas(mem) {
-        Some((sm, sd)) => flat.copy(sm, sd),
-        None => copy(mem, mirrors),
+    let span = SPAN as usize;
+    if sys.sm.len() >= span && sys.sd.len() >= span {
+        flat.copy(&mut sys.sm[..span], &mut sys.sd[..span]);
+    } else {
+        copy(sys, mirrors);
     }
 }
 
 /// The copies of `mirrors` checked device by device (a CPU with fewer
 /// SM/SD points skips those it lacks).
-fn copy(mem: &mut DeviceMemory, mirrors: &[Mirror]) {
-    // The flat places from SM's and SD's bases, not a lookup per device.
-    let map = &mem.map;
-    let (sm_at, sm_n) = (map.base(DeviceKind::SM), map.points(DeviceKind::SM));
-    let (sd_at, sd_n) = (map.base(DeviceKind::SD), map.points(DeviceKind::SD));
+fn copy(sys: &mut Sys<'_>, mirrors: &[Mirror]) {
+    let (sm_n, sd_n) = (sys.sm.len() as u32, sys.sd.len() as u32);
     for m in mirrors {
         if m.relay {
             if m.a < sm_n && m.q < sm_n {
-                mem.bits[(sm_at + m.a) as usize] = mem.bits[(sm_at + m.q) as usize];
+                sys.sm[m.a as usize] = sys.sm[m.q as usize];
             }
         } else if m.a < sd_n && m.q < sd_n {
-            let v = mem.words[(sd_at + m.q) as usize];
-            mem.words[(sd_at + m.a) as usize] = convert(v, m.conv);
+            let v = sys.sd[m.q as usize];
+            sys.sd[m.a as usize] = convert(v, m.conv);
         }
     }
 }
@@ -309,8 +293,8 @@ fn convert(v: u16, conv: Conv) -> u16 {
 
 /// The A-series PAUSE and STOP contacts, M9041 = SM204 and M9042 = SM203,
 /// after the remote-operation relays are written.
-pub(crate) fn remote(mem: &mut DeviceMemory) {
-    copy_flat(mem, &REMOTE_FLAT, AT_REMOTE);
+pub(crate) fn remote(sys: &mut Sys<'_>) {
+    copy_flat(sys, &REMOTE_FLAT, AT_REMOTE);
 }
 
 /// The relays copied when the remote-operation relays are written.
@@ -324,24 +308,22 @@ pub(crate) fn pause_enabled(mem: &DeviceMemory) -> bool {
 
 /// After the Q scan-start relays: the always-ON/OFF, first-scan and clock
 /// relays, and the 1-minute clock.
-pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
-    copy_flat(mem, &START_FLAT, AT_SCAN_START);
-    sm(
-        mem,
-        MINUTE_CLOCK as i64,
-        (s.since_power_on_us / 30_000_000) & 1 == 1,
-    );
+pub(crate) fn scan_start(sys: &mut Sys<'_>, s: ScanStart) {
+    copy_flat(sys, &START_FLAT, AT_SCAN_START);
+    sys.set_sm(MINUTE_CLOCK, (s.since_power_on_us / 30_000_000) & 1 == 1);
 }
 
 /// After END processing, an error report or clear, a status change.
-pub(crate) fn refresh(mem: &mut DeviceMemory) {
-    copy_flat(mem, &END_FLAT, AT_END);
+pub(crate) fn refresh(sys: &mut Sys<'_>) {
+    copy_flat(sys, &END_FLAT, AT_END);
 }
 
 /// After the operating status changed (also in STOP, where no END runs):
 /// SD1015, the only A-series device SD203 feeds.
-pub(crate) fn status(mem: &mut DeviceMemory) {
-    copy(mem, &[OPERATING_STATUS]);
+pub(crate) fn status(sys: &mut Sys<'_>) {
+    let m = OPERATING_STATUS;
+    let v = sys.sd(m.q);
+    sys.set_sd(m.a, v);
 }
 
 /// SD1010 (D9010): the step of an operation error, in binary, updated at

@@ -10,19 +10,17 @@
 //! SD1028 holds the day of week only (its upper digits must be 0), so a
 //! 2-digit year 80-99 is 19xx, else 20xx.
 
+use super::devices::{bcd, from_bcd, Sys};
 use softplc_ir::calendar::{DateTime, PlcClock};
-use softplc_ir::device::DeviceMemory;
-
-use super::devices::{bcd, from_bcd, sd, sd_get, sm, sm_get};
 
 /// One set of clock registers: its relays, its first register and whether
 /// its fourth register holds the century.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Registers {
-    pub set: i64,
-    pub error: i64,
-    pub read: i64,
-    pub first: i64,
+    pub set: u32,
+    pub error: u32,
+    pub read: u32,
+    pub first: u32,
     pub century: bool,
 }
 
@@ -46,16 +44,17 @@ pub(crate) const A_SERIES: Registers = Registers {
 
 /// The clock registers `regs`; `set_before` is the set request at the
 /// previous END. Returns the set request.
+#[inline]
 pub(crate) fn registers(
-    mem: &mut DeviceMemory,
+    sys: &mut Sys<'_>,
     regs: Registers,
     clock: &mut PlcClock,
     now_us: u64,
     set_before: bool,
 ) -> bool {
-    let set = sm_get(mem, regs.set);
+    let set = sys.sm(regs.set);
     if set && !set_before {
-        let r = |n| sd_get(mem, regs.first + n);
+        let r = |n| sys.sd(regs.first + n);
         let (a, b, c, d) = (r(0), r(1), r(2), r(3));
         let d = if regs.century { d } else { d & 0xFF };
         let f = |w: u16| (from_bcd(w >> 8), from_bcd(w & 0xFF));
@@ -83,19 +82,19 @@ pub(crate) fn registers(
         match t.filter(DateTime::is_valid) {
             Some(t) => {
                 clock.set(t, now_us);
-                sm(mem, regs.error, false);
+                sys.set_sm(regs.error, false);
             }
-            None => sm(mem, regs.error, true),
+            None => sys.set_sm(regs.error, true),
         }
     }
-    if sm_get(mem, regs.read) {
+    if sys.sm(regs.read) {
         let t = clock.now(now_us);
         let y = t.year as u32;
         let century = if regs.century { bcd(y / 100) << 8 } else { 0 };
-        sd(mem, regs.first, bcd(y % 100) << 8 | bcd(t.month));
-        sd(mem, regs.first + 1, bcd(t.day) << 8 | bcd(t.hour));
-        sd(mem, regs.first + 2, bcd(t.minute) << 8 | bcd(t.second));
-        sd(mem, regs.first + 3, century | t.weekday() as u16);
+        sys.set_sd(regs.first, bcd(y % 100) << 8 | bcd(t.month));
+        sys.set_sd(regs.first + 1, bcd(t.day) << 8 | bcd(t.hour));
+        sys.set_sd(regs.first + 2, bcd(t.minute) << 8 | bcd(t.second));
+        sys.set_sd(regs.first + 3, century | t.weekday() as u16);
     }
     set
 }

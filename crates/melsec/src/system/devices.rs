@@ -19,29 +19,6 @@ pub(crate) fn sd_get(mem: &DeviceMemory, n: i64) -> u16 {
     mem.get_word(DeviceKind::SD, n).unwrap_or(0)
 }
 
-/// Several relays at once (what every scan writes): SM's place looked up
-/// once, not per relay.
-pub(crate) fn sm_many(mem: &mut DeviceMemory, relays: &[(u32, bool)]) {
-    let (at, n) = (mem.map.base(DeviceKind::SM), mem.map.points(DeviceKind::SM));
-    let sm = &mut mem.bits[at as usize..(at + n) as usize];
-    for &(r, v) in relays {
-        if let Some(b) = sm.get_mut(r as usize) {
-            *b = v;
-        }
-    }
-}
-
-/// Several registers at once, as [`sm_many`].
-pub(crate) fn sd_many(mem: &mut DeviceMemory, registers: &[(u32, u16)]) {
-    let (at, n) = (mem.map.base(DeviceKind::SD), mem.map.points(DeviceKind::SD));
-    let sd = &mut mem.words[at as usize..(at + n) as usize];
-    for &(r, v) in registers {
-        if let Some(w) = sd.get_mut(r as usize) {
-            *w = v;
-        }
-    }
-}
-
 /// Splits a time into the ms register and the 100 µs-resolution µs register
 /// (SD520=23, SD521=600 for 23.6 ms, L10445-10447).
 pub(crate) fn ms_us(us: u64) -> (u16, u16) {
@@ -65,4 +42,62 @@ pub(crate) fn bcd(v: u32) -> u16 {
 pub(crate) fn from_bcd(b: u16) -> Option<u32> {
     let (hi, lo) = ((b >> 4) as u32, (b & 0xF) as u32);
     (hi < 10 && lo < 10).then_some(hi * 10 + lo)
+}
+
+/// SM and SD as two slices, their places looked up once: what scan start
+/// and END read and write dozens of. A number the CPU's points lack reads
+/// OFF/0 and is not written, as with [`sm`] and [`sd`].
+pub(crate) struct Sys<'a> {
+    pub sm: &'a mut [bool],
+    pub sd: &'a mut [u16],
+}
+
+impl<'a> Sys<'a> {
+    pub(crate) fn of(mem: &'a mut DeviceMemory) -> Sys<'a> {
+        let map = &mem.map;
+        let (sm_at, sm_n) = (map.base(DeviceKind::SM), map.points(DeviceKind::SM));
+        let (sd_at, sd_n) = (map.base(DeviceKind::SD), map.points(DeviceKind::SD));
+        let (sm_at, sd_at) = (sm_at as usize, sd_at as usize);
+        Sys {
+            sm: &mut mem.bits[sm_at..sm_at + sm_n as usize],
+            sd: &mut mem.words[sd_at..sd_at + sd_n as usize],
+        }
+    }
+
+    /// SM`first`-SM`first + N - 1` as an array when the CPU has them all:
+    /// writes at constant places in it need no check each.
+    #[inline]
+    pub(crate) fn sm_window<const N: usize>(&mut self, first: usize) -> Option<&mut [bool; N]> {
+        self.sm.get_mut(first..first + N)?.try_into().ok()
+    }
+
+    /// SD`first`-SD`first + N - 1` as an array, as [`Sys::sm_window`].
+    #[inline]
+    pub(crate) fn sd_window<const N: usize>(&mut self, first: usize) -> Option<&mut [u16; N]> {
+        self.sd.get_mut(first..first + N)?.try_into().ok()
+    }
+
+    #[inline]
+    pub(crate) fn sm(&self, n: u32) -> bool {
+        self.sm.get(n as usize).copied().unwrap_or(false)
+    }
+
+    #[inline]
+    pub(crate) fn set_sm(&mut self, n: u32, v: bool) {
+        if let Some(b) = self.sm.get_mut(n as usize) {
+            *b = v;
+        }
+    }
+
+    #[inline]
+    pub(crate) fn sd(&self, n: u32) -> u16 {
+        self.sd.get(n as usize).copied().unwrap_or(0)
+    }
+
+    #[inline]
+    pub(crate) fn set_sd(&mut self, n: u32, v: u16) {
+        if let Some(w) = self.sd.get_mut(n as usize) {
+            *w = v;
+        }
+    }
 }

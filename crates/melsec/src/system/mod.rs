@@ -25,6 +25,8 @@ mod scan;
 
 use std::sync::Arc;
 
+use devices::Sys;
+
 use softplc_ir::device::{DeviceKind, DeviceMap, DeviceMemory};
 use softplc_ir::fault::{ErrorCode, Fault};
 use softplc_ir::system::{
@@ -102,7 +104,7 @@ impl Melsec {
     /// Copies the A-series devices from their Q devices when the area is on.
     fn a_refresh(&self, mem: &mut DeviceMemory) {
         if self.params.a_compatibility {
-            a_compat::refresh(mem);
+            a_compat::refresh(&mut Sys::of(mem));
         }
     }
 }
@@ -139,9 +141,10 @@ impl System for Melsec {
     }
 
     fn scan_start(&self, mem: &mut DeviceMemory, start: ScanStart) {
-        scan::scan_start(mem, start);
+        let mut sys = Sys::of(mem);
+        scan::scan_start(&mut sys, start);
         if self.params.a_compatibility {
-            a_compat::scan_start(mem, start);
+            a_compat::scan_start(&mut sys, start);
         }
     }
 
@@ -149,41 +152,43 @@ impl System for Melsec {
     /// clocks (counted at every END, the initial scan's too) and the
     /// completion devices of S.TO; SM672 and SD250.
     fn end(&self, cx: &mut EndCtx<'_>, end: End) {
-        scan::end(cx.mem, end);
+        // SM and SD looked up once for the registers written at every END.
+        scan::end(&mut Sys::of(cx.mem), end);
         self.params.file_register.end(cx.mem);
         let sm250 = self.params.bases.end(cx.mem, cx.state[STATE_SM250] != 0);
         cx.state[STATE_SM250] = sm250 as u32;
+        let mut sys = Sys::of(cx.mem);
         let before = cx.state[STATE_SM210] != 0;
-        let sm210 = clock::registers(cx.mem, clock::Q, cx.clock, cx.now_us, before);
+        let sm210 = clock::registers(&mut sys, clock::Q, cx.clock, cx.now_us, before);
         cx.state[STATE_SM210] = sm210 as u32;
         if self.params.a_compatibility {
             let before = cx.state[STATE_SM1025] != 0;
-            let set = clock::registers(cx.mem, clock::A_SERIES, cx.clock, cx.now_us, before);
+            let set = clock::registers(&mut sys, clock::A_SERIES, cx.clock, cx.now_us, before);
             cx.state[STATE_SM1025] = set as u32;
         }
         crate::user_clock::end(cx.mem, cx.shared);
         crate::multi_cpu::end(cx.mem, cx.shared);
         if self.params.a_compatibility {
-            a_compat::trace_start(cx.mem, cx.state[STATE_SM1047] != 0);
-        }
-        self.a_refresh(cx.mem);
-        if self.params.a_compatibility {
-            let sm1047 = devices::sm_get(cx.mem, a_compat::TRACE_START as i64);
-            cx.state[STATE_SM1047] = sm1047 as u32;
+            let mut sys = Sys::of(cx.mem);
+            a_compat::trace_start(&mut sys, cx.state[STATE_SM1047] != 0);
+            a_compat::refresh(&mut sys);
+            cx.state[STATE_SM1047] = sys.sm(a_compat::TRACE_START) as u32;
         }
     }
 
     fn status(&self, mem: &mut DeviceMemory, status: Status) {
-        scan::status(mem, status);
+        let mut sys = Sys::of(mem);
+        scan::status(&mut sys, status);
         if self.params.a_compatibility {
-            a_compat::status(mem);
+            a_compat::status(&mut sys);
         }
     }
 
     fn remote(&self, mem: &mut DeviceMemory, remote: Remote) {
-        scan::remote(mem, remote);
+        let mut sys = Sys::of(mem);
+        scan::remote(&mut sys, remote);
         if self.params.a_compatibility {
-            a_compat::remote(mem);
+            a_compat::remote(&mut sys);
         }
     }
 

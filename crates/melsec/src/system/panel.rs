@@ -7,7 +7,7 @@ use softplc_ir::fault::ErrorCode;
 use softplc_ir::system::{Panel, Status};
 
 use super::codes::{self, ANNUNCIATOR};
-use super::devices::{sd, sd_get, sm_get};
+use super::devices::{sd, Sys};
 
 /// The panel's words at the end of the system's state
 /// ([`softplc_ir::system::EndCtx::state`]): SM202 at the previous showing
@@ -33,35 +33,36 @@ pub(crate) fn power_on(mem: &mut DeviceMemory) {
 
 /// The rank of cause `cause` in SD207-SD209 (0 the highest), `None` when
 /// no digit holds it: its LED does not light (L5408-5418).
-fn rank(mem: &DeviceMemory, cause: u8) -> Option<usize> {
+fn rank(sys: &Sys<'_>, cause: u8) -> Option<usize> {
     (0..10).find(|&k| {
-        let word = sd_get(mem, 207 + k as i64 / 4);
+        let word = sys.sd(207 + k as u32 / 4);
         (word >> (4 * (k % 4)) & 0xF) as u8 == cause
     })
 }
 
 /// The latest error (SD0 while SM0 is ON) when it is no annunciator.
-fn error(mem: &DeviceMemory) -> Option<ErrorCode> {
-    let code = ErrorCode(sd_get(mem, 0));
-    (sm_get(mem, 0) && code != ANNUNCIATOR).then_some(code)
+fn error(sys: &Sys<'_>) -> Option<ErrorCode> {
+    let code = ErrorCode(sys.sd(0));
+    (sys.sm(0) && code != ANNUNCIATOR).then_some(code)
 }
 
 /// The rank of the latest error's cause, when shown.
-fn error_rank(mem: &DeviceMemory) -> Option<usize> {
-    rank(mem, codes::led_cause(error(mem)?)?)
+fn error_rank(sys: &Sys<'_>) -> Option<usize> {
+    rank(sys, codes::led_cause(error(sys)?)?)
 }
 
 /// LEDR turns off the cause shown first: the latest continuation error
 /// when it ranks above the annunciators (or none is ON), else the first
 /// annunciator (004 §10.2.4 L6294-6297, §7.19.1 (2)). True: clear the error.
-pub(crate) fn ledr_clears_error(mem: &DeviceMemory) -> bool {
-    let Some(e) = error_rank(mem) else {
+pub(crate) fn ledr_clears_error(mem: &mut DeviceMemory) -> bool {
+    let sys = Sys::of(mem);
+    let Some(e) = error_rank(&sys) else {
         return false;
     };
-    if !sm_get(mem, 62) {
+    if !sys.sm(62) {
         return true;
     }
-    rank(mem, CAUSE_ANNUNCIATOR).is_none_or(|a| e < a)
+    rank(&sys, CAUSE_ANNUNCIATOR).is_none_or(|a| e < a)
 }
 
 /// The LED values of SD201: 0 OFF, 1 ON, 2 flashing.
@@ -85,46 +86,43 @@ const FLASHING: u16 = 2;
 ///
 /// SM202 OFF→ON turns off the LEDs SD202 names: b4 USER, b8 BOOT (L5356-5370).
 pub(crate) fn show(mem: &mut DeviceMemory, state: &mut [u32], p: Panel) {
-    sd(mem, 200, p.switch_stop as u16);
-    let user_off = user_led_off(mem, state);
+    let mut sys = Sys::of(mem);
+    sys.set_sd(200, p.switch_stop as u16);
+    let user_off = user_led_off(&sys, state);
     let run = if p.status == Status::Run { ON } else { OFF };
-    let shown = |c: u8| rank(mem, c).is_some();
+    let shown = |c: u8| rank(&sys, c).is_some();
     let error = if p.stop_error {
         FLASHING
     } else {
-        match error(mem).and_then(codes::led_cause) {
+        match error(&sys).and_then(codes::led_cause) {
             Some(c) if c != CAUSE_BATTERY && shown(c) => ON,
             _ => OFF,
         }
     };
-    let user = if sm_get(mem, 62) && shown(CAUSE_ANNUNCIATOR) && !user_off {
+    let user = if sys.sm(62) && shown(CAUSE_ANNUNCIATOR) && !user_off {
         ON
     } else {
         OFF
     };
-    let bat = if sm_get(mem, 52) && shown(CAUSE_BATTERY) {
+    let bat = if sys.sm(52) && shown(CAUSE_BATTERY) {
         ON
     } else {
         OFF
     };
     let mode = if p.forced { FLASHING } else { ON };
-    sd(
-        mem,
-        201,
-        run | error << 2 | user << 4 | bat << 6 | mode << 14,
-    );
+    sys.set_sd(201, run | error << 2 | user << 4 | bat << 6 | mode << 14);
 }
 
 /// The USER LED is turned off: SM202's OFF→ON edge with SD202 b4 turns it
 /// off and remembers the annunciator list (SD62, SD63); a change of the
 /// list (an annunciator turning ON or OFF) lets it light again.
-fn user_led_off(mem: &DeviceMemory, state: &mut [u32]) -> bool {
+fn user_led_off(sys: &Sys<'_>, state: &mut [u32]) -> bool {
     let [.., sm202_before, off] = state else {
         return false;
     };
-    let sm202 = sm_get(mem, 202);
-    let list = 1 << 31 | (sd_get(mem, 63) as u32) << 16 | sd_get(mem, 62) as u32;
-    if sm202 && *sm202_before == 0 && sd_get(mem, 202) & 0x10 != 0 {
+    let sm202 = sys.sm(202);
+    let list = 1 << 31 | (sys.sd(63) as u32) << 16 | sys.sd(62) as u32;
+    if sm202 && *sm202_before == 0 && sys.sd(202) & 0x10 != 0 {
         *off = list;
     } else if *off != list {
         *off = 0;

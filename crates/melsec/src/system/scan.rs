@@ -5,7 +5,7 @@
 use softplc_ir::device::{DeviceKind, DeviceMemory};
 use softplc_ir::system::{Cause, End, Remote, ScanStart, Status};
 
-use super::devices::{ms_us, sd, sd_get, sd_many, sm, sm_get, sm_many, time_pair};
+use super::devices::{ms_us, sd, sm_get, Sys};
 use super::R_BLOCK;
 
 /// Power-on values: SD414/SD415 (2n-second and 2n-ms clock factors) default
@@ -29,27 +29,28 @@ pub(crate) fn power_on(mem: &mut DeviceMemory) {
 /// SM400/401 always ON/OFF, SM402/403 the first-scan pulses, and the clocks
 /// SM409-SM415. The clocks start OFF at power-on and toggle every half
 /// period of the time since power-on (L9629-9638).
-pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
+pub(crate) fn scan_start(sys: &mut Sys<'_>, s: ScanStart) {
     let t = s.since_power_on_us;
     let half = |us: u64| (t / us.max(1)) & 1 == 1;
-    let n414 = (sd_get(mem, 414) as i16).max(1) as u64;
-    let n415 = (sd_get(mem, 415) as i16).max(1) as u64;
-    sm_many(
-        mem,
-        &[
-            (400, true),
-            (401, false),
-            (402, s.first_scan),
-            (403, !s.first_scan),
-            (409, half(5_000)),
-            (410, half(50_000)),
-            (411, half(100_000)),
-            (412, half(500_000)),
-            (413, half(1_000_000)),
-            (414, half(n414 * 1_000_000)),
-            (415, half(n415 * 1_000)),
-        ],
-    );
+    let n414 = (sys.sd(414) as i16).max(1) as u64;
+    let n415 = (sys.sd(415) as i16).max(1) as u64;
+    let relays = [
+        (400, true),
+        (401, false),
+        (402, s.first_scan),
+        (403, !s.first_scan),
+        (409, half(5_000)),
+        (410, half(50_000)),
+        (411, half(100_000)),
+        (412, half(500_000)),
+        (413, half(1_000_000)),
+        (414, half(n414 * 1_000_000)),
+        (415, half(n415 * 1_000)),
+    ];
+    match sys.sm_window::<16>(400) {
+        Some(w) => relays.iter().for_each(|&(n, v)| w[n - 400] = v),
+        None => relays.iter().for_each(|&(n, v)| sys.set_sm(n as u32, v)),
+    }
 }
 
 /// SD522/SD523 the initial scan time; else SD520-SD527 the scan times, SD420
@@ -60,48 +61,38 @@ pub(crate) fn scan_start(mem: &mut DeviceMemory, s: ScanStart) {
 /// current low-speed cycle (0 after a low-speed END), SD546/SD547 the
 /// low-speed programs' time in this scan, SD548/SD549 the scan programs'
 /// (App. 2 prints the last pair as SD548/SD559, its list L1323 SD548/SD549).
-pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
+pub(crate) fn end(sys: &mut Sys<'_>, e: End) {
     if e.initial {
-        time_pair(mem, 522, e.times.current_us);
+        let (ms, sub) = ms_us(e.times.current_us);
+        sys.set_sd(522, ms);
+        sys.set_sd(523, sub);
         return;
     }
     let t = e.times;
     let s = e.split;
-    let [(c, c1), (mn, mn1), (mx, mx1), (en, en1), (w, w1), (lc, lc1), (ls, ls1), (p, p1)] = [
-        t.current_us,
-        t.min_us,
-        t.max_us,
-        s.end_us,
-        s.wait_us,
-        s.low_speed_cycle_us,
-        s.low_speed_us,
-        s.programs_us,
-    ]
-    .map(ms_us);
-    let count = sd_get(mem, 420).wrapping_add(1);
-    sd_many(
-        mem,
-        &[
-            (520, c),
-            (521, c1),
-            (524, mn),
-            (525, mn1),
-            (526, mx),
-            (527, mx1),
-            (540, en),
-            (541, en1),
-            (542, w),
-            (543, w1),
-            (544, lc),
-            (545, lc1),
-            (546, ls),
-            (547, ls1),
-            (548, p),
-            (549, p1),
-            (420, count),
-            (412, (e.since_run_us / 1_000_000) as u16),
-        ],
-    );
+    let times = [
+        (520, t.current_us),
+        (524, t.min_us),
+        (526, t.max_us),
+        (540, s.end_us),
+        (542, s.wait_us),
+        (544, s.low_speed_cycle_us),
+        (546, s.low_speed_us),
+        (548, s.programs_us),
+    ];
+    match sys.sd_window::<30>(520) {
+        Some(w) => times.iter().for_each(|&(reg, us)| {
+            (w[reg - 520], w[reg - 519]) = ms_us(us);
+        }),
+        None => times.iter().for_each(|&(reg, us)| {
+            let (ms, sub) = ms_us(us);
+            sys.set_sd(reg as u32, ms);
+            sys.set_sd(reg as u32 + 1, sub);
+        }),
+    }
+    let count = sys.sd(420).wrapping_add(1);
+    sys.set_sd(420, count);
+    sys.set_sd(412, (e.since_run_us / 1_000_000) as u16);
 }
 
 /// SD203 operating status (App. 2 L10333): b0-b3 0 RUN, 1 STOP, 2 PAUSE;
@@ -110,7 +101,7 @@ pub(crate) fn end(mem: &mut DeviceMemory, e: End) {
 /// program, 4 an error (0 in RUN); the first cause holds while stopped
 /// (App. 2's figure is lost in 004: the codes are the QCPU User's Manual's,
 /// qcpu.md §8 SD203).
-pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
+pub(crate) fn status(sys: &mut Sys<'_>, status: Status) {
     let cause = |c: Cause| match c {
         Cause::Switch => 0,
         Cause::Contact => 1,
@@ -123,8 +114,8 @@ pub(crate) fn status(mem: &mut DeviceMemory, status: Status) {
         Status::Stop(c) => 1 | cause(c) << 4,
         Status::Pause(c) => 2 | cause(c) << 4,
     };
-    let old = sd_get(mem, 203);
-    sd(mem, 203, old & !0xFF | v);
+    let old = sys.sd(203);
+    sys.set_sd(203, old & !0xFF | v);
 }
 
 /// SD500: the number of the program running (its place in the parameter's
@@ -135,9 +126,9 @@ pub(crate) fn program(mem: &mut DeviceMemory, slot: usize) {
 
 /// SM203 STOP contact (STOP by the RUN contact), SM204 PAUSE status
 /// contact (004 L9567, §7.6.2).
-pub(crate) fn remote(mem: &mut DeviceMemory, r: Remote) {
-    sm(mem, 203, r.stop_by_contact);
-    sm(mem, 204, r.pause);
+pub(crate) fn remote(sys: &mut Sys<'_>, r: Remote) {
+    sys.set_sm(203, r.stop_by_contact);
+    sys.set_sm(204, r.pause);
 }
 
 /// SM206 PAUSE enable coil (004 §7.6.2 (2) (a)).
