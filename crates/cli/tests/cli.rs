@@ -376,13 +376,13 @@ fn newcomer_messages_say_what_to_do() {
         assert!(err.contains("e.g. examples/aplc/"), "{err}");
         assert!(!err.contains("os error"), "{err}");
     }
-    // Two runs of two native-capable ops (LD/OUT, OUT/LD) between an edge
-    // contact, a multiplication and END, which have no native form.
+    // Two runs of native-capable ops (LD/OUT, LD; LD) between an FF, a
+    // multiplication and END, which have no native form.
     let dir = tempfile::tempdir().unwrap();
     let short = write(
         &dir,
         "short.il",
-        "LD X0\nOUT Y0\nLDP X1\nOUT Y1\nLD X2\n* D0 K2 D2\nEND\n",
+        "LD X0\nOUT Y0\nLD X1\nFF Y1\nLD X2\n* D0 K2 D2\nEND\n",
     );
     let o = softplc(&["check", &short, "--stats", "--exec", "jit"]);
     let err = String::from_utf8_lossy(&o.stderr);
