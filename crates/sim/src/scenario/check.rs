@@ -48,8 +48,14 @@ impl Ring {
     pub fn push(&mut self, scan: u64, values: &[f64]) {
         self.scans[self.next] = scan;
         self.values[self.next * self.width..(self.next + 1) * self.width].copy_from_slice(values);
-        self.next = (self.next + 1) % self.cap;
-        self.len = (self.len + 1).min(self.cap);
+        // No division on the per-scan path.
+        self.next += 1;
+        if self.next == self.cap {
+            self.next = 0;
+        }
+        if self.len < self.cap {
+            self.len += 1;
+        }
     }
 
     /// The last `n` samples, oldest first.

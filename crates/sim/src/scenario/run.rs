@@ -233,11 +233,7 @@ impl Scenario {
             configs.push(loaded.ports);
             modbus.push(loaded.modbus);
         }
-        let plcs = Plcs {
-            units,
-            layout: Layout::Fleet(layout),
-            clients: Vec::new(),
-        };
+        let plcs = Plcs::new(units, Layout::Fleet(layout));
         self.finish_build(plcs, clock, configs, modbus)
     }
 
@@ -275,16 +271,13 @@ impl Scenario {
         port_configs: &[softplc_ports::PortConfig],
     ) -> Result<Run, String> {
         let n = cpus.len();
-        let plcs = Plcs {
-            units: vec![Plc {
-                cpus,
-                ports: softplc_ports::Ports::new(),
-                period_us: self.scan_us,
-                next_due_us: clock.now_us() + self.scan_us,
-            }],
-            layout: Layout::One(n),
-            clients: Vec::new(),
+        let unit = Plc {
+            cpus,
+            ports: softplc_ports::Ports::new(),
+            period_us: self.scan_us,
+            next_due_us: clock.now_us() + self.scan_us,
         };
+        let plcs = Plcs::new(vec![unit], Layout::One(n));
         self.finish_build(plcs, clock, vec![port_configs.to_vec()], vec![None])
     }
 
