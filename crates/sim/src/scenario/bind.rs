@@ -58,7 +58,7 @@ impl Probe {
     }
 
     /// The value now in its CPU.
-    #[inline]
+    #[inline(always)]
     pub fn read(&self, cpus: &Plcs) -> f64 {
         match self.dev.raw(cpus.get(self.cpu)) {
             Ok(raw) => decode(self.dev.name().ty(), raw),
@@ -279,12 +279,13 @@ impl Sink {
             }
             Sink::Device { dev, cpu, scale } => (dev, *cpu, *scale),
         };
-        let x = match scale {
-            Scale::Analog { raw, eng } => f64::from(to_raw(v, eng, raw)),
-            _ => v,
+        let ty = dev.name().ty();
+        let raw = match scale {
+            // Already a whole number in an i32: no rounding again.
+            Scale::Analog { raw, eng } => encode_int(ty, i64::from(to_raw(v, eng, raw))),
+            _ => encode(ty, if v.is_nan() { 0.0 } else { v }),
         };
-        let x = if x.is_nan() { 0.0 } else { x };
-        let Some(raw) = encode(dev.name().ty(), x) else {
+        let Some(raw) = raw else {
             // Refused when the sink was bound.
             return;
         };
@@ -298,14 +299,25 @@ impl Sink {
 /// for strings.
 #[inline]
 fn encode(ty: ValueType, x: f64) -> Option<u64> {
-    let int = |lo: f64, hi: f64| x.round().clamp(lo, hi) as i64;
+    match ty {
+        ValueType::Bit => Some((x > 0.5) as u64),
+        ValueType::F32 => Some((x as f32).to_bits() as u64),
+        ValueType::Str => None,
+        // Clamped first to where an i64 holds it exactly.
+        _ => encode_int(ty, x.round().clamp(-(2f64.powi(40)), 2f64.powi(40)) as i64),
+    }
+}
+
+/// [`encode`] of the whole number `i`.
+#[inline]
+fn encode_int(ty: ValueType, i: i64) -> Option<u64> {
     Some(match ty {
-        ValueType::Bit => (x > 0.5) as u64,
-        ValueType::I16 => int(-32768.0, 32767.0) as u16 as u64,
-        ValueType::U16 => int(0.0, 65535.0) as u64,
-        ValueType::I32 => int(i32::MIN as f64, i32::MAX as f64) as u32 as u64,
-        ValueType::U32 => int(0.0, u32::MAX as f64) as u64,
-        ValueType::F32 => (x as f32).to_bits() as u64,
+        ValueType::Bit => (i > 0) as u64,
+        ValueType::I16 => i.clamp(-32768, 32767) as u16 as u64,
+        ValueType::U16 => i.clamp(0, 65535) as u64,
+        ValueType::I32 => i.clamp(i32::MIN.into(), i32::MAX.into()) as u32 as u64,
+        ValueType::U32 => i.clamp(0, u32::MAX.into()) as u64,
+        ValueType::F32 => (i as f32).to_bits() as u64,
         ValueType::Str => return None,
     })
 }

@@ -621,6 +621,7 @@ impl Run {
         let mut done = 0;
         // The scan at which each CPU was first seen stopped.
         let mut stopped: Vec<Option<u64>> = vec![None; self.cpus.len()];
+        let mut running = stopped.len();
         let mut all_stopped = false;
         let mut fault = None;
         for n in 1..=self.total {
@@ -643,9 +644,10 @@ impl Run {
             for (i, s) in stopped.iter_mut().enumerate() {
                 if s.is_none() && self.cpus.get(i).state() == CpuState::Stop {
                     *s = Some(n);
+                    running -= 1;
                 }
             }
-            if stopped.iter().all(Option::is_some) {
+            if running == 0 {
                 all_stopped = true;
                 if let Some(r) = &mut self.recorder {
                     r.take(n, time_us, &self.cpus);
