@@ -421,12 +421,9 @@ mod tests {
     }
 
     fn melsec_cpu(program: &str) -> Cpu {
-        let p = crate::program::compile_il(
-            "t.il",
-            program,
-            &crate::device::DeviceConfig::default(),
-        )
-        .unwrap();
+        let p =
+            crate::program::compile_il("t.il", program, &crate::device::DeviceConfig::default())
+                .unwrap();
         Cpu::new(
             p,
             crate::profile::default_config(),
@@ -488,10 +485,24 @@ mod tests {
         // The journal heard each write as the point write that replays it.
         let told = told.0.lock().unwrap().clone();
         assert_eq!(told.len(), 4, "{told:?}");
-        assert!(told[0].contains("Words { kind: D, number: 10, len: 2, block: First, values: [0, 16320] }"), "{told:?}");
-        assert!(told[1].contains("Words { kind: D, number: 0, len: 1, block: First, values: [13] }"), "{told:?}");
-        assert!(told[2].starts_with("Value { spec: DeviceSpec { text: \"K4M0\""), "{told:?}");
-        assert!(told[3].contains("Bit { kind: X, n: 5, value: true }"), "{told:?}");
+        assert!(
+            told[0].contains(
+                "Words { kind: D, number: 10, len: 2, block: First, values: [0, 16320] }"
+            ),
+            "{told:?}"
+        );
+        assert!(
+            told[1].contains("Words { kind: D, number: 0, len: 1, block: First, values: [13] }"),
+            "{told:?}"
+        );
+        assert!(
+            told[2].starts_with("Value { spec: DeviceSpec { text: \"K4M0\""),
+            "{told:?}"
+        );
+        assert!(
+            told[3].contains("Bit { kind: X, n: 5, value: true }"),
+            "{told:?}"
+        );
     }
 
     #[test]

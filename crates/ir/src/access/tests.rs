@@ -241,7 +241,10 @@ fn places_are_their_names_resolved_once() {
     assert_eq!(word(&m, DeviceKind::ZR, 5), 0x968D);
     assert_eq!(word(&m, DeviceKind::ZR, 32773), 0);
     for name in ["K4M0", "D0Z0", "X0Z1", "D30:str"] {
-        assert!(DeviceSpec::parse(name).unwrap().place(&m).is_none(), "{name}");
+        assert!(
+            DeviceSpec::parse(name).unwrap().place(&m).is_none(),
+            "{name}"
+        );
     }
     let e = DeviceSpec::parse("D12288").unwrap().place(&m).unwrap();
     assert!(e.unwrap_err().to_string().contains("D12288"));
@@ -258,7 +261,11 @@ fn a_place_of_another_configuration_is_an_error() {
     let mut small = mem();
     let last = zr + 999_998;
     for name in [format!("ZR{last}"), format!("ZR{last}:i32")] {
-        let place = DeviceSpec::parse(&name).unwrap().place(&big).unwrap().unwrap();
+        let place = DeviceSpec::parse(&name)
+            .unwrap()
+            .place(&big)
+            .unwrap()
+            .unwrap();
         let e = small.read_place(&place).unwrap_err().to_string();
         assert!(e.contains(&format!("ZR{last}")), "{e}");
         assert!(small.write_place(&place, 1).is_err(), "{name}");

@@ -36,7 +36,9 @@ impl Plc {
             Cpus::One(cpu) => {
                 cpu.scan();
                 // The communication phase after END (L914-941).
-                self.ports.after_end(cpu);
+                if !self.ports.is_empty() {
+                    self.ports.after_end(cpu);
+                }
                 self.next_due_us += self.period_us;
             }
             Cpus::System(sys) => {
@@ -119,6 +121,19 @@ impl Plcs {
     /// at the same time in their order), each followed by its clients
     /// that are due; the clock then reads `t_us`.
     pub(super) fn run_until(&mut self, t_us: u64, clock: &VirtualClock) {
+        // One PLC polled by no client (most scenarios): its scans in turn.
+        if let ([unit], true) = (&mut self.units[..], self.clients.is_empty()) {
+            loop {
+                let due = unit.next_due();
+                if due > t_us {
+                    break;
+                }
+                advance_to(clock, due);
+                unit.scan();
+            }
+            advance_to(clock, t_us);
+            return;
+        }
         loop {
             let mut next: Option<(u64, usize)> = None;
             for (u, p) in self.units.iter().enumerate() {
