@@ -289,10 +289,11 @@ impl DevName {
 }
 
 /// A [`DevName`] resolved against one CPU: a plain name (a bit, a bit of a
-/// word, a numeric word device without index modification) at its
-/// [`Place`], read and written through the Cpu door without resolving the
-/// name again; any other name (index-modified, digit-specified) through the
-/// name at each access. Raw bits are in the name's type, as
+/// word, a numeric word device, a digit-specified bit device, without index
+/// modification) at its [`Place`], read and written through the Cpu door
+/// without resolving the name again; an index-modified name through the
+/// name at each access, and a digit-specified one written through the name
+/// (its value must fit the digits). Raw bits are in the name's type, as
 /// [`DevName::raw`] reads them.
 #[derive(Clone, Debug)]
 pub struct Placed {
@@ -343,8 +344,8 @@ impl Placed {
     pub fn write_raw(&self, cpu: &mut Cpu, raw: u64) -> Result<(), String> {
         let door = self.name.door_raw(raw)?;
         match &self.place {
-            Some(p) => cpu.write_place(p, door).map_err(|e| e.to_string()),
-            None => {
+            Some(p) if !p.is_digits() => cpu.write_place(p, door).map_err(|e| e.to_string()),
+            _ => {
                 let spec = &self.name.dev.spec;
                 cpu.write_value(spec, &spec.present_raw(door))
                     .map_err(|e| e.to_string())
@@ -466,15 +467,30 @@ mod tests {
         assert_eq!(b.raw(&cpu).unwrap(), 1);
         assert_eq!(placed("D0.2", &cpu).raw(&cpu).unwrap(), 1);
         assert_eq!(placed("D0.1", &cpu).raw(&cpu).unwrap(), 0);
-        // K4M0 is no place: written through its name, 0x1234 on M2, M4, M5,
-        // M9 and M12.
+        // K4M0 is read at its place and written through its name: 0x1234
+        // on M2, M4, M5, M9 and M12; K2M0 refuses 300, which does not fit
+        // 8 bits.
         let k = placed("K4M0", &cpu);
-        assert!(!k.is_placed());
+        assert!(k.is_placed());
         k.write_raw(&mut cpu, 0x1234).unwrap();
         assert_eq!(k.raw(&cpu).unwrap(), 0x1234);
         assert_eq!(cpu.memory().get_bit(M, 2), Ok(true));
         assert_eq!(cpu.memory().get_bit(M, 3), Ok(false));
         assert_eq!(cpu.memory().get_bit(M, 12), Ok(true));
+        assert!(placed("K2M0", &cpu).write_raw(&mut cpu, 300).is_err());
+        assert_eq!(k.raw(&cpu).unwrap(), 0x1234);
+        // D0Z0 is no place: read through its name, Z0 = 1 making it D1.
+        cpu.set_word(D, 1, 77).unwrap();
+        cpu.set_word(crate::device::DeviceKind::Z, 0, 1).unwrap();
+        let z = placed("D0Z0", &cpu);
+        assert!(!z.is_placed());
+        assert_eq!(z.raw(&cpu).unwrap(), 77);
+        // K4X10 through the door at its place: X10-X1F reach the input
+        // image, and the journal hears the 16 bits.
+        let kx = DeviceSpec::parse("K4X10").unwrap();
+        let at = kx.place(cpu.memory()).unwrap().unwrap();
+        cpu.write_place(&at, 0x8001).unwrap();
+        assert!(cpu.input(0x10) && !cpu.input(0x11) && cpu.input(0x1F));
         // X5 reaches the input image: the next scan's input refresh keeps it.
         let x = placed("X5", &cpu);
         x.write_raw(&mut cpu, 1).unwrap();
@@ -484,7 +500,7 @@ mod tests {
         assert_eq!(placed("Y0", &cpu).raw(&cpu).unwrap(), 1);
         // The journal heard each write as the point write that replays it.
         let told = told.0.lock().unwrap().clone();
-        assert_eq!(told.len(), 4, "{told:?}");
+        assert_eq!(told.len(), 7, "{told:?}");
         assert!(
             told[0].contains(
                 "Words { kind: D, number: 10, len: 2, block: First, values: [0, 16320] }"
@@ -499,8 +515,15 @@ mod tests {
             told[2].starts_with("Value { spec: DeviceSpec { text: \"K4M0\""),
             "{told:?}"
         );
+        let mut bits = vec!["false"; 16];
+        (bits[0], bits[15]) = ("true", "true");
+        let k4x10 = format!(
+            "Bits {{ kind: X, number: 16, block: First, values: [{}] }}",
+            bits.join(", ")
+        );
+        assert!(told[5].contains(&k4x10), "{told:?}");
         assert!(
-            told[3].contains("Bit { kind: X, n: 5, value: true }"),
+            told[6].contains("Bit { kind: X, n: 5, value: true }"),
             "{told:?}"
         );
     }

@@ -376,9 +376,10 @@ fn bindings_and_checks_read_each_kind_of_name_by_value() {
     // to K4M0, which the program copies to D20; the flag (0.8/s, ON above
     // 0.5 from scan 63) to bit 3 of D1, which the timeline sets to 5 at scan
     // 1 and the program copies to D2. D0 = 10 is 1010b; D30:i32 = 100000 is
-    // 0001 86A0, a low word alone would read 86A0.
+    // 0001 86A0, a low word alone would read 86A0. D18Z0 is D20 (Z0 = 2),
+    // read through its name at every scan.
     let o = run(
-        "LD SM400\nMOV K10 D0\nDMOV K100000 D30\nMOV K4M0 D20\nMOV D1 D2\nEND\n",
+        "LD SM400\nMOV K10 D0\nDMOV K100000 D30\nMOV K4M0 D20\nMOV D1 D2\nMOV K2 Z0\nEND\n",
         &format!(
             "{HEAD}
 [[model]]
@@ -471,11 +472,16 @@ equals = true
 device = \"D30:i32\"
 equals = 100000
 at = \"1s\"
+
+[[expect]]
+device = \"D18Z0\"
+equals = 100
+at = \"1s\"
 "
         ),
     );
     assert_all_pass(&o);
-    assert_eq!(o.passed(), 13);
+    assert_eq!(o.passed(), 14);
 }
 
 /// A model writing X that the program reads: the write reaches the input

@@ -41,17 +41,18 @@ impl Cpu {
     }
 
     /// Writes raw bits to a place resolved once, as [`Self::write_value`]
-    /// writes the same value by name: X goes to the input image as well, a
-    /// forced point keeps its forced value, and the journal is told the
-    /// point write it is (a bit, a word, or two words of R in block 0).
+    /// writes the same value by name (whether a value fits a digit-specified
+    /// name's digits is the caller's to check): X goes to the input image as
+    /// well, a forced point keeps its forced value, and the journal is told
+    /// the point write it is (bits, or words of R in block 0).
     #[inline]
     pub fn write_place(&mut self, p: &Place, raw: u64) -> Result<(), AccessError> {
         self.rt.mem.write_place(p, raw)?;
         let s = *p.span();
-        if p.is_bit() {
-            self.mirror(s.kind(), s.number(), 1);
+        if s.is_bit() {
+            self.mirror(s.kind(), s.number(), s.len());
             if !self.rt.forces.is_empty() {
-                self.force_written(Some((s.kind(), s.number(), 1)));
+                self.force_written(Some((s.kind(), s.number(), s.len())));
             }
         } else if !self.rt.forces.is_empty() {
             self.force_written(None);
@@ -63,8 +64,8 @@ impl Cpu {
     }
 
     /// Tells the journal a write to `p` as the point write that replays it:
-    /// a bit, else the place's words as they now are (a bit of a word
-    /// carries its word).
+    /// a bit or the digits' bits, else the place's words as they now are (a
+    /// bit of a word carries its word).
     #[cold]
     fn note_place(&mut self, p: &Place, raw: u64) {
         let s = *p.span();
@@ -74,6 +75,20 @@ impl Cpu {
                 kind,
                 n: number as i64,
                 value: raw & 1 != 0,
+            });
+            return;
+        }
+        if p.is_digits() {
+            let mut bits = [false; 32];
+            let len = (s.len() as usize).min(bits.len());
+            for (i, b) in bits[..len].iter_mut().enumerate() {
+                *b = raw >> i & 1 != 0;
+            }
+            self.note(DoorEvent::Bits {
+                kind,
+                number,
+                block: RBlock::First,
+                values: &bits[..len],
             });
             return;
         }

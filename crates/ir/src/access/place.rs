@@ -6,8 +6,9 @@ use super::span::Span;
 use super::AccessError;
 use crate::device::DeviceMemory;
 
-/// Where a plain device name's value lives: a bit, a bit of a word, or one or
-/// two words (low word first), checked against the memory it was resolved in.
+/// Where a plain device name's value lives: a bit, a bit of a word, one or
+/// two words (low word first), or the 4·n bits of a digit-specified bit
+/// device (`K4M0`), checked against the memory it was resolved in.
 /// Read and written as the raw bits [`super::DeviceSpec::raw`] reads;
 /// found by [`super::DeviceSpec::place`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -22,6 +23,8 @@ pub(super) enum Shape {
     WordBit(u8),
     /// The span's words (1 or 2).
     Words,
+    /// The span's bits (4 to 32), the lowest device number in bit 0.
+    Digits,
 }
 
 impl Place {
@@ -37,6 +40,11 @@ impl Place {
     /// A bit device's point (not a bit of a word).
     pub fn is_bit(&self) -> bool {
         self.shape == Shape::Bit
+    }
+
+    /// A digit-specified name's bits (`K4M0`).
+    pub fn is_digits(&self) -> bool {
+        self.shape == Shape::Digits
     }
 
     /// The bit of a word (`D0.3` is 3).
@@ -69,11 +77,19 @@ impl DeviceMemory {
                 Some(&[lo, hi]) => Ok(lo as u64 | (hi as u64) << 16),
                 _ => Err(foreign(p)),
             },
+            Shape::Digits => match self.bits.get(start..start + p.span.len() as usize) {
+                Some(bits) => Ok(bits
+                    .iter()
+                    .enumerate()
+                    .fold(0, |v, (i, &b)| v | (b as u64) << i)),
+                None => Err(foreign(p)),
+            },
         }
     }
 
     /// Writes raw bits to `p` (the lowest bit for a bit, low word first for
-    /// words; bits beyond the place are ignored).
+    /// words, the lowest 4·n for digits; bits beyond the place are ignored:
+    /// whether a value fits the digits is the caller's to check).
     #[inline]
     pub fn write_place(&mut self, p: &Place, raw: u64) -> Result<(), AccessError> {
         let start = p.span.start();
@@ -93,6 +109,14 @@ impl DeviceMemory {
                     *hi = (raw >> 16) as u16;
                 }
                 _ => return Err(foreign(p)),
+            },
+            Shape::Digits => match self.bits.get_mut(start..start + p.span.len() as usize) {
+                Some(bits) => {
+                    for (i, b) in bits.iter_mut().enumerate() {
+                        *b = raw >> i & 1 != 0;
+                    }
+                }
+                None => return Err(foreign(p)),
             },
         }
         Ok(())

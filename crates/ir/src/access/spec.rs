@@ -120,10 +120,11 @@ impl DeviceSpec {
     }
 
     /// This device's place in `mem` when its name is plain: a bit, a bit of a
-    /// word, or a numeric word device (one word, two for 32-bit types), named
-    /// without index modification (R is block 0's, a module's buffer memory
-    /// its window). `None` for index-modified and digit-specified names and
-    /// `:str`: their points are found again at every access.
+    /// word, a numeric word device (one word, two for 32-bit types) or a
+    /// digit-specified bit device, named without index modification (R is
+    /// block 0's, a module's buffer memory its window). `None` for
+    /// index-modified names and `:str`: their points are found again at
+    /// every access.
     pub fn place(&self, mem: &DeviceMemory) -> Option<Result<Place, AccessError>> {
         if self.index.is_some() || self.ty == ValueType::Str {
             return None;
@@ -132,6 +133,7 @@ impl DeviceSpec {
             Target::Bit(k, n) => (k, n, Shape::Bit, 1),
             Target::WordBit(k, n, b) => (k, n, Shape::WordBit(b), 1),
             Target::Word(k, n) => (k, n, Shape::Words, self.words()),
+            Target::Digits(k, n, d) if k.is_bit() => (k, n, Shape::Digits, 4 * d as u32),
             Target::Digits(..) => return None,
         };
         Some(self.span(mem, k, n, len).map(|s| Place::new(s, shape)))

@@ -240,12 +240,34 @@ fn places_are_their_names_resolved_once() {
     // R is block 0's: R5 (name 10) is ZR5 = 10·0F0E + 1 = 968D, not ZR32773.
     assert_eq!(word(&m, DeviceKind::ZR, 5), 0x968D);
     assert_eq!(word(&m, DeviceKind::ZR, 32773), 0);
-    for name in ["K4M0", "D0Z0", "X0Z1", "D30:str"] {
+    for name in ["D0Z0", "X0Z1", "K4M0Z0", "D30:str"] {
         assert!(
             DeviceSpec::parse(name).unwrap().place(&m).is_none(),
             "{name}"
         );
     }
+    // K4M0 covers M0-M15 (bits past them ignored); K8M16 is 32 bits from M16.
+    let k4 = DeviceSpec::parse("K4M0")
+        .unwrap()
+        .place(&m)
+        .unwrap()
+        .unwrap();
+    assert!(k4.is_digits() && k4.span().len() == 16);
+    m.write_place(&k4, 0xF0_A5C3).unwrap();
+    assert_eq!(m.read_place(&k4).unwrap(), 0xA5C3);
+    assert_eq!(DeviceSpec::parse("K4M0").unwrap().raw(&m).unwrap(), 0xA5C3);
+    assert_eq!(m.get_bit(DeviceKind::M, 0), Ok(true));
+    assert_eq!(m.get_bit(DeviceKind::M, 2), Ok(false));
+    assert_eq!(m.get_bit(DeviceKind::M, 16), Ok(false));
+    let k8 = DeviceSpec::parse("K8M16")
+        .unwrap()
+        .place(&m)
+        .unwrap()
+        .unwrap();
+    m.write_place(&k8, 0x8000_0001).unwrap();
+    let k8_raw = DeviceSpec::parse("K8M16").unwrap().raw(&m).unwrap();
+    assert_eq!(k8_raw, 0x8000_0001);
+    assert_eq!(m.get_bit(DeviceKind::M, 47), Ok(true));
     let e = DeviceSpec::parse("D12288").unwrap().place(&m).unwrap();
     assert!(e.unwrap_err().to_string().contains("D12288"));
 }
