@@ -252,8 +252,11 @@ impl DevName {
     /// The raw bits the door writes (through [`Self::spec`]) for `raw` given
     /// in this name's type: [`Self::door_value`] on raw bits (a swapped pair
     /// turned; a non-finite `f32` refused there, as a value is).
+    #[inline]
     pub fn door_raw(&self, raw: u64) -> Result<u64, String> {
-        self.writable()?;
+        if self.dev.read_only {
+            return Err(self.read_only());
+        }
         if !self.dev.swap {
             return Ok(raw);
         }
@@ -263,13 +266,18 @@ impl DevName {
             ValueType::F32 | ValueType::I32 | ValueType::U32 if finite => {
                 Ok(bits.rotate_left(16) as u64)
             }
-            _ => Err(format!(
-                "`{}`: bad value `{}` for {:?}",
-                self.text(),
-                self.present_raw(raw),
-                self.dev.ty
-            )),
+            _ => Err(self.bad_raw(raw)),
         }
+    }
+
+    #[cold]
+    fn bad_raw(&self, raw: u64) -> String {
+        format!(
+            "`{}`: bad value `{}` for {:?}",
+            self.text(),
+            self.present_raw(raw),
+            self.dev.ty
+        )
     }
 
     /// Not writable from outside (APLC LM and V).
@@ -279,12 +287,17 @@ impl DevName {
 
     fn writable(&self) -> Result<(), String> {
         if self.dev.read_only {
-            return Err(format!(
-                "`{}`: LM and V are POU locals and cannot be set",
-                self.text()
-            ));
+            return Err(self.read_only());
         }
         Ok(())
+    }
+
+    #[cold]
+    fn read_only(&self) -> String {
+        format!(
+            "`{}`: LM and V are POU locals and cannot be set",
+            self.text()
+        )
     }
 }
 
