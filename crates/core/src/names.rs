@@ -5,10 +5,12 @@
 //! values `16#1F`, `8#17`, `2#101`).
 //!
 //! A [`DevName`] is parsed once and then read and written through the Cpu
-//! door without parsing: [`DevName::raw`] does no string work or allocation
-//! (the scenario loop samples with it every scan).
+//! door without parsing: [`DevName::raw`] does no string work or allocation.
+//! A [`Placed`] name is also resolved once to its points in one CPU (a plain
+//! name's [`Place`]): the scenario loop reads and writes its bindings,
+//! expectations and traces with it every scan.
 
-use softplc_ir::access::{AccessError, DeviceSpec, Value, ValueType};
+use softplc_ir::access::{AccessError, DeviceSpec, Place, Value, ValueType};
 use softplc_ir::device::DeviceMemory;
 use softplc_ir::profile::{NamedDevice, Naming, Profile};
 
@@ -247,6 +249,37 @@ impl DevName {
         Ok(Value::Int(bits.rotate_left(16) as i64))
     }
 
+    /// The raw bits the door writes (through [`Self::spec`]) for `raw` given
+    /// in this name's type: [`Self::door_value`] on raw bits (a swapped pair
+    /// turned; a non-finite `f32` refused there, as a value is).
+    #[inline]
+    pub fn door_raw(&self, raw: u64) -> Result<u64, String> {
+        if self.dev.read_only {
+            return Err(self.read_only());
+        }
+        if !self.dev.swap {
+            return Ok(raw);
+        }
+        let bits = raw as u32;
+        let finite = self.dev.ty != ValueType::F32 || f32::from_bits(bits).is_finite();
+        match self.dev.ty {
+            ValueType::F32 | ValueType::I32 | ValueType::U32 if finite => {
+                Ok(bits.rotate_left(16) as u64)
+            }
+            _ => Err(self.bad_raw(raw)),
+        }
+    }
+
+    #[cold]
+    fn bad_raw(&self, raw: u64) -> String {
+        format!(
+            "`{}`: bad value `{}` for {:?}",
+            self.text(),
+            self.present_raw(raw),
+            self.dev.ty
+        )
+    }
+
     /// Not writable from outside (APLC LM and V).
     pub fn is_read_only(&self) -> bool {
         self.dev.read_only
@@ -254,12 +287,83 @@ impl DevName {
 
     fn writable(&self) -> Result<(), String> {
         if self.dev.read_only {
-            return Err(format!(
-                "`{}`: LM and V are POU locals and cannot be set",
-                self.text()
-            ));
+            return Err(self.read_only());
         }
         Ok(())
+    }
+
+    #[cold]
+    fn read_only(&self) -> String {
+        format!(
+            "`{}`: LM and V are POU locals and cannot be set",
+            self.text()
+        )
+    }
+}
+
+/// A [`DevName`] resolved against one CPU: a plain name (a bit, a bit of a
+/// word, a numeric word device, a digit-specified bit device, without index
+/// modification) at its [`Place`], read and written through the Cpu door
+/// without resolving the name again; an index-modified name through the
+/// name at each access, and a digit-specified one written through the name
+/// (its value must fit the digits). Raw bits are in the name's type, as
+/// [`DevName::raw`] reads them.
+#[derive(Clone, Debug)]
+pub struct Placed {
+    name: DevName,
+    place: Option<Place>,
+}
+
+impl Placed {
+    /// Resolves `name` in `cpu`: an error names a plain device outside its
+    /// points.
+    pub fn new(name: DevName, cpu: &Cpu) -> Result<Placed, String> {
+        let place = match name.dev.spec.place(cpu.memory()) {
+            Some(p) => Some(p.map_err(|e| e.to_string())?),
+            None => None,
+        };
+        Ok(Placed { name, place })
+    }
+
+    pub fn name(&self) -> &DevName {
+        &self.name
+    }
+
+    /// Whether the name was resolved to a place (the fast path).
+    pub fn is_placed(&self) -> bool {
+        self.place.is_some()
+    }
+
+    /// The raw bits now in `cpu` (the CPU it was resolved in).
+    #[inline]
+    pub fn raw(&self, cpu: &Cpu) -> Result<u64, AccessError> {
+        let raw = match &self.place {
+            Some(p) => cpu.read_place(p)?,
+            None => self.name.dev.spec.raw(cpu.memory())?,
+        };
+        Ok(if self.name.dev.swap {
+            (raw as u32).rotate_left(16) as u64
+        } else {
+            raw
+        })
+    }
+
+    /// Writes raw bits in the name's type through the door, as
+    /// [`DevName::write_value`] writes the value they present: X reaches the
+    /// input image, a forced point stays forced. Nothing is written when the
+    /// value does not fit (a digit-specified name narrower than its type) or
+    /// the name is read only.
+    #[inline]
+    pub fn write_raw(&self, cpu: &mut Cpu, raw: u64) -> Result<(), String> {
+        let door = self.name.door_raw(raw)?;
+        match &self.place {
+            Some(p) if !p.is_digits() => cpu.write_place(p, door).map_err(|e| e.to_string()),
+            _ => {
+                let spec = &self.name.dev.spec;
+                cpu.write_value(spec, &spec.present_raw(door))
+                    .map_err(|e| e.to_string())
+            }
+        }
     }
 }
 
@@ -328,6 +432,129 @@ mod tests {
             .unwrap()
             .write(&mut cpu, "H10")
             .is_err());
+    }
+
+    fn melsec_cpu(program: &str) -> Cpu {
+        let p =
+            crate::program::compile_il("t.il", program, &crate::device::DeviceConfig::default())
+                .unwrap();
+        Cpu::new(
+            p,
+            crate::profile::default_config(),
+            Box::new(VirtualClock::new()),
+        )
+    }
+
+    /// Every write the journal is told, as text.
+    #[derive(Clone, Default)]
+    struct Told(std::sync::Arc<std::sync::Mutex<Vec<String>>>);
+
+    impl crate::engine::Journal for Told {
+        fn record(&mut self, event: crate::engine::DoorEvent<'_>) {
+            self.0.lock().unwrap().push(format!("{event:?}"));
+        }
+    }
+
+    fn placed(s: &str, cpu: &Cpu) -> Placed {
+        Placed::new(DevName::parse_for(s, cpu).unwrap(), cpu).unwrap()
+    }
+
+    #[test]
+    fn placed_names_read_and_write_what_names_do() {
+        use crate::device::DeviceKind::{D, M, X};
+        let mut cpu = melsec_cpu("LD X5\nOUT Y0\nEND\n");
+        cpu.set_word(D, 0, 5).unwrap();
+        let told = Told::default();
+        cpu.set_journal(Some(Box::new(told.clone())));
+        // D10:f32 = 1.5 is 3FC0 0000, low word first: D10 = 0, D11 = 3FC0.
+        let f = placed("D10:f32", &cpu);
+        assert!(f.is_placed());
+        f.write_raw(&mut cpu, 1.5f32.to_bits() as u64).unwrap();
+        assert_eq!(cpu.memory().get_word(D, 10), Ok(0));
+        assert_eq!(cpu.memory().get_word(D, 11), Ok(0x3FC0));
+        assert_eq!(f.raw(&cpu).unwrap(), 0x3FC0_0000);
+        // D0.3 sets bit 3 only: 5 becomes 13.
+        let b = placed("D0.3", &cpu);
+        b.write_raw(&mut cpu, 1).unwrap();
+        assert_eq!(cpu.memory().get_word(D, 0), Ok(13));
+        assert_eq!(b.raw(&cpu).unwrap(), 1);
+        assert_eq!(placed("D0.2", &cpu).raw(&cpu).unwrap(), 1);
+        assert_eq!(placed("D0.1", &cpu).raw(&cpu).unwrap(), 0);
+        // K4M0 is read at its place and written through its name: 0x1234
+        // on M2, M4, M5, M9 and M12; K2M0 refuses 300, which does not fit
+        // 8 bits.
+        let k = placed("K4M0", &cpu);
+        assert!(k.is_placed());
+        k.write_raw(&mut cpu, 0x1234).unwrap();
+        assert_eq!(k.raw(&cpu).unwrap(), 0x1234);
+        assert_eq!(cpu.memory().get_bit(M, 2), Ok(true));
+        assert_eq!(cpu.memory().get_bit(M, 3), Ok(false));
+        assert_eq!(cpu.memory().get_bit(M, 12), Ok(true));
+        assert!(placed("K2M0", &cpu).write_raw(&mut cpu, 300).is_err());
+        assert_eq!(k.raw(&cpu).unwrap(), 0x1234);
+        // D0Z0 is no place: read through its name, Z0 = 1 making it D1.
+        cpu.set_word(D, 1, 77).unwrap();
+        cpu.set_word(crate::device::DeviceKind::Z, 0, 1).unwrap();
+        let z = placed("D0Z0", &cpu);
+        assert!(!z.is_placed());
+        assert_eq!(z.raw(&cpu).unwrap(), 77);
+        // K4X10 through the door at its place: X10-X1F reach the input
+        // image, and the journal hears the 16 bits.
+        let kx = DeviceSpec::parse("K4X10").unwrap();
+        let at = kx.place(cpu.memory()).unwrap().unwrap();
+        cpu.write_place(&at, 0x8001).unwrap();
+        assert!(cpu.input(0x10) && !cpu.input(0x11) && cpu.input(0x1F));
+        // X5 reaches the input image: the next scan's input refresh keeps it.
+        let x = placed("X5", &cpu);
+        x.write_raw(&mut cpu, 1).unwrap();
+        assert!(cpu.input(5));
+        cpu.scan();
+        assert_eq!(cpu.memory().get_bit(X, 5), Ok(true));
+        assert_eq!(placed("Y0", &cpu).raw(&cpu).unwrap(), 1);
+        // The journal heard each write as the point write that replays it.
+        let told = told.0.lock().unwrap().clone();
+        assert_eq!(told.len(), 7, "{told:?}");
+        assert!(
+            told[0].contains(
+                "Words { kind: D, number: 10, len: 2, block: First, values: [0, 16320] }"
+            ),
+            "{told:?}"
+        );
+        assert!(
+            told[1].contains("Words { kind: D, number: 0, len: 1, block: First, values: [13] }"),
+            "{told:?}"
+        );
+        assert!(
+            told[2].starts_with("Value { spec: DeviceSpec { text: \"K4M0\""),
+            "{told:?}"
+        );
+        let mut bits = vec!["false"; 16];
+        (bits[0], bits[15]) = ("true", "true");
+        let k4x10 = format!(
+            "Bits {{ kind: X, number: 16, block: First, values: [{}] }}",
+            bits.join(", ")
+        );
+        assert!(told[5].contains(&k4x10), "{told:?}");
+        assert!(
+            told[6].contains("Bit { kind: X, n: 5, value: true }"),
+            "{told:?}"
+        );
+    }
+
+    #[test]
+    fn placed_writes_keep_a_forced_point_forced() {
+        use crate::device::DeviceKind::X;
+        let mut cpu = melsec_cpu("LD X5\nOUT Y0\nEND\n");
+        cpu.force(X, 5, true).unwrap();
+        let x = placed("X5", &cpu);
+        x.write_raw(&mut cpu, 0).unwrap();
+        // Forced ON wins; the write is the value under the force.
+        assert_eq!(x.raw(&cpu).unwrap(), 1);
+        assert!(!cpu.input(5));
+        cpu.scan();
+        assert_eq!(placed("Y0", &cpu).raw(&cpu).unwrap(), 1);
+        assert!(cpu.release(X, 5));
+        assert_eq!(x.raw(&cpu).unwrap(), 0);
     }
 
     #[test]

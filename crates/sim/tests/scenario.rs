@@ -367,6 +367,226 @@ at = \"1.5s\"
     assert_eq!(o.results[0].detail, "at 710 ms (scan 71)");
 }
 
+/// Bindings and expectations resolve plain names once (a bit, a bit of a
+/// word, one or two words) and read digit-specified names through the name:
+/// every kind reads and writes the value its name means.
+#[test]
+fn bindings_and_checks_read_each_kind_of_name_by_value() {
+    // The ramp (1/s) goes to D10:f32; the counter (100/s: 1 a scan, exact)
+    // to K4M0, which the program copies to D20; the flag (0.8/s, ON above
+    // 0.5 from scan 63) to bit 3 of D1, which the timeline sets to 5 at scan
+    // 1 and the program copies to D2. D0 = 10 is 1010b; D30:i32 = 100000 is
+    // 0001 86A0, a low word alone would read 86A0. D18Z0 is D20 (Z0 = 2),
+    // read through its name at every scan.
+    let o = run(
+        "LD SM400\nMOV K10 D0\nDMOV K100000 D30\nMOV K4M0 D20\nMOV D1 D2\nMOV K2 Z0\nEND\n",
+        &format!(
+            "{HEAD}
+[[model]]
+name = \"ramp\"
+type = \"integrator\"
+inputs.u = 1
+outputs.y = \"D10:f32\"
+
+[[model]]
+name = \"counter\"
+type = \"integrator\"
+params = {{ gain = 100 }}
+inputs.u = 1
+outputs.y = \"K4M0\"
+
+[[model]]
+name = \"flag\"
+type = \"integrator\"
+params = {{ gain = 0.8 }}
+inputs.u = 1
+outputs.y = \"D1.3\"
+
+[[timeline]]
+scan = 1
+set = {{ D1 = 5 }}
+
+[[expect]]
+device = \"D10:f32\"
+equals = 0.5
+tolerance = 1e-6
+at = \"0.5s\"
+
+[[expect]]
+device = \"D10:f32\"
+equals = 1.0
+tolerance = 1e-6
+at = \"1s\"
+
+[[expect]]
+device = \"K4M0\"
+equals = 100
+at = \"1s\"
+
+[[expect]]
+device = \"D20\"
+equals = 100
+at = \"1s\"
+
+[[expect]]
+device = \"M2\"
+equals = true
+at = \"1s\"
+
+[[expect]]
+device = \"M3\"
+equals = false
+at = \"1s\"
+
+[[expect]]
+device = \"D1.3\"
+equals = false
+at = \"0.62s\"
+
+[[expect]]
+device = \"D1.3\"
+equals = true
+at = \"0.63s\"
+
+[[expect]]
+device = \"D2\"
+equals = 5
+at = \"0.62s\"
+
+[[expect]]
+device = \"D2\"
+equals = 13
+at = \"0.63s\"
+
+[[expect]]
+device = \"D0.3\"
+always = true
+equals = true
+
+[[expect]]
+device = \"D0.2\"
+never = true
+equals = true
+
+[[expect]]
+device = \"D30:i32\"
+equals = 100000
+at = \"1s\"
+
+[[expect]]
+device = \"D18Z0\"
+equals = 100
+at = \"1s\"
+"
+        ),
+    );
+    assert_all_pass(&o);
+    assert_eq!(o.passed(), 14);
+}
+
+/// A model writing X that the program reads: the write reaches the input
+/// image (it survives the input refresh) and its rising edge is seen once.
+#[test]
+fn a_model_output_on_x_is_an_input_the_program_reads() {
+    // y = 0.008·n before scan n: above 0.5 from scan 63 on.
+    let o = run(
+        "LDP X5\nINC D0\nLD X5\nOUT Y0\nEND\n",
+        &format!(
+            "{HEAD}
+[[model]]
+type = \"integrator\"
+params = {{ gain = 0.8 }}
+inputs.u = 1
+outputs.y = \"X5\"
+
+[[expect]]
+device = \"Y0\"
+equals = true
+within = \"2s\"
+
+[[expect]]
+device = \"X5\"
+equals = false
+at = \"0.62s\"
+
+[[expect]]
+device = \"X5\"
+equals = true
+at = \"0.63s\"
+
+[[expect]]
+device = \"D0\"
+equals = 1
+at = \"2s\"
+"
+        ),
+    );
+    assert_all_pass(&o);
+    assert_eq!(o.results[0].detail, "at 630 ms (scan 63)");
+}
+
+/// A model writing a forced X: the forced value wins, for the program and
+/// for a later model reading it in the same step; the written value is the
+/// one under the force and comes back at release.
+#[test]
+fn a_model_output_on_a_forced_x_keeps_the_force() {
+    // "off" writes X5 OFF before every scan; "count" integrates X5 (1/s)
+    // into D10:f32, after "off" in the same step.
+    let scenario = parse(&format!(
+        "{HEAD}
+[[model]]
+name = \"off\"
+type = \"integrator\"
+params = {{ gain = 0 }}
+inputs.u = 1
+outputs.y = \"X5\"
+
+[[model]]
+name = \"count\"
+type = \"integrator\"
+inputs.u = \"X5\"
+outputs.y = \"D10:f32\"
+"
+    ))
+    .unwrap();
+    let clock = VirtualClock::new();
+    let prog = compile_il(
+        "inline.il",
+        "LD X5\nOUT Y0\nEND\n",
+        &DeviceConfig::default(),
+    )
+    .unwrap();
+    let mut cpu = Cpu::new(
+        prog,
+        softplc_core::profile::default_config(),
+        Box::new(clock.clone()),
+    );
+    cpu.force(softplc_core::device::DeviceKind::X, 5, true)
+        .unwrap();
+    let mut run = scenario.build_with(cpu, clock).unwrap();
+    for _ in 0..100 {
+        run.step().unwrap();
+    }
+    let read = |run: &softplc_sim::scenario::Run, d: &str| {
+        let spec = softplc_core::access::DeviceSpec::parse(d).unwrap();
+        run.cpu().read_device(&spec).unwrap()
+    };
+    use softplc_core::access::Value;
+    // 100 steps of 1·0.01 s: 1.0 as an f32.
+    assert_eq!(read(&run, "D10:f32"), Value::Float(1.0));
+    assert_eq!(read(&run, "X5"), Value::Bool(true));
+    assert_eq!(read(&run, "Y0"), Value::Bool(true));
+    // Released, X5 is what "off" wrote: OFF.
+    assert!(run
+        .cpu_mut()
+        .release(softplc_core::device::DeviceKind::X, 5));
+    assert_eq!(read(&run, "X5"), Value::Bool(false));
+    run.step().unwrap();
+    assert_eq!(read(&run, "Y0"), Value::Bool(false));
+    // Scan 101's step read X5 OFF: D10 stays 1.0.
+    assert_eq!(read(&run, "D10:f32"), Value::Float(1.0));
+}
+
 // ---------------------------------------------------------------- failures
 
 #[test]

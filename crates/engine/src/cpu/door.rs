@@ -4,7 +4,7 @@
 //! module's signal would.
 
 use super::*;
-use softplc_ir::access::{AccessError, DeviceSpec, RBlock, Span, Value};
+use softplc_ir::access::{AccessError, DeviceSpec, Place, RBlock, Span, Value};
 use softplc_ir::device::OutOfRange;
 
 impl Cpu {
@@ -31,6 +31,78 @@ impl Cpu {
         self.force_spec(spec);
         self.note(DoorEvent::Value { spec, value });
         Ok(())
+    }
+
+    /// Reads the raw bits at a place resolved once ([`DeviceSpec::place`]),
+    /// as [`DeviceSpec::raw`] reads its name, without resolving it again.
+    #[inline]
+    pub fn read_place(&self, p: &Place) -> Result<u64, AccessError> {
+        self.rt.mem.read_place(p)
+    }
+
+    /// Writes raw bits to a place resolved once, as [`Self::write_value`]
+    /// writes the same value by name (whether a value fits a digit-specified
+    /// name's digits is the caller's to check): X goes to the input image as
+    /// well, a forced point keeps its forced value, and the journal is told
+    /// the point write it is (bits, or words of R in block 0).
+    #[inline]
+    pub fn write_place(&mut self, p: &Place, raw: u64) -> Result<(), AccessError> {
+        self.rt.mem.write_place(p, raw)?;
+        let s = *p.span();
+        if s.is_bit() {
+            self.mirror(s.kind(), s.number(), s.len());
+            if !self.rt.forces.is_empty() {
+                self.force_written(Some((s.kind(), s.number(), s.len())));
+            }
+        } else if !self.rt.forces.is_empty() {
+            self.force_written(None);
+        }
+        if self.has_journal() {
+            self.note_place(p, raw);
+        }
+        Ok(())
+    }
+
+    /// Tells the journal a write to `p` as the point write that replays it:
+    /// a bit or the digits' bits, else the place's words as they now are (a
+    /// bit of a word carries its word).
+    #[cold]
+    fn note_place(&mut self, p: &Place, raw: u64) {
+        let s = *p.span();
+        let (kind, number) = (s.kind(), s.number());
+        if p.is_bit() {
+            self.note(DoorEvent::Bit {
+                kind,
+                n: number as i64,
+                value: raw & 1 != 0,
+            });
+            return;
+        }
+        if p.is_digits() {
+            let mut bits = [false; 32];
+            let len = (s.len() as usize).min(bits.len());
+            for (i, b) in bits[..len].iter_mut().enumerate() {
+                *b = raw >> i & 1 != 0;
+            }
+            self.note(DoorEvent::Bits {
+                kind,
+                number,
+                block: RBlock::First,
+                values: &bits[..len],
+            });
+            return;
+        }
+        let mut words = [0u16; 2];
+        let len = (s.len() as usize).min(words.len());
+        if self.rt.mem.read_span_into(&s, &mut words[..len]).is_ok() {
+            self.note(DoorEvent::Words {
+                kind,
+                number,
+                len: s.len(),
+                block: RBlock::First,
+                values: &words[..len],
+            });
+        }
     }
 
     /// Resolves `len` points of `kind` from `number`, R in block `r`.

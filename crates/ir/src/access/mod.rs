@@ -8,6 +8,9 @@
 //! - [`Span`]: `len` consecutive points of one device kind, resolved from a
 //!   name or a protocol's (kind, number) pair and range-checked once; read and
 //!   written as words or bits ([`DeviceMemory::read_span_words`], …).
+//! - [`Place`]: a plain name (`D10:f32`, `X0`, `D0.3`) resolved once to its
+//!   points, read and written as raw bits without resolving it again
+//!   ([`DeviceMemory::read_place`], [`DeviceMemory::write_place`]).
 //! - The file-register rule (R addresses the block the CPU's selector word
 //!   holds, 004 §10.7) lives here
 //!   and only here: [`r_to_zr`], [`RBlock`].
@@ -18,6 +21,7 @@
 //! (`softplc_engine::Cpu::write_span_bits`, `write_value`), which keeps the input
 //! image; this module sees device memory only.
 
+mod place;
 mod span;
 mod spec;
 
@@ -25,6 +29,7 @@ use std::fmt;
 
 use crate::device::OutOfRange;
 
+pub use place::Place;
 pub use span::{r_to_zr, selected_block, RBlock, Span, R_BLOCK};
 pub use spec::DeviceSpec;
 

@@ -259,7 +259,7 @@ fn length(s: &Span, given: usize) -> AccessError {
 }
 
 /// A span resolved in a memory of another configuration.
-fn foreign(s: &Span) -> AccessError {
+pub(super) fn foreign(s: &Span) -> AccessError {
     AccessError::Range {
         device: s.name(),
         source: OutOfRange {

@@ -1,5 +1,6 @@
 //! Devices by name and type: `D10:f32`, `K4M0`, `D0.F`, `TN0`.
 
+use super::place::{Place, Shape};
 use super::span::{RBlock, Span};
 use super::{AccessError, Value, ValueType};
 use crate::device::{parse_operand, BufferError, DeviceKind, DeviceMemory, Operand, OutOfRange};
@@ -116,6 +117,26 @@ impl DeviceSpec {
             Target::Bit(k, n) | Target::WordBit(k, n, _) | Target::Word(k, n) => (k, n),
             Target::Digits(k, n, _) => (k, n),
         })
+    }
+
+    /// This device's place in `mem` when its name is plain: a bit, a bit of a
+    /// word, a numeric word device (one word, two for 32-bit types) or a
+    /// digit-specified bit device, named without index modification (R is
+    /// block 0's, a module's buffer memory its window). `None` for
+    /// index-modified names and `:str`: their points are found again at
+    /// every access.
+    pub fn place(&self, mem: &DeviceMemory) -> Option<Result<Place, AccessError>> {
+        if self.index.is_some() || self.ty == ValueType::Str {
+            return None;
+        }
+        let (k, n, shape, len) = match self.target {
+            Target::Bit(k, n) => (k, n, Shape::Bit, 1),
+            Target::WordBit(k, n, b) => (k, n, Shape::WordBit(b), 1),
+            Target::Word(k, n) => (k, n, Shape::Words, self.words()),
+            Target::Digits(k, n, d) if k.is_bit() => (k, n, Shape::Digits, 4 * d as u32),
+            Target::Digits(..) => return None,
+        };
+        Some(self.span(mem, k, n, len).map(|s| Place::new(s, shape)))
     }
 
     fn number(&self, mem: &DeviceMemory, n: u32) -> i64 {

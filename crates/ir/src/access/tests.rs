@@ -202,3 +202,94 @@ fn spans_read_and_write_words_and_bits() {
     let e = m.span(DeviceKind::X, 0x1FFF, 2, RBlock::First).unwrap_err();
     assert!(e.to_string().starts_with("`X1FFF-X2000`:"), "{e}");
 }
+
+/// A place reads and writes exactly what its name does; names that are no
+/// place (digits, index modification, strings) have none.
+#[test]
+fn places_are_their_names_resolved_once() {
+    let mut m = mem();
+    // Block 1 selected by D100: names still mean block 0's R.
+    let selector = m.map.base(DeviceKind::D) + 100;
+    m.map.set_r_block(Some(selector));
+    m.words[selector as usize] = 1;
+    m.set_word(DeviceKind::D, 9, 0x1234).unwrap();
+    let names = [
+        "X1F", "Y7", "M100", "D0", "D1:u16", "D2:i32", "D4:u32", "D6:f32", "D8.F", "D9.3", "R5",
+        "R6:i32", "ZR40", "TN3", "T3", "W1F",
+    ];
+    for (i, name) in names.iter().enumerate() {
+        let spec = DeviceSpec::parse(name).unwrap();
+        let place = spec.place(&m).unwrap().unwrap();
+        // 32 bits that differ per name, bit 0 ON (a bit takes bit 0).
+        let raw = 0x8001_0000u64 | (i as u64 * 0x0F0E + 1);
+        m.write_place(&place, raw).unwrap();
+        let want = match spec.ty {
+            ValueType::Bit => raw & 1,
+            ValueType::I32 | ValueType::U32 | ValueType::F32 => raw,
+            _ => raw & 0xFFFF,
+        };
+        assert_eq!(spec.raw(&m).unwrap(), want, "{name}");
+        assert_eq!(m.read_place(&place).unwrap(), want, "{name}");
+    }
+    // D6:f32 (name 7) low word first: D6 = 7·0F0E + 1 = 6963, D7 = 8001.
+    assert_eq!(word(&m, DeviceKind::D, 6), 0x6963);
+    assert_eq!(word(&m, DeviceKind::D, 7), 0x8001);
+    // D8.F is D8's bit 15; D9.3 sets bit 3 of 1234 and leaves the others.
+    assert_eq!(word(&m, DeviceKind::D, 8), 0x8000);
+    assert_eq!(word(&m, DeviceKind::D, 9), 0x123C);
+    // R is block 0's: R5 (name 10) is ZR5 = 10·0F0E + 1 = 968D, not ZR32773.
+    assert_eq!(word(&m, DeviceKind::ZR, 5), 0x968D);
+    assert_eq!(word(&m, DeviceKind::ZR, 32773), 0);
+    for name in ["D0Z0", "X0Z1", "K4M0Z0", "D30:str"] {
+        assert!(
+            DeviceSpec::parse(name).unwrap().place(&m).is_none(),
+            "{name}"
+        );
+    }
+    // K4M0 covers M0-M15 (bits past them ignored); K8M16 is 32 bits from M16.
+    let k4 = DeviceSpec::parse("K4M0")
+        .unwrap()
+        .place(&m)
+        .unwrap()
+        .unwrap();
+    assert!(k4.is_digits() && k4.span().len() == 16);
+    m.write_place(&k4, 0xF0_A5C3).unwrap();
+    assert_eq!(m.read_place(&k4).unwrap(), 0xA5C3);
+    assert_eq!(DeviceSpec::parse("K4M0").unwrap().raw(&m).unwrap(), 0xA5C3);
+    assert_eq!(m.get_bit(DeviceKind::M, 0), Ok(true));
+    assert_eq!(m.get_bit(DeviceKind::M, 2), Ok(false));
+    assert_eq!(m.get_bit(DeviceKind::M, 16), Ok(false));
+    let k8 = DeviceSpec::parse("K8M16")
+        .unwrap()
+        .place(&m)
+        .unwrap()
+        .unwrap();
+    m.write_place(&k8, 0x8000_0001).unwrap();
+    let k8_raw = DeviceSpec::parse("K8M16").unwrap().raw(&m).unwrap();
+    assert_eq!(k8_raw, 0x8000_0001);
+    assert_eq!(m.get_bit(DeviceKind::M, 47), Ok(true));
+    let e = DeviceSpec::parse("D12288").unwrap().place(&m).unwrap();
+    assert!(e.unwrap_err().to_string().contains("D12288"));
+}
+
+/// A place past the end of another configuration's memory is an error,
+/// never a panic.
+#[test]
+fn a_place_of_another_configuration_is_an_error() {
+    let mut cfg = DeviceConfig::default();
+    let zr = DeviceConfig::default().points(DeviceKind::ZR);
+    cfg.set_points(DeviceKind::ZR, zr + 1_000_000);
+    let big = DeviceMemory::new(&cfg);
+    let mut small = mem();
+    let last = zr + 999_998;
+    for name in [format!("ZR{last}"), format!("ZR{last}:i32")] {
+        let place = DeviceSpec::parse(&name)
+            .unwrap()
+            .place(&big)
+            .unwrap()
+            .unwrap();
+        let e = small.read_place(&place).unwrap_err().to_string();
+        assert!(e.contains(&format!("ZR{last}")), "{e}");
+        assert!(small.write_place(&place, 1).is_err(), "{name}");
+    }
+}

@@ -2,9 +2,8 @@
 //! allocation or string work. A name with a `CPUn/` prefix is CPU n's of a
 //! multi-CPU system (contract §6); each binding keeps its CPU's index.
 
-use softplc_core::access::{Value, ValueType};
-use softplc_core::device::DeviceMemory;
-use softplc_core::names::DevName;
+use softplc_core::access::ValueType;
+use softplc_core::names::{DevName, Placed};
 
 use super::fmt::Kind;
 use super::plcs::Plcs;
@@ -13,10 +12,10 @@ use crate::model::{from_raw_clamped, to_raw};
 
 /// A device read as a number (bits 0/1; NaN when it cannot be read, e.g. an
 /// index-modified device pushed out of range by Z), named in its CPU's
-/// dialect (`softplc_core::names`).
+/// dialect (`softplc_core::names`) and resolved there once ([`Placed`]).
 #[derive(Clone, Debug)]
 pub struct Probe {
-    pub dev: DevName,
+    pub dev: Placed,
     /// The CPU (0-based).
     pub cpu: usize,
     /// The name in reports: the device's, after the `CPUn/` prefix given.
@@ -34,7 +33,7 @@ impl Probe {
         let prefix = &text.trim()[..text.trim().len() - rest.len()];
         Ok(Probe {
             name: format!("{prefix}{}", dev.text()),
-            dev,
+            dev: Placed::new(dev, cpus.get(cpu))?,
             cpu,
         })
     }
@@ -46,13 +45,12 @@ impl Probe {
     /// Both probes read the same value (the same storage of the same CPU
     /// in the same type).
     pub fn same(&self, other: &Probe) -> bool {
-        self.cpu == other.cpu
-            && self.dev.spec() == other.dev.spec()
-            && self.dev.ty() == other.dev.ty()
+        let (a, b) = (self.dev.name(), other.dev.name());
+        self.cpu == other.cpu && a.spec() == b.spec() && a.ty() == b.ty()
     }
 
     pub fn kind(&self) -> Kind {
-        match self.dev.ty() {
+        match self.dev.name().ty() {
             ValueType::Bit => Kind::Bit,
             ValueType::F32 => Kind::Float,
             _ => Kind::Int,
@@ -60,15 +58,10 @@ impl Probe {
     }
 
     /// The value now in its CPU.
-    #[inline]
+    #[inline(always)]
     pub fn read(&self, cpus: &Plcs) -> f64 {
-        self.read_mem(cpus.get(self.cpu).memory())
-    }
-
-    #[inline]
-    fn read_mem(&self, mem: &DeviceMemory) -> f64 {
-        match self.dev.raw(mem) {
-            Ok(raw) => decode(self.dev.ty(), raw),
+        match self.dev.raw(cpus.get(self.cpu)) {
+            Ok(raw) => decode(self.dev.name().ty(), raw),
             Err(_) => f64::NAN,
         }
     }
@@ -225,13 +218,14 @@ impl Source {
     }
 }
 
-/// A model output bound to a device, written as a typed value through the
-/// CPU's door (X reaches the input image, as from an input module), or to a
-/// module channel (the physical value at an analog input).
+/// A model output bound to a device, written as raw bits in its type through
+/// the CPU's door (X reaches the input image, as from an input module), or
+/// to a module channel (the physical value at an analog input).
 #[derive(Clone, Debug)]
 pub enum Sink {
     Device {
-        dev: DevName,
+        /// Resolved in the CPU the write goes to.
+        dev: Placed,
         cpu: usize,
         scale: Scale,
     },
@@ -254,11 +248,13 @@ impl Sink {
             return Ok(Sink::Channel { channel, scale });
         }
         let probe = Probe::new(text, cpus)?;
+        let name = probe.dev.name().clone();
         // LM/V are refused here, not silently at every scan.
-        probe.dev.door_value(&Value::Int(0))?;
+        name.door_raw(0)?;
+        let cpu = cpus.write_owner(probe.cpu, name.spec());
         Ok(Sink::Device {
-            cpu: cpus.write_owner(probe.cpu, probe.dev.spec()),
-            dev: probe.dev,
+            dev: Placed::new(name, cpus.get(cpu))?,
+            cpu,
             scale,
         })
     }
@@ -283,23 +279,45 @@ impl Sink {
             }
             Sink::Device { dev, cpu, scale } => (dev, *cpu, *scale),
         };
-        let x = match scale {
-            Scale::Analog { raw, eng } => f64::from(to_raw(v, eng, raw)),
-            _ => v,
+        let ty = dev.name().ty();
+        let raw = match scale {
+            // Already a whole number in an i32: no rounding again.
+            Scale::Analog { raw, eng } => encode_int(ty, i64::from(to_raw(v, eng, raw))),
+            _ => encode(ty, if v.is_nan() { 0.0 } else { v }),
         };
-        let x = if x.is_nan() { 0.0 } else { x };
-        let int = |lo: f64, hi: f64| Value::Int(x.round().clamp(lo, hi) as i64);
-        let value = match dev.ty() {
-            ValueType::Bit => Value::Bool(x > 0.5),
-            ValueType::I16 => int(-32768.0, 32767.0),
-            ValueType::U16 => int(0.0, 65535.0),
-            ValueType::I32 => int(i32::MIN as f64, i32::MAX as f64),
-            ValueType::U32 => int(0.0, u32::MAX as f64),
-            ValueType::F32 => Value::Float(x),
+        let Some(raw) = raw else {
             // Refused when the sink was bound.
-            ValueType::Str => return,
+            return;
         };
         // A device pushed out of range by its index register is not written.
-        let _ = dev.write_value(cpus.get_mut(cpu), &value);
+        let _ = dev.write_raw(cpus.get_mut(cpu), raw);
     }
+}
+
+/// The raw bits of `x` (not NaN) in type `ty`: bits ON above 0.5; integers
+/// rounded and clamped to the type's range; `f32` the nearest float. `None`
+/// for strings.
+#[inline]
+fn encode(ty: ValueType, x: f64) -> Option<u64> {
+    match ty {
+        ValueType::Bit => Some((x > 0.5) as u64),
+        ValueType::F32 => Some((x as f32).to_bits() as u64),
+        ValueType::Str => None,
+        // Clamped first to where an i64 holds it exactly.
+        _ => encode_int(ty, x.round().clamp(-(2f64.powi(40)), 2f64.powi(40)) as i64),
+    }
+}
+
+/// [`encode`] of the whole number `i`.
+#[inline]
+fn encode_int(ty: ValueType, i: i64) -> Option<u64> {
+    Some(match ty {
+        ValueType::Bit => (i > 0) as u64,
+        ValueType::I16 => i.clamp(-32768, 32767) as u16 as u64,
+        ValueType::U16 => i.clamp(0, 65535) as u64,
+        ValueType::I32 => i.clamp(i32::MIN.into(), i32::MAX.into()) as u32 as u64,
+        ValueType::U32 => i.clamp(0, u32::MAX.into()) as u64,
+        ValueType::F32 => (i as f32).to_bits() as u64,
+        ValueType::Str => return None,
+    })
 }

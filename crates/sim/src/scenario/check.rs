@@ -48,8 +48,14 @@ impl Ring {
     pub fn push(&mut self, scan: u64, values: &[f64]) {
         self.scans[self.next] = scan;
         self.values[self.next * self.width..(self.next + 1) * self.width].copy_from_slice(values);
-        self.next = (self.next + 1) % self.cap;
-        self.len = (self.len + 1).min(self.cap);
+        // No division on the per-scan path.
+        self.next += 1;
+        if self.next == self.cap {
+            self.next = 0;
+        }
+        if self.len < self.cap {
+            self.len += 1;
+        }
     }
 
     /// The last `n` samples, oldest first.
@@ -112,6 +118,9 @@ pub struct Check {
     pub detail: String,
     pub failure: Option<Failure>,
     after_left: u32,
+    /// The first scan that needs this check: the start of its window,
+    /// every scan while it runs or collects history, never once decided.
+    wake: u64,
     min: f64,
     max: f64,
     lp: Loop,
@@ -127,6 +136,13 @@ impl Check {
         kind: ExpectKind,
         dev_kind: Kind,
     ) -> Check {
+        let wake = match kind {
+            ExpectKind::At { scan, .. } => scan,
+            ExpectKind::Within { first, .. }
+            | ExpectKind::Always { first, .. }
+            | ExpectKind::Never { first, .. }
+            | ExpectKind::Settle { first, .. } => first,
+        };
         Check {
             text,
             probe,
@@ -139,6 +155,7 @@ impl Check {
             detail: String::new(),
             failure: None,
             after_left: 0,
+            wake,
             min: f64::INFINITY,
             max: f64::NEG_INFINITY,
             lp: Loop::default(),
@@ -150,6 +167,7 @@ impl Check {
     }
 
     fn pass(&mut self, detail: String) {
+        self.wake = u64::MAX;
         self.verdict = Verdict::Pass;
         self.detail = detail;
     }
@@ -178,9 +196,23 @@ impl Check {
     }
 
     /// Evaluates the sample of scan `n` (`values`: every watched probe, also
-    /// already pushed into `ring`).
+    /// already pushed into `ring`). Scans before its window and after its
+    /// verdict (and history) cost one comparison.
     #[inline]
     pub fn update(
+        &mut self,
+        n: u64,
+        scan_us: u64,
+        values: &[f64],
+        ring: &Ring,
+        names: &[(String, Kind)],
+    ) {
+        if n >= self.wake {
+            self.evaluate(n, scan_us, values, ring, names);
+        }
+    }
+
+    fn evaluate(
         &mut self,
         n: u64,
         scan_us: u64,
@@ -195,6 +227,9 @@ impl Check {
                 if let Some(f) = &mut self.failure {
                     f.rows.push(row);
                 }
+            }
+            if self.after_left == 0 {
+                self.wake = u64::MAX;
             }
             return;
         }

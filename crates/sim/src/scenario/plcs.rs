@@ -36,7 +36,9 @@ impl Plc {
             Cpus::One(cpu) => {
                 cpu.scan();
                 // The communication phase after END (L914-941).
-                self.ports.after_end(cpu);
+                if !self.ports.is_empty() {
+                    self.ports.after_end(cpu);
+                }
                 self.next_due_us += self.period_us;
             }
             Cpus::System(sys) => {
@@ -52,24 +54,38 @@ pub struct Plcs {
     pub(super) units: Vec<Plc>,
     pub(super) layout: Layout,
     pub(super) clients: Vec<Client>,
+    /// The PLC and its own CPU of each flat CPU ([`Layout::locate`], looked
+    /// up once: every binding reads through it every scan).
+    located: Vec<(usize, usize)>,
 }
 
 impl Plcs {
+    /// The PLCs `units` as `layout` numbers their CPUs, no clients yet.
+    pub(super) fn new(units: Vec<Plc>, layout: Layout) -> Plcs {
+        let located = (0..layout.cpus()).map(|i| layout.locate(i)).collect();
+        Plcs {
+            units,
+            layout,
+            clients: Vec::new(),
+            located,
+        }
+    }
+
     /// CPUs of every PLC.
     pub fn len(&self) -> usize {
-        self.layout.cpus()
+        self.located.len()
     }
 
     /// CPU `i` (flat, `i < len()`).
     #[inline]
     pub fn get(&self, i: usize) -> &Cpu {
-        let (u, c) = self.layout.locate(i);
+        let (u, c) = self.located[i];
         self.units[u].cpus.get(c)
     }
 
     #[inline]
     pub fn get_mut(&mut self, i: usize) -> &mut Cpu {
-        let (u, c) = self.layout.locate(i);
+        let (u, c) = self.located[i];
         self.units[u].cpus.get_mut(c)
     }
 
@@ -80,19 +96,19 @@ impl Plcs {
 
     /// CPU `i` belongs to a multi-CPU system.
     pub fn in_system(&self, i: usize) -> bool {
-        let (u, _) = self.layout.locate(i);
+        let (u, _) = self.located[i];
         self.units[u].cpus.system().is_some()
     }
 
     /// The CPU of its own PLC (0-based) that flat CPU `i` is.
     pub fn own_index(&self, i: usize) -> usize {
-        self.layout.locate(i).1
+        self.located[i].1
     }
 
     /// The CPU a write from outside to `spec`, named in CPU `i`, goes to
     /// ([`Cpus::write_owner`] inside its PLC).
     pub fn write_owner(&self, i: usize, spec: &DeviceSpec) -> usize {
-        let (u, c) = self.layout.locate(i);
+        let (u, c) = self.located[i];
         i - c + self.units[u].cpus.write_owner(c, spec)
     }
 
@@ -105,6 +121,19 @@ impl Plcs {
     /// at the same time in their order), each followed by its clients
     /// that are due; the clock then reads `t_us`.
     pub(super) fn run_until(&mut self, t_us: u64, clock: &VirtualClock) {
+        // One PLC polled by no client (most scenarios): its scans in turn.
+        if let ([unit], true) = (&mut self.units[..], self.clients.is_empty()) {
+            loop {
+                let due = unit.next_due();
+                if due > t_us {
+                    break;
+                }
+                advance_to(clock, due);
+                unit.scan();
+            }
+            advance_to(clock, t_us);
+            return;
+        }
         loop {
             let mut next: Option<(u64, usize)> = None;
             for (u, p) in self.units.iter().enumerate() {
@@ -114,7 +143,7 @@ impl Plcs {
                 }
             }
             let Some((due, u)) = next else { break };
-            clock.advance_us(due.saturating_sub(clock.now_us()));
+            advance_to(clock, due);
             self.units[u].scan();
             for k in 0..self.clients.len() {
                 if self.clients[k].plc() == u {
@@ -124,6 +153,16 @@ impl Plcs {
                 }
             }
         }
-        clock.advance_us(t_us.saturating_sub(clock.now_us()));
+        advance_to(clock, t_us);
+    }
+}
+
+/// Advances `clock` to `t_us` (nothing when it reads that already: no
+/// atomic write).
+#[inline]
+fn advance_to(clock: &VirtualClock, t_us: u64) {
+    let now = clock.now_us();
+    if t_us > now {
+        clock.advance_us(t_us - now);
     }
 }

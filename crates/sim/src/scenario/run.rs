@@ -233,11 +233,7 @@ impl Scenario {
             configs.push(loaded.ports);
             modbus.push(loaded.modbus);
         }
-        let plcs = Plcs {
-            units,
-            layout: Layout::Fleet(layout),
-            clients: Vec::new(),
-        };
+        let plcs = Plcs::new(units, Layout::Fleet(layout));
         self.finish_build(plcs, clock, configs, modbus)
     }
 
@@ -275,16 +271,13 @@ impl Scenario {
         port_configs: &[softplc_ports::PortConfig],
     ) -> Result<Run, String> {
         let n = cpus.len();
-        let plcs = Plcs {
-            units: vec![Plc {
-                cpus,
-                ports: softplc_ports::Ports::new(),
-                period_us: self.scan_us,
-                next_due_us: clock.now_us() + self.scan_us,
-            }],
-            layout: Layout::One(n),
-            clients: Vec::new(),
+        let unit = Plc {
+            cpus,
+            ports: softplc_ports::Ports::new(),
+            period_us: self.scan_us,
+            next_due_us: clock.now_us() + self.scan_us,
         };
+        let plcs = Plcs::new(vec![unit], Layout::One(n));
         self.finish_build(plcs, clock, vec![port_configs.to_vec()], vec![None])
     }
 
@@ -628,6 +621,7 @@ impl Run {
         let mut done = 0;
         // The scan at which each CPU was first seen stopped.
         let mut stopped: Vec<Option<u64>> = vec![None; self.cpus.len()];
+        let mut running = stopped.len();
         let mut all_stopped = false;
         let mut fault = None;
         for n in 1..=self.total {
@@ -650,9 +644,10 @@ impl Run {
             for (i, s) in stopped.iter_mut().enumerate() {
                 if s.is_none() && self.cpus.get(i).state() == CpuState::Stop {
                     *s = Some(n);
+                    running -= 1;
                 }
             }
-            if stopped.iter().all(Option::is_some) {
+            if running == 0 {
                 all_stopped = true;
                 if let Some(r) = &mut self.recorder {
                     r.take(n, time_us, &self.cpus);

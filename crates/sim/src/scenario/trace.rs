@@ -76,6 +76,8 @@ impl TraceData {
 pub struct Recorder {
     probes: Vec<Probe>,
     every: u64,
+    /// The next multiple of `every` (no division per scan).
+    due: u64,
     last: u64,
     pub data: TraceData,
 }
@@ -97,13 +99,17 @@ impl Recorder {
             },
             probes,
             every,
+            due: every,
             last: total,
         }
     }
 
     #[inline]
     pub(super) fn sample(&mut self, n: u64, time_us: u64, cpus: &Plcs) {
-        if n.is_multiple_of(self.every) || n == 1 || n == self.last {
+        if n == self.due {
+            self.due += self.every;
+            self.take(n, time_us, cpus);
+        } else if n == 1 || n == self.last {
             self.take(n, time_us, cpus);
         }
     }
