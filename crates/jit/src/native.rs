@@ -7,7 +7,7 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use std::mem::offset_of;
 
 use cranelift_codegen::control::ControlPlane;
-use cranelift_codegen::ir::{types, AbiParam, Signature};
+use cranelift_codegen::ir::{types, AbiParam, FuncRef, Signature};
 use cranelift_codegen::isa::TargetIsa;
 use cranelift_codegen::Context;
 use cranelift_jit::{ArenaMemoryProvider, JITBuilder, JITModule};
@@ -203,15 +203,16 @@ impl Compiled {
         let tramp_id = module
             .declare_function(TRAMPOLINE, Linkage::Local, &exec_sig)
             .map_err(|e| err(&e))?;
-        ctx.func.signature = exec_sig.clone();
-        let exec_ref = module.declare_func_in_func(exec_id, &mut ctx.func);
-        let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-        codegen::trampoline(&mut b, exec_ref);
-        b.finalize(module.target_config());
-        module
-            .define_function(tramp_id, &mut ctx)
-            .map_err(|e| err(&format!("{e:?}")))?;
-        module.clear_context(&mut ctx);
+        define(
+            &mut module,
+            &mut ctx,
+            &mut fctx,
+            tramp_id,
+            &exec_sig,
+            &[exec_id],
+            |b, f| codegen::trampoline(b, f[0]),
+        )
+        .map_err(|e| err(&e))?;
         // The timer function every chunk calls, and the descriptors it
         // passes it (`descs` holds their final addresses: the box does not
         // move).
@@ -219,14 +220,16 @@ impl Compiled {
         let timer_id = module
             .declare_anonymous_function(&shared_sig)
             .map_err(|e| err(&e))?;
-        ctx.func.signature = shared_sig.clone();
-        let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
-        shared::timer(&mut b, ptr);
-        b.finalize(module.target_config());
-        module
-            .define_function(timer_id, &mut ctx)
-            .map_err(|e| err(&format!("{e:?}")))?;
-        module.clear_context(&mut ctx);
+        define(
+            &mut module,
+            &mut ctx,
+            &mut fctx,
+            timer_id,
+            &shared_sig,
+            &[],
+            |b, _| shared::timer(b, ptr),
+        )
+        .map_err(|e| err(&e))?;
         let timers = descriptors(plan);
         let descs: HashMap<u32, i64> = timers
             .iter()
@@ -305,6 +308,32 @@ impl Compiled {
             edge_slots: prog.edge_slots as usize,
         })
     }
+}
+
+/// Builds function `id` of `sig` (calling `imports`) with `body` and
+/// compiles it into `module`.
+fn define(
+    module: &mut JITModule,
+    ctx: &mut Context,
+    fctx: &mut FunctionBuilderContext,
+    id: FuncId,
+    sig: &Signature,
+    imports: &[FuncId],
+    body: impl FnOnce(&mut FunctionBuilder, &[FuncRef]),
+) -> Result<(), String> {
+    ctx.func.signature = sig.clone();
+    let refs: Vec<FuncRef> = imports
+        .iter()
+        .map(|i| module.declare_func_in_func(*i, &mut ctx.func))
+        .collect();
+    let mut b = FunctionBuilder::new(&mut ctx.func, fctx);
+    body(&mut b, &refs);
+    b.finalize(module.target_config());
+    module
+        .define_function(id, ctx)
+        .map_err(|e| format!("{e:?}"))?;
+    module.clear_context(ctx);
+    Ok(())
 }
 
 /// Compiles every context's function, on as many threads as the machine
