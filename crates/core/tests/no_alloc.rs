@@ -2,8 +2,7 @@
 //! allocates"): a counting global allocator checks a
 //! CPU with several program types, interrupts and many instruction families.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use softplc_core::device::DeviceKind;
@@ -12,38 +11,9 @@ use softplc_core::program::compile_il;
 use softplc_core::rack::{AutoRefresh, Rack, Slot};
 use softplc_core::tier::{apply, Exec, Jit};
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+mod counting_alloc;
 
-thread_local! {
-    /// Only the thread that scans counts: libtest's main thread may still be
-    /// registering the running test (a HashMap insert) when a fast test
-    /// thread has reached its scans.
-    static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if COUNTING.try_with(|c| c.get()).unwrap_or(false) {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static A: Counting = Counting;
+use counting_alloc::{ALLOCS, COUNTING};
 
 const MAIN: &str = "\
 LD SM402

@@ -6,43 +6,15 @@
 //! sampled every scan. What a run allocates at all (its first and last
 //! scan's bookkeeping, the verdicts' texts) does not grow with its length.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 
 use softplc_sim::scenario::Scenario;
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+#[path = "../../core/tests/counting_alloc/mod.rs"]
+mod counting_alloc;
 
-thread_local! {
-    /// Only the thread that runs the scenario counts (libtest's own
-    /// threads allocate when they please).
-    static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-fn count() {
-    if COUNTING.try_with(|c| c.get()).unwrap_or(false) {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static A: Counting = Counting;
+use counting_alloc::{ALLOCS, COUNTING};
 
 /// The fill/drain sequence of examples/sim (two valves chained into a tank:
 /// three models) for `duration`, with a timeline, assertions of every kind
