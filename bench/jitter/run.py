@@ -110,81 +110,88 @@ def last_cpu():
     return max(cpus)
 
 
-# --- load: each worker runs in its own process until `deadline` (monotonic)
+# --- load: each client runs in its own process until `deadline` (monotonic)
 # or `stop`; it puts its name on `ready` once connected (or failed) and
-# (name, operations, error) on `out` at the end.
+# (label, operations, error) on `out` at the end.
 
-def mc_worker(port, deadline, stop, ready, out):
-    n, err = 0, None
+def client(name, label, session, port, deadline, stop, ready, out):
+    """Runs `session(port, connected, running, tick)`: it calls `connected()`
+    once it is connected, works while `running()` and calls `tick()` per
+    operation. Reports as the comment above says."""
+    told, n = False, 0
+
+    def connected():
+        nonlocal told
+        told = True
+        ready.put(name)
+
+    def running():
+        return not stop.is_set() and time.monotonic() < deadline
+
+    def tick():
+        nonlocal n
+        n += 1
+
+    err = None
     try:
-        import pymcprotocol
-        c = pymcprotocol.Type3E(plctype="Q")
-        c.connect("127.0.0.1", port)
-        ready.put("MC")
-        while not stop.is_set() and time.monotonic() < deadline:
-            c.batchread_wordunits(headdevice="D0", readsize=100)
-            n += 1
-        c.close()
+        session(port, connected, running, tick)
     except Exception as e:  # reported with the run
         err = repr(e)
-        ready.put("MC")
-    out.put(("MC", n, err))
+    if not told:
+        ready.put(name)
+    out.put((label, n, err))
 
 
-def modbus_worker(port, deadline, stop, ready, out):
-    n, err = 0, None
-    try:
-        from pymodbus.client import ModbusTcpClient
-        c = ModbusTcpClient("127.0.0.1", port=port)
-        if not c.connect():
-            raise RuntimeError("no connection")
-        ready.put("Modbus")
-        while not stop.is_set() and time.monotonic() < deadline:
-            r = c.read_holding_registers(0, count=100)
-            if r.isError():
-                raise RuntimeError(str(r))
-            n += 1
-        c.close()
-    except Exception as e:
-        err = repr(e)
-        ready.put("Modbus")
-    out.put(("Modbus", n, err))
+def mc_session(port, connected, running, tick):
+    import pymcprotocol
+    c = pymcprotocol.Type3E(plctype="Q")
+    c.connect("127.0.0.1", port)
+    connected()
+    while running():
+        c.batchread_wordunits(headdevice="D0", readsize=100)
+        tick()
+    c.close()
 
 
-def sse_worker(port, deadline, stop, ready, out):
-    n, err = 0, None
-    try:
-        c = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
-        c.request("GET", "/api/v1/events?names=" + ",".join(f"D{i}" for i in range(20)))
-        r = c.getresponse()
-        if r.status != 200:
-            raise RuntimeError(f"events: {r.status}")
-        ready.put("SSE")
-        while not stop.is_set() and time.monotonic() < deadline:
-            line = r.fp.readline()
-            if not line:
-                break
-            if line.startswith(b"data:"):
-                n += 1
-        c.close()
-    except Exception as e:
-        err = repr(e)
-        ready.put("SSE")
-    out.put(("SSE events", n, err))
+def modbus_session(port, connected, running, tick):
+    from pymodbus.client import ModbusTcpClient
+    c = ModbusTcpClient("127.0.0.1", port=port)
+    if not c.connect():
+        raise RuntimeError("no connection")
+    connected()
+    while running():
+        r = c.read_holding_registers(0, count=100)
+        if r.isError():
+            raise RuntimeError(str(r))
+        tick()
+    c.close()
 
 
-def opcua_worker(port, deadline, stop, ready, out):
-    n = [0]
-    err = None
+def sse_session(port, connected, running, tick):
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+    c.request("GET", "/api/v1/events?names=" + ",".join(f"D{i}" for i in range(20)))
+    r = c.getresponse()
+    if r.status != 200:
+        raise RuntimeError(f"events: {r.status}")
+    connected()
+    while running():
+        line = r.fp.readline()
+        if not line:
+            break
+        if line.startswith(b"data:"):
+            tick()
+    c.close()
 
+
+def opcua_session(port, connected, running, tick):
     class Count:
         def datachange_notification(self, node, val, data):
-            n[0] += 1
+            tick()
 
     async def go():
         from asyncua import Client, ua
         c = None
-        while not stop.is_set() and time.monotonic() < deadline:
+        while running():
             c = Client(f"opc.tcp://127.0.0.1:{port}/", timeout=4)
             try:
                 await c.connect()
@@ -199,19 +206,23 @@ def opcua_worker(port, deadline, stop, ready, out):
             nodes = [c.get_node(ua.NodeId(f"D{i}", ns)) for i in range(10)]
             sub = await c.create_subscription(50, Count())
             await sub.subscribe_data_change(nodes, queuesize=100, sampling_interval=0)
-            ready.put("OPC UA")
-            while not stop.is_set() and time.monotonic() < deadline:
+            connected()
+            while running():
                 await asyncio.sleep(0.1)
             await sub.delete()
         finally:
             await c.disconnect()
 
-    try:
-        asyncio.run(go())
-    except Exception as e:
-        err = repr(e)
-        ready.put("OPC UA")
-    out.put(("OPC UA notifications", n[0], err))
+    asyncio.run(go())
+
+
+# (name on `ready`, label in the report, session, the port it uses)
+CLIENTS = [
+    ("MC", "MC", mc_session, "mc"),
+    ("Modbus", "Modbus", modbus_session, "modbus"),
+    ("SSE", "SSE events", sse_session, "http"),
+    ("OPC UA", "OPC UA notifications", opcua_session, "opcua"),
+]
 
 
 def busy_worker(deadline, stop, ready, out):
@@ -234,9 +245,9 @@ class Load:
         self.procs = []
         parts = set(kind.split("+")) - {"idle"}
         if "clients" in parts:
-            for target, port in [(mc_worker, ports["mc"]), (modbus_worker, ports["modbus"]),
-                                 (sse_worker, ports["http"]), (opcua_worker, ports["opcua"])]:
-                self.procs.append(ctx.Process(target=target, args=(port, deadline, self.stop, self.ready, self.out)))
+            for name, label, session, port in CLIENTS:
+                args = (name, label, session, ports[port], deadline, self.stop, self.ready, self.out)
+                self.procs.append(ctx.Process(target=client, args=args))
         if "cpu" in parts:
             for _ in range(os.cpu_count() or 1):
                 self.procs.append(ctx.Process(target=busy_worker, args=(deadline, self.stop, self.ready, self.out)))
