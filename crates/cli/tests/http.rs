@@ -1,46 +1,19 @@
 //! `softplc serve --http` (contract §3, §3.1): the token from `--http-token`
 //! or `[http] token`, read-only without one, and the bad-option errors.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 
-struct Serve {
-    child: Child,
-    port: u16,
-}
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
+mod serve_support;
+use serve_support::{start, Serve};
 
 fn serve(args: &[&str]) -> Serve {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_softplc"))
-        .arg("serve")
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_softplc"));
+    cmd.arg("serve")
         .args(args)
-        .args(["--http", "127.0.0.1:0", "--no-realtime"])
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut err = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    let port = loop {
-        line.clear();
-        assert!(err.read_line(&mut line).unwrap() > 0, "serve exited");
-        if let Some(rest) = line.split("web monitor on 127.0.0.1:").nth(1) {
-            break rest
-                .trim()
-                .trim_end_matches(|c: char| !c.is_ascii_digit())
-                .parse()
-                .unwrap();
-        }
-    };
-    std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
-    Serve { child, port }
+        .args(["--http", "127.0.0.1:0", "--no-realtime"]);
+    start(cmd)
 }
 
 fn post(port: u16, path: &str, token: Option<&str>, body: &str) -> (u16, String) {

@@ -2,9 +2,12 @@
 //! options' errors name them, and a served program and a multi-CPU system
 //! advance in virtual time.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
+
+mod serve_support;
+use serve_support::{start, Serve};
 
 const TOKEN: &str = "t0ken";
 
@@ -45,54 +48,16 @@ fn bad_options_are_refused_naming_them() {
     assert!(err.contains("--lockstep") && err.contains("token"), "{err}");
 }
 
-struct Serve {
-    child: Child,
-    port: u16,
-    /// The start message.
-    banner: String,
-}
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 fn serve(args: &[&str]) -> Serve {
-    let mut child = softplc()
-        .arg("serve")
-        .args(args)
-        .args([
-            "--http",
-            "127.0.0.1:0",
-            "--http-token",
-            TOKEN,
-            "--no-realtime",
-        ])
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut err = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    let port = loop {
-        line.clear();
-        assert!(err.read_line(&mut line).unwrap() > 0, "serve exited");
-        if let Some(rest) = line.split("web monitor on 127.0.0.1:").nth(1) {
-            break rest
-                .trim()
-                .trim_end_matches(|c: char| !c.is_ascii_digit())
-                .parse()
-                .unwrap();
-        }
-    };
-    std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
-    Serve {
-        child,
-        port,
-        banner: line,
-    }
+    let mut cmd = softplc();
+    cmd.arg("serve").args(args).args([
+        "--http",
+        "127.0.0.1:0",
+        "--http-token",
+        TOKEN,
+        "--no-realtime",
+    ]);
+    start(cmd)
 }
 
 fn http(port: u16, method: &str, path: &str, body: &str) -> (u16, serde_json::Value) {

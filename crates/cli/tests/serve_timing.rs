@@ -3,13 +3,16 @@
 //! `--timing-report`). Counts are checked against the elapsed time with a
 //! wide margin (the machine may be loaded); no time is asserted.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
+
+mod serve_support;
+use serve_support::start;
 
 const TOKEN: &str = "t0ken";
 
@@ -21,49 +24,6 @@ fn program(dir: &Path) -> String {
     let p = dir.join("main.il");
     std::fs::write(&p, "LD SM400\nINC D0\nEND\n").unwrap();
     p.to_str().unwrap().to_string()
-}
-
-/// A running `serve`, killed when dropped.
-struct Serve {
-    child: Child,
-    /// The web monitor's port (0 without one).
-    port: u16,
-}
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// Starts `cmd` (a `serve`) and waits for its start message.
-fn start(mut cmd: Command) -> Serve {
-    let mut child = cmd
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut err = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    loop {
-        line.clear();
-        assert!(err.read_line(&mut line).unwrap() > 0, "serve exited");
-        if line.starts_with("softplc: serving") {
-            break;
-        }
-    }
-    let port = line
-        .split("web monitor on 127.0.0.1:")
-        .nth(1)
-        .map_or(0, |rest| {
-            rest.trim()
-                .trim_end_matches(|c: char| !c.is_ascii_digit())
-                .parse()
-                .unwrap()
-        });
-    std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
-    Serve { child, port }
 }
 
 fn http(port: u16, method: &str, path: &str, token: Option<&str>) -> (u16, Value) {
