@@ -878,9 +878,7 @@ impl Gen<'_, '_> {
         };
 
         self.b.switch_to_block(timing);
-        let on = self.b.ins().iconst(types::I32, 1);
-        let f = self.calls.timer;
-        self.call_shared(f, t.pc, &[t.coil, t.contact], t.value, t.set, on, merge);
+        self.call_timer(t, merge);
         self.b.switch_to_block(merge);
         self.b.seal_block(merge);
         self.learn = learn;
@@ -962,38 +960,30 @@ impl Gen<'_, '_> {
         }
     }
 
-    /// Calls `f` (a shared function) for op `pc` with `cond` and the op's
-    /// descriptor, and jumps to `merge` (after the interpreter ran the op
-    /// when `f` returned 1, for a set value in a word). `f` writes the bits
-    /// `bits` and the word `word`.
-    #[allow(clippy::too_many_arguments)]
-    fn call_shared(
-        &mut self,
-        f: FuncRef,
-        pc: u32,
-        bits: &[u32],
-        word: u32,
-        set: WordSrc,
-        cond: Value,
-        merge: Block,
-    ) {
-        for &i in bits {
-            self.forget_bit(i);
-        }
-        self.forget_word(word);
-        let desc = self.calls.descs.get(&pc).copied().unwrap_or(0);
+    /// Calls the program's timer function for `t` (its condition ON) and
+    /// jumps to `merge`; the interpreter runs the op instead when the
+    /// function returns 1 (a negative set value in a word), and when `t` has
+    /// no descriptor (never: `native::descriptors` takes them from the same
+    /// plan).
+    fn call_timer(&mut self, t: &TimerStep, merge: Block) {
+        let Some(&desc) = self.calls.descs.get(&t.pc) else {
+            self.run(t.pc, t.pc + 1);
+            self.forget_all();
+            self.b.ins().jump(merge, &[]);
+            return;
+        };
         let desc = self.b.ins().iconst(self.ptr, desc);
-        let call = self.b.ins().call(f, &[self.cx, cond, desc]);
-        for &i in bits {
-            self.note_store(i);
-        }
-        if let WordSrc::Word(_) = set {
+        let on = self.b.ins().iconst(types::I32, 1);
+        let call = self.b.ins().call(self.calls.timer, &[self.cx, on, desc]);
+        self.note_store(t.coil);
+        self.note_store(t.contact);
+        if let WordSrc::Word(_) = t.set {
             let slow = self.b.inst_results(call)[0];
             let run = self.b.create_block();
             self.b.ins().brif(slow, run, &[], merge, &[]);
             self.b.seal_block(run);
             self.b.switch_to_block(run);
-            self.run(pc, pc + 1);
+            self.run(t.pc, t.pc + 1);
             self.forget_all();
         }
         self.b.ins().jump(merge, &[]);
