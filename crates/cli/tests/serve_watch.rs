@@ -2,81 +2,24 @@
 //! is written during RUN and reported; a changed plc.toml is reported as
 //! needing a restart; `PUT /api/v1/program` writes a single program file.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-struct Serve {
-    child: Child,
-    port: u16,
-    lines: Receiver<String>,
-}
-
-impl Drop for Serve {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Serve {
-    /// Waits for a stderr line containing `what` (ample time: the watcher
-    /// waits for files to settle); panics with the lines seen otherwise.
-    fn expect(&self, what: &str) -> String {
-        let deadline = Instant::now() + Duration::from_secs(30);
-        let mut seen = Vec::new();
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            match self.lines.recv_timeout(left) {
-                Ok(l) if l.contains(what) => return l,
-                Ok(l) => seen.push(l),
-                Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {
-                    panic!("no line with {what:?}; stderr: {seen:#?}")
-                }
-            }
-        }
-    }
-}
+mod serve_support;
+use serve_support::{start, Serve};
 
 fn serve(args: &[&str]) -> Serve {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_softplc"))
-        .arg("serve")
-        .args(args)
-        .args([
-            "--http",
-            "127.0.0.1:0",
-            "--http-token",
-            "tok",
-            "--no-realtime",
-        ])
-        .stderr(Stdio::piped())
-        .stdout(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut err = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    let port = loop {
-        line.clear();
-        assert!(err.read_line(&mut line).unwrap() > 0, "serve exited");
-        if let Some(rest) = line.split("web monitor on 127.0.0.1:").nth(1) {
-            break rest
-                .trim()
-                .trim_end_matches(|c: char| !c.is_ascii_digit())
-                .parse()
-                .unwrap();
-        }
-    };
-    let (tx, lines) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for l in err.lines().map_while(Result::ok) {
-            if tx.send(l).is_err() {
-                break;
-            }
-        }
-    });
-    Serve { child, port, lines }
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_softplc"));
+    cmd.arg("serve").args(args).args([
+        "--http",
+        "127.0.0.1:0",
+        "--http-token",
+        "tok",
+        "--no-realtime",
+    ]);
+    start(cmd)
 }
 
 fn request(port: u16, method: &str, path: &str, body: &str) -> (u16, String) {

@@ -4,6 +4,8 @@
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
 
 pub struct Serve {
     pub child: Child,
@@ -11,6 +13,28 @@ pub struct Serve {
     pub port: u16,
     /// The start message.
     pub banner: String,
+    /// The lines of its standard error after the start message.
+    pub lines: Receiver<String>,
+}
+
+impl Serve {
+    /// Waits for a standard-error line containing `what` (ample time: a
+    /// watcher waits for files to settle); panics with the lines seen
+    /// otherwise.
+    pub fn expect(&self, what: &str) -> String {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        let mut seen = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(l) if l.contains(what) => return l,
+                Ok(l) => seen.push(l),
+                Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => {
+                    panic!("no line with {what:?}; stderr: {seen:#?}")
+                }
+            }
+        }
+    }
 }
 
 impl Drop for Serve {
@@ -21,7 +45,7 @@ impl Drop for Serve {
 }
 
 /// Starts `cmd` (a `serve`) and waits for its start message; the rest of
-/// its standard error is read and dropped.
+/// its standard error goes to `lines`.
 pub fn start(mut cmd: Command) -> Serve {
     let mut child = cmd
         .stderr(Stdio::piped())
@@ -46,10 +70,18 @@ pub fn start(mut cmd: Command) -> Serve {
                 .parse()
                 .unwrap()
         });
-    std::thread::spawn(move || std::io::copy(&mut err, &mut std::io::sink()));
+    let (tx, lines) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for l in err.lines().map_while(Result::ok) {
+            if tx.send(l).is_err() {
+                break;
+            }
+        }
+    });
     Serve {
         child,
         port,
         banner: line,
+        lines,
     }
 }
